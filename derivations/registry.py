@@ -1,0 +1,72 @@
+"""Which model derives which equations (verification), and what is generated from which model."""
+from __future__ import annotations
+
+import importlib
+import json
+
+from .common import check
+
+MODEL_MODULES = (
+    "eq01_03_rack_cutter",
+    "eq04_07_tooth_surface",
+    "eq08_17_pitch_cones",
+    "eq18_21_line_contact",
+    "eq22_27_working_data",
+    "eq28_38_meshing_model",
+)
+
+
+def model(name):
+    return importlib.import_module(f"{__package__}.{name}")
+
+
+def all_equations():
+    eqs = []
+    for name in MODEL_MODULES:
+        for e in model(name).equations():
+            e.model = name
+            eqs.append(e)
+    numbers = sorted(e.number for e in eqs)
+    assert numbers == list(range(1, 39)), f"equations registered: {numbers}"
+    return sorted(eqs, key=lambda e: e.number)
+
+
+def verify(progress=None):
+    """Check every equation; returns (equations, results)."""
+    eqs = all_equations()
+    results = []
+    for e in eqs:
+        if progress:
+            progress(e)
+        results.append(check(e))
+    return eqs, results
+
+
+def results_json(results) -> str:
+    out = []
+    for r in results:
+        out.append({
+            "equation": str(r.equation),
+            "title": r.title,
+            "status": r.status,
+            "method": r.method,
+            "max_rel_diff": r.max_rel_diff,
+            "note": r.note,
+        })
+    return json.dumps(out, indent=2)
+
+
+def results_table(results) -> str:
+    rows = [("Eq", "what it is", "how it was checked", "status", "max rel diff")]
+    for r in results:
+        rows.append((str(r.equation), r.title, r.method, r.status,
+                     "-" if r.max_rel_diff is None else f"{r.max_rel_diff:.1e}"))
+    widths = [max(len(row[i]) for row in rows) for i in range(5)]
+    lines = ["  ".join(c.ljust(w) for c, w in zip(row, widths)).rstrip() for row in rows]
+    lines.insert(1, "  ".join("-" * w for w in widths))
+    n_ver = sum(r.status == "verified" for r in results)
+    n_def = sum(r.status == "definition" for r in results)
+    n_diff = sum(r.status == "differs" for r in results)
+    lines.append("")
+    lines.append(f"{n_ver} verified, {n_def} definitions, {n_diff} differ (of {len(results)} equations)")
+    return "\n".join(lines)
