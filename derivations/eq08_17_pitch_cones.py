@@ -119,7 +119,8 @@ def equations():
     eqs = [
         Equation(8, "pitch cone", "definition", used_by="eq08_17_pitch_cones.cone_point"),
         Equation(9, "pitch cone unit normal", "derived", printed=paper.eq09,
-                 derived=cone_normal(theta, gamma_w), symbolic=True, sampler=None,
+                 derived=cone_normal(theta, gamma_w), symbolic=True,
+                 sampler=lambda rng: {theta: uniform_deg(rng, -180, 180), gamma_w: uniform_deg(rng, 0.2, 8)},
                  steps=[r"$n' = \frac{\partial R'/\partial\theta \times \partial R'/\partial u}{u\sin\gamma_w} = %s$"
                         % sp.latex(cone_normal(theta, gamma_w))]),
         Equation(10, "tangency: common point", "definition", used_by="eq08_17_pitch_cones.solve_tangency"),

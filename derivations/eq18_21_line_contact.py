@@ -61,19 +61,20 @@ def equations():
     derived_R = fpd_angle_tan(-1, alpha_nw, beta_w, gamma_w)
     beta_w2_of_1 = sp.acos(paper.eq16_rhs) - beta_w1  # Eq 16, '+' reading
 
-    def crossing_residual(sigma, printed_tan):
+    def fpd_sum(printed_tan):
+        """Eq 18 as printed: xi_1 + xi_2, each from Eq 19/20 with its own working data."""
+        return (sp.atan(printed_tan.subs({beta_w: beta_w1, gamma_w: gamma_w1}))
+                + sp.atan(printed_tan.subs({beta_w: beta_w2_of_1, gamma_w: gamma_w2})))
+
+    def crossing_angle(sigma):
+        """Signed angle from k_2 to k_1 on the common rack's flank, measured in Sf."""
         sn, cs = common_rack_crossing(sigma)
-        x1 = sp.atan(printed_tan.subs({beta_w: beta_w1, gamma_w: gamma_w1}))
-        x2 = sp.atan(printed_tan.subs({beta_w: beta_w2_of_1, gamma_w: gamma_w2}))
-        # sin(xi_common - (xi_1 + xi_2)) must vanish
-        return (sn * cos(x1 + x2) - cs * sin(x1 + x2)) / sp.sqrt(sn ** 2 + cs ** 2)
+        return sp.atan2(sn, cs)
 
     return [
         Equation(18, "FPD angle of the pair", "derived", sampler=sampler,
-                 extra_checks=[("left: crossing of k1,k2 in Sf = xi_L1 + xi_L2",
-                                lambda: crossing_residual(+1, paper.eq19_tan)),
-                               ("right: crossing of k1,k2 in Sf = xi_R1 + xi_R2",
-                                lambda: crossing_residual(-1, paper.eq20_tan))],
+                 printed=[fpd_sum(paper.eq19_tan), fpd_sum(paper.eq20_tan)],
+                 derived=[crossing_angle(+1), crossing_angle(-1)],
                  steps=[r"Common rack at P: trace $t = \cos\beta_{w1}\tau_1 + \sin\beta_{w1}(\tau_1\times n_1)$, "
                         r"flank normal $N = \sin\alpha_{nw} n_1 \mp \cos\alpha_{nw}(t\times n_1)$.",
                         r"$k_i = a_i - (a_i\cdot N)N$; the signed angle from $k_2$ to $k_1$ about $N$ equals "

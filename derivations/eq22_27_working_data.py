@@ -90,7 +90,6 @@ def equations():
     sub_w = {alpha_n: alpha_nw, beta: wq["beta_w"], gamma: wq["gamma_w"]}
     tanPwL = tan_transverse_pressure_angle(LEFT).subs(sub_w, simultaneous=True)
     tanPwR = tan_transverse_pressure_angle(RIGHT).subs(sub_w, simultaneous=True)
-    cosP = lambda t: 1 / sp.sqrt(1 + t ** 2)  # noqa: E731  (|alpha_P| < 90 deg)
 
     # Eq 27 pieces
     st = tooth_thickness_reference().subs(b, pi * m_n / 4)
@@ -122,17 +121,19 @@ def equations():
         return d
 
     xi_t_w = wq["xi_t"]
-    eq22_L = cosP(tanPwL) / cosP(tanPL)
-    eq22_R = cosP(tanPwR) / cosP(tanPR)
     return [
-        Equation(22, "transverse angular factor", "derived", printed=[xi_t_w, xi_t_w], derived=[eq22_L, eq22_R],
+        Equation(22, "transverse angular factor", "derived",
+                 printed=[paper.eq22_ratio_L.subs({alpha_PwL: sp.atan(tanPwL), alpha_PL: sp.atan(tanPL)}),
+                          paper.eq22_ratio_R.subs({alpha_PwR: sp.atan(tanPwR), alpha_PR: sp.atan(tanPR)})],
+                 derived=[xi_t_w, xi_t_w],
                  sampler=sampler,
                  steps=[r"Transverse pressure angles of the tilted rack (not printed in the paper): "
                         r"$\tan\alpha_{PL} = %s$, $\tan\alpha_{PR} = %s$" % (sp.latex(tanPL), sp.latex(tanPR)),
                         r"Common base circle of each flank: $r\cos\alpha_P = r_w\cos\alpha_{Pw}$, so "
                         r"$\xi_t = r/r_w = \cos\alpha_{Pw}/\cos\alpha_P$ for both flanks, with $\alpha_{Pw}$ the "
                         r"transverse angles of the working rack and $r/r_w$ from Eqs 23, 25, 26."],
-                 note="Checked: the working rack of Eqs 23, 25, 26 gives the same xi_t on both flanks."),
+                 note="Printed side: cos(alpha_Pw)/cos(alpha_P) with both angles from the racks (reference and "
+                      "working, Eqs 23, 25, 26); derived side: r/r_w. Both flanks give the same xi_t."),
         Equation(23, "normal angular factor", "derived",
                  printed=[paper.eq23_xi_n_angles, paper.eq23_xi_n_transverse.subs({xi_t: wq["xi_t"], beta_w: wq["beta_w"]})],
                  derived=[wq["xi_n"], wq["xi_n"]], sampler=sampler,

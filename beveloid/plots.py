@@ -1,0 +1,148 @@
+"""Figures like the paper's Figs 10-22: contact paths on the flanks and TE over the mesh cycle.
+
+matplotlib is imported lazily with the non-interactive Agg backend, so importing beveloid
+stays cheap and plotting works without a display.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+
+def _plt():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def flank_outline(geom, which, flank, n=60):
+    """Boundary of a member's active flank in (axial position z, radius): toe, tip, heel, form."""
+    from .tca import surface
+
+    m = geom.pinion if which == "pinion" else geom.gear
+    toe, heel = m.face_limits
+    lo, hi = min(toe, heel), max(toe, heel)
+    z = np.linspace(lo, hi, n)
+    tip = np.array([m.tip_radius(zz) for zz in z])
+    # form limit l = 0: radius of the generated point as a function of z (solve u for each z)
+    form = np.empty(n)
+    for i, zz in enumerate(z):
+        u = zz
+        for _ in range(30):
+            p, _, _ = surface(geom, which, flank, 0.0, u)
+            dz = 1e-6
+            p2, _, _ = surface(geom, which, flank, 0.0, u + dz)
+            slope = (p2[2] - p[2]) / dz
+            u -= (p[2] - zz) / slope
+            if abs(p[2] - zz) < 1e-10:
+                break
+        form[i] = math.hypot(p[0], p[1])
+    zs = np.concatenate([z, z[::-1], z[:1]])
+    rs = np.concatenate([form, tip[::-1], form[:1]])
+    return zs, rs
+
+
+def contact_paths(results, labels, geom, flank, out_png, title=""):
+    """Contact path on the pinion and gear flanks, one line per result (error set)."""
+    plt = _plt()
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
+    for ax, which, key in ((axes[0], "pinion", "pinion_contact"), (axes[1], "gear", "gear_contact")):
+        zb, rb = flank_outline(geom, which, flank)
+        ax.plot(zb, rb, color="0.3", lw=1.2, label="flank boundary")
+        for res, lab in zip(results, labels):
+            fr = res.flanks[flank]
+            P = getattr(fr, key)
+            ok = np.array([s in ("ok", "edge") for s in fr.status]) & (fr.tooth_pair == 0)
+            if ok.any():
+                r = np.hypot(P[ok, 0], P[ok, 1])
+                ax.plot(P[ok, 2], r, lw=1.6, label=lab)
+            else:
+                ax.plot([], [], lw=1.6, label=lab + " (off the flank)")
+        ax.set_xlabel("axial position z (mm)  toe -> heel")
+        ax.set_ylabel("radius (mm)")
+        ax.set_title(f"{which}, {flank} flank")
+        ax.grid(alpha=0.3)
+    axes[1].legend(fontsize=8, loc="best")
+    if title:
+        fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(out_png, dpi=110)
+    plt.close(fig)
+
+
+def transmission_error(results, labels, flank, out_png, title=""):
+    """TE (urad) of the contacting pair against pinion angle (deg) over the mesh cycle.
+
+    Each curve is drawn about its own mean: a misalignment also turns the gear by a constant
+    angle, which is given in the legend, and would hide the fluctuation the figure is about.
+    """
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(7.5, 4.2))
+    for res, lab in zip(results, labels):
+        fr = res.flanks[flank]
+        phi = np.degrees(fr.pinion_angle)
+        te = fr.transmission_error * 1e6
+        act = fr.active & np.isfinite(te)
+        order = np.argsort(phi[act])
+        ptp = fr.te_peak_to_peak * 1e6
+        if not act.any():
+            ax.plot([], [], ".", label=f"{lab} (no contact on the flanks)")
+            continue
+        mean = float(np.mean(te[act]))
+        ax.plot(phi[act][order], te[act][order] - mean, ".", ms=3,
+                label=f"{lab}: mean {mean:+.1f}, peak-to-peak {ptp:.2e} urad")
+    ax.set_xlabel("pinion angle phi'_1 (deg)")
+    ax.set_ylabel("TE minus its mean (urad)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    if title:
+        ax.set_title(title)
+    fig.tight_layout()
+    fig.savefig(out_png, dpi=110)
+    plt.close(fig)
+
+
+def tca_summary(result, geom, out_png, title=""):
+    """One figure for `beveloid tca --plot`: contact path on both members and TE, per flank."""
+    plt = _plt()
+    flanks = list(result.flanks)
+    fig, axes = plt.subplots(len(flanks), 3, figsize=(15, 4.0 * len(flanks)), squeeze=False)
+    for row, flank in zip(axes, flanks):
+        fr = result.flanks[flank]
+        for ax, which, P in ((row[0], "pinion", fr.pinion_contact), (row[1], "gear", fr.gear_contact)):
+            zb, rb = flank_outline(geom, which, flank)
+            ax.plot(zb, rb, color="0.3", lw=1.2, label="flank boundary")
+            for k in sorted(set(fr.tooth_pair.tolist())):
+                sel = (fr.tooth_pair == k) & np.isfinite(P[:, 0])
+                if not sel.any():
+                    continue
+                r = np.hypot(P[sel, 0], P[sel, 1])
+                ax.plot(P[sel, 2], r, lw=1.5, label=f"tooth pair {k:+d}" if k else "tooth pair 0")
+            ax.set_xlabel("axial position z (mm)  toe -> heel")
+            ax.set_ylabel("radius (mm)")
+            ax.set_title(f"{which}, {flank} flank: contact path")
+            ax.grid(alpha=0.3)
+        row[1].legend(fontsize=8)
+        ax = row[2]
+        phi = np.degrees(fr.pinion_angle)
+        te = fr.transmission_error * 1e6
+        for k in sorted(set(fr.tooth_pair.tolist())):
+            sel = (fr.tooth_pair == k) & np.isfinite(te)
+            ax.plot(phi[sel], te[sel], lw=1.0, label=f"pair {k:+d}")
+        act = fr.active & np.isfinite(te)
+        ax.plot(phi[act], te[act], "k.", ms=2, label="contact (envelope)")
+        ax.set_xlabel("pinion angle phi'_1 (deg)")
+        ax.set_ylabel("TE (urad)")
+        ptp = fr.te_peak_to_peak * 1e6
+        ax.set_title(f"{flank} flank: TE, peak-to-peak {ptp:.2e} urad" if np.isfinite(ptp) else f"{flank}: no contact")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    if title:
+        fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(out_png, dpi=100)
+    plt.close(fig)

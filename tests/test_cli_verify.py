@@ -1,0 +1,134 @@
+"""`beveloid verify` and the CLI's error policy (without re-running the 18 s verification)."""
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import subprocess
+import sys
+
+import pytest
+
+from beveloid import cli
+from beveloid.errors import UserError
+from beveloid.spec import SpecError
+
+ALLOWED_STATUS = {"verified", "definition", "differs"}
+
+
+@pytest.fixture
+def fake_verify(monkeypatch, verification):
+    """Make registry.verify return the session's precomputed results (and call progress)."""
+    from beveloid.derivations import registry
+
+    state = {"verification": verification, "calls": 0}
+
+    def verify(progress=None):
+        state["calls"] += 1
+        eqs, results = state["verification"]
+        if progress:
+            for e in eqs:
+                progress(e)
+        return eqs, results
+
+    monkeypatch.setattr(registry, "verify", verify)
+    return state
+
+
+def test_verify_json(fake_verify, capsys):
+    rc = cli.main(["verify", "--json"])
+    out, err = capsys.readouterr()
+    assert fake_verify["calls"] == 1
+    data = json.loads(out)  # stdout holds the JSON and nothing else
+    assert isinstance(data, list) and len(data) == 38
+    assert sorted(d["equation"] for d in data) == sorted(str(n) for n in range(1, 39))
+    for d in data:
+        assert set(d) >= {"equation", "title", "status", "method", "max_rel_diff", "note"}
+        assert d["status"] in ALLOWED_STATUS
+        if d["status"] == "differs":
+            assert d["note"].strip(), f"Eq {d['equation']} differs without a note"
+    assert rc == (1 if any(d["status"] == "differs" for d in data) else 0)
+    assert err == ""  # not a TTY: no progress lines
+
+
+def test_verify_table(fake_verify, capsys):
+    rc = cli.main(["verify"])
+    out, _err = capsys.readouterr()
+    assert rc == 0
+    assert out.splitlines()[0].split()[:2] == ["Eq", "what"]
+    assert "(of 38 equations)" in out
+
+
+def test_verify_progress_on_tty(fake_verify, capsys, monkeypatch):
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True)
+    cli.main(["verify", "--json"])
+    out, err = capsys.readouterr()
+    json.loads(out)
+    assert err.splitlines() == [f"checking Eq {n} ..." for n in range(1, 39)]
+
+
+def test_verify_exit_1_when_an_equation_differs(fake_verify, capsys):
+    eqs, results = fake_verify["verification"]
+    results = list(results)
+    results[16] = dataclasses.replace(results[16], status="differs", max_rel_diff=1e-3, note="test")
+    fake_verify["verification"] = (eqs, results)
+    assert cli.main(["verify", "--json"]) == 1
+    assert json.loads(capsys.readouterr().out)[16]["status"] == "differs"
+
+
+# ---------------------------------------------------------------------------------------
+# error policy
+# ---------------------------------------------------------------------------------------
+
+
+def _raising_command(exc):
+    def configure(p: argparse.ArgumentParser) -> None:
+        pass
+
+    def run(args):
+        """Raise for the test."""
+        raise exc
+
+    return configure, run
+
+
+@pytest.mark.parametrize("exc, message", [
+    (SpecError("pinion.teeth = 5: must be an integer from 6 to 400", source="x.toml"),
+     "x.toml: pinion.teeth = 5: must be an integer from 6 to 400"),
+    (UserError("no such file:\n  design.toml"), "no such file: design.toml"),
+])
+def test_user_errors_are_one_line_exit_2(monkeypatch, capsys, exc, message):
+    monkeypatch.setitem(cli.COMMANDS, "boom", _raising_command(exc))
+    assert cli.main(["boom"]) == 2
+    out, err = capsys.readouterr()
+    assert out == ""
+    assert err == f"beveloid: error: {message}\n"
+
+
+def test_bugs_are_not_swallowed(monkeypatch):
+    monkeypatch.setitem(cli.COMMANDS, "boom", _raising_command(ZeroDivisionError("bug")))
+    with pytest.raises(ZeroDivisionError):
+        cli.main(["boom"])
+
+
+@pytest.mark.parametrize("argv", [[], ["nonsense"], ["verify", "--no-such-option"]])
+def test_usage_errors_exit_2(argv, capsys):
+    assert cli.main(argv) == 2
+    err = capsys.readouterr().err
+    assert "usage: beveloid" in err and "error:" in err
+
+
+def test_help_exits_0(capsys):
+    assert cli.main(["--help"]) == 0
+    assert "verify" in capsys.readouterr().out
+
+
+def test_spec_error_is_independent_of_user_error():
+    assert not issubclass(SpecError, UserError)
+    assert issubclass(UserError, ValueError)
+
+
+def test_cli_import_does_not_load_sympy(tmp_path):
+    code = "import beveloid, beveloid.cli, sys; assert 'sympy' not in sys.modules, 'sympy was imported'"
+    proc = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr

@@ -1,0 +1,224 @@
+"""TCA checks: contact found and verified independently, statuses at the flank edges,
+sensitivities against finite differences of the solver, two-flank backlash against Eq 27."""
+import dataclasses
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from beveloid import tca
+from beveloid.design import design
+from beveloid.spec import load_spec
+
+ROOT = Path(__file__).resolve().parents[1]
+DEG = math.pi / 180
+
+
+@pytest.fixture(scope="module", params=["case1", "case2"])
+def geom(request):
+    return tca.PairGeometry.from_design(design(load_spec(ROOT / "examples" / f"{request.param}.toml")))
+
+
+@pytest.fixture(scope="module")
+def geom1():
+    return tca.PairGeometry.from_design(design(load_spec(ROOT / "examples" / "case1.toml")))
+
+
+# ---- an independent transcription of the printed placement (Eqs 30, 33, 34) -----------------
+def _printed_Mf1(phi1, z1):
+    c, s = math.cos(phi1), math.sin(phi1)
+    return np.array([[c, -s, 0, 0], [s, c, 0, 0], [0, 0, 1, z1], [0, 0, 0, 1.0]])
+
+
+def _printed_Mf2(phi2, e, E, delta, z2):
+    dx, dy, dz, gv, gh = e
+    cd, sd = math.cos(delta), math.sin(delta)
+    Mfq = np.array([[1, 0, 0, E], [0, cd, sd, sd * z2], [0, -sd, cd, cd * z2], [0, 0, 0, 1.0]])
+    cv, sv, ch, sh = math.cos(gv), math.sin(gv), math.cos(gh), math.sin(gh)
+    Mq = np.array([[cv, 0, sv, dx], [-sv * sh, ch, sh * cv, dy], [-sv * ch, -sh, ch * cv, dz], [0, 0, 0, 1.0]])
+    c, s = math.cos(phi2), math.sin(phi2)
+    Rz = np.array([[c, -s, 0, 0], [s, c, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1.0]])
+    return Mfq @ Mq @ Rz
+
+
+def _contact_in_frame(geom, flank, x, phi1, e):
+    p1, n1, _ = tca.surface(geom, "pinion", flank, x[0], x[1])
+    p2, n2, _ = tca.surface(geom, "gear", flank, x[2], x[3])
+    M1 = _printed_Mf1(phi1, geom.pinion.axial_placement_mm)
+    M2 = _printed_Mf2(x[4], e, geom.offset_mm, geom.shaft_angle, geom.gear.axial_placement_mm)
+    return (M1[:3, :3] @ p1 + M1[:3, 3], M1[:3, :3] @ n1, M2[:3, :3] @ p2 + M2[:3, 3], M2[:3, :3] @ n2)
+
+
+def _check_contacts(geom, flank, res_flank, e, p1_pitch):
+    """Every point reported ok/edge is a true contact (printed transforms) inside both flanks."""
+    fr = res_flank
+    n_ok = 0
+    for i, st in enumerate(fr.status):
+        if st not in ("ok", "edge"):
+            assert np.isnan(fr.gear_angle[i]) and np.all(np.isnan(fr.pinion_contact[i]))
+            continue
+        n_ok += 1
+        k = fr.tooth_pair[i]
+        P1 = fr.pinion_contact[i]
+        c, s = math.cos(-k * p1_pitch), math.sin(-k * p1_pitch)
+        P1_0 = np.array([c * P1[0] - s * P1[1], s * P1[0] + c * P1[1], P1[2]])
+        # the pinion contact lies on the flank (edge points: within the edge tolerance of it)
+        tol = 1e-9 if st == "ok" else 0.01 + 1e-9
+        assert abs(P1_0[2]) <= geom.pinion.face_width_mm / 2 + tol
+        r1 = math.hypot(P1_0[0], P1_0[1])
+        assert r1 <= geom.pinion.tip_radius(P1_0[2]) + tol
+    return n_ok
+
+
+def test_aligned_contact_at_pitch_point_both_flanks(geom):
+    for flank in tca.FLANKS:
+        ref = tca.reference_contact(geom, flank)
+        rf1, nf1, rf2, nf2 = _contact_in_frame(geom, flank, ref.x, ref.pinion_angle, np.zeros(5))
+        assert np.allclose(rf1, rf2, atol=1e-9)
+        assert np.allclose(nf1, -nf2, atol=1e-12)
+        # the contact is the pitch point P of the pitch-cone design (b_c = 0)
+        assert math.hypot(rf1[0], rf1[1]) == pytest.approx(geom.pinion.working_pitch_radius_mm, rel=1e-12)
+        assert rf1[2] == pytest.approx(geom.pinion.working_mounting_distance_mm, abs=1e-9)
+
+
+def test_aligned_mesh_is_conjugate(geom):
+    """Involute helicoids with a common normal base pitch: constant ratio, TE ~ 0."""
+    res = tca.analyze(geom, positions=120)
+    for flank in tca.FLANKS:
+        fr = res.flanks[flank]
+        assert sum(s == "ok" for s in fr.status) > 100
+        assert "failed" not in fr.status
+        assert fr.te_peak_to_peak < 1e-12
+        _check_contacts(geom, flank, fr, np.zeros(5), geom.pitch_angles[0])
+
+
+@pytest.mark.parametrize("errors", [
+    (0.5, 0.5, 0.5, 0, 0), (-0.5, -0.5, -0.5, 0, 0), (1.0, 1.0, 1.0, 0, 0),
+    (0, 0, 0, 0.2 * DEG, 0), (0, 0, 0, -0.2 * DEG, 0), (0, 0, 0, 0, 0.03 * DEG), (0, 0, 0, 0, -0.03 * DEG),
+    (0, 0, 0, 0.25 * DEG, 0), (0, 0, 0, 0, 0.04 * DEG),
+])
+def test_each_error_alone_true_contacts(geom, errors):
+    res = tca.analyze(geom, errors, flanks=("right",), positions=60)
+    fr = res.flanks["right"]
+    assert "failed" not in fr.status
+    _check_contacts(geom, "right", fr, np.asarray(errors), geom.pitch_angles[0])
+    # independent check of the solved unknowns at every point of the path
+    ref = tca.reference_contact(geom, "right")
+    x0, conv = tca.solve_errors_homotopy(geom, "right", ref, np.asarray(errors))
+    assert conv.all()
+    rf1, nf1, rf2, nf2 = _contact_in_frame(geom, "right", x0[0], ref.pinion_angle, np.asarray(errors))
+    assert np.allclose(rf1, rf2, atol=1e-9) and np.allclose(nf1, -nf2, atol=1e-12)
+
+
+def test_random_error_combinations(geom1):
+    rng = np.random.default_rng(7)
+    E = np.column_stack([rng.uniform(-0.5, 0.5, (12, 3)), rng.uniform(-0.2, 0.2, 12) * DEG,
+                         rng.uniform(-0.03, 0.03, 12) * DEG])
+    for e in E:
+        for flank in tca.FLANKS:
+            ref = tca.reference_contact(geom1, flank)
+            x, conv = tca.solve_errors_homotopy(geom1, flank, ref, e)
+            assert conv.all()
+            rf1, nf1, rf2, nf2 = _contact_in_frame(geom1, flank, x[0], ref.pinion_angle, e)
+            assert np.allclose(rf1, rf2, atol=1e-9) and np.allclose(nf1, -nf2, atol=1e-12)
+
+
+def _independent_margins(geom, flank, x):
+    """Signed distances inside the four boundaries of each member, from the blank's definition."""
+    out = []
+    for which, lc, uc in (("pinion", 0, 1), ("gear", 2, 3)):
+        m = geom.pinion if which == "pinion" else geom.gear
+        p, _, _ = tca.surface(geom, which, flank, x[:, lc], x[:, uc])
+        z, rad = p[:, 2], np.hypot(p[:, 0], p[:, 1])
+        tip = m.pitch_radius_mm + (m.tip_height_mm + m.rack_shift_mm) / math.cos(m.cone_angle) + z * math.tan(m.cone_angle)
+        half = m.face_width_mm / 2
+        out += [x[:, lc], tip - rad, z - (m.reference_section_offset_mm - half), (m.reference_section_offset_mm + half) - z]
+    return np.min(np.stack(out, axis=1), axis=1)
+
+
+@pytest.mark.parametrize("errors", [(1.0, 1.0, 1.0, 0, 0), (1.5, 1.5, 1.5, 0, 0), (0, 0, 0, 0, 0.02 * DEG)])
+def test_status_at_flank_edges(geom1, errors):
+    """Every status agrees with margins recomputed from the blank; outside points carry no numbers."""
+    tol = 0.01
+    fr = tca.analyze(geom1, errors, flanks=("right",), positions=200, edge_tol_mm=tol).flanks["right"]
+    st = np.array(fr.status)
+    margin = _independent_margins(geom1, "right", fr.unknowns)
+    assert np.all(margin[st == "ok"] > tol)
+    assert np.all(np.abs(margin[st == "edge"]) <= tol)
+    assert np.all(margin[st == "outside"] < -tol)
+    assert np.all(np.isnan(fr.transmission_error[st == "outside"]))
+    assert (st == "ok").any() and (st == "outside").any()
+
+
+def test_large_offset_reaches_the_heel(geom1):
+    """Offsets along +x,+y,+z move the path toward the heel; at 1.5 mm it runs past it."""
+    fr = tca.analyze(geom1, (1.5, 1.5, 1.5, 0, 0), flanks=("right",), positions=200).flanks["right"]
+    p, _, _ = tca.surface(geom1, "pinion", "right", fr.unknowns[:, 0], fr.unknowns[:, 1])
+    assert p[:, 2].max() > geom1.pinion.face_width_mm / 2
+    assert any("heel" in b for s, b in zip(fr.status, fr.nearest_boundary) if s == "outside")
+
+
+def test_classify_thresholds(geom1):
+    ref = tca.reference_contact(geom1, "right")
+    x = ref.x[None]
+    margins, _ = tca.boundary_margins(geom1, "right", x)
+    m = float(margins[0])
+    assert tca._STATUS_CODES[int(tca.classify(geom1, "right", x, np.array([True]), edge_tol_mm=m + 1e-6)[0])] == "edge"
+    assert tca._STATUS_CODES[int(tca.classify(geom1, "right", x, np.array([True]), edge_tol_mm=m / 2)[0])] == "ok"
+    assert tca._STATUS_CODES[int(tca.classify(geom1, "right", x, np.array([False]))[0])] == "failed"
+
+
+def test_vertical_error_moves_path_off_the_blank(geom1):
+    """Paper (case 1): dgamma_v = 0.2 deg takes the path off the blank."""
+    res = tca.analyze(geom1, (0, 0, 0, 0.2 * DEG, 0), flanks=("right",), positions=80)
+    assert all(s == "outside" for s in res.flanks["right"].status)
+
+
+@pytest.mark.parametrize("k", range(5))
+def test_sensitivity_against_finite_differences(geom1, k):
+    base = np.array([0.2, -0.1, 0.3, 0.05 * DEG, 0.01 * DEG])
+    sens = tca.sensitivity(geom1, "right", base)
+    assert sens["converged"]
+    h = (1e-5, 1e-5, 1e-5, 1e-7, 1e-7)[k]
+    ref = tca.reference_contact(geom1, "right")
+
+    def solve(e):
+        x, conv = tca.solve_errors_homotopy(geom1, "right", ref, e)
+        assert conv.all()
+        return x[0]
+
+    ep, em = base.copy(), base.copy()
+    ep[k] += h
+    em[k] -= h
+    fd = (solve(ep) - solve(em)) / (2 * h)
+    exact = sens["unknowns_D_errors"][:, k]
+    assert np.allclose(fd, exact, rtol=1e-5, atol=1e-6 * max(1.0, np.abs(exact).max()))
+
+
+def test_backlash_aligned_matches_eq27(geom):
+    """Eq 27 designs zero backlash; the two-flank TCA measures it."""
+    assert abs(tca.backlash(geom)) < 1e-6  # um
+
+
+def test_backlash_changes_by_the_thickness_change(geom1):
+    """Thickening the gear by dxt2 turns each involute flank rigidly: exact backlash change."""
+    d = 0.01
+    g = geom1.gear
+    mn = geom1.normal_module_mm
+    thicker = dataclasses.replace(g, rack_shift_mm=g.rack_shift_mm + d * mn * math.cos(g.cone_angle) / math.cos(g.helix_angle))
+    geom2 = dataclasses.replace(geom1, gear=thicker)
+    an = geom1.normal_pressure_angle
+    sum_tan = 2 * math.tan(an) * math.cos(g.cone_angle) / math.cos(g.helix_angle)
+    mt = mn / math.cos(g.helix_angle)
+    expected = -d * mt * sum_tan * g.working_pitch_radius_mm / g.pitch_radius_mm * 1e3
+    assert tca.backlash(geom2) - tca.backlash(geom1) == pytest.approx(expected, rel=1e-9)
+
+
+def test_newton_reports_failure_not_numbers(geom1):
+    ref = tca.reference_contact(geom1, "left")
+    bad = ref.x + np.array([1e3, 1e3, -1e3, 1e3, 2.0])
+    sol = tca.newton(geom1, "left", bad[None], np.array([ref.pinion_angle]), np.zeros((1, 5)), max_iter=3)
+    assert not sol.converged[0]
+    codes = tca.classify(geom1, "left", sol.x, sol.converged)
+    assert tca._STATUS_CODES[int(codes[0])] == "failed"
