@@ -23,6 +23,8 @@ from collections.abc import Callable, Sequence
 from .errors import UserError
 from .cli_design import configure as _design_configure
 from .cli_design import run as _design_run
+from .cli_sweep import configure as _sweep_configure
+from .cli_sweep import run as _sweep_run
 from .cli_tca import configure as _tca_configure
 from .cli_tca import run as _tca_run
 from .spec import SpecError
@@ -97,6 +99,30 @@ def _run_derive(args: argparse.Namespace) -> int:
 
 
 # ---------------------------------------------------------------------------
+# paper
+# ---------------------------------------------------------------------------
+
+
+def _configure_paper(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--out", default="paper_out", metavar="DIR", help="output folder (default paper_out)")
+    p.add_argument("--positions", type=int, default=200, metavar="N",
+                   help="pinion positions per error set (default 200)")
+
+
+def _run_paper(args: argparse.Namespace) -> int:
+    """Reproduce Table 1 and the studies of Figs 10-22 into DIR (PNG, CSV, report.md)."""
+    from .reproduction import run
+
+    if not 10 <= args.positions <= 5000:
+        raise UserError(f"--positions = {args.positions}: must be an integer from 10 to 5000")
+    try:
+        run(args.out, positions=args.positions)
+    except OSError as exc:
+        raise UserError(f"--out = {args.out}: cannot write there ({exc.strerror})") from None
+    return 0
+
+
+# ---------------------------------------------------------------------------
 # Further commands go here, each as _configure_<name> / _run_<name> plus one
 # entry in COMMANDS.  Planned, NOT implemented yet (do not register stubs):
 #
@@ -118,8 +144,8 @@ COMMANDS: dict[str, tuple[Configure, Run]] = {
     "derive": (_configure_derive, _run_derive),
     "design": (_design_configure, _design_run),
     "tca": (_tca_configure, _tca_run),
-    # "paper":  (_configure_paper, _run_paper),
-    # "sweep":  (_configure_sweep, _run_sweep),
+    "paper": (_configure_paper, _run_paper),
+    "sweep": (_sweep_configure, _sweep_run),
 }
 
 

@@ -18,6 +18,7 @@ from pathlib import Path
 import jinja2
 import sympy as sp
 from sympy.printing.numpy import NumPyPrinter
+from sympy.printing.pycode import PythonCodePrinter
 
 TEMPLATE_DIR = Path(__file__).parent / "templates"
 
@@ -57,9 +58,15 @@ class ModuleSpec:
     source: str  # derivations/<file>
     doc: str
     functions: list[Function] = field(default_factory=list)
+    scalar_twin: bool = False  # also write <module>_scalar.py (one point per call) for the compiled path
 
 
 class _Printer(NumPyPrinter):
+    def __init__(self):
+        super().__init__({"fully_qualified_modules": True, "inline": True, "allow_unknown_functions": False})
+
+
+class _ScalarPrinter(PythonCodePrinter):
     def __init__(self):
         super().__init__({"fully_qualified_modules": True, "inline": True, "allow_unknown_functions": False})
 
@@ -70,7 +77,7 @@ def _entries(expr):
     return [sp.sympify(expr)], ()
 
 
-def render_function(fn: Function, cse=True):
+def render_function(fn: Function, cse=True, scalar=False):
     allowed = {a.symbol for a in fn.inputs}
     flat, shapes = [], []
     for o in fn.outputs:
@@ -85,7 +92,7 @@ def render_function(fn: Function, cse=True):
     if len({a.name for a in fn.inputs}) != len(fn.inputs):
         raise GenerationError(f"{fn.name}: duplicate argument names")
     all_exprs = [sp.sympify(e).xreplace(rename) for ents in flat for e in ents]
-    printer = _Printer()
+    printer = _ScalarPrinter() if scalar else _Printer()
     body = []
     if cse:
         syms = sp.numbered_symbols("_x")
@@ -101,6 +108,11 @@ def render_function(fn: Function, cse=True):
         exprs = reduced[k:k + len(ents)]
         k += len(ents)
         printed = [printer.doprint(e) for e in exprs]
+        if scalar:
+            for idx, text in zip(_indices(shape), printed):
+                body.append(f"out_{o.name}[{idx}] = {text}")
+            returns.append(o.name)
+            continue
         if shape == ():
             body.append(f"{o.name} = {printed[0]}")
         else:
@@ -108,9 +120,20 @@ def render_function(fn: Function, cse=True):
         returns.append(o.name)
     shape_doc = lambda sh: "" if sh == () else ", " + ", ".join(map(str, sh))  # noqa: E731
     outs = [dict(name=o.name, doc=o.doc, unit=o.unit, shape_doc=shape_doc(sh)) for o, sh in zip(fn.outputs, shapes)]
-    return dict(name=fn.name, doc=fn.doc, signature=_signature(fn.name, [a.name for a in fn.inputs]),
+    args = [a.name for a in fn.inputs] + ([f"out_{o.name}" for o in fn.outputs] if scalar else [])
+    return dict(name=fn.name + ("_point" if scalar else ""), doc=fn.doc, signature=_signature(fn.name, args),
+                out_names=[f"out_{o.name}" for o in fn.outputs],
                 inputs=[dict(name=a.name, doc=a.doc, unit=a.unit) for a in fn.inputs],
                 outputs=outs, ops=ops, body=body, returns=", ".join(returns) + ("," if len(returns) == 1 else ""))
+
+
+def _indices(shape):
+    """Index expressions of an output array in C order ('0' for a scalar held in a 1-array)."""
+    if shape == ():
+        return ["0"]
+    if len(shape) == 1:
+        return [str(i) for i in range(shape[0])]
+    return [f"{i}, {j}" for i in range(shape[0]) for j in range(shape[1])]
 
 
 def _signature(name, args, width=100):
@@ -129,13 +152,22 @@ def _signature(name, args, width=100):
     return "\n        " + "\n        ".join(lines) + "\n"
 
 
+def _env():
+    return jinja2.Environment(loader=jinja2.FileSystemLoader(str(TEMPLATE_DIR)), keep_trailing_newline=True,
+                              trim_blocks=True, lstrip_blocks=False, undefined=jinja2.StrictUndefined)
+
+
 def render_module(spec: ModuleSpec, cse=True) -> str:
-    env = jinja2.Environment(loader=jinja2.FileSystemLoader(str(TEMPLATE_DIR)), keep_trailing_newline=True,
-                             trim_blocks=True, lstrip_blocks=False, undefined=jinja2.StrictUndefined)
-    tpl = env.get_template("module.py.jinja")
+    tpl = _env().get_template("module.py.jinja")
     fns = [render_function(f, cse=cse) for f in spec.functions]
-    text = tpl.render(source=spec.source, doc=spec.doc, functions=fns)
-    return text
+    return tpl.render(source=spec.source, doc=spec.doc, functions=fns)
+
+
+def render_scalar_module(spec: ModuleSpec, cse=True) -> str:
+    """The scalar (one point, math-module) twin of a module, for the compiled path."""
+    tpl = _env().get_template("scalar_module.py.jinja")
+    fns = [render_function(f, cse=cse, scalar=True) for f in spec.functions]
+    return tpl.render(source=spec.source, doc=spec.doc, functions=fns, numpy_module=spec.module)
 
 
 def generate(out_dir, specs, cse=True, progress=None):
@@ -145,6 +177,8 @@ def generate(out_dir, specs, cse=True, progress=None):
         if progress:
             progress(spec.module)
         files[f"{spec.module}.py"] = render_module(spec, cse=cse)
+        if spec.scalar_twin:
+            files[f"{spec.module}_scalar.py"] = render_scalar_module(spec, cse=cse)
     files["__init__.py"] = _init_text(specs)
     return files
 
@@ -153,6 +187,7 @@ def _init_text(specs):
     lines = ["# Generated by `beveloid derive` (derivations/codegen.py). Do not edit.",
              '"""Numeric kernels generated from the symbolic models (numpy only)."""', ""]
     lines.append("MODULES = (" + "".join(f"\n    {s.module!r}," for s in specs) + "\n)")
+    lines.append("SCALAR_MODULES = (" + "".join(f"\n    {s.module + '_scalar'!r}," for s in specs if s.scalar_twin) + "\n)")
     return "\n".join(lines) + "\n"
 
 

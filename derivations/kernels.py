@@ -55,7 +55,8 @@ def tooth_surface_module():
             [Output("point_D_lu", jac, "mm/mm", "[dR/dl, dR/du] as columns"),
              Output("point_D2_lu", hess, "mm/mm^2", "[d2R/dl2, d2R/dldu, d2R/du2] as columns")]))
     return ModuleSpec("tooth_surface", "eq04_07_tooth_surface.py",
-                      "Tooth surfaces of the rack-generated beveloid flanks and their derivatives (Eqs 1-7).", fns)
+                      "Tooth surfaces of the rack-generated beveloid flanks and their derivatives (Eqs 1-7).", fns,
+                      scalar_twin=True)
 
 
 def _pair_args():
@@ -165,7 +166,7 @@ def tca_module():
              Output("residual_D_errors", f.jacobian(errors), "", "d residual / d (dx, dy, dz, dgamma_v, dgamma_h)"),
              Output("residual_D_pinion_angle", f.diff(phi1p), "", "d residual / d phi'_1")]))
     return ModuleSpec("tca_system", "eq28_38_meshing_model.py",
-                      "The TCA system of Eq 38 (both flank pairs) with exact Jacobians.", fns)
+                      "The TCA system of Eq 38 (both flank pairs) with exact Jacobians.", fns, scalar_twin=True)
 
 
 def module_specs():

@@ -6,3 +6,7 @@ MODULES = (
     'design_equations',
     'tca_system',
 )
+SCALAR_MODULES = (
+    'tooth_surface_scalar',
+    'tca_system_scalar',
+)

@@ -1,0 +1,215 @@
+"""Monte Carlo tolerance sweep: K random assembly-error sets x N contact positions.
+
+Positions are spread over the aligned engagement of one tooth pair on the chosen flank (the
+pinion angles at which the aligned contact lies on both flanks), so that a point that is not
+'ok' under an error set means the contact has left the flank there.  Two backends solve the
+same generated equations: "compiled" (numba, the default when installed) and "numpy".
+"""
+from __future__ import annotations
+
+import math
+import sys
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import tca
+
+DEFAULT_RANGES = {"dx_mm": 0.5, "dy_mm": 0.5, "dz_mm": 0.5, "vertical_deg": 0.2, "horizontal_deg": 0.03}
+
+
+def draw_errors(samples, ranges=None, seed=0):
+    """Uniform error sets (K, 5) in (mm, mm, mm, rad, rad); ranges are half-widths (mm / deg)."""
+    r = dict(DEFAULT_RANGES, **(ranges or {}))
+    half = np.array([r["dx_mm"], r["dy_mm"], r["dz_mm"], math.radians(r["vertical_deg"]),
+                     math.radians(r["horizontal_deg"])])
+    rng = np.random.default_rng(seed)
+    return rng.uniform(-1.0, 1.0, (samples, 5)) * half
+
+
+def engagement_window(geom, flank, ref=None, resolution=400):
+    """Pinion-angle interval over which the aligned pair-0 contact is 'ok' (rad)."""
+    ref = ref or tca.reference_contact(geom, flank)
+    p1, _ = geom.pitch_angles
+    grid = ref.pinion_angle + np.linspace(-2.5 * p1, 2.5 * p1, resolution)
+    sol = tca.solve_path(geom, flank, ref, ref.x[None], np.zeros((1, 5)), grid[None])
+    code = tca.classify(geom, flank, sol.x[0], sol.converged[0])
+    ok = np.nonzero(code == 0)[0]
+    if ok.size == 0:
+        raise RuntimeError(f"the aligned {flank} flank has no contact on the flanks")
+    lo, hi = grid[ok[0]], grid[ok[-1]]
+    return lo, hi
+
+
+def _limits(geom):
+    rows = []
+    for m in (geom.pinion, geom.gear):
+        lo, hi = sorted(m.face_limits)
+        rows.append([m.pitch_radius_mm, m.tip_height_mm + m.rack_shift_mm, math.cos(m.cone_angle),
+                     math.tan(m.cone_angle), lo, hi, m.helix_angle, m.cone_angle, m.cutter_addendum_mm,
+                     m.rack_shift_mm])
+    return np.array(rows)
+
+
+def _tolerance(geom, tol_mm=1e-12):
+    scale = geom.gear.working_pitch_radius_mm
+    return max(tol_mm, 64 * np.finfo(float).eps * (abs(geom.gear.axial_placement_mm) + geom.offset_mm + scale))
+
+
+def solve_sets(geom, flank, errors, phi_grid, backend="auto", edge_tol_mm=0.01, max_iter=25, homotopy_steps=3):
+    """Unknowns (K, N, 5), status codes (K, N) and Newton iterations (K, N) for error sets x angles."""
+    ref = tca.reference_contact(geom, flank)
+    errors = np.ascontiguousarray(errors, dtype=float)
+    phi_grid = np.ascontiguousarray(np.sort(phi_grid), dtype=float)
+    K, N = errors.shape[0], phi_grid.shape[0]
+    backend = resolve_backend(backend)
+    if backend == "compiled":
+        from . import compiled
+
+        x = np.empty((K, N, 5))
+        code = np.empty((K, N), dtype=np.int64)
+        iters = np.empty((K, N), dtype=np.int64)
+        compiled.sweep_paths(0 if flank == "left" else 1, np.ascontiguousarray(ref.x), ref.pinion_angle, errors,
+                             phi_grid, np.array(geom.kernel_params(), dtype=float), _limits(geom),
+                             geom.gear.working_pitch_radius_mm, _tolerance(geom), max_iter, homotopy_steps,
+                             edge_tol_mm, x, code, iters)
+        return x, code, iters
+    x0, conv0 = tca.solve_errors_homotopy(geom, flank, ref, errors, steps=homotopy_steps)
+    sol = tca.solve_path(geom, flank, ref, x0, errors, np.broadcast_to(phi_grid, (K, N)))
+    conv = sol.converged & conv0[:, None]
+    code = tca.classify(geom, flank, sol.x, conv, edge_tol_mm)
+    return sol.x, code, sol.iterations
+
+
+def resolve_backend(backend):
+    from . import compiled
+
+    if backend == "auto":
+        return "compiled" if compiled.AVAILABLE else "numpy"
+    if backend == "compiled" and not compiled.AVAILABLE:
+        from .errors import UserError
+
+        raise UserError("backend = compiled: numba is not installed; use backend numpy or pip install numba")
+    if backend not in ("compiled", "numpy"):
+        raise ValueError(f"backend must be auto, compiled or numpy, got {backend!r}")
+    return backend
+
+
+def _stats(v):
+    v = np.asarray(v, float)
+    v = v[np.isfinite(v)]
+    if v.size == 0:
+        return {"count": 0}
+    return {"count": int(v.size), "mean": float(v.mean()), "std": float(v.std()), "min": float(v.min()),
+            "p05": float(np.percentile(v, 5)), "p50": float(np.percentile(v, 50)),
+            "p95": float(np.percentile(v, 95)), "max": float(v.max())}
+
+
+@dataclass
+class SweepResult:
+    flank: str
+    samples: int
+    positions: int
+    errors: np.ndarray
+    pinion_angles: np.ndarray
+    status_codes: np.ndarray
+    pinion_shift_mm: np.ndarray  # (K,) mean axial shift of the pinion contact vs aligned
+    gear_shift_mm: np.ndarray
+    te_peak_to_peak: np.ndarray  # (K,) rad
+    sensitivity: dict
+    backend: str
+    seconds: float
+    newton_iterations_mean: float
+    ranges: dict = field(default_factory=dict)
+
+    @property
+    def contact_points_solved(self):
+        return int(self.status_codes.size)
+
+    def to_json_dict(self):
+        codes = self.status_codes
+        any_edge = (codes == 1).any(axis=1)
+        any_off = (codes >= 2).any(axis=1)
+        all_off = (codes >= 2).all(axis=1)
+        return {
+            "flank": self.flank,
+            "samples": self.samples,
+            "positions": self.positions,
+            "contact_points_solved": self.contact_points_solved,
+            "backend": self.backend,
+            "seconds": self.seconds,
+            "us_per_point": self.seconds / max(1, self.contact_points_solved) * 1e6,
+            "newton_iterations_mean": self.newton_iterations_mean,
+            "ranges": self.ranges,
+            "pinion_angle_window_rad": [float(self.pinion_angles[0]), float(self.pinion_angles[-1])],
+            "status_counts": {s: int((codes == c).sum()) for c, s in tca._STATUS_CODES.items()},
+            "fraction_sets_with_edge_contact": float(any_edge.mean()),
+            "fraction_sets_with_contact_off_flank": float(any_off.mean()),
+            "fraction_sets_entirely_off_flank": float(all_off.mean()),
+            "pinion_path_shift_mm": _stats(self.pinion_shift_mm),
+            "gear_path_shift_mm": _stats(self.gear_shift_mm),
+            "te_peak_to_peak_urad": _stats(self.te_peak_to_peak * 1e6),
+            "sensitivity": self.sensitivity,
+        }
+
+
+def _progress_bar(done, total, t0, stream=sys.stderr, width=30):
+    frac = done / total
+    bar = "#" * int(width * frac) + "-" * (width - int(width * frac))
+    el = time.perf_counter() - t0
+    eta = el / frac - el if frac > 0 else float("nan")
+    stream.write(f"\r  [{bar}] {done}/{total} error sets  {el:5.1f} s  eta {eta:5.1f} s")
+    stream.flush()
+    if done == total:
+        stream.write("\n")
+
+
+def sweep(geom, flank="right", samples=1000, positions=50, seed=0, ranges=None, backend="auto",
+          edge_tol_mm=0.01, progress=None, chunk=2000):
+    """Run the sweep; ``progress`` is a callable(done, total, t0) or None."""
+    errors = draw_errors(samples, ranges, seed)
+    ref = tca.reference_contact(geom, flank)
+    lo, hi = engagement_window(geom, flank, ref)
+    pad = 0.01 * (hi - lo)
+    grid = np.linspace(lo + pad, hi - pad, positions)
+    backend = resolve_backend(backend)
+    # aligned path (the shift reference)
+    xa, ca, _ = solve_sets(geom, flank, np.zeros((1, 5)), grid, backend, edge_tol_mm)
+    p_al, _, _ = tca.surface(geom, "pinion", flank, xa[0, :, 0], xa[0, :, 1])
+    g_al, _, _ = tca.surface(geom, "gear", flank, xa[0, :, 2], xa[0, :, 3])
+    t0 = time.perf_counter()
+    X = np.empty((samples, positions, 5))
+    C = np.empty((samples, positions), dtype=np.int64)
+    IT = np.empty((samples, positions), dtype=np.int64)
+    for start in range(0, samples, chunk):
+        sl = slice(start, min(samples, start + chunk))
+        X[sl], C[sl], IT[sl] = solve_sets(geom, flank, errors[sl], grid, backend, edge_tol_mm)
+        if progress:
+            progress(sl.stop, samples, t0)
+    seconds = time.perf_counter() - t0
+    ok = C <= 1
+    P1, _, _ = tca.surface(geom, "pinion", flank, X[..., 0], X[..., 1])
+    P2, _, _ = tca.surface(geom, "gear", flank, X[..., 2], X[..., 3])
+    n_ok = ok.sum(axis=1)
+    has = n_ok > 0
+    pinion_shift = np.full(samples, np.nan)
+    gear_shift = np.full(samples, np.nan)
+    pinion_shift[has] = np.where(ok, P1[..., 2] - p_al[None, :, 2], 0.0).sum(axis=1)[has] / n_ok[has]
+    gear_shift[has] = np.where(ok, P2[..., 2] - g_al[None, :, 2], 0.0).sum(axis=1)[has] / n_ok[has]
+    N1, N2 = geom.pinion.teeth, geom.gear.teeth
+    te = X[..., 4] + (N1 / N2) * grid[None, :]
+    ptp = np.full(samples, np.nan)
+    ptp[has] = (np.where(ok, te, -np.inf).max(axis=1) - np.where(ok, te, np.inf).min(axis=1))[has]
+    s = tca.sensitivity(geom, flank)
+    names = ("dx_mm", "dy_mm", "dz_mm", "vertical_deg", "horizontal_deg")
+    per = [1.0, 1.0, 1.0, math.pi / 180, math.pi / 180]
+    sens = {
+        "pinion_axial_shift_mm_per_unit": {n: float(s["pinion_contact_D_errors"][2, i] * per[i]) for i, n in enumerate(names)},
+        "gear_axial_shift_mm_per_unit": {n: float(s["gear_contact_D_errors"][2, i] * per[i]) for i, n in enumerate(names)},
+        "gear_angle_urad_per_unit": {n: float(s["gear_angle_D_errors"][i] * per[i] * 1e6) for i, n in enumerate(names)},
+        "units": "per mm for dx, dy, dz; per degree for vertical, horizontal; at the aligned pitch point",
+    }
+    r = dict(DEFAULT_RANGES, **(ranges or {}))
+    return SweepResult(flank, samples, positions, errors, grid, C, pinion_shift, gear_shift, ptp, sens, backend,
+                       seconds, float(IT.mean()), r)
