@@ -42,58 +42,13 @@ def engagement_window(geom, flank, ref=None, resolution=400):
     return lo, hi
 
 
-def _limits(geom):
-    rows = []
-    for m in (geom.pinion, geom.gear):
-        lo, hi = sorted(m.face_limits)
-        rows.append([m.pitch_radius_mm, m.tip_height_mm + m.rack_shift_mm, math.cos(m.cone_angle),
-                     math.tan(m.cone_angle), lo, hi, m.helix_angle, m.cone_angle, m.cutter_addendum_mm,
-                     m.rack_shift_mm])
-    return np.array(rows)
-
-
-def _tolerance(geom, tol_mm=1e-12):
-    scale = geom.gear.working_pitch_radius_mm
-    return max(tol_mm, 64 * np.finfo(float).eps * (abs(geom.gear.axial_placement_mm) + geom.offset_mm + scale))
-
-
-def solve_sets(geom, flank, errors, phi_grid, backend="auto", edge_tol_mm=0.01, max_iter=25, homotopy_steps=3):
-    """Unknowns (K, N, 5), status codes (K, N) and Newton iterations (K, N) for error sets x angles."""
-    ref = tca.reference_contact(geom, flank)
-    errors = np.ascontiguousarray(errors, dtype=float)
-    phi_grid = np.ascontiguousarray(np.sort(phi_grid), dtype=float)
-    K, N = errors.shape[0], phi_grid.shape[0]
-    backend = resolve_backend(backend)
-    if backend == "compiled":
-        from . import compiled
-
-        x = np.empty((K, N, 5))
-        code = np.empty((K, N), dtype=np.int64)
-        iters = np.empty((K, N), dtype=np.int64)
-        compiled.sweep_paths(0 if flank == "left" else 1, np.ascontiguousarray(ref.x), ref.pinion_angle, errors,
-                             phi_grid, np.array(geom.kernel_params(), dtype=float), _limits(geom),
-                             geom.gear.working_pitch_radius_mm, _tolerance(geom), max_iter, homotopy_steps,
-                             edge_tol_mm, x, code, iters)
-        return x, code, iters
-    x0, conv0 = tca.solve_errors_homotopy(geom, flank, ref, errors, steps=homotopy_steps)
-    sol = tca.solve_path(geom, flank, ref, x0, errors, np.broadcast_to(phi_grid, (K, N)))
-    conv = sol.converged & conv0[:, None]
-    code = tca.classify(geom, flank, sol.x, conv, edge_tol_mm)
-    return sol.x, code, sol.iterations
+def solve_sets(geom, flank, errors, phi_grid, backend="auto", edge_tol_mm=0.01):
+    """Unknowns (K, N, 5), status codes (K, N) and Newton iterations (K, N): see tca.solve_grid."""
+    return tca.solve_grid(geom, flank, errors, phi_grid, backend, edge_tol_mm)
 
 
 def resolve_backend(backend):
-    from . import compiled
-
-    if backend == "auto":
-        return "compiled" if compiled.AVAILABLE else "numpy"
-    if backend == "compiled" and not compiled.AVAILABLE:
-        from .errors import UserError
-
-        raise UserError("backend = compiled: numba is not installed; use backend numpy or pip install numba")
-    if backend not in ("compiled", "numpy"):
-        raise ValueError(f"backend must be auto, compiled or numpy, got {backend!r}")
-    return backend
+    return tca.resolve_backend(backend)
 
 
 def _stats(v):

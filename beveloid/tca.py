@@ -24,6 +24,7 @@ Conventions (the paper is silent on these; see docs/validation.md):
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 
@@ -238,17 +239,18 @@ def _point_at_radius(geom, which, flank, radius, z):
     """(l, u) of the flank point at the given radius in the transverse section z; polar angle."""
     m = geom.pinion if which == "pinion" else geom.gear
     l, u = m.cutter_addendum_mm / math.cos(geom.normal_pressure_angle), 0.0
-    for _ in range(50):
+    for _ in range(30):
         p, _, _ = surface(geom, which, flank, l, u)
         J = surface_jacobian(geom, which, flank, l, u)
         rad = math.hypot(p[0], p[1])
         F = np.array([rad - radius, p[2] - z])
-        if abs(F).max() < 1e-13 * max(1.0, radius):
-            break
         G = np.array([[(p[0] * J[0, 0] + p[1] * J[1, 0]) / rad, (p[0] * J[0, 1] + p[1] * J[1, 1]) / rad],
                       [J[2, 0], J[2, 1]]])
         d = np.linalg.solve(G, -F)
         l, u = l + d[0], u + d[1]
+        if abs(d).max() < 1e-12 * max(1.0, radius):  # quadratic convergence: the last step was round-off
+            break
+    p, _, _ = surface(geom, which, flank, l, u)
     return l, u, math.atan2(p[1], p[0])
 
 
@@ -259,8 +261,9 @@ class Reference:
     x: np.ndarray  # (l1, u1, l2, u2, phi2) at the pitch point, aligned
 
 
+@functools.lru_cache(maxsize=64)
 def reference_contact(geom: PairGeometry, flank: str) -> Reference:
-    """Contact of the aligned pair at the pitch point P (the TE reference)."""
+    """Contact of the aligned pair at the pitch point P (the TE reference); cached per geometry."""
     p, g = geom.pinion, geom.gear
     l1, u1, psi1 = _point_at_radius(geom, "pinion", flank, p.working_pitch_radius_mm, p.reference_section_offset_mm)
     l2, u2, psi2 = _point_at_radius(geom, "gear", flank, g.working_pitch_radius_mm, g.reference_section_offset_mm)
@@ -377,6 +380,69 @@ def solve_path(geom, flank, ref: Reference, x_start, errors, phi1_grid, coarse_s
     return sol
 
 
+def _limits(geom):
+    """Blank data per member for the compiled boundary check (see compiled._margin)."""
+    rows = []
+    for m in (geom.pinion, geom.gear):
+        lo, hi = sorted(m.face_limits)
+        rows.append([m.pitch_radius_mm, m.tip_height_mm + m.rack_shift_mm, math.cos(m.cone_angle),
+                     math.tan(m.cone_angle), lo, hi, m.helix_angle, m.cone_angle, m.cutter_addendum_mm,
+                     m.rack_shift_mm])
+    return np.array(rows)
+
+
+def newton_tolerance(geom, tol_mm=1e-12):
+    """1e-12 mm, or the round-off floor of the position residual for large coordinates."""
+    scale = geom.gear.working_pitch_radius_mm
+    return max(tol_mm, 64 * np.finfo(float).eps * (abs(geom.gear.axial_placement_mm) + geom.offset_mm + scale))
+
+
+def resolve_backend(backend):
+    """'auto' -> 'compiled' when numba is installed, else 'numpy'."""
+    from . import compiled
+    from .errors import UserError
+
+    if backend == "auto":
+        return "compiled" if compiled.AVAILABLE else "numpy"
+    if backend == "compiled" and not compiled.AVAILABLE:
+        raise UserError("backend = compiled: numba is not installed; use backend numpy or pip install numba")
+    if backend not in ("compiled", "numpy"):
+        raise ValueError(f"backend must be auto, compiled or numpy, got {backend!r}")
+    return backend
+
+
+def solve_grid(geom, flank, errors, phi_grid, backend="auto", edge_tol_mm=0.01, max_iter=25, homotopy_steps=3):
+    """Pair 0 for error sets (K, 5) x pinion angles (N,), any order.
+
+    Returns unknowns (K, N, 5), status codes (K, N) (0 ok, 1 edge, 2 outside, 3 failed) and
+    Newton iterations (K, N).  Both backends solve the same generated equations.
+    """
+    ref = reference_contact(geom, flank)
+    errors = np.ascontiguousarray(np.atleast_2d(errors), dtype=float)
+    phi_grid = np.asarray(phi_grid, dtype=float)
+    order = np.argsort(phi_grid, kind="stable")
+    grid = np.ascontiguousarray(phi_grid[order])
+    K, N = errors.shape[0], grid.shape[0]
+    if resolve_backend(backend) == "compiled":
+        from . import compiled
+
+        x = np.empty((K, N, 5))
+        code = np.empty((K, N), dtype=np.int64)
+        iters = np.empty((K, N), dtype=np.int64)
+        compiled.sweep_paths(FLANKS.index(flank), np.ascontiguousarray(ref.x), ref.pinion_angle, errors, grid,
+                             np.array(geom.kernel_params(), dtype=float), _limits(geom),
+                             geom.gear.working_pitch_radius_mm, newton_tolerance(geom), max_iter, homotopy_steps,
+                             edge_tol_mm, x, code, iters)
+    else:
+        x0, conv0 = solve_errors_homotopy(geom, flank, ref, errors, steps=homotopy_steps)
+        sol = solve_path(geom, flank, ref, x0, errors, np.broadcast_to(grid, (K, N)))
+        x, iters = sol.x, sol.iterations
+        code = classify(geom, flank, x, sol.converged & conv0[:, None], edge_tol_mm)
+    inv = np.empty_like(order)
+    inv[order] = np.arange(N)
+    return x[:, inv], code[:, inv], iters[:, inv]
+
+
 @dataclass
 class FlankResult:
     """One flank over the mesh: pairs x positions, flattened in pair-major order."""
@@ -420,7 +486,7 @@ def _rotate_z(P, angle):
 
 
 def mesh_flank(geom: PairGeometry, flank: str, errors=(0, 0, 0, 0, 0), positions=200, pairs=3,
-               edge_tol_mm=0.01, window_pitches=None):
+               edge_tol_mm=0.01, window_pitches=None, backend="auto"):
     """TCA of one flank over the mesh with neighbouring tooth pairs.
 
     Pinion angles: ``positions`` points spread over ``window_pitches`` pinion pitches (default:
@@ -433,14 +499,11 @@ def mesh_flank(geom: PairGeometry, flank: str, errors=(0, 0, 0, 0, 0), positions
     window = (window_pitches or pairs) * p1
     phi1 = ref.pinion_angle + np.linspace(-window / 2, window / 2, positions)
     ks = np.arange(pairs) - pairs // 2
-    x_ref, conv_ref = solve_errors_homotopy(geom, flank, ref, e)
     # pair k at phi1 is pair 0 at phi1 - k p1
     shifted = (phi1[None, :] - ks[:, None] * p1).ravel()
-    sol = solve_path(geom, flank, ref, x_ref, e, shifted[None, :])
-    x = sol.x[0]
-    conv = sol.converged[0] & conv_ref[0]
-    code = classify(geom, flank, x, conv, edge_tol_mm)
-    margin, nearest = boundary_margins(geom, flank, x)
+    X, C, IT = solve_grid(geom, flank, e, shifted, backend, edge_tol_mm)
+    x, code, iterations = X[0], C[0], IT[0]
+    _, nearest = boundary_margins(geom, flank, x)
     kk = np.repeat(ks, positions)
     phi1_all = np.tile(phi1, pairs)
     phi2 = x[:, 4] - kk * p2  # gear tooth k is turned by -k p2 relative to tooth 0
@@ -468,7 +531,7 @@ def mesh_flank(geom: PairGeometry, flank: str, errors=(0, 0, 0, 0, 0), positions
     env_ok = env[np.isfinite(env)]
     ptp = float(env_ok.max() - env_ok.min()) if env_ok.size else float("nan")
     status = [_STATUS_CODES[int(c)] for c in code]
-    return FlankResult(flank, phi1_all, phi2_v, te_v, P1, P2, status, kk, active.ravel(), sol.iterations[0],
+    return FlankResult(flank, phi1_all, phi2_v, te_v, P1, P2, status, kk, active.ravel(), iterations,
                        list(nearest), ptp, x)
 
 
@@ -505,7 +568,7 @@ class TCAResult:
         return out
 
 
-def backlash(geom: PairGeometry, errors=(0, 0, 0, 0, 0)):
+def backlash(geom: PairGeometry, errors=(0, 0, 0, 0, 0), backend="auto"):
     """Circumferential backlash (um) at the gear's working pitch radius, from a two-flank TCA.
 
     Left and right contacts are solved at the same pinion angle; the free angle of the gear
@@ -521,11 +584,10 @@ def backlash(geom: PairGeometry, errors=(0, 0, 0, 0, 0)):
     phi1 = refs["left"].pinion_angle
     for fl in FLANKS:
         ref = refs[fl]
-        x0, conv = solve_errors_homotopy(geom, fl, ref, e)
-        sol = solve_path(geom, fl, ref, x0, e, np.array([[phi1]]))
-        if not (conv[0] and sol.converged[0, 0]):
+        X, C, _ = solve_grid(geom, fl, e, np.array([phi1]), backend)
+        if C[0, 0] == 3:  # not converged; off-flank points still define the surfaces' play
             return float("nan")
-        angles[fl] = sol.x[0, 0, 4]
+        angles[fl] = X[0, 0, 4]
         signs[fl] = _gap_sign(geom, fl, ref)
     if signs["left"] == signs["right"]:
         raise RuntimeError("both flanks open in the same direction: flank orientation is inconsistent")
@@ -535,13 +597,16 @@ def backlash(geom: PairGeometry, errors=(0, 0, 0, 0, 0)):
     return play * geom.gear.working_pitch_radius_mm * 1e3
 
 
-def analyze(geom: PairGeometry, errors=(0, 0, 0, 0, 0), flanks=FLANKS, positions=200, pairs=3, edge_tol_mm=0.01):
+def analyze(geom: PairGeometry, errors=(0, 0, 0, 0, 0), flanks=FLANKS, positions=200, pairs=3, edge_tol_mm=0.01,
+            backend="auto"):
+    """TCA of the given flanks over the mesh; the two-flank backlash when both flanks are solved."""
     e = errors_array(errors)
     res = TCAResult(geom, e)
     for fl in flanks:
-        res.flanks[fl] = mesh_flank(geom, fl, e, positions=positions, pairs=pairs, edge_tol_mm=edge_tol_mm)
+        res.flanks[fl] = mesh_flank(geom, fl, e, positions=positions, pairs=pairs, edge_tol_mm=edge_tol_mm,
+                                    backend=backend)
     if set(flanks) == set(FLANKS):
-        res.backlash_um = backlash(geom, e)
+        res.backlash_um = backlash(geom, e, backend=backend)
     return res
 
 

@@ -54,7 +54,7 @@ def tooth_surface_module():
             lu + _rack_args(),
             [Output("point_D_lu", jac, "mm/mm", "[dR/dl, dR/du] as columns"),
              Output("point_D2_lu", hess, "mm/mm^2", "[d2R/dl2, d2R/dldu, d2R/du2] as columns")]))
-    return ModuleSpec("tooth_surface", "eq04_07_tooth_surface.py",
+    return ModuleSpec("tooth_surface", SURFACE_SOURCE,
                       "Tooth surfaces of the rack-generated beveloid flanks and their derivatives (Eqs 1-7).", fns,
                       scalar_twin=True)
 

@@ -27,6 +27,7 @@ def offset_residual(
         residual_D_alpha_nw: d residual / d alpha_nw [mm/rad], shape (...)
     """
     # ops: 288
+    _shape = numpy.broadcast_shapes(numpy.shape(alpha_nw), numpy.shape(normal_module), numpy.shape(normal_pressure_angle), numpy.shape(pinion_teeth), numpy.shape(gear_teeth), numpy.shape(shaft_angle), numpy.shape(pinion_profile_shift), numpy.shape(pinion_cone_angle), numpy.shape(gear_cone_angle), numpy.shape(pinion_helix_angle), numpy.shape(offset))
     _x0 = numpy.sin(shaft_angle)
     _x1 = _x0**(-1.0)
     _x2 = numpy.sin(pinion_cone_angle)
@@ -131,8 +132,8 @@ def offset_residual(
     _x101 = _x100*_x53
     _x102 = _x43*_x53
     _x103 = _x3*_x64
-    residual = _x1*_x40*_x62 - offset
-    residual_D_alpha_nw = -1/2*_x1*_x39*_x62*_x63*(4*_x65 - 2*_x69 + 2*_x73 + 2*_x76 - 2*_x80 + 2*_x91 + 2*_x96 + 2*_x98 + 2*_x99) + _x1*_x40*(_x10*_x54*gear_teeth*(-_x49*(_x100*_x57 - _x103*_x43*_x56*_x71) - _x63*(2*_x65 - _x69 + _x73 + _x76 - _x80 + _x91 + _x96 + _x98 + _x99))*numpy.sin(_x58)/_x59**2 + _x101*_x15*_x50 + _x101*_x61 + _x102*_x17*_x50*_x92 + _x102*_x3*_x60*_x75 + _x55*pinion_teeth*(-_x103*_x46*_x51/_x9**2 + _x4*_x47/_x41**3)/_x48**(3/2))
+    residual = _full(_x1*_x40*_x62 - offset, _shape)
+    residual_D_alpha_nw = _full(-1/2*_x1*_x39*_x62*_x63*(4*_x65 - 2*_x69 + 2*_x73 + 2*_x76 - 2*_x80 + 2*_x91 + 2*_x96 + 2*_x98 + 2*_x99) + _x1*_x40*(_x10*_x54*gear_teeth*(-_x49*(_x100*_x57 - _x103*_x43*_x56*_x71) - _x63*(2*_x65 - _x69 + _x73 + _x76 - _x80 + _x91 + _x96 + _x98 + _x99))*numpy.sin(_x58)/_x59**2 + _x101*_x15*_x50 + _x101*_x61 + _x102*_x17*_x50*_x92 + _x102*_x3*_x60*_x75 + _x55*pinion_teeth*(-_x103*_x46*_x51/_x9**2 + _x4*_x47/_x41**3)/_x48**(3/2)), _shape)
     return residual, residual_D_alpha_nw
 
 def direct_design(
@@ -194,6 +195,7 @@ def direct_design(
         x_t2: gear transverse profile-shift coefficient, backlash-free (Eq 27) [1], shape (...)
     """
     # ops: 453
+    _shape = numpy.broadcast_shapes(numpy.shape(alpha_nw), numpy.shape(normal_module), numpy.shape(normal_pressure_angle), numpy.shape(pinion_teeth), numpy.shape(gear_teeth), numpy.shape(shaft_angle), numpy.shape(pinion_profile_shift), numpy.shape(pinion_cone_angle), numpy.shape(gear_cone_angle), numpy.shape(pinion_helix_angle))
     _x0 = numpy.cos(alpha_nw)
     _x1 = numpy.cos(normal_pressure_angle)
     _x2 = _x1**(-1.0)
@@ -368,45 +370,45 @@ def direct_design(
     _x171 = _x156*_x61*_x72
     _x172 = _x163*_x61*_x75**2
     _x173 = _x65*_x81
-    xi_n = _x3
-    gamma_w1 = numpy.arcsin(_x9)
-    gamma_w2 = numpy.arcsin(_x11)
-    beta_w1 = _x27
-    beta_w2 = _x52
-    beta1 = pinion_helix_angle
-    beta2 = numpy.arcsin(_x3*_x56)
-    gamma1 = pinion_cone_angle
-    gamma2 = gear_cone_angle
-    r1 = _x58*_x60
-    r2 = _x66*_x68
-    xi_t1 = _x74
-    xi_t2 = _x76
-    r_w1 = _x79
-    r_w2 = _x82
-    E = _x36*numpy.sqrt(1 - _x51**2)*(_x19*_x82 + _x33*_x79)
-    d1 = (1/2)*_x1*_x19*_x21*_x6*_x77*_x83*normal_module*pinion_teeth/_x4 - _x95
-    d2 = (1/2)*_x1*_x21*_x33*_x6*_x80*_x83*gear_teeth*normal_module/_x10 - _x97
-    d_w1 = _x95
-    d_w2 = _x97
-    cos_theta1 = _x43*_x98
-    sin_theta1 = _x50
-    cos_theta2 = -_x98
-    sin_theta2 = _x40
-    xi_L1 = _x116
-    xi_L2 = _x138
-    xi_L = _x116 + _x138
-    xi_R1 = _x139
-    xi_R2 = _x140
-    xi_R = _x139 + _x140
-    alpha_PL1 = _x144
-    alpha_PR1 = _x147
-    alpha_PL2 = _x152
-    alpha_PR2 = _x155
-    alpha_PwL1 = _x159
-    alpha_PwR1 = _x162
-    alpha_PwL2 = _x166
-    alpha_PwR2 = _x169
-    x_t2 = (1/2)*_x54*_x65*(-2*_x170*_x23*_x58*pinion_profile_shift + _x59*(_x1*_x158*_x21*_x57*_x77*numpy.sqrt(1 - _x171/_x157) + _x1*_x161*_x21*_x57*_x77*numpy.sqrt(1 - _x171/_x160) - _x143 + _x144 - _x146 + _x147 - _x159 - _x162) + _x67*(-_x151 + _x152 - _x154 + _x155 + _x165*_x173*numpy.sqrt(1 - _x172/_x164) - _x166 + _x168*_x173*numpy.sqrt(1 - _x172/_x167) - _x169))/_x170
+    xi_n = _full(_x3, _shape)
+    gamma_w1 = _full(numpy.arcsin(_x9), _shape)
+    gamma_w2 = _full(numpy.arcsin(_x11), _shape)
+    beta_w1 = _full(_x27, _shape)
+    beta_w2 = _full(_x52, _shape)
+    beta1 = _full(pinion_helix_angle, _shape)
+    beta2 = _full(numpy.arcsin(_x3*_x56), _shape)
+    gamma1 = _full(pinion_cone_angle, _shape)
+    gamma2 = _full(gear_cone_angle, _shape)
+    r1 = _full(_x58*_x60, _shape)
+    r2 = _full(_x66*_x68, _shape)
+    xi_t1 = _full(_x74, _shape)
+    xi_t2 = _full(_x76, _shape)
+    r_w1 = _full(_x79, _shape)
+    r_w2 = _full(_x82, _shape)
+    E = _full(_x36*numpy.sqrt(1 - _x51**2)*(_x19*_x82 + _x33*_x79), _shape)
+    d1 = _full((1/2)*_x1*_x19*_x21*_x6*_x77*_x83*normal_module*pinion_teeth/_x4 - _x95, _shape)
+    d2 = _full((1/2)*_x1*_x21*_x33*_x6*_x80*_x83*gear_teeth*normal_module/_x10 - _x97, _shape)
+    d_w1 = _full(_x95, _shape)
+    d_w2 = _full(_x97, _shape)
+    cos_theta1 = _full(_x43*_x98, _shape)
+    sin_theta1 = _full(_x50, _shape)
+    cos_theta2 = _full(-_x98, _shape)
+    sin_theta2 = _full(_x40, _shape)
+    xi_L1 = _full(_x116, _shape)
+    xi_L2 = _full(_x138, _shape)
+    xi_L = _full(_x116 + _x138, _shape)
+    xi_R1 = _full(_x139, _shape)
+    xi_R2 = _full(_x140, _shape)
+    xi_R = _full(_x139 + _x140, _shape)
+    alpha_PL1 = _full(_x144, _shape)
+    alpha_PR1 = _full(_x147, _shape)
+    alpha_PL2 = _full(_x152, _shape)
+    alpha_PR2 = _full(_x155, _shape)
+    alpha_PwL1 = _full(_x159, _shape)
+    alpha_PwR1 = _full(_x162, _shape)
+    alpha_PwL2 = _full(_x166, _shape)
+    alpha_PwR2 = _full(_x169, _shape)
+    x_t2 = _full((1/2)*_x54*_x65*(-2*_x170*_x23*_x58*pinion_profile_shift + _x59*(_x1*_x158*_x21*_x57*_x77*numpy.sqrt(1 - _x171/_x157) + _x1*_x161*_x21*_x57*_x77*numpy.sqrt(1 - _x171/_x160) - _x143 + _x144 - _x146 + _x147 - _x159 - _x162) + _x67*(-_x151 + _x152 - _x154 + _x155 + _x165*_x173*numpy.sqrt(1 - _x172/_x164) - _x166 + _x168*_x173*numpy.sqrt(1 - _x172/_x167) - _x169))/_x170, _shape)
     return xi_n, gamma_w1, gamma_w2, beta_w1, beta_w2, beta1, beta2, gamma1, gamma2, r1, r2, xi_t1, xi_t2, r_w1, r_w2, E, d1, d2, d_w1, d_w2, cos_theta1, sin_theta1, cos_theta2, sin_theta2, xi_L1, xi_L2, xi_L, xi_R1, xi_R2, xi_R, alpha_PL1, alpha_PR1, alpha_PL2, alpha_PR2, alpha_PwL1, alpha_PwR1, alpha_PwL2, alpha_PwR2, x_t2
 
 def indirect_design(
@@ -469,6 +471,7 @@ def indirect_design(
         x_t2: gear transverse profile-shift coefficient, backlash-free (Eq 27) [1], shape (...)
     """
     # ops: 422
+    _shape = numpy.broadcast_shapes(numpy.shape(alpha_nw), numpy.shape(normal_module), numpy.shape(normal_pressure_angle), numpy.shape(pinion_teeth), numpy.shape(gear_teeth), numpy.shape(shaft_angle), numpy.shape(pinion_profile_shift), numpy.shape(pinion_working_cone_angle), numpy.shape(gear_working_cone_angle), numpy.shape(pinion_working_helix_angle))
     _x0 = numpy.cos(alpha_nw)
     _x1 = numpy.cos(normal_pressure_angle)
     _x2 = _x1**(-1.0)
@@ -630,49 +633,58 @@ def indirect_design(
     _x158 = _x52*_x67
     _x159 = _x149*_x49*_x64**2
     _x160 = _x58*_x69
-    xi_n = _x3
-    gamma_w1 = pinion_working_cone_angle
-    gamma_w2 = gear_working_cone_angle
-    beta_w1 = pinion_working_helix_angle
-    beta_w2 = -_x27
-    beta1 = numpy.arcsin(_x3*_x36)
-    beta2 = -numpy.arcsin(_x3*_x42)
-    gamma1 = numpy.arcsin(_x44)
-    gamma2 = numpy.arcsin(_x45)
-    r1 = _x53*_x55
-    r2 = _x59*_x61
-    xi_t1 = _x63
-    xi_t2 = _x65
-    r_w1 = _x68
-    r_w2 = _x70
-    E = _x10*numpy.sqrt(1 - _x26**2)*(_x4*_x70 + _x5*_x68)
-    d1 = -_x80
-    d2 = -_x81
-    d_w1 = _x68/numpy.tan(pinion_working_cone_angle) + _x80
-    d_w2 = _x70/numpy.tan(gear_working_cone_angle) + _x81
-    cos_theta1 = _x17*_x5*_x82
-    sin_theta1 = _x25
-    cos_theta2 = -_x82
-    sin_theta2 = _x14
-    xi_L1 = _x94
-    xi_L2 = _x121
-    xi_L = _x121 + _x94
-    xi_R1 = _x122
-    xi_R2 = _x123
-    xi_R = _x122 + _x123
-    alpha_PL1 = _x129
-    alpha_PR1 = _x132
-    alpha_PL2 = _x138
-    alpha_PR2 = _x141
-    alpha_PwL1 = _x145
-    alpha_PwR1 = _x148
-    alpha_PwL2 = _x152
-    alpha_PwR2 = _x155
-    x_t2 = (1/2)*_x40*_x58*(-2*_x156*_x33*_x53*pinion_profile_shift + _x54*(-_x128 + _x129 - _x131 + _x132 + _x144*_x158*numpy.sqrt(1 - _x157/_x143) - _x145 + _x147*_x158*numpy.sqrt(1 - _x157/_x146) - _x148) + _x60*(-_x137 + _x138 - _x140 + _x141 + _x151*_x160*numpy.sqrt(1 - _x159/_x150) - _x152 + _x154*_x160*numpy.sqrt(1 - _x159/_x153) - _x155))/_x156
+    xi_n = _full(_x3, _shape)
+    gamma_w1 = _full(pinion_working_cone_angle, _shape)
+    gamma_w2 = _full(gear_working_cone_angle, _shape)
+    beta_w1 = _full(pinion_working_helix_angle, _shape)
+    beta_w2 = _full(-_x27, _shape)
+    beta1 = _full(numpy.arcsin(_x3*_x36), _shape)
+    beta2 = _full(-numpy.arcsin(_x3*_x42), _shape)
+    gamma1 = _full(numpy.arcsin(_x44), _shape)
+    gamma2 = _full(numpy.arcsin(_x45), _shape)
+    r1 = _full(_x53*_x55, _shape)
+    r2 = _full(_x59*_x61, _shape)
+    xi_t1 = _full(_x63, _shape)
+    xi_t2 = _full(_x65, _shape)
+    r_w1 = _full(_x68, _shape)
+    r_w2 = _full(_x70, _shape)
+    E = _full(_x10*numpy.sqrt(1 - _x26**2)*(_x4*_x70 + _x5*_x68), _shape)
+    d1 = _full(-_x80, _shape)
+    d2 = _full(-_x81, _shape)
+    d_w1 = _full(_x68/numpy.tan(pinion_working_cone_angle) + _x80, _shape)
+    d_w2 = _full(_x70/numpy.tan(gear_working_cone_angle) + _x81, _shape)
+    cos_theta1 = _full(_x17*_x5*_x82, _shape)
+    sin_theta1 = _full(_x25, _shape)
+    cos_theta2 = _full(-_x82, _shape)
+    sin_theta2 = _full(_x14, _shape)
+    xi_L1 = _full(_x94, _shape)
+    xi_L2 = _full(_x121, _shape)
+    xi_L = _full(_x121 + _x94, _shape)
+    xi_R1 = _full(_x122, _shape)
+    xi_R2 = _full(_x123, _shape)
+    xi_R = _full(_x122 + _x123, _shape)
+    alpha_PL1 = _full(_x129, _shape)
+    alpha_PR1 = _full(_x132, _shape)
+    alpha_PL2 = _full(_x138, _shape)
+    alpha_PR2 = _full(_x141, _shape)
+    alpha_PwL1 = _full(_x145, _shape)
+    alpha_PwR1 = _full(_x148, _shape)
+    alpha_PwL2 = _full(_x152, _shape)
+    alpha_PwR2 = _full(_x155, _shape)
+    x_t2 = _full((1/2)*_x40*_x58*(-2*_x156*_x33*_x53*pinion_profile_shift + _x54*(-_x128 + _x129 - _x131 + _x132 + _x144*_x158*numpy.sqrt(1 - _x157/_x143) - _x145 + _x147*_x158*numpy.sqrt(1 - _x157/_x146) - _x148) + _x60*(-_x137 + _x138 - _x140 + _x141 + _x151*_x160*numpy.sqrt(1 - _x159/_x150) - _x152 + _x154*_x160*numpy.sqrt(1 - _x159/_x153) - _x155))/_x156, _shape)
     return xi_n, gamma_w1, gamma_w2, beta_w1, beta_w2, beta1, beta2, gamma1, gamma2, r1, r2, xi_t1, xi_t2, r_w1, r_w2, E, d1, d2, d_w1, d_w2, cos_theta1, sin_theta1, cos_theta2, sin_theta2, xi_L1, xi_L2, xi_L, xi_R1, xi_R2, xi_R, alpha_PL1, alpha_PR1, alpha_PL2, alpha_PR2, alpha_PwL1, alpha_PwR1, alpha_PwL2, alpha_PwR2, x_t2
 
 
-def _stack(entries, shape):
-    """Broadcast scalar entries and stack them into an array of shape (..., *shape)."""
-    arrays = numpy.broadcast_arrays(*entries)
-    return numpy.stack(arrays, axis=-1).reshape(arrays[0].shape + shape)
+def _full(value, shape):
+    """A fresh array of the inputs' broadcast shape holding value."""
+    out = numpy.empty(shape, dtype=numpy.result_type(value, 1.0))
+    out[...] = value
+    return out
+
+
+def _stack(entries, shape, batch):
+    """Entries broadcast to the inputs' shape `batch`, stacked into (*batch, *shape)."""
+    out = numpy.empty(batch + (len(entries),), dtype=numpy.result_type(*entries, 1.0))
+    for i, e in enumerate(entries):
+        out[..., i] = e
+    return out.reshape(batch + shape)

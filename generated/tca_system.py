@@ -48,6 +48,7 @@ def residual_left(
         residual_D_pinion_angle: d residual / d phi'_1 [], shape (..., 5)
     """
     # ops: 589
+    _shape = numpy.broadcast_shapes(numpy.shape(l1), numpy.shape(u1), numpy.shape(l2), numpy.shape(u2), numpy.shape(gear_angle), numpy.shape(pinion_angle), numpy.shape(dx_q), numpy.shape(dy_q), numpy.shape(dz_q), numpy.shape(dgamma_v), numpy.shape(dgamma_h), numpy.shape(normal_pressure_angle), numpy.shape(half_thickness), numpy.shape(pinion_helix_angle), numpy.shape(pinion_cone_angle), numpy.shape(pinion_cutter_addendum), numpy.shape(pinion_rack_shift), numpy.shape(pinion_pitch_radius), numpy.shape(gear_helix_angle), numpy.shape(gear_cone_angle), numpy.shape(gear_cutter_addendum), numpy.shape(gear_rack_shift), numpy.shape(gear_pitch_radius), numpy.shape(offset), numpy.shape(shaft_angle), numpy.shape(pinion_axial_placement), numpy.shape(gear_axial_placement))
     _x0 = numpy.sin(dgamma_v)
     _x1 = numpy.cos(gear_cone_angle)
     _x2 = numpy.cos(gear_helix_angle)
@@ -203,10 +204,10 @@ def residual_left(
     _x152 = -_x70
     _x153 = _x65*_x80 - _x84
     _x154 = _x148*_x65 - _x78
-    residual = _stack([-_x0*_x11 - _x27*_x30 + _x29*_x31*_x34 - _x64 - dx_q - offset, -_x11*_x70 - _x27*_x85 - _x34*_x79 - _x65*dy_q - _x66*dz_q - _x66*gear_axial_placement + _x71 + _x72, -_x27*_x91 - _x34*_x89 + _x37*_x44*u1 - _x37*_x49 - _x40*_x48 - _x65*dz_q - _x65*gear_axial_placement + _x66*dy_q - _x87 + pinion_axial_placement, _x0*_x93 - _x100*_x99 + _x30*_x98 - _x35*_x96 + _x60*_x95, -_x101 + _x37*_x39*_x4 + _x86*_x93 + _x89*_x99 + _x91*_x98], (5,))
-    residual_D_unknowns = _stack([-_x110*_x35 + _x111*_x60, -_x116*_x35 + _x117*_x60, -_x0*_x118 + _x127*_x29*_x31 - _x128*_x30, -_x0*_x129 + _x134*_x29*_x31 - _x135*_x30, _x100*_x27 + _x30*_x34, _x110*_x60 + _x111*_x35, _x116*_x60 + _x117*_x35, -_x118*_x70 - _x127*_x79 - _x128*_x85, -_x129*_x70 - _x134*_x79 - _x135*_x85, -_x27*_x79 - _x34*(_x65*_x80 + _x66*_x82), -_x38*_x39 - _x41, _x37*_x44, -_x118*_x86 - _x127*_x89 - _x128*_x91, -_x129*_x86 - _x134*_x89 - _x135*_x91, -_x137*_x34 - _x27*_x89, -_x35*(_x105*_x56 + _x106*_x94) + _x60*(_x104*_x36*_x4*_x43*_x44*_x56 - _x107), -_x35*(_x113*_x56 + _x114*_x94) + _x60*(_x112*_x36*_x4*_x43*_x44*_x56 - _x115), -_x100*_x139 + _x138*_x30, -_x100*_x141 + _x140*_x30, -_x100*_x98 - _x30*_x99, 0, 0, _x138*_x91 + _x139*_x89, _x140*_x91 + _x141*_x89, _x137*_x99 + _x89*_x98], (5, 5))
-    residual_D_errors = _stack([-1, 0, 0, _x0*_x27*_x28 - _x11*_x29 - _x142*_x34, 0, 0, _x143, -_x66, -_x11*(-_x144*_x67 - _x145*_x69) - _x27*(-_x146*_x76 - _x147*_x73) - _x34*(_x146*_x74 + _x147*_x31*_x69), -_x27*(_x136 + _x90) - _x34*(_x148*_x66 + _x88) - _x87, 0, _x66, _x143, -_x11*_x149 - _x150*_x34 - _x151*_x27, -_x11*_x152 - _x153*_x27 - _x154*_x34, 0, 0, 0, -_x0*_x28*_x98 + _x142*_x99 + _x29*_x93, 0, 0, 0, 0, _x149*_x93 + _x150*_x99 + _x151*_x98, _x152*_x93 + _x153*_x98 + _x154*_x99], (5, 5))
-    residual_D_pinion_angle = _stack([-_x71 - _x72, -_x64, 0, -_x35*_x95 - _x60*_x96, 0], (5,))
+    residual = _stack([-_x0*_x11 - _x27*_x30 + _x29*_x31*_x34 - _x64 - dx_q - offset, -_x11*_x70 - _x27*_x85 - _x34*_x79 - _x65*dy_q - _x66*dz_q - _x66*gear_axial_placement + _x71 + _x72, -_x27*_x91 - _x34*_x89 + _x37*_x44*u1 - _x37*_x49 - _x40*_x48 - _x65*dz_q - _x65*gear_axial_placement + _x66*dy_q - _x87 + pinion_axial_placement, _x0*_x93 - _x100*_x99 + _x30*_x98 - _x35*_x96 + _x60*_x95, -_x101 + _x37*_x39*_x4 + _x86*_x93 + _x89*_x99 + _x91*_x98], (5,), _shape)
+    residual_D_unknowns = _stack([-_x110*_x35 + _x111*_x60, -_x116*_x35 + _x117*_x60, -_x0*_x118 + _x127*_x29*_x31 - _x128*_x30, -_x0*_x129 + _x134*_x29*_x31 - _x135*_x30, _x100*_x27 + _x30*_x34, _x110*_x60 + _x111*_x35, _x116*_x60 + _x117*_x35, -_x118*_x70 - _x127*_x79 - _x128*_x85, -_x129*_x70 - _x134*_x79 - _x135*_x85, -_x27*_x79 - _x34*(_x65*_x80 + _x66*_x82), -_x38*_x39 - _x41, _x37*_x44, -_x118*_x86 - _x127*_x89 - _x128*_x91, -_x129*_x86 - _x134*_x89 - _x135*_x91, -_x137*_x34 - _x27*_x89, -_x35*(_x105*_x56 + _x106*_x94) + _x60*(_x104*_x36*_x4*_x43*_x44*_x56 - _x107), -_x35*(_x113*_x56 + _x114*_x94) + _x60*(_x112*_x36*_x4*_x43*_x44*_x56 - _x115), -_x100*_x139 + _x138*_x30, -_x100*_x141 + _x140*_x30, -_x100*_x98 - _x30*_x99, 0, 0, _x138*_x91 + _x139*_x89, _x140*_x91 + _x141*_x89, _x137*_x99 + _x89*_x98], (5, 5), _shape)
+    residual_D_errors = _stack([-1, 0, 0, _x0*_x27*_x28 - _x11*_x29 - _x142*_x34, 0, 0, _x143, -_x66, -_x11*(-_x144*_x67 - _x145*_x69) - _x27*(-_x146*_x76 - _x147*_x73) - _x34*(_x146*_x74 + _x147*_x31*_x69), -_x27*(_x136 + _x90) - _x34*(_x148*_x66 + _x88) - _x87, 0, _x66, _x143, -_x11*_x149 - _x150*_x34 - _x151*_x27, -_x11*_x152 - _x153*_x27 - _x154*_x34, 0, 0, 0, -_x0*_x28*_x98 + _x142*_x99 + _x29*_x93, 0, 0, 0, 0, _x149*_x93 + _x150*_x99 + _x151*_x98, _x152*_x93 + _x153*_x98 + _x154*_x99], (5, 5), _shape)
+    residual_D_pinion_angle = _stack([-_x71 - _x72, -_x64, 0, -_x35*_x95 - _x60*_x96, 0], (5,), _shape)
     return residual, residual_D_unknowns, residual_D_errors, residual_D_pinion_angle
 
 def residual_right(
@@ -253,6 +254,7 @@ def residual_right(
         residual_D_pinion_angle: d residual / d phi'_1 [], shape (..., 5)
     """
     # ops: 571
+    _shape = numpy.broadcast_shapes(numpy.shape(l1), numpy.shape(u1), numpy.shape(l2), numpy.shape(u2), numpy.shape(gear_angle), numpy.shape(pinion_angle), numpy.shape(dx_q), numpy.shape(dy_q), numpy.shape(dz_q), numpy.shape(dgamma_v), numpy.shape(dgamma_h), numpy.shape(normal_pressure_angle), numpy.shape(half_thickness), numpy.shape(pinion_helix_angle), numpy.shape(pinion_cone_angle), numpy.shape(pinion_cutter_addendum), numpy.shape(pinion_rack_shift), numpy.shape(pinion_pitch_radius), numpy.shape(gear_helix_angle), numpy.shape(gear_cone_angle), numpy.shape(gear_cutter_addendum), numpy.shape(gear_rack_shift), numpy.shape(gear_pitch_radius), numpy.shape(offset), numpy.shape(shaft_angle), numpy.shape(pinion_axial_placement), numpy.shape(gear_axial_placement))
     _x0 = numpy.sin(dgamma_v)
     _x1 = numpy.cos(gear_cone_angle)
     _x2 = numpy.cos(gear_helix_angle)
@@ -411,14 +413,23 @@ def residual_right(
     _x155 = -_x69
     _x156 = _x64*_x79 - _x83
     _x157 = _x151*_x64 - _x77
-    residual = _stack([-_x0*_x11 - _x26*_x29 + _x28*_x30*_x33 - _x63 - dx_q - offset, -_x11*_x69 - _x26*_x84 - _x33*_x78 - _x64*dy_q - _x65*dz_q - _x65*gear_axial_placement + _x70 + _x71, -_x26*_x90 - _x33*_x88 + _x36*_x43*u1 - _x36*_x48 - _x39*_x47 - _x64*dz_q - _x64*gear_axial_placement + _x65*dy_q - _x86 + pinion_axial_placement, _x0*_x93 - _x100*_x99 + _x102*_x29 - _x34*_x95 + _x59*_x97, _x102*_x90 - _x103 - _x104*_x38 + _x85*_x93 + _x88*_x99], (5,))
-    residual_D_unknowns = _stack([-_x112*_x34 + _x114*_x59, -_x119*_x34 + _x120*_x59, -_x0*_x121 - _x129*_x29 + _x131*_x28*_x30, -_x0*_x132 + _x137*_x28*_x30 - _x138*_x29, _x100*_x26 + _x29*_x33, _x112*_x59 + _x114*_x34, _x119*_x59 + _x120*_x34, -_x121*_x69 - _x129*_x84 - _x131*_x78, -_x132*_x69 - _x137*_x78 - _x138*_x84, -_x26*_x78 - _x33*(_x64*_x79 + _x65*_x81), _x37*_x38 - _x40, _x36*_x43, -_x121*_x85 - _x129*_x90 - _x131*_x88, -_x132*_x85 - _x137*_x88 - _x138*_x90, -_x140*_x33 - _x26*_x88, -_x34*(-_x108*_x96 + _x113) + _x59*(-_x108*_x94 - _x109), -_x34*(_x116*_x55 - _x117*_x96) + _x59*(-_x117*_x94 - _x118), -_x100*_x142 + _x141*_x29, -_x100*_x144 + _x143*_x29, -_x100*_x102 - _x29*_x99, 0, 0, _x141*_x90 + _x142*_x88, _x143*_x90 + _x144*_x88, _x102*_x88 + _x140*_x99], (5, 5))
-    residual_D_errors = _stack([-1, 0, 0, _x0*_x26*_x27 - _x11*_x28 - _x145*_x33, 0, 0, _x146, -_x65, -_x11*(-_x147*_x66 - _x148*_x68) - _x26*(-_x149*_x75 - _x150*_x72) - _x33*(_x149*_x73 + _x150*_x30*_x68), -_x26*(_x139 + _x89) - _x33*(_x151*_x65 + _x87) - _x86, 0, _x65, _x146, -_x11*_x152 - _x153*_x33 - _x154*_x26, -_x11*_x155 - _x156*_x26 - _x157*_x33, 0, 0, 0, -_x0*_x102*_x27 + _x145*_x99 + _x28*_x93, 0, 0, 0, 0, _x102*_x154 + _x152*_x93 + _x153*_x99, _x102*_x156 + _x155*_x93 + _x157*_x99], (5, 5))
-    residual_D_pinion_angle = _stack([-_x70 - _x71, -_x63, 0, -_x34*_x97 - _x59*_x95, 0], (5,))
+    residual = _stack([-_x0*_x11 - _x26*_x29 + _x28*_x30*_x33 - _x63 - dx_q - offset, -_x11*_x69 - _x26*_x84 - _x33*_x78 - _x64*dy_q - _x65*dz_q - _x65*gear_axial_placement + _x70 + _x71, -_x26*_x90 - _x33*_x88 + _x36*_x43*u1 - _x36*_x48 - _x39*_x47 - _x64*dz_q - _x64*gear_axial_placement + _x65*dy_q - _x86 + pinion_axial_placement, _x0*_x93 - _x100*_x99 + _x102*_x29 - _x34*_x95 + _x59*_x97, _x102*_x90 - _x103 - _x104*_x38 + _x85*_x93 + _x88*_x99], (5,), _shape)
+    residual_D_unknowns = _stack([-_x112*_x34 + _x114*_x59, -_x119*_x34 + _x120*_x59, -_x0*_x121 - _x129*_x29 + _x131*_x28*_x30, -_x0*_x132 + _x137*_x28*_x30 - _x138*_x29, _x100*_x26 + _x29*_x33, _x112*_x59 + _x114*_x34, _x119*_x59 + _x120*_x34, -_x121*_x69 - _x129*_x84 - _x131*_x78, -_x132*_x69 - _x137*_x78 - _x138*_x84, -_x26*_x78 - _x33*(_x64*_x79 + _x65*_x81), _x37*_x38 - _x40, _x36*_x43, -_x121*_x85 - _x129*_x90 - _x131*_x88, -_x132*_x85 - _x137*_x88 - _x138*_x90, -_x140*_x33 - _x26*_x88, -_x34*(-_x108*_x96 + _x113) + _x59*(-_x108*_x94 - _x109), -_x34*(_x116*_x55 - _x117*_x96) + _x59*(-_x117*_x94 - _x118), -_x100*_x142 + _x141*_x29, -_x100*_x144 + _x143*_x29, -_x100*_x102 - _x29*_x99, 0, 0, _x141*_x90 + _x142*_x88, _x143*_x90 + _x144*_x88, _x102*_x88 + _x140*_x99], (5, 5), _shape)
+    residual_D_errors = _stack([-1, 0, 0, _x0*_x26*_x27 - _x11*_x28 - _x145*_x33, 0, 0, _x146, -_x65, -_x11*(-_x147*_x66 - _x148*_x68) - _x26*(-_x149*_x75 - _x150*_x72) - _x33*(_x149*_x73 + _x150*_x30*_x68), -_x26*(_x139 + _x89) - _x33*(_x151*_x65 + _x87) - _x86, 0, _x65, _x146, -_x11*_x152 - _x153*_x33 - _x154*_x26, -_x11*_x155 - _x156*_x26 - _x157*_x33, 0, 0, 0, -_x0*_x102*_x27 + _x145*_x99 + _x28*_x93, 0, 0, 0, 0, _x102*_x154 + _x152*_x93 + _x153*_x99, _x102*_x156 + _x155*_x93 + _x157*_x99], (5, 5), _shape)
+    residual_D_pinion_angle = _stack([-_x70 - _x71, -_x63, 0, -_x34*_x97 - _x59*_x95, 0], (5,), _shape)
     return residual, residual_D_unknowns, residual_D_errors, residual_D_pinion_angle
 
 
-def _stack(entries, shape):
-    """Broadcast scalar entries and stack them into an array of shape (..., *shape)."""
-    arrays = numpy.broadcast_arrays(*entries)
-    return numpy.stack(arrays, axis=-1).reshape(arrays[0].shape + shape)
+def _full(value, shape):
+    """A fresh array of the inputs' broadcast shape holding value."""
+    out = numpy.empty(shape, dtype=numpy.result_type(value, 1.0))
+    out[...] = value
+    return out
+
+
+def _stack(entries, shape, batch):
+    """Entries broadcast to the inputs' shape `batch`, stacked into (*batch, *shape)."""
+    out = numpy.empty(batch + (len(entries),), dtype=numpy.result_type(*entries, 1.0))
+    for i, e in enumerate(entries):
+        out[..., i] = e
+    return out.reshape(batch + shape)

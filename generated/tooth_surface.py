@@ -26,6 +26,7 @@ def surface_left(
         roll_angle: generating roll angle phi(l, u) of Eq 7 [rad], shape (...)
     """
     # ops: 66
+    _shape = numpy.broadcast_shapes(numpy.shape(l), numpy.shape(u), numpy.shape(normal_pressure_angle), numpy.shape(helix_angle), numpy.shape(cone_angle), numpy.shape(cutter_addendum), numpy.shape(half_thickness), numpy.shape(rack_shift), numpy.shape(pitch_radius))
     _x0 = numpy.sin(normal_pressure_angle)
     _x1 = numpy.cos(cone_angle)
     _x2 = numpy.cos(normal_pressure_angle)
@@ -43,9 +44,9 @@ def surface_left(
     _x14 = _x13/pitch_radius
     _x15 = numpy.cos(_x14)
     _x16 = numpy.sin(_x14)
-    point = _stack([_x11*_x15 + _x13*_x16 + _x15*pitch_radius - _x16*_x9, _x11*_x16 - _x13*_x15 + _x15*_x9 + _x16*pitch_radius, -_x1*_x3*_x8 + _x1*_x7*u - _x10*_x4], (3,))
-    normal = _stack([_x12*_x16 + _x15*_x6, -_x12*_x15 + _x16*_x6, -_x0*_x4 + _x1*_x2*_x3], (3,))
-    roll_angle = _x14
+    point = _stack([_x11*_x15 + _x13*_x16 + _x15*pitch_radius - _x16*_x9, _x11*_x16 - _x13*_x15 + _x15*_x9 + _x16*pitch_radius, -_x1*_x3*_x8 + _x1*_x7*u - _x10*_x4], (3,), _shape)
+    normal = _stack([_x12*_x16 + _x15*_x6, -_x12*_x15 + _x16*_x6, -_x0*_x4 + _x1*_x2*_x3], (3,), _shape)
+    roll_angle = _full(_x14, _shape)
     return point, normal, roll_angle
 
 def surface_derivatives_left(
@@ -69,6 +70,7 @@ def surface_derivatives_left(
         point_D2_lu: [d2R/dl2, d2R/dldu, d2R/du2] as columns [mm/mm^2], shape (..., 3, 3)
     """
     # ops: 253
+    _shape = numpy.broadcast_shapes(numpy.shape(l), numpy.shape(u), numpy.shape(normal_pressure_angle), numpy.shape(helix_angle), numpy.shape(cone_angle), numpy.shape(cutter_addendum), numpy.shape(half_thickness), numpy.shape(rack_shift), numpy.shape(pitch_radius))
     _x0 = numpy.sin(normal_pressure_angle)
     _x1 = numpy.cos(cone_angle)
     _x2 = _x0*_x1
@@ -130,8 +132,8 @@ def surface_derivatives_left(
     _x58 = _x53*_x57
     _x59 = 2*_x46
     _x60 = _x21*_x55
-    point_D_lu = _stack([-_x12*_x29 + _x18*_x19*_x27*_x28*_x32 - _x23*_x24 + _x26*_x27 - _x30*_x31, -_x12*_x36 + _x18*_x19*_x27*_x32*_x34 - _x23*_x3 + _x27*_x4*_x9 - _x30*_x35, _x16*_x29 + _x23*_x26 + _x23*_x28*_x39 + _x24*_x27 - _x31*_x37, _x14*_x23 + _x16*_x36 + _x23*_x34*_x39 + _x27*_x3 - _x35*_x37, -_x2*_x3 - _x6, _x1*_x9], (3, 2))
-    point_D2_lu = _stack([_x54*(_x20*_x49 - _x24*_x45 + 2*_x25*_x46 - _x49*_x52 + _x50*_x51 - _x50*_x53), _x21*(_x19*_x20*_x34*_x40*_x46*_x47*_x9 + _x20*_x34*_x44*_x47*_x9 - _x24*_x55 + _x25*_x34*_x46 - _x3*_x49 - _x33*_x4*_x46*_x47 - _x41*_x56 - _x48*_x58), _x35*(-_x14*_x59 + _x19*_x20*_x34*_x40*_x46 + _x20*_x34*_x44 - _x3*_x45 - _x41*_x60 - _x58), _x54*(_x19*_x32*_x42*_x44*_x47*_x9 + _x20*_x46*_x47*_x9 - _x24*_x59 - _x25*_x45 - _x49*_x51 - _x50*_x52), _x21*(_x19*_x32*_x34*_x42*_x44*_x47*_x9 + _x20*_x34*_x46*_x47*_x9 - _x24*_x57 - _x25*_x55 - _x3*_x50 + _x33*_x4*_x44*_x47 - _x35*_x41*_x50 - _x40*_x56), _x35*(_x14*_x45 + _x20*_x34*_x46 - _x3*_x59 - _x35*_x41*_x46 - _x40*_x60 + _x53*_x55), 0, 0, 0], (3, 3))
+    point_D_lu = _stack([-_x12*_x29 + _x18*_x19*_x27*_x28*_x32 - _x23*_x24 + _x26*_x27 - _x30*_x31, -_x12*_x36 + _x18*_x19*_x27*_x32*_x34 - _x23*_x3 + _x27*_x4*_x9 - _x30*_x35, _x16*_x29 + _x23*_x26 + _x23*_x28*_x39 + _x24*_x27 - _x31*_x37, _x14*_x23 + _x16*_x36 + _x23*_x34*_x39 + _x27*_x3 - _x35*_x37, -_x2*_x3 - _x6, _x1*_x9], (3, 2), _shape)
+    point_D2_lu = _stack([_x54*(_x20*_x49 - _x24*_x45 + 2*_x25*_x46 - _x49*_x52 + _x50*_x51 - _x50*_x53), _x21*(_x19*_x20*_x34*_x40*_x46*_x47*_x9 + _x20*_x34*_x44*_x47*_x9 - _x24*_x55 + _x25*_x34*_x46 - _x3*_x49 - _x33*_x4*_x46*_x47 - _x41*_x56 - _x48*_x58), _x35*(-_x14*_x59 + _x19*_x20*_x34*_x40*_x46 + _x20*_x34*_x44 - _x3*_x45 - _x41*_x60 - _x58), _x54*(_x19*_x32*_x42*_x44*_x47*_x9 + _x20*_x46*_x47*_x9 - _x24*_x59 - _x25*_x45 - _x49*_x51 - _x50*_x52), _x21*(_x19*_x32*_x34*_x42*_x44*_x47*_x9 + _x20*_x34*_x46*_x47*_x9 - _x24*_x57 - _x25*_x55 - _x3*_x50 + _x33*_x4*_x44*_x47 - _x35*_x41*_x50 - _x40*_x56), _x35*(_x14*_x45 + _x20*_x34*_x46 - _x3*_x59 - _x35*_x41*_x46 - _x40*_x60 + _x53*_x55), 0, 0, 0], (3, 3), _shape)
     return point_D_lu, point_D2_lu
 
 def surface_right(
@@ -156,6 +158,7 @@ def surface_right(
         roll_angle: generating roll angle phi(l, u) of Eq 7 [rad], shape (...)
     """
     # ops: 66
+    _shape = numpy.broadcast_shapes(numpy.shape(l), numpy.shape(u), numpy.shape(normal_pressure_angle), numpy.shape(helix_angle), numpy.shape(cone_angle), numpy.shape(cutter_addendum), numpy.shape(half_thickness), numpy.shape(rack_shift), numpy.shape(pitch_radius))
     _x0 = numpy.sin(normal_pressure_angle)
     _x1 = numpy.cos(cone_angle)
     _x2 = numpy.cos(normal_pressure_angle)
@@ -174,9 +177,9 @@ def surface_right(
     _x15 = numpy.cos(_x14)
     _x16 = numpy.sin(_x14)
     _x17 = _x1*_x3
-    point = _stack([_x11*_x15 + _x13*_x16 + _x15*pitch_radius - _x16*_x9, _x11*_x16 - _x13*_x15 + _x15*_x9 + _x16*pitch_radius, _x1*_x7*u - _x10*_x4 - _x17*_x8], (3,))
-    normal = _stack([-_x12*_x16 + _x15*_x6, _x12*_x15 + _x16*_x6, -_x0*_x4 - _x17*_x2], (3,))
-    roll_angle = _x14
+    point = _stack([_x11*_x15 + _x13*_x16 + _x15*pitch_radius - _x16*_x9, _x11*_x16 - _x13*_x15 + _x15*_x9 + _x16*pitch_radius, _x1*_x7*u - _x10*_x4 - _x17*_x8], (3,), _shape)
+    normal = _stack([-_x12*_x16 + _x15*_x6, _x12*_x15 + _x16*_x6, -_x0*_x4 - _x17*_x2], (3,), _shape)
+    roll_angle = _full(_x14, _shape)
     return point, normal, roll_angle
 
 def surface_derivatives_right(
@@ -200,6 +203,7 @@ def surface_derivatives_right(
         point_D2_lu: [d2R/dl2, d2R/dldu, d2R/du2] as columns [mm/mm^2], shape (..., 3, 3)
     """
     # ops: 202
+    _shape = numpy.broadcast_shapes(numpy.shape(l), numpy.shape(u), numpy.shape(normal_pressure_angle), numpy.shape(helix_angle), numpy.shape(cone_angle), numpy.shape(cutter_addendum), numpy.shape(half_thickness), numpy.shape(rack_shift), numpy.shape(pitch_radius))
     _x0 = numpy.sin(normal_pressure_angle)
     _x1 = numpy.cos(cone_angle)
     _x2 = numpy.sin(helix_angle)
@@ -262,12 +266,21 @@ def surface_derivatives_right(
     _x59 = _x13*_x37
     _x60 = _x19*_x58
     _x61 = _x23*_x47
-    point_D_lu = _stack([_x21 + _x24 + _x28*_x33 - _x29*_x9 - _x30*_x31, _x14*_x15*_x23*_x32*_x36 + _x23*_x3*_x7 - _x34 - _x39 - _x40, _x12*_x29 + _x27*_x44 - _x31*_x43 - _x41 + _x42, _x45 + _x46 + _x50, _x0*_x1*_x2 - _x5, _x1*_x7], (3, 2))
-    point_D2_lu = _stack([_x53*(_x16*_x23*_x52 - 2*_x41 + 2*_x42 + _x43*_x53 - _x44*_x52 - _x54*_x55), _x17*(-_x23*_x52*_x58 + _x36*_x41 - _x36*_x42 + _x45*_x52 + _x48*_x52 - _x49*_x52 + _x54*_x59 + _x56*_x57), _x37*(_x16*_x23*_x36 - 2*_x45 - 2*_x46 - _x50), _x53*(_x14*_x15*_x23*_x32*_x51*_x7 + _x16*_x19*_x51*_x7 - 2*_x21 - _x23*_x53*_x9 - 2*_x24 - _x55*_x56), _x17*(_x21*_x36 + _x24*_x36 + _x34*_x52 + _x39*_x52 - _x52*_x60 - _x52*_x61 - _x54*_x57 + _x56*_x59), _x37*(2*_x10*_x23 - 2*_x34 - _x39 - _x40 + _x60 + _x61), 0, 0, 0], (3, 3))
+    point_D_lu = _stack([_x21 + _x24 + _x28*_x33 - _x29*_x9 - _x30*_x31, _x14*_x15*_x23*_x32*_x36 + _x23*_x3*_x7 - _x34 - _x39 - _x40, _x12*_x29 + _x27*_x44 - _x31*_x43 - _x41 + _x42, _x45 + _x46 + _x50, _x0*_x1*_x2 - _x5, _x1*_x7], (3, 2), _shape)
+    point_D2_lu = _stack([_x53*(_x16*_x23*_x52 - 2*_x41 + 2*_x42 + _x43*_x53 - _x44*_x52 - _x54*_x55), _x17*(-_x23*_x52*_x58 + _x36*_x41 - _x36*_x42 + _x45*_x52 + _x48*_x52 - _x49*_x52 + _x54*_x59 + _x56*_x57), _x37*(_x16*_x23*_x36 - 2*_x45 - 2*_x46 - _x50), _x53*(_x14*_x15*_x23*_x32*_x51*_x7 + _x16*_x19*_x51*_x7 - 2*_x21 - _x23*_x53*_x9 - 2*_x24 - _x55*_x56), _x17*(_x21*_x36 + _x24*_x36 + _x34*_x52 + _x39*_x52 - _x52*_x60 - _x52*_x61 - _x54*_x57 + _x56*_x59), _x37*(2*_x10*_x23 - 2*_x34 - _x39 - _x40 + _x60 + _x61), 0, 0, 0], (3, 3), _shape)
     return point_D_lu, point_D2_lu
 
 
-def _stack(entries, shape):
-    """Broadcast scalar entries and stack them into an array of shape (..., *shape)."""
-    arrays = numpy.broadcast_arrays(*entries)
-    return numpy.stack(arrays, axis=-1).reshape(arrays[0].shape + shape)
+def _full(value, shape):
+    """A fresh array of the inputs' broadcast shape holding value."""
+    out = numpy.empty(shape, dtype=numpy.result_type(value, 1.0))
+    out[...] = value
+    return out
+
+
+def _stack(entries, shape, batch):
+    """Entries broadcast to the inputs' shape `batch`, stacked into (*batch, *shape)."""
+    out = numpy.empty(batch + (len(entries),), dtype=numpy.result_type(*entries, 1.0))
+    for i, e in enumerate(entries):
+        out[..., i] = e
+    return out.reshape(batch + shape)

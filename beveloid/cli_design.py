@@ -1,0 +1,35 @@
+"""``beveloid design FILE [--json]``: direct pitch-cone design from a TOML spec.
+
+``configure(parser)`` adds the arguments; ``run(args) -> int`` prints the Table 1 layout
+(:func:`beveloid.design_report.format_table1`) or, with ``--json``, the JSON of
+:func:`beveloid.design_report.design_json` on stdout and returns 0.  Invalid input and
+infeasible designs raise :class:`beveloid.spec.SpecError` / :class:`beveloid.design.DesignError`;
+the main CLI turns them into a one-line message and exit status 2.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+
+
+def configure(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("file", metavar="FILE", help="TOML design spec (see examples/case1.toml)")
+    parser.add_argument("--json", action="store_true",
+                        help="print the design as JSON on stdout (nothing else on stdout)")
+
+
+def run(args: argparse.Namespace) -> int:
+    """Direct pitch-cone design from a TOML spec.
+
+    Prints a table laid out like the paper's Table 1 (angles in degrees), or JSON with --json.
+    """
+    from .design import design
+    from .design_report import design_json, format_table1
+    from .spec import load_spec
+
+    result = design(load_spec(args.file))
+    if args.json:
+        print(json.dumps(design_json(result), indent=2, allow_nan=False))
+    else:
+        print(format_table1(result))
+    return 0
