@@ -258,11 +258,11 @@ def _mis_doc(description: str, unit: str, limit: float) -> KeyDoc:
 
 
 _MIS_DOCS: dict[str, KeyDoc] = {
-    "dx_mm": _mis_doc("translational misalignment along x", "mm", 10.0),
-    "dy_mm": _mis_doc("translational misalignment along y", "mm", 10.0),
-    "dz_mm": _mis_doc("translational misalignment along z", "mm", 10.0),
-    "vertical_deg": _mis_doc("angular misalignment in the vertical plane", "deg", 5.0),
-    "horizontal_deg": _mis_doc("angular misalignment in the horizontal plane", "deg", 5.0),
+    "dx_mm": _mis_doc("gear offset error dx_q of Eq 34 (frame S_q of the aligned gear; x_q is the common perpendicular)", "mm", 10.0),
+    "dy_mm": _mis_doc("gear offset error dy_q of Eq 34 (frame S_q)", "mm", 10.0),
+    "dz_mm": _mis_doc("gear offset error dz_q of Eq 34 (frame S_q: along the gear axis)", "mm", 10.0),
+    "vertical_deg": _mis_doc("angular error dgamma_v of Eq 34 (gear axis turned about y_q)", "deg", 5.0),
+    "horizontal_deg": _mis_doc("angular error dgamma_h of Eq 34 (gear axis turned about x_q)", "deg", 5.0),
 }
 
 #: section -> key -> KeyDoc.  The single source of truth for validation and docs.

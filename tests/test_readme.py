@@ -34,3 +34,15 @@ def test_quickstart_is_two_commands_and_ci_runs_the_second():
 def test_input_key_table_is_current():
     assert key_docs_markdown().strip() in _section("Input keys"), (
         "README's key table differs from beveloid.spec.key_docs_markdown(): paste its output")
+
+
+def test_python_api_example_runs(monkeypatch):
+    """The README's Python API block runs as written (from the repository root)."""
+    blocks = re.findall(r"^```python\n(.*?)^```", _section("Python API"), flags=re.M | re.S)
+    assert len(blocks) == 1
+    monkeypatch.chdir(REPO)
+    ns = {}
+    exec(compile(blocks[0], "README.md (Python API)", "exec"), ns)
+    assert ns["res"].backlash_um is not None
+    assert ns["mc"].contact_points_solved == 10_000 * 50
+    assert abs(ns["back"].offset_mm - ns["d"].offset_mm) < 1e-9 * ns["d"].offset_mm
