@@ -13,11 +13,18 @@ from . import codegen, docs, kernels, registry
 SOURCE_ROOT = Path(__file__).resolve().parent.parent
 
 
+def _is_checkout(path: Path) -> bool:
+    return all((path / d).is_dir() for d in ("derivations", "generated", "docs")) and (path / "pyproject.toml").exists()
+
+
 def source_root() -> Path:
-    if not (SOURCE_ROOT / "pyproject.toml").exists() or not (SOURCE_ROOT / "generated").is_dir():
-        raise FileNotFoundError("beveloid derive works in a source checkout (derivations/, generated/, docs/); "
-                                f"none found at {SOURCE_ROOT}")
-    return SOURCE_ROOT
+    """The checkout to regenerate: the one this package runs from (editable install), else the
+    current directory when it is a beveloid checkout (regular install run from the repository)."""
+    for cand in (SOURCE_ROOT, Path.cwd()):
+        if _is_checkout(cand):
+            return cand
+    raise FileNotFoundError("beveloid derive works in a source checkout (derivations/, generated/, docs/): "
+                            f"none at {SOURCE_ROOT} or in the current directory {Path.cwd()}; cd into the checkout")
 
 
 def render_all(progress=None, cse=True):

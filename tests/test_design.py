@@ -598,13 +598,14 @@ def test_cli_design_errors_are_raised_for_the_main_cli(tmp_path):
         _cli([str(path)])
 
 
-def test_runtime_does_not_import_sympy():
+def test_runtime_does_not_import_sympy(tmp_path):
     import subprocess
     import sys
 
     code = ("import sys, beveloid.design, beveloid.design_report, beveloid.cli_design;"
             "from beveloid.spec import load_spec; beveloid.design.design(load_spec(sys.argv[1]));"
             "print('sympy' in sys.modules)")
+    # run outside the checkout: there `python -c` would import the bare beveloid/ folder
     out = subprocess.run([sys.executable, "-c", code, str(EXAMPLES / "case1.toml")], capture_output=True,
-                         text=True, check=True)
+                         text=True, check=True, cwd=tmp_path)
     assert out.stdout.strip() == "False"
