@@ -279,9 +279,11 @@ def _check_cone_angles(spec: DesignSpec, gamma1: float, gamma2: float) -> None:
 
 def _scan(alpha_nw, c: dict[str, Any]) -> tuple[np.ndarray, np.ndarray]:
     """Residual E(alpha_nw) - E and the admissibility mask (all real, positive working radii)."""
-    q = _direct(np.asarray(alpha_nw, dtype=float), c)
-    res = q["E"] - c["E"]
-    ok = np.isfinite(res) & (q["r_w1"] > 0) & (q["r_w2"] > 0)
+    with np.errstate(all="ignore"):
+        res, r_w1, r_w2 = _eq.offset_scan(np.asarray(alpha_nw, dtype=float), c["m_n"], c["alpha_n"], c["N1"],
+                                          c["N2"], c["delta"], c["x_t1"], c["gamma1"], c["gamma2"], c["beta1"],
+                                          c["E"])
+    ok = np.isfinite(res) & (r_w1 > 0) & (r_w2 > 0)
     return res, ok
 
 

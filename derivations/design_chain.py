@@ -47,6 +47,19 @@ def cos_eta():
     return g1.dot(g2)
 
 
+def eta():
+    """eta = beta_w1 + beta_w2 (Eq 16) from y = tau_2.(tau_1 x n_1) = sin(eta), x = tau_1.tau_2.
+
+    Both come from the tangency model (Eq 16's check proves the sine positive).  The half-angle
+    form 2 atan(y / (1 + x)) (x^2 + y^2 = 1: tau_2 is a unit vector in the plane of tau_1 and
+    tau_1 x n_1) keeps full precision where eta -> 0 (small offsets), which arccos of Eq 16
+    would lose, and stays complex-analytic (complex-step derivatives).
+    """
+    g1, g2, n1 = cones.generatrices_and_normal(tangency())
+    y, x = g2.dot(g1.cross(n1)), g1.dot(g2)
+    return 2 * sp.atan(y / (1 + x))
+
+
 def _tan_P(sigma, al, be, ga):
     return work.tan_transverse_pressure_angle(sigma).subs({alpha_n: al, beta: be, gamma: ga}, simultaneous=True)
 
@@ -80,11 +93,12 @@ def pair_quantities(gw1, gw2, bw1, bw2, b1, b2, g1_, g2_, alw, xt2_solve=True):
         out[f"xi_{name}1"] = atan(t1)
         out[f"xi_{name}2"] = atan(t2)
         out[f"xi_{name}"] = atan(t1) + atan(t2)
-        for i, (bb, gg, bw, gw, xt) in enumerate(((b1, g1_, bw1, gw1, xt1_), (b2, g2_, bw2, gw2, xt2_)), start=1):
+        for i, (bb, gg, bw, gw) in enumerate(((b1, g1_, bw1, gw1), (b2, g2_, bw2, gw2)), start=1):
             tp = _tan_P(sigma, alpha_n, bb, gg)
             out[f"alpha_P{name}{i}"] = atan(tp)
-            # common base circle: cos(alpha_Pw) = xi_t cos(alpha_P)
-            out[f"alpha_Pw{name}{i}"] = acos(xt / sp.sqrt(1 + tp ** 2))
+            # the working rack's transverse pressure angle (signed); Eq 22's check proves it
+            # equals arccos(xi_t cos(alpha_P)) where that is defined
+            out[f"alpha_Pw{name}{i}"] = atan(_tan_P(sigma, alw, bw, gw))
     if xt2_solve:
         inv = lambda a: tan(a) - a  # noqa: E731
         lhs1 = 2 * tan(alpha_n) * x_t1 * cos(g1_) / cos(b1)
@@ -100,8 +114,7 @@ def direct():
     gw1 = asin(sin(gamma1) * sin(alpha_n) / sin(alpha_nw))
     gw2 = asin(sin(gamma2) * sin(alpha_n) / sin(alpha_nw))
     bw1 = asin(sin(beta1) * cos(gamma1) / (xin * cos(gw1)))
-    eta = acos(cos_eta().subs({gamma_w1: gw1, gamma_w2: gw2}, simultaneous=True))
-    bw2 = eta - bw1
+    bw2 = eta().subs({gamma_w1: gw1, gamma_w2: gw2}, simultaneous=True) - bw1
     b2 = asin(sin(bw2) * xin * cos(gw2) / cos(gamma2))
     return pair_quantities(gw1, gw2, bw1, bw2, beta1, b2, gamma1, gamma2, alpha_nw)
 
@@ -111,8 +124,7 @@ def indirect():
     xin = cos(alpha_nw) / cos(alpha_n)
     g1_ = asin(sin(gamma_w1) * sin(alpha_nw) / sin(alpha_n))
     g2_ = asin(sin(gamma_w2) * sin(alpha_nw) / sin(alpha_n))
-    eta = acos(cos_eta())
-    bw2 = eta - beta_w1
+    bw2 = eta() - beta_w1
     b1 = asin(sin(beta_w1) * xin * cos(gamma_w1) / cos(g1_))
     b2 = asin(sin(bw2) * xin * cos(gamma_w2) / cos(g2_))
     return pair_quantities(gamma_w1, gamma_w2, beta_w1, bw2, b1, b2, g1_, g2_, alpha_nw)
