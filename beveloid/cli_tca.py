@@ -94,8 +94,10 @@ def format_summary(result, spec) -> str:
     lines += ["  ".join(c.rjust(wi) if i else c.ljust(wi) for i, (c, wi) in enumerate(zip(r, w))) for r in rows]
     if result.backlash_um is not None:
         b = result.backlash_um
+        b = 0.0 if abs(b) < 5e-5 else b  # display only: no "-0.0000" from round-off
         lines += ["", f"backlash at the gear's working pitch circle: {b:.4f} um" if np.isfinite(b)
                   else "backlash: not found (no two-flank contact)"]
+    lines += [f"note: {n}" for n in result.notes]
     lines += ["", "z: axial position in the member frame (toe -> heel); points per status over "
               f"{len(result.flanks[next(iter(result.flanks))].status)} pair-positions"]
     return "\n".join(lines)

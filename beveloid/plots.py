@@ -19,6 +19,15 @@ def _plt():
     return plt
 
 
+def _save(fig, out_png, title="", dpi=110, suptitle=True):
+    plt = _plt()
+    if title:
+        (fig.suptitle if suptitle else fig.axes[0].set_title)(title)
+    fig.tight_layout()
+    fig.savefig(out_png, dpi=dpi)
+    plt.close(fig)
+
+
 def flank_outline(geom, which, flank, n=60):
     """Boundary of a member's active flank in (axial position z, radius): toe, tip, heel, form."""
     from .tca import surface
@@ -67,11 +76,7 @@ def contact_paths(results, labels, geom, flank, out_png, title=""):
         ax.set_title(f"{which}, {flank} flank")
         ax.grid(alpha=0.3)
     axes[1].legend(fontsize=8, loc="best")
-    if title:
-        fig.suptitle(title)
-    fig.tight_layout()
-    fig.savefig(out_png, dpi=110)
-    plt.close(fig)
+    _save(fig, out_png, title)
 
 
 def transmission_error(results, labels, flank, out_png, title=""):
@@ -99,11 +104,7 @@ def transmission_error(results, labels, flank, out_png, title=""):
     ax.set_ylabel("TE minus its mean (urad)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
-    if title:
-        ax.set_title(title)
-    fig.tight_layout()
-    fig.savefig(out_png, dpi=110)
-    plt.close(fig)
+    _save(fig, out_png, title, suptitle=False)
 
 
 def tca_summary(result, geom, out_png, title=""):
@@ -141,8 +142,4 @@ def tca_summary(result, geom, out_png, title=""):
         ax.set_title(f"{flank} flank: TE, peak-to-peak {ptp:.2e} urad" if np.isfinite(ptp) else f"{flank}: no contact")
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
-    if title:
-        fig.suptitle(title)
-    fig.tight_layout()
-    fig.savefig(out_png, dpi=100)
-    plt.close(fig)
+    _save(fig, out_png, title, dpi=100)

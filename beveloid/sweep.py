@@ -42,15 +42,6 @@ def engagement_window(geom, flank, ref=None, resolution=400):
     return lo, hi
 
 
-def solve_sets(geom, flank, errors, phi_grid, backend="auto", edge_tol_mm=0.01):
-    """Unknowns (K, N, 5), status codes (K, N) and Newton iterations (K, N): see tca.solve_grid."""
-    return tca.solve_grid(geom, flank, errors, phi_grid, backend, edge_tol_mm)
-
-
-def resolve_backend(backend):
-    return tca.resolve_backend(backend)
-
-
 def _stats(v):
     v = np.asarray(v, float)
     v = v[np.isfinite(v)]
@@ -132,9 +123,9 @@ def sweep(geom, flank="right", samples=1000, positions=50, seed=0, ranges=None, 
     lo, hi = engagement_window(geom, flank, ref)
     pad = 0.01 * (hi - lo)
     grid = np.linspace(lo + pad, hi - pad, positions)
-    backend = resolve_backend(backend)
+    backend = tca.resolve_backend(backend)
     # aligned path (the shift reference)
-    xa, ca, _ = solve_sets(geom, flank, np.zeros((1, 5)), grid, backend, edge_tol_mm)
+    xa, _, _ = tca.solve_grid(geom, flank, np.zeros((1, 5)), grid, backend, edge_tol_mm)
     p_al, _, _ = tca.surface(geom, "pinion", flank, xa[0, :, 0], xa[0, :, 1])
     g_al, _, _ = tca.surface(geom, "gear", flank, xa[0, :, 2], xa[0, :, 3])
     t0 = time.perf_counter()
@@ -143,7 +134,7 @@ def sweep(geom, flank="right", samples=1000, positions=50, seed=0, ranges=None, 
     IT = np.empty((samples, positions), dtype=np.int64)
     for start in range(0, samples, chunk):
         sl = slice(start, min(samples, start + chunk))
-        X[sl], C[sl], IT[sl] = solve_sets(geom, flank, errors[sl], grid, backend, edge_tol_mm)
+        X[sl], C[sl], IT[sl] = tca.solve_grid(geom, flank, errors[sl], grid, backend, edge_tol_mm)
         if progress:
             progress(sl.stop, samples, t0)
     seconds = time.perf_counter() - t0

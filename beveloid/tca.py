@@ -553,6 +553,7 @@ class TCAResult:
     errors: np.ndarray
     flanks: dict = field(default_factory=dict)
     backlash_um: float | None = None
+    notes: list = field(default_factory=list)
 
     def to_json_dict(self):
         out = {
@@ -565,7 +566,19 @@ class TCAResult:
         }
         if self.backlash_um is not None:
             out["backlash_um"] = None if not np.isfinite(self.backlash_um) else self.backlash_um
+        out["notes"] = list(self.notes)
         return out
+
+
+def pitch_point_notes(geom: PairGeometry, flank: str, edge_tol_mm=0.01):
+    """Why an aligned flank may show no contact: the pitch point P lies off a member's active flank."""
+    ref = reference_contact(geom, flank)
+    margin, which = boundary_margins(geom, flank, ref.x[None])
+    if margin[0] >= -edge_tol_mm:
+        return []
+    return [f"{flank} flank: the pitch point P lies {-margin[0]:.3f} mm beyond the {which[0]} boundary, so the "
+            f"aligned contact near P is off the active flank (the working pitch circle is outside the active "
+            f"profile: check the profile shifts and the working pressure angle of the design)"]
 
 
 def backlash(geom: PairGeometry, errors=(0, 0, 0, 0, 0), backend="auto"):
@@ -605,6 +618,7 @@ def analyze(geom: PairGeometry, errors=(0, 0, 0, 0, 0), flanks=FLANKS, positions
     for fl in flanks:
         res.flanks[fl] = mesh_flank(geom, fl, e, positions=positions, pairs=pairs, edge_tol_mm=edge_tol_mm,
                                     backend=backend)
+        res.notes += pitch_point_notes(geom, fl, edge_tol_mm)
     if set(flanks) == set(FLANKS):
         res.backlash_um = backlash(geom, e, backend=backend)
     return res

@@ -21,6 +21,7 @@ from pathlib import Path
 import sympy as sp
 
 from . import registry
+from .common import _as_list
 
 _REPO = Path(__file__).resolve().parent.parent
 # In a source checkout (editable install) the page lives in the repository; otherwise
@@ -42,14 +43,6 @@ def _fmt_diff(x) -> str:
 def _cell(text: str) -> str:
     """Text safe inside a markdown table cell."""
     return str(text).replace("|", r"\|").replace("\n", " ")
-
-
-def _as_list(x):
-    if x is None:
-        return []
-    if isinstance(x, (list, tuple)):
-        return list(x)
-    return [x]
 
 
 # Symbols whose names sympy would typeset badly (phi2p -> "phi2p", Delta_x_q -> \Delta_{x q}).
