@@ -45,10 +45,11 @@ def _solves(J, F, n):
 
 @numba.njit(cache=True)
 def _margins(x, p, lim, n):
+    pt, nr, ph = np.empty(3), np.empty(3), np.empty(1)
     s = 0.0
     for i in range(n):
         x[0] += 1e-12
-        s += compiled._margin(1, x, p, lim)
+        s += compiled._margin(1, x, p, lim, pt, nr, ph)
     return s
 
 

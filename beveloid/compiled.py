@@ -98,14 +98,12 @@ if AVAILABLE:
         return False, max_iter
 
     @_jit
-    def _margin(flank, x, p, lim):
+    def _margin(flank, x, p, lim, pt, nr, ph):
         """Smallest signed distance (mm) inside the flank boundaries of both members.
 
         lim rows (pinion, gear): r, tip height + shift, cos(cone), tan(cone), z_lo, z_hi, rack params...
+        pt, nr (3,) and ph (1,) are scratch arrays for the surface kernel.
         """
-        pt = np.empty(3)
-        nr = np.empty(3)
-        ph = np.empty(1)
         best = 1e300
         for m in range(2):
             l = x[0] if m == 0 else x[2]
@@ -151,13 +149,16 @@ if AVAILABLE:
             step = np.empty(5)
             dx = np.empty(5)
             e = np.zeros(5)
+            de = np.empty(5)
+            rhs = np.empty(5)
+            pt = np.empty(3)
+            nr = np.empty(3)
+            ph = np.empty(1)
             x = x_ref.copy()
             ok_all = True
             # homotopy in the errors at phi_ref (tangent predictor from d/derrors)
             for h in range(1, homotopy_steps + 1):
                 _residual(flank, x, phi_ref, e, p, F, J, Je, Jp)
-                de = np.empty(5)
-                rhs = np.empty(5)
                 for i in range(5):
                     de[i] = errors[k, i] * (1.0 / homotopy_steps)
                 for i in range(5):
@@ -197,7 +198,7 @@ if AVAILABLE:
                         x_out[k, j, i] = x[i]
                     iters_out[k, j] = it
                     if conv and ok_all:
-                        m = _margin(flank, x, p, lim)
+                        m = _margin(flank, x, p, lim, pt, nr, ph)
                         if m > edge_tol:
                             code_out[k, j] = 0
                         elif m >= -edge_tol:
