@@ -169,13 +169,21 @@ def _version() -> str:
         return "unknown (not installed)"
 
 
+class _OneLineParser(argparse.ArgumentParser):
+    """Usage errors as one line (``beveloid <command>: error: ...; see --help``), exit 2."""
+
+    def error(self, message):
+        print(f"{self.prog}: error: {message} (see {self.prog} --help)", file=sys.stderr)
+        raise SystemExit(2)
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _OneLineParser(
         prog=PROG,
         description="Crossed beveloid gears after Zhu, Song, Lim & Peng, Mech. Mach. Theory 59 (2013).",
     )
     parser.add_argument("--version", action="version", version=f"{PROG} {_version()}")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True, parser_class=_OneLineParser)
     for name, (configure, run) in COMMANDS.items():
         help_text = _help_text(run)
         p = sub.add_parser(name, help=help_text, description=(run.__doc__ or "").strip())

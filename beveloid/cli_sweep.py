@@ -38,6 +38,8 @@ def run(args: argparse.Namespace) -> int:
 
     if not 1 <= args.samples <= 10_000_000:
         raise UserError(f"--samples = {args.samples}: must be an integer from 1 to 10000000")
+    if not 0 <= args.seed < 2 ** 63:
+        raise UserError(f"--seed = {args.seed}: must be an integer from 0 to 2**63 - 1")
     if not 2 <= args.positions <= 10_000:
         raise UserError(f"--positions = {args.positions}: must be an integer from 2 to 10000")
     ranges = {}

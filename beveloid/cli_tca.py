@@ -31,6 +31,25 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
 
 
+FLAG_OF_KEY = {"dx_mm": "--dx", "dy_mm": "--dy", "dz_mm": "--dz", "vertical_deg": "--vertical",
+               "horizontal_deg": "--horizontal"}
+
+
+def check_png_path(path, flag):
+    """A plot target must end in .png and its folder must exist and be writable."""
+    import os
+    from pathlib import Path
+
+    p = Path(path)
+    if p.suffix.lower() != ".png":
+        raise UserError(f"{flag} = {path}: the plot is written as PNG; give a file name ending in .png")
+    folder = p.parent if str(p.parent) else Path(".")
+    if not folder.is_dir():
+        raise UserError(f"{flag} = {path}: the folder {folder} does not exist; create it or choose another")
+    if not os.access(folder, os.W_OK):
+        raise UserError(f"{flag} = {path}: the folder {folder} is not writable; choose another")
+
+
 def error_vector(spec) -> np.ndarray:
     m = spec.misalignment
     return np.array([m.dx_mm, m.dy_mm, m.dz_mm, math.radians(m.vertical_deg), math.radians(m.horizontal_deg)])
@@ -44,15 +63,23 @@ def run(args: argparse.Namespace) -> int:
     """
     from . import tca
     from .design import design
-    from .spec import load_spec, misalignment_with
+    from .spec import SpecError, load_spec, misalignment_with
 
     if args.positions < 3 or args.positions > 100000:
         raise UserError(f"--positions = {args.positions}: must be an integer from 3 to 100000")
     if args.pairs < 1 or args.pairs > 9 or args.pairs % 2 == 0:
         raise UserError(f"--pairs = {args.pairs}: must be an odd integer from 1 to 9")
+    if args.plot:
+        check_png_path(args.plot, "--plot")
     spec = load_spec(args.file)
-    spec = misalignment_with(spec, dx_mm=args.dx, dy_mm=args.dy, dz_mm=args.dz,
-                             vertical_deg=args.vertical, horizontal_deg=args.horizontal)
+    try:
+        spec = misalignment_with(spec, dx_mm=args.dx, dy_mm=args.dy, dz_mm=args.dz,
+                                 vertical_deg=args.vertical, horizontal_deg=args.horizontal)
+    except SpecError as exc:  # name the flag the user typed, not the TOML key
+        msg = str(exc)
+        for key, flag in FLAG_OF_KEY.items():
+            msg = msg.replace(f"misalignment.{key}", flag)
+        raise UserError(msg) from None
     geom = tca.PairGeometry.from_design(design(spec))
     flanks = tca.FLANKS if args.flank == "both" else (args.flank,)
     result = tca.analyze(geom, error_vector(spec), flanks=flanks, positions=args.positions, pairs=args.pairs)

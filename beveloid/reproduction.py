@@ -75,9 +75,10 @@ def _err_vec(e):
 
 
 def _within_last_digit(printed: str, value: float) -> bool:
+    """Signed comparison within one unit of the last printed digit (a flipped hand fails)."""
     s = printed.strip().lstrip("+-")
     dec = len(s.split(".")[1]) if "." in s else 0
-    return abs(abs(value) - abs(float(printed))) <= 10.0 ** (-dec) * (1 + 1e-9)
+    return abs(value - float(printed)) <= 10.0 ** (-dec) * (1 + 1e-9)
 
 
 def table1_comparison(results):
