@@ -81,6 +81,13 @@ def generatrices_and_normal(sol):
     return g1, g2, n1
 
 
+def _cos_eta_in_theta():
+    """tau_1 . tau_2 written with theta_1, theta_2 kept symbolic (for the derivation text)."""
+    th = {"cos_theta1": cos(theta1), "sin_theta1": sin(theta1), "cos_theta2": cos(theta2), "sin_theta2": sin(theta2)}
+    g1, g2, _ = generatrices_and_normal(th)
+    return sp.expand(g1.dot(g2))
+
+
 def helix_matching():
     """Tooth directions t_i = cos(b_i) g_i + sin(b_i) (g_i x n_i) (RH positive, n_i outward) coincide.
 
@@ -151,7 +158,8 @@ def equations():
                      r"(right hand positive, $n_i$ outward, $n_2 = -n_1$). With $\tau_2 = \cos\eta\,e + \sin\eta\,f$, "
                      r"$e = \tau_1$, $f = \tau_1\times n_1$: $t_1 = %s$, $t_2 = %s$" % (sp.latex(t1.T), sp.latex(t2.T)),
                      r"$t_1 = t_2 \Rightarrow \eta = \beta_{w1} + \beta_{w2}$ (the '+' reading, signed helix angles).",
-                     r"From the tangency solution: $\cos\eta = \tau_1\cdot\tau_2 = %s$" % sp.latex(cos_eta),
+                     r"From the tangency solution (sines and cosines of $\theta_i$ from Eq 12's steps): "
+                     r"$\cos\eta = \tau_1\cdot\tau_2 = %s$" % sp.latex(_cos_eta_in_theta()),
                  ],
                  extra_checks=[("sin(eta) = tau_2.(tau_1 x n_1) = S/(cos gw1 cos gw2) > 0",
                                 lambda: sin_eta - S / (cos(gamma_w1) * cos(gamma_w2)))],

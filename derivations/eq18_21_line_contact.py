@@ -31,7 +31,8 @@ def fpd_angle_tan(sigma, al, be, ga):
     t = rot * sp.Matrix([0, 0, 1])  # tooth trace
     a = sp.Matrix([0, 0, 1])  # gear axis
     k = a - a.dot(n) * n
-    return sp.expand(t.cross(k).dot(n)) / sp.expand(t.dot(k))
+    # a small rational expression in sines and cosines: a targeted trigsimp is quick here
+    return sp.trigsimp(sp.cancel(sp.expand(t.cross(k).dot(n)) / sp.expand(t.dot(k))))
 
 
 def common_rack_crossing(sigma):
@@ -82,7 +83,9 @@ def equations():
                  note="Left flank of the pinion meshes with the left flank of the gear (same plane of the common rack)."),
         Equation(19, "FPD angle, left flank", "derived", printed=paper.eq19_tan, derived=derived_L, sampler=sampler,
                  symbolic=True,
-                 steps=[r"$\tan\xi_{L} = \frac{(T\times k)\cdot N}{T\cdot k} = %s$" % sp.latex(derived_L)]),
+                 steps=[r"$\tan\xi_{L} = \frac{(T\times k)\cdot N}{T\cdot k}$, with $k = a - (a\cdot N)N$ the "
+                        r"projection of the gear axis $a$ onto the flank (normal $N$, tooth trace $T$), "
+                        r"cancelled and trig-simplified: $%s$" % sp.latex(derived_L)]),
         Equation(20, "FPD angle, right flank", "derived", printed=paper.eq20_tan, derived=derived_R, sampler=sampler,
                  symbolic=True,
                  steps=[r"$\tan\xi_{R} = %s$" % sp.latex(derived_R)]),
