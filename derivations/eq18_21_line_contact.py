@@ -13,6 +13,8 @@ The model checks that in Sf itself: the common rack is built at the pitch point 
 Eqs 10-14, both axes are projected onto its flank, and the angle between the projections
 is compared with xi_1 + xi_2.
 """
+import functools
+
 import sympy as sp
 
 from . import paper
@@ -24,15 +26,21 @@ from .symbols import alpha_n, alpha_nw, beta, beta_w, beta_w1, beta_w2, delta, g
 sin, cos = sp.sin, sp.cos
 
 
-def fpd_angle_tan(sigma, al, be, ga):
-    """tan of the signed angle from tooth trace to contact line, one gear and its rack."""
-    rot = rot_y(ga)[:3, :3] * rot_x(-be)[:3, :3]
-    n = rot * sp.Matrix([sin(al), -sigma * cos(al), 0])  # outward flank normal
+@functools.lru_cache(maxsize=2)
+def _fpd_angle_tan_symbolic(sigma):
+    rot = rot_y(gamma_w)[:3, :3] * rot_x(-beta_w)[:3, :3]
+    n = rot * sp.Matrix([sin(alpha_nw), -sigma * cos(alpha_nw), 0])  # outward flank normal
     t = rot * sp.Matrix([0, 0, 1])  # tooth trace
     a = sp.Matrix([0, 0, 1])  # gear axis
     k = a - a.dot(n) * n
-    # a small rational expression in sines and cosines: a targeted trigsimp is quick here
+    # a small rational expression in sines and cosines of three symbols: a targeted trigsimp
+    # is quick here (it is never applied to the composed design expressions)
     return sp.trigsimp(sp.cancel(sp.expand(t.cross(k).dot(n)) / sp.expand(t.dot(k))))
+
+
+def fpd_angle_tan(sigma, al, be, ga):
+    """tan of the signed angle from tooth trace to contact line, one gear and its rack."""
+    return _fpd_angle_tan_symbolic(sigma).subs({alpha_nw: al, beta_w: be, gamma_w: ga}, simultaneous=True)
 
 
 def common_rack_crossing(sigma):
