@@ -590,7 +590,6 @@ def backlash(geom: PairGeometry, errors=(0, 0, 0, 0, 0), backend="auto"):
     """
     e = errors_array(errors).reshape(1, 5)
     _, p2 = geom.pitch_angles
-    N1, N2 = geom.pinion.teeth, geom.gear.teeth
     angles = {}
     signs = {}
     refs = {fl: reference_contact(geom, fl) for fl in FLANKS}

@@ -11,7 +11,6 @@ is a generation-time error (after PyDy).
 from __future__ import annotations
 
 import difflib
-import os
 from dataclasses import dataclass, field
 from pathlib import Path
 

@@ -26,8 +26,8 @@ from . import eq18_21_line_contact as line
 from . import eq22_27_working_data as work
 from .eq01_03_rack_cutter import LEFT, RIGHT
 from .symbols import (
-    E, N1, N2, alpha_n, alpha_nw, beta, beta1, beta2, beta_w1, beta_w2, d1, d2, delta, gamma, gamma1, gamma2, gamma_w1,
-    gamma_w2, m_n, r_w1, r_w2, x_t1,
+    E, N1, N2, alpha_n, alpha_nw, beta, beta1, beta_w1, beta_w2, delta, gamma, gamma1, gamma2, gamma_w1, gamma_w2, m_n, r_w1,
+    r_w2, x_t1,
 )
 
 sin, cos, tan, asin, acos, atan = sp.sin, sp.cos, sp.tan, sp.asin, sp.acos, sp.atan

@@ -15,9 +15,8 @@ import sympy as sp
 
 from . import paper
 from .common import Equation, hom, rot_z, trans, uniform
-from .eq01_03_rack_cutter import rack_normal, rack_point, rack_shift
-from .eq01_03_rack_cutter import sampler as rack_sampler
-from .symbols import N, beta, l, m_n, n_xc, n_yc, n_zc, phi, r, s, u, x_c, y_c, z_c
+from .eq01_03_rack_cutter import rack_normal, rack_point
+from .symbols import N, beta, m_n, n_xc, n_yc, n_zc, phi, r, s, x_c, y_c, z_c
 
 M_ic = rot_z(phi) * trans(r, -r * phi, 0)
 

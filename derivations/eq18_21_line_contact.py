@@ -21,7 +21,7 @@ from . import paper
 from .common import Equation, rot_y, rot_x, uniform_deg
 from .eq08_17_pitch_cones import generatrices_and_normal, solve_tangency
 from .eq08_17_pitch_cones import sampler as cone_sampler
-from .symbols import alpha_n, alpha_nw, beta, beta_w, beta_w1, beta_w2, delta, gamma, gamma_w, gamma_w1, gamma_w2
+from .symbols import alpha_nw, beta_w, beta_w1, delta, gamma_w, gamma_w1, gamma_w2
 
 sin, cos = sp.sin, sp.cos
 

@@ -25,7 +25,7 @@ from .eq01_03_rack_cutter import LEFT, RIGHT, rack_normal, rack_point, rack_shif
 from .symbols import (
     N, N1, N2, alpha_PL, alpha_PL1, alpha_PL2, alpha_PR, alpha_PR1, alpha_PR2, alpha_PwL, alpha_PwL1, alpha_PwL2,
     alpha_PwR, alpha_PwR1, alpha_PwR2, alpha_n, alpha_nw, b, beta, beta1, beta2, beta_w, gamma, gamma1, gamma2, gamma_w,
-    inv, l, m_n, m_nw, r, r_w, s, u, x_t, x_t1, x_t2, xi_n, xi_t,
+    inv, l, m_n, m_nw, s, u, x_t, x_t1, x_t2, xi_n, xi_t,
 )
 
 sin, cos, tan, pi = sp.sin, sp.cos, sp.tan, sp.pi
@@ -93,7 +93,6 @@ def equations():
 
     # Eq 27 pieces
     st = tooth_thickness_reference().subs(b, pi * m_n / 4)
-    inv_t = lambda t: t - sp.atan(t)  # noqa: E731  inv(alpha) from tan(alpha)
 
     def normal_working_thickness(n_teeth, xt, al, be, ga, pL, pR, pwL, pwR, mnw, bw):
         r_ = n_teeth * m_n / (2 * cos(be))

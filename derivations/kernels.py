@@ -132,7 +132,6 @@ def design_module():
 
 def tca_module():
     fns = []
-    pin = dict(alpha_n=alpha_n)
     s_p = sp.symbols("beta_1 gamma_1 a_1 s_1 r_1", real=True)
     s_g = sp.symbols("beta_2 gamma_2 a_2 s_2 r_2", real=True)
     unknowns = [l1, uu1, l2, uu2, phi2p]

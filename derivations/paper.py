@@ -9,8 +9,8 @@ from .symbols import (
     E, N1, N2, a, alpha_PL, alpha_PL1, alpha_PL2, alpha_PR, alpha_PR1, alpha_PR2, alpha_PwL, alpha_PwL1,
     alpha_PwL2, alpha_PwR, alpha_PwR1, alpha_PwR2, alpha_n, alpha_nw, b, b_c1, b_c2, beta, beta1, beta2, beta_w,
     beta_w1, beta_w2, d_w1, d_w2, delta, dg_h, dg_v, dx_q, dy_q, dz_q, gamma, gamma1, gamma2, gamma_w, gamma_w1,
-    gamma_w2, inv, l, m_n, m_nw, n_xc, n_yc, phi, phi1p, phi2p, r, r_w, r_w1, r_w2, theta, u, u_c, x_c, x_t1, x_t2,
-    xi_n, xi_t, y_c, z_c,
+    gamma_w2, inv, l, m_n, m_nw, n_xc, n_yc, phi, phi1p, phi2p, r, r_w1, r_w2, theta, u, u_c, x_c, x_t1, x_t2, xi_n,
+    xi_t, y_c, z_c,
 )
 
 sin, cos, tan, sqrt, acos = sp.sin, sp.cos, sp.tan, sp.sqrt, sp.acos

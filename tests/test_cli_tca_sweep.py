@@ -259,7 +259,6 @@ ONE_LINE_ERRORS = {
     "tca-positions-1": (["tca", "{case1}", "--positions", "1"], ["--positions", "1"]),
     "tca-pairs-2": (["tca", "{case1}", "--pairs", "2"], ["--pairs", "2"]),
     "tca-pairs-11": (["tca", "{case1}", "--pairs", "11"], ["--pairs", "11"]),
-    "tca-dx-out-of-range": (["tca", "{case1}", "--dx", "11"], ["dx_mm", "11"]),
     "tca-vertical-inf": (["tca", "{case1}", "--vertical", "inf"], ["--vertical", "inf"]),
     "sweep-samples-0": (["sweep", "{case1}", "--samples", "0"], ["--samples", "0"]),
     "sweep-positions-1": (["sweep", "{case1}", "--positions", "1"], ["--positions", "1"]),
