@@ -222,3 +222,56 @@ def test_newton_reports_failure_not_numbers(geom1):
     assert not sol.converged[0]
     codes = tca.classify(geom1, "left", sol.x, sol.converged)
     assert tca._STATUS_CODES[int(codes[0])] == "failed"
+
+
+def _random_feasible_specs(n, seed=11):
+    """Designs off the paper's cases, feasible by construction: the offset is E(alpha_nw) of Eq 17
+    for a drawn working pressure angle (generated kernel, offset argument 0)."""
+    from beveloid.generated import design_equations as de
+    from beveloid.spec import spec_from_dict
+
+    rng = np.random.default_rng(seed)
+    out = []
+    while len(out) < n:
+        mn, N1 = rng.uniform(2, 8), int(rng.integers(15, 40))
+        N2 = int(rng.integers(N1, 80))
+        an, delta = rng.uniform(17, 23), rng.uniform(5, 30)
+        g1, g2 = rng.choice([-1, 1]) * rng.uniform(0.5, 4), rng.choice([-1, 1]) * rng.uniform(0.5, 4)
+        b1, xt1 = rng.uniform(-30, 30), rng.uniform(0.0, 0.4)
+        anw = an + rng.uniform(-1.5, 2.5)
+        with np.errstate(all="ignore"):
+            E, _ = de.offset_residual(anw * DEG, mn, an * DEG, N1, N2, delta * DEG, xt1, g1 * DEG, g2 * DEG, b1 * DEG, 0.0)
+        if not (np.isfinite(E) and E > 0):
+            continue
+        spec = spec_from_dict({
+            "pair": {"normal_module_mm": mn, "normal_pressure_angle_deg": an, "shaft_angle_deg": delta,
+                     "offset_mm": float(E)},
+            "pinion": {"teeth": N1, "cone_angle_deg": g1, "helix_angle_deg": b1, "profile_shift": xt1,
+                       "face_width_mm": 8 * mn},
+            "gear": {"teeth": N2, "cone_angle_deg": g2, "face_width_mm": 9 * mn}})
+        out.append((spec, anw))
+    return out
+
+
+@pytest.mark.parametrize("spec, anw", _random_feasible_specs(6))
+def test_random_designs_mesh_at_the_pitch_point_without_te_or_backlash(spec, anw):
+    from beveloid.design import DesignError
+
+    try:
+        d = design(spec)
+    except DesignError as exc:  # e.g. pointed teeth for an extreme draw: a clear refusal is fine
+        assert "\n" not in str(exc)
+        return
+    assert math.degrees(d.working_normal_pressure_angle) == pytest.approx(anw, abs=1e-9)
+    geom = tca.PairGeometry.from_design(d)
+    for flank in tca.FLANKS:
+        ref = tca.reference_contact(geom, flank)
+        rf1, nf1, rf2, nf2 = _contact_in_frame(geom, flank, ref.x, ref.pinion_angle, np.zeros(5))
+        assert np.allclose(rf1, rf2, atol=1e-9) and np.allclose(nf1, -nf2, atol=1e-12)
+        assert math.hypot(rf1[0], rf1[1]) == pytest.approx(geom.pinion.working_pitch_radius_mm, rel=1e-12)
+    res = tca.analyze(geom, positions=40)
+    for fr in res.flanks.values():
+        assert "failed" not in fr.status
+        if np.isfinite(fr.te_peak_to_peak):
+            assert fr.te_peak_to_peak < 1e-12
+    assert abs(res.backlash_um) < 1e-6
