@@ -415,10 +415,24 @@ def solve_grid(geom, flank, errors, phi_grid, backend="auto", edge_tol_mm=0.01, 
     """Pair 0 for error sets (K, 5) x pinion angles (N,), any order.
 
     Returns unknowns (K, N, 5), status codes (K, N) (0 ok, 1 edge, 2 outside, 3 failed) and
-    Newton iterations (K, N).  Both backends solve the same generated equations.
+    Newton iterations (K, N).  Both backends solve the same generated equations.  Error sets
+    whose every point failed (the homotopy from the aligned contact lost track) are solved
+    again with 4x, then 16x, as many homotopy steps.
     """
-    ref = reference_contact(geom, flank)
     errors = np.ascontiguousarray(np.atleast_2d(errors), dtype=float)
+    x, code, iters = _solve_grid_once(geom, flank, errors, phi_grid, backend, edge_tol_mm, max_iter, homotopy_steps)
+    for factor in (4, 16):
+        lost = np.nonzero((code == 3).all(axis=1))[0]
+        if lost.size == 0:
+            break
+        x2, c2, i2 = _solve_grid_once(geom, flank, errors[lost], phi_grid, backend, edge_tol_mm, max_iter,
+                                      homotopy_steps * factor)
+        x[lost], code[lost], iters[lost] = x2, c2, i2
+    return x, code, iters
+
+
+def _solve_grid_once(geom, flank, errors, phi_grid, backend, edge_tol_mm, max_iter, homotopy_steps):
+    ref = reference_contact(geom, flank)
     phi_grid = np.asarray(phi_grid, dtype=float)
     order = np.argsort(phi_grid, kind="stable")
     grid = np.ascontiguousarray(phi_grid[order])
