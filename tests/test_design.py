@@ -30,7 +30,8 @@ from beveloid.spec import SpecError, load_spec, spec_from_dict, spec_to_dict
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = ROOT / "examples"
-TABLE1 = tomllib.loads((Path(__file__).resolve().parent / "data" / "table1.toml").read_text())
+# the paper's printed Table 1, shipped with the package (beveloid/data/) for `beveloid paper`
+TABLE1 = tomllib.loads((Path(__file__).resolve().parents[1] / "beveloid" / "data" / "table1.toml").read_text())
 
 deg, rad = math.degrees, math.radians
 sin, cos, tan = math.sin, math.cos, math.tan

@@ -46,3 +46,9 @@ def test_python_api_example_runs(monkeypatch):
     assert ns["res"].backlash_um is not None
     assert ns["mc"].contact_points_solved == 10_000 * 50
     assert abs(ns["back"].offset_mm - ns["d"].offset_mm) < 1e-9 * ns["d"].offset_mm
+
+
+def test_packaged_examples_match_the_examples_folder():
+    """beveloid/data/ ships copies of examples/*.toml for `beveloid paper`; they must not drift."""
+    for name in ("case1.toml", "case2.toml"):
+        assert (REPO / "beveloid" / "data" / name).read_bytes() == (REPO / "examples" / name).read_bytes(), name
