@@ -27,25 +27,25 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def _baseline_fn(flank):
-    """sympy.lambdify(cse=False) of Eq 38 from the derivations (as a researcher would)."""
+def _baseline_fn(geom, flank):
+    """sympy.lambdify(cse=False) of Eq 38 composed from the derivations (as a researcher would)."""
     import sympy as sp
 
     from beveloid.derivations import kernels
 
-    spec = kernels.tca_module()
-    fn = next(f for f in spec.functions if f.name == f"residual_{flank}")
-    args = [a.symbol for a in fn.inputs]
-    f = sp.lambdify(args, list(fn.outputs[0].expr), modules="numpy", cse=False)
-    return f
+    f, unknowns, phi1, errors, s1, s2, sp_ = kernels.composed_residual(geom.pinion.tooth_surface,
+                                                                      geom.gear.tooth_surface, flank)
+    fn = sp.lambdify(unknowns + [phi1] + errors + s1 + s2 + sp_, list(f), modules="numpy", cse=False)
+    params = (list(geom.surface_params("pinion")[:len(s1)]) + list(geom.surface_params("gear")[:len(s2)])
+              + list(geom.placement()))
+    return fn, params
 
 
 def baseline(geom, flank, errors_list, phi_grid, x_start):
     """fsolve per point, warm-started along each path; returns (us_per_point, points, converged)."""
     from scipy.optimize import fsolve
 
-    f = _baseline_fn(flank)
-    params = geom.kernel_params()
+    f, params = _baseline_fn(geom, flank)
     n = 0
     conv = 0
     t0 = time.perf_counter()
@@ -62,7 +62,8 @@ def baseline(geom, flank, errors_list, phi_grid, x_start):
 
 def run(repeats=5):
     t_imp = time.perf_counter()
-    from beveloid import compiled, sweep, tca
+    from beveloid import sweep, tca
+    from beveloid.solver import backends
     from beveloid.design import design
     from beveloid.spec import load_spec
 
@@ -99,8 +100,8 @@ def run(repeats=5):
     # ---- W2 -------------------------------------------------------------------------------
     K, N = 10_000, 50
     backend = tca.resolve_backend("auto")
-    if compiled.AVAILABLE:
-        compiled.numba.set_num_threads(1)
+    if backends.AVAILABLE:
+        backends.numba.set_num_threads(1)
     sweep.sweep(geom, "right", samples=50, positions=N, seed=1, backend=backend)  # warm-up
     t = time.perf_counter()
     r = sweep.sweep(geom, "right", samples=K, positions=N, seed=0, backend=backend)
@@ -108,12 +109,8 @@ def run(repeats=5):
     us2 = wall / r.contact_points_solved * 1e6  # the whole sweep, statistics included
     errs = sweep.draw_errors(5, seed=0)
     grid2 = r.pinion_angles
-    starts = []
-    for e in errs:
-        x0, _ = tca.solve_errors_homotopy(geom, "right", ref, e)
-        starts.append(x0[0])
     # the baseline marches each path from its first grid point: start it from the nearest solution
-    Xs, _, _ = tca.solve_grid(geom, "right", errs, grid2[:1], "numpy")
+    Xs = tca.solve_grid(geom, "right", errs, grid2[:1], "numpy").x
     b2_us, b2_n, b2_conv = baseline(geom, "right", errs, grid2, Xs[:, 0])
     out["W2"] = {"samples": K, "positions": N, "points": r.contact_points_solved, "seconds": wall,
                  "solve_seconds": r.seconds, "solve_us_per_point": r.seconds / r.contact_points_solved * 1e6,
@@ -121,15 +118,15 @@ def run(repeats=5):
                  "newton_iterations_mean": r.newton_iterations_mean, "baseline_us_per_point": b2_us,
                  "baseline_points": b2_n, "baseline_converged": b2_conv, "speedup": b2_us / us2,
                  "target_us_per_point": 3.0, "target_speedup": 300}
-    if compiled.AVAILABLE:
-        compiled.numba.set_num_threads(compiled.numba.config.NUMBA_NUM_THREADS)
+    if backends.AVAILABLE:
+        backends.numba.set_num_threads(backends.numba.config.NUMBA_NUM_THREADS)
         t = time.perf_counter()
         r2 = sweep.sweep(geom, "right", samples=K, positions=N, seed=0, backend=backend)
         out["W2"]["us_per_point_all_threads"] = (time.perf_counter() - t) / r2.contact_points_solved * 1e6
-        out["W2"]["threads_all"] = compiled.numba.config.NUMBA_NUM_THREADS
+        out["W2"]["threads_all"] = backends.numba.config.NUMBA_NUM_THREADS
     # numpy fallback on the same workload, for the record (smaller K: same per-point cost)
     t = time.perf_counter()
-    rn = sweep.sweep(geom, "right", samples=2000, positions=N, seed=0, backend="numpy")
+    rn = sweep.sweep(geom, "right", samples=200, positions=N, seed=0, backend="numpy")
     out["W2"]["numpy_us_per_point"] = (time.perf_counter() - t) / rn.contact_points_solved * 1e6
 
     # ---- import --------------------------------------------------------------------------

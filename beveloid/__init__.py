@@ -6,3 +6,16 @@ The runtime uses only the numeric modules in ``beveloid.generated``; sympy is im
 only by ``beveloid.derivations`` and the generator (``beveloid derive``).
 """
 __version__ = "0.1.0"
+
+import os as _os
+
+# In a source checkout, ``beveloid.derivations`` and ``beveloid.generated`` are the top-level
+# folders derivations/ and generated/ (an install maps them in: pyproject.toml's package-dir).
+# Put the checkout on the package path so that ``python -m pytest``, a REPL or a script run in
+# the checkout imports the whole package the same way as an installed copy.
+_here = _os.path.dirname(_os.path.abspath(__file__))
+_checkout = _os.path.dirname(_here)
+if not _os.path.isdir(_os.path.join(_here, "generated")) and all(
+        _os.path.isfile(_os.path.join(_checkout, d, "__init__.py")) for d in ("generated", "derivations")):
+    __path__.append(_checkout)
+del _here, _checkout

@@ -59,7 +59,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import re
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -211,33 +210,21 @@ class DesignResult:
 # ---------------------------------------------------------------------------
 
 
-def _output_names(func) -> tuple[str, ...]:
-    """Names of a generated kernel's outputs, read from its docstring ("Returns a tuple:")."""
-    doc = func.__doc__ or ""
-    tail = doc.split("Returns a tuple:", 1)[1]
-    names = tuple(re.findall(r"^\s{8}(\w+):", tail, flags=re.M))
-    if not names:  # pragma: no cover - generator template changed
-        raise ImportError(f"cannot read the outputs of {func.__name__} from its docstring")
-    return names
-
-
-_DIRECT_NAMES = _output_names(_eq.direct_design)
-_INDIRECT_NAMES = _output_names(_eq.indirect_design)
+def _pair_kwargs(c: dict[str, Any]) -> dict[str, Any]:
+    """The design kernels' pair and reference arguments, by name."""
+    return dict(normal_module=c["m_n"], normal_pressure_angle=c["alpha_n"], pinion_teeth=c["N1"],
+                gear_teeth=c["N2"], shaft_angle=c["delta"], pinion_profile_shift=c["x_t1"],
+                pinion_cone_angle=c["gamma1"], gear_cone_angle=c["gamma2"], pinion_helix_angle=c["beta1"])
 
 
 def _direct(alpha_nw, c: dict[str, Any]) -> dict[str, Any]:
     with np.errstate(all="ignore"):
-        out = _eq.direct_design(alpha_nw, c["m_n"], c["alpha_n"], c["N1"], c["N2"], c["delta"], c["x_t1"],
-                                c["gamma1"], c["gamma2"], c["beta1"])
-    if len(out) != len(_DIRECT_NAMES):  # pragma: no cover
-        raise RuntimeError("generated direct_design: output count does not match its docstring")
-    return dict(zip(_DIRECT_NAMES, out))
+        return _eq.direct_design(alpha_nw=alpha_nw, **_pair_kwargs(c))._asdict()
 
 
 def _residual(alpha_nw, c: dict[str, Any]):
     with np.errstate(all="ignore"):
-        return _eq.offset_residual(alpha_nw, c["m_n"], c["alpha_n"], c["N1"], c["N2"], c["delta"], c["x_t1"],
-                                   c["gamma1"], c["gamma2"], c["beta1"], c["E"])
+        return _eq.offset_residual(alpha_nw=alpha_nw, offset=c["E"], **_pair_kwargs(c))
 
 
 def _deg(x: float) -> str:
@@ -280,9 +267,8 @@ def _check_cone_angles(spec: DesignSpec, gamma1: float, gamma2: float) -> None:
 def _scan(alpha_nw, c: dict[str, Any]) -> tuple[np.ndarray, np.ndarray]:
     """Residual E(alpha_nw) - E and the admissibility mask (all real, positive working radii)."""
     with np.errstate(all="ignore"):
-        res, r_w1, r_w2 = _eq.offset_scan(np.asarray(alpha_nw, dtype=float), c["m_n"], c["alpha_n"], c["N1"],
-                                          c["N2"], c["delta"], c["x_t1"], c["gamma1"], c["gamma2"], c["beta1"],
-                                          c["E"])
+        res, r_w1, r_w2 = _eq.offset_scan(alpha_nw=np.asarray(alpha_nw, dtype=float), offset=c["E"],
+                                          **_pair_kwargs(c))
     ok = np.isfinite(res) & (r_w1 > 0) & (r_w2 > 0)
     return res, ok
 
@@ -517,9 +503,12 @@ def indirect_design(spec_like: DesignSpec | Mapping, alpha_nw: float, pinion_wor
                           keys=("pinion_working_helix_angle",), source=src)
     alpha_n = math.radians(p.normal_pressure_angle_deg)
     with np.errstate(all="ignore"):
-        out = _eq.indirect_design(alpha_nw, float(p.normal_module_mm), alpha_n, int(g1.teeth), int(spec.gear.teeth),
-                                  math.radians(p.shaft_angle_deg), float(g1.profile_shift), gw1, gw2, bw1)
-    q = {k: float(v) for k, v in zip(_INDIRECT_NAMES, out)}
+        out = _eq.indirect_design(
+            alpha_nw=alpha_nw, normal_module=float(p.normal_module_mm), normal_pressure_angle=alpha_n,
+            pinion_teeth=int(g1.teeth), gear_teeth=int(spec.gear.teeth), shaft_angle=math.radians(p.shaft_angle_deg),
+            pinion_profile_shift=float(g1.profile_shift), pinion_working_cone_angle=gw1, gear_working_cone_angle=gw2,
+            pinion_working_helix_angle=bw1)
+    q = {k: float(v) for k, v in out._asdict().items()}
     for member, key, gw in (("pinion", "gamma1", gw1), ("gear", "gamma2", gw2)):
         if not math.isfinite(q[key]):
             name = f"{member}_working_cone_angle"

@@ -28,10 +28,10 @@
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
-if TYPE_CHECKING:  # pragma: no cover
-    from .design import DesignResult, MemberDesign
+# Annotations name beveloid.design's DesignResult and MemberDesign as strings: design imports
+# this module, not the other way round.
 
 __all__ = ["format_table1", "design_json", "TABLE1_ROWS"]
 

@@ -138,20 +138,16 @@ def edge_onset_offset(geom, flank, direction=+1.0, hi=3.0, tol=1e-4):
     """
     from . import tca
 
+    names = list(tca.tca_kernels.CONTACT_BOUNDARIES)
+    profile = [names.index(f"{w} {b}") for w in ("pinion", "gear") for b in ("form limit", "tip")]
+    face = [names.index(f"{w} {b}") for w in ("pinion", "gear") for b in ("toe", "heel")]
+
     def face_margin(q):
         fr = tca.mesh_flank(geom, flank, _err_vec(_q(direction * q)), positions=60, pairs=1, window_pitches=3)
-        x = fr.unknowns
-        on_profile = np.ones(len(x), dtype=bool)
-        face = np.full(len(x), np.inf)
-        for which, lc, uc in (("pinion", 0, 1), ("gear", 2, 3)):
-            m = geom.pinion if which == "pinion" else geom.gear
-            p, _, _ = tca.surface(geom, which, flank, x[:, lc], x[:, uc])
-            toe, heel = sorted(m.face_limits)
-            rad = np.hypot(p[:, 0], p[:, 1])
-            # a real contact lies between tip and form limit of BOTH members
-            on_profile &= (x[:, lc] >= 0) & (rad <= m.tip_radius(p[:, 2]))
-            face = np.minimum(face, np.minimum(p[:, 2] - toe, heel - p[:, 2]))
-        return float(np.min(np.where(on_profile, face, np.inf)))
+        M = tca.contact_margins(geom, flank, fr.unknowns)
+        # a real contact lies between tip and form limit of BOTH members
+        on_profile = (M[:, profile] >= 0).all(axis=1)
+        return float(np.min(np.where(on_profile, M[:, face].min(axis=1), np.inf)))
 
     if face_margin(0.0) <= 0:
         return 0.0

@@ -28,6 +28,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+from .generated import surface_models
+
 __all__ = [
     "SpecError",
     "PairSpec",
@@ -104,6 +106,10 @@ class MemberSpec:
     cutter_addendum_coefficient: float = 1.25
     #: bc: distance from the working pitch circle to the reference transverse section.
     reference_section_offset_mm: float = 0.0
+    #: Tooth-surface model (generated/surface_models.py MODELS).
+    tooth_surface: str = surface_models.DEFAULT_MODEL
+    #: The model's own input keys and values, as sorted (key, value) pairs.
+    surface_options: tuple = ()
 
 
 @dataclass(frozen=True)
@@ -149,14 +155,17 @@ class KeyDoc:
 
     description: str
     unit: str = ""  # "mm", "deg" or "" (dimensionless)
-    kind: str = "number"  # "number" or "integer"
+    kind: str = "number"  # "number", "integer" or "choice" (one of ``choices``)
     lo: float | None = None
     lo_open: bool = False
     hi: float | None = None
     hi_open: bool = False
     requirement: str = "required"
-    default: float | int | None = None
+    default: float | int | str | None = None
     bound_key: str | None = None
+    choices: tuple[str, ...] = ()
+    #: for a tooth-surface model's own key: the model that takes it
+    model: str | None = None
 
     @property
     def unit_suffix(self) -> str:
@@ -169,6 +178,8 @@ class KeyDoc:
 
     def valid_text_in(self, section: str | None) -> str:
         """:attr:`valid_text` with ``bound_key`` qualified by ``section`` (if given)."""
+        if self.kind == "choice":
+            return "one of " + ", ".join(f'"{c}"' for c in self.choices)
         noun = "an integer" if self.kind == "integer" else "a number"
         if self.bound_key is not None:
             bound = f"{section}.{self.bound_key}" if section else self.bound_key
@@ -250,7 +261,26 @@ def _member_docs(member: str) -> dict[str, KeyDoc]:
             default=0.0,
             bound_key="face_width_mm",
         ),
+        "tooth_surface": KeyDoc(
+            "tooth-surface model (generated/surface_models.py); by default the model whose keys below are"
+            f" non-zero, else {surface_models.DEFAULT_MODEL}",
+            kind="choice",
+            choices=surface_models.MODELS,
+            requirement="optional",
+            default=surface_models.DEFAULT_MODEL,
+        ),
+        **_model_key_docs(),
     }
+
+
+def _model_key_docs() -> dict[str, KeyDoc]:
+    """The tooth-surface models' own input keys (generated from the derivation registry)."""
+    out: dict[str, KeyDoc] = {}
+    for model, keys in surface_models.MODEL_KEYS.items():
+        for key, (unit, default, lo, hi, doc) in keys.items():
+            out[key] = KeyDoc(f"{doc} (tooth_surface = \"{model}\")", unit, lo=lo, hi=hi, requirement="optional",
+                              default=default, model=model)
+    return out
 
 
 def _mis_doc(description: str, unit: str, limit: float) -> KeyDoc:
@@ -297,7 +327,7 @@ def key_docs_markdown() -> str:
             else:
                 req = "yes" if d.requirement == "required" else "no"
                 valid = d.valid_text
-            default = "" if d.default is None else _num(float(d.default))
+            default = "" if d.default is None else (d.default if d.kind == "choice" else _num(float(d.default)))
             cells = [f"`{section}.{key}`", req, default, valid, d.description]
             lines.append("| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |")
     return "\n".join(lines)
@@ -349,6 +379,10 @@ def _hint(name: str, candidates: list[str]) -> str:
 def _check_value(dotted: str, value: Any, doc: KeyDoc) -> float | int:
     """Type- and range-check one value; return it as int (integer keys) or float."""
     bad = f"{dotted} = {_fmt(value)}: must be {doc.valid_text_in(dotted.split('.')[0])}"
+    if doc.kind == "choice":
+        if not isinstance(value, str) or value not in doc.choices:
+            raise SpecError(bad, key=dotted)
+        return value
     if isinstance(value, bool):
         raise SpecError(bad, key=dotted)
     if doc.kind == "integer":
@@ -415,6 +449,8 @@ def _check_section(name: str, raw: Any) -> dict[str, Any]:
             out[key] = _check_value(f"{name}.{key}", raw[key], doc)
         else:
             out[key] = float(doc.default) if doc.kind == "number" else doc.default
+    if any(d.model for d in docs.values()):
+        _resolve_surface_model(name, raw, out, docs)
     # 4. bounds that depend on another key of the same section
     for key, doc in docs.items():
         if doc.bound_key is not None and abs(out[key]) > out[doc.bound_key]:
@@ -426,6 +462,24 @@ def _check_section(name: str, raw: Any) -> dict[str, Any]:
                 key=dotted,
             )
     return out
+
+
+def _resolve_surface_model(name: str, raw: Mapping, out: dict[str, Any], docs: dict[str, KeyDoc]) -> None:
+    """Choose the member's tooth-surface model and gather its own keys into ``surface_options``."""
+    given = {k for k in raw if isinstance(k, str) and k in docs and docs[k].model}
+    if "tooth_surface" in raw:
+        model = out["tooth_surface"]
+    else:
+        chosen = [m for m, keys in surface_models.SELECTED_BY.items() if any(out.get(k) for k in keys)]
+        model = chosen[0] if chosen else surface_models.DEFAULT_MODEL
+        out["tooth_surface"] = model
+    for key in sorted(given):
+        if docs[key].model != model:
+            raise SpecError(
+                f"{name}.{key} = {_fmt(raw[key])}: the tooth surface \"{model}\" takes no such key; set"
+                f" {name}.tooth_surface = \"{docs[key].model}\" or remove {name}.{key}", key=f"{name}.{key}")
+    opts = {k: out.pop(k) for k in list(out) if k in docs and docs[k].model}
+    out["surface_options"] = tuple(sorted((k, v) for k, v in opts.items() if docs[k].model == model))
 
 
 def _check_clearance(members: dict[str, dict[str, Any]]) -> None:
@@ -523,8 +577,9 @@ def spec_to_dict(spec: DesignSpec) -> dict:
     for name in SECTIONS:
         obj = getattr(spec, name)
         section: dict[str, Any] = {}
-        for key in KEY_DOCS[name]:
-            value = getattr(obj, key)
+        options = dict(getattr(obj, "surface_options", ()))
+        for key, doc in KEY_DOCS[name].items():
+            value = options.get(key) if doc.model else getattr(obj, key)
             if value is not None:
                 section[key] = value
         out[name] = section

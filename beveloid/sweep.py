@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import tca
+from .status import Status, carries_numbers
 
 DEFAULT_RANGES = {"dx_mm": 0.5, "dy_mm": 0.5, "dz_mm": 0.5, "vertical_deg": 0.2, "horizontal_deg": 0.03}
 
@@ -28,14 +29,13 @@ def draw_errors(samples, ranges=None, seed=0):
     return rng.uniform(-1.0, 1.0, (samples, 5)) * half
 
 
-def engagement_window(geom, flank, ref=None, resolution=400):
+def engagement_window(geom, flank, ref=None, resolution=400, backend="auto"):
     """Pinion-angle interval over which the aligned pair-0 contact is 'ok' (rad)."""
     ref = ref or tca.reference_contact(geom, flank)
     p1, _ = geom.pitch_angles
     grid = ref.pinion_angle + np.linspace(-2.5 * p1, 2.5 * p1, resolution)
-    sol = tca.solve_path(geom, flank, ref, ref.x[None], np.zeros((1, 5)), grid[None])
-    code = tca.classify(geom, flank, sol.x[0], sol.converged[0])
-    ok = np.nonzero(code == 0)[0]
+    sol = tca.solve_grid(geom, flank, np.zeros((1, len(tca.ERROR_NAMES))), grid, backend)
+    ok = np.nonzero(sol.status[0] == Status.OK)[0]
     if ok.size == 0:
         raise RuntimeError(f"the aligned {flank} flank has no contact on the flanks")
     lo, hi = grid[ok[0]], grid[ok[-1]]
@@ -76,9 +76,9 @@ class SweepResult:
 
     def to_json_dict(self):
         codes = self.status_codes
-        any_edge = (codes == 1).any(axis=1)
-        any_off = (codes >= 2).any(axis=1)
-        all_off = (codes >= 2).all(axis=1)
+        any_edge = (codes == Status.EDGE).any(axis=1)
+        any_off = (codes >= Status.OUTSIDE).any(axis=1)
+        all_off = (codes >= Status.OUTSIDE).all(axis=1)
         return {
             "flank": self.flank,
             "samples": self.samples,
@@ -92,7 +92,7 @@ class SweepResult:
             "newton_iterations_mean": self.newton_iterations_mean,
             "ranges": self.ranges,
             "pinion_angle_window_rad": [float(self.pinion_angles[0]), float(self.pinion_angles[-1])],
-            "status_counts": {s: int((codes == c).sum()) for c, s in tca._STATUS_CODES.items()},
+            "status_counts": {s.label: int((codes == s).sum()) for s in Status},
             "fraction_sets_with_edge_contact": float(any_edge.mean()),
             "fraction_sets_with_contact_off_flank": float(any_off.mean()),
             "fraction_sets_entirely_off_flank": float(all_off.mean()),
@@ -115,17 +115,17 @@ def _progress_bar(done, total, t0, stream=sys.stderr, width=30):
 
 
 def sweep(geom, flank="right", samples=1000, positions=50, seed=0, ranges=None, backend="auto",
-          edge_tol_mm=0.01, progress=None, chunk=2000):
+          options=tca.DEFAULT_OPTIONS, progress=None, chunk=2000):
     """Run the sweep; ``progress`` is a callable(done, total, t0) or None."""
     t_start = time.perf_counter()
     errors = draw_errors(samples, ranges, seed)
     ref = tca.reference_contact(geom, flank)
-    lo, hi = engagement_window(geom, flank, ref)
+    backend = tca.resolve_backend(backend)
+    lo, hi = engagement_window(geom, flank, ref, backend=backend)
     pad = 0.01 * (hi - lo)
     grid = np.linspace(lo + pad, hi - pad, positions)
-    backend = tca.resolve_backend(backend)
     # aligned path (the shift reference)
-    xa, _, _ = tca.solve_grid(geom, flank, np.zeros((1, 5)), grid, backend, edge_tol_mm)
+    xa = tca.solve_grid(geom, flank, np.zeros((1, len(tca.ERROR_NAMES))), grid, backend, options).x
     p_al, _, _ = tca.surface(geom, "pinion", flank, xa[0, :, 0], xa[0, :, 1])
     g_al, _, _ = tca.surface(geom, "gear", flank, xa[0, :, 2], xa[0, :, 3])
     t0 = time.perf_counter()
@@ -134,11 +134,11 @@ def sweep(geom, flank="right", samples=1000, positions=50, seed=0, ranges=None, 
     IT = np.empty((samples, positions), dtype=np.int64)
     for start in range(0, samples, chunk):
         sl = slice(start, min(samples, start + chunk))
-        X[sl], C[sl], IT[sl] = tca.solve_grid(geom, flank, errors[sl], grid, backend, edge_tol_mm)
+        X[sl], C[sl], IT[sl] = tca.solve_grid(geom, flank, errors[sl], grid, backend, options)
         if progress:
             progress(sl.stop, samples, t0)
     seconds = time.perf_counter() - t0
-    ok = C <= 1
+    ok = carries_numbers(C)
     P1, _, _ = tca.surface(geom, "pinion", flank, X[..., 0], X[..., 1])
     P2, _, _ = tca.surface(geom, "gear", flank, X[..., 2], X[..., 3])
     n_ok = ok.sum(axis=1)

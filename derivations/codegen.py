@@ -27,11 +27,64 @@ class GenerationError(ValueError):
 
 
 @dataclass(frozen=True)
-class Arg:
+class Field:
+    """One named entry of a parameter layout."""
     name: str
     symbol: sp.Symbol
     unit: str
     doc: str
+
+
+@dataclass(frozen=True)
+class Layout:
+    """A named parameter vector.
+
+    The generator emits a ``typing.NamedTuple`` class ``name`` with these fields into
+    ``generated/layouts.py``; a kernel takes the vector as one array argument whose last axis
+    holds the fields in this order (``numpy.asarray(Params(...))`` builds it), and unpacks it
+    inside the generated code.  Callers fill it by field name and never count positions.
+    """
+    name: str
+    doc: str
+    fields: tuple
+
+    def symbols(self):
+        return [f.symbol for f in self.fields]
+
+
+@dataclass(frozen=True)
+class Arg:
+    """A kernel argument: a scalar symbol, a sympy Matrix of symbols (a vector or matrix
+    argument, e.g. a surface point) or a :class:`Layout` (a named parameter vector)."""
+    name: str
+    symbol: object
+    unit: str = ""
+    doc: str = ""
+
+    def entries(self):
+        """[(local name, symbol, index)] with index None (scalar), i or (i, j)."""
+        s = self.symbol
+        if isinstance(s, Layout):
+            return [(f.name, f.symbol, i) for i, f in enumerate(s.fields)]
+        if isinstance(s, sp.MatrixBase):
+            rows, cols = s.shape
+            if cols == 1:
+                return [(f"{self.name}_{i}", s[i, 0], i) for i in range(rows)]
+            return [(f"{self.name}_{i}{j}", s[i, j], (i, j)) for i in range(rows) for j in range(cols)]
+        return [(self.name, s, None)]
+
+    @property
+    def shape(self):
+        s = self.symbol
+        if isinstance(s, Layout):
+            return (len(s.fields),)
+        if isinstance(s, sp.MatrixBase):
+            return (s.shape[0],) if s.shape[1] == 1 else tuple(s.shape)
+        return ()
+
+    @property
+    def symbols(self):
+        return [e[1] for e in self.entries()]
 
 
 @dataclass
@@ -49,6 +102,11 @@ class Function:
     inputs: list[Arg]
     outputs: list[Output]
 
+    @property
+    def outputs_class(self):
+        """Name of the generated NamedTuple that the numpy kernel returns."""
+        return "".join(w.capitalize() for w in self.name.split("_"))
+
 
 @dataclass
 class ModuleSpec:
@@ -58,6 +116,15 @@ class ModuleSpec:
     doc: str
     functions: list[Function] = field(default_factory=list)
     scalar_twin: bool = False  # also write <module>_scalar.py (one point per call) for the compiled path
+    constants: dict = field(default_factory=dict)  # name -> python literal (repr'd into the module)
+
+    def layouts(self):
+        out = {}
+        for fn in self.functions:
+            for a in fn.inputs:
+                if isinstance(a.symbol, Layout):
+                    out[a.symbol.name] = a.symbol
+        return out
 
 
 class _Printer(NumPyPrinter):
@@ -76,8 +143,21 @@ def _entries(expr):
     return [sp.sympify(expr)], ()
 
 
+def _unpack_line(arg, local, index, scalar):
+    if index is None:
+        return None
+    if isinstance(index, tuple):
+        idx = f"{index[0]}, {index[1]}"
+    else:
+        idx = str(index)
+    return f"{local} = {arg.name}[{idx}]" if scalar else f"{local} = {arg.name}[..., {idx}]"
+
+
 def render_function(fn: Function, cse=True, scalar=False):
-    allowed = {a.symbol for a in fn.inputs}
+    entries = [(a, local, sym, idx) for a in fn.inputs for local, sym, idx in a.entries()]
+    allowed = {sym for _, _, sym, _ in entries}
+    if len(allowed) != len(entries):
+        raise GenerationError(f"{fn.name}: a symbol appears twice among the arguments")
     flat, shapes = [], []
     for o in fn.outputs:
         ents, shape = _entries(o.expr)
@@ -87,13 +167,15 @@ def render_function(fn: Function, cse=True, scalar=False):
                                   f"missing from its arguments")
         flat.append(ents)
         shapes.append(shape)
-    rename = {a.symbol: sp.Symbol(a.name, real=True) for a in fn.inputs}
-    if len({a.name for a in fn.inputs}) != len(fn.inputs):
+    names = [a.name for a in fn.inputs]
+    locals_ = [local for _, local, _, _ in entries]
+    if len(set(names)) != len(names) or len(set(locals_) | set(names)) != len(set(locals_) | set(names)) \
+            or len(set(locals_)) != len(locals_):
         raise GenerationError(f"{fn.name}: duplicate argument names")
-    names = {a.name for a in fn.inputs}
     for o in fn.outputs:
-        if o.name in names or o.name.startswith("_"):
+        if o.name in names or o.name in locals_ or o.name.startswith("_"):
             raise GenerationError(f"{fn.name}: output name {o.name!r} clashes with an argument or a generated name")
+    rename = {sym: sp.Symbol(local, real=True) for _, local, sym, _ in entries}
     all_exprs = [sp.sympify(e).xreplace(rename) for ents in flat for e in ents]
     printer = _ScalarPrinter() if scalar else _Printer()
     body = []
@@ -105,7 +187,14 @@ def render_function(fn: Function, cse=True, scalar=False):
     ops = sum(sp.count_ops(v) for _, v in repl) + sum(sp.count_ops(e) for e in reduced)
     if not scalar:
         # every output carries the broadcast shape of all inputs, used or not
-        body.append(f"_shape = numpy.broadcast_shapes({', '.join(f'numpy.shape({a.name})' for a in fn.inputs)})")
+        def batch(a):
+            k = len(a.shape)
+            return f"numpy.shape({a.name})" + (f"[:-{k}]" if k else "")
+        body.append(f"_shape = numpy.broadcast_shapes({', '.join(batch(a) for a in fn.inputs)})")
+    for a, local, _, idx in entries:
+        line = _unpack_line(a, local, idx, scalar)
+        if line:
+            body.append(line)
     for s_, v in repl:
         body.append(f"{s_} = {printer.doprint(v)}")
     k = 0
@@ -128,10 +217,17 @@ def render_function(fn: Function, cse=True, scalar=False):
     outs = [dict(name=o.name, doc=o.doc, unit=o.unit, shape_doc=shape_doc(sh)) for o, sh in zip(fn.outputs, shapes)]
     args = [a.name for a in fn.inputs] + ([f"out_{o.name}" for o in fn.outputs] if scalar else [])
     full_name = fn.name + ("_point" if scalar else "")
+
+    def arg_doc(a):
+        if isinstance(a.symbol, Layout):
+            return dict(name=a.name, doc=f"{a.doc} (layouts.{a.symbol.name})", unit=a.unit or "see layout",
+                        shape_doc=shape_doc(a.shape))
+        return dict(name=a.name, doc=a.doc, unit=a.unit, shape_doc=shape_doc(a.shape))
+
     return dict(name=full_name, doc=fn.doc, signature=_signature(full_name, args),
-                out_names=[f"out_{o.name}" for o in fn.outputs],
-                inputs=[dict(name=a.name, doc=a.doc, unit=a.unit) for a in fn.inputs],
-                outputs=outs, ops=ops, body=body, returns=", ".join(returns) + ("," if len(returns) == 1 else ""))
+                out_names=[f"out_{o.name}" for o in fn.outputs], outputs_class=fn.outputs_class,
+                inputs=[arg_doc(a) for a in fn.inputs],
+                outputs=outs, ops=ops, body=body, returns=", ".join(returns))
 
 
 def _indices(shape):
@@ -167,7 +263,8 @@ def _env():
 def render_module(spec: ModuleSpec, cse=True) -> str:
     tpl = _env().get_template("module.py.jinja")
     fns = [render_function(f, cse=cse) for f in spec.functions]
-    return tpl.render(source=spec.source, doc=spec.doc, functions=fns)
+    return tpl.render(source=spec.source, doc=spec.doc, functions=fns,
+                      constants=[(k, repr(v)) for k, v in spec.constants.items()])
 
 
 def render_scalar_module(spec: ModuleSpec, cse=True) -> str:
@@ -177,8 +274,25 @@ def render_scalar_module(spec: ModuleSpec, cse=True) -> str:
     return tpl.render(source=spec.source, doc=spec.doc, functions=fns, numpy_module=spec.module)
 
 
-def generate(out_dir, specs, cse=True, progress=None):
-    """Render every module; returns {filename: text}."""
+def render_layouts(specs) -> str:
+    """generated/layouts.py: one NamedTuple per parameter layout used by any kernel."""
+    layouts = {}
+    for spec in specs:
+        for name, lay in spec.layouts().items():
+            if name in layouts and layouts[name] != lay:
+                raise GenerationError(f"two different layouts are both named {name}")
+            layouts[name] = lay
+    return _env().get_template("layouts.py.jinja").render(layouts=[layouts[k] for k in sorted(layouts)])
+
+
+def render_template(template, **context) -> str:
+    """Render one of derivations/templates/ (the glue modules of kernels.py)."""
+    return _env().get_template(template).render(**context)
+
+
+def generate(out_dir, specs, cse=True, progress=None, extra=None):
+    """Render every module; returns {filename: text}.  ``extra``: {filename: text} rendered
+    elsewhere (the glue modules that compose kernels), listed in the package like the others."""
     files = {}
     for spec in specs:
         if progress:
@@ -186,15 +300,18 @@ def generate(out_dir, specs, cse=True, progress=None):
         files[f"{spec.module}.py"] = render_module(spec, cse=cse)
         if spec.scalar_twin:
             files[f"{spec.module}_scalar.py"] = render_scalar_module(spec, cse=cse)
-    files["__init__.py"] = _init_text(specs)
+    files["layouts.py"] = render_layouts(specs)
+    files.update(extra or {})
+    files["__init__.py"] = _init_text(specs, extra or {})
     return files
 
 
-def _init_text(specs):
+def _init_text(specs, extra):
     lines = ["# Generated by `beveloid derive` (derivations/codegen.py). Do not edit.",
              '"""Numeric kernels generated from the symbolic models (numpy; the *_scalar twins use math)."""', ""]
     lines.append("MODULES = (" + "".join(f"\n    {s.module!r}," for s in specs) + "\n)")
     lines.append("SCALAR_MODULES = (" + "".join(f"\n    {s.module + '_scalar'!r}," for s in specs if s.scalar_twin) + "\n)")
+    lines.append("SUPPORT_MODULES = (" + "".join(f"\n    {n[:-3]!r}," for n in ["layouts.py"] + sorted(extra)) + "\n)")
     return "\n".join(lines) + "\n"
 
 

@@ -32,7 +32,7 @@ def render_all(progress=None, cse=True):
     t0 = time.perf_counter()
     files = {}
     specs = kernels.module_specs()
-    for name, text in codegen.generate(None, specs, cse=cse, progress=progress).items():
+    for name, text in codegen.generate(None, specs, cse=cse, progress=progress, extra=kernels.glue_files()).items():
         files[f"generated/{name}"] = text
     if progress:
         progress("docs/derivations.md (verifying Eqs 1-38)")

@@ -1,62 +1,210 @@
-"""Registry of generated modules: which numeric kernels come from which model.
+"""Registry: which generated kernel comes from which model, and the interfaces they share.
 
-To try a model variant (another rack profile, another cutter), write a derivation module
-that provides the same ``tooth_surface(sigma)`` interface and point the entries below at it;
-``beveloid derive`` regenerates the kernels and the solvers pick them up unchanged.
+Kernels by concern (each a generated module, with a ``*_scalar`` twin where the solver core
+needs one point per call):
+
+* ``surface_<model>``: one per tooth-surface model, per flank: the point and unit normal
+  (``surface_<flank>``), with their first derivatives in (l, u) (``surface_jet_<flank>``) and
+  the second derivatives of the point (``surface_second_derivatives_<flank>``).  Parameters:
+  the layout ``<Model>SurfaceParams`` (the rack-generation data every model shares, then the
+  model's own fields).
+* ``placement``: Eqs 30-35, the pinion and the gear (with the five errors) in S_f.
+* ``contact_system``: Eq 38 assembled from two surface jets and the placement, with exact
+  Jacobians, whatever surface model each member uses.
+* ``flank_boundaries``: the blank's margins (form limit, tip, toe, heel) and their derivatives.
+* ``design_equations``: Eqs 12-27 composed for the direct and the indirect design.
+* glue (``tca_kernels``, ``tca_kernels_scalar``): the per-member model dispatch and the
+  composed contact system / margins that the solver core calls by name.
+
+A new tooth-surface model: write a derivation module with ``tooth_surface(sigma)`` returning
+(point, outward unit normal, roll angle) in (l, u) over the symbols of Eqs 1-7, plus optionally
+
+* ``PARAMETERS``: its own fields (a tuple of :class:`codegen.Field`).  A field named like a
+  member quantity the runtime knows (``face_width_mm``, ``normal_module_mm``) is filled from
+  the design; every other field is an input key of the member's TOML section;
+* ``KEYS``: {field name: (default, lowest, highest)} of those input keys;
+* ``SELECTED_BY``: input keys whose non-zero value selects the model when the TOML does not
+  name one,
+
+add it to ``SURFACE_MODELS`` below and run ``beveloid derive``.  The runtime picks it up by
+name (``tooth_surface = "<model>"`` in a member's TOML section); nothing in ``beveloid/``
+changes.
 """
 from __future__ import annotations
 
 import sympy as sp
 
-from . import design_chain, eq04_07_tooth_surface, eq28_38_meshing_model
-from .codegen import Arg, Function, ModuleSpec, Output
+from . import codegen, design_chain, eq04_07_tooth_surface, eq28_38_meshing_model, flank_boundaries
+from .codegen import Arg, Field, Function, Layout, ModuleSpec, Output
 from .eq01_03_rack_cutter import LEFT, RIGHT
 from .symbols import (
-    E, N1, N2, a, alpha_n, alpha_nw, b, b_c1, b_c2, beta, beta1, beta_w1, d_w1, d_w2, delta, dg_h, dg_v, dx_q, dy_q,
-    dz_q, gamma, gamma1, gamma2, gamma_w1, gamma_w2, l, l1, l2, m_n, phi1p, phi2p, r, s, u, uu1, uu2, x_t1,
+    E, N1, N2, a, alpha_n, alpha_nw, b, b_c1, b_c2, beta, beta1, beta_w1, d_w1, d_w2, delta, dg_h, dg_v, dx_q,
+    dy_q, dz_q, gamma, gamma1, gamma2, gamma_w1, gamma_w2, l, m_n, phi1p, phi2p, r, s, u, x_t1,
 )
 
-# The surface model used for both members.  A variant model only has to provide
-# tooth_surface(sigma) -> (point, outward unit normal, roll angle) in (l, u).
-SURFACE_MODEL = eq04_07_tooth_surface
-SURFACE_SOURCE = "eq04_07_tooth_surface.py"
+# name -> derivation module providing tooth_surface(sigma) (and optionally PARAMETERS)
+SURFACE_MODELS = {
+    "involute": eq04_07_tooth_surface,
+}
 
 FLANKS = (("left", LEFT), ("right", RIGHT))
 
+# What every rack-generated model takes, named as the runtime's member data.
+RACK_FIELDS = (
+    Field("normal_pressure_angle", alpha_n, "rad", "normal pressure angle of the rack, alpha_n"),
+    Field("helix_angle", beta, "rad", "helix angle beta (signed, right hand +)"),
+    Field("cone_angle", gamma, "rad", "cone angle gamma"),
+    Field("cutter_addendum_mm", a, "mm", "cutter addendum a below the rack pitch line"),
+    Field("half_thickness_mm", b, "mm", "half tooth thickness on the rack pitch line, b"),
+    Field("rack_shift_mm", s, "mm", "rack shift along its depth axis, x_t m_n cos(gamma)/cos(beta)"),
+    Field("pitch_radius_mm", r, "mm", "generating (reference) pitch radius r"),
+)
 
-def _rack_args(suffix=""):
-    return [
-        Arg("normal_pressure_angle", alpha_n, "rad", "normal pressure angle of the rack, alpha_n"),
-        Arg("helix_angle" + suffix, beta, "rad", "helix angle beta (signed, right hand +)"),
-        Arg("cone_angle" + suffix, gamma, "rad", "cone angle gamma"),
-        Arg("cutter_addendum" + suffix, a, "mm", "cutter addendum a below the rack pitch line"),
-        Arg("half_thickness", b, "mm", "half tooth thickness on the rack pitch line, b"),
-        Arg("rack_shift" + suffix, s, "mm", "rack shift along its depth axis, x_t m_n cos(gamma)/cos(beta)"),
-        Arg("pitch_radius" + suffix, r, "mm", "generating (reference) pitch radius r"),
-    ]
+ERRORS = Layout("AssemblyErrors", "The five assembly errors of Eq 34 (frame S_q of the aligned gear).", (
+    Field("dx_mm", dx_q, "mm", "gear offset error along x_q (the common perpendicular)"),
+    Field("dy_mm", dy_q, "mm", "gear offset error along y_q"),
+    Field("dz_mm", dz_q, "mm", "gear offset error along z_q (the gear axis)"),
+    Field("vertical_rad", dg_v, "rad", "angular error dgamma_v (gear axis turned about y_q)"),
+    Field("horizontal_rad", dg_h, "rad", "angular error dgamma_h (gear axis turned about x_q)"),
+))
+
+_z1, _z2 = sp.symbols("z_1 z_2", real=True)
+PLACEMENT = Layout("PairPlacement", "Where the two members sit in S_f (Eqs 30, 33).", (
+    Field("offset_mm", E, "mm", "offset E between the crossed axes"),
+    Field("shaft_angle", delta, "rad", "shaft angle delta"),
+    Field("pinion_axial_placement_mm", _z1, "mm", "d_w1 - b_c1: the S_1 origin on the pinion axis"),
+    Field("gear_axial_placement_mm", _z2, "mm", "d_w2 - b_c2: the S_2 origin on the gear axis"),
+))
+
+UNKNOWNS = ("pinion_l_mm", "pinion_u_mm", "gear_l_mm", "gear_u_mm", "gear_angle_rad")
 
 
-def tooth_surface_module():
+def _camel(name):
+    return "".join(w.capitalize() for w in name.split("_"))
+
+
+def surface_layout(model_name, model):
+    extra = tuple(getattr(model, "PARAMETERS", ()))
+    return Layout(f"{_camel(model_name)}SurfaceParams",
+                  f"Parameters of the '{model_name}' tooth-surface model ({model.__name__.rsplit('.', 1)[-1]}.py).",
+                  RACK_FIELDS + extra)
+
+
+_LU = [Arg("l", l, "mm", "profile parameter along the rack edge"), Arg("u", u, "mm", "parameter along the tooth")]
+
+
+def surface_module(model_name, model):
+    lay = surface_layout(model_name, model)
+    params = Arg("params", lay, "", "surface parameters")
     fns = []
-    lu = [Arg("l", l, "mm", "profile parameter along the rack edge"), Arg("u", u, "mm", "parameter along the tooth")]
     for name, sigma in FLANKS:
-        p, n, ph = SURFACE_MODEL.tooth_surface(sigma)
+        p, n, ph = model.tooth_surface(sigma)
         jac = p.jacobian([l, u])
+        njac = n.jacobian([l, u])
         hess = sp.Matrix([[p[i].diff(l, 2), p[i].diff(l, u), p[i].diff(u, 2)] for i in range(3)])
         fns.append(Function(
-            f"surface_{name}", f"Tooth surface of the {name} flank (Eqs 1-7) in the member frame S_i.",
-            lu + _rack_args(),
+            f"surface_{name}", f"Tooth surface of the {name} flank in the member frame S_i.", _LU + [params],
             [Output("point", p, "mm", "surface point [x, y, z]"),
              Output("normal", n, "1", "unit normal, outward from the tooth"),
              Output("roll_angle", ph, "rad", "generating roll angle phi(l, u) of Eq 7")]))
         fns.append(Function(
-            f"surface_derivatives_{name}", f"First and second derivatives of the {name} flank w.r.t. (l, u).",
-            lu + _rack_args(),
-            [Output("point_D_lu", jac, "mm/mm", "[dR/dl, dR/du] as columns"),
-             Output("point_D2_lu", hess, "mm/mm^2", "[d2R/dl2, d2R/dldu, d2R/du2] as columns")]))
-    return ModuleSpec("tooth_surface", SURFACE_SOURCE,
-                      "Tooth surfaces of the rack-generated beveloid flanks and their derivatives (Eqs 1-7).", fns,
+            f"surface_jet_{name}", f"Point, unit normal and their first derivatives, {name} flank.", _LU + [params],
+            [Output("point", p, "mm", "surface point [x, y, z]"),
+             Output("normal", n, "1", "unit normal, outward from the tooth"),
+             Output("point_D_lu", jac, "mm/mm", "[dR/dl, dR/du] as columns"),
+             Output("normal_D_lu", njac, "1/mm", "[dn/dl, dn/du] as columns")]))
+        fns.append(Function(
+            f"surface_second_derivatives_{name}", f"Second derivatives of the {name} flank point in (l, u).",
+            _LU + [params],
+            [Output("point_D2_lu", hess, "mm/mm^2", "[d2R/dl2, d2R/dldu, d2R/du2] as columns")]))
+    source = model.__name__.rsplit(".", 1)[-1] + ".py"
+    return ModuleSpec(f"surface_{model_name}", source,
+                      f"Tooth surfaces of the '{model_name}' model and their derivatives in (l, u).", fns,
                       scalar_twin=True)
+
+
+def _vec(prefix, n):
+    return sp.Matrix(sp.symbols(f"{prefix}_0:{n}", real=True))
+
+
+def _mat(prefix, rows, cols):
+    return sp.Matrix(rows, cols, sp.symbols(f"{prefix}_0:{rows * cols}", real=True))
+
+
+def _placement_subs():
+    return {d_w1 - b_c1: _z1, d_w2 - b_c2: _z2}
+
+
+def _placed(expr):
+    e = sp.Matrix(expr).subs(_placement_subs())
+    return e.subs({d_w1: _z1 + b_c1, d_w2: _z2 + b_c2})
+
+
+def placement_module():
+    mm = eq28_38_meshing_model
+    errs = Arg("errors", ERRORS, "", "assembly errors")
+    pair = Arg("pair", PLACEMENT, "", "pair placement")
+    t1 = _placed(mm.M_f1[:3, 3])
+    t2 = _placed(mm.M_f2[:3, 3])
+    return ModuleSpec("placement", "eq28_38_meshing_model.py",
+                      "Placement of the pinion and the gear in the fixed frame S_f (Eqs 30-35).", [
+        Function("pinion_placement", "Pinion frame S_1 in S_f at pinion angle phi'_1 (Eqs 30-31).",
+                 [Arg("pinion_angle", phi1p, "rad", "phi'_1 of Eq 30"), pair],
+                 [Output("rotation", mm.L_f1, "1", "L_f1"), Output("translation", t1, "mm", "origin of S_1 in S_f")]),
+        Function("gear_placement", "Gear frame S_2 in S_f at gear angle phi'_2 with the errors (Eqs 32-35).",
+                 [Arg("gear_angle", phi2p, "rad", "phi'_2 of Eq 34"), errs, pair],
+                 [Output("rotation", _placed(mm.L_f2), "1", "L_f2"),
+                  Output("translation", t2, "mm", "origin of S_2 in S_f")]),
+    ])
+
+
+def contact_system_module():
+    """Eq 38 over abstract surface jets: any pair of surface models plugs in."""
+    mm = eq28_38_meshing_model
+    p1, n1, p2, n2 = _vec("pinion_point", 3), _vec("pinion_normal", 3), _vec("gear_point", 3), _vec("gear_normal", 3)
+    dp1, dn1 = _mat("pinion_point_D_lu", 3, 2), _mat("pinion_normal_D_lu", 3, 2)
+    dp2, dn2 = _mat("gear_point_D_lu", 3, 2), _mat("gear_normal_D_lu", 3, 2)
+    f = _placed(mm.tca_residual(p1, n1, p2, n2))
+    F1 = f.jacobian(list(p1)) * dp1 + f.jacobian(list(n1)) * dn1
+    F2 = f.jacobian(list(p2)) * dp2 + f.jacobian(list(n2)) * dn2
+    d_unknowns = F1.row_join(F2).row_join(f.diff(phi2p))
+    errors = ERRORS.symbols()
+    args = [Arg("pinion_point", p1, "mm", "pinion flank point in S_1"),
+            Arg("pinion_normal", n1, "1", "pinion unit outward normal in S_1"),
+            Arg("pinion_point_D_lu", dp1, "mm/mm", "pinion [dR/dl, dR/du]"),
+            Arg("pinion_normal_D_lu", dn1, "1/mm", "pinion [dn/dl, dn/du]"),
+            Arg("gear_point", p2, "mm", "gear flank point in S_2"),
+            Arg("gear_normal", n2, "1", "gear unit outward normal in S_2"),
+            Arg("gear_point_D_lu", dp2, "mm/mm", "gear [dR/dl, dR/du]"),
+            Arg("gear_normal_D_lu", dn2, "1/mm", "gear [dn/dl, dn/du]"),
+            Arg("pinion_angle", phi1p, "rad", "phi'_1 of Eq 30"),
+            Arg("gear_angle", phi2p, "rad", "phi'_2 of Eq 34"),
+            Arg("errors", ERRORS, "", "assembly errors"),
+            Arg("pair", PLACEMENT, "", "pair placement")]
+    return ModuleSpec("contact_system", "eq28_38_meshing_model.py",
+                      "The TCA system of Eq 38 from two surface jets, with exact Jacobians.", [
+        Function("contact_residual", "Eq 38 and its Jacobians for surface points given with their first derivatives.",
+                 args,
+                 [Output("residual", f, "mm | 1", "[R_f1 - R_f2 (x, y, z), (n_f1 + n_f2)_x, (n_f1 + n_f2)_z]"),
+                  Output("residual_D_unknowns", d_unknowns, "", "d residual / d " + str(UNKNOWNS)),
+                  Output("residual_D_errors", f.jacobian(errors), "", "d residual / d AssemblyErrors"),
+                  Output("residual_D_pinion_angle", f.diff(phi1p), "", "d residual / d phi'_1")]),
+    ], scalar_twin=True, constants={"UNKNOWNS": UNKNOWNS})
+
+
+def flank_boundaries_module():
+    fb = flank_boundaries
+    m = fb.margins()
+    args = [Arg("point", fb.POINT, "mm", "flank point in the member frame S_i"),
+            Arg("l", l, "mm", "the point's rack parameter l"),
+            Arg("blank", fb.BLANK, "", "the member's blank")]
+    return ModuleSpec("flank_boundaries", "flank_boundaries.py",
+                      "Signed margins (mm, positive inside) of a flank point to the blank's boundaries.", [
+        Function("flank_margins", "Margins to the form limit, tip, toe and heel, and their derivatives.", args,
+                 [Output("margins", m, "mm", "[form limit, tip, toe, heel]"),
+                  Output("margins_D_point", m.jacobian(list(fb.POINT)), "mm/mm", "d margins / d point"),
+                  Output("margins_D_l", m.diff(l), "mm/mm", "d margins / d l")]),
+    ], scalar_twin=True, constants={"BOUNDARIES": fb.BOUNDARIES})
 
 
 def _pair_args():
@@ -130,48 +278,48 @@ def design_module():
     ])
 
 
-def tca_module():
-    fns = []
-    s_p = sp.symbols("beta_1 gamma_1 a_1 s_1 r_1", real=True)
-    s_g = sp.symbols("beta_2 gamma_2 a_2 s_2 r_2", real=True)
-    unknowns = [l1, uu1, l2, uu2, phi2p]
-    errors = [dx_q, dy_q, dz_q, dg_v, dg_h]
-    for name, sigma in FLANKS:
-        p, n, _ = SURFACE_MODEL.tooth_surface(sigma)
-        sub1 = {beta: s_p[0], gamma: s_p[1], a: s_p[2], s: s_p[3], r: s_p[4], l: l1, u: uu1}
-        sub2 = {beta: s_g[0], gamma: s_g[1], a: s_g[2], s: s_g[3], r: s_g[4], l: l2, u: uu2}
-        p1, n1 = p.subs(sub1, simultaneous=True), n.subs(sub1, simultaneous=True)
-        p2, n2 = p.subs(sub2, simultaneous=True), n.subs(sub2, simultaneous=True)
-        f = eq28_38_meshing_model.tca_residual(p1, n1, p2, n2)
-        args = ([Arg("l1", l1, "mm", "pinion profile parameter"), Arg("u1", uu1, "mm", "pinion lengthwise parameter"),
-                 Arg("l2", l2, "mm", "gear profile parameter"), Arg("u2", uu2, "mm", "gear lengthwise parameter"),
-                 Arg("gear_angle", phi2p, "rad", "phi'_2 of Eq 34"),
-                 Arg("pinion_angle", phi1p, "rad", "phi'_1 of Eq 30")]
-                + [Arg("dx_q", dx_q, "mm", "gear offset error along x_f"), Arg("dy_q", dy_q, "mm", "... along y"),
-                   Arg("dz_q", dz_q, "mm", "... along z"), Arg("dgamma_v", dg_v, "rad", "vertical angular error"),
-                   Arg("dgamma_h", dg_h, "rad", "horizontal angular error")]
-                + [Arg("normal_pressure_angle", alpha_n, "rad", "alpha_n"), Arg("half_thickness", b, "mm", "b")]
-                + [Arg(nm, sy, un, nm) for nm, sy, un in zip(
-                    ("pinion_helix_angle", "pinion_cone_angle", "pinion_cutter_addendum", "pinion_rack_shift",
-                     "pinion_pitch_radius"), s_p, ("rad", "rad", "mm", "mm", "mm"))]
-                + [Arg(nm, sy, un, nm) for nm, sy, un in zip(
-                    ("gear_helix_angle", "gear_cone_angle", "gear_cutter_addendum", "gear_rack_shift",
-                     "gear_pitch_radius"), s_g, ("rad", "rad", "mm", "mm", "mm"))]
-                + [Arg("offset", E, "mm", "E"), Arg("shaft_angle", delta, "rad", "delta"),
-                   Arg("pinion_axial_placement", sp.Symbol("z1"), "mm", "d_w1 - b_c1"),
-                   Arg("gear_axial_placement", sp.Symbol("z2"), "mm", "d_w2 - b_c2")])
-        f = f.subs({d_w1 - b_c1: sp.Symbol("z1"), d_w2 - b_c2: sp.Symbol("z2")})
-        f = f.subs({d_w1: sp.Symbol("z1") + b_c1, d_w2: sp.Symbol("z2") + b_c2})
-        fns.append(Function(
-            f"residual_{name}", f"Eq 38 for the {name} flank pair, with exact Jacobians.",
-            args,
-            [Output("residual", f, "mm | 1", "[R_f1 - R_f2 (x, y, z), (n_f1 + n_f2)_x, (n_f1 + n_f2)_z]"),
-             Output("residual_D_unknowns", f.jacobian(unknowns), "", "d residual / d (l1, u1, l2, u2, phi'_2)"),
-             Output("residual_D_errors", f.jacobian(errors), "", "d residual / d (dx, dy, dz, dgamma_v, dgamma_h)"),
-             Output("residual_D_pinion_angle", f.diff(phi1p), "", "d residual / d phi'_1")]))
-    return ModuleSpec("tca_system", "eq28_38_meshing_model.py",
-                      "The TCA system of Eq 38 (both flank pairs) with exact Jacobians.", fns, scalar_twin=True)
+def glue_files(models=None):
+    """The generated glue: model dispatch and the composed contact system, numpy and scalar."""
+    models = models or SURFACE_MODELS
+    ctx = dict(models=[dict(name=k, module=f"surface_{k}", layout=surface_layout(k, m).name,
+                            nparams=len(surface_layout(k, m).fields)) for k, m in models.items()],
+               flanks=[f for f, _ in FLANKS], unknowns=UNKNOWNS, n_errors=len(ERRORS.fields),
+               boundaries=flank_boundaries.BOUNDARIES)
+    for m, (name, model) in zip(ctx["models"], models.items()):
+        fields = {f.name: f for f in getattr(model, "PARAMETERS", ())}
+        m["input_keys"] = [dict(name=k, unit=fields[k].unit, doc=fields[k].doc, default=float(d), lo=float(lo), hi=float(hi))
+                     for k, (d, lo, hi) in getattr(model, "KEYS", {}).items()]
+        m["selected_by"] = list(getattr(model, "SELECTED_BY", ()))
+    return {"tca_kernels.py": codegen.render_template("tca_kernels.py.jinja", **ctx),
+            "tca_kernels_scalar.py": codegen.render_template("tca_kernels_scalar.py.jinja", **ctx),
+            "surface_models.py": codegen.render_template("surface_models.py.jinja", **ctx)}
 
 
-def module_specs():
-    return [tooth_surface_module(), design_module(), tca_module()]
+def module_specs(models=None):
+    models = models or SURFACE_MODELS
+    return ([surface_module(k, m) for k, m in models.items()]
+            + [placement_module(), contact_system_module(), flank_boundaries_module(), design_module()])
+
+
+def composed_residual(pinion_model="involute", gear_model="involute", flank="right"):
+    """Eq 38 with both members' surfaces substituted, symbolic (for baselines and checks).
+
+    Returns (residual Matrix(5), unknowns [l1, u1, l2, u2, phi'_2], phi'_1, error symbols,
+    pinion parameter symbols, gear parameter symbols, placement symbols); the parameter
+    symbols follow the fields of each model's layout and of PairPlacement.
+    """
+    sigma = dict(FLANKS)[flank]
+    unknowns = list(sp.symbols("l_1 u_1 l_2 u_2", real=True)) + [phi2p]
+
+    def member(model_name, tag, l_sym, u_sym):
+        model = SURFACE_MODELS[model_name]
+        lay = surface_layout(model_name, model)
+        fresh = {f.symbol: sp.Symbol(f"{tag}_{f.name}", real=True) for f in lay.fields}
+        p, n, _ = model.tooth_surface(sigma)
+        sub = dict(fresh, **{l: l_sym, u: u_sym})
+        return p.xreplace(sub), n.xreplace(sub), [fresh[f.symbol] for f in lay.fields]
+
+    p1, n1, s1 = member(pinion_model, "pinion", unknowns[0], unknowns[1])
+    p2, n2, s2 = member(gear_model, "gear", unknowns[2], unknowns[3])
+    f = _placed(eq28_38_meshing_model.tca_residual(p1, n1, p2, n2))
+    return f, unknowns, phi1p, ERRORS.symbols(), s1, s2, PLACEMENT.symbols()

@@ -2,11 +2,20 @@
 """Numeric kernels generated from the symbolic models (numpy; the *_scalar twins use math)."""
 
 MODULES = (
-    'tooth_surface',
+    'surface_involute',
+    'placement',
+    'contact_system',
+    'flank_boundaries',
     'design_equations',
-    'tca_system',
 )
 SCALAR_MODULES = (
-    'tooth_surface_scalar',
-    'tca_system_scalar',
+    'surface_involute_scalar',
+    'contact_system_scalar',
+    'flank_boundaries_scalar',
+)
+SUPPORT_MODULES = (
+    'layouts',
+    'surface_models',
+    'tca_kernels',
+    'tca_kernels_scalar',
 )

@@ -16,7 +16,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from beveloid import cli, compiled, sweep, tca
+from beveloid import cli, sweep, tca
+from beveloid.solver import backends
 from beveloid.design import design
 from beveloid.errors import UserError
 from beveloid.spec import load_spec
@@ -101,7 +102,7 @@ def check_flank_json(fd, geom, n_expected):
         for member, key in ((geom.pinion, "pinion_contact_mm"), (geom.gear, "gear_contact_mm")):
             x, y, z = fd[key][i]
             r = math.hypot(x, y)
-            assert member.root_radius(z) <= r <= member.tip_radius(z) + EDGE_TOL, (key, i, st, r, z)
+            assert _root_radius(member, z) <= r <= member.tip_radius(z) + EDGE_TOL, (key, i, st, r, z)
             assert abs(z) <= member.face_width_mm / 2 + EDGE_TOL, (key, i, st, z)
     return counts
 
@@ -110,6 +111,11 @@ def check_flank_json(fd, geom, n_expected):
 # 1. tca --json contract
 # ------------------------------------------------------------------------------------------
 MISALIGNED_FLAGS = ["--dx", "0.5", "--dy", "0.5", "--dz", "0.5", "--horizontal", "0.03"]
+
+
+def _root_radius(m, z):
+    """Root cone radius from the blank's definition (cutter addendum below the shifted rack pitch plane)."""
+    return m.pitch_radius_mm + (m.rack_shift_mm - m.cutter_addendum_mm) / math.cos(m.cone_angle) + z * math.tan(m.cone_angle)
 
 
 @pytest.mark.parametrize("case, flags, flanks", [
@@ -442,14 +448,14 @@ def test_resolve_backend(monkeypatch):
     assert tca.resolve_backend("numpy") == "numpy"
     with pytest.raises(ValueError):
         tca.resolve_backend("gpu")
-    monkeypatch.setattr(compiled, "AVAILABLE", False)
+    monkeypatch.setattr(backends, "AVAILABLE", False)
     with pytest.raises(UserError):
         tca.resolve_backend("compiled")
     assert tca.resolve_backend("auto") == "numpy"
 
 
 def test_cli_without_numba(monkeypatch, capsys):
-    monkeypatch.setattr(compiled, "AVAILABLE", False)
+    monkeypatch.setattr(backends, "AVAILABLE", False)
     rc, out, err = run_cli(capsys, ["sweep", CASE1, "--samples", 2, "--positions", 3, "--backend", "compiled"])
     assert rc == 2 and out == ""
     assert len(err.splitlines()) == 1 and err.startswith("beveloid: error: ") and "numba" in err

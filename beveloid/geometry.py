@@ -1,0 +1,142 @@
+"""The designed pair as the solver sees it: each member's surface model, generating data and
+blank, and where the members sit (mm, rad).
+
+The generated kernels take their parameters as named layouts (``beveloid.generated.layouts``);
+this module fills them by field name from the design, never by position.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .generated import flank_boundaries, layouts, tca_kernels
+
+BOUNDARIES = flank_boundaries.BOUNDARIES
+
+MEMBERS = ("pinion", "gear")
+
+
+@dataclass(frozen=True)
+class Member:
+    """One member's generating data and blank, in mm and rad."""
+
+    teeth: int
+    helix_angle: float
+    cone_angle: float
+    cutter_addendum_mm: float
+    rack_shift_mm: float
+    pitch_radius_mm: float
+    working_pitch_radius_mm: float
+    working_mounting_distance_mm: float
+    reference_section_offset_mm: float
+    face_width_mm: float
+    tip_height_mm: float  # tip above the rack pitch plane, along the rack depth axis
+    pitch_point_angle: float  # theta_i of the pitch point on the working pitch cone
+    tooth_surface: str = "involute"  # a model of tca_kernels.MODELS
+    surface_options: tuple = ()  # (name, value) pairs: the model's own parameters, by layout field name
+
+    @property
+    def axial_placement_mm(self) -> float:
+        """d_w - b_c: where the S_i origin sits on the axis, from the common perpendicular."""
+        return self.working_mounting_distance_mm - self.reference_section_offset_mm
+
+    @property
+    def face_limits(self):
+        """(toe, heel) axial positions in S_i, centred on the working pitch circle (z = b_c)."""
+        c = self.reference_section_offset_mm
+        w = self.face_width_mm / 2
+        return (c - w, c + w) if self.cone_angle >= 0 else (c + w, c - w)
+
+    def tip_radius(self, z):
+        """Tip cone radius at axial positions z (S_i): the generated tip margin of a point at radius r, plus r."""
+        z = np.asarray(z, dtype=float)
+        r = self.pitch_radius_mm
+        point = np.stack(np.broadcast_arrays(r, 0.0, z), axis=-1)
+        return r + flank_boundaries.flank_margins(point, 0.0, self.blank()).margins[..., BOUNDARIES.index("tip")]
+
+    def blank(self) -> np.ndarray:
+        toe, heel = self.face_limits
+        return np.asarray(layouts.FlankBlank(
+            pitch_radius_mm=self.pitch_radius_mm, tip_height_mm=self.tip_height_mm, rack_shift_mm=self.rack_shift_mm,
+            cone_angle=self.cone_angle, toe_z_mm=toe, heel_z_mm=heel), dtype=float)
+
+
+@dataclass(frozen=True)
+class PairGeometry:
+    """Everything the TCA needs: the designed pair in mm and rad."""
+
+    normal_module_mm: float
+    normal_pressure_angle: float
+    offset_mm: float
+    shaft_angle: float
+    pinion: Member
+    gear: Member
+
+    @property
+    def half_thickness_mm(self):
+        return math.pi * self.normal_module_mm / 4
+
+    @classmethod
+    def from_design(cls, result) -> "PairGeometry":
+        """From a :class:`beveloid.design.DesignResult` (surface models from its spec)."""
+        mn = result.normal_module_mm
+
+        def member(m, spec_member):
+            return Member(
+                teeth=int(m.teeth), helix_angle=m.helix_angle, cone_angle=m.cone_angle,
+                cutter_addendum_mm=m.cutter_addendum_mm, rack_shift_mm=m.rack_shift_mm,
+                pitch_radius_mm=m.reference_pitch_radius_mm, working_pitch_radius_mm=m.working_pitch_radius_mm,
+                working_mounting_distance_mm=m.working_mounting_distance_mm,
+                reference_section_offset_mm=m.reference_section_offset_mm, face_width_mm=m.face_width_mm,
+                tip_height_mm=m.addendum_coefficient * mn, pitch_point_angle=m.pitch_point_angle,
+                tooth_surface=getattr(spec_member, "tooth_surface", "involute"),
+                surface_options=tuple(sorted(dict(getattr(spec_member, "surface_options", ()) or ()).items())))
+
+        spec = result.spec
+        return cls(mn, result.normal_pressure_angle, result.offset_mm, result.shaft_angle,
+                   member(result.pinion, spec.pinion), member(result.gear, spec.gear))
+
+    def member(self, which: str) -> Member:
+        if which not in MEMBERS:
+            raise ValueError(f"member must be one of {MEMBERS}, got {which!r}")
+        return getattr(self, which)
+
+    def surface_values(self, which: str) -> dict:
+        """Every quantity a surface model may take, by layout field name."""
+        m = self.member(which)
+        values = dict(normal_pressure_angle=self.normal_pressure_angle, helix_angle=m.helix_angle,
+                      cone_angle=m.cone_angle, cutter_addendum_mm=m.cutter_addendum_mm,
+                      half_thickness_mm=self.half_thickness_mm, rack_shift_mm=m.rack_shift_mm,
+                      pitch_radius_mm=m.pitch_radius_mm, face_width_mm=m.face_width_mm,
+                      normal_module_mm=self.normal_module_mm)
+        values.update(dict(m.surface_options))
+        return values
+
+    def surface_params(self, which: str) -> np.ndarray:
+        """The member's parameter vector for its surface model (tca_kernels.pack_surface_params)."""
+        return tca_kernels.pack_surface_params(self.member(which).tooth_surface, self.surface_values(which))
+
+    def placement(self) -> np.ndarray:
+        return np.asarray(layouts.PairPlacement(
+            offset_mm=self.offset_mm, shaft_angle=self.shaft_angle,
+            pinion_axial_placement_mm=self.pinion.axial_placement_mm,
+            gear_axial_placement_mm=self.gear.axial_placement_mm), dtype=float)
+
+    def problem(self, flank: str):
+        """The solver core's problem tuple for one flank (see beveloid/solver/core.py)."""
+        return (tca_kernels.model_id(self.pinion.tooth_surface), tca_kernels.model_id(self.gear.tooth_surface),
+                tca_kernels.flank_id(flank), self.surface_params("pinion"), self.surface_params("gear"),
+                self.placement())
+
+    @property
+    def pitch_angles(self):
+        return 2 * math.pi / self.pinion.teeth, 2 * math.pi / self.gear.teeth
+
+    def surface(self, which, flank, l, u):
+        """Point, outward unit normal and roll angle of a member's flank (generated kernel)."""
+        return tca_kernels.surface(self.member(which).tooth_surface, flank, l, u, self.surface_params(which))
+
+    def surface_jet(self, which, flank, l, u):
+        return tca_kernels.surface_jet(self.member(which).tooth_surface, flank, l, u, self.surface_params(which))

@@ -1,0 +1,130 @@
+"""The two backends of the one solver core (:mod:`beveloid.solver.core`).
+
+* ``"numpy"``: the core's functions as they are, over the generated scalar kernels: the
+  reference, needs nothing beyond numpy, slow (interpreted).
+* ``"compiled"``: the same functions and kernels compiled by numba (``nogil``, the sweep in
+  parallel over error sets), with numba's on-disk cache.  Where the cache cannot be written
+  (a read-only install without a writable home) the solver is compiled in memory instead,
+  with one warning.
+
+``"auto"`` is "compiled" when numba is installed.  Both run the same source, so they give the
+same statuses and the same numbers.
+"""
+from __future__ import annotations
+
+import functools
+import importlib
+import os
+import sys
+import types
+import warnings
+
+from ..errors import UserError
+
+try:  # optional dependency
+    import numba
+
+    AVAILABLE = True
+except ImportError:  # pragma: no cover - exercised with numba hidden in the tests
+    numba = None
+    AVAILABLE = False
+
+BACKENDS = ("auto", "compiled", "numpy")
+
+
+def resolve(backend: str) -> str:
+    """'auto' -> 'compiled' when numba is installed, else 'numpy'."""
+    if backend == "auto":
+        return "compiled" if AVAILABLE else "numpy"
+    if backend == "compiled" and not AVAILABLE:
+        raise UserError("backend = compiled: numba is not installed; use backend numpy or pip install numba")
+    if backend not in BACKENDS:
+        raise ValueError(f"backend = {backend!r}: must be one of {', '.join(BACKENDS)}")
+    return backend
+
+
+def _modules():
+    """The core and every generated scalar module it reaches (all compiled together)."""
+    from .. import generated
+    from . import core
+
+    gen = [importlib.import_module(f"{generated.__name__}.{m}") for m in generated.SCALAR_MODULES]
+    gen.append(importlib.import_module(f"{generated.__name__}.tca_kernels_scalar"))
+    return [core] + gen
+
+
+@functools.lru_cache(maxsize=None)
+def namespace(backend: str) -> types.SimpleNamespace:
+    """The core's functions (and the generated kernels it imports) for a resolved backend."""
+    from . import core
+
+    if backend == "numpy":
+        return types.SimpleNamespace(**{k: v for k, v in vars(core).items() if isinstance(v, types.FunctionType)},
+                                     compiled=False)
+    if backend != "compiled":
+        raise ValueError(f"backend must be 'numpy' or 'compiled', got {backend!r}")
+    return _compile(_modules())
+
+
+_cache_warned = False
+
+
+def _jit(fn, parallel, inline="never"):
+    global _cache_warned
+    opts = dict(nogil=True, parallel=parallel, inline=inline)
+    try:
+        return numba.njit(cache=True, **opts)(fn)
+    except RuntimeError as exc:  # "cannot cache function ...: no locator available"
+        if "cannot cache" not in str(exc):
+            raise
+        if not _cache_warned:
+            warnings.warn("numba cannot write its cache here (read-only install, no writable home); the contact "
+                          "solver is compiled in memory on every run", RuntimeWarning, stacklevel=3)
+            _cache_warned = True
+        return numba.njit(cache=False, **opts)(fn)
+
+
+def _compile(modules):
+    """Copies of every function of ``modules`` bound to globals in which each such function is
+    replaced by its numba dispatcher (numba resolves globals when it compiles, lazily)."""
+    from . import core
+
+    originals = {}
+    for mod in modules:
+        for name, fn in vars(mod).items():
+            if isinstance(fn, types.FunctionType) and fn.__module__ == mod.__name__:
+                originals[fn] = mod
+    glob = {mod: dict(vars(mod)) for mod in modules}
+    jitted = {}
+    for fn, mod in originals.items():
+        copy = types.FunctionType(fn.__code__, glob[mod], fn.__name__, fn.__defaults__, fn.__closure__)
+        copy.__qualname__ = fn.__qualname__
+        copy.__module__ = fn.__module__
+        jitted[fn] = _jit(copy, parallel=(mod is core and fn.__name__ in core.PARALLEL),
+                          inline="never" if mod is core else "always")
+    for g in glob.values():
+        for name, val in list(g.items()):
+            if isinstance(val, types.FunctionType) and val in jitted:
+                g[name] = jitted[val]
+    # the core's functions and the kernels it imports, as the core sees them
+    funcs = {name: val for name, val in glob[core].items() if any(val is d for d in jitted.values())}
+    return types.SimpleNamespace(**funcs, compiled=True)
+
+
+def needs_compiling(ns) -> bool:
+    """True when the compiled sweep has no cache on disk yet (the first run compiles, ~10-30 s)."""
+    if not getattr(ns, "compiled", False):
+        return False
+    try:
+        cache = ns.solve_paths._cache
+        return not os.path.exists(os.path.join(cache._cache_path, cache._index_name))
+    except Exception:  # numba internals moved: say nothing rather than guess
+        return False
+
+
+def notify_compiling(ns, stream=None):
+    """Say on a terminal that numba is about to compile (nothing otherwise)."""
+    stream = stream or sys.stderr
+    if needs_compiling(ns) and getattr(stream, "isatty", lambda: False)():
+        stream.write("beveloid: compiling the contact solver with numba (first use only; cached afterwards)...\n")
+        stream.flush()

@@ -1,0 +1,29 @@
+"""Status of a computed contact point: the one vocabulary of the solver, the analyses and the JSON."""
+from __future__ import annotations
+
+import enum
+
+
+class Status(enum.IntEnum):
+    """What a solved point is.  Only OK and EDGE points carry numbers."""
+
+    OK = 0  #: surface contact inside both flanks
+    EDGE = 1  #: surface contact within the edge margin of a flank boundary
+    OUTSIDE = 2  #: the tangency lies off a flank: no contact of these flank patches there
+    FAILED = 3  #: the solver did not converge: no number
+
+    @property
+    def label(self) -> str:
+        """The name used in JSON, tables and plots: "ok", "edge", "outside", "failed"."""
+        return self.name.lower()
+
+    @classmethod
+    def labels(cls, codes) -> list[str]:
+        return [cls(int(c)).label for c in codes]
+
+
+def carries_numbers(codes):
+    """Boolean mask (array-like codes): points with a contact (OK or EDGE)."""
+    import numpy as np
+
+    return np.asarray(codes) <= Status.EDGE

@@ -1,0 +1,79 @@
+"""A new tooth-surface model is a derivation module, a registry entry and `beveloid derive`:
+nothing in beveloid/ changes.
+
+In a scratch copy of the checkout, tests/data/shifted_flank_model.py (the involute flank moved
+along the member axis by ``axial_shift_mm``) is registered under the name "shifted" and the
+kernels are regenerated with the real `beveloid derive`.  The gear then uses that model from
+its TOML section, and the TCA (runtime unchanged, numpy backend) must give exactly the
+contact of the involute pair with the gear moved by dz = axial_shift_mm (Eq 34's dz_q moves
+the gear along its own axis, which commutes with the rotation phi'_2).
+"""
+from __future__ import annotations
+
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+SCRIPT = r"""
+import json, sys
+import numpy as np
+from beveloid import tca
+from beveloid.design import design
+from beveloid.spec import load_spec
+from beveloid.generated import surface_models
+plug = tca.PairGeometry.from_design(design(load_spec(sys.argv[1])))
+base = tca.PairGeometry.from_design(design(load_spec(sys.argv[2])))
+shift = dict(plug.gear.surface_options)["axial_shift_mm"]
+a = tca.analyze(plug, flanks=("right",), positions=40, backend="numpy").flanks["right"]
+b = tca.analyze(base, (0.0, 0.0, shift, 0.0, 0.0), flanks=("right",), positions=40, backend="numpy").flanks["right"]
+both = np.isfinite(a.gear_angle) & np.isfinite(b.gear_angle)
+print(json.dumps({"models": list(surface_models.MODELS), "gear_model": plug.gear.tooth_surface,
+                  "pinion_model": plug.pinion.tooth_surface, "shift": shift, "compared": int(both.sum()),
+                  "max_diff_rad": float(np.abs(a.gear_angle[both] - b.gear_angle[both]).max()),
+                  "import": tca.__file__}))
+"""
+
+
+def _run(args, cwd, env):
+    return subprocess.run(args, cwd=cwd, env=env, capture_output=True, text=True, timeout=240)
+
+
+def test_a_new_surface_model_needs_no_runtime_edit(tmp_path):
+    work = tmp_path / "checkout"
+    ignore = shutil.ignore_patterns("__pycache__", "*.nbi", "*.nbc")
+    for d in ("beveloid", "derivations", "generated", "docs"):
+        shutil.copytree(ROOT / d, work / d, ignore=ignore)
+    shutil.copy(ROOT / "pyproject.toml", work / "pyproject.toml")
+    runtime_before = {p.relative_to(work): p.read_bytes() for p in (work / "beveloid").rglob("*.py")}
+    # 1. the derivation module and 2. its registry entry
+    shutil.copy(ROOT / "tests" / "data" / "shifted_flank_model.py", work / "derivations" / "shifted_flank_model.py")
+    with open(work / "derivations" / "kernels.py", "a") as fh:
+        fh.write("\nfrom . import shifted_flank_model  # noqa: E402\n\nSURFACE_MODELS['shifted'] = shifted_flank_model\n")
+    env = dict(os.environ, PYTHONPATH=str(work))
+    # 3. beveloid derive
+    proc = _run([sys.executable, "-m", "beveloid.cli", "derive"], work, env)
+    assert proc.returncode == 0, proc.stderr
+    assert (work / "generated" / "surface_shifted.py").is_file()
+    assert {p.relative_to(work): p.read_bytes() for p in (work / "beveloid").rglob("*.py")} == runtime_before
+    # the pair: case 1, the gear on the new model with its own TOML key
+    text = (ROOT / "examples" / "case1.toml").read_text()
+    (tmp_path / "base.toml").write_text(text)
+    plug = re.sub(r"^\[gear\][^\n]*\n", lambda m: m.group(0) + 'tooth_surface = "shifted"\naxial_shift_mm = 0.2\n', text,
+                  count=1, flags=re.M)
+    assert plug != text
+    (tmp_path / "plug.toml").write_text(plug)
+    proc = _run([sys.executable, "-c", SCRIPT, str(tmp_path / "plug.toml"), str(tmp_path / "base.toml")], tmp_path,
+                env)
+    assert proc.returncode == 0, proc.stderr
+    out = json.loads(proc.stdout)
+    assert Path(out["import"]).is_relative_to(work)  # the scratch checkout's runtime ran
+    assert out["models"] == ["involute", "shifted"]
+    assert (out["pinion_model"], out["gear_model"], out["shift"]) == ("involute", "shifted", 0.2)
+    assert out["compared"] >= 10
+    assert out["max_diff_rad"] < 1e-9
