@@ -32,5 +32,5 @@ def finite_array(name: str, value, size: int | None = None, positive_only: bool 
     if not np.all(np.isfinite(a)):
         raise ValueError(f"{name} contains non-finite values: every entry must be finite")
     if positive_only and a.size and not np.all(a > 0.0):
-        raise ValueError(f"{name} has minimum {a.min()!r}: every entry must be > 0")
+        raise ValueError(f"{name} has minimum {float(a.min())!r}: every entry must be > 0")
     return a
