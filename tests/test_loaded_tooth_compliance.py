@@ -83,7 +83,9 @@ def test_face_coupling_green_function():
     assert np.allclose(k * (2 * hz)[None, :], (k * (2 * hz)[None, :]).T, rtol=2e-3, atol=1e-9)
     mid = 200
     assert k[mid, mid + 60] / k[mid, mid + 20] == pytest.approx(math.exp(-40 * 2 * hz[0] / lam), rel=1e-4)
-    assert k[0, 0] / k[mid, mid] == pytest.approx(2.0, rel=5e-3)
+    # (point values: exactly 2; averaging over cells of dz / lambda = 0.05 lowers it by about 2%)
+    assert k[0, 0] / k[mid, mid] == pytest.approx(2.0, rel=3e-2)
+    assert k[0, 0] / k[mid, mid] < 2.0
     # lambda = 0: uncoupled thin slices
     assert np.allclose(face_coupling_per_mm(z, hz, length, 0.0), np.diag(1 / (2 * hz)))
     assert plate_coupling_length_mm(3.0, 0.3) == pytest.approx(3.0 * math.sqrt(1.4 / 3))
