@@ -12,7 +12,7 @@ from scipy.optimize import minimize
 
 from beveloid.loaded.halfspace import reduced_modulus_mpa, tensor_grid, tensor_influence_matrix_mm_per_mpa
 from beveloid.loaded.hertz import hertz_point_contact
-from beveloid.loaded.lcp import solve_contact
+from beveloid.loaded.lcp import prepare_compliance, solve_contact
 
 E_STAR = reduced_modulus_mpa()
 RX_MM, RY_MM, LOAD_N = 20.0, 60.0, 1000.0
@@ -132,8 +132,10 @@ def test_block_diagonal_tooth_pairs_share_one_approach():
     area = np.tile(cells.area_mm2, 3)
     sol = solve_contact([c, c, c], gap, area, 3 * LOAD_N)
     dense = solve_contact(scipy.linalg.block_diag(c, c, c), gap, area, 3 * LOAD_N)
-    assert sol.converged and dense.converged
+    prepared = solve_contact(prepare_compliance([c, c, c]), gap, area, 3 * LOAD_N)
+    assert sol.converged and dense.converged and prepared.converged
     assert np.allclose(sol.pressure_mpa, dense.pressure_mpa, rtol=1e-9, atol=1e-9)
+    assert np.array_equal(sol.pressure_mpa, prepared.pressure_mpa)
     pair_load = (area * sol.pressure_mpa).reshape(3, -1).sum(axis=1)
     assert pair_load.sum() == pytest.approx(3 * LOAD_N, rel=1e-12)
     assert pair_load[0] > pair_load[1] > 0.0 and pair_load[2] == 0.0
@@ -167,6 +169,7 @@ def test_warm_start_and_unconverged_flag():
         ({"tolerance": -1.0}, "tolerance = -1.0"),
         ({"max_iterations": 0}, "max_iterations = 0"),
         ({"compliance": np.ones((4, 3))}, "must be square"),
+        ({"compliance": prepare_compliance(np.eye(5))}, "compliance covers 5 cells but gap_mm has 4"),
     ],
 )
 def test_user_errors(kwargs, match):

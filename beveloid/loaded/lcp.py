@@ -33,7 +33,7 @@ import scipy.linalg
 
 from beveloid.loaded import checks
 
-__all__ = ["ContactSolution", "solve_contact"]
+__all__ = ["Compliance", "ContactSolution", "prepare_compliance", "solve_contact"]
 
 
 @dataclass(frozen=True)
@@ -74,29 +74,21 @@ class ContactSolution:
         return float(self.area_mm2 @ self.pressure_mpa)
 
 
-class _Blocks:
-    """A dense matrix or a block-diagonal one given by its square blocks."""
+@dataclass(frozen=True)
+class Compliance:
+    """A checked compliance (mm per MPa): square blocks on the diagonal, cells in block order.
 
-    def __init__(self, compliance, n: int):
-        blocks = [compliance] if isinstance(compliance, np.ndarray) else list(compliance)
-        if not blocks:
-            raise ValueError("compliance_mm_per_mpa = []: must be a square matrix or a non-empty list of them")
-        self.blocks, self.slices, self.symmetric = [], [], []
-        start = 0
-        for k, b in enumerate(blocks):
-            b = np.asarray(b, dtype=float)
-            if b.ndim != 2 or b.shape[0] != b.shape[1]:
-                raise ValueError(f"compliance block {k} has shape {b.shape}: must be square")
-            if not np.all(np.isfinite(b)):
-                raise ValueError(f"compliance block {k} contains non-finite values: every entry must be finite")
-            if not np.all(np.diag(b) > 0.0):
-                raise ValueError(f"compliance block {k} has a diagonal entry <= 0: every diagonal entry must be > 0")
-            self.blocks.append(b)
-            self.slices.append(slice(start, start + b.shape[0]))
-            self.symmetric.append(bool(np.allclose(b, b.T, rtol=1e-12, atol=0.0)))
-            start += b.shape[0]
-        if start != n:
-            raise ValueError(f"compliance covers {start} cells but gap_mm has {n}: they must match")
+    Build it once per grid with :func:`prepare_compliance` and pass it to every
+    :func:`solve_contact` of that grid: the O(n^2) checks are then not repeated.
+    """
+
+    blocks: tuple
+    slices: tuple
+    symmetric: tuple
+
+    @property
+    def size(self) -> int:
+        return self.slices[-1].stop
 
     def solve_active(self, active: np.ndarray, rhs: np.ndarray) -> np.ndarray:
         """x with C[S, S] x = rhs[S] block by block (rows of rhs outside S are returned 0)."""
@@ -124,6 +116,31 @@ class _Blocks:
         return out
 
 
+def prepare_compliance(compliance_mm_per_mpa: np.ndarray | Sequence[np.ndarray] | Compliance) -> Compliance:
+    """Check a dense matrix or a list of square diagonal blocks once (finite, diagonal > 0, symmetry)."""
+    if isinstance(compliance_mm_per_mpa, Compliance):
+        return compliance_mm_per_mpa
+    raw = compliance_mm_per_mpa
+    blocks = [raw] if isinstance(raw, np.ndarray) else list(raw)
+    if not blocks:
+        raise ValueError("compliance_mm_per_mpa = []: must be a square matrix or a non-empty list of them")
+    out, slices, sym = [], [], []
+    start = 0
+    for k, b in enumerate(blocks):
+        b = np.ascontiguousarray(b, dtype=float)
+        if b.ndim != 2 or b.shape[0] != b.shape[1]:
+            raise ValueError(f"compliance block {k} has shape {b.shape}: must be square")
+        if not np.all(np.isfinite(b)):
+            raise ValueError(f"compliance block {k} contains non-finite values: every entry must be finite")
+        if not np.all(np.diag(b) > 0.0):
+            raise ValueError(f"compliance block {k} has a diagonal entry <= 0: every diagonal entry must be > 0")
+        out.append(b)
+        slices.append(slice(start, start + b.shape[0]))
+        sym.append(bool(np.allclose(b, b.T, rtol=1e-12, atol=0.0)))
+        start += b.shape[0]
+    return Compliance(tuple(out), tuple(slices), tuple(sym))
+
+
 def _initial_set(h: np.ndarray, w: np.ndarray, diag: np.ndarray, at: np.ndarray, load: float) -> np.ndarray:
     """Contact set of an uncoupled (Winkler) model, p_i = max(0, (delta w_i - h_i))/(k C_ii).
 
@@ -146,7 +163,7 @@ def _initial_set(h: np.ndarray, w: np.ndarray, diag: np.ndarray, at: np.ndarray,
 
 
 def solve_contact(
-    compliance_mm_per_mpa: np.ndarray | Sequence[np.ndarray],
+    compliance_mm_per_mpa: np.ndarray | Sequence[np.ndarray] | Compliance,
     gap_mm,
     area_mm2,
     load_n: float,
@@ -159,8 +176,9 @@ def solve_contact(
 ) -> ContactSolution:
     """Solve the contact problem of the module docstring.
 
-    ``compliance_mm_per_mpa``: an (n, n) matrix or a list of square blocks (block-diagonal,
-    cells in block order).  ``gap_mm``, ``area_mm2``, ``approach_weight`` (w),
+    ``compliance_mm_per_mpa``: an (n, n) matrix, a list of square blocks (block-diagonal,
+    cells in block order) or a :class:`Compliance` from :func:`prepare_compliance`
+    (checked once; use it when solving many positions on one grid).  ``gap_mm``, ``area_mm2``, ``approach_weight`` (w),
     ``load_weight`` (t): one entry per cell; w defaults to 1, t defaults to w; both must
     be > 0.  ``initial_contact``: optional boolean start set (e.g. the previous mesh
     position); by default an uncoupled-spring estimate.  ``tolerance``: relative tolerance
@@ -177,7 +195,9 @@ def solve_contact(
     tol = checks.positive("tolerance", tolerance)
     if not (isinstance(max_iterations, int) and max_iterations >= 1):
         raise ValueError(f"max_iterations = {max_iterations!r}: must be an integer >= 1")
-    ops = _Blocks(compliance_mm_per_mpa, n)
+    ops = prepare_compliance(compliance_mm_per_mpa)
+    if ops.size != n:
+        raise ValueError(f"compliance covers {ops.size} cells but gap_mm has {n}: they must match")
     at = a * t
     diag = np.concatenate([np.diag(b) for b in ops.blocks])
 
