@@ -1,0 +1,142 @@
+"""Hertz contact: elliptical point contact and the 2-D line-contact limit.
+
+Point contact (Johnson, *Contact Mechanics*, 1985, Sec. 4.2).  Near the first contact
+point the unloaded gap between the two bodies is h = A x^2 + B y^2 in the principal
+axes of relative curvature (A = 1/(2 R_x), B = 1/(2 R_y)).  Under a normal force P the
+contact area is an ellipse with semi-axes a >= b, a along the axis of the smaller
+coefficient, carrying p = p0 sqrt(1 - (x/a)^2 - (y/b)^2).  With e^2 = 1 - b^2/a^2 and the
+complete elliptic integrals K(e), E(e) (modulus e; scipy takes the parameter m = e^2):
+
+    A_small = p0 b (K - E) / (E* e^2 a^2)
+    A_large = p0 b ((a/b)^2 E - K) / (E* e^2 a^2)
+    delta   = p0 b K / E*                      (approach of distant points)
+    P       = 2/3 pi a b p0
+
+The ratio A_large/A_small = ((a/b)^2 E - K)/(K - E) depends on e alone and is solved for
+it; then a^3 = 3 P (K - E) / (2 pi E* A_small e^2).
+
+Line contact (two cylinders, parallel axes, load q per unit length, 1/R = 1/R1 + 1/R2):
+half-width b = sqrt(4 q R / (pi E*)), p0 = 2 q / (pi b).  The approach of a 2-D contact
+is not defined by the local solution (it depends on the bodies' size), so none is given.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import brentq
+from scipy.special import ellipe, ellipkm1
+
+from beveloid.loaded import checks
+
+__all__ = [
+    "HertzPointContact",
+    "HertzLineContact",
+    "relative_curvature_coefficients",
+    "hertz_point_contact",
+    "hertz_line_contact",
+]
+
+
+@dataclass(frozen=True)
+class HertzPointContact:
+    """Hertz elliptical contact: semi-axes (mm), p0 (MPa), approach (mm), eccentricity."""
+
+    semi_major_mm: float
+    semi_minor_mm: float
+    semi_axis_x_mm: float
+    semi_axis_y_mm: float
+    max_pressure_mpa: float
+    approach_mm: float
+    eccentricity: float
+    load_n: float
+
+    @property
+    def area_mm2(self) -> float:
+        return math.pi * self.semi_major_mm * self.semi_minor_mm
+
+
+@dataclass(frozen=True)
+class HertzLineContact:
+    """Hertz 2-D contact: half-width (mm) and p0 (MPa) for a load per unit length (N/mm)."""
+
+    half_width_mm: float
+    max_pressure_mpa: float
+    load_per_length_n_per_mm: float
+
+
+def relative_curvature_coefficients(
+    k1_max_per_mm: float, k1_min_per_mm: float, k2_max_per_mm: float, k2_min_per_mm: float, angle_rad: float
+) -> tuple[float, float]:
+    """(A, B), A <= B, of the gap h = A x^2 + B y^2 from both bodies' principal curvatures.
+
+    Curvatures are positive where a body is convex (centre of curvature inside it);
+    ``angle_rad`` is the angle between the planes of k1_max and k2_max (Johnson Eq. 4.3):
+    A + B = (k1_max + k1_min + k2_max + k2_min)/2,
+    B - A = sqrt(d1^2 + d2^2 + 2 d1 d2 cos 2 angle)/2, d_i = k_i_max - k_i_min.
+    Raises ValueError when A <= 0 (the bodies do not touch at a point from outside).
+    """
+    vals = [float(v) for v in (k1_max_per_mm, k1_min_per_mm, k2_max_per_mm, k2_min_per_mm, angle_rad)]
+    if not all(math.isfinite(v) for v in vals):
+        raise ValueError(f"curvatures and angle = {vals!r}: must all be finite")
+    k1a, k1b, k2a, k2b, psi = vals
+    s = 0.5 * (k1a + k1b + k2a + k2b)
+    d1, d2 = k1a - k1b, k2a - k2b
+    d = 0.5 * math.sqrt(max(d1 * d1 + d2 * d2 + 2.0 * d1 * d2 * math.cos(2.0 * psi), 0.0))
+    a_coef, b_coef = 0.5 * (s - d), 0.5 * (s + d)
+    if not a_coef > 0.0:
+        raise ValueError(
+            f"relative curvature A = {a_coef!r} 1/mm: both coefficients must be > 0 for a point contact"
+        )
+    return a_coef, b_coef
+
+
+def _ratio(q: float) -> tuple[float, float, float, float]:
+    """For b/a = q: (A_large/A_small, K, E, e^2)."""
+    m = 1.0 - q * q
+    k = float(ellipkm1(q * q))  # K(m) with 1 - m = q^2, accurate as q -> 0
+    e = float(ellipe(m))
+    return ((e / (q * q) - k) / (k - e)), k, e, m
+
+
+def hertz_point_contact(
+    a_coef_per_mm: float, b_coef_per_mm: float, load_n: float, e_star_mpa: float
+) -> HertzPointContact:
+    """Hertz contact of the gap h = A x^2 + B y^2 (A, B > 0, 1/mm) under ``load_n``.
+
+    ``e_star_mpa`` from :func:`beveloid.loaded.halfspace.reduced_modulus_mpa`.
+    Valid for ratios max(A, B)/min(A, B) up to 1e10 (b/a down to about 1e-7).
+    """
+    ax, by = checks.positive("a_coef_per_mm", a_coef_per_mm), checks.positive("b_coef_per_mm", b_coef_per_mm)
+    p = checks.positive("load_n", load_n)
+    es = checks.positive("e_star_mpa", e_star_mpa)
+    small, large = min(ax, by), max(ax, by)
+    target = large / small
+    if target > 1e10:
+        raise ValueError(f"curvature ratio {target!r}: must be <= 1e10 (use hertz_line_contact beyond)")
+    if target - 1.0 < 1e-12:
+        q, k, e, m = 1.0, math.pi / 2, math.pi / 2, 0.0
+        k_minus_e_over_m = math.pi / 4  # limit of (K - E)/e^2 as e -> 0
+    else:
+        # ratio(q) falls monotonically from infinity (q -> 0) to 1 (q = 1)
+        lq = brentq(lambda t: math.log(_ratio(math.exp(t))[0] / target), math.log(1e-8), math.log(1.0 - 1e-9),
+                    xtol=1e-15, rtol=1e-14, maxiter=200)
+        q = math.exp(lq)
+        _, k, e, m = _ratio(q)
+        k_minus_e_over_m = (k - e) / m
+    a = (3.0 * p * k_minus_e_over_m / (2.0 * math.pi * es * small)) ** (1.0 / 3.0)
+    b = q * a
+    p0 = 3.0 * p / (2.0 * math.pi * a * b)
+    delta = p0 * b * k / es
+    ax_x, ax_y = (a, b) if ax <= by else (b, a)
+    return HertzPointContact(a, b, ax_x, ax_y, p0, delta, math.sqrt(m), p)
+
+
+def hertz_line_contact(radius_mm: float, load_per_length_n_per_mm: float, e_star_mpa: float) -> HertzLineContact:
+    """Hertz 2-D contact of relative radius R (1/R = 1/R1 + 1/R2) under q (N/mm)."""
+    r = checks.positive("radius_mm", radius_mm)
+    q = checks.positive("load_per_length_n_per_mm", load_per_length_n_per_mm)
+    es = checks.positive("e_star_mpa", e_star_mpa)
+    b = math.sqrt(4.0 * q * r / (math.pi * es))
+    return HertzLineContact(b, 2.0 * q / (math.pi * b), q)

@@ -1,0 +1,262 @@
+"""Tooth bending, shear and root (foundation) compliance as influence coefficients.
+
+Model (derivation and limits in docs/loaded_contact.md):
+
+* **Thin slice.**  A slice of the tooth of width dz (along the face) is a cantilever
+  along the tooth centreline, clamped at the root section (radius r_f), of thickness s(r)
+  (chordal thickness at radius r), in plane strain (E' = E/(1 - nu^2), G = E/(2(1 + nu))).
+  A unit normal force at flank point j acts along its line of action, which crosses the
+  centreline at radius r_Fj under the angle alpha_j to the centreline's normal (bending
+  component cos alpha_j, compressive component sin alpha_j).  By the unit-load method
+  (Castigliano, hence Maxwell-symmetric) the deflection at point i, along its own normal,
+  per unit force at j and per unit face width is
+
+      g_ij = cos a_i cos a_j [ int 12 (r_Fi - r)(r_Fj - r) / (E' s^3) dr + int k / (G s) dr ]
+             + sin a_i sin a_j int 1 / (E' s) dr
+             + cos a_i cos a_j l_i l_j 16 / (pi E' s_f^2)
+
+  with the integrals from r_f to min(r_Fi, r_Fj), k = 1.2 (shear coefficient of a
+  rectangle), l = r_F - r_f the lever arm and s_f the root thickness.  The last term is
+  the rotation of the root section taken as a rigid strip on an elastic half-plane
+  (theta = 16 M / (pi E' s_f^2); Weber's fillet-foundation term has 16.67/pi).
+
+* **Face coupling.**  Neighbouring slices are not independent: a point load deflects the
+  tooth over a length of the order of its height.  The slices are coupled like a string
+  on an elastic foundation, u - lambda^2 u'' = g q on 0 <= z <= L with free ends
+  (u' = 0), whose Green's function is
+
+      G(z, z') = cosh(z_< / lambda) cosh((L - z_>) / lambda) / (lambda sinh(L / lambda)).
+
+  int G dz' = 1, so a uniform line load gives exactly the thin-slice deflection; a load at
+  a free end deflects it twice as much as in mid-face.  lambda = 0 is the uncoupled thin
+  slice.  :func:`plate_coupling_length_mm` gives lambda = h sqrt(2 (1 - nu) / 3), a
+  Rayleigh-Ritz estimate for a cantilever plate of height h (twisting energy against
+  bending energy with a quadratic deflection shape).
+
+Cells of a contact grid are the tensor product of profile points (on the flank, outer
+index) and face cells (inner index), the order of ``halfspace.tensor_grid`` with x along
+the profile and y along the face.  Units: mm, N, MPa.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from beveloid.loaded import checks
+from beveloid.loaded.halfspace import STEEL_E_MPA, STEEL_NU
+
+__all__ = [
+    "SHEAR_COEFFICIENT",
+    "ToothSection",
+    "LoadPoints",
+    "involute_tooth_section",
+    "involute_load_points",
+    "slice_compliance_mm2_per_n",
+    "plate_coupling_length_mm",
+    "face_coupling_per_mm",
+    "tooth_influence_mm_per_mpa",
+]
+
+SHEAR_COEFFICIENT = 1.2  # rectangular cross-section
+
+
+@dataclass(frozen=True)
+class ToothSection:
+    """A tooth slice as a cantilever: chordal thickness (mm) at radii (mm) from the root section up."""
+
+    radius_mm: np.ndarray
+    thickness_mm: np.ndarray
+
+    @property
+    def root_radius_mm(self) -> float:
+        return float(self.radius_mm[0])
+
+    @property
+    def root_thickness_mm(self) -> float:
+        return float(self.thickness_mm[0])
+
+
+@dataclass(frozen=True)
+class LoadPoints:
+    """Where each flank point's normal line crosses the centreline, and its angle to the centreline's normal."""
+
+    centreline_radius_mm: np.ndarray
+    load_angle_rad: np.ndarray
+
+
+def _involute(alpha):
+    return np.tan(alpha) - alpha
+
+
+def _half_angle(module_mm, teeth, alpha_n, shift, r_mm):
+    """Half the angular tooth thickness at radius r >= r_b (involute, standard rack)."""
+    r_p = 0.5 * module_mm * teeth
+    r_b = r_p * math.cos(alpha_n)
+    alpha_r = np.arccos(np.clip(r_b / r_mm, -1.0, 1.0))
+    half_pitch_thickness = (math.pi / 2 + 2 * shift * math.tan(alpha_n)) / teeth
+    return half_pitch_thickness + _involute(alpha_n) - _involute(alpha_r)
+
+
+def _check_gear(module_mm, teeth, pressure_angle_rad, profile_shift):
+    m = checks.positive("module_mm", module_mm)
+    if not (isinstance(teeth, int) and 6 <= teeth <= 400):
+        raise ValueError(f"teeth = {teeth!r}: must be an integer from 6 to 400")
+    a = float(pressure_angle_rad)
+    if not (math.radians(10) <= a <= math.radians(35)):
+        raise ValueError(f"pressure_angle_rad = {pressure_angle_rad!r}: must be from 0.1745 to 0.6109 (10 to 35 deg)")
+    x = float(profile_shift)
+    if not (math.isfinite(x) and -1.5 <= x <= 1.5):
+        raise ValueError(f"profile_shift = {profile_shift!r}: must be a number from -1.5 to 1.5")
+    return m, a, x
+
+
+def involute_tooth_section(
+    module_mm: float,
+    teeth: int,
+    pressure_angle_rad: float = math.radians(20.0),
+    profile_shift: float = 0.0,
+    addendum_coefficient: float = 1.0,
+    dedendum_coefficient: float = 1.25,
+    stations: int = 2000,
+) -> ToothSection:
+    """Transverse section of a standard external spur tooth (no fillet).
+
+    Involute above the base circle; below it (down to the root circle) the flank is taken
+    radial (constant angular thickness): the trochoidal fillet is not modelled, which
+    makes the root a little thinner, hence the tooth a little softer, than the real one.
+    """
+    m, a, x = _check_gear(module_mm, teeth, pressure_angle_rad, profile_shift)
+    ha = checks.positive("addendum_coefficient", addendum_coefficient)
+    hf = checks.positive("dedendum_coefficient", dedendum_coefficient)
+    if not (isinstance(stations, int) and stations >= 20):
+        raise ValueError(f"stations = {stations!r}: must be an integer >= 20")
+    r_p = 0.5 * m * teeth
+    r_b = r_p * math.cos(a)
+    r_a = r_p + (ha + x) * m
+    r_f = r_p - (hf - x) * m
+    if not r_f > 0.0:
+        raise ValueError(f"dedendum_coefficient = {dedendum_coefficient!r}: root radius {r_f!r} mm must be > 0")
+    r = np.linspace(r_f, r_a, stations)
+    psi = _half_angle(m, teeth, a, x, np.maximum(r, r_b))
+    if np.any(psi <= 0.0):
+        raise ValueError(f"addendum_coefficient = {addendum_coefficient!r}: the tooth comes to a point below the tip")
+    thickness = 2.0 * r * np.sin(psi)
+    return ToothSection(radius_mm=r, thickness_mm=thickness)
+
+
+def involute_load_points(
+    module_mm: float, teeth: int, radius_mm, pressure_angle_rad: float = math.radians(20.0), profile_shift: float = 0.0
+) -> LoadPoints:
+    """Load lines of involute flank points at the given radii (each >= the base radius).
+
+    The normal of the involute at radius r is tangent to the base circle; it makes the
+    angle alpha' = alpha_r - psi_r with the normal of the tooth centreline (alpha_r the
+    pressure angle at r, psi_r the half angular thickness) and crosses the centreline at
+    r_F = r_b / cos(alpha').
+    """
+    m, a, x = _check_gear(module_mm, teeth, pressure_angle_rad, profile_shift)
+    r = checks.finite_array("radius_mm", np.atleast_1d(radius_mm))
+    r_b = 0.5 * m * teeth * math.cos(a)
+    if np.any(r < r_b * (1 - 1e-12)):
+        raise ValueError(f"radius_mm has minimum {float(r.min())!r}: every radius must be >= the base radius {r_b!r} mm")
+    alpha_r = np.arccos(np.clip(r_b / r, -1.0, 1.0))
+    load_angle = alpha_r - _half_angle(m, teeth, a, x, r)
+    return LoadPoints(centreline_radius_mm=r_b / np.cos(load_angle), load_angle_rad=load_angle)
+
+
+def _cumulative(y: np.ndarray, f: np.ndarray) -> np.ndarray:
+    """Cumulative trapezoid integral of f over y, starting at 0."""
+    return np.concatenate([[0.0], np.cumsum(0.5 * (f[1:] + f[:-1]) * np.diff(y))])
+
+
+def slice_compliance_mm2_per_n(
+    section: ToothSection, load: LoadPoints, e_mpa: float = STEEL_E_MPA, nu: float = STEEL_NU
+) -> np.ndarray:
+    """g[i, j]: deflection (mm) along normal i per unit force (N) per unit face width (mm) at j.
+
+    Symmetric.  Load lines must cross the centreline between the root and the tip radius.
+    """
+    e = checks.positive("e_mpa", e_mpa)
+    v = checks.poisson("nu", nu)
+    e_ps = e / (1.0 - v * v)
+    g_mod = e / (2.0 * (1.0 + v))
+    r, s = section.radius_mm, section.thickness_mm
+    rf = load.centreline_radius_mm
+    if np.any(rf <= r[0]) or np.any(rf > r[-1]):
+        raise ValueError(
+            f"load centreline radii from {float(rf.min())!r} to {float(rf.max())!r} mm: "
+            f"must lie in ({r[0]!r}, {r[-1]!r}] (root to tip)"
+        )
+    y = r - r[0]
+    inv_i = 12.0 / (e_ps * s**3)
+    j0, j1, j2 = (_cumulative(y, y**k * inv_i) for k in (0, 1, 2))
+    shear = _cumulative(y, SHEAR_COEFFICIENT / (g_mod * s))
+    axial = _cumulative(y, 1.0 / (e_ps * s))
+    yf = rf - r[0]  # lever arms
+    ym = np.minimum(yf[:, None], yf[None, :])
+
+    def at(table):
+        return np.interp(ym, y, table)
+
+    c, sn = np.cos(load.load_angle_rad), np.sin(load.load_angle_rad)
+    bending = yf[:, None] * yf[None, :] * at(j0) - (yf[:, None] + yf[None, :]) * at(j1) + at(j2)
+    foundation = 16.0 * yf[:, None] * yf[None, :] / (math.pi * e_ps * s[0] ** 2)
+    cc = c[:, None] * c[None, :]
+    return cc * (bending + at(shear) + foundation) + sn[:, None] * sn[None, :] * at(axial)
+
+
+def plate_coupling_length_mm(height_mm: float, nu: float = STEEL_NU) -> float:
+    """lambda = h sqrt(2 (1 - nu)/3): Rayleigh-Ritz coupling length of a cantilever plate of height h."""
+    h = checks.positive("height_mm", height_mm)
+    v = checks.poisson("nu", nu)
+    return h * math.sqrt(2.0 * (1.0 - v) / 3.0)
+
+
+def _antiderivative(z: np.ndarray, zp: np.ndarray, length: float, lam: float) -> np.ndarray:
+    """F(z, z') with dF/dz' = G(z, z'), F(z, 0) = 0, written with decaying exponentials only."""
+    big = length / lam
+    den = 2.0 * (1.0 - np.exp(-2.0 * big))
+    x_lo = np.minimum(zp, z) / lam  # z' <= z branch: sinh(z'/l) cosh((L - z)/l) / sinh(L/l)
+    y_lo = (length - z) / lam
+    below = np.exp((np.minimum(zp, z) - z) / lam) * (1 - np.exp(-2 * x_lo)) * (1 + np.exp(-2 * y_lo)) / den
+    x_hi = z / lam  # z' > z branch: 1 - cosh(z/l) sinh((L - z')/l) / sinh(L/l)
+    y_hi = (length - np.maximum(zp, z)) / lam
+    above = 1.0 - np.exp((z - np.maximum(zp, z)) / lam) * (1 + np.exp(-2 * x_hi)) * (1 - np.exp(-2 * y_hi)) / den
+    return np.where(zp <= z, below, above)
+
+
+def face_coupling_per_mm(z_mm, half_dz_mm, face_width_mm: float, coupling_length_mm: float) -> np.ndarray:
+    """K[a, b] = (1/dz_b) int over face cell b of G(z_a, z') dz' (1/mm).
+
+    z in [0, face_width_mm]; cells must lie inside the face.  Multiplied by a slice
+    compliance g (mm^2/N) and a force on cell b it gives the deflection at z_a.
+    ``coupling_length_mm = 0`` gives uncoupled slices (K = diag(1/dz)).
+    """
+    z = checks.finite_array("z_mm", z_mm)
+    hz = checks.finite_array("half_dz_mm", half_dz_mm, z.size, positive_only=True)
+    length = checks.positive("face_width_mm", face_width_mm)
+    lam = float(coupling_length_mm)
+    if not (math.isfinite(lam) and lam >= 0.0):
+        raise ValueError(f"coupling_length_mm = {coupling_length_mm!r}: must be a finite number >= 0")
+    lo, hi = z - hz, z + hz
+    if np.any(lo < -1e-9 * length) or np.any(hi > length * (1 + 1e-9)):
+        raise ValueError(f"z_mm +- half_dz_mm spans {float(lo.min())!r} to {float(hi.max())!r}: must lie in [0, {length!r}]")
+    if lam == 0.0:
+        return np.diag(1.0 / (2.0 * hz))
+    zz = z[:, None]
+    k = _antiderivative(zz, np.clip(hi, 0, length)[None, :], length, lam) - _antiderivative(zz, np.clip(lo, 0, length)[None, :], length, lam)
+    return k / (2.0 * hz)[None, :]
+
+
+def tooth_influence_mm_per_mpa(slice_mm2_per_n: np.ndarray, coupling_per_mm: np.ndarray, area_mm2) -> np.ndarray:
+    """Deflection (mm) at cell (i, a) per MPa on cell (j, b): g[i, j] K[a, b] area[(j, b)].
+
+    Cells ordered profile-major (cell = i * n_face + a).  Add the matrices of both
+    teeth of a pair to the half-space matrix of its contact grid.
+    """
+    g = np.asarray(slice_mm2_per_n, dtype=float)
+    k = np.asarray(coupling_per_mm, dtype=float)
+    a = checks.finite_array("area_mm2", area_mm2, g.shape[0] * k.shape[0], positive_only=True)
+    return np.kron(g, k) * a[None, :]
