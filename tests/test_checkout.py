@@ -57,3 +57,13 @@ def test_runtime_has_no_import_cycles():
     for node in sorted(graph):
         if node not in state:
             visit(node, [])
+
+
+def test_every_runtime_package_is_installed():
+    """pyproject.toml lists packages by name: a new beveloid/ subpackage must be listed too."""
+    import tomllib
+
+    listed = set(tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]["packages"])
+    present = {".".join(p.parent.relative_to(ROOT).parts) for p in (ROOT / "beveloid").rglob("__init__.py")}
+    assert present <= listed, f"not installed by pip install .: {sorted(present - listed)}"
+    assert {"beveloid.derivations", "beveloid.generated"} <= listed
