@@ -193,7 +193,9 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _error(message: str) -> int:
-    one_line = " ".join(str(message).split())
+    from .spec import printable
+
+    one_line = printable(" ".join(str(message).split()))  # no raw control characters on the terminal
     print(f"{PROG}: error: {one_line}", file=sys.stderr)
     return 2
 

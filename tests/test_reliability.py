@@ -1,0 +1,222 @@
+"""Issue 14: reliability and first-use defects.  One test (or more) per item; the fuzz test is
+in test_fuzz_cli.py.  CLI tests call ``beveloid.cli.main`` in-process."""
+from __future__ import annotations
+
+import copy
+import json
+import math
+import os
+import re
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from beveloid import cli
+from beveloid.design import DesignError, design, pitch_point_margins
+from beveloid.spec import (
+    MAX_SPEC_BYTES,
+    SpecError,
+    load_spec,
+    spec_from_dict,
+    spec_to_dict,
+)
+
+REPO = Path(__file__).resolve().parent.parent
+C1 = str(REPO / "examples" / "case1.toml")
+CASE1_TEXT = (REPO / "examples" / "case1.toml").read_text(encoding="utf-8")
+
+
+def run_cli(capsys, argv):
+    """(exit status, stdout, stderr) of an in-process CLI call."""
+    rc = cli.main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return rc, out, err
+
+
+def assert_one_line_exit_2(rc, err, *fragments):
+    assert rc == 2, err
+    lines = err.splitlines()
+    assert len(lines) == 1, err
+    assert lines[0].startswith("beveloid"), err
+    assert "Traceback" not in err
+    for f in fragments:
+        assert f in lines[0], (f, lines[0])
+    return lines[0]
+
+
+def case1_with(tmp_path, name="spec.toml", **replace):
+    """case1.toml with whole lines 'key = ...' replaced (first occurrence)."""
+    text = CASE1_TEXT
+    for key, value in replace.items():
+        text, n = re.subn(rf"^{key} = [^\n#]*", f"{key} = {value}", text, count=1, flags=re.M)
+        assert n == 1, key
+    path = tmp_path / name
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+# ---------------------------------------------------------------------------------------------
+# 8: infeasible designs are rejected by design(), with key, value and a direction
+# ---------------------------------------------------------------------------------------------
+
+
+def test_8_pitch_point_below_the_active_profile_is_rejected(tmp_path):
+    path = case1_with(tmp_path, offset_mm="1.0")
+    with pytest.raises(DesignError) as info:
+        design(load_spec(path))
+    msg = str(info.value)
+    assert "\n" not in msg
+    assert "pair.offset_mm = 1.0" in msg and "alpha_nw = 4.2381 deg" in msg
+    assert "below the start of the active profile" in msg and "increase pair.offset_mm" in msg
+    assert "pair.offset_mm" in info.value.keys
+
+
+def test_8_pitch_point_above_the_tip_is_rejected():
+    d = spec_to_dict(load_spec(C1))
+    d["pinion"]["profile_shift"] = -1.2
+    with pytest.raises(DesignError, match=r"above the tip \(tip circle [\d.]+ mm\) of the pinion teeth.*"
+                                          r"reduce pair\.offset_mm"):
+        design(spec_from_dict(d))
+
+
+def test_8_feasibility_check_agrees_with_the_tca_boundaries(monkeypatch):
+    """The design's pitch-point check (closed form) and the TCA's flank boundaries (generated surfaces)
+    agree on whether the aligned contact at P is on both members' flanks, on random designs."""
+    from beveloid import tca
+
+    import beveloid.design as dmod
+
+    real_check = dmod._check_pitch_point
+    monkeypatch.setattr(dmod, "_check_pitch_point", lambda *a: None)
+    rng = np.random.default_rng(5)
+    base = spec_to_dict(load_spec(C1))
+    seen = {True: 0, False: 0}
+    for _ in range(120):
+        d = copy.deepcopy(base)
+        d["pair"]["offset_mm"] = float(rng.uniform(1, 400))
+        d["pinion"]["profile_shift"] = float(rng.uniform(-1, 1))
+        d["pinion"]["teeth"] = int(rng.integers(10, 60))
+        d["gear"]["teeth"] = int(rng.integers(10, 80))
+        d["pinion"]["reference_section_offset_mm"] = float(rng.uniform(-20, 20))
+        try:
+            r = design(spec_from_dict(d))
+        except DesignError:
+            continue
+        on_profile = all(form <= r_w <= tip for m in (r.pinion, r.gear)
+                         for form, tip, r_w in pitch_point_margins(m).values())
+        try:
+            for m in (r.pinion, r.gear):
+                real_check(r.spec, m, r.working_normal_pressure_angle)
+            accepted = True
+        except DesignError:
+            accepted = False
+        assert accepted == on_profile
+        geom = tca.PairGeometry.from_design(r)
+        margins = [float(tca.boundary_margins(geom, fl, tca.reference_contact(geom, fl).x[None])[0][0])
+                   for fl in tca.FLANKS]
+        assert (min(margins) >= -1e-6) == accepted, (margins, accepted)
+        seen[accepted] += 1
+    assert seen[True] >= 10 and seen[False] >= 10, seen
+
+
+def test_8_sweep_and_tca_on_the_issue_example_exit_2(capsys, tmp_path):
+    path = case1_with(tmp_path, offset_mm="1.0")
+    for argv in (["design", path], ["tca", path, "--positions", "5"],
+                 ["sweep", path, "--samples", "2", "--positions", "3"]):
+        rc, _, err = run_cli(capsys, argv)
+        assert_one_line_exit_2(rc, err, "pair.offset_mm = 1.0", "pitch point P")
+
+
+# ---------------------------------------------------------------------------------------------
+# 13: huge numbers: no warning, a true message
+# ---------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("value", ["1e300", "1.7e308", "1000000.5"])
+def test_13_huge_offset_is_a_range_error_without_warnings(capsys, tmp_path, value):
+    path = case1_with(tmp_path, offset_mm=value)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # any RuntimeWarning fails the test
+        rc, _, err = run_cli(capsys, ["design", path])
+    assert_one_line_exit_2(rc, err, "pair.offset_mm = ", "must be a number > 0 and <= 1000000 (mm)")
+
+
+def test_13_offset_too_large_quotes_the_true_reachable_range():
+    """Near the new bound the message's E range comes from Eq 17 itself, not from E(alpha) - E + E."""
+    d = spec_to_dict(load_spec(C1))
+    d["pair"]["offset_mm"] = 999_999.0
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(DesignError) as info:
+            design(spec_from_dict(d))
+    m = re.search(r"Eq 17 gives E from ([\d.e+-]+) to ([\d.e+-]+) mm", str(info.value))
+    assert m, str(info.value)
+    lo, hi = float(m.group(1)), float(m.group(2))
+    assert 0 <= lo < hi and hi == pytest.approx(545.767, abs=1e-3), (lo, hi)  # not "from 0 to 0"
+    assert f"at most {m.group(2)} mm" in str(info.value)
+
+
+# ---------------------------------------------------------------------------------------------
+# 14: only regular files, bounded read
+# ---------------------------------------------------------------------------------------------
+
+
+def test_14_dev_zero_and_fifo_are_refused_quickly(capsys, tmp_path):
+    fifo = tmp_path / "pipe.toml"
+    os.mkfifo(fifo)
+    for target, kind in (("/dev/zero", "a device"), (fifo, "a FIFO"), (tmp_path, "a folder")):
+        t0 = time.perf_counter()
+        rc, _, err = run_cli(capsys, ["design", target])
+        assert time.perf_counter() - t0 < 5
+        assert_one_line_exit_2(rc, err, str(target), f"it is {kind}", "regular TOML file")
+
+
+def test_14_oversized_file_is_refused(capsys, tmp_path):
+    path = tmp_path / "big.toml"
+    path.write_bytes(CASE1_TEXT.encode() + b"#" * (MAX_SPEC_BYTES + 10))
+    rc, _, err = run_cli(capsys, ["tca", path])
+    assert_one_line_exit_2(rc, err, f"more than the {MAX_SPEC_BYTES} bytes")
+
+
+# ---------------------------------------------------------------------------------------------
+# 16: smaller ones
+# ---------------------------------------------------------------------------------------------
+
+
+def test_16_utf8_bom_is_accepted(tmp_path):
+    path = tmp_path / "bom.toml"
+    path.write_bytes(b"\xef\xbb\xbf" + CASE1_TEXT.encode())
+    assert load_spec(path) == load_spec(C1)
+
+
+def test_16_control_characters_in_keys_are_escaped(capsys, tmp_path):
+    path = tmp_path / "nul.toml"
+    path.write_text(CASE1_TEXT.replace("teeth = 29 ", '"te\\u0000e\\u001b[31mth" = 29 ', 1), encoding="utf-8")
+    rc, _, err = run_cli(capsys, ["design", path])
+    line = assert_one_line_exit_2(rc, err, r"pinion.te\x00e\x1b[31mth: unknown key", "did you mean teeth?")
+    assert line.isprintable()
+
+
+def test_16_dates_are_shown_as_dates(tmp_path):
+    path = case1_with(tmp_path, teeth="1979-05-27")
+    with pytest.raises(SpecError) as info:
+        load_spec(path)
+    assert "pinion.teeth = 1979-05-27 (a date): must be an integer from 6 to 400" in str(info.value)
+    assert "datetime" not in str(info.value)
+
+
+@pytest.mark.parametrize("line, words", [
+    ("title = 1", ["title = 1: unknown top-level key", "[pair], [pinion]"]),
+    ("teeth = 29", ["teeth = 29: unknown top-level key", "teeth belongs in [pinion] or [gear]"]),
+    ("[extra]", ["extra: unknown section", "valid sections are: pair"]),
+])
+def test_16_top_level_keys_are_not_called_sections(tmp_path, line, words):
+    path = tmp_path / "top.toml"
+    path.write_text(line + "\n" + CASE1_TEXT if not line.startswith("[") else CASE1_TEXT + "\n" + line + "\n")
+    with pytest.raises(SpecError) as info:
+        load_spec(path)
+    for w in words:
+        assert w in str(info.value)
