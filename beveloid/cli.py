@@ -113,12 +113,11 @@ def _run_paper(args: argparse.Namespace) -> int:
     """Reproduce Table 1 and the studies of Figs 10-22 into DIR (PNG, CSV, report.md)."""
     from .reproduction import run
 
+    from .cli_paths import check_output_dir
+
     if not 10 <= args.positions <= 5000:
         raise UserError(f"--positions = {args.positions}: must be an integer from 10 to 5000")
-    from pathlib import Path
-
-    if Path(args.out).exists() and not Path(args.out).is_dir():
-        raise UserError(f"--out = {args.out}: exists and is not a folder; give a new or existing folder")
+    check_output_dir(args.out, "--out")
     try:
         run(args.out, positions=args.positions)
     except OSError as exc:

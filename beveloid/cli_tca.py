@@ -13,6 +13,7 @@ import math
 
 import numpy as np
 
+from .cli_paths import check_output_file
 from .errors import UserError
 
 
@@ -35,21 +36,6 @@ FLAG_OF_KEY = {"dx_mm": "--dx", "dy_mm": "--dy", "dz_mm": "--dz", "vertical_deg"
                "horizontal_deg": "--horizontal"}
 
 
-def check_png_path(path, flag):
-    """A plot target must end in .png and its folder must exist and be writable."""
-    import os
-    from pathlib import Path
-
-    p = Path(path)
-    if p.suffix.lower() != ".png":
-        raise UserError(f"{flag} = {path}: the plot is written as PNG; give a file name ending in .png")
-    folder = p.parent if str(p.parent) else Path(".")
-    if not folder.is_dir():
-        raise UserError(f"{flag} = {path}: the folder {folder} does not exist; create it or choose another")
-    if not os.access(folder, os.W_OK):
-        raise UserError(f"{flag} = {path}: the folder {folder} is not writable; choose another")
-
-
 def error_vector(spec) -> np.ndarray:
     m = spec.misalignment
     return np.array([m.dx_mm, m.dy_mm, m.dz_mm, math.radians(m.vertical_deg), math.radians(m.horizontal_deg)])
@@ -69,8 +55,8 @@ def run(args: argparse.Namespace) -> int:
         raise UserError(f"--positions = {args.positions}: must be an integer from 3 to 100000")
     if args.pairs < 1 or args.pairs > 9 or args.pairs % 2 == 0:
         raise UserError(f"--pairs = {args.pairs}: must be an odd integer from 1 to 9")
-    if args.plot:
-        check_png_path(args.plot, "--plot")
+    if args.plot is not None:
+        check_output_file(args.plot, "--plot", ".png")
     spec = load_spec(args.file)
     try:
         spec = misalignment_with(spec, dx_mm=args.dx, dy_mm=args.dy, dz_mm=args.dz,
@@ -83,10 +69,13 @@ def run(args: argparse.Namespace) -> int:
     geom = tca.PairGeometry.from_design(design(spec))
     flanks = tca.FLANKS if args.flank == "both" else (args.flank,)
     result = tca.analyze(geom, error_vector(spec), flanks=flanks, positions=args.positions, pairs=args.pairs)
-    if args.plot:
+    if args.plot is not None:
         from .plots import tca_summary
 
-        tca_summary(result, geom, args.plot, title=f"{spec.source}: {_errors_label(spec)}")
+        try:
+            tca_summary(result, geom, args.plot, title=f"{spec.source}: {_errors_label(spec)}")
+        except OSError as exc:  # checked before; the target changed during the computation
+            raise UserError(f"--plot = {args.plot}: cannot write there ({exc.strerror or exc})") from None
     if args.json:
         print(json.dumps(result.to_json_dict(), allow_nan=False))
     else:

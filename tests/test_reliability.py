@@ -220,3 +220,81 @@ def test_16_top_level_keys_are_not_called_sections(tmp_path, line, words):
         load_spec(path)
     for w in words:
         assert w in str(info.value)
+
+
+# ---------------------------------------------------------------------------------------------
+# 10, 11: every output target is checked before any computation
+# ---------------------------------------------------------------------------------------------
+
+
+def _targets(tmp_path):
+    folder = tmp_path / "existing_folder.png"
+    folder.mkdir()
+    ro_file = tmp_path / "readonly.png"
+    ro_file.write_bytes(b"")
+    ro_file.chmod(0o444)
+    ro_dir = tmp_path / "ro_dir"
+    ro_dir.mkdir()
+    ro_dir.chmod(0o555)
+    a_file = tmp_path / "a_file"
+    a_file.write_text("x")
+    return folder, ro_file, ro_dir, a_file
+
+
+@pytest.fixture
+def targets(tmp_path):
+    t = _targets(tmp_path)
+    yield t
+    t[2].chmod(0o755)
+
+
+def _no_compute(monkeypatch):
+    """Any design or TCA during the call fails the test: the target must be refused first."""
+    def boom(*a, **k):
+        raise AssertionError("computed before checking the output target")
+    monkeypatch.setattr("beveloid.design.design", boom)
+    monkeypatch.setattr("beveloid.reproduction.run", boom)
+
+
+ROOT = os.geteuid() == 0  # root may write anywhere: the permission cases only apply to other users
+
+
+def test_10_plot_targets_are_refused_before_computing(capsys, monkeypatch, tmp_path, targets):
+    folder, ro_file, ro_dir, a_file = targets
+    _no_compute(monkeypatch)
+    cases = [
+        (folder, "is a folder"),
+        *([] if ROOT else [(ro_file, "the file exists and is not writable"), (ro_dir / "x.png", "is not writable")]),
+        (tmp_path / ("n" * 300 + ".png"), "more than the 255"),
+        ("", "an empty name"),
+        (a_file / "x.png", "does not exist"),
+        (tmp_path / "plot.svg", "ending in .png"),
+    ]
+    for target, words in cases:
+        rc, _, err = run_cli(capsys, ["tca", C1, "--positions", "3", "--plot", target])
+        assert_one_line_exit_2(rc, err, "--plot = ", words)
+
+
+def test_10_11_out_targets_are_refused_before_computing(capsys, monkeypatch, tmp_path, targets):
+    folder, ro_file, ro_dir, a_file = targets
+    _no_compute(monkeypatch)
+    cases = [
+        ("", "an empty name"),  # item 11: used to write 23 files into the current folder
+        ("   ", "an empty name"),
+        (a_file, "exists and is not a folder"),
+        *([] if ROOT else [(ro_dir, "is not writable"), (ro_dir / "new" / "deeper", "is not writable")]),
+        (tmp_path / ("d" * 256), "more than the 255"),
+    ]
+    for target, words in cases:
+        rc, _, err = run_cli(capsys, ["paper", "--out", target])
+        assert_one_line_exit_2(rc, err, "--out = ", words)
+
+
+def test_10_every_output_flag_of_every_command_is_checked():
+    """The flags that name an output (--plot, --out) are exactly the ones this module checks; a new one
+    must be added to the checks (and to the tests above)."""
+    parser = cli.build_parser()
+    sub = next(a for a in parser._actions if a.dest == "command")
+    outputs = {(name, opt) for name, p in sub.choices.items() for a in p._actions for opt in a.option_strings
+               if opt in ("--plot", "--out", "--output", "-o", "--png", "--csv")}
+    assert outputs == {("tca", "--plot"), ("paper", "--out")}
