@@ -23,6 +23,8 @@ from collections.abc import Callable, Sequence
 from .errors import UserError
 from .cli_design import configure as _design_configure
 from .cli_design import run as _design_run
+from .cli_example import configure as _example_configure
+from .cli_example import run as _example_run
 from .cli_sweep import configure as _sweep_configure
 from .cli_sweep import run as _sweep_run
 from .cli_tca import configure as _tca_configure
@@ -149,6 +151,7 @@ COMMANDS: dict[str, tuple[Configure, Run]] = {
     "tca": (_tca_configure, _tca_run),
     "paper": (_configure_paper, _run_paper),
     "sweep": (_sweep_configure, _sweep_run),
+    "example": (_example_configure, _example_run),
 }
 
 

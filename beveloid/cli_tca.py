@@ -18,7 +18,7 @@ from .errors import UserError
 
 
 def configure(p: argparse.ArgumentParser) -> None:
-    p.add_argument("file", metavar="FILE", help="TOML design spec (see examples/case1.toml)")
+    p.add_argument("file", metavar="FILE", help="TOML design spec (`beveloid example case1` prints one)")
     p.add_argument("--dx", type=float, metavar="MM", help="gear offset error dx_q (mm); overrides [misalignment]")
     p.add_argument("--dy", type=float, metavar="MM", help="gear offset error dy_q (mm)")
     p.add_argument("--dz", type=float, metavar="MM", help="gear offset error dz_q (mm)")

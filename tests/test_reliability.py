@@ -298,3 +298,158 @@ def test_10_every_output_flag_of_every_command_is_checked():
     outputs = {(name, opt) for name, p in sub.choices.items() for a in p._actions for opt in a.option_strings
                if opt in ("--plot", "--out", "--output", "-o", "--png", "--csv")}
     assert outputs == {("tca", "--plot"), ("paper", "--out")}
+
+
+# ---------------------------------------------------------------------------------------------
+# 3, 4, 9, 12: sweep
+# ---------------------------------------------------------------------------------------------
+
+WIDE = ["--dx-max", "9.99", "--dy-max", "9.99", "--dz-max", "9.99", "--vertical-max", "4.99",
+        "--horizontal-max", "4.99"]
+
+
+def test_3_sweep_text_gives_counts_per_status_and_sets_behind_each_statistic(capsys):
+    argv = ["sweep", C1, "--samples", "400", "--positions", "5", *WIDE]
+    rc, text, _ = run_cli(capsys, argv)
+    assert rc == 0
+    rc, out, _ = run_cli(capsys, argv + ["--json"])
+    o = json.loads(out)
+    counts = o["status_counts"]
+    assert counts["failed"] > 0 and counts["outside"] > 0  # the wide ranges do produce failures
+    for status in ("ok", "edge", "outside", "failed"):
+        assert re.search(rf"\b{counts[status]} {status} \(", text), status
+    n = o["pinion_path_shift_mm"]["count"]
+    assert n == o["sets_with_contact"] < 400
+    for name in ("pinion path shift", "gear path shift"):
+        assert re.search(rf"{name} .* {n} of 400 sets$", text, flags=re.M), name
+    assert 0 < n
+    assert re.search(rf"TE peak-to-peak .* {o['te_peak_to_peak_urad']['count']} of 400 sets$", text, flags=re.M)
+    assert f"with failed points: {o['sets_with_failed_points']} of 400" in text
+
+
+def test_4_sweep_draws_about_the_files_misalignment(capsys, tmp_path):
+    path = case1_with(tmp_path, dx_mm="0.02", vertical_deg="-0.004")
+    tiny = [f"--{k}-max" for k in ("dx", "dy", "dz", "vertical", "horizontal")]
+    tiny = [a for flag in tiny for a in (flag, "0.0001")]
+    rc, out, _ = run_cli(capsys, ["sweep", path, "--samples", "20", "--positions", "4", *tiny, "--json"])
+    assert rc == 0
+    o = json.loads(out)
+    assert o["nominal_errors"] == {"dx_mm": 0.02, "dy_mm": 0.0, "dz_mm": 0.0, "vertical_deg": -0.004,
+                                   "horizontal_deg": 0.0}
+    rc, text, _ = run_cli(capsys, ["sweep", path, "--samples", "20", "--positions", "4"])
+    assert "nominal errors (the file's [misalignment]): dx_mm 0.02, dy_mm 0, dz_mm 0, vertical_deg -0.004" in text
+    # the sets really lie about the nominal: the mean path shift is the first-order shift of the nominal
+    sens = o["sensitivity"]["pinion_axial_shift_mm_per_unit"]
+    expect = 0.02 * sens["dx_mm"] - 0.004 * sens["vertical_deg"]
+    assert abs(expect) > 0.5
+    assert o["pinion_path_shift_mm"]["mean"] == pytest.approx(expect, rel=0.05)
+    from beveloid import sweep as sw
+
+    e = sw.draw_errors(500, {"dx_mm": 0.05, "vertical_deg": 0.01}, 0, {"dx_mm": 0.4, "vertical_deg": -0.1})
+    assert np.all(np.abs(e[:, 0] - 0.4) <= 0.05) and np.all(np.abs(np.degrees(e[:, 3]) + 0.1) <= 0.01 + 1e-12)
+    path = case1_with(tmp_path, "far.toml", dx_mm="0.4")
+    rc, _, err = run_cli(capsys, ["sweep", path, "--samples", "2", "--positions", "3", "--dx-max", "9.9"])
+    assert_one_line_exit_2(rc, err, "--dx-max = 9.9 with misalignment.dx_mm = 0.4", "<= 10 mm")
+
+
+def test_4_help_and_readme_document_the_nominal_errors():
+    parser = cli.build_parser()
+    sub = next(a for a in parser._actions if a.dest == "command").choices["sweep"]
+    assert "[misalignment]" in " ".join(sub.format_help().split())
+    readme = (REPO / "README.md").read_text(encoding="utf-8")
+    assert "nominal_errors" in readme and "[misalignment]" in readme.split("## Commands")[1].split("## ")[0]
+
+
+def test_9_sweep_without_aligned_contact_is_one_line(capsys, monkeypatch, tmp_path):
+    """Item 8 now rejects the issue's design in design(); with that check off, the sweep itself must
+    still report the flank without contact in one line."""
+    monkeypatch.setattr("beveloid.design._check_pitch_point", lambda *a: None)
+    path = case1_with(tmp_path, offset_mm="1.0")
+    rc, _, err = run_cli(capsys, ["sweep", path, "--samples", "2", "--positions", "3", "--flank", "right"])
+    assert_one_line_exit_2(rc, err, "cannot sweep the right flank", "no contact", "beveloid tca")
+
+
+def test_9_other_runtime_errors_are_not_swallowed(monkeypatch, tmp_path):
+    def cache_error(*a, **k):
+        raise RuntimeError("cannot cache function 'x': no locator available")
+    monkeypatch.setattr("beveloid.sweep.sweep", cache_error)
+    with pytest.raises(RuntimeError, match="cannot cache"):
+        cli.main(["sweep", C1, "--samples", "2", "--positions", "3"])
+
+
+def test_12_sweep_memory_is_bounded(capsys):
+    from beveloid import sweep as sw
+
+    t0 = time.perf_counter()
+    rc, _, err = run_cli(capsys, ["sweep", C1, "--samples", "10000000", "--positions", "10000"])
+    assert time.perf_counter() - t0 < 2
+    assert_one_line_exit_2(rc, err, "100000000000 contact points", f"at most {sw.MAX_CONTACT_POINTS}")
+    readme = (REPO / "README.md").read_text(encoding="utf-8")
+    assert f"{sw.MAX_CONTACT_POINTS:,}" in readme or str(sw.MAX_CONTACT_POINTS) in readme
+    with pytest.raises(ValueError, match="at most"):
+        sw.sweep(None, samples=sw.MAX_CONTACT_POINTS, positions=2)
+
+
+@pytest.mark.parametrize("samples, positions", [(0, 5), (-3, 5), (5, 1), (2.5, 5)])
+def test_16_api_sweep_rejects_bad_sizes_without_numpy_warnings(geom1, samples, positions):
+    from beveloid import sweep as sw
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(ValueError, match="must be an integer"):
+            sw.sweep(geom1, samples=samples, positions=positions)
+
+
+@pytest.fixture(scope="module")
+def geom1():
+    from beveloid import tca
+
+    return tca.PairGeometry.from_design(design(load_spec(C1)))
+
+
+# ---------------------------------------------------------------------------------------------
+# 17: first use: packaged examples and the key schema
+# ---------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("name", ["case1", "case2"])
+def test_17_example_prints_a_spec_that_designs(capsys, monkeypatch, tmp_path, name):
+    monkeypatch.chdir(tmp_path)  # no checkout around
+    rc, out, err = run_cli(capsys, ["example", name])
+    assert rc == 0 and err == ""
+    assert out == (REPO / "examples" / f"{name}.toml").read_text(encoding="utf-8")
+    (tmp_path / "my.toml").write_text(out, encoding="utf-8")
+    rc, out, _ = run_cli(capsys, ["design", "my.toml", "--json"])
+    assert rc == 0
+    from beveloid.spec import load_example
+
+    assert load_spec(tmp_path / "my.toml") == load_example(name)
+
+
+def test_17_schema_lists_every_key(capsys):
+    from beveloid.spec import KEY_DOCS
+
+    rc, out, _ = run_cli(capsys, ["example", "--schema"])
+    assert rc == 0
+    for section, docs in KEY_DOCS.items():
+        assert f"[{section}]" in out
+        block = out.split(f"[{section}]\n", 1)[1].split("\n\n", 1)[0]
+        for key, doc in docs.items():
+            line = next(li for li in block.splitlines() if li.startswith(key + ":"))
+            assert doc.description in line
+            if doc.requirement == "required":
+                assert "required" in line and doc.valid_text_in(section) in line
+            elif doc.requirement == "optional":
+                assert "optional (default" in line
+            else:
+                assert "do not give" in line
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["example"], ["NAME is missing", "case1, case2"]),
+    (["example", "case1", "--schema"], ["not both"]),
+    (["example", "case9"], ["invalid choice", "case9"]),
+])
+def test_17_example_usage_errors_are_one_line(capsys, argv, words):
+    rc, _, err = run_cli(capsys, argv)
+    assert_one_line_exit_2(rc, err, *words)
