@@ -453,3 +453,34 @@ def test_17_schema_lists_every_key(capsys):
 def test_17_example_usage_errors_are_one_line(capsys, argv, words):
     rc, _, err = run_cli(capsys, argv)
     assert_one_line_exit_2(rc, err, *words)
+
+
+# ---------------------------------------------------------------------------------------------
+# 7: the design table and the JSON agree on what each number is
+# ---------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("case", ["case1", "case2"])
+def test_7_table_columns_hold_what_the_json_holds(capsys, case):
+    path = REPO / "examples" / f"{case}.toml"
+    rc, text, _ = run_cli(capsys, ["design", path])
+    assert rc == 0
+    rc, out, _ = run_cli(capsys, ["design", path, "--json"])
+    j = json.loads(out)
+    lines = text.splitlines()
+    head = [c.strip() for c in lines[1].split("|")]
+    assert head == ["Parameter", "Symbol", "Pinion", "Gear", "Pair"]
+    cells = {}
+    for li in lines[3:]:
+        parts = [c.strip() for c in li.split("|")]
+        if len(parts) >= 3:
+            cells[parts[1]] = parts[2:] + [""] * (5 - len(parts))
+    for sym, key in (("ξL", "fpd_angle_left_deg"), ("ξR", "fpd_angle_right_deg")):
+        pin, gear, pair = (float(c) for c in cells[sym])
+        assert pin == pytest.approx(j["pinion"][key], abs=1e-6)
+        assert gear == pytest.approx(j["gear"][key], abs=1e-6)
+        assert pair == pytest.approx(j[key], abs=1e-6)
+        assert pair == pytest.approx(pin + gear, abs=2e-6)  # Eq 18
+    assert float(cells["αnw"][2]) == pytest.approx(j["working_normal_pressure_angle_deg"], abs=1e-6)
+    assert cells["αnw"][:2] == ["", ""] and cells["δ"][:2] == ["", ""]
+    assert float(cells["E"][2]) == pytest.approx(j["offset_mm"])
