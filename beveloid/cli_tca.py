@@ -89,23 +89,37 @@ def _errors_label(spec) -> str:
             f"vertical={m.vertical_deg:g} deg, horizontal={m.horizontal_deg:g} deg")
 
 
+def _z_range(P, status):
+    """Axial range of the contact points on the flanks, or why there are none."""
+    ok = np.isfinite(P[:, 2])
+    if ok.any():
+        return f"{P[ok, 2].min():.2f} .. {P[ok, 2].max():.2f}"
+    st = list(status)
+    if st.count("failed") == len(st):
+        return "none (not solved)"
+    return f"none ({st.count('outside')} outside, {st.count('failed')} failed)"
+
+
 def format_summary(result, spec) -> str:
     lines = [f"TCA of {spec.source} with {_errors_label(spec)}", ""]
     head = ("flank", "ok", "edge", "outside", "failed", "pinion z range (mm)", "gear z range (mm)",
-            "TE mean (urad)", "TE p-p (urad)")
+            "TE mean (urad)", "TE p-p (urad)", "TE points")
     rows = [head]
+    caveats = []
     for flank, fr in result.flanks.items():
         st = np.array(fr.status)
         cnt = [str(int((st == s).sum())) for s in ("ok", "edge", "outside", "failed")]
-        ok = np.isfinite(fr.pinion_contact[:, 2])
-
-        def zr(P):
-            return f"{P[ok, 2].min():.2f} .. {P[ok, 2].max():.2f}" if ok.any() else "off the flank"
-
+        pairs = len(set(fr.tooth_pair.tolist()))
+        positions = len(st) // pairs
         te = fr.transmission_error[fr.active & np.isfinite(fr.transmission_error)]
+        n_te = int((fr.active & np.isfinite(fr.transmission_error)).reshape(pairs, positions).any(axis=0).sum())
         mean = f"{te.mean() * 1e6:.3f}" if te.size else "-"
         ptp = f"{fr.te_peak_to_peak * 1e6:.3e}" if np.isfinite(fr.te_peak_to_peak) else "-"
-        rows.append((flank, *cnt, zr(fr.pinion_contact), zr(fr.gear_contact), mean, ptp))
+        rows.append((flank, *cnt, _z_range(fr.pinion_contact, st), _z_range(fr.gear_contact, st), mean, ptp,
+                     f"{n_te}/{positions}"))
+        if 0 < n_te < positions:
+            caveats.append(f"{flank} flank: TE peak-to-peak from {n_te} of {positions} positions only (no"
+                           f" contact on the flanks at the others): it does not describe a whole mesh cycle")
     w = [max(len(r[i]) for r in rows) for i in range(len(head))]
     lines += ["  ".join(c.rjust(wi) if i else c.ljust(wi) for i, (c, wi) in enumerate(zip(r, w))) for r in rows]
     if result.backlash_um is not None:
@@ -113,7 +127,8 @@ def format_summary(result, spec) -> str:
         b = 0.0 if abs(b) < 5e-5 else b  # display only: no "-0.0000" from round-off
         lines += ["", f"backlash at the gear's working pitch circle: {b:.4f} um" if np.isfinite(b)
                   else "backlash: not found (no two-flank contact)"]
-    lines += [f"note: {n}" for n in result.notes]
+    lines += [f"note: {n}" for n in [*caveats, *result.notes]]
     lines += ["", "z: axial position in the member frame (toe -> heel); points per status over "
-              f"{len(result.flanks[next(iter(result.flanks))].status)} pair-positions"]
+              f"{len(result.flanks[next(iter(result.flanks))].status)} pair-positions; TE points: pinion"
+              " positions with a contact on the flanks (TE envelope), of all positions"]
     return "\n".join(lines)

@@ -484,3 +484,87 @@ def test_7_table_columns_hold_what_the_json_holds(capsys, case):
     assert float(cells["αnw"][2]) == pytest.approx(j["working_normal_pressure_angle_deg"], abs=1e-6)
     assert cells["αnw"][:2] == ["", ""] and cells["δ"][:2] == ["", ""]
     assert float(cells["E"][2]) == pytest.approx(j["offset_mm"])
+
+
+# ---------------------------------------------------------------------------------------------
+# 5, 6: tca table and figures say what the numbers rest on
+# ---------------------------------------------------------------------------------------------
+
+
+def _table_row(text, flank):
+    head = next(li for li in text.splitlines() if li.startswith("flank "))
+    row = next(li for li in text.splitlines() if li.startswith(flank + " "))
+    return head, row
+
+
+def test_5_failed_points_are_not_called_off_the_flank():
+    from beveloid import tca
+    from beveloid.cli_tca import format_summary
+
+    spec = load_spec(C1)
+    res = tca.analyze(tca.PairGeometry.from_design(design(spec)), positions=5, flanks=("right",))
+    fr = res.flanks["right"]
+    n = len(fr.status)
+    fr.status = ["failed"] * n  # as when the solver loses track everywhere
+    fr.pinion_contact[:] = np.nan
+    fr.gear_contact[:] = np.nan
+    text = format_summary(res, spec)
+    _, row = _table_row(text, "right")
+    assert "none (not solved)" in row and "off the flank" not in text
+    fr.status = ["outside"] * (n - 2) + ["failed"] * 2
+    assert f"none ({n - 2} outside, 2 failed)" in _table_row(format_summary(res, spec), "right")[1]
+
+
+def test_5_te_from_a_few_positions_carries_a_caveat(capsys):
+    rc, text, _ = run_cli(capsys, ["tca", C1, "--positions", "30", "--dx", "1.2"])
+    assert rc == 0
+    head, row = _table_row(text, "right")
+    assert head.split()[-2:] == ["TE", "points"]
+    k = int(row.split()[-1].split("/")[0])
+    assert 0 < k < 30 and row.split()[-1] == f"{k}/30"
+    assert f"note: right flank: TE peak-to-peak from {k} of 30 positions only" in text
+    _, left = _table_row(text, "left")
+    assert left.split()[-1] == "30/30" and "note: left flank: TE peak-to-peak" not in text
+
+
+def _capture_figures(monkeypatch):
+    from beveloid import plots
+
+    figs = []
+    monkeypatch.setattr(plots, "_save", lambda fig, *a, **k: figs.append(fig))
+    return figs
+
+
+def test_6_zero_te_is_said_and_drawn_on_a_sensible_scale(monkeypatch):
+    from beveloid import plots, tca
+
+    geom = tca.PairGeometry.from_design(design(load_spec(C1)))
+    res = tca.analyze(geom, positions=12)
+    assert 0 < res.flanks["right"].te_peak_to_peak * 1e6 < plots.TE_ZERO_URAD  # round-off, not signal
+    figs = _capture_figures(monkeypatch)
+    plots.tca_summary(res, geom, "unused.png")
+    plots.transmission_error([res], ["aligned"], "right", "unused.png")
+    for fig, te_axes in ((figs[0], [row[2] for row in np.reshape(figs[0].axes, (-1, 3))[:2]]), (figs[1], [figs[1].axes[0]])):
+        for ax in te_axes:
+            lo, hi = ax.get_ylim()
+            assert hi - lo == pytest.approx(2 * plots.TE_FLAT_HALF_SPAN_URAD)
+            texts = " ".join(t.get_text() for t in ax.texts)
+            assert "TE is zero to the solver tolerance" in texts
+    legend = [t.get_text() for t in figs[1].axes[0].get_legend().get_texts()]
+    assert legend and all(re.search(r"mean [+-][\d.]+ urad, peak-to-peak", t) for t in legend), legend
+
+
+def test_6_real_te_is_not_flattened(monkeypatch):
+    """A TE above the threshold keeps matplotlib's scale and gets no 'zero' remark."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from beveloid import plots
+
+    fig, ax = plt.subplots()
+    ax.plot([0, 1, 2], [0.0, 7.5, 0.0])
+    assert plots.te_axis(ax, [0.0, 7.5], [7.5]) is False
+    assert ax.get_ylim()[1] > 7 and not ax.texts
+    plt.close(fig)
