@@ -52,6 +52,12 @@ section, tip radius ``r + x_t m_t + h_a m_n / cos(gamma)``):
   from the tilted rack ``tan(alpha_P) = (tan(alpha_n) cos(gamma) +- sin(beta) sin(gamma)) / cos(beta)``:
   an error (the flank leans past the radial direction; the generated ``alpha_Pw = arccos(xi_t cos(alpha_P))``
   and hence Eq 27 assume ``alpha_P > 0``);
+* the pitch point P off the active profile -- in the working-pitch-circle section (z = b_c) the
+  working pitch radius must lie between the form circle (where the rack's straight edge starts) and the
+  tip circle, for both members and both flanks (:func:`pitch_point_margins`): an error, since the
+  design's defining contact at P would not be on the teeth (e.g. alpha_nw = 4.2 deg with a 1 mm offset
+  on case 1).  A negative mounting distance d alone is not rejected: with signed cone angles the apex
+  may lie on either side of the crossing point;
 * a zero cone angle (the cone apex, hence the mounting distance, is at infinity), a gear helix
   angle ``|beta2| >= 80 deg`` and non-finite or non-positive results: errors.
 """
