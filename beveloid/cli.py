@@ -23,6 +23,8 @@ from collections.abc import Callable, Sequence
 from .errors import UserError
 from .cli_design import configure as _design_configure
 from .cli_design import run as _design_run
+from .cli_example import configure as _example_configure
+from .cli_example import run as _example_run
 from .cli_sweep import configure as _sweep_configure
 from .cli_sweep import run as _sweep_run
 from .cli_tca import configure as _tca_configure
@@ -113,12 +115,11 @@ def _run_paper(args: argparse.Namespace) -> int:
     """Reproduce Table 1 and the studies of Figs 10-22 into DIR (PNG, CSV, report.md)."""
     from .reproduction import run
 
+    from .cli_paths import check_output_dir
+
     if not 10 <= args.positions <= 5000:
         raise UserError(f"--positions = {args.positions}: must be an integer from 10 to 5000")
-    from pathlib import Path
-
-    if Path(args.out).exists() and not Path(args.out).is_dir():
-        raise UserError(f"--out = {args.out}: exists and is not a folder; give a new or existing folder")
+    check_output_dir(args.out, "--out")
     try:
         run(args.out, positions=args.positions)
     except OSError as exc:
@@ -150,6 +151,7 @@ COMMANDS: dict[str, tuple[Configure, Run]] = {
     "tca": (_tca_configure, _tca_run),
     "paper": (_configure_paper, _run_paper),
     "sweep": (_sweep_configure, _sweep_run),
+    "example": (_example_configure, _example_run),
 }
 
 
@@ -193,7 +195,9 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _error(message: str) -> int:
-    one_line = " ".join(str(message).split())
+    from .spec import printable
+
+    one_line = printable(" ".join(str(message).split()))  # no raw control characters on the terminal
     print(f"{PROG}: error: {one_line}", file=sys.stderr)
     return 2
 

@@ -13,7 +13,7 @@ import json
 
 
 def configure(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("file", metavar="FILE", help="TOML design spec (see examples/case1.toml)")
+    parser.add_argument("file", metavar="FILE", help="TOML design spec (`beveloid example case1` prints one)")
     parser.add_argument("--json", action="store_true",
                         help="print the design as JSON on stdout (nothing else on stdout)")
 

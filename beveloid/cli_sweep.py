@@ -1,4 +1,9 @@
-"""``beveloid sweep FILE --samples K --positions N [--seed S] [--flank left|right] [--json]``."""
+"""``beveloid sweep FILE --samples K --positions N [--seed S] [--flank left|right] [--backend B] [--json]``.
+
+The random error sets are drawn uniformly about the file's ``[misalignment]`` (the nominal errors,
+0 when the table is absent), within the half-widths ``--dx-max`` ... ``--horizontal-max``; the
+nominal plus the half-width must stay within the spec's limits (10 mm, 5 deg).
+"""
 from __future__ import annotations
 
 import argparse
@@ -6,21 +11,31 @@ import json
 import sys
 
 from .errors import UserError
-from .sweep import DEFAULT_RANGES
+from .solver.backends import BACKENDS
+from .sweep import DEFAULT_RANGES, MAX_CONTACT_POINTS
+
+LIMITS = {"dx_mm": 10.0, "dy_mm": 10.0, "dz_mm": 10.0, "vertical_deg": 5.0, "horizontal_deg": 5.0}
+
+
+def _flag(key):
+    return "--" + key.replace("_mm", "").replace("_deg", "") + "-max"
 
 
 def configure(p: argparse.ArgumentParser) -> None:
-    p.add_argument("file", metavar="FILE", help="TOML design spec (see examples/case1.toml)")
+    p.add_argument("file", metavar="FILE", help="TOML design spec (`beveloid example case1` prints one); its"
+                   " [misalignment] is the nominal error set the random sets are drawn around")
     p.add_argument("--samples", type=int, default=1000, metavar="K", help="random error sets (default 1000)")
     p.add_argument("--positions", type=int, default=50, metavar="N",
-                   help="contact positions per set over the aligned engagement (default 50)")
+                   help="contact positions per set over the aligned engagement (default 50); samples x positions"
+                        f" must not exceed {MAX_CONTACT_POINTS}")
     p.add_argument("--seed", type=int, default=0, metavar="S", help="random seed (default 0)")
     p.add_argument("--flank", choices=("left", "right"), default="right", help="flank pair (default right)")
     for key, val in DEFAULT_RANGES.items():
         unit = "MM" if key.endswith("_mm") else "DEG"
-        p.add_argument("--" + key.replace("_mm", "").replace("_deg", "") + "-max", dest=key, type=float,
-                       default=val, metavar=unit, help=f"half-width of the uniform {key} range (default {val})")
-    p.add_argument("--backend", choices=("auto", "compiled", "numpy"), default="auto",
+        p.add_argument(_flag(key), dest=key, type=float, default=val, metavar=unit,
+                       help=f"half-width of the uniform {key} range about the file's misalignment.{key}"
+                            f" (default {val})")
+    p.add_argument("--backend", choices=BACKENDS, default="auto",
                    help="solver backend: compiled (numba) when installed, else numpy (default auto)")
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
 
@@ -28,8 +43,10 @@ def configure(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     """Monte Carlo tolerance sweep over random assembly errors.
 
-    Reports the contact-path shift distribution, the fraction of error sets with edge contact
-    or contact off the flank, TE peak-to-peak statistics and first-order sensitivities.
+    The error sets are drawn uniformly about the file's [misalignment] (the nominal errors) within
+    the --*-max half-widths.  Reports the point counts per status, the contact-path shift
+    distribution, the fraction of error sets with edge contact or contact off the flank, TE
+    peak-to-peak statistics (each with the number of sets behind it) and first-order sensitivities.
     """
     from . import tca
     from .design import design
@@ -42,17 +59,38 @@ def run(args: argparse.Namespace) -> int:
         raise UserError(f"--seed = {args.seed}: must be an integer from 0 to 2**63 - 1")
     if not 2 <= args.positions <= 10_000:
         raise UserError(f"--positions = {args.positions}: must be an integer from 2 to 10000")
+    if args.samples * args.positions > MAX_CONTACT_POINTS:
+        raise UserError(f"--samples x --positions = {args.samples} x {args.positions} ="
+                        f" {args.samples * args.positions} contact points: at most {MAX_CONTACT_POINTS} per sweep"
+                        f" (memory); use fewer, or several sweeps with different --seed")
     ranges = {}
     for key in DEFAULT_RANGES:
         v = getattr(args, key)
-        if not (v >= 0 and v < (10 if key.endswith("_mm") else 5)):
-            name = "--" + key.replace("_mm", "").replace("_deg", "") + "-max"
-            raise UserError(f"{name} = {v}: must be >= 0 and < {10 if key.endswith('_mm') else 5} "
-                            f"({'mm' if key.endswith('_mm') else 'deg'})")
+        unit = "mm" if key.endswith("_mm") else "deg"
+        if not (v >= 0 and v < LIMITS[key]):
+            raise UserError(f"{_flag(key)} = {v}: must be >= 0 and < {LIMITS[key]:g} ({unit})")
         ranges[key] = v
-    geom = tca.PairGeometry.from_design(design(load_spec(args.file)))
+    spec = load_spec(args.file)
+    nominal = {key: float(getattr(spec.misalignment, key)) for key in DEFAULT_RANGES}
+    for key, centre in nominal.items():
+        unit = "mm" if key.endswith("_mm") else "deg"
+        if abs(centre) + ranges[key] > LIMITS[key]:
+            raise UserError(
+                f"{_flag(key)} = {ranges[key]:g} with misalignment.{key} = {centre:g} in the file: the errors"
+                f" would reach {abs(centre) + ranges[key]:g} {unit}; |nominal| + half-width must be <="
+                f" {LIMITS[key]:g} {unit}")
+    geom = tca.PairGeometry.from_design(design(spec))
     progress = _progress_bar if sys.stderr.isatty() else None
-    res = sweep(geom, args.flank, args.samples, args.positions, args.seed, ranges, args.backend, progress=progress)
+    try:
+        res = sweep(geom, args.flank, args.samples, args.positions, args.seed, ranges, args.backend,
+                    progress=progress, nominal=nominal)
+    except RuntimeError as exc:
+        # the aligned pair has no contact on this flank: the sweep has no engagement to sample
+        if "no contact" not in str(exc):
+            raise
+        raise UserError(f"{args.file}: cannot sweep the {args.flank} flank: {exc} (the aligned pair does not"
+                        f" touch within the flank boundaries, so there is no engagement to sample); check the"
+                        f" design with `beveloid tca {args.file} --flank {args.flank}`") from None
     out = res.to_json_dict()
     if args.json:
         print(json.dumps(out, allow_nan=False))
@@ -61,27 +99,37 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _row(name, st, unit, scale=1.0, fmt="{:+.3f}"):
-    if not st.get("count"):
-        return f"  {name:<28} (no set with contact on the flank)"
+def _row(name, st, unit, samples, scale=1.0, fmt="{:+.3f}"):
+    n = st.get("count", 0)
+    if not n:
+        return f"  {name:<28} {'(no set with contact on the flank)':<64}  {unit:<5} 0 of {samples} sets"
     vals = [fmt.format(st[k] * scale) for k in ("mean", "std", "p05", "p50", "p95")]
-    return f"  {name:<28} " + "  ".join(f"{v:>10}" for v in vals) + f"  {unit}"
+    return f"  {name:<28} " + "  ".join(f"{v:>10}" for v in vals) + f"  {unit:<5} {n} of {samples} sets"
 
 
 def format_sweep(o, file):
-    L = [f"Tolerance sweep of {file}, {o['flank']} flank: {o['samples']} error sets x {o['positions']} positions "
+    k = o["samples"]
+    counts = o["status_counts"]
+    total = max(1, o["contact_points_solved"])
+    nominal = o["nominal_errors"]
+    L = [f"Tolerance sweep of {file}, {o['flank']} flank: {k} error sets x {o['positions']} positions "
          f"= {o['contact_points_solved']} contact points ({o['backend']}, {o['seconds']:.2f} s, "
          f"{o['us_per_point']:.2f} us/point)",
-         "  error ranges (uniform, +-): " + ", ".join(f"{k} {v:g}" for k, v in o["ranges"].items()), "",
-         f"  {'':<28} " + "  ".join(f"{h:>10}" for h in ("mean", "std", "p5", "p50", "p95")),
-         _row("pinion path shift", o["pinion_path_shift_mm"], "mm"),
-         _row("gear path shift", o["gear_path_shift_mm"], "mm"),
-         _row("TE peak-to-peak", o["te_peak_to_peak_urad"], "urad", fmt="{:.2e}"), "",
-         f"  sets with edge contact:           {100 * o['fraction_sets_with_edge_contact']:.1f} %",
-         f"  sets with contact off the flank:  {100 * o['fraction_sets_with_contact_off_flank']:.1f} %",
-         f"  sets entirely off the flank:      {100 * o['fraction_sets_entirely_off_flank']:.1f} %", "",
-         "  first-order sensitivity of the path (pinion axial shift):"]
-    for k, v in o["sensitivity"]["pinion_axial_shift_mm_per_unit"].items():
-        unit = "mm/mm" if k.endswith("_mm") else "mm/deg"
-        L.append(f"    {k:<16} {v:+10.3f} {unit}")
+         "  nominal errors (the file's [misalignment]): " + ", ".join(f"{n} {v:g}" for n, v in nominal.items()),
+         "  error ranges (uniform about the nominal, +-): " + ", ".join(f"{n} {v:g}" for n, v in o["ranges"].items()),
+         "  contact points: " + ", ".join(f"{counts[s]} {s} ({100 * counts[s] / total:.1f} %)"
+                                          for s in ("ok", "edge", "outside", "failed")),
+         f"  error sets with contact on the flank: {o['sets_with_contact']} of {k}; with failed points:"
+         f" {o['sets_with_failed_points']} of {k}", "",
+         f"  {'':<28} " + "  ".join(f"{h:>10}" for h in ("mean", "std", "p5", "p50", "p95")) + "  unit  from",
+         _row("pinion path shift", o["pinion_path_shift_mm"], "mm", k),
+         _row("gear path shift", o["gear_path_shift_mm"], "mm", k),
+         _row("TE peak-to-peak", o["te_peak_to_peak_urad"], "urad", k, fmt="{:.2e}"), "",
+         f"  sets with edge contact:           {100 * o['fraction_sets_with_edge_contact']:.1f} % of {k}",
+         f"  sets with contact off the flank:  {100 * o['fraction_sets_with_contact_off_flank']:.1f} % of {k}",
+         f"  sets entirely off the flank:      {100 * o['fraction_sets_entirely_off_flank']:.1f} % of {k}", "",
+         "  first-order sensitivity of the path (pinion axial shift, at the aligned pitch point):"]
+    for name, v in o["sensitivity"]["pinion_axial_shift_mm_per_unit"].items():
+        unit = "mm/mm" if name.endswith("_mm") else "mm/deg"
+        L.append(f"    {name:<16} {v:+10.3f} {unit}")
     return "\n".join(L)

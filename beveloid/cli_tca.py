@@ -13,11 +13,12 @@ import math
 
 import numpy as np
 
+from .cli_paths import check_output_file
 from .errors import UserError
 
 
 def configure(p: argparse.ArgumentParser) -> None:
-    p.add_argument("file", metavar="FILE", help="TOML design spec (see examples/case1.toml)")
+    p.add_argument("file", metavar="FILE", help="TOML design spec (`beveloid example case1` prints one)")
     p.add_argument("--dx", type=float, metavar="MM", help="gear offset error dx_q (mm); overrides [misalignment]")
     p.add_argument("--dy", type=float, metavar="MM", help="gear offset error dy_q (mm)")
     p.add_argument("--dz", type=float, metavar="MM", help="gear offset error dz_q (mm)")
@@ -33,21 +34,6 @@ def configure(p: argparse.ArgumentParser) -> None:
 
 FLAG_OF_KEY = {"dx_mm": "--dx", "dy_mm": "--dy", "dz_mm": "--dz", "vertical_deg": "--vertical",
                "horizontal_deg": "--horizontal"}
-
-
-def check_png_path(path, flag):
-    """A plot target must end in .png and its folder must exist and be writable."""
-    import os
-    from pathlib import Path
-
-    p = Path(path)
-    if p.suffix.lower() != ".png":
-        raise UserError(f"{flag} = {path}: the plot is written as PNG; give a file name ending in .png")
-    folder = p.parent if str(p.parent) else Path(".")
-    if not folder.is_dir():
-        raise UserError(f"{flag} = {path}: the folder {folder} does not exist; create it or choose another")
-    if not os.access(folder, os.W_OK):
-        raise UserError(f"{flag} = {path}: the folder {folder} is not writable; choose another")
 
 
 def error_vector(spec) -> np.ndarray:
@@ -69,8 +55,8 @@ def run(args: argparse.Namespace) -> int:
         raise UserError(f"--positions = {args.positions}: must be an integer from 3 to 100000")
     if args.pairs < 1 or args.pairs > 9 or args.pairs % 2 == 0:
         raise UserError(f"--pairs = {args.pairs}: must be an odd integer from 1 to 9")
-    if args.plot:
-        check_png_path(args.plot, "--plot")
+    if args.plot is not None:
+        check_output_file(args.plot, "--plot", ".png")
     spec = load_spec(args.file)
     try:
         spec = misalignment_with(spec, dx_mm=args.dx, dy_mm=args.dy, dz_mm=args.dz,
@@ -83,10 +69,13 @@ def run(args: argparse.Namespace) -> int:
     geom = tca.PairGeometry.from_design(design(spec))
     flanks = tca.FLANKS if args.flank == "both" else (args.flank,)
     result = tca.analyze(geom, error_vector(spec), flanks=flanks, positions=args.positions, pairs=args.pairs)
-    if args.plot:
+    if args.plot is not None:
         from .plots import tca_summary
 
-        tca_summary(result, geom, args.plot, title=f"{spec.source}: {_errors_label(spec)}")
+        try:
+            tca_summary(result, geom, args.plot, title=f"{spec.source}: {_errors_label(spec)}")
+        except OSError as exc:  # checked before; the target changed during the computation
+            raise UserError(f"--plot = {args.plot}: cannot write there ({exc.strerror or exc})") from None
     if args.json:
         print(json.dumps(result.to_json_dict(), allow_nan=False))
     else:
@@ -100,23 +89,37 @@ def _errors_label(spec) -> str:
             f"vertical={m.vertical_deg:g} deg, horizontal={m.horizontal_deg:g} deg")
 
 
+def _z_range(P, status):
+    """Axial range of the contact points on the flanks, or why there are none."""
+    ok = np.isfinite(P[:, 2])
+    if ok.any():
+        return f"{P[ok, 2].min():.2f} .. {P[ok, 2].max():.2f}"
+    st = list(status)
+    if st.count("failed") == len(st):
+        return "none (not solved)"
+    return f"none ({st.count('outside')} outside, {st.count('failed')} failed)"
+
+
 def format_summary(result, spec) -> str:
     lines = [f"TCA of {spec.source} with {_errors_label(spec)}", ""]
     head = ("flank", "ok", "edge", "outside", "failed", "pinion z range (mm)", "gear z range (mm)",
-            "TE mean (urad)", "TE p-p (urad)")
+            "TE mean (urad)", "TE p-p (urad)", "TE points")
     rows = [head]
+    caveats = []
     for flank, fr in result.flanks.items():
         st = np.array(fr.status)
         cnt = [str(int((st == s).sum())) for s in ("ok", "edge", "outside", "failed")]
-        ok = np.isfinite(fr.pinion_contact[:, 2])
-
-        def zr(P):
-            return f"{P[ok, 2].min():.2f} .. {P[ok, 2].max():.2f}" if ok.any() else "off the flank"
-
+        pairs = len(set(fr.tooth_pair.tolist()))
+        positions = len(st) // pairs
         te = fr.transmission_error[fr.active & np.isfinite(fr.transmission_error)]
+        n_te = int((fr.active & np.isfinite(fr.transmission_error)).reshape(pairs, positions).any(axis=0).sum())
         mean = f"{te.mean() * 1e6:.3f}" if te.size else "-"
         ptp = f"{fr.te_peak_to_peak * 1e6:.3e}" if np.isfinite(fr.te_peak_to_peak) else "-"
-        rows.append((flank, *cnt, zr(fr.pinion_contact), zr(fr.gear_contact), mean, ptp))
+        rows.append((flank, *cnt, _z_range(fr.pinion_contact, st), _z_range(fr.gear_contact, st), mean, ptp,
+                     f"{n_te}/{positions}"))
+        if 0 < n_te < positions:
+            caveats.append(f"{flank} flank: TE peak-to-peak from {n_te} of {positions} positions only (no"
+                           f" contact on the flanks at the others): it does not describe a whole mesh cycle")
     w = [max(len(r[i]) for r in rows) for i in range(len(head))]
     lines += ["  ".join(c.rjust(wi) if i else c.ljust(wi) for i, (c, wi) in enumerate(zip(r, w))) for r in rows]
     if result.backlash_um is not None:
@@ -124,7 +127,8 @@ def format_summary(result, spec) -> str:
         b = 0.0 if abs(b) < 5e-5 else b  # display only: no "-0.0000" from round-off
         lines += ["", f"backlash at the gear's working pitch circle: {b:.4f} um" if np.isfinite(b)
                   else "backlash: not found (no two-flank contact)"]
-    lines += [f"note: {n}" for n in result.notes]
+    lines += [f"note: {n}" for n in [*caveats, *result.notes]]
     lines += ["", "z: axial position in the member frame (toe -> heel); points per status over "
-              f"{len(result.flanks[next(iter(result.flanks))].status)} pair-positions"]
+              f"{len(result.flanks[next(iter(result.flanks))].status)} pair-positions; TE points: pinion"
+              " positions with a contact on the flanks (TE envelope), of all positions"]
     return "\n".join(lines)

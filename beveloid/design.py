@@ -52,6 +52,12 @@ section, tip radius ``r + x_t m_t + h_a m_n / cos(gamma)``):
   from the tilted rack ``tan(alpha_P) = (tan(alpha_n) cos(gamma) +- sin(beta) sin(gamma)) / cos(beta)``:
   an error (the flank leans past the radial direction; the generated ``alpha_Pw = arccos(xi_t cos(alpha_P))``
   and hence Eq 27 assume ``alpha_P > 0``);
+* the pitch point P off the active profile -- in the working-pitch-circle section (z = b_c) the
+  working pitch radius must lie between the form circle (where the rack's straight edge starts) and the
+  tip circle, for both members and both flanks (:func:`pitch_point_margins`): an error, since the
+  design's defining contact at P would not be on the teeth (e.g. alpha_nw = 4.2 deg with a 1 mm offset
+  on case 1).  A negative mounting distance d alone is not rejected: with signed cone angles the apex
+  may lie on either side of the crossing point;
 * a zero cone angle (the cone apex, hence the mounting distance, is at infinity), a gear helix
   angle ``|beta2| >= 80 deg`` and non-finite or non-positive results: errors.
 """
@@ -315,7 +321,7 @@ def _brackets(grid: np.ndarray, res: np.ndarray, ok: np.ndarray) -> list[tuple[f
         ra, rb = res[i], res[i + 1]
         if ra == 0.0:
             out.append((grid[i], grid[i], ra, ra))
-        elif ra * rb < 0.0:
+        elif (ra < 0.0) != (rb < 0.0) and rb != 0.0:  # signs, not the product: no overflow for huge E
             out.append((grid[i], grid[i + 1], ra, rb))
     if len(res) and ok[-1] and res[-1] == 0.0:
         out.append((grid[-1], grid[-1], 0.0, 0.0))
@@ -393,7 +399,7 @@ def _infeasible_no_root(spec: DesignSpec, c: dict[str, Any], grid: np.ndarray, r
             f" with pinion.cone_angle_deg = {spec.pinion.cone_angle_deg!r}, gear.cone_angle_deg ="
             f" {spec.gear.cone_angle_deg!r}); increase the shaft angle or reduce the cone angles",
             keys=("pair.shaft_angle_deg", "pinion.cone_angle_deg", "gear.cone_angle_deg"), source=src)
-    e_model = res[ok] + c["E"]
+    e_model = _scan(grid[ok], dict(c, E=0.0))[0]  # E(alpha_nw) itself, not E(alpha_nw) - E + E
     a_ok = grid[ok]
     span = (f"Eq 17 gives E from {_num(e_model.min())} to {_num(e_model.max())} mm for alpha_nw from"
             f" {_deg(a_ok.min())} to {_deg(a_ok.max())} deg")
@@ -599,6 +605,59 @@ def _tooth_checks(spec: DesignSpec, m: MemberDesign, notes: list[str]) -> None:
                 f" {raise_hint}")
 
 
+def pitch_point_margins(m: MemberDesign) -> dict[str, tuple[float, float, float]]:
+    """Where the pitch point P lies on each flank of ``m``, in its working-pitch-circle section.
+
+    P is at the working pitch radius r_w in the transverse section z = b_c (the frame origin is in the
+    reference section).  That section is a shifted spur section: base radius r cos(alpha_P), tip radius
+    ``r + (h_a m_n + s)/cos(gamma) + b_c tan(gamma)``, and the rack tip (where its straight edge starts)
+    at the depth ``h = (a - s)/cos(gamma) - b_c tan(gamma)`` below the pitch circle.  The profile point at
+    radius rho is cut by the rack point at depth ``t = sin(alpha_P) (r sin(alpha_P) - sqrt(rho^2 - r_b^2))``;
+    it is on the active profile when ``t <= h`` (above the form circle) and rho <= tip radius.
+
+    Returns per flank (radius of the form circle, tip radius, r_w) in mm; the form radius is the
+    base radius where the rack tip reaches below the interference point (undercut).
+    """
+    r, r_w, zc = m.reference_pitch_radius_mm, m.working_pitch_radius_mm, m.reference_section_offset_mm
+    tan_g, cos_g = math.tan(m.cone_angle), math.cos(m.cone_angle)
+    tip = r + (m.addendum_coefficient * m.normal_module_mm + m.rack_shift_mm) / cos_g + zc * tan_g
+    depth = (m.cutter_addendum_mm - m.rack_shift_mm) / cos_g - zc * tan_g
+    out = {}
+    for flank, aP in (("left", m.transverse_pressure_angle_left), ("right", m.transverse_pressure_angle_right)):
+        r_b = r * math.cos(aP)
+        along = r * math.sin(aP) - depth / math.sin(aP)  # rack tip's point on the line of action, from T
+        form = math.hypot(r_b, along) if along > 0 else r_b
+        out[flank] = (form, tip, r_w)
+    return out
+
+
+def _check_pitch_point(spec: DesignSpec, m: MemberDesign, alpha_nw: float) -> None:
+    """The designed contact at the pitch point P must lie on the active profile of both flanks.
+
+    Otherwise the aligned pair has no contact near P (TCA finds the flanks apart or off the
+    blank): typically alpha_nw is so small that the working pitch circle falls below the form
+    circle, or so large that it passes the tip.
+    """
+    for flank, (form, tip, r_w) in pitch_point_margins(m).items():
+        if form <= r_w <= tip:
+            continue
+        below = r_w < form
+        where = (f"below the start of the active profile (form circle {_num(form)} mm)" if below
+                 else f"above the tip (tip circle {_num(tip)} mm)")
+        if below:
+            move = (f"increase pair.offset_mm (a larger alpha_nw moves P outward) or increase"
+                    f" {m.name}.cutter_addendum_coefficient (a deeper cut lowers the form circle)")
+            keys = ("pair.offset_mm", f"{m.name}.cutter_addendum_coefficient")
+        else:
+            move = (f"reduce pair.offset_mm (a smaller alpha_nw moves P inward) or increase"
+                    f" {m.name}.addendum_coefficient")
+            keys = ("pair.offset_mm", f"{m.name}.addendum_coefficient")
+        raise DesignError(
+            f"pair.offset_mm = {spec.pair.offset_mm!r}: the design's pitch point P (working pitch radius"
+            f" {_num(r_w)} mm, alpha_nw = {_deg(alpha_nw)} deg) lies {where} of the {m.name} teeth, {flank}"
+            f" flank, so the pair cannot mesh at P; {move}", keys=keys, source=spec.source)
+
+
 def _member(spec: DesignSpec, q: dict[str, float], i: int, name: str, m_n: float) -> MemberDesign:
     ms = getattr(spec, name)
     return MemberDesign(
@@ -697,6 +756,8 @@ def _finish(spec: DesignSpec, q: dict[str, float], alpha_nw: float, *, offset: f
     notes = list(notes)
     for m in (pinion, gear):
         _tooth_checks(spec, m, notes)
+    for m in (pinion, gear):
+        _check_pitch_point(spec, m, alpha_nw)
     return DesignResult(
         spec=spec,
         working_normal_pressure_angle=float(alpha_nw),

@@ -74,12 +74,12 @@ def _helix(m: MemberDesign) -> str:
 def format_table1(result: DesignResult) -> str:
     """The design as a plain-text table laid out like Table 1 of the paper."""
     p, g = result.pinion, result.gear
-    values: dict[str, tuple[str, str]] = {
+    values: dict[str, tuple[str, ...]] = {
         "mn": (_f(result.normal_module_mm), _f(result.normal_module_mm)),
         "αn": (_d(result.normal_pressure_angle), _d(result.normal_pressure_angle)),
         "N": (str(p.teeth), str(g.teeth)),
-        "δ": (_d(result.shaft_angle), ""),
-        "E": (_f(result.offset_mm), ""),
+        "δ": ("", "", _d(result.shaft_angle)),
+        "E": ("", "", _f(result.offset_mm)),
         "γ": (_d(p.cone_angle), _d(g.cone_angle)),
         "β": (_helix(p), _helix(g)),
         "xt": (_f(p.profile_shift), _f(g.profile_shift)),
@@ -88,22 +88,24 @@ def format_table1(result: DesignResult) -> str:
         "d": (_f(p.mounting_distance_mm), _f(g.mounting_distance_mm)),
         "γw": (_d(p.working_cone_angle), _d(g.working_cone_angle)),
         "βw": (_d(p.working_helix_angle), _d(g.working_helix_angle)),
-        "ξL": (_d(result.fpd_angle_left), ""),
-        "ξR": (_d(result.fpd_angle_right), ""),
-        "αnw": (_d(result.working_normal_pressure_angle), ""),
+        "ξL": (_d(p.fpd_angle_left), _d(g.fpd_angle_left), _d(result.fpd_angle_left)),
+        "ξR": (_d(p.fpd_angle_right), _d(g.fpd_angle_right), _d(result.fpd_angle_right)),
+        "αnw": ("", "", _d(result.working_normal_pressure_angle)),
         "dw": (_f(p.working_mounting_distance_mm), _f(g.working_mounting_distance_mm)),
     }
-    header = ("Parameter", "Symbol", "Pinion", "Gear")
-    rows = [header] + [(label, sym, *values[sym]) for label, sym in TABLE1_ROWS]
-    widths = [max(len(r[k]) for r in rows) for k in range(4)]
+    header = ("Parameter", "Symbol", "Pinion", "Gear", "Pair")
+    rows = [header] + [(label, sym, *values[sym], "", "")[:5] for label, sym in TABLE1_ROWS]
+    widths = [max(len(r[k]) for r in rows) for k in range(5)]
 
     def line(r: tuple[str, ...]) -> str:
-        cells = [r[0].ljust(widths[0]), r[1].ljust(widths[1]), r[2].rjust(widths[2]), r[3].rjust(widths[3])]
-        return " | ".join(cells).rstrip()
+        cells = [r[0].ljust(widths[0]), r[1].ljust(widths[1])] + [r[k].rjust(widths[k]) for k in (2, 3, 4)]
+        return " | ".join(cells).rstrip(" |")
 
     out = [f"Crossed beveloid gear pair: {result.procedure} pitch-cone design", line(header),
            "-+-".join("-" * w for w in widths)]
     out += [line(r) for r in rows[1:]]
+    out += ["", "Pair: quantities of the pair; its FPD angles are the sums of the members' (Eq 18),"
+            " xi_L = xi_L1 + xi_L2, xi_R = xi_R1 + xi_R2."]
     if result.notes:
         out.append("")
         out += [f"note: {n}" for n in result.notes]

@@ -10,6 +10,29 @@ import math
 import numpy as np
 
 
+#: A TE peak-to-peak below this (urad) is zero to the solver tolerance: the Newton solves to ~1e-12 mm,
+#: i.e. ~1e-8 urad, and 1e-3 urad (1 nrad) is far below anything a gear measurement can resolve.
+TE_ZERO_URAD = 1e-3
+#: Half-height (urad) of the TE axis when the TE is zero to the solver tolerance.
+TE_FLAT_HALF_SPAN_URAD = 1.0
+
+
+def te_axis(ax, centre_urad, ptp_urad):
+    """Scale a TE axis: when every curve's peak-to-peak is below TE_ZERO_URAD, show +-1 urad about
+    ``centre_urad`` and say on the figure that the TE is zero to the solver tolerance (instead of
+    autoscaling round-off to fill the axis).  Returns True when it did so."""
+    ptp = [p for p in ptp_urad if np.isfinite(p)]
+    if not ptp or max(ptp) >= TE_ZERO_URAD:
+        return False
+    c = float(np.mean(centre_urad)) if len(centre_urad) else 0.0
+    ax.set_ylim(c - TE_FLAT_HALF_SPAN_URAD, c + TE_FLAT_HALF_SPAN_URAD)
+    ax.ticklabel_format(axis="y", useOffset=False, style="plain")
+    ax.text(0.5, 0.92, f"TE is zero to the solver tolerance (peak-to-peak {max(ptp):.1e} urad"
+            f" < {TE_ZERO_URAD:g} urad)", transform=ax.transAxes, ha="center", va="top", fontsize=8,
+            bbox=dict(facecolor="white", edgecolor="0.7", alpha=0.9))
+    return True
+
+
 def _plt():
     import matplotlib
 
@@ -87,6 +110,7 @@ def transmission_error(results, labels, flank, out_png, title=""):
     """
     plt = _plt()
     fig, ax = plt.subplots(figsize=(7.5, 4.2))
+    ptps = []
     for res, lab in zip(results, labels):
         fr = res.flanks[flank]
         phi = np.degrees(fr.pinion_angle)
@@ -98,8 +122,10 @@ def transmission_error(results, labels, flank, out_png, title=""):
             ax.plot([], [], ".", label=f"{lab} (no contact on the flanks)")
             continue
         mean = float(np.mean(te[act]))
+        ptps.append(ptp)
         ax.plot(phi[act][order], te[act][order] - mean, ".", ms=3,
-                label=f"{lab}: mean {mean:+.1f}, peak-to-peak {ptp:.2e} urad")
+                label=f"{lab}: mean {mean:+.1f} urad, peak-to-peak {ptp:.2e} urad from {int(act.sum())} points")
+    te_axis(ax, [0.0], ptps)
     ax.set_xlabel("pinion angle phi'_1 (deg)")
     ax.set_ylabel("TE minus its mean (urad)")
     ax.grid(alpha=0.3)
@@ -139,7 +165,13 @@ def tca_summary(result, geom, out_png, title=""):
         ax.set_xlabel("pinion angle phi'_1 (deg)")
         ax.set_ylabel("TE (urad)")
         ptp = fr.te_peak_to_peak * 1e6
-        ax.set_title(f"{flank} flank: TE, peak-to-peak {ptp:.2e} urad" if np.isfinite(ptp) else f"{flank}: no contact")
+        if np.isfinite(ptp):
+            te_axis(ax, te[act], [ptp])
+            ax.set_title(f"{flank} flank: TE, peak-to-peak {ptp:.2e} urad from {int(act.sum())} points")
+        else:
+            st = list(fr.status)
+            ax.set_title(f"{flank} flank: no TE: no contact on the flanks ({st.count('outside')} outside,"
+                         f" {st.count('failed')} not solved)")
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
     _save(fig, out_png, title, dpi=100)

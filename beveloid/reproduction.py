@@ -64,10 +64,9 @@ def load_table1():
 
 
 def load_case(case):
-    from .spec import spec_from_dict
+    from .spec import load_example
 
-    with _data_path(f"{case}.toml").open("rb") as f:
-        return spec_from_dict(tomllib.load(f), source=f"{case}.toml")
+    return load_example(case)
 
 
 def _err_vec(e):

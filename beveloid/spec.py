@@ -20,9 +20,11 @@ Only the standard library is used (``tomllib``, ``dataclasses``, ``difflib``).
 from __future__ import annotations
 
 import dataclasses
+import datetime
 import difflib
 import math
 import os
+import stat
 import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -45,7 +47,22 @@ __all__ = [
     "spec_to_dict",
     "misalignment_with",
     "key_docs_markdown",
+    "key_schema_text",
+    "spec_from_toml_bytes",
+    "MAX_SPEC_BYTES",
+    "EXAMPLES",
+    "example_text",
+    "load_example",
 ]
+
+#: A spec file larger than this (bytes) is refused: real specs are about 2 kB.
+MAX_SPEC_BYTES = 1_000_000
+
+#: Example specs shipped in the package (beveloid/data/<name>.toml): the paper's Table 1 cases.
+EXAMPLES: dict[str, str] = {
+    "case1": "Case 1 of the paper's Table 1",
+    "case2": "Case 2 of the paper's Table 1",
+}
 
 #: ``source`` used when a spec does not come from a file; errors get no prefix.
 DEFAULT_SOURCE = "<dict>"
@@ -168,6 +185,13 @@ class KeyDoc:
     model: str | None = None
 
     @property
+    def default_text(self) -> str:
+        """The default as written in docs ('' when there is none)."""
+        if self.default is None:
+            return ""
+        return f'"{self.default}"' if self.kind == "choice" else _num(float(self.default))
+
+    @property
     def unit_suffix(self) -> str:
         return f" ({self.unit})" if self.unit else ""
 
@@ -213,7 +237,7 @@ _PAIR_DOCS: dict[str, KeyDoc] = {
     "shaft_angle_deg": KeyDoc(
         "crossing angle between the shafts", "deg", lo=0.0, lo_open=True, hi=90.0, hi_open=True
     ),
-    "offset_mm": KeyDoc("offset between the crossed axes", "mm", lo=0.0, lo_open=True),
+    "offset_mm": KeyDoc("offset between the crossed axes", "mm", lo=0.0, lo_open=True, hi=1e6),
 }
 
 
@@ -327,7 +351,7 @@ def key_docs_markdown() -> str:
             else:
                 req = "yes" if d.requirement == "required" else "no"
                 valid = d.valid_text
-            default = "" if d.default is None else (d.default if d.kind == "choice" else _num(float(d.default)))
+            default = d.default_text
             cells = [f"`{section}.{key}`", req, default, valid, d.description]
             lines.append("| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |")
     return "\n".join(lines)
@@ -352,13 +376,32 @@ def _fmt(value: Any) -> str:
     if isinstance(value, str):
         text = value if len(value) <= 40 else value[:37] + "..."
         return '"' + text.encode("unicode_escape").decode("ascii").replace('"', '\\"') + '"'
+    if isinstance(value, (datetime.date, datetime.time)):  # datetime is a date too
+        kind = ("a date-time" if isinstance(value, datetime.datetime)
+                else "a date" if isinstance(value, datetime.date) else "a time")
+        return f"{value.isoformat()} ({kind})"
     if isinstance(value, Mapping):
-        return "a table {" + ", ".join(str(k) for k in list(value)[:5]) + ("...}" if len(value) > 5 else "}")
+        return "a table {" + ", ".join(_name(k) for k in list(value)[:5]) + ("...}" if len(value) > 5 else "}")
     if isinstance(value, (list, tuple)):
         text = "[" + ", ".join(_fmt(v) for v in list(value)[:5]) + (", ...]" if len(value) > 5 else "]")
         return text
     text = repr(value)
     return _one_line(text if len(text) <= 40 else text[:37] + "...")
+
+
+def printable(text: str, limit: int | None = None) -> str:
+    """``text`` with every non-printable character escaped (NUL, ESC, newlines ...), optionally shortened."""
+    text = str(text)
+    if limit is not None and len(text) > limit:
+        text = text[: limit - 3] + "..."
+    if text.isprintable():
+        return text
+    return "".join(c if c.isprintable() else c.encode("unicode_escape").decode("ascii") for c in text)
+
+
+def _name(key: Any) -> str:
+    """A key or section name as it may appear in a message: printable, at most 40 characters."""
+    return printable(str(key), 40)
 
 
 def _closest(name: str, candidates: list[str]) -> str | None:
@@ -420,7 +463,7 @@ def _check_section(name: str, raw: Any) -> dict[str, Any]:
     # 1. unknown keys and design results, in the order given
     for key, value in raw.items():
         key_s = str(key)
-        dotted = f"{name}.{key_s}"
+        dotted = f"{name}.{_name(key_s)}"
         doc = docs.get(key_s) if isinstance(key, str) else None
         if doc is None:
             match = _closest(key_s, list(docs))
@@ -500,13 +543,18 @@ def _build(data: Any) -> DesignSpec:
         raise SpecError(
             f"spec = {_fmt(data)}: must be a table with sections {', '.join(f'[{s}]' for s in SECTIONS)}"
         )
-    for name in data:
+    for name, value in data.items():
         if name not in SECTIONS:
-            raise SpecError(
-                f"{name}: unknown section; valid sections are: {', '.join(SECTIONS)}"
-                f"{_hint(str(name), list(SECTIONS))}",
-                key=str(name),
-            )
+            if isinstance(value, Mapping):
+                raise SpecError(
+                    f"{_name(name)}: unknown section; valid sections are: {', '.join(SECTIONS)}"
+                    f"{_hint(str(name), list(SECTIONS))}",
+                    key=_name(name),
+                )
+            homes = [f"[{sec}]" for sec, docs in KEY_DOCS.items() if name in docs]
+            where = (f"; {name} belongs in {' or '.join(homes)}" if homes
+                     else f"; keys go in the sections {', '.join(f'[{sec}]' for sec in SECTIONS)}")
+            raise SpecError(f"{_name(name)} = {_fmt(value)}: unknown top-level key{where}", key=_name(name))
     for name in REQUIRED_SECTIONS:
         if name not in data:
             needs = [k for k, d in KEY_DOCS[name].items() if d.requirement == "required"]
@@ -544,27 +592,92 @@ def spec_from_dict(data: dict, source: str = DEFAULT_SOURCE) -> DesignSpec:
     return dataclasses.replace(spec, source=source)
 
 
-def load_spec(path: str | os.PathLike) -> DesignSpec:
-    """Read and validate a TOML design file.
-
-    A missing/unreadable file or a TOML syntax error raises :class:`SpecError`
-    whose one-line message starts with the path.
-    """
-    source = os.fsdecode(path)
+def _read_spec_bytes(path: str | os.PathLike, source: str) -> bytes:
+    """The file's bytes: only a regular file of at most :data:`MAX_SPEC_BYTES` (no device, FIFO, folder)."""
     try:
-        with open(path, "rb") as fh:
-            data = tomllib.load(fh)
+        st = os.stat(path)
     except FileNotFoundError:
         raise SpecError("cannot read spec file: no such file", source=source) from None
-    except OSError as err:
-        reason = err.strerror or str(err)
+    except (OSError, ValueError) as err:  # ValueError: embedded NUL in the path
+        reason = getattr(err, "strerror", None) or str(err)
         raise SpecError(f"cannot read spec file: {reason}", source=source) from None
+    if not stat.S_ISREG(st.st_mode):
+        kind = ("a folder" if stat.S_ISDIR(st.st_mode) else "a FIFO" if stat.S_ISFIFO(st.st_mode)
+                else "a device" if (stat.S_ISCHR(st.st_mode) or stat.S_ISBLK(st.st_mode))
+                else "a socket" if stat.S_ISSOCK(st.st_mode) else "not a regular file")
+        raise SpecError(f"cannot read spec file: it is {kind}; give a regular TOML file"
+                        " (`beveloid example case1` prints one)", source=source)
+    if st.st_size > MAX_SPEC_BYTES:
+        raise SpecError(f"cannot read spec file: {st.st_size} bytes, more than the {MAX_SPEC_BYTES} bytes a"
+                        " spec may have", source=source)
+    try:
+        with open(path, "rb") as fh:
+            data = fh.read(MAX_SPEC_BYTES + 1)  # bounded, in case the file grows meanwhile
+    except OSError as err:
+        raise SpecError(f"cannot read spec file: {err.strerror or err}", source=source) from None
+    if len(data) > MAX_SPEC_BYTES:
+        raise SpecError(f"cannot read spec file: more than the {MAX_SPEC_BYTES} bytes a spec may have",
+                        source=source)
+    return data
+
+
+def spec_from_toml_bytes(data: bytes, source: str = DEFAULT_SOURCE) -> DesignSpec:
+    """Parse and validate the bytes of a TOML spec; a leading UTF-8 byte-order mark is accepted."""
+    if data.startswith(b"\xef\xbb\xbf"):  # written by some Windows editors; TOML itself has no BOM
+        data = data[3:]
+    try:
+        text = data.decode("utf-8")
     except UnicodeDecodeError as err:
         raise SpecError(f"cannot read spec file: not valid UTF-8 ({err.reason} at byte {err.start})",
                         source=source) from None
+    try:
+        parsed = tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
-        raise SpecError(f"TOML syntax error: {err}", source=source) from None
-    return spec_from_dict(data, source=source)
+        raise SpecError(f"TOML syntax error: {printable(str(err))}", source=source) from None
+    return spec_from_dict(parsed, source=source)
+
+
+def load_spec(path: str | os.PathLike) -> DesignSpec:
+    """Read and validate a TOML design file.
+
+    A missing/unreadable file, anything that is not a regular file (folder, device, FIFO), a file
+    over :data:`MAX_SPEC_BYTES` or a TOML syntax error raises :class:`SpecError` whose one-line
+    message starts with the path.
+    """
+    source = printable(os.fsdecode(path))
+    return spec_from_toml_bytes(_read_spec_bytes(path, source), source=source)
+
+
+def example_text(name: str) -> str:
+    """The TOML text of a packaged example (a key of :data:`EXAMPLES`), as shipped in beveloid/data/."""
+    from importlib import resources
+
+    if name not in EXAMPLES:
+        raise SpecError(f"example = {_fmt(name)}: must be one of {', '.join(EXAMPLES)}")
+    return (resources.files("beveloid") / "data" / f"{name}.toml").read_text(encoding="utf-8")
+
+
+def load_example(name: str) -> DesignSpec:
+    """A packaged example spec (``"case1"`` or ``"case2"``); works from any working directory."""
+    return spec_from_toml_bytes(example_text(name).encode("utf-8"), source=f"{name}.toml")
+
+
+def key_schema_text() -> str:
+    """Every key of a spec file, one line each: section.key, required or default, valid values, meaning."""
+    lines = ["# Keys of a beveloid spec file (TOML). Sections: "
+             + "; ".join(f"[{s}] {d}" for s, d in SECTIONS.items())]
+    for section, docs in KEY_DOCS.items():
+        lines.append("")
+        lines.append(f"[{section}]")
+        for key, d in docs.items():
+            if d.requirement == "result":
+                need = "do not give: a result of the direct design"
+            elif d.requirement == "required":
+                need = f"required, {d.valid_text_in(section)}"
+            else:
+                need = f"optional (default {d.default_text}), {d.valid_text_in(section)}"
+            lines.append(f"{key}: {need}; {d.description}")
+    return "\n".join(lines)
 
 
 def spec_to_dict(spec: DesignSpec) -> dict:

@@ -18,15 +18,37 @@ from . import tca
 from .status import Status, carries_numbers
 
 DEFAULT_RANGES = {"dx_mm": 0.5, "dy_mm": 0.5, "dz_mm": 0.5, "vertical_deg": 0.2, "horizontal_deg": 0.03}
+#: samples x positions above this is refused: the sweep holds ~220 bytes per contact point (~1.1 GB here).
+MAX_CONTACT_POINTS = 5_000_000
 
 
-def draw_errors(samples, ranges=None, seed=0):
-    """Uniform error sets (K, 5) in (mm, mm, mm, rad, rad); ranges are half-widths (mm / deg)."""
+def check_sweep_size(samples, positions):
+    """samples >= 1, positions >= 2 and samples * positions <= MAX_CONTACT_POINTS, else a one-line UserError."""
+    from .errors import UserError
+
+    for name, v, lo in (("samples", samples, 1), ("positions", positions, 2)):
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < lo:
+            raise UserError(f"{name} = {v!r}: must be an integer >= {lo}")
+    if samples * positions > MAX_CONTACT_POINTS:
+        raise UserError(f"samples x positions = {samples} x {positions} = {samples * positions} contact points:"
+                        f" at most {MAX_CONTACT_POINTS} per sweep (memory, ~220 bytes a point); use fewer"
+                        f" samples or positions, or run several sweeps with different seeds")
+
+
+def draw_errors(samples, ranges=None, seed=0, nominal=None):
+    """Uniform error sets (K, 5) in (mm, mm, mm, rad, rad) about ``nominal``.
+
+    ``ranges`` are half-widths and ``nominal`` the centre (dicts keyed like DEFAULT_RANGES: mm / deg;
+    missing nominal keys are 0).
+    """
     r = dict(DEFAULT_RANGES, **(ranges or {}))
-    half = np.array([r["dx_mm"], r["dy_mm"], r["dz_mm"], math.radians(r["vertical_deg"]),
-                     math.radians(r["horizontal_deg"])])
+    c = {k: 0.0 for k in DEFAULT_RANGES} | dict(nominal or {})
+    to_si = (1.0, 1.0, 1.0, math.pi / 180, math.pi / 180)
+    keys = tuple(DEFAULT_RANGES)
+    half = np.array([r[k] * f for k, f in zip(keys, to_si)])
+    centre = np.array([c[k] * f for k, f in zip(keys, to_si)])
     rng = np.random.default_rng(seed)
-    return rng.uniform(-1.0, 1.0, (samples, 5)) * half
+    return centre + rng.uniform(-1.0, 1.0, (samples, 5)) * half
 
 
 def engagement_window(geom, flank, ref=None, resolution=400, backend="auto"):
@@ -68,6 +90,8 @@ class SweepResult:
     seconds: float  # the solve of the K x N points
     newton_iterations_mean: float
     ranges: dict = field(default_factory=dict)
+    #: centre of the error distribution (mm / deg keys like DEFAULT_RANGES); the file's [misalignment] in the CLI
+    nominal_errors: dict = field(default_factory=lambda: {k: 0.0 for k in DEFAULT_RANGES})
     seconds_total: float = float("nan")  # the whole sweep: window, aligned path, solve, statistics
 
     @property
@@ -91,11 +115,14 @@ class SweepResult:
             "us_per_point_total": self.seconds_total / max(1, self.contact_points_solved) * 1e6,
             "newton_iterations_mean": self.newton_iterations_mean,
             "ranges": self.ranges,
+            "nominal_errors": dict(self.nominal_errors),
             "pinion_angle_window_rad": [float(self.pinion_angles[0]), float(self.pinion_angles[-1])],
             "status_counts": {s.label: int((codes == s).sum()) for s in Status},
             "fraction_sets_with_edge_contact": float(any_edge.mean()),
             "fraction_sets_with_contact_off_flank": float(any_off.mean()),
             "fraction_sets_entirely_off_flank": float(all_off.mean()),
+            "sets_with_failed_points": int((codes == Status.FAILED).any(axis=1).sum()),
+            "sets_with_contact": int((codes <= 1).any(axis=1).sum()),
             "pinion_path_shift_mm": _stats(self.pinion_shift_mm),
             "gear_path_shift_mm": _stats(self.gear_shift_mm),
             "te_peak_to_peak_urad": _stats(self.te_peak_to_peak * 1e6),
@@ -115,10 +142,14 @@ def _progress_bar(done, total, t0, stream=sys.stderr, width=30):
 
 
 def sweep(geom, flank="right", samples=1000, positions=50, seed=0, ranges=None, backend="auto",
-          options=tca.DEFAULT_OPTIONS, progress=None, chunk=2000):
-    """Run the sweep; ``progress`` is a callable(done, total, t0) or None."""
+          options=tca.DEFAULT_OPTIONS, progress=None, chunk=2000, nominal=None):
+    """Run the sweep; ``progress`` is a callable(done, total, t0) or None.
+
+    Error sets are drawn uniformly within ``ranges`` (half-widths) about ``nominal`` (mm / deg dicts).
+    """
+    check_sweep_size(samples, positions)
     t_start = time.perf_counter()
-    errors = draw_errors(samples, ranges, seed)
+    errors = draw_errors(samples, ranges, seed, nominal)
     ref = tca.reference_contact(geom, flank)
     backend = tca.resolve_backend(backend)
     lo, hi = engagement_window(geom, flank, ref, backend=backend)
@@ -162,6 +193,6 @@ def sweep(geom, flank="right", samples=1000, positions=50, seed=0, ranges=None, 
     }
     r = dict(DEFAULT_RANGES, **(ranges or {}))
     out = SweepResult(flank, samples, positions, errors, grid, C, pinion_shift, gear_shift, ptp, sens, backend,
-                      seconds, float(IT.mean()), r)
+                      seconds, float(IT.mean()), r, {k: 0.0 for k in DEFAULT_RANGES} | dict(nominal or {}))
     out.seconds_total = time.perf_counter() - t_start
     return out

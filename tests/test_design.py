@@ -465,7 +465,9 @@ def test_error_from_file_is_prefixed_with_the_path(tmp_path):
 
 
 def test_undercut_is_a_note_not_an_error():
-    r = design(spec_from_dict(modified(pinion__profile_shift=-1.2)))
+    # 12 teeth, x_t = -0.3 and the offset for alpha_nw = alpha_n: undercut, but P stays on the active profile
+    # (pinion x_t = -1.2 on case 1, used before, puts P above the pinion tip: now rejected, see below)
+    r = design(spec_from_dict(modified(pinion__teeth=12, pinion__profile_shift=-0.3, pair__offset_mm=172.193)))
     assert any(n.startswith("undercut: pinion left flank") for n in r.notes)
     assert all("increase pinion.profile_shift" in n for n in r.notes)
     assert check_identities(r) == []
@@ -481,14 +483,20 @@ def test_several_roots_choose_the_one_closest_to_alpha_n():
     assert check_identities(r) == []
 
 
-def test_steep_end_of_the_tangency_range_is_solved_to_float_resolution():
+def test_steep_end_of_the_tangency_range_is_solved_to_float_resolution(monkeypatch):
     """E = 0.125 mm for gears of ~1500 mm: E(alpha_nw) ~ sqrt(alpha_nw - end), so |residual| 1e-11 is out of
-    reach; the design accepts alpha_nw at floating-point resolution and says so in a note."""
+    reach; the design accepts alpha_nw at floating-point resolution and says so in a note.
+
+    The pair itself is infeasible (alpha_nw = 8.4 deg puts P below the pinion's form circle); the root
+    finder is tested with that last check switched off."""
     d = {"pair": {"normal_module_mm": 15.962225365159304, "normal_pressure_angle_deg": 18.66216912201765,
                   "shaft_angle_deg": 61.565709030041525, "offset_mm": 0.12530196727260706},
          "pinion": {"teeth": 101, "cone_angle_deg": -14.886566134330275, "helix_angle_deg": 8.373929582436759,
                     "profile_shift": 0.11894893418084784, "face_width_mm": 50.0},
          "gear": {"teeth": 287, "cone_angle_deg": -12.110536505916276, "face_width_mm": 50.0}}
+    with pytest.raises(DesignError, match=r"pitch point P .* below the start of the active profile"):
+        design(spec_from_dict(d))
+    monkeypatch.setattr("beveloid.design._check_pitch_point", lambda *args: None)
     r = design(spec_from_dict(d))
     assert any(n.startswith("Eq 17 solved only to |E(alpha_nw) - E| = ") for n in r.notes)
     assert abs(r.offset_residual_mm) < 1e-7

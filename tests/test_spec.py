@@ -98,10 +98,10 @@ BAD_CASES = [
     ("pressure_high", {"pair.normal_pressure_angle_deg": 35.5}, "pair.normal_pressure_angle_deg", "35.5", "from 10 to 35"),
     ("shaft_zero", {"pair.shaft_angle_deg": 0.0}, "pair.shaft_angle_deg", "0.0", "> 0"),
     ("shaft_ninety", {"pair.shaft_angle_deg": 90}, "pair.shaft_angle_deg", "90", "< 90"),
-    ("offset_nan", {"pair.offset_mm": math.nan}, "pair.offset_mm", "nan", "finite"),
-    ("offset_inf", {"pair.offset_mm": math.inf}, "pair.offset_mm", "inf", "finite"),
+    ("offset_nan", {"pair.offset_mm": math.nan}, "pair.offset_mm", "nan", "<= 1000000 (mm)"),
+    ("offset_inf", {"pair.offset_mm": math.inf}, "pair.offset_mm", "inf", "<= 1000000 (mm)"),
     ("offset_negative", {"pair.offset_mm": -229}, "pair.offset_mm", "-229", "> 0"),
-    ("offset_overflow_int", {"pair.offset_mm": 10**400}, "pair.offset_mm", "...", "finite"),
+    ("offset_overflow_int", {"pair.offset_mm": 10**400}, "pair.offset_mm", "...", "<= 1000000 (mm)"),
     # --- members
     ("cone_high", {"pinion.cone_angle_deg": 15.5}, "pinion.cone_angle_deg", "15.5", "from -15 to 15"),
     ("cone_low", {"gear.cone_angle_deg": -16}, "gear.cone_angle_deg", "-16", "from -15 to 15"),
@@ -138,7 +138,7 @@ BAD_CASES = [
     ("unknown_key_dx", {"misalignment.dx": 1.0}, "misalignment.dx", "unknown key", "valid keys are: dx_mm"),
     ("unknown_key_no_hint", {"pair.colour": "red"}, "pair.colour", "unknown key", "valid keys are: normal_module_mm"),
     ("unknown_section", {"misalignement": {}}, "misalignement", "unknown section", "did you mean misalignment?"),
-    ("unknown_top_scalar", {"title": "x"}, "title", "unknown section", "valid sections are: pair"),
+    ("unknown_top_scalar", {"title": "x"}, "title", "unknown top-level key", "[pair]"),
     # --- missing keys / sections
     ("missing_offset", {"pair.offset_mm": _DELETE}, "pair", "'offset_mm'", "offset between the crossed axes"),
     ("missing_pinion_helix", {"pinion.helix_angle_deg": _DELETE}, "pinion", "'helix_angle_deg'", "missing required key"),

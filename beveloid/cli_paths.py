@@ -1,0 +1,98 @@
+"""Output targets of the CLI (``--plot FILE``, ``--out DIR``), checked before any computation.
+
+``check_output_file(path, flag, suffix)`` and ``check_output_dir(path, flag)`` raise
+:class:`beveloid.errors.UserError` (one line naming the flag, the value and what would be valid) for:
+an empty name, a NUL byte, a name component longer than the file system allows (NAME_MAX bytes) or
+a path longer than PATH_MAX, a folder given where a file is wanted (and the reverse), an existing
+file or folder that is not writable, and a missing or unwritable parent folder.  A folder that does
+not exist yet is acceptable for ``--out`` when its nearest existing ancestor is a writable folder
+(it is created).
+"""
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from .errors import UserError
+from .spec import printable
+
+__all__ = ["check_output_file", "check_output_dir"]
+
+
+def _limit(folder: Path, name: str, default: int) -> int:
+    try:
+        return int(os.pathconf(folder, name))
+    except (OSError, ValueError, AttributeError):
+        return default
+
+
+def _exists(p: Path) -> bool:
+    try:
+        return p.exists()
+    except OSError:  # e.g. a name too long: it cannot exist
+        return False
+
+
+def _nearest_existing(p: Path) -> Path:
+    p = p.absolute()
+    while not _exists(p) and p != p.parent:
+        p = p.parent
+    return p
+
+
+def _common_checks(path: str, flag: str) -> Path:
+    shown = printable(path, 80)
+    if not path or not path.strip():
+        raise UserError(f"{flag} = \"{shown}\": an empty name; give a file or folder name")
+    if "\0" in path:
+        raise UserError(f"{flag} = {shown}: contains a NUL character; give a plain file or folder name")
+    p = Path(path)
+    anchor = _nearest_existing(p)
+    if anchor != p.absolute() and not anchor.is_dir():
+        raise UserError(f"{flag} = {shown}: the folder {printable(str(p.parent), 80)} does not exist"
+                        f" ({printable(str(anchor), 80)} is a file); choose a path inside a folder")
+    if not anchor.is_dir():
+        anchor = anchor.parent
+    name_max = _limit(anchor, "PC_NAME_MAX", 255)
+    for part in p.parts:
+        n = len(os.fsencode(part))
+        if n > name_max:
+            raise UserError(f"{flag} = {shown}: the name {printable(part, 24)} has {n} bytes, more than the"
+                            f" {name_max} the file system allows; choose a shorter name")
+    path_max = _limit(anchor, "PC_PATH_MAX", 4096)
+    if len(os.fsencode(str(p.absolute()))) >= path_max:
+        raise UserError(f"{flag} = {shown}: the path is longer than the {path_max} bytes the file system allows;"
+                        " choose a shorter path")
+    return p
+
+
+def check_output_file(path: str, flag: str, suffix: str | None = None) -> None:
+    """``path`` can be written as a file (its folder exists and is writable; if it exists it is a writable file)."""
+    p = _common_checks(path, flag)
+    shown = printable(path, 80)
+    if suffix is not None and p.suffix.lower() != suffix:
+        raise UserError(f"{flag} = {shown}: the output is written as {suffix[1:].upper()}; give a file name"
+                        f" ending in {suffix}")
+    if p.is_dir():
+        raise UserError(f"{flag} = {shown}: is a folder; give a file name inside it, e.g. {shown}/out{suffix or ''}")
+    folder = p.parent if str(p.parent) else Path(".")
+    if not folder.is_dir():
+        raise UserError(f"{flag} = {shown}: the folder {printable(str(folder), 80)} does not exist;"
+                        " create it or choose another")
+    if p.exists() and not os.access(p, os.W_OK):
+        raise UserError(f"{flag} = {shown}: the file exists and is not writable; choose another name")
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise UserError(f"{flag} = {shown}: the folder {printable(str(folder), 80)} is not writable;"
+                        " choose another")
+
+
+def check_output_dir(path: str, flag: str) -> None:
+    """``path`` is a writable folder, or can be created in a writable folder."""
+    p = _common_checks(path, flag)
+    shown = printable(path, 80)
+    if p.exists() and not p.is_dir():
+        raise UserError(f"{flag} = {shown}: exists and is not a folder; give a new or existing folder")
+    target = p if p.exists() else _nearest_existing(p)
+    if not os.access(target, os.W_OK | os.X_OK):
+        raise UserError(f"{flag} = {shown}: the folder {printable(str(target), 80)} is not writable;"
+                        " choose another")

@@ -1,0 +1,247 @@
+"""Fuzz the CLI with generated TOML documents and flag combinations (issue 14).
+
+Every call of ``beveloid.cli.main`` (in-process, fast) must either succeed (exit 0, output on
+stdout) or exit 2 with exactly one line on stderr, no traceback and no warning.  Documents are
+valid-looking (the paper's case 1 with some values changed) or hostile: wrong types, huge, NaN and
+infinite numbers, unicode and control characters, dates, nested tables, unknown keys and sections,
+a byte-order mark, raw NUL bytes, truncation.  Sizes are kept small (--positions, --samples) and a
+SIGALRM guard turns a hang into a failure.  ``derandomize=True``: the same examples on every run.
+"""
+from __future__ import annotations
+
+import contextlib
+import datetime
+import io
+import math
+import signal
+import tempfile
+import tomllib
+import warnings
+from pathlib import Path
+
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from beveloid import cli
+from beveloid.spec import KEY_DOCS
+
+CASE1 = tomllib.loads((Path(__file__).resolve().parent.parent / "examples" / "case1.toml").read_text())
+SECONDS_PER_EXAMPLE = 30  # a hang guard, not a performance target (an example takes well under 1 s)
+
+# ------------------------------------------------------------------------------------ values
+
+hostile_text = st.text(alphabet=st.characters(codec="utf-8", exclude_categories=("Cs",)), max_size=12)
+numbers = st.one_of(
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.floats(-1e3, 1e3),
+    st.sampled_from([0.0, -0.0, 1e-300, 1e300, 1e308, -1e308, 5e-324, 1e6, 1e6 + 1, 10.0, -10.0, 5.0, 90.0]),
+    st.integers(-10**30, 10**30),
+    st.integers(-3, 500),
+)
+scalars = st.one_of(
+    numbers, st.booleans(), hostile_text,
+    st.dates(), st.datetimes(), st.times(),
+)
+values = st.one_of(scalars, st.lists(scalars, max_size=3), st.dictionaries(hostile_text, scalars, max_size=2))
+
+known_keys = [(sec, key) for sec, docs in KEY_DOCS.items() for key in docs]
+sections = st.sampled_from(list(KEY_DOCS) + ["misalignement", "extra", ""]) | hostile_text
+keys = st.sampled_from([k for _, k in known_keys]) | hostile_text
+
+
+def _key(k: str) -> str:
+    return _string(k)
+
+
+def _string(s: str) -> str:
+    out = []
+    for c in s:
+        if c in '"\\':
+            out.append("\\" + c)
+        elif ord(c) < 0x20 or ord(c) == 0x7F:
+            out.append(f"\\u{ord(c):04x}")
+        else:
+            out.append(c)
+    return '"' + "".join(out) + '"'
+
+
+def _value(v) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, int):
+        return str(v)
+    if isinstance(v, float):
+        if math.isnan(v):
+            return "nan"
+        if math.isinf(v):
+            return "inf" if v > 0 else "-inf"
+        return repr(v)
+    if isinstance(v, str):
+        return _string(v)
+    if isinstance(v, (datetime.date, datetime.time)):
+        return v.isoformat()
+    if isinstance(v, list):
+        return "[" + ", ".join(_value(x) for x in v) + "]"
+    if isinstance(v, dict):
+        return "{" + ", ".join(f"{_key(k)} = {_value(x)}" for k, x in v.items()) + "}"
+    raise TypeError(type(v))
+
+
+def to_toml(doc: dict) -> str:
+    top = [f"{_key(k)} = {_value(v)}" for k, v in doc.items() if not isinstance(v, dict)]
+    parts = ["\n".join(top)] if top else []
+    for name, table in doc.items():
+        if isinstance(table, dict):
+            parts.append(f"[{_key(name)}]\n" + "\n".join(f"{_key(k)} = {_value(v)}" for k, v in table.items()))
+    return "\n\n".join(parts) + "\n"
+
+
+@st.composite
+def documents(draw, plausible: bool) -> bytes:
+    """A plausible document (case 1 with up to two values nudged: reaches the design and the solvers)
+    or a hostile one (any change, any type, broken bytes)."""
+    doc = {sec: dict(tab) for sec, tab in CASE1.items()}
+    for _ in range(draw(st.integers(0, 2 if plausible else 3))):
+        action = "nudge" if plausible else draw(st.sampled_from(["set_known", "set_known", "set_any", "delete",
+                                                                 "top", "nudge"]))
+        if action == "set_known":
+            sec, key = draw(st.sampled_from(known_keys))
+            doc.setdefault(sec, {})[key] = draw(values)
+        elif action == "nudge":  # a plausible, nearby value: reaches the design and the solvers
+            sec, key = draw(st.sampled_from([k for k in known_keys if k[0] != "gear" or k[1] in CASE1["gear"]]))
+            base = doc.get(sec, {}).get(key, 0)
+            if isinstance(base, bool) or not isinstance(base, (int, float)):
+                base = 0
+            doc.setdefault(sec, {})[key] = (type(base)(base * draw(st.sampled_from([0.5, 0.9, 1.1, 2])))
+                                            if base else draw(st.floats(-2, 2)))
+        elif action == "set_any":
+            sec = draw(sections)
+            tab = doc.setdefault(sec, {})
+            if isinstance(tab, dict):
+                tab[draw(keys)] = draw(values)
+        elif action == "delete":
+            sec = draw(st.sampled_from(list(doc)))
+            tab = doc[sec]
+            if isinstance(tab, dict) and tab and draw(st.booleans()):
+                del tab[draw(st.sampled_from(list(tab)))]
+            else:
+                del doc[sec]
+        else:
+            doc[draw(keys)] = draw(values)
+    data = to_toml(doc).encode("utf-8", "surrogatepass")
+    raw = "none" if plausible else draw(st.sampled_from(["none"] * 4 + ["bom", "nul", "truncate", "latin1", "garbage",
+                                                                        "empty"]))
+    if raw == "bom":
+        data = b"\xef\xbb\xbf" + data
+    elif raw == "nul":
+        i = draw(st.integers(0, len(data)))
+        data = data[:i] + b"\x00" + data[i:]
+    elif raw == "truncate":
+        data = data[: draw(st.integers(0, len(data)))]
+    elif raw == "latin1":
+        data = data + b"# \xe9\xff\n"
+    elif raw == "garbage":
+        data = draw(st.binary(max_size=64))
+    elif raw == "empty":
+        data = b""
+    return data
+
+
+# ------------------------------------------------------------------------------------ flags
+
+hostile_numbers = st.one_of(st.sampled_from(["nan", "inf", "-inf", "1e999", "abc", "", "-0", "4.99", "9.99", "11"]),
+                            st.floats(-12, 12).map(repr))
+plausible_numbers = st.sampled_from(["0", "0.1", "-0.2", "0.5", "-0.03", "0.01"])
+
+
+@st.composite
+def argv_for(draw, path: str, tmp: str, plausible: bool):
+    flag_numbers = plausible_numbers if plausible else hostile_numbers
+    counts = (lambda good, bad: st.sampled_from(good if plausible else good + bad))
+    command = draw(st.sampled_from(["design", "tca", "tca", "sweep", "sweep", "example"]))
+    if command == "example":
+        return ["example", *draw(st.sampled_from([["case1"], ["case2"], ["--schema"], [], ["case3"],
+                                                  ["case1", "--schema"], ["--json"]]))]
+    argv = [command, path]
+    if command == "design":
+        if draw(st.booleans()):
+            argv.append("--json")
+        return argv
+    if command == "tca":
+        argv += ["--positions", draw(counts(["3", "5", "8"], ["2", "0", "x"]))]
+        for flag in ("--dx", "--dy", "--dz", "--vertical", "--horizontal"):
+            if draw(st.integers(0, 4)) == 0:
+                argv.append(f"{flag}={draw(flag_numbers)}")
+        if draw(st.booleans()):
+            argv += ["--flank", draw(counts(["left", "right", "both"], ["up"]))]
+        if draw(st.integers(0, 3)) == 0:
+            argv += ["--pairs", draw(counts(["1", "3"], ["2", "11"]))]
+        if not plausible and draw(st.integers(0, 3)) == 0:  # only targets that are refused: rendering a PNG costs ~1 s
+            argv += ["--plot", draw(st.sampled_from(["", tmp, f"{tmp}/x.txt", f"{tmp}/{'n' * 300}.png",
+                                                     f"{tmp}/missing/x.png"]))]
+    else:
+        argv += [f"--samples={draw(counts(['1', '2', '3'], ['0', '-1']))}",
+                 f"--positions={draw(counts(['2', '3', '4'], ['1']))}"]
+        for flag in ("--dx-max", "--dy-max", "--dz-max", "--vertical-max", "--horizontal-max"):
+            if draw(st.integers(0, 4)) == 0:
+                argv.append(f"{flag}={draw(flag_numbers).lstrip('-')}" if plausible else
+                            f"{flag}={draw(flag_numbers)}")
+        if draw(st.booleans()):
+            argv += ["--flank", draw(counts(["left", "right"], ["both"]))]
+        if draw(st.booleans()):
+            argv += ["--backend", draw(counts(["numpy", "auto"], ["gpu"]))]
+        if draw(st.booleans()):
+            argv.append(f"--seed={draw(counts(['0', '7'], ['-1']))}")
+    if draw(st.booleans()):
+        argv.append("--json")
+    return argv
+
+
+# ------------------------------------------------------------------------------------ the test
+
+_TMP = tempfile.TemporaryDirectory(prefix="beveloid-fuzz-")
+
+
+class _Hang(Exception):
+    pass
+
+
+def _alarm(signum, frame):
+    raise _Hang(f"no answer within {SECONDS_PER_EXAMPLE} s")
+
+
+def _call(argv):
+    out, err = io.StringIO(), io.StringIO()
+    old = signal.signal(signal.SIGALRM, _alarm)
+    signal.alarm(SECONDS_PER_EXAMPLE)
+    try:
+        with warnings.catch_warnings(record=True) as caught, contextlib.redirect_stdout(out), \
+                contextlib.redirect_stderr(err):
+            warnings.simplefilter("always")
+            rc = cli.main(argv)
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, old)
+    return rc, out.getvalue(), err.getvalue(), [str(w.message) for w in caught]
+
+
+@settings(max_examples=300, deadline=None, derandomize=True, database=None,
+          suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large, HealthCheck.filter_too_much])
+@given(data=st.data())
+def test_cli_fuzz_success_or_one_line_exit_2(data):
+    tmp = _TMP.name
+    path = str(Path(tmp) / "spec.toml")
+    plausible = data.draw(st.sampled_from([True, True, True, False, False]), label="plausible")
+    Path(path).write_bytes(data.draw(documents(plausible), label="document"))
+    argv = data.draw(argv_for(path, tmp, plausible), label="argv")
+    rc, out, err, caught = _call(argv)
+    assert not caught, f"warnings: {caught}"
+    assert "Traceback" not in err, err
+    if rc == 0:
+        assert out.strip(), "success must print its result"
+        return
+    assert rc == 2, (rc, err)
+    lines = err.splitlines()
+    assert len(lines) == 1 and lines[0].strip(), err
+    assert lines[0].startswith("beveloid"), err
+    assert lines[0].isprintable(), repr(lines[0])
