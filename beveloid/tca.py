@@ -32,6 +32,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import assembly_errors
 from .generated import layouts, tca_kernels
 from .geometry import Member, PairGeometry  # noqa: F401  (re-exported: tca.PairGeometry.from_design)
 from .solver import backends
@@ -282,14 +283,6 @@ def _rotate_z(P, angle):
     return out
 
 
-def _rotate_z(P, angle):
-    c, s = np.cos(angle), np.sin(angle)
-    out = P.copy()
-    out[..., 0] = c * P[..., 0] - s * P[..., 1]
-    out[..., 1] = s * P[..., 0] + c * P[..., 1]
-    return out
-
-
 def mesh_flank(geom: PairGeometry, flank: str, errors=(0, 0, 0, 0, 0), positions=200, pairs=3,
                options: SolverOptions = DEFAULT_OPTIONS, window_pitches=None, backend="auto"):
     """TCA of one flank over the mesh with neighbouring tooth pairs.
@@ -424,10 +417,8 @@ class TCAResult:
         return None if self.backlash is None else self.backlash.um
 
     def to_json_dict(self):
-        e = layouts.AssemblyErrors(*map(float, self.errors))
         out = {
-            "errors": {"dx_mm": e.dx_mm, "dy_mm": e.dy_mm, "dz_mm": e.dz_mm,
-                       "vertical_deg": math.degrees(e.vertical_rad), "horizontal_deg": math.degrees(e.horizontal_rad)},
+            "errors": assembly_errors.from_layout(self.errors),
             "flanks": {k: v.to_json_dict() for k, v in self.flanks.items()},
             "te_peak_to_peak_urad": {k: (None if not np.isfinite(v.te_peak_to_peak) else v.te_peak_to_peak * 1e6)
                                      for k, v in self.flanks.items()},
