@@ -317,3 +317,31 @@ def test_backends_agree_on_statuses_and_numbers_including_failures(geom1):
     assert (a.status == Status.FAILED).any() and (a.status == Status.OK).any()
     solved = a.status != Status.FAILED
     np.testing.assert_allclose(a.x[solved], b.x[solved], rtol=0, atol=1e-9)
+
+
+@pytest.mark.skipif(not backends.AVAILABLE, reason="the compiled backend needs numba")
+def test_compiled_backend_runs_without_a_writable_cache(monkeypatch):
+    """A read-only install (numba: 'cannot cache function ...: no locator available') compiles
+    in memory instead, with one warning, rather than failing."""
+    import numba
+
+    real = numba.njit
+    calls = []
+
+    def njit(*args, cache=False, **kw):
+        calls.append(cache)
+        if cache:
+            raise RuntimeError("cannot cache function 'f': no locator available for file '/ro/f.py'")
+        return real(*args, **kw)
+
+    monkeypatch.setattr(numba, "njit", njit)
+    monkeypatch.setattr(backends, "_cache_warned", False)
+
+    def f(x):
+        return 2.0 * x
+
+    with pytest.warns(RuntimeWarning, match="cannot write its cache"):
+        g = backends._jit(f, parallel=False)
+    assert g(1.5) == 3.0 and calls == [True, False]
+    h = backends._jit(f, parallel=False)  # warned once only
+    assert h(2.0) == 4.0
