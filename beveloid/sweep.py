@@ -153,8 +153,7 @@ def sweep(geom, flank="right", samples=1000, positions=50, seed=0, ranges=None, 
     grid = np.linspace(lo + pad, hi - pad, positions)
     # aligned path (the shift reference)
     xa = tca.solve_grid(geom, flank, np.zeros((1, len(tca.ERROR_NAMES))), grid, backend, options).x
-    p_al, _, _ = tca.surface(geom, "pinion", flank, xa[0, :, 0], xa[0, :, 1])
-    g_al, _, _ = tca.surface(geom, "gear", flank, xa[0, :, 2], xa[0, :, 3])
+    p_al, g_al = tca.contact_points(geom, flank, xa[0])
     t0 = time.perf_counter()
     X = np.empty((samples, positions, 5))
     C = np.empty((samples, positions), dtype=np.int64)
@@ -166,8 +165,7 @@ def sweep(geom, flank="right", samples=1000, positions=50, seed=0, ranges=None, 
             progress(sl.stop, samples, t0)
     seconds = time.perf_counter() - t0
     ok = carries_numbers(C)
-    P1, _, _ = tca.surface(geom, "pinion", flank, X[..., 0], X[..., 1])
-    P2, _, _ = tca.surface(geom, "gear", flank, X[..., 2], X[..., 3])
+    P1, P2 = tca.contact_points(geom, flank, X)
     n_ok = ok.sum(axis=1)
     has = n_ok > 0
     pinion_shift = np.full(samples, np.nan)
@@ -175,7 +173,7 @@ def sweep(geom, flank="right", samples=1000, positions=50, seed=0, ranges=None, 
     pinion_shift[has] = np.where(ok, P1[..., 2] - p_al[None, :, 2], 0.0).sum(axis=1)[has] / n_ok[has]
     gear_shift[has] = np.where(ok, P2[..., 2] - g_al[None, :, 2], 0.0).sum(axis=1)[has] / n_ok[has]
     N1, N2 = geom.pinion.teeth, geom.gear.teeth
-    te = X[..., 4] + (N1 / N2) * grid[None, :]
+    te = tca.unknowns(X).gear_angle_rad + (N1 / N2) * grid[None, :]
     ptp = np.full(samples, np.nan)
     ptp[has] = (np.where(ok, te, -np.inf).max(axis=1) - np.where(ok, te, np.inf).min(axis=1))[has]
     s = tca.sensitivity(geom, flank)
