@@ -3,7 +3,10 @@
 
 Flags override the file's [misalignment] table.  The JSON holds "flanks" (keyed "left" and/or
 "right", each with equal-length arrays), "te_peak_to_peak_urad" per flank and, when both flanks
-are solved, "backlash_um".
+are solved, "backlash_um" with "backlash_status": the circumferential play at the gear's working
+pitch circle at the left flank's reference pinion angle, positive = play, negative = the flanks
+interfere; a number only when the status is "ok" (both flanks touch on their flanks there), else
+null with the status of the missing contact ("outside" or "failed") and a note saying why.
 """
 from __future__ import annotations
 
@@ -127,11 +130,14 @@ def format_summary(result, spec) -> str:
                            f" contact on the flanks at the others): it does not describe a whole mesh cycle")
     w = [max(len(r[i]) for r in rows) for i in range(len(head))]
     lines += ["  ".join(c.rjust(wi) if i else c.ljust(wi) for i, (c, wi) in enumerate(zip(r, w))) for r in rows]
-    if result.backlash_um is not None:
-        b = result.backlash_um
-        b = 0.0 if abs(b) < 5e-5 else b  # display only: no "-0.0000" from round-off
-        lines += ["", f"backlash at the gear's working pitch circle: {b:.4f} um" if np.isfinite(b)
-                  else "backlash: not found (no two-flank contact)"]
+    if result.backlash is not None:
+        b = result.backlash
+        if b.um is None:
+            lines += ["", f"backlash: not measured ({b.status}: {b.reason})"]
+        else:
+            um = 0.0 if abs(b.um) < 5e-5 else b.um  # display only: no "-0.0000" from round-off
+            lines += ["", f"backlash at the gear's working pitch circle: {um:.4f} um"
+                          " (positive: play; negative: the flanks interfere)"]
     lines += [f"note: {n}" for n in [*caveats, *result.notes]]
     lines += ["", "z: axial position in the member frame (toe -> heel); points per status over "
               f"{len(result.flanks[next(iter(result.flanks))].status)} pair-positions; TE points: pinion"

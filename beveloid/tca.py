@@ -440,6 +440,8 @@ class TCAResult:
             out["backlash_um"] = self.backlash.um
             out["backlash_status"] = self.backlash.status
         out["notes"] = list(self.notes)
+        if self.backlash is not None and self.backlash.um is None:
+            out["notes"].append(f"backlash not measured ({self.backlash.status}): {self.backlash.reason}")
         return out
 
 
@@ -466,8 +468,6 @@ def analyze(geom: PairGeometry, errors=(0, 0, 0, 0, 0), flanks=FLANKS, positions
         res.notes += pitch_point_notes(geom, fl, options.edge_tol_mm)
     if set(flanks) == set(FLANKS):
         res.backlash = backlash(geom, e, backend=backend, options=options)
-        if res.backlash.um is None:
-            res.notes.append(f"backlash not measured ({res.backlash.status}): {res.backlash.reason}")
     return res
 
 
