@@ -54,6 +54,7 @@ class ContactEllipses:
     """Contact ellipses at n points (NaN where a number is not defined; ``status`` says why)."""
 
     approach_mm: float
+    errors: np.ndarray  # (n, 5) the error sets of the points
     status: list  # one of STATUSES per point
     semi_axes_mm: np.ndarray  # (n, 2) [a, b], untruncated
     major_axis_deg: np.ndarray  # (n,) from e1 toward e2
@@ -185,7 +186,7 @@ def ellipses(geom, flank, x, pinion_angle, errors, valid=None, approach_mm=DEFAU
         frames = {k: tuple(arr[idx] for arr in fr) for k, fr in _member_frames(geom, xs, phi1, errors).items()}
         for col, sign in ((0, -1.0), (1, 1.0)):
             trunc[idx, col] = _chord(geom, flank, frames, rc.point[idx], rc.basis[idx], sign * v2[idx], cap[idx])
-    return ContactEllipses(approach_mm, [str(s) for s in status], np.stack([a, b], axis=-1), ang,
+    return ContactEllipses(approach_mm, np.array(errors), [str(s) for s in status], np.stack([a, b], axis=-1), ang,
                            np.where(has_axis[:, None], major, np.nan), trunc, lam, rc.point, rc.basis)
 
 

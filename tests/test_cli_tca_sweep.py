@@ -563,6 +563,7 @@ def test_paper(capsys, tmp_path):
         blob = (out_dir / p).read_bytes()
         assert blob.startswith(PNG_MAGIC), p
     assert {p.name for p in out_dir.glob("*.png")} == set(pngs)  # nothing written but not shown
+    assert sum("bearing_pattern" in p for p in pngs) >= 2  # aligned and under errors (issue 11)
     data_csvs = re.findall(r"Data: (\S+\.csv)", report)
     assert data_csvs
     for c in data_csvs:
