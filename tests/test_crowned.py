@@ -302,3 +302,14 @@ def test_functional_backlash_is_the_minimum_over_the_mesh_cycle():
     assert bl.um > 0  # crowning adds play to the backlash-free design (Eq 27)
     flat = tca.backlash(tca.PairGeometry.from_design(design(_case1())), backend="numpy")
     assert abs(flat.um) < 1e-6 and abs(flat.max_um - flat.um) < 1e-6  # involute: constant, zero
+
+
+def test_aligned_te_grows_in_proportion_to_small_crowning():
+    """First order: the aligned TE of a crowned pair is proportional to the crowning (the
+    crowning study's search for the paper's 7.5 / 14.3 urad relies on it to converge fast)."""
+    from beveloid import crowning_study
+
+    ptp = [tca.mesh_flank(crowning_study.crowned_geometry("case1", c), "right", positions=31,
+                          backend="numpy").te_peak_to_peak for c in (2.0, 4.0)]
+    assert ptp[0] > 1e-6
+    assert ptp[1] / ptp[0] == pytest.approx(2.0, rel=0.03)
