@@ -2,7 +2,7 @@
 
     python benchmarks/bench_tca.py            # table
     python benchmarks/bench_tca.py --json     # {"W1": {...}, "W2": {...}, "W3": {...}, "import": {...}}
-    python benchmarks/bench_tca.py --only W3  # one workload
+    python benchmarks/bench_tca.py --only sweeps  # W2 and W3 only
 
 Not a test.  Workloads:
   W1  case 1, aligned, both flanks, 3 tooth pairs x 200 positions: one mesh study end to end
@@ -108,8 +108,14 @@ def crowned_case1(amount_um=20.0):
 
 
 def run(repeats=5, only=None):
-    if only == "W3":
-        return {"W3": dict(sweep_workload(crowned_case1()), target_us_per_point=3.0, target_speedup=1000,
+    if only == "sweeps":  # W2 and W3 only, in one run (their ratio is what a noisy machine keeps)
+        from beveloid import tca
+        from beveloid.design import design
+        from beveloid.spec import load_spec
+
+        geom = tca.PairGeometry.from_design(design(load_spec(ROOT / "examples" / "case1.toml")))
+        return {"W2": dict(sweep_workload(geom), target_us_per_point=3.0, target_speedup=300),
+                "W3": dict(sweep_workload(crowned_case1()), target_us_per_point=3.0, target_speedup=1000,
                            crowning_um=20.0)}
     t_imp = time.perf_counter()
     from beveloid import sweep, tca
@@ -180,12 +186,14 @@ def _sweep_extra(name, w):
 
 def table(o):
     head = ("workload", "us/point", "Newton it.", "baseline us/point", "speedup", "target", "met")
-    if set(o) == {"W3"}:
-        rows = [head, _sweep_row("W3 crowned sweep, 1 core", o["W3"], 1000)]
+    if set(o) == {"W2", "W3"}:
+        rows = [head, _sweep_row("W2 sweep, 1 core", o["W2"], 300), _sweep_row("W3 crowned sweep, 1 core", o["W3"], 1000)]
         w = [max(len(r[i]) for r in rows) for i in range(len(head))]
         return "\n".join(["  ".join(c.ljust(wi) for c, wi in zip(r, w)) for r in rows] + [""]
-                         + _sweep_extra("W3", o["W3"]) + [f"baseline: {o['W3']['baseline_points']} points, "
-                                                          f"{o['W3']['baseline_converged']} converged"])
+                         + _sweep_extra("W2", o["W2"]) + _sweep_extra("W3", o["W3"])
+                         + [f"W3 / W2 per point: {o['W3']['us_per_point'] / o['W2']['us_per_point']:.2f}",
+                            f"baselines: {o['W2']['baseline_points']} + {o['W3']['baseline_points']} points, "
+                            f"{o['W2']['baseline_converged']} + {o['W3']['baseline_converged']} converged"])
     w1, w2, w3, im = o["W1"], o["W2"], o["W3"], o["import"]
     rows = [
         head,
@@ -210,7 +218,7 @@ def table(o):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--json", action="store_true")
-    ap.add_argument("--only", choices=("W3",), help="run only this workload")
+    ap.add_argument("--only", choices=("sweeps",), help="sweeps: run only W2 and W3")
     a = ap.parse_args()
     o = run(only=a.only)
     print(json.dumps(o, indent=2) if a.json else table(o))

@@ -84,7 +84,7 @@ def run(out_dir, studies, error_vector, write_csv, positions=200, flank="right",
     from . import plots, tca
 
     out = Path(out_dir)
-    rows = []  # (case, amount, figure, label, ptp, mean, tilt, backlash, newton its)
+    rows = []  # (case, amount, figure, label, ptp, mean, tilt, backlash, newton its, other flank's ptp)
     for case in CASES:
         for amount in AMOUNTS_UM:
             geom = crowned_geometry(case, amount)
@@ -98,8 +98,9 @@ def run(out_dir, studies, error_vector, write_csv, positions=200, flank="right",
                         done[label] = tca.analyze(geom, error_vector(e), positions=positions)
                         r = done[label]
                         fr = r.flanks[flank]
+                        other = r.flanks["left" if flank == "right" else "right"]
                         rows.append((case, amount, fig, label, *_te_shape(fr), r.backlash_um,
-                                     fr.newton_iterations_mean))
+                                     fr.newton_iterations_mean, other.te_peak_to_peak * 1e6))
                     results.append(done[label])
                 plots.transmission_error(
                     results, [lab for lab, _ in errors], flank,
@@ -109,7 +110,7 @@ def run(out_dir, studies, error_vector, write_csv, positions=200, flank="right",
     with open(out / "crowning_study.csv", "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["case", "crowning_um", "te_figure", "errors", "te_peak_to_peak_urad", "te_mean_urad",
-                    "te_tilt_urad", "backlash_um", "newton_iterations_mean"])
+                    "te_tilt_urad", "backlash_um", "newton_iterations_mean", "other_flank_te_peak_to_peak_urad"])
         w.writerows([r[:4] + tuple(_csv(v) for v in r[4:]) for r in rows])
     progress("    crowning study: the crowning that gives the paper's aligned TE")
     targets = {(case, kind): amount_for_te(case, PAPER_ALIGNED_TE_URAD[case], keys, flank, positions)
@@ -132,10 +133,10 @@ def _report(rows, targets, flank, positions):
          "envelope TE at the window's last contact minus its first (the asymmetry an error brings). Backlash: "
          "the smallest play over a mesh cycle.", "",
          "| case | C (um) | TE figure | errors | TE p-p (urad) | TE mean (urad) | tilt (urad) | backlash (um) | "
-         "Newton its |", "|---|---|---|---|---|---|---|---|---|"]
-    for case, amount, fig, label, ptp, mean, tilt, bl, its in rows:
+         "Newton its | TE p-p other flank (urad) |", "|---|---|---|---|---|---|---|---|---|---|"]
+    for case, amount, fig, label, ptp, mean, tilt, bl, its, other in rows:
         L.append(f"| {case} | {amount:g} | {fig} | {label} | {_f(ptp, '{:.2f}')} | {_f(mean, '{:+.2f}')} | "
-                 f"{_f(tilt, '{:+.2f}')} | {_f(bl, '{:.2f}')} | {_f(its, '{:.2f}')} |")
+                 f"{_f(tilt, '{:+.2f}')} | {_f(bl, '{:.2f}')} | {_f(its, '{:.2f}')} | {_f(other, '{:.2f}')} |")
     for amount in AMOUNTS_UM:
         figs = sorted({r[2] for r in rows}, key=int)
         L += ["", f"### C = {amount:g} um", ""]
