@@ -274,8 +274,10 @@ def test_aligned_crowned_pair_has_a_parabola_per_tooth_pair():
     coef = np.polyfit(phi[ok], mid[ok], 2)
     fit = np.polyval(coef, phi[ok])
     assert np.abs(fit - mid[ok]).max() < 0.1 * np.ptp(mid[ok])
-    # Newton iterated (the involute pair's continuation lands on the line contact at once)
-    assert fr.iterations[np.isfinite(fr.transmission_error)].mean() > 1
+    # Newton iterated at every point but the reference angle itself, where the path starts (the
+    # involute pair's predictor lands on the contact at once: 0 iterations everywhere)
+    its = fr.iterations[np.isfinite(fr.transmission_error)]
+    assert np.count_nonzero(its == 0) <= 1 and fr.newton_iterations_mean >= 1
     assert fr.te_peak_to_peak > 1e-6
 
 
