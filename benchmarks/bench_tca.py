@@ -1,13 +1,15 @@
 """TCA benchmark: batched solver vs a per-point fsolve baseline, measured in one run.
 
     python benchmarks/bench_tca.py            # table
-    python benchmarks/bench_tca.py --json     # {"W1": {...}, "W2": {...}, "import": {...}}
+    python benchmarks/bench_tca.py --json     # {"W1": {...}, "W2": {...}, "W3": {...}, "import": {...}}
+    python benchmarks/bench_tca.py --only sweeps  # W2 and W3 only
 
 Not a test.  Workloads:
   W1  case 1, aligned, both flanks, 3 tooth pairs x 200 positions: one mesh study end to end
       after import (design + TCA + backlash).  Reported warm (median of repeats) and cold (the
       first call in this process, which also loads numba's compiled cache).
   W2  10,000 random error sets x 50 positions, one flank (the sweep), on one core.
+  W3  W2 on crowned flanks: case 1 with C_alpha = C_beta = 20 um on both members (issue 10).
 Baseline (same process, >= 200 points): scipy.optimize.fsolve per point on the same five
 equations, built with sympy.lambdify(cse=False) from the derivations, Jacobian by fsolve's own
 differences, each point warm-started from the previous one.
@@ -60,7 +62,63 @@ def baseline(geom, flank, errors_list, phi_grid, x_start):
     return (time.perf_counter() - t0) / n * 1e6, n, conv
 
 
-def run(repeats=5):
+def sweep_workload(geom, K=10_000, N=50):
+    """W2/W3: K random error sets x N positions, right flank, one core, the whole sweep call timed;
+    the fsolve baseline on 5 of the error sets, from the same solutions' first points."""
+    from beveloid import sweep, tca
+    from beveloid.solver import backends
+
+    backend = tca.resolve_backend("auto")
+    if backends.AVAILABLE:
+        import numba
+
+        numba.set_num_threads(1)
+    sweep.sweep(geom, "right", samples=50, positions=N, seed=1, backend=backend)  # warm-up
+    t = time.perf_counter()
+    r = sweep.sweep(geom, "right", samples=K, positions=N, seed=0, backend=backend)
+    wall = time.perf_counter() - t
+    us = wall / r.contact_points_solved * 1e6  # the whole sweep, statistics included
+    errs = sweep.draw_errors(5, seed=0)
+    grid = r.pinion_angles
+    # the baseline marches each path from its first grid point: start it from the nearest solution
+    Xs = tca.solve_grid(geom, "right", errs, grid[:1], "numpy").x
+    b_us, b_n, b_conv = baseline(geom, "right", errs, grid, Xs[:, 0])
+    out = {"samples": K, "positions": N, "points": r.contact_points_solved, "seconds": wall,
+           "solve_seconds": r.seconds, "solve_us_per_point": r.seconds / r.contact_points_solved * 1e6,
+           "backend": backend, "threads": 1, "us_per_point": us,
+           "newton_iterations_mean": r.newton_iterations_mean, "baseline_us_per_point": b_us,
+           "baseline_points": b_n, "baseline_converged": b_conv, "speedup": b_us / us,
+           "status_counts": r.to_json_dict()["status_counts"]}
+    if backends.AVAILABLE:
+        numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
+        t = time.perf_counter()
+        r2 = sweep.sweep(geom, "right", samples=K, positions=N, seed=0, backend=backend)
+        out["us_per_point_all_threads"] = (time.perf_counter() - t) / r2.contact_points_solved * 1e6
+        out["threads_all"] = numba.config.NUMBA_NUM_THREADS
+    # numpy fallback on the same workload, for the record (smaller K: same per-point cost)
+    t = time.perf_counter()
+    rn = sweep.sweep(geom, "right", samples=200, positions=N, seed=0, backend="numpy")
+    out["numpy_us_per_point"] = (time.perf_counter() - t) / rn.contact_points_solved * 1e6
+    return out
+
+
+def crowned_case1(amount_um=20.0):
+    """W3's pair: case 1 with C_alpha = C_beta = amount_um on both members."""
+    from beveloid.crowning_study import crowned_geometry
+
+    return crowned_geometry("case1", amount_um)
+
+
+def run(repeats=5, only=None):
+    if only == "sweeps":  # W2 and W3 only, in one run (their ratio is what a noisy machine keeps)
+        from beveloid import tca
+        from beveloid.design import design
+        from beveloid.spec import load_spec
+
+        geom = tca.PairGeometry.from_design(design(load_spec(ROOT / "examples" / "case1.toml")))
+        return {"W2": dict(sweep_workload(geom), target_us_per_point=3.0, target_speedup=300),
+                "W3": dict(sweep_workload(crowned_case1()), target_us_per_point=3.0, target_speedup=1000,
+                           crowning_um=20.0)}
     t_imp = time.perf_counter()
     from beveloid import sweep, tca
     from beveloid.solver import backends
@@ -97,39 +155,10 @@ def run(repeats=5):
                  "newton_iterations_mean": it_w1, "baseline_us_per_point": b_us, "baseline_points": b_n,
                  "baseline_converged": b_conv, "speedup": b_us / us, "target_seconds": 0.020}
 
-    # ---- W2 -------------------------------------------------------------------------------
-    K, N = 10_000, 50
-    backend = tca.resolve_backend("auto")
-    if backends.AVAILABLE:
-        import numba
-
-        numba.set_num_threads(1)
-    sweep.sweep(geom, "right", samples=50, positions=N, seed=1, backend=backend)  # warm-up
-    t = time.perf_counter()
-    r = sweep.sweep(geom, "right", samples=K, positions=N, seed=0, backend=backend)
-    wall = time.perf_counter() - t
-    us2 = wall / r.contact_points_solved * 1e6  # the whole sweep, statistics included
-    errs = sweep.draw_errors(5, seed=0)
-    grid2 = r.pinion_angles
-    # the baseline marches each path from its first grid point: start it from the nearest solution
-    Xs = tca.solve_grid(geom, "right", errs, grid2[:1], "numpy").x
-    b2_us, b2_n, b2_conv = baseline(geom, "right", errs, grid2, Xs[:, 0])
-    out["W2"] = {"samples": K, "positions": N, "points": r.contact_points_solved, "seconds": wall,
-                 "solve_seconds": r.seconds, "solve_us_per_point": r.seconds / r.contact_points_solved * 1e6,
-                 "backend": backend, "threads": 1, "us_per_point": us2,
-                 "newton_iterations_mean": r.newton_iterations_mean, "baseline_us_per_point": b2_us,
-                 "baseline_points": b2_n, "baseline_converged": b2_conv, "speedup": b2_us / us2,
-                 "target_us_per_point": 3.0, "target_speedup": 300}
-    if backends.AVAILABLE:
-        numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
-        t = time.perf_counter()
-        r2 = sweep.sweep(geom, "right", samples=K, positions=N, seed=0, backend=backend)
-        out["W2"]["us_per_point_all_threads"] = (time.perf_counter() - t) / r2.contact_points_solved * 1e6
-        out["W2"]["threads_all"] = numba.config.NUMBA_NUM_THREADS
-    # numpy fallback on the same workload, for the record (smaller K: same per-point cost)
-    t = time.perf_counter()
-    rn = sweep.sweep(geom, "right", samples=200, positions=N, seed=0, backend="numpy")
-    out["W2"]["numpy_us_per_point"] = (time.perf_counter() - t) / rn.contact_points_solved * 1e6
+    # ---- W2, W3 ---------------------------------------------------------------------------
+    out["W2"] = dict(sweep_workload(geom), target_us_per_point=3.0, target_speedup=300)
+    out["W3"] = dict(sweep_workload(crowned_case1()), target_us_per_point=3.0, target_speedup=1000,
+                     crowning_um=20.0)
 
     # ---- import --------------------------------------------------------------------------
     code = "import time; t=time.perf_counter(); import beveloid; print(time.perf_counter()-t)"
@@ -144,36 +173,56 @@ def run(repeats=5):
     return out
 
 
+def _sweep_row(name, w, target):
+    return (name, f"{w['us_per_point']:.2f}", f"{w['newton_iterations_mean']:.2f}", f"{w['baseline_us_per_point']:.0f}",
+            f"{w['speedup']:.0f}x", f"<= 3 us/point, >= {target}x",
+            "yes" if w["us_per_point"] <= 3 and w["speedup"] >= target else "no")
+
+
+def _sweep_extra(name, w):
+    return [f"{name} solve loop alone: {w['solve_us_per_point']:.2f} us/point (the rest: window, aligned path, statistics)",
+            f"{name} all threads ({w.get('threads_all', 1)}): {w.get('us_per_point_all_threads', float('nan')):.2f}"
+            f" us/point; numpy fallback: {w['numpy_us_per_point']:.2f} us/point; backend {w['backend']}",
+            f"{name} statuses: " + ", ".join(f"{k} {v}" for k, v in w["status_counts"].items())]
+
+
 def table(o):
-    w1, w2, im = o["W1"], o["W2"], o["import"]
+    head = ("workload", "us/point", "Newton it.", "baseline us/point", "speedup", "target", "met")
+    if set(o) == {"W2", "W3"}:
+        rows = [head, _sweep_row("W2 sweep, 1 core", o["W2"], 300), _sweep_row("W3 crowned sweep, 1 core", o["W3"], 1000)]
+        w = [max(len(r[i]) for r in rows) for i in range(len(head))]
+        return "\n".join(["  ".join(c.ljust(wi) for c, wi in zip(r, w)) for r in rows] + [""]
+                         + _sweep_extra("W2", o["W2"]) + _sweep_extra("W3", o["W3"])
+                         + [f"W3 / W2 per point: {o['W3']['us_per_point'] / o['W2']['us_per_point']:.2f}",
+                            f"baselines: {o['W2']['baseline_points']} + {o['W3']['baseline_points']} points, "
+                            f"{o['W2']['baseline_converged']} + {o['W3']['baseline_converged']} converged"])
+    w1, w2, w3, im = o["W1"], o["W2"], o["W3"], o["import"]
     rows = [
-        ("workload", "us/point", "Newton it.", "baseline us/point", "speedup", "target", "met"),
+        head,
         ("W1 mesh study (warm)", f"{w1['us_per_point']:.2f}", f"{w1['newton_iterations_mean']:.2f}",
          f"{w1['baseline_us_per_point']:.0f}", f"{w1['speedup']:.0f}x",
          f"<= 20 ms (got {w1['seconds_warm'] * 1e3:.1f} ms; cold {w1['seconds_cold_first_call'] * 1e3:.0f} ms)",
          "yes" if w1["seconds_warm"] <= 0.020 else "no"),
-        ("W2 sweep, 1 core", f"{w2['us_per_point']:.2f}", f"{w2['newton_iterations_mean']:.2f}",
-         f"{w2['baseline_us_per_point']:.0f}", f"{w2['speedup']:.0f}x", "<= 3 us/point, >= 300x",
-         "yes" if w2["us_per_point"] <= 3 and w2["speedup"] >= 300 else "no"),
+        _sweep_row("W2 sweep, 1 core", w2, 300),
+        _sweep_row("W3 crowned sweep, 1 core", w3, 1000),
         ("import beveloid", f"{im['import_beveloid_s'] * 1e3:.1f} ms", "", "", "", "<= 300 ms",
          "yes" if im["import_beveloid_s"] <= 0.3 else "no"),
     ]
     w = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
     lines = ["  ".join(c.ljust(wi) for c, wi in zip(r, w)) for r in rows]
-    extra = [f"W2 solve loop alone: {w2['solve_us_per_point']:.2f} us/point (the rest: window, aligned path, statistics)",
-             f"W2 all threads ({w2.get('threads_all', 1)}): {w2.get('us_per_point_all_threads', float('nan')):.2f} us/point;"
-             f" numpy fallback: {w2['numpy_us_per_point']:.2f} us/point; backend {w2['backend']}",
-             f"import of the runtime modules (tca, design, sweep): {im['import_runtime_modules_s'] * 1e3:.0f} ms",
-             f"baselines: {w1['baseline_points']} + {w2['baseline_points']} points, "
-             f"{w1['baseline_converged']} + {w2['baseline_converged']} converged"]
+    extra = (_sweep_extra("W2", w2) + _sweep_extra("W3", w3)
+             + [f"import of the runtime modules (tca, design, sweep): {im['import_runtime_modules_s'] * 1e3:.0f} ms",
+                f"baselines: {w1['baseline_points']} + {w2['baseline_points']} + {w3['baseline_points']} points, "
+                f"{w1['baseline_converged']} + {w2['baseline_converged']} + {w3['baseline_converged']} converged"])
     return "\n".join(lines + [""] + extra)
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--json", action="store_true")
+    ap.add_argument("--only", choices=("sweeps",), help="sweeps: run only W2 and W3")
     a = ap.parse_args()
-    o = run()
+    o = run(only=a.only)
     print(json.dumps(o, indent=2) if a.json else table(o))
 
 

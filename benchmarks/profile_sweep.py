@@ -1,6 +1,7 @@
 """Where the compiled sweep's time goes: per-point cost of each piece, on one core.
 
     python benchmarks/profile_sweep.py
+    python benchmarks/profile_sweep.py --crowned 20   # W3's pair: both members crowned by 20 um
 
 Times, for the W2 workload's points (case 1, right flank): one evaluation of the composed
 contact system (two surface jets + the Eq 38 assembly, with Jacobians), the 5x5 solve, the
@@ -23,8 +24,18 @@ CORE = backends.namespace("compiled")  # the solver core's own compiled function
 
 
 def main():
+    import argparse
+
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--crowned", type=float, metavar="UM", help="C_alpha = C_beta on both members (W3: 20)")
+    a = ap.parse_args()
     numba.set_num_threads(1)
-    geom = tca.PairGeometry.from_design(design(load_spec(ROOT / "examples" / "case1.toml")))
+    if a.crowned:
+        from beveloid.crowning_study import crowned_geometry
+
+        geom = crowned_geometry("case1", a.crowned)
+    else:
+        geom = tca.PairGeometry.from_design(design(load_spec(ROOT / "examples" / "case1.toml")))
     ref = tca.reference_contact(geom, "right")
     problem = geom.problem("right")
     e = np.zeros(5)

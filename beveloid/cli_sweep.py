@@ -115,7 +115,7 @@ def format_sweep(o, file):
     nominal = o["nominal_errors"]
     L = [f"Tolerance sweep of {file}, {o['flank']} flank: {k} error sets x {o['positions']} positions "
          f"= {o['contact_points_solved']} contact points ({o['backend']}, {o['seconds']:.2f} s, "
-         f"{o['us_per_point']:.2f} us/point)",
+         f"{o['us_per_point']:.2f} us/point, {o['newton_iterations_mean']:.2f} Newton iterations per point)",
          "  nominal errors (the file's [misalignment]): " + ", ".join(f"{n} {v:g}" for n, v in nominal.items()),
          "  error ranges (uniform about the nominal, +-): " + ", ".join(f"{n} {v:g}" for n, v in o["ranges"].items()),
          "  contact points: " + ", ".join(f"{counts[s]} {s} ({100 * counts[s] / total:.1f} %)"

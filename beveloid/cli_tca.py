@@ -118,10 +118,18 @@ def _z_range(P, status):
     return f"none ({st.count('outside')} outside, {st.count('failed')} failed)"
 
 
+def _play_range(bl) -> str:
+    """The play at the reference angle and the largest, when the play varies over the cycle."""
+    if bl.max_um is None or bl.max_um - bl.um < 5e-5:
+        return "; the same at every angle"
+    ref = "" if bl.at_reference_um is None else f"; {bl.at_reference_um:.4f} um at the left reference angle"
+    return f"{ref}; up to {bl.max_um:.4f} um"
+
+
 def format_summary(result, spec) -> str:
     lines = [f"TCA of {spec.source} with {_errors_label(spec)}", ""]
     head = ("flank", "ok", "edge", "outside", "failed", "pinion z range (mm)", "gear z range (mm)",
-            "TE mean (urad)", "TE p-p (urad)", "TE points")
+            "TE mean (urad)", "TE p-p (urad)", "TE points", "Newton its (mean)")
     rows = [head]
     caveats = []
     for flank, fr in result.flanks.items():
@@ -133,8 +141,9 @@ def format_summary(result, spec) -> str:
         n_te = int((fr.active & np.isfinite(fr.transmission_error)).reshape(pairs, positions).any(axis=0).sum())
         mean = f"{te.mean() * 1e6:.3f}" if te.size else "-"
         ptp = f"{fr.te_peak_to_peak * 1e6:.3e}" if np.isfinite(fr.te_peak_to_peak) else "-"
+        its = fr.newton_iterations_mean
         rows.append((flank, *cnt, _z_range(fr.pinion_contact, st), _z_range(fr.gear_contact, st), mean, ptp,
-                     f"{n_te}/{positions}"))
+                     f"{n_te}/{positions}", "-" if its is None else f"{its:.2f}"))
         if 0 < n_te < positions:
             caveats.append(f"{flank} flank: TE peak-to-peak from {n_te} of {positions} positions only (no"
                            f" contact on the flanks at the others): it does not describe a whole mesh cycle")
@@ -146,8 +155,8 @@ def format_summary(result, spec) -> str:
             lines += ["", f"backlash: not measured ({b.status}: {b.reason})"]
         else:
             um = 0.0 if abs(b.um) < 5e-5 else b.um  # display only: no "-0.0000" from round-off
-            lines += ["", f"backlash at the gear's working pitch circle: {um:.4f} um"
-                          " (positive: play; negative: the flanks interfere)"]
+            lines += ["", f"backlash at the gear's working pitch circle: {um:.4f} um (smallest play over a mesh"
+                          f" cycle{_play_range(b)}; positive: play, negative: the flanks interfere)"]
     lines += [f"note: {n}" for n in [*caveats, *result.notes]]
     lines += ["", "z: axial position in the member frame (toe -> heel); points per status over "
               f"{len(result.flanks[next(iter(result.flanks))].status)} pair-positions; TE points: pinion"

@@ -1,4 +1,5 @@
-"""``beveloid paper --out DIR``: Table 1 and the studies of Figs 10-22, with a report.
+"""``beveloid paper --out DIR``: Table 1 and the studies of Figs 10-22, with a report (and the
+crowning study of beveloid/crowning_study.py).
 
 Everything is computed from examples/case1.toml and examples/case2.toml (shipped in the
 package as beveloid/data/) by the design and TCA of this package; the paper's printed values
@@ -176,14 +177,14 @@ def bearing_pattern_figure(geom, results, labels, out_png, title):
 
 def run(out_dir, positions=200, progress=_progress):
     """Write figures, CSV and report.md into out_dir; returns the report path."""
-    from . import plots, tca
+    from . import crowning_study, plots, tca
     from .design import design
     from .design_report import format_table1
 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
-    steps = 2 + len(STUDIES) + 3
+    steps = 2 + len(STUDIES) + 4
     k = 0
 
     def step(msg):
@@ -239,8 +240,13 @@ def run(out_dir, positions=200, progress=_progress):
     onset = {c: (edge_onset_offset(geoms[c], FLANK, +1), edge_onset_offset(geoms[c], FLANK, -1))
              for c in ("case1", "case2")}
 
+    step("crowning study: TE of crowned pairs (beveloid/crowning_study.py)")
+    crowning = crowning_study.run(out, STUDIES, _err_vec, _write_csv, positions=positions, flank=FLANK,
+                                  progress=progress)
+
     step("report.md")
     report = _report(designs, comparison, summary, sens, onset, aligned, time.perf_counter() - t0, positions)
+    report += "\n".join(crowning)
     (out / "report.md").write_text(report)
     (out / "table1_case1.txt").write_text(format_table1(designs["case1"]) + "\n")
     (out / "table1_case2.txt").write_text(format_table1(designs["case2"]) + "\n")

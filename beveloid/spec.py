@@ -512,7 +512,7 @@ def _resolve_surface_model(name: str, raw: Mapping, out: dict[str, Any], docs: d
         model = chosen[0] if chosen else surface_models.DEFAULT_MODEL
         out["tooth_surface"] = model
     for key in sorted(given):
-        if docs[key].model != model:
+        if docs[key].model != model and out[key] != docs[key].default:  # another model's key at its default is moot
             raise SpecError(
                 f"{name}.{key} = {_fmt(raw[key])}: the tooth surface \"{model}\" takes no such key; set"
                 f" {name}.tooth_surface = \"{docs[key].model}\" or remove {name}.{key}", key=f"{name}.{key}")

@@ -272,6 +272,12 @@ class FlankResult:
     unknowns: np.ndarray = None  # (n, 5) pair 0's (l1, u1, l2, u2, phi'_2) as solved, for every point
     contact_ellipse: object = None  # contact_ellipse.ContactEllipses, when attached (contact_ellipse.attach)
 
+    @property
+    def newton_iterations_mean(self) -> float | None:
+        """Mean Newton iterations of the points that converged (None if none did)."""
+        solved = np.array([st != Status.FAILED.label for st in self.status])
+        return float(np.mean(self.iterations[solved])) if solved.any() else None
+
     def to_json_dict(self):
         nan_to_none = lambda a: [None if not np.isfinite(v) else float(v) for v in a]  # noqa: E731
         pts = lambda P: [None if not np.all(np.isfinite(p)) else [float(c) for c in p] for p in P]  # noqa: E731
@@ -286,6 +292,8 @@ class FlankResult:
             "active": [bool(a) for a in self.active],
             "nearest_boundary": list(self.nearest_boundary),
             **(self.contact_ellipse.to_json_dict() if self.contact_ellipse is not None else {}),
+            "newton_iterations": [int(k) for k in self.iterations],
+            "newton_iterations_mean": self.newton_iterations_mean,
         }
 
 
@@ -362,14 +370,21 @@ def _gap_sign(geom, flank, ref):
 class Backlash:
     """Two-flank circumferential backlash at the gear's working pitch radius.
 
-    ``status`` is "ok" when both flanks touch on their active flanks at the reference pinion
-    angle (then ``um`` is a number: positive play, negative interference); otherwise the
-    status of the flank contact that is missing ("outside" or "failed") and ``um`` is None.
+    ``um`` is the functional backlash: the smallest play over one mesh cycle (one pinion
+    pitch), each flank's contact being the tooth pair that constrains the gear most (as for the
+    TE).  Conjugate (involute) flanks have the same play at every angle; crowned flanks do not,
+    and the gear can only rattle by the smallest.  ``at_reference_um`` is the play at the left
+    flank's reference pinion angle, ``max_um`` the largest play over the cycle.  ``status`` is
+    "ok" when both flanks touch on their active flanks at some angle of the cycle (then the
+    numbers are set: positive play, negative interference); otherwise the status of the flank
+    contact that is missing ("outside" or "failed") and the numbers are None.
     """
 
     um: float | None
     status: str
     reason: str = ""
+    at_reference_um: float | None = None
+    max_um: float | None = None
 
 
 def _raw_play(geom, errors, backend, options):
@@ -399,24 +414,70 @@ def _whole_pitches(geom, backend, options):
     return round(play / geom.pitch_angles[1])
 
 
-def backlash(geom: PairGeometry, errors=(0, 0, 0, 0, 0), backend="auto", options=DEFAULT_OPTIONS) -> Backlash:
-    """Circumferential backlash (um) at the gear's working pitch radius, from a two-flank TCA.
+BACKLASH_POSITIONS = 48  # pinion angles over one pitch, then two local refinements of the minimum
+BACKLASH_PAIRS = 5
 
-    Left and right contacts are solved at the same pinion angle (the left flank's reference);
-    the gear's free angle between them, less the whole pitches between the two pair-0
-    contacts of the aligned pair, times r_w2.  Never reduced modulo the pitch: a play larger
-    than a pitch is what it is.  Positive: play; negative: the flanks would interfere.
+
+def _flank_limit(geom, flank, errors, phi1, backend, options):
+    """Gear angle at which the flank's binding tooth pair touches at each pinion angle (rad;
+    nan where no pair touches on the flanks), and the status of the pair-0 contact at phi1[0]."""
+    p1, p2 = geom.pitch_angles
+    ks = np.arange(BACKLASH_PAIRS) - BACKLASH_PAIRS // 2
+    sol = solve_grid(geom, flank, errors, (phi1[None, :] - ks[:, None] * p1).ravel(), backend, options)
+    phi2 = (unknowns(sol.x[0]).gear_angle_rad - np.repeat(ks, phi1.size) * p2).reshape(ks.size, phi1.size)
+    phi2 = np.where(carries_numbers(sol.status[0]).reshape(phi2.shape), phi2, np.nan)
+    if _gap_sign(geom, flank, reference_contact(geom, flank)) > 0:
+        limit = np.where(np.isnan(phi2), -np.inf, phi2).max(axis=0)
+    else:
+        limit = np.where(np.isnan(phi2), np.inf, phi2).min(axis=0)
+    return np.where(np.isfinite(limit), limit, np.nan), Status(int(sol.status[0, BACKLASH_PAIRS // 2 * phi1.size]))
+
+
+def _play(geom, errors, phi1, whole, backend, options):
+    """Play (rad) at the pinion angles phi1 and the reference statuses of the two flanks."""
+    limits, codes = {}, {}
+    for fl in FLANKS:
+        limits[fl], codes[fl] = _flank_limit(geom, fl, errors, phi1, backend, options)
+    sign = _gap_sign(geom, "left", reference_contact(geom, "left"))
+    return (limits["right"] - limits["left"]) * sign - whole * geom.pitch_angles[1], codes
+
+
+def backlash(geom: PairGeometry, errors=(0, 0, 0, 0, 0), backend="auto", options=DEFAULT_OPTIONS) -> Backlash:
+    """Functional circumferential backlash (um) at the gear's working pitch radius, from a
+    two-flank TCA over one mesh cycle.
+
+    At each pinion angle the left and right flanks' binding contacts bound the gear angle; the
+    play is the gear's free angle between them, less the whole pitches between the two pair-0
+    contacts of the aligned pair, times r_w2.  The backlash is the smallest play over one
+    pinion pitch (48 angles, the minimum refined twice on a finer grid); never reduced modulo
+    the pitch.  Positive: play; negative: the flanks would interfere.
     """
     k = _whole_pitches(geom, backend, options)
     if k is None:
         return Backlash(None, Status.FAILED.label, "the aligned pair has no two-flank contact")
-    play, codes = _raw_play(geom, errors, backend, options)
-    for fl in FLANKS:
-        if not carries_numbers(codes[fl]):
-            why = ("the solver did not converge" if codes[fl] == Status.FAILED else
-                   "the tangency lies off the flank at the reference position")
-            return Backlash(None, codes[fl].label, f"{fl} flank: {why}")
-    return Backlash((play - k * geom.pitch_angles[1]) * geom.gear.working_pitch_radius_mm * 1e3, Status.OK.label)
+    e = errors_array(errors).reshape(1, len(ERROR_NAMES))
+    start = reference_contact(geom, "left").pinion_angle
+    step = geom.pitch_angles[0] / BACKLASH_POSITIONS
+    phi1 = start + step * np.arange(BACKLASH_POSITIONS)
+    play, codes = _play(geom, e, phi1, k, backend, options)
+    at_reference = play[0]
+    if not np.isfinite(play).any():
+        fl = next((f for f in FLANKS if not carries_numbers(codes[f])), "left")
+        why = ("the solver did not converge" if codes[fl] == Status.FAILED else
+               "the tangency lies off the flank over the whole mesh cycle")
+        return Backlash(None, codes[fl].label, f"{fl} flank: {why}")
+    smallest, largest = np.nanmin(play), np.nanmax(play)
+    centre = phi1[np.nanargmin(play)]
+    for _ in range(2):  # the minimum sits at a tooth-pair transfer (a kink): refine about it
+        fine = centre + np.linspace(-step, step, 17)
+        play, _ = _play(geom, e, fine, k, backend, options)
+        if np.isfinite(play).any() and np.nanmin(play) < smallest:
+            smallest, centre = np.nanmin(play), fine[np.nanargmin(play)]
+        step /= 8
+    r_um = geom.gear.working_pitch_radius_mm * 1e3
+    return Backlash(float(smallest * r_um), Status.OK.label,
+                    at_reference_um=float(at_reference * r_um) if np.isfinite(at_reference) else None,
+                    max_um=float(largest * r_um))
 
 
 @dataclass
@@ -442,8 +503,11 @@ class TCAResult:
         if self.backlash is not None:
             out["backlash_um"] = self.backlash.um
             out["backlash_status"] = self.backlash.status
+            out["backlash_at_reference_um"] = self.backlash.at_reference_um
+            out["backlash_max_um"] = self.backlash.max_um
         if self.approach_mm is not None:
             out["approach_mm"] = self.approach_mm
+        out["newton_iterations_mean"] = {k: v.newton_iterations_mean for k, v in self.flanks.items()}
         out["notes"] = list(self.notes)
         if self.backlash is not None and self.backlash.um is None:
             out["notes"].append(f"backlash not measured ({self.backlash.status}): {self.backlash.reason}")

@@ -25,7 +25,11 @@ A new tooth-surface model: write a derivation module with ``tooth_surface(sigma)
   the design; every other field is an input key of the member's TOML section;
 * ``KEYS``: {field name: (default, lowest, highest)} of those input keys;
 * ``SELECTED_BY``: input keys whose non-zero value selects the model when the TOML does not
-  name one,
+  name one;
+* ``tooth_surface_late(sigma)``: (point, normal, roll angle, substitute), the surface over
+  abstract functions of (l, u) and the function that makes an expression explicit; the
+  generator then differentiates the abstract forms and substitutes after (smaller trees,
+  faster derivation, better CSE),
 
 add it to ``SURFACE_MODELS`` below and run ``beveloid derive``.  The runtime picks it up by
 name (``tooth_surface = "<model>"`` in a member's TOML section); nothing in ``beveloid/``
@@ -35,7 +39,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from . import codegen, design_chain, eq04_07_tooth_surface, eq28_38_meshing_model, flank_boundaries
+from . import codegen, crowned_flank, design_chain, eq04_07_tooth_surface, eq28_38_meshing_model, flank_boundaries
 from .codegen import Arg, Field, Function, Layout, ModuleSpec, Output
 from .eq01_03_rack_cutter import LEFT, RIGHT
 from .symbols import (
@@ -46,6 +50,7 @@ from .symbols import (
 # name -> derivation module providing tooth_surface(sigma) (and optionally PARAMETERS)
 SURFACE_MODELS = {
     "involute": eq04_07_tooth_surface,
+    "crowned": crowned_flank,
 }
 
 FLANKS = (("left", LEFT), ("right", RIGHT))
@@ -115,10 +120,15 @@ def surface_module(model_name, model):
     params = Arg("params", lay, "", "surface parameters")
     fns = []
     for name, sigma in FLANKS:
-        p, n, ph = model.tooth_surface(sigma)
+        if hasattr(model, "tooth_surface_late"):  # differentiate abstract forms, substitute after
+            p, n, ph, late = model.tooth_surface_late(sigma)
+        else:
+            (p, n, ph), late = model.tooth_surface(sigma), None
         jac = p.jacobian([l, u])
         njac = n.jacobian([l, u])
         hess = sp.Matrix([[p[i].diff(l, 2), p[i].diff(l, u), p[i].diff(u, 2)] for i in range(3)])
+        if late is not None:
+            p, n, ph, jac, njac, hess = (late(e) for e in (p, n, ph, jac, njac, hess))
         fns.append(Function(
             f"surface_{name}", f"Tooth surface of the {name} flank in the member frame S_i.", _LU + [params],
             [Output("point", p, "mm", "surface point [x, y, z]"),

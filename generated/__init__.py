@@ -3,6 +3,7 @@
 
 MODULES = (
     'surface_involute',
+    'surface_crowned',
     'placement',
     'contact_system',
     'flank_boundaries',
@@ -10,6 +11,7 @@ MODULES = (
 )
 SCALAR_MODULES = (
     'surface_involute_scalar',
+    'surface_crowned_scalar',
     'contact_system_scalar',
     'flank_boundaries_scalar',
 )

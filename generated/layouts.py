@@ -70,6 +70,54 @@ class ContactUnknowns(typing.NamedTuple):
         return cls(**{name: float(values[name]) for name in cls._fields})
 
 
+class CrownedSurfaceParams(typing.NamedTuple):
+    """Parameters of the 'crowned' tooth-surface model (crowned_flank.py)."""
+
+    normal_pressure_angle: float  # [rad] normal pressure angle of the rack, alpha_n
+    helix_angle: float  # [rad] helix angle beta (signed, right hand +)
+    cone_angle: float  # [rad] cone angle gamma
+    cutter_addendum_mm: float  # [mm] cutter addendum a below the rack pitch line
+    half_thickness_mm: float  # [mm] half tooth thickness on the rack pitch line, b
+    rack_shift_mm: float  # [mm] rack shift along its depth axis, x_t m_n cos(gamma)/cos(beta)
+    pitch_radius_mm: float  # [mm] generating (reference) pitch radius r
+    profile_crowning_um: float  # [um] profile crowning C_alpha: rack removal at (l - l_p) = +-m_n from the pitch line
+    lead_crowning_um: float  # [um] lead crowning C_beta: rack removal at the face ends u = +-W/2
+    face_width_mm: float  # [mm] the member's face width W (filled from the design)
+    normal_module_mm: float  # [mm] normal module m_n (filled from the design)
+
+    UNITS = {
+        "normal_pressure_angle": "rad",
+        "helix_angle": "rad",
+        "cone_angle": "rad",
+        "cutter_addendum_mm": "mm",
+        "half_thickness_mm": "mm",
+        "rack_shift_mm": "mm",
+        "pitch_radius_mm": "mm",
+        "profile_crowning_um": "um",
+        "lead_crowning_um": "um",
+        "face_width_mm": "mm",
+        "normal_module_mm": "mm",
+    }
+    DOCS = {
+        "normal_pressure_angle": "normal pressure angle of the rack, alpha_n",
+        "helix_angle": "helix angle beta (signed, right hand +)",
+        "cone_angle": "cone angle gamma",
+        "cutter_addendum_mm": "cutter addendum a below the rack pitch line",
+        "half_thickness_mm": "half tooth thickness on the rack pitch line, b",
+        "rack_shift_mm": "rack shift along its depth axis, x_t m_n cos(gamma)/cos(beta)",
+        "pitch_radius_mm": "generating (reference) pitch radius r",
+        "profile_crowning_um": "profile crowning C_alpha: rack removal at (l - l_p) = +-m_n from the pitch line",
+        "lead_crowning_um": "lead crowning C_beta: rack removal at the face ends u = +-W/2",
+        "face_width_mm": "the member\u0027s face width W (filled from the design)",
+        "normal_module_mm": "normal module m_n (filled from the design)",
+    }
+
+    @classmethod
+    def pack(cls, values):
+        """The fields taken by name from a mapping (extra keys are ignored)."""
+        return cls(**{name: float(values[name]) for name in cls._fields})
+
+
 class FlankBlank(typing.NamedTuple):
     """Where one member's flank ends (the blank), in its frame S_i."""
 

@@ -8,12 +8,17 @@ description); SELECTED_BY names the keys whose non-zero value selects a model wh
 ``tooth_surface`` is not given.
 """
 
-MODELS = ("involute", )
+MODELS = ("involute", "crowned", )
 DEFAULT_MODEL = "involute"
 MODEL_KEYS = {
     "involute": {
     },
+    "crowned": {
+        "profile_crowning_um": ("um", 0.0, 0.0, 200.0, "profile crowning C_alpha: rack removal at (l - l_p) = +-m_n from the pitch line"),
+        "lead_crowning_um": ("um", 0.0, 0.0, 200.0, "lead crowning C_beta: rack removal at the face ends u = +-W/2"),
+    },
 }
 SELECTED_BY = {
     "involute": (),
+    "crowned": ("profile_crowning_um", "lead_crowning_um", ),
 }

@@ -16,6 +16,7 @@ from . import flank_boundaries as _flank_boundaries
 from . import layouts
 from .surface_models import MODELS
 from . import surface_involute as _involute
+from . import surface_crowned as _crowned
 
 FLANKS = ("left", "right", )
 UNKNOWNS = ("pinion_l_mm", "pinion_u_mm", "gear_l_mm", "gear_u_mm", "gear_angle_rad", )
@@ -23,12 +24,15 @@ BOUNDARIES = ("form limit", "tip", "toe", "heel", )
 CONTACT_BOUNDARIES = ("pinion form limit", "pinion tip", "pinion toe", "pinion heel", "gear form limit", "gear tip", "gear toe", "gear heel", )
 SURFACE_LAYOUTS = {
     "involute": layouts.InvoluteSurfaceParams,
+    "crowned": layouts.CrownedSurfaceParams,
 }
-PARAMETER_COUNT = 7
+PARAMETER_COUNT = 11
 
 _SURFACE = {
     ("involute", "left"): (_involute.surface_left, _involute.surface_jet_left, _involute.surface_second_derivatives_left, _involute.surface_fundamental_forms_left),
     ("involute", "right"): (_involute.surface_right, _involute.surface_jet_right, _involute.surface_second_derivatives_right, _involute.surface_fundamental_forms_right),
+    ("crowned", "left"): (_crowned.surface_left, _crowned.surface_jet_left, _crowned.surface_second_derivatives_left, _crowned.surface_fundamental_forms_left),
+    ("crowned", "right"): (_crowned.surface_right, _crowned.surface_jet_right, _crowned.surface_second_derivatives_right, _crowned.surface_fundamental_forms_right),
 }
 
 

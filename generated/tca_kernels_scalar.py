@@ -10,6 +10,8 @@ from .contact_system_scalar import contact_residual_point as _contact_residual
 from .flank_boundaries_scalar import flank_margins_point as _flank_margins
 from .surface_involute_scalar import surface_jet_left_point as _involute_jet_left
 from .surface_involute_scalar import surface_jet_right_point as _involute_jet_right
+from .surface_crowned_scalar import surface_jet_left_point as _crowned_jet_left
+from .surface_crowned_scalar import surface_jet_right_point as _crowned_jet_right
 
 N_UNKNOWNS = 5
 N_ERRORS = 5
@@ -30,6 +32,11 @@ def surface_jet_point(model, flank, l, u, params, out_point, out_normal, out_poi
             _involute_jet_left(l, u, params, out_point, out_normal, out_point_D_lu, out_normal_D_lu)
         elif flank == 1:
             _involute_jet_right(l, u, params, out_point, out_normal, out_point_D_lu, out_normal_D_lu)
+    elif model == 1:
+        if flank == 0:
+            _crowned_jet_left(l, u, params, out_point, out_normal, out_point_D_lu, out_normal_D_lu)
+        elif flank == 1:
+            _crowned_jet_right(l, u, params, out_point, out_normal, out_point_D_lu, out_normal_D_lu)
 
 
 def contact_system_point(pinion_model, gear_model, flank, x, pinion_angle, errors, pinion_params, gear_params,

@@ -13,7 +13,7 @@ from beveloid import cli
 from beveloid.errors import UserError
 from beveloid.spec import SpecError
 
-ALLOWED_STATUS = {"verified", "definition", "differs"}
+ALLOWED_STATUS = {"verified", "definition", "differs", "not checked"}
 
 
 @pytest.fixture

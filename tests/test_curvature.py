@@ -31,8 +31,10 @@ def _flank_points(geom, which, flank, n=7):
 
 
 def _with_model(geom, model):
-    return dataclasses.replace(geom, pinion=dataclasses.replace(geom.pinion, tooth_surface=model),
-                               gear=dataclasses.replace(geom.gear, tooth_surface=model))
+    """Both members on the model, its own keys at 20 (e.g. 20 um of crowning: a non-trivial surface)."""
+    opts = tuple((k, 20.0) for k in sorted(surface_models.MODEL_KEYS[model]))
+    return dataclasses.replace(geom, pinion=dataclasses.replace(geom.pinion, tooth_surface=model, surface_options=opts),
+                               gear=dataclasses.replace(geom.gear, tooth_surface=model, surface_options=opts))
 
 
 @pytest.mark.parametrize("model", surface_models.MODELS)

@@ -167,6 +167,8 @@ PHYSICAL = {
     "half_thickness_mm": _uniform(1.5, 6.5),  # pi m_n / 4
     "rack_shift_mm": _uniform(-3, 3),
     "pitch_radius_mm": _uniform(15, 400),  # m_n N / (2 cos beta), N 15..80
+    "face_width_mm": _uniform(10, 120), "normal_module_mm": _uniform(2, 8),  # crowned model
+    "profile_crowning_um": _uniform(0, 200), "lead_crowning_um": _uniform(0, 200),
     "dx_mm": _uniform(-0.5, 0.5), "dy_mm": _uniform(-0.5, 0.5), "dz_mm": _uniform(-0.5, 0.5),
     "vertical_rad": _degrees(-0.3, 0.3), "horizontal_rad": _degrees(-0.3, 0.3),
     "offset_mm": _uniform(20, 300),

@@ -73,7 +73,9 @@ def test_a_new_surface_model_needs_no_runtime_edit(tmp_path):
     assert proc.returncode == 0, proc.stderr
     out = json.loads(proc.stdout)
     assert Path(out["import"]).is_relative_to(work)  # the scratch checkout's runtime ran
-    assert out["models"] == ["involute", "shifted"]
+    from beveloid.generated import surface_models
+
+    assert out["models"] == [*surface_models.MODELS, "shifted"]
     assert (out["pinion_model"], out["gear_model"], out["shift"]) == ("involute", "shifted", 0.2)
     assert out["compared"] >= 10
     assert out["max_diff_rad"] < 1e-9

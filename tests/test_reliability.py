@@ -518,12 +518,12 @@ def test_5_te_from_a_few_positions_carries_a_caveat(capsys):
     rc, text, _ = run_cli(capsys, ["tca", C1, "--positions", "30", "--dx", "1.2"])
     assert rc == 0
     head, row = _table_row(text, "right")
-    assert head.split()[-2:] == ["TE", "points"]
-    k = int(row.split()[-1].split("/")[0])
-    assert 0 < k < 30 and row.split()[-1] == f"{k}/30"
+    assert head.split()[-5:-3] == ["TE", "points"]  # then "Newton its (mean)"
+    k = int(row.split()[-2].split("/")[0])
+    assert 0 < k < 30 and row.split()[-2] == f"{k}/30"
     assert f"note: right flank: TE peak-to-peak from {k} of 30 positions only" in text
     _, left = _table_row(text, "left")
-    assert left.split()[-1] == "30/30" and "note: left flank: TE peak-to-peak" not in text
+    assert left.split()[-2] == "30/30" and "note: left flank: TE peak-to-peak" not in text
 
 
 def _capture_figures(monkeypatch):

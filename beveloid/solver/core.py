@@ -157,7 +157,9 @@ def solve_paths(problem, pinion_blank, gear_blank, x_ref, phi_ref, errors, phi_g
 
     x_ref is the aligned contact at phi_ref.  Per error set: the homotopy in the errors at
     phi_ref, then a march up and a march down the grid with the exact tangent d x / d phi_1 as
-    predictor.  A point that fails restarts the next one from the homotopy's solution.
+    predictor, plus the second-order term from the change of the tangent over the last step once
+    two converged points are behind (non-conjugate surfaces, e.g. crowned: one Newton step instead
+    of two).  A point that fails restarts the next one from the homotopy's solution.
     """
     K = errors.shape[0]
     N = phi_grid.shape[0]
@@ -172,25 +174,37 @@ def solve_paths(problem, pinion_blank, gear_blank, x_ref, phi_ref, errors, phi_g
         xs = x.copy()
         Jst = J.copy()
         Jpst = Jp.copy()
+        tprev = np.empty(N_UNKNOWNS)  # tangent at the previous converged point
         for direction in range(2):
             x[:] = xs
             J[:, :] = Jst
             Jp[:] = Jpst
             prev = phi_ref
             good = ok_all
+            curved = False  # tprev and hprev hold the last step's tangent and length
+            hprev = 0.0
             if direction == 0:
                 j, stop, inc = j0, N, 1
             else:
                 j, stop, inc = j0 - 1, -1, -1
             while j != stop:
                 phi = phi_grid[j]
+                h = phi - prev
+                predicted = False
                 if good:
                     for i in range(N_UNKNOWNS):
                         rhs[i] = -Jp[i]
                     if solve_linear(J, rhs, dx):
+                        predicted = True
                         for i in range(N_UNKNOWNS):
-                            x[i] += dx[i] * (phi - prev)
+                            x[i] += dx[i] * h
+                            if curved and hprev != 0.0:
+                                x[i] += 0.5 * (dx[i] - tprev[i]) / hprev * h * h
                 conv, it = newton(problem, x, phi, e, scale, tol, max_iter, ws, F, J, Je, Jp, step)
+                curved = conv and predicted
+                if curved:
+                    tprev[:] = dx
+                    hprev = h
                 for i in range(N_UNKNOWNS):
                     x_out[k, j, i] = x[i]
                 iters_out[k, j] = it
