@@ -2,8 +2,10 @@
 [--flank left|right|both] [--positions N] [--plot OUT.png] [--json]``.
 
 Flags override the file's [misalignment] table.  The JSON holds "flanks" (keyed "left" and/or
-"right", each with equal-length arrays), "te_peak_to_peak_urad" per flank and, when both flanks
-are solved, "backlash_um".
+"right", each with equal-length arrays, Newton iterations per point and their mean),
+"te_peak_to_peak_urad" and "newton_iterations_mean" per flank and, when both flanks are solved,
+"backlash_um" (the smallest play over a mesh cycle), "backlash_at_reference_um" and
+"backlash_max_um".
 """
 from __future__ import annotations
 
@@ -111,7 +113,7 @@ def _play_range(bl) -> str:
 def format_summary(result, spec) -> str:
     lines = [f"TCA of {spec.source} with {_errors_label(spec)}", ""]
     head = ("flank", "ok", "edge", "outside", "failed", "pinion z range (mm)", "gear z range (mm)",
-            "TE mean (urad)", "TE p-p (urad)", "TE points", "Newton its (mean)")
+            "TE mean (urad)", "TE p-p (urad)", "Newton its (mean)", "TE points")
     rows = [head]
     caveats = []
     for flank, fr in result.flanks.items():
@@ -125,7 +127,7 @@ def format_summary(result, spec) -> str:
         ptp = f"{fr.te_peak_to_peak * 1e6:.3e}" if np.isfinite(fr.te_peak_to_peak) else "-"
         its = fr.newton_iterations_mean
         rows.append((flank, *cnt, _z_range(fr.pinion_contact, st), _z_range(fr.gear_contact, st), mean, ptp,
-                     f"{n_te}/{positions}", "-" if its is None else f"{its:.2f}"))
+                     "-" if its is None else f"{its:.2f}", f"{n_te}/{positions}"))
         if 0 < n_te < positions:
             caveats.append(f"{flank} flank: TE peak-to-peak from {n_te} of {positions} positions only (no"
                            f" contact on the flanks at the others): it does not describe a whole mesh cycle")
