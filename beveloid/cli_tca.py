@@ -2,12 +2,14 @@
 [--flank left|right|both] [--positions N] [--approach-um UM] [--plot OUT.png] [--json]``.
 
 Flags override the file's [misalignment] table.  The JSON holds "flanks" (keyed "left" and/or
-"right", each with equal-length arrays), "te_peak_to_peak_urad" per flank and, when both flanks
-are solved, "backlash_um" with "backlash_status": the circumferential play at the gear's working
-pitch circle at the left flank's reference pinion angle, positive = play, negative = the flanks
-interfere; a number only when the status is "ok" (both flanks touch on their flanks there), else
-null with the status of the missing contact ("outside" or "failed") and a note saying why.  The
-contact ellipses per flank ("contact_ellipse_*", beveloid/contact_ellipse.py) and "approach_mm".
+"right", each with equal-length arrays, Newton iterations per point and their mean),
+"te_peak_to_peak_urad" and "newton_iterations_mean" per flank and, when both flanks are solved,
+"backlash_um" with "backlash_status": the smallest circumferential play over a mesh cycle at the
+gear's working pitch circle, positive = play, negative = the flanks interfere, with
+"backlash_at_reference_um" and "backlash_max_um"; numbers only when the status is "ok" (both
+flanks touch on their flanks somewhere in the cycle), else null with the status of the missing
+contact ("outside" or "failed") and a note saying why.  The contact ellipses per flank
+("contact_ellipse_*", beveloid/contact_ellipse.py) and "approach_mm".
 """
 from __future__ import annotations
 
@@ -129,7 +131,7 @@ def _play_range(bl) -> str:
 def format_summary(result, spec) -> str:
     lines = [f"TCA of {spec.source} with {_errors_label(spec)}", ""]
     head = ("flank", "ok", "edge", "outside", "failed", "pinion z range (mm)", "gear z range (mm)",
-            "TE mean (urad)", "TE p-p (urad)", "TE points", "Newton its (mean)")
+            "TE mean (urad)", "TE p-p (urad)", "Newton its (mean)", "TE points")
     rows = [head]
     caveats = []
     for flank, fr in result.flanks.items():
@@ -143,7 +145,7 @@ def format_summary(result, spec) -> str:
         ptp = f"{fr.te_peak_to_peak * 1e6:.3e}" if np.isfinite(fr.te_peak_to_peak) else "-"
         its = fr.newton_iterations_mean
         rows.append((flank, *cnt, _z_range(fr.pinion_contact, st), _z_range(fr.gear_contact, st), mean, ptp,
-                     f"{n_te}/{positions}", "-" if its is None else f"{its:.2f}"))
+                     "-" if its is None else f"{its:.2f}", f"{n_te}/{positions}"))
         if 0 < n_te < positions:
             caveats.append(f"{flank} flank: TE peak-to-peak from {n_te} of {positions} positions only (no"
                            f" contact on the flanks at the others): it does not describe a whole mesh cycle")

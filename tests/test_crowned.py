@@ -315,3 +315,49 @@ def test_aligned_te_grows_in_proportion_to_small_crowning():
                           backend="numpy").te_peak_to_peak for c in (2.0, 4.0)]
     assert ptp[0] > 1e-6
     assert ptp[1] / ptp[0] == pytest.approx(2.0, rel=0.03)
+
+
+# --------------------------------------------------------------------------------------------
+# the commands on a crowned spec
+# --------------------------------------------------------------------------------------------
+def _crowned_toml(tmp_path, extra="profile_crowning_um = 15.0\nlead_crowning_um = 5.0\n"):
+    import re
+
+    text = re.sub(r"^\[(pinion|gear)\][^\n]*\n", lambda m: m.group(0) + extra, example_text("case1"), flags=re.M)
+    assert text.count(extra) == 2
+    path = tmp_path / "crowned.toml"
+    path.write_text(text)
+    return path
+
+
+def test_tca_and_sweep_commands_on_a_crowned_pair(tmp_path, capsys):
+    import json
+
+    from beveloid import cli
+
+    path = _crowned_toml(tmp_path)
+    assert cli.main(["tca", str(path), "--positions", "15", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    for flank in FLANKS:
+        assert data["te_peak_to_peak_urad"][flank] > 1.0  # crowned: TE no longer zero
+        assert data["newton_iterations_mean"][flank] >= 1.0
+        assert len(data["flanks"][flank]["newton_iterations"]) == 45
+    assert data["backlash_status"] == "ok"
+    assert 0 < data["backlash_um"] <= data["backlash_at_reference_um"] <= data["backlash_max_um"]
+    assert cli.main(["tca", str(path), "--positions", "15"]) == 0
+    text = capsys.readouterr().out
+    assert "Newton its (mean)" in text and "smallest play over a mesh cycle" in text
+    assert cli.main(["sweep", str(path), "--samples", "20", "--positions", "10", "--json"]) == 0
+    sw = json.loads(capsys.readouterr().out)
+    assert sw["newton_iterations_mean"] >= 1.0 and sw["te_peak_to_peak_urad"]["count"] > 0
+    assert cli.main(["sweep", str(path), "--samples", "20", "--positions", "10"]) == 0
+    assert "Newton iterations per point" in capsys.readouterr().out
+
+
+def test_bad_crowning_in_a_file_exits_2_with_one_line(tmp_path, capsys):
+    from beveloid import cli
+
+    path = _crowned_toml(tmp_path, "lead_crowning_um = -3\n")
+    assert cli.main(["tca", str(path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "lead_crowning_um = -3" in err and "Traceback" not in err
