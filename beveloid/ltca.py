@@ -308,13 +308,17 @@ class LTCAResult:
     cell_area_mm2: np.ndarray  # (cells,)
     axes: np.ndarray  # (N, P, 2, 3) across/along in S_1
     notes: list = field(default_factory=list)
+    _patterns: dict = field(default_factory=dict, repr=False)
 
     @property
     def converged(self) -> np.ndarray:
         return np.asarray([s == "ok" for s in self.status])
 
     def pattern(self, geom, member, raster=(48, 96)):
-        return flank_pattern(self, geom, member, raster)
+        """:func:`flank_pattern` of one member (cached)."""
+        if (member, raster) not in self._patterns:
+            self._patterns[member, raster] = flank_pattern(self, geom, member, raster)
+        return self._patterns[member, raster]
 
     def to_json_dict(self, geom):
         ok = self.converged
