@@ -97,6 +97,8 @@ class PairGap:
     gear_point: np.ndarray  # (..., cells, 3) in S_2 (tooth 0)
     gear_sign: float  # +1 if closing turns the gear by +phi'_2
     pinion_sign: float  # +1 if the contact forces' moment about the pinion axis is negative along +z_1
+    pinion_lu: np.ndarray = None  # (..., cells, 2) pinion surface parameters of the cell centres
+    across_shift_mm: np.ndarray = None  # (..., along cells) offset of each along-column (follows the line)
 
 
 def _newton(residual_and_jacobian, unknowns, iterations, tol=1e-9, bound=1e3):
@@ -408,8 +410,10 @@ class _Setup:
         out_in = np.zeros((N, P, n), dtype=bool)
         out_ds2, out_arm = np.zeros((N, P, n)), np.zeros((N, P, n))
         out_p1, out_p2 = np.full((N, P, n, 3), np.nan), np.full((N, P, n, 3), np.nan)
+        out_lu = np.full((N, P, n, 2), np.nan)
+        out_shift = np.zeros((N, P, yc.size))
         if jj.size == 0:
-            return PairGap(out_s, out_in, out_ds2, out_arm, out_p1, out_p2, 1.0, 1.0)
+            return PairGap(out_s, out_in, out_ds2, out_arm, out_p1, out_p2, 1.0, 1.0, out_lu, out_shift)
         x = self.x[jj, kk]
         ex = lambda a: a[..., None]  # noqa: E731
 
@@ -446,7 +450,9 @@ class _Setup:
         out_in[jj, kk] = inside
         out_ds2[jj, kk], out_arm[jj, kk] = np.where(inside, closure, 0.0), np.where(inside, arm_p, 0.0)
         out_p1[jj, kk], out_p2[jj, kk] = sy.pinion_point, sy.gear_point
-        return PairGap(out_s, out_in, out_ds2, out_arm, out_p1, out_p2, gear_sign, pinion_sign)
+        out_lu[jj, kk] = np.stack([l1, u1], axis=-1)
+        out_shift[jj, kk] = shift
+        return PairGap(out_s, out_in, out_ds2, out_arm, out_p1, out_p2, gear_sign, pinion_sign, out_lu, out_shift)
 
 
 def _fill_nan_rows(a):

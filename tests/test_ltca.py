@@ -1,0 +1,170 @@
+"""Loaded TCA (beveloid.ltca, `beveloid ltca`): equilibrium, the Hertz limit, the light-load
+pattern on the unloaded path, load sharing, misalignment, the JSON contract and bad input.
+
+Every check is a physical property or a contract; no number is copied from a run of the code.
+The Hertz references come from the closed form (beveloid.loaded.hertz) with the curvature of
+the gap computed from the generated surfaces (see the docstring of test_hertz_limit_...).
+"""
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from beveloid import cli, ltca, tca
+from beveloid.design import design
+from beveloid.loaded import hertz
+from beveloid.spec import load_example
+
+ROOT = Path(__file__).resolve().parents[1]
+CASE1 = ROOT / "examples" / "case1.toml"
+
+
+@pytest.fixture(scope="module")
+def geom1():
+    return tca.PairGeometry.from_design(design(load_example("case1")))
+
+
+@pytest.fixture(scope="module")
+def loaded200(geom1):
+    return ltca.analyze(geom1, 200.0, "right", positions=6, pairs=3)
+
+
+def _cell_coordinates(result, j, k):
+    """Cell centres (across, along) in the pair's tangent plane, shaped (across, along)."""
+    nx, ny = result.grid.across_cells, result.grid.along_cells
+    xe, ye = ltca._edges(result.across_half_mm, nx), ltca._edges(result.along_half_mm, ny)
+    xc, yc = 0.5 * (xe[1:] + xe[:-1]), 0.5 * (ye[1:] + ye[:-1])
+    x = xc[:, None] + result.gap.across_shift_mm[j, k][None, :]
+    return x, np.broadcast_to(yc[None, :], x.shape)
+
+
+def test_moment_balance_at_every_position(geom1, loaded200):
+    """Sum over the cells of p a (R_1 x n_1)_z, recomputed from the pinion surface kernel at the
+    cells' (l, u), equals the applied pinion torque to 1e-6 at every position."""
+    r = loaded200
+    assert all(s == "ok" for s in r.status)
+    lu = r.gap.pinion_lu
+    for j in range(len(r.status)):
+        moment = 0.0
+        for k in range(len(r.tooth_pairs)):
+            on = r.pressure_mpa[j, k] > 0
+            if not on.any():
+                continue
+            pt, n, _ = geom1.surface("pinion", "right", lu[j, k, on, 0], lu[j, k, on, 1])
+            arm = pt[:, 0] * n[:, 1] - pt[:, 1] * n[:, 0]  # (R x n)_z in S_1: the pinion axis
+            moment += float(np.sum(r.pressure_mpa[j, k, on] * r.cell_area_mm2[on] * arm))
+        assert abs(abs(moment) / (200.0e3) - 1.0) < 1e-6
+
+
+def test_pressures_nonnegative_and_all_pairs_share_one_rotation(loaded200):
+    r = loaded200
+    assert np.all(r.pressure_mpa >= 0)
+    # the loaded TE exceeds the rigid envelope (the gear lags under load) at every position
+    assert np.all(np.abs(r.loaded_te) > np.abs(r.unloaded_te))
+    # more than one pair carries load somewhere in the cycle (contact ratio > 1), never a negative load
+    assert np.all(r.pair_load_n >= 0)
+    assert ((r.pair_load_n > 0).sum(axis=1) >= 2).any()
+    assert np.all(r.converged)
+    assert np.all(r.complementarity_residual <= 1e-10)
+
+
+def test_hertz_limit_on_the_point_contact_flank(geom1):
+    """Case 1 left flank (xi_L = 7.57 deg: point contact) at 2 N m, one tooth pair, middle position.
+
+    Reference: Hertz (closed form, beveloid.loaded.hertz) for the gap A x^2 + B y^2 whose
+    coefficients are the principal values of the quadratic fitted to the unloaded gap computed
+    from the generated tooth surfaces (independent of the loaded solve); load = the pair's
+    normal force.  Semi-axes from the pressure moments, a = sqrt(5 <x^2>) (exact for Hertz).
+    The tooth beams add a nearly uniform displacement that does not change the patch shape.
+    """
+    nx, ny = 13, 31
+    r = ltca.analyze(geom1, 2.0, "left", positions=3, pairs=1, grid=ltca.GridOptions(nx, ny))
+    j, k = 1, 0
+    p = r.pressure_mpa[j, k].reshape(nx, ny)
+    h = r.gap.gap_mm[j, k].reshape(nx, ny)
+    inside = r.gap.in_flank[j, k].reshape(nx, ny)
+    x, y = _cell_coordinates(r, j, k)
+    w = p / p.sum()
+    mx, my = (w * x).sum(), (w * y).sum()
+    across = math.sqrt(5 * (w * (x - mx) ** 2).sum())
+    along = math.sqrt(5 * (w * (y - my) ** 2).sum())
+    fit = inside & (h <= np.percentile(h[inside], 60))
+    m = np.stack([x[fit] ** 2, x[fit] * y[fit], y[fit] ** 2, x[fit], y[fit], np.ones(fit.sum())], axis=-1)
+    c = np.linalg.lstsq(m, h[fit], rcond=None)[0]
+    a_small, a_large = np.linalg.eigvalsh(np.array([[c[0], c[1] / 2], [c[1] / 2, c[2]]]))
+    ref = hertz.hertz_point_contact(a_small, a_large, float(r.pair_load_n[j, k]), ltca.Material().e_star_mpa)
+    assert abs(across / ref.semi_minor_mm - 1) < 0.05
+    assert abs(along / ref.semi_major_mm - 1) < 0.05
+    assert abs(p.max() / ref.max_pressure_mpa - 1) < 0.05
+    assert ref.semi_major_mm / ref.semi_minor_mm > 3  # an elongated ellipse: the test means something
+
+
+def test_light_load_pattern_follows_the_unloaded_path(geom1):
+    """At 5 N m each loaded patch is centred on its pair's rigid-body tangency (within a cell)."""
+    r = ltca.analyze(geom1, 5.0, "right", positions=5, pairs=3)
+    origin = r.gap.pinion_point  # cells; the tangency is the grid origin
+    for j in range(5):
+        for k in range(3):
+            p = r.pressure_mpa[j, k]
+            if p.sum() == 0 or not r.converged[j]:
+                continue
+            x, y = _cell_coordinates(r, j, k)
+            w = (p / p.sum()).reshape(x.shape)
+            cx, cy = (w * x).sum(), (w * y).sum()
+            hx = r.across_half_mm / r.grid.across_cells
+            assert abs(cx) < 2 * hx + 0.02 and abs(cy) < 0.25 * r.along_half_mm
+    assert origin.shape[-1] == 3
+
+
+def test_misaligned_pair_solves_and_balances(geom1):
+    """A vertical angular error shifts the patch: still converged, balanced, loads only on the flanks."""
+    r = ltca.analyze(geom1, 100.0, "right", errors=(0, 0, 0, math.radians(0.05), 0), positions=4, pairs=3)
+    assert all(s == "ok" for s in r.status)
+    assert np.all(np.abs(r.pinion_moment_nmm / 100e3 - 1) < 1e-6)
+    assert not np.any((r.pressure_mpa > 0) & ~r.gap.in_flank)
+
+
+def _run(capsys, argv):
+    rc = cli.main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return rc, out, err
+
+
+def test_ltca_json_contract(capsys):
+    rc, out, err = _run(capsys, ["ltca", CASE1, "--torque-nm", "150", "--positions", "4", "--json"])
+    assert rc == 0, err
+    data = json.loads(out, parse_constant=lambda c: (_ for _ in ()).throw(ValueError(c)))
+    n, pairs = 4, data["tooth_pairs"]
+    assert data["torque_nm"] == 150.0 and pairs == [-1, 0, 1]
+    for key in ("pinion_angle_rad", "loaded_transmission_error_urad", "contact_area_mm2", "status"):
+        assert len(data[key]) == n, key
+    for key in ("pair_normal_load_n", "pair_max_pressure_mpa"):
+        assert len(data[key]) == n and all(len(row) == len(pairs) for row in data[key])
+    for j, st in enumerate(data["status"]):
+        numbers = [data["loaded_transmission_error_urad"][j], data["contact_area_mm2"][j]]
+        assert (st == "ok") == all(v is not None for v in numbers)
+    assert set(data["pattern_area_fraction"]) == {"pinion", "gear"}
+    assert all(0 < v <= 1 for v in data["pattern_area_fraction"].values())
+    assert {"iterations", "complementarity_residual", "load_residual", "moment_residual"} <= set(data["solver"])
+    assert all(m is None or m < 1e-6 for m in data["solver"]["moment_residual"])
+
+
+@pytest.mark.parametrize("flags, needle", [
+    (["--torque-nm", "0"], "--torque-nm = 0.0: must be"),
+    (["--torque-nm", "nan"], "--torque-nm = nan: must be"),
+    (["--torque-nm", "10", "--grid", "2x40"], "--grid = 2x40: must be"),
+    (["--torque-nm", "10", "--positions", "2"], "--positions = 2: must be"),
+    (["--torque-nm", "10", "--vertical", "9"], "--vertical = 9"),
+])
+def test_ltca_bad_input_one_line(capsys, flags, needle):
+    rc, out, err = _run(capsys, ["ltca", CASE1, *flags])
+    assert rc == 2 and needle in err and "Traceback" not in err and len(err.strip().splitlines()) == 1
+
+
+def test_ltca_plot_target_checked_before_computing(capsys, tmp_path):
+    rc, out, err = _run(capsys, ["ltca", CASE1, "--torque-nm", "10", "--plot", str(tmp_path)])
+    assert rc == 2 and "--plot" in err
