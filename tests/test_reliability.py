@@ -271,8 +271,9 @@ def test_10_plot_targets_are_refused_before_computing(capsys, monkeypatch, tmp_p
         (tmp_path / "plot.svg", "ending in .png"),
     ]
     for target, words in cases:
-        rc, _, err = run_cli(capsys, ["tca", C1, "--positions", "3", "--plot", target])
-        assert_one_line_exit_2(rc, err, "--plot = ", words)
+        for argv in (["tca", C1, "--positions", "3"], ["ltca", C1, "--torque-nm", "10", "--positions", "3"]):
+            rc, _, err = run_cli(capsys, [*argv, "--plot", target])
+            assert_one_line_exit_2(rc, err, "--plot = ", words)
 
 
 def test_10_11_out_targets_are_refused_before_computing(capsys, monkeypatch, tmp_path, targets):
@@ -297,7 +298,7 @@ def test_10_every_output_flag_of_every_command_is_checked():
     sub = next(a for a in parser._actions if a.dest == "command")
     outputs = {(name, opt) for name, p in sub.choices.items() for a in p._actions for opt in a.option_strings
                if opt in ("--plot", "--out", "--output", "-o", "--png", "--csv")}
-    assert outputs == {("tca", "--plot"), ("paper", "--out")}
+    assert outputs == {("tca", "--plot"), ("ltca", "--plot"), ("paper", "--out")}
 
 
 # ---------------------------------------------------------------------------------------------
