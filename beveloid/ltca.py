@@ -126,11 +126,22 @@ def _newton(residual_and_jacobian, unknowns, iterations, tol=1e-9, bound=1e3):
             break
         if todo.size == 0:
             break
-        try:
-            z[todo] += np.linalg.solve(jac, -f[..., None])[..., 0]
-        except np.linalg.LinAlgError:
-            break
+        with np.errstate(all="ignore"):
+            z[todo] += _solve_small(jac, -f)
     return z, done
+
+
+def _solve_small(a, b):
+    """x with a x = b for stacks of 2x2 or 3x3 systems (Cramer's rule: much faster than a
+    batched LAPACK call for these sizes; a singular system gives non-finite x, caught by the caller)."""
+    if a.shape[-1] == 2:
+        det = a[:, 0, 0] * a[:, 1, 1] - a[:, 0, 1] * a[:, 1, 0]
+        return np.stack([b[:, 0] * a[:, 1, 1] - b[:, 1] * a[:, 0, 1],
+                         a[:, 0, 0] * b[:, 1] - a[:, 1, 0] * b[:, 0]], axis=-1) / det[:, None]
+    c0, c1, c2 = a[:, :, 0], a[:, :, 1], a[:, :, 2]
+    det = np.einsum("ni,ni->n", c0, np.cross(c1, c2))
+    return np.stack([np.einsum("ni,ni->n", b, np.cross(c1, c2)), np.einsum("ni,ni->n", c0, np.cross(b, c2)),
+                     np.einsum("ni,ni->n", c0, np.cross(c1, b))], axis=-1) / det[:, None]
 
 
 def _project_onto_flank(geom, flank, l0, u0, origin, axes, coords, iterations=8):
@@ -143,8 +154,9 @@ def _project_onto_flank(geom, flank, l0, u0, origin, axes, coords, iterations=8)
 
     def fj(idx, z):
         jet = geom.surface_jet("pinion", flank, z[:, 0], z[:, 1])
-        f = np.einsum("nak,nk->na", ax[idx], jet.point - o[idx]) - c[idx]
-        return f, np.einsum("nak,nkb->nab", ax[idx], jet.point_D_lu)
+        a = ax[idx]
+        f = (a @ (jet.point - o[idx])[:, :, None])[:, :, 0] - c[idx]
+        return f, a @ jet.point_D_lu
 
     z, ok = _newton(fj, z0, iterations)
     return z[:, 0].reshape(shape), z[:, 1].reshape(shape), ok.reshape(shape)
@@ -160,14 +172,23 @@ def _gap_along_normal(geom, flank, l1, u1, l2, u2, phi1, phi2, errors, iteration
     nf1 = np.einsum("nij,nj->ni", rot, n1)
     errors = tca.errors_array(errors)
 
+    # Newton on R_f2(l2, u2) = R_f1 + s n_f1 with the gear's surface jet placed by the generated
+    # Eqs 32-35 (one placement per point); Eq 38's kernel gives the final point and its Jacobians
+    pin = placement.pinion_placement(P1, geom.placement())
+    gear = placement.gear_placement(P2, errors, geom.placement())
+    p1 = geom.surface("pinion", flank, L1, U1).point
+    rf1 = np.einsum("nij,nj->ni", pin.rotation, p1) + pin.translation
+
     def system(idx, z):
         x = np.stack([L1[idx], U1[idx], z[:, 0], z[:, 1], P2[idx]], axis=-1)
         return tca.evaluate(geom, flank, x, P1[idx], errors)
 
     def fj(idx, z):
-        sy = system(idx, z)
-        f = sy.residual[..., :3] + z[:, 2, None] * nf1[idx]
-        return f, np.concatenate([sy.residual_D_unknowns[..., :3, 2:4], nf1[idx, :, None]], axis=-1)
+        jet = geom.surface_jet("gear", flank, z[:, 0], z[:, 1])
+        rot = gear.rotation[idx]
+        rf2 = (rot @ jet.point[:, :, None])[:, :, 0] + gear.translation[idx]
+        f = rf1[idx] - rf2 + z[:, 2, None] * nf1[idx]
+        return f, np.concatenate([-(rot @ jet.point_D_lu), nf1[idx, :, None]], axis=-1)
 
     z0 = np.stack([flat(l2), flat(u2), np.zeros(L1.size)], axis=-1)
     z, ok = _newton(fj, z0, iterations)
@@ -556,23 +577,25 @@ class _PairCompliance(lcp.Compliance):
         d = np.diag(self._c)
         return np.concatenate([d + t[self._line, self._line] * self._area for t in self._t])
 
-    def _columns(self, k, idx):
-        return self._c[:, idx] + self._t[k][self._line[:, None], self._line[idx][None, :]] * self._area[idx]
-
     def solve_active(self, active, rhs):
         out = np.zeros_like(rhs)
         for k, sl in enumerate(self.slices):
             idx = np.flatnonzero(active[sl])
             if idx.size:
-                out[sl.start + idx] = np.linalg.solve(self._columns(k, idx)[idx], rhs[sl][idx])
+                li = self._line[idx]
+                block = self._c[np.ix_(idx, idx)] + self._t[k][np.ix_(li, li)] * self._area[idx]
+                out[sl.start + idx] = np.linalg.solve(block, rhs[sl][idx])
         return out
 
     def matvec_active(self, active, p):
         out = np.zeros_like(p)
+        ny = self._t.shape[-1]
         for k, sl in enumerate(self.slices):
             idx = np.flatnonzero(active[sl])
             if idx.size:
-                out[sl] = self._columns(k, idx) @ p[sl][idx]
+                force = p[sl][idx] * self._area[idx]
+                per_line = np.bincount(self._line[idx], weights=force, minlength=ny)  # N per along index
+                out[sl] = self._c[:, idx] @ p[sl][idx] + (self._t[k] @ per_line)[self._line]
         return out
 
 
@@ -623,16 +646,17 @@ def analyze(geom, torque_nm, flank="right", errors=(0, 0, 0, 0, 0), positions=20
     nx, ny = grid.across_cells, grid.along_cells
     # 1. size the grid on the middle position
     mid = positions // 2
+    probe = sorted({0, mid, positions - 1})
     X, Y = grid.initial_across_mm, setup.max_along_mm
     rotation = np.nan
     for _ in range(8):
         xe, ye = _edges(X, nx), _edges(Y, ny)
-        gap, _, o = _solve_cycle(setup, xe, ye, torque_nm, material, tooth_p, tooth_g, only=[mid])
-        rotation = abs(o["delta"][mid])
-        ex, ey = _extent(o["p"][mid], gap.in_flank[mid], nx, ny, xe, ye, setup.on_flank[mid])
+        gap, _, o = _solve_cycle(setup, xe, ye, torque_nm, material, tooth_p, tooth_g, only=probe)
+        rotation = np.nanmax(np.abs(o["delta"][probe]))
+        ex, ey = _extent(o["p"][probe], gap.in_flank[probe], nx, ny, xe, ye, setup.on_flank[probe])
         if ex is None:
             break
-        edge_x, edge_y = _touches_edge(o["p"][mid], gap.in_flank[mid], nx, ny, setup.on_flank[mid])
+        edge_x, edge_y = _touches_edge(o["p"][probe], gap.in_flank[probe], nx, ny, setup.on_flank[probe])
         newX = 2.0 * X if edge_x else grid.margin * ex
         newY = min(setup.max_along_mm, 2.0 * Y if edge_y else grid.margin * ey)
         settled = abs(newX / X - 1) < 0.15 and abs(newY / Y - 1) < 0.15
