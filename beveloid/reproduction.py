@@ -171,7 +171,7 @@ def run(out_dir, positions=200, progress=_progress):
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
-    steps = 2 + len(STUDIES) + 3
+    steps = 2 + len(STUDIES) + 4
     k = 0
 
     def step(msg):
@@ -225,9 +225,14 @@ def run(out_dir, positions=200, progress=_progress):
     onset = {c: (edge_onset_offset(geoms[c], FLANK, +1), edge_onset_offset(geoms[c], FLANK, -1))
              for c in ("case1", "case2")}
 
+    step("Figs 24-25: loaded contact (approximate LTCA)")
+    from .loaded_study import run_loaded
+
+    loaded = run_loaded(out, geoms, designs, progress)
+
     step("report.md")
     report = _report(designs, comparison, summary, sens, onset, aligned, time.perf_counter() - t0, positions)
-    (out / "report.md").write_text(report)
+    (out / "report.md").write_text(report + "\n".join(["", *loaded]))
     (out / "table1_case1.txt").write_text(format_table1(designs["case1"]) + "\n")
     (out / "table1_case2.txt").write_text(format_table1(designs["case2"]) + "\n")
     progress(f"done in {time.perf_counter() - t0:.1f} s: {out / 'report.md'}")
