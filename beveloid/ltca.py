@@ -101,14 +101,14 @@ class PairGap:
     across_shift_mm: np.ndarray = None  # (..., along cells) offset of each along-column (follows the line)
 
 
-def _newton(residual_and_jacobian, unknowns, iterations, tol=1e-9, bound=1e3):
+def _newton(residual_and_jacobian, unknowns, iterations, tol=1e-9, bound=1e3, active=None):
     """Vectorised Newton over flat points; each point stops when converged, diverged points are frozen.
 
     ``residual_and_jacobian(idx, z)`` -> (f (m, k), J (m, k, k)) for the points idx with unknowns z.
     Returns the unknowns and a converged mask.
     """
     z = unknowns.copy()
-    todo = np.arange(z.shape[0])
+    todo = np.arange(z.shape[0]) if active is None else np.flatnonzero(active)
     done = np.zeros(z.shape[0], dtype=bool)
     last = np.full(z.shape[0], np.inf)
     for k in range(iterations + 1):
@@ -162,10 +162,14 @@ def _project_onto_flank(geom, flank, l0, u0, origin, axes, coords, iterations=8)
     return z[:, 0].reshape(shape), z[:, 1].reshape(shape), ok.reshape(shape)
 
 
-def _gap_along_normal(geom, flank, l1, u1, l2, u2, phi1, phi2, errors, iterations=10):
-    """Gear point on the pinion normal line: (l2, u2, gap s, ds/dphi'_2, pinion arm, system, converged)."""
+def _gap_along_normal(geom, flank, l1, u1, l2, u2, phi1, phi2, errors, iterations=10, active=None):
+    """Gear point on the pinion normal line: (l2, u2, gap s, ds/dphi'_2, pinion arm, system, converged).
+
+    Only the points where ``active`` (default all) are solved; the others come back not converged.
+    """
     shape = np.broadcast_shapes(np.shape(l1), np.shape(l2), np.shape(phi1), np.shape(phi2))
     flat = lambda a: np.broadcast_to(np.asarray(a, float), shape).ravel()  # noqa: E731
+    live = None if active is None else np.broadcast_to(active, shape).ravel()
     L1, U1, P1, P2 = flat(l1), flat(u1), flat(phi1), flat(phi2)
     n1 = geom.surface("pinion", flank, L1, U1).normal
     rot = placement.pinion_placement(P1, geom.placement()).rotation
@@ -191,8 +195,9 @@ def _gap_along_normal(geom, flank, l1, u1, l2, u2, phi1, phi2, errors, iteration
         return f, np.concatenate([-(rot @ jet.point_D_lu), nf1[idx, :, None]], axis=-1)
 
     z0 = np.stack([flat(l2), flat(u2), np.zeros(L1.size)], axis=-1)
-    z, ok = _newton(fj, z0, iterations)
+    z, ok = _newton(fj, z0, iterations, active=live)
     idx = np.arange(L1.size)
+    z = np.where(ok[:, None], z, z0)  # unsolved points: a finite placeholder, flagged by ok
     sy = system(idx, z)
     jac = np.concatenate([sy.residual_D_unknowns[..., :3, 2:4], nf1[..., None]], axis=-1)
     # ds/dphi'_2 by the implicit function theorem on F(l2, u2, s; phi'_2) = 0
@@ -438,12 +443,18 @@ class _Setup:
         x = self.x[jj, kk]
         ex = lambda a: a[..., None]  # noqa: E731
 
+        blank1 = geom.pinion.blank()
+
         def gap_at(c):
             l1, u1, ok1 = _project_onto_flank(geom, flank, ex(x[:, 0]), ex(x[:, 1]), self.origin[jj, kk, None, :],
                                               self.axes[jj, kk, None, :, :], c)
+            # the gear point is sought only for cells on (or within 1 mm of) the pinion blank
+            with np.errstate(invalid="ignore"):
+                near = ok1 & (flank_boundaries.flank_margins(geom.surface("pinion", flank, l1, u1).point, l1,
+                                                             blank1).margins.min(axis=-1) > -1.0)
             return (l1, u1, ok1) + _gap_along_normal(
                 geom, flank, l1, u1, ex(x[:, 2]), ex(x[:, 3]), ex(self.pair_phi1[jj, kk]),
-                ex(self.pair_phi2[jj, kk]), self.errors)
+                ex(self.pair_phi2[jj, kk]), self.errors, active=near)
 
         # the grid follows the unloaded contact line: each along-column is centred on the
         # vertex of the parabola through the gap at xi = -d, 0, +d (d = the grid half-extent)
