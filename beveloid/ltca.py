@@ -28,7 +28,9 @@ At each mesh position and for every tooth pair in the window:
 """
 from __future__ import annotations
 
+import functools
 import math
+import typing
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -39,6 +41,8 @@ from .loaded import halfspace, lcp, tooth_compliance
 from .status import carries_numbers
 
 OFF_FLANK_GAP_MM = 10.0  #: the gap given to cells that lie off a blank: they never touch
+_NEWTON_TOL_MM = 1e-9  #: both Newtons of the gap (mm)
+_NEWTON_ITERATIONS = 10
 _GAIN = tca_kernels.UNKNOWNS.index("gear_angle_rad")
 
 
@@ -101,7 +105,7 @@ class PairGap:
     across_shift_mm: np.ndarray = None  # (..., along cells) offset of each along-column (follows the line)
 
 
-def _newton(residual_and_jacobian, unknowns, iterations, tol=1e-9, bound=1e3, active=None):
+def _newton(residual_and_jacobian, unknowns, iterations, tol=_NEWTON_TOL_MM, bound=1e3, active=None):
     """Vectorised Newton over flat points; each point stops when converged, diverged points are frozen.
 
     ``residual_and_jacobian(idx, z)`` -> (f (m, k), J (m, k, k)) for the points idx with unknowns z.
@@ -144,7 +148,7 @@ def _solve_small(a, b):
                      np.einsum("ni,ni->n", c0, np.cross(c1, b))], axis=-1) / det[:, None]
 
 
-def _project_onto_flank(geom, flank, l0, u0, origin, axes, coords, iterations=8):
+def _project_onto_flank(geom, flank, l0, u0, origin, axes, coords, iterations=_NEWTON_ITERATIONS):
     """Pinion (l, u) whose point's offset from ``origin`` has components ``coords`` on the two ``axes``."""
     shape = coords.shape[:-1]
     flat = lambda a, k: np.broadcast_to(a, shape + a.shape[a.ndim - k:] if k else shape).reshape((-1,) + (  # noqa: E731
@@ -162,7 +166,7 @@ def _project_onto_flank(geom, flank, l0, u0, origin, axes, coords, iterations=8)
     return z[:, 0].reshape(shape), z[:, 1].reshape(shape), ok.reshape(shape)
 
 
-def _gap_along_normal(geom, flank, l1, u1, l2, u2, phi1, phi2, errors, iterations=10, active=None):
+def _gap_along_normal(geom, flank, l1, u1, l2, u2, phi1, phi2, errors, iterations=_NEWTON_ITERATIONS, active=None):
     """Gear point on the pinion normal line: (l2, u2, gap s, ds/dphi'_2, pinion arm, system, converged).
 
     Only the points where ``active`` (default all) are solved; the others come back not converged.
@@ -208,6 +212,53 @@ def _gap_along_normal(geom, flank, l1, u1, l2, u2, phi1, phi2, errors, iteration
     r = lambda a: a.reshape(shape + a.shape[1:])  # noqa: E731
     sy = sy._replace(pinion_point=r(sy.pinion_point), gear_point=r(sy.gear_point))
     return r(z[:, 0]), r(z[:, 1]), r(z[:, 2]), r(ds_dphi2), r(arm), sy, r(ok)
+
+
+class CellGaps(typing.NamedTuple):
+    """Unloaded gap of grid cells (..., cells): see :func:`_cell_gaps`."""
+
+    gap_mm: np.ndarray
+    gap_D_gear_angle: np.ndarray  # ds/dphi'_2 (mm/rad)
+    pinion_arm_mm: np.ndarray  # n_f1 . dR_f1/dphi'_1
+    on_flanks: np.ndarray  # both Newtons converged and both points on their blanks
+    pinion_lu: np.ndarray  # (..., cells, 2)
+    pinion_point: np.ndarray  # (..., cells, 3) in S_1
+    gear_point: np.ndarray  # (..., cells, 3) in S_2
+
+
+def _cell_gaps(geom, flank, errors, frames, coords, backend):
+    """The gap of the cells ``coords`` (Q, n, 2) of Q pairs with frames (start (Q, 5), phi1 (Q,),
+    origin (Q, 3), axes (Q, 2, 3)).  The compiled backend runs ``solver.core.normal_gaps`` (one
+    point at a time, compiled); the numpy backend the same two Newtons as whole-array operations
+    (same start, steps and stopping rules; tests hold the two together)."""
+    start, phi1, origin, axes = frames
+    Q, n = coords.shape[:2]
+    rotation = placement.pinion_placement(phi1, geom.placement()).rotation
+    if backend == "compiled":
+        core = tca._core("compiled", announce=True)
+        M = Q * n
+        out = dict(lu=np.empty((M, 2)), gear=np.empty((M, 3)), rates=np.empty((M, 2)), margin=np.empty(M),
+                   ok=np.empty(M, dtype=np.int64), p1=np.empty((M, 3)), p2=np.empty((M, 3)))
+        core.normal_gaps(geom.problem(flank), geom.pinion.blank(), geom.gear.blank(),
+                         np.repeat(np.arange(Q), n), np.ascontiguousarray(coords.reshape(M, 2)),
+                         np.ascontiguousarray(start), np.ascontiguousarray(phi1), np.ascontiguousarray(origin),
+                         np.ascontiguousarray(axes), np.ascontiguousarray(rotation), errors, _NEWTON_TOL_MM,
+                         _NEWTON_ITERATIONS, out["lu"], out["gear"], out["rates"], out["margin"], out["ok"],
+                         out["p1"], out["p2"])
+        r = lambda a: a.reshape((Q, n) + a.shape[1:])  # noqa: E731
+        on = (out["ok"] == 1) & (out["margin"] >= 0.0)
+        return CellGaps(r(out["gear"][:, 2]), r(out["rates"][:, 0]), r(out["rates"][:, 1]), r(on), r(out["lu"]),
+                        r(out["p1"]), r(out["p2"]))
+    ex = lambda a: a[..., None]  # noqa: E731
+    l1, u1, ok1 = _project_onto_flank(geom, flank, ex(start[:, 0]), ex(start[:, 1]), origin[:, None, :],
+                                      axes[:, None, :, :], coords)
+    l2, u2, s, ds2, arm, sy, ok2 = _gap_along_normal(geom, flank, l1, u1, ex(start[:, 2]), ex(start[:, 3]),
+                                                     ex(phi1), ex(start[:, 4]), errors, active=ok1)
+    with np.errstate(invalid="ignore"):
+        m1 = flank_boundaries.flank_margins(sy.pinion_point, l1, geom.pinion.blank()).margins.min(axis=-1)
+        m2 = flank_boundaries.flank_margins(sy.gear_point, l2, geom.gear.blank()).margins.min(axis=-1)
+        on = ok1 & ok2 & (m1 >= 0.0) & (m2 >= 0.0) & np.isfinite(s)
+    return CellGaps(s, ds2, arm, on, np.stack([l1, u1], axis=-1), sy.pinion_point, sy.gear_point)
 
 
 def _principal_axes(geom, flank, l1, u1, l2, u2, phi1, phi2, errors, radius_mm):
@@ -379,10 +430,12 @@ class LTCAResult:
 class _Setup:
     """Everything of one (geometry, flank, errors, positions) that does not depend on the grid size."""
 
-    def __init__(self, geom, flank, errors, positions, pairs):
+    def __init__(self, geom, flank, errors, positions, pairs, backend="auto"):
         self.geom, self.flank = geom, flank
+        self.backend = tca.resolve_backend(backend)
         self.errors = tca.errors_array(errors)
-        fr = tca.mesh_flank(geom, flank, self.errors, positions=positions, pairs=pairs, window_pitches=1)
+        fr = tca.mesh_flank(geom, flank, self.errors, positions=positions, pairs=pairs, window_pitches=1,
+                            backend=self.backend)
         ref = tca.reference_contact(geom, flank)
         p1, p2 = geom.pitch_angles
         self.ks = np.arange(pairs) - pairs // 2
@@ -443,24 +496,17 @@ class _Setup:
         x = self.x[jj, kk]
         ex = lambda a: a[..., None]  # noqa: E731
 
-        blank1 = geom.pinion.blank()
+        start = np.concatenate([x[:, :4], self.pair_phi2[jj, kk, None]], axis=-1)
+        frames = (start, self.pair_phi1[jj, kk], self.origin[jj, kk], self.axes[jj, kk])
 
         def gap_at(c):
-            l1, u1, ok1 = _project_onto_flank(geom, flank, ex(x[:, 0]), ex(x[:, 1]), self.origin[jj, kk, None, :],
-                                              self.axes[jj, kk, None, :, :], c)
-            # the gear point is sought only for cells on (or within 1 mm of) the pinion blank
-            with np.errstate(invalid="ignore"):
-                near = ok1 & (flank_boundaries.flank_margins(geom.surface("pinion", flank, l1, u1).point, l1,
-                                                             blank1).margins.min(axis=-1) > -1.0)
-            return (l1, u1, ok1) + _gap_along_normal(
-                geom, flank, l1, u1, ex(x[:, 2]), ex(x[:, 3]), ex(self.pair_phi1[jj, kk]),
-                ex(self.pair_phi2[jj, kk]), self.errors, active=near)
+            return _cell_gaps(geom, flank, self.errors, frames, c, self.backend)
 
         # the grid follows the unloaded contact line: each along-column is centred on the
         # vertex of the parabola through the gap at xi = -d, 0, +d (d = the grid half-extent)
         d = float(xe[-1])
         probe = np.stack(np.broadcast_arrays(np.array([-d, 0.0, d])[None, :], yc[:, None]), axis=-1).reshape(-1, 2)
-        h3 = gap_at(np.broadcast_to(probe, (jj.size,) + probe.shape))[5].reshape(jj.size, yc.size, 3)
+        h3 = gap_at(np.broadcast_to(probe, (jj.size,) + probe.shape)).gap_mm.reshape(jj.size, yc.size, 3)
         with np.errstate(invalid="ignore", divide="ignore"):
             curv = h3[..., 0] - 2 * h3[..., 1] + h3[..., 2]
             shift = np.where(curv > 0, 0.5 * d * (h3[..., 0] - h3[..., 2]) / curv, np.nan)
@@ -468,11 +514,9 @@ class _Setup:
         shift = _fill_nan_rows(shift)
         c = np.broadcast_to(coords, (jj.size, n, 2)).copy()
         c[..., 0] += shift[:, np.arange(n) % yc.size]
-        l1, u1, ok1, l2, u2, s, ds2, arm, sy, ok2 = gap_at(c)
-        with np.errstate(invalid="ignore"):
-            m1 = flank_boundaries.flank_margins(sy.pinion_point, l1, geom.pinion.blank()).margins.min(axis=-1)
-            m2 = flank_boundaries.flank_margins(sy.gear_point, l2, geom.gear.blank()).margins.min(axis=-1)
-            inside = ok1 & ok2 & (m1 >= 0.0) & (m2 >= 0.0) & np.isfinite(s)
+        cg = gap_at(c)
+        s, ds2, arm = cg.gap_mm, cg.gap_D_gear_angle, cg.pinion_arm_mm
+        inside = cg.on_flanks.copy()
         gear_sign = (-1.0 if np.median(ds2[inside]) > 0 else 1.0) if inside.any() else 1.0
         pinion_sign = (1.0 if np.median(arm[inside]) > 0 else -1.0) if inside.any() else 1.0
         closure = -gear_sign * ds2
@@ -481,8 +525,8 @@ class _Setup:
         out_s[jj, kk] = np.where(inside, s, OFF_FLANK_GAP_MM)
         out_in[jj, kk] = inside
         out_ds2[jj, kk], out_arm[jj, kk] = np.where(inside, closure, 0.0), np.where(inside, arm_p, 0.0)
-        out_p1[jj, kk], out_p2[jj, kk] = sy.pinion_point, sy.gear_point
-        out_lu[jj, kk] = np.stack([l1, u1], axis=-1)
+        out_p1[jj, kk], out_p2[jj, kk] = cg.pinion_point, cg.gear_point
+        out_lu[jj, kk] = cg.pinion_lu
         out_shift[jj, kk] = shift
         return PairGap(out_s, out_in, out_ds2, out_arm, out_p1, out_p2, gear_sign, pinion_sign, out_lu, out_shift)
 
@@ -521,6 +565,15 @@ def _tooth_blocks(setup, gap, tooth_p, tooth_g, ny, nx, need):
     return out
 
 
+@functools.lru_cache(maxsize=8)
+def _halfspace_matrix(across_half_mm, along_half_mm, nx, ny, e_star_mpa):
+    """The Love matrix of the uniform grid (the same for every pair and position of a run)."""
+    m = halfspace.tensor_influence_matrix_mm_per_mpa(_edges(across_half_mm, nx), _edges(along_half_mm, ny),
+                                                     e_star_mpa)
+    m.setflags(write=False)
+    return m
+
+
 def _solve_cycle(setup, xe, ye, torque_nm, material, tooth_p, tooth_g, only=None, open_rad=None):
     """Solve the positions ``only`` (default all); pairs standing open by more than ``open_rad``
     of gear rotation (their rigid TE against the envelope) are not gridded: they cannot touch."""
@@ -535,7 +588,7 @@ def _solve_cycle(setup, xe, ye, torque_nm, material, tooth_p, tooth_g, only=None
     gap = setup.gap(xe, ye, need)
     cells = halfspace.tensor_grid(xe, ye)
     area = cells.area_mm2
-    c_hs = halfspace.tensor_influence_matrix_mm_per_mpa(xe, ye, material.e_star_mpa)
+    c_hs = _halfspace_matrix(float(xe[-1]), float(ye[-1]), nx, ny, material.e_star_mpa)
     line = np.arange(nx * ny) % ny  # along index of each cell
     torque_nmm = torque_nm * 1e3
     positions = range(N) if only is None else only
@@ -641,7 +694,7 @@ def _extent(p, in_flank, nx, ny, xe, ye, surface):
 
 
 def analyze(geom, torque_nm, flank="right", errors=(0, 0, 0, 0, 0), positions=20, pairs=3,
-            grid: GridOptions = GridOptions(), material: Material = Material()) -> LTCAResult:
+            grid: GridOptions = GridOptions(), material: Material = Material(), backend="auto") -> LTCAResult:
     """Loaded TCA of one flank over one mesh cycle (``positions`` pinion angles over one pinion pitch).
 
     ``torque_nm``: the pinion torque (N m), > 0.  Returns an :class:`LTCAResult`; a position
@@ -651,7 +704,7 @@ def analyze(geom, torque_nm, flank="right", errors=(0, 0, 0, 0, 0), positions=20
     if not (math.isfinite(torque_nm) and torque_nm > 0):
         raise ValueError(f"torque_nm = {torque_nm!r}: must be a finite number > 0")
     grid.check()
-    setup = _Setup(geom, tca._check_flank(flank), errors, positions, pairs)
+    setup = _Setup(geom, tca._check_flank(flank), errors, positions, pairs, backend)
     tooth_p = _member_tooth(geom, "pinion", material.pinion_e_mpa, material.pinion_nu)
     tooth_g = _member_tooth(geom, "gear", material.gear_e_mpa, material.gear_nu)
     nx, ny = grid.across_cells, grid.along_cells

@@ -168,3 +168,40 @@ def test_ltca_bad_input_one_line(capsys, flags, needle):
 def test_ltca_plot_target_checked_before_computing(capsys, tmp_path):
     rc, out, err = _run(capsys, ["ltca", CASE1, "--torque-nm", "10", "--plot", str(tmp_path)])
     assert rc == 2 and "--plot" in err
+
+
+def test_material_section_reaches_the_compliance(geom1, tmp_path, capsys):
+    """A softer gear (the [material] section) lowers E* and the mesh stiffness: larger loaded TE."""
+    from beveloid.spec import load_spec
+
+    text = CASE1.read_text() + "\n[material]\ngear_youngs_modulus_gpa = 103.0\ngear_poisson_ratio = 0.3\n"
+    soft_file = tmp_path / "soft.toml"
+    soft_file.write_text(text)
+    mat = ltca.Material.from_spec(load_spec(soft_file))
+    assert mat.gear_e_mpa == 103e3 and mat.e_star_mpa < ltca.Material().e_star_mpa
+    stiff = ltca.analyze(geom1, 100.0, "right", positions=3, pairs=3)
+    soft = ltca.analyze(geom1, 100.0, "right", positions=3, pairs=3, material=mat)
+    assert np.all(np.abs(soft.loaded_te - soft.unloaded_te) > np.abs(stiff.loaded_te - stiff.unloaded_te))
+    bad = tmp_path / "bad.toml"
+    bad.write_text(CASE1.read_text() + "\n[material]\npinion_poisson_ratio = 0.5\n")
+    rc, out, err = _run(capsys, ["ltca", bad, "--torque-nm", "10"])
+    assert rc == 2 and "material.pinion_poisson_ratio = 0.5" in err and len(err.strip().splitlines()) == 1
+
+
+def test_gap_backends_agree(geom1):
+    """The compiled gap (solver.core.normal_gaps) and the numpy one run the same two Newtons: equal
+    flags, and gaps, rates and points within 1e-8 (both Newtons stop at 1e-9 mm; the compiled one continues from the neighbouring cell), on a grid that reaches off the flanks."""
+    pytest.importorskip("numba")
+    setup = ltca._Setup(geom1, "right", np.zeros(5), 4, 3, backend="numpy")
+    q = np.array([0, 1, 2])
+    start = np.concatenate([setup.x[1, q, :4], setup.pair_phi2[1, q, None]], axis=-1)
+    frames = (start, setup.pair_phi1[1, q], setup.origin[1, q], setup.axes[1, q])
+    xs, ys = np.meshgrid(np.linspace(-2, 2, 5), np.linspace(-40, 40, 17), indexing="ij")
+    coords = np.broadcast_to(np.stack([xs.ravel(), ys.ravel()], axis=-1), (3, xs.size, 2))
+    a = ltca._cell_gaps(geom1, "right", setup.errors, frames, coords, "numpy")
+    b = ltca._cell_gaps(geom1, "right", setup.errors, frames, coords, "compiled")
+    assert a.on_flanks.any() and not a.on_flanks.all()
+    assert np.array_equal(a.on_flanks, b.on_flanks)
+    on = a.on_flanks
+    for name in ("gap_mm", "gap_D_gear_angle", "pinion_arm_mm", "pinion_lu", "pinion_point", "gear_point"):
+        assert np.allclose(getattr(a, name)[on], getattr(b, name)[on], rtol=1e-9, atol=1e-8), name
