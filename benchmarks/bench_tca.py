@@ -101,7 +101,9 @@ def run(repeats=5):
     K, N = 10_000, 50
     backend = tca.resolve_backend("auto")
     if backends.AVAILABLE:
-        backends.numba.set_num_threads(1)
+        import numba
+
+        numba.set_num_threads(1)
     sweep.sweep(geom, "right", samples=50, positions=N, seed=1, backend=backend)  # warm-up
     t = time.perf_counter()
     r = sweep.sweep(geom, "right", samples=K, positions=N, seed=0, backend=backend)
@@ -119,11 +121,11 @@ def run(repeats=5):
                  "baseline_points": b2_n, "baseline_converged": b2_conv, "speedup": b2_us / us2,
                  "target_us_per_point": 3.0, "target_speedup": 300}
     if backends.AVAILABLE:
-        backends.numba.set_num_threads(backends.numba.config.NUMBA_NUM_THREADS)
+        numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
         t = time.perf_counter()
         r2 = sweep.sweep(geom, "right", samples=K, positions=N, seed=0, backend=backend)
         out["W2"]["us_per_point_all_threads"] = (time.perf_counter() - t) / r2.contact_points_solved * 1e6
-        out["W2"]["threads_all"] = backends.numba.config.NUMBA_NUM_THREADS
+        out["W2"]["threads_all"] = numba.config.NUMBA_NUM_THREADS
     # numpy fallback on the same workload, for the record (smaller K: same per-point cost)
     t = time.perf_counter()
     rn = sweep.sweep(geom, "right", samples=200, positions=N, seed=0, backend="numpy")

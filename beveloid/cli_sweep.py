@@ -10,11 +10,12 @@ import argparse
 import json
 import sys
 
+from . import assembly_errors
 from .errors import UserError
 from .solver.backends import BACKENDS
 from .sweep import DEFAULT_RANGES, MAX_CONTACT_POINTS
 
-LIMITS = {"dx_mm": 10.0, "dy_mm": 10.0, "dz_mm": 10.0, "vertical_deg": 5.0, "horizontal_deg": 5.0}
+LIMITS = {e.key: e.limit for e in assembly_errors.ERRORS}
 
 
 def _flag(key):

@@ -3,27 +3,26 @@
 
 Flags override the file's [misalignment] table.  The JSON holds "flanks" (keyed "left" and/or
 "right", each with equal-length arrays), "te_peak_to_peak_urad" per flank and, when both flanks
-are solved, "backlash_um".
+are solved, "backlash_um" with "backlash_status": the circumferential play at the gear's working
+pitch circle at the left flank's reference pinion angle, positive = play, negative = the flanks
+interfere; a number only when the status is "ok" (both flanks touch on their flanks there), else
+null with the status of the missing contact ("outside" or "failed") and a note saying why.
 """
 from __future__ import annotations
 
 import argparse
 import json
-import math
 
 import numpy as np
 
+from . import assembly_errors
 from .cli_paths import check_output_file
 from .errors import UserError
 
 
 def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("file", metavar="FILE", help="TOML design spec (`beveloid example case1` prints one)")
-    p.add_argument("--dx", type=float, metavar="MM", help="gear offset error dx_q (mm); overrides [misalignment]")
-    p.add_argument("--dy", type=float, metavar="MM", help="gear offset error dy_q (mm)")
-    p.add_argument("--dz", type=float, metavar="MM", help="gear offset error dz_q (mm)")
-    p.add_argument("--vertical", type=float, metavar="DEG", help="angular error dgamma_v of Eq 34 (deg)")
-    p.add_argument("--horizontal", type=float, metavar="DEG", help="angular error dgamma_h of Eq 34 (deg)")
+    add_error_flags(p)
     p.add_argument("--flank", choices=("left", "right", "both"), default="both", help="flank pair (default both)")
     p.add_argument("--positions", type=int, default=200, metavar="N",
                    help="pinion positions over the mesh window (default 200)")
@@ -32,13 +31,32 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
 
 
-FLAG_OF_KEY = {"dx_mm": "--dx", "dy_mm": "--dy", "dz_mm": "--dz", "vertical_deg": "--vertical",
-               "horizontal_deg": "--horizontal"}
+FLAG_OF_KEY = {e.key: e.flag for e in assembly_errors.ERRORS}
+
+
+def add_error_flags(p: argparse.ArgumentParser) -> None:
+    """--dx ... --horizontal: the five assembly errors, overriding the file's [misalignment]."""
+    for e in assembly_errors.ERRORS:
+        p.add_argument(e.flag, dest=e.key, type=float, metavar=e.unit.upper(),
+                       help=f"{e.description} ({e.unit}); overrides [misalignment]")
+
+
+def apply_error_flags(spec, args: argparse.Namespace):
+    """The spec with the error flags given on the command line; errors name the flag."""
+    from .spec import SpecError, misalignment_with
+
+    try:
+        return misalignment_with(spec, **{k: getattr(args, k) for k in assembly_errors.KEYS})
+    except SpecError as exc:  # name the flag the user typed, not the TOML key
+        msg = str(exc)
+        for key, flag in FLAG_OF_KEY.items():
+            msg = msg.replace(f"misalignment.{key}", flag)
+        raise UserError(msg) from None
 
 
 def error_vector(spec) -> np.ndarray:
-    m = spec.misalignment
-    return np.array([m.dx_mm, m.dy_mm, m.dz_mm, math.radians(m.vertical_deg), math.radians(m.horizontal_deg)])
+    """The spec's [misalignment] as the kernels' (5,) error vector (mm, rad)."""
+    return assembly_errors.to_layout(spec.misalignment)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -49,7 +67,7 @@ def run(args: argparse.Namespace) -> int:
     """
     from . import tca
     from .design import design
-    from .spec import SpecError, load_spec, misalignment_with
+    from .spec import load_spec
 
     if args.positions < 3 or args.positions > 100000:
         raise UserError(f"--positions = {args.positions}: must be an integer from 3 to 100000")
@@ -57,15 +75,7 @@ def run(args: argparse.Namespace) -> int:
         raise UserError(f"--pairs = {args.pairs}: must be an odd integer from 1 to 9")
     if args.plot is not None:
         check_output_file(args.plot, "--plot", ".png")
-    spec = load_spec(args.file)
-    try:
-        spec = misalignment_with(spec, dx_mm=args.dx, dy_mm=args.dy, dz_mm=args.dz,
-                                 vertical_deg=args.vertical, horizontal_deg=args.horizontal)
-    except SpecError as exc:  # name the flag the user typed, not the TOML key
-        msg = str(exc)
-        for key, flag in FLAG_OF_KEY.items():
-            msg = msg.replace(f"misalignment.{key}", flag)
-        raise UserError(msg) from None
+    spec = apply_error_flags(load_spec(args.file), args)
     geom = tca.PairGeometry.from_design(design(spec))
     flanks = tca.FLANKS if args.flank == "both" else (args.flank,)
     result = tca.analyze(geom, error_vector(spec), flanks=flanks, positions=args.positions, pairs=args.pairs)
@@ -84,9 +94,7 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _errors_label(spec) -> str:
-    m = spec.misalignment
-    return (f"dx={m.dx_mm:g} mm, dy={m.dy_mm:g} mm, dz={m.dz_mm:g} mm, "
-            f"vertical={m.vertical_deg:g} deg, horizontal={m.horizontal_deg:g} deg")
+    return assembly_errors.label(spec.misalignment)
 
 
 def _z_range(P, status):
@@ -122,11 +130,14 @@ def format_summary(result, spec) -> str:
                            f" contact on the flanks at the others): it does not describe a whole mesh cycle")
     w = [max(len(r[i]) for r in rows) for i in range(len(head))]
     lines += ["  ".join(c.rjust(wi) if i else c.ljust(wi) for i, (c, wi) in enumerate(zip(r, w))) for r in rows]
-    if result.backlash_um is not None:
-        b = result.backlash_um
-        b = 0.0 if abs(b) < 5e-5 else b  # display only: no "-0.0000" from round-off
-        lines += ["", f"backlash at the gear's working pitch circle: {b:.4f} um" if np.isfinite(b)
-                  else "backlash: not found (no two-flank contact)"]
+    if result.backlash is not None:
+        b = result.backlash
+        if b.um is None:
+            lines += ["", f"backlash: not measured ({b.status}: {b.reason})"]
+        else:
+            um = 0.0 if abs(b.um) < 5e-5 else b.um  # display only: no "-0.0000" from round-off
+            lines += ["", f"backlash at the gear's working pitch circle: {um:.4f} um"
+                          " (positive: play; negative: the flanks interfere)"]
     lines += [f"note: {n}" for n in [*caveats, *result.notes]]
     lines += ["", "z: axial position in the member frame (toe -> heel); points per status over "
               f"{len(result.flanks[next(iter(result.flanks))].status)} pair-positions; TE points: pinion"

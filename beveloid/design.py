@@ -66,7 +66,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -120,31 +120,39 @@ class DesignError(UserError):
 # Result types
 # ---------------------------------------------------------------------------
 
+#: dataclass field metadata of an angle in radians.
+RAD = {"unit": "rad"}
+
 
 @dataclass(frozen=True)
 class MemberDesign:
-    """Reference and working data of one member (pinion or gear); radians and mm."""
+    """Reference and working data of one member (pinion or gear); radians and mm.
+
+    The single list of a member's design fields: fields marked ``RAD`` are angles (reported in
+    degrees with a ``_deg`` suffix by design_report.design_json), ``_mm`` fields lengths, the rest
+    dimensionless.
+    """
 
     name: str
     teeth: int
     normal_module_mm: float
-    helix_angle: float
-    cone_angle: float
+    helix_angle: float = field(metadata=RAD)
+    cone_angle: float = field(metadata=RAD)
     profile_shift: float
     transverse_angular_factor: float
     mounting_distance_mm: float
     working_mounting_distance_mm: float
-    working_cone_angle: float
-    working_helix_angle: float
+    working_cone_angle: float = field(metadata=RAD)
+    working_helix_angle: float = field(metadata=RAD)
     working_pitch_radius_mm: float
     reference_pitch_radius_mm: float
-    transverse_pressure_angle_left: float
-    transverse_pressure_angle_right: float
-    working_transverse_pressure_angle_left: float
-    working_transverse_pressure_angle_right: float
-    fpd_angle_left: float
-    fpd_angle_right: float
-    pitch_point_angle: float
+    transverse_pressure_angle_left: float = field(metadata=RAD)
+    transverse_pressure_angle_right: float = field(metadata=RAD)
+    working_transverse_pressure_angle_left: float = field(metadata=RAD)
+    working_transverse_pressure_angle_right: float = field(metadata=RAD)
+    fpd_angle_left: float = field(metadata=RAD)
+    fpd_angle_right: float = field(metadata=RAD)
+    pitch_point_angle: float = field(metadata=RAD)
     face_width_mm: float
     addendum_coefficient: float
     cutter_addendum_coefficient: float

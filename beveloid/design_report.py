@@ -27,6 +27,7 @@
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import Any
 
@@ -67,7 +68,7 @@ def _d(x: float) -> str:
     return _f(math.degrees(x))
 
 
-def _helix(m: MemberDesign) -> str:
+def _helix(m: "MemberDesign") -> str:
     return f"{_d(m.helix_angle)} ({m.hand})" if m.hand else _d(m.helix_angle)
 
 
@@ -112,36 +113,21 @@ def format_table1(result: DesignResult) -> str:
     return "\n".join(out)
 
 
-def _member_json(m: MemberDesign) -> dict[str, Any]:
-    deg = math.degrees
-    return {
-        # contract
-        "helix_angle_deg": deg(m.helix_angle),
-        "profile_shift": float(m.profile_shift),
-        "transverse_angular_factor": float(m.transverse_angular_factor),
-        "mounting_distance_mm": float(m.mounting_distance_mm),
-        "working_cone_angle_deg": deg(m.working_cone_angle),
-        "working_helix_angle_deg": deg(m.working_helix_angle),
-        "working_pitch_radius_mm": float(m.working_pitch_radius_mm),
-        "reference_pitch_radius_mm": float(m.reference_pitch_radius_mm),
-        # extras
-        "teeth": int(m.teeth),
-        "hand": m.hand,
-        "cone_angle_deg": deg(m.cone_angle),
-        "face_width_mm": float(m.face_width_mm),
-        "working_mounting_distance_mm": float(m.working_mounting_distance_mm),
-        "transverse_pressure_angle_left_deg": deg(m.transverse_pressure_angle_left),
-        "transverse_pressure_angle_right_deg": deg(m.transverse_pressure_angle_right),
-        "working_transverse_pressure_angle_left_deg": deg(m.working_transverse_pressure_angle_left),
-        "working_transverse_pressure_angle_right_deg": deg(m.working_transverse_pressure_angle_right),
-        "fpd_angle_left_deg": deg(m.fpd_angle_left),
-        "fpd_angle_right_deg": deg(m.fpd_angle_right),
-        "pitch_point_angle_deg": deg(m.pitch_point_angle),
-        "addendum_coefficient": float(m.addendum_coefficient),
-        "cutter_addendum_coefficient": float(m.cutter_addendum_coefficient),
-        "reference_section_offset_mm": float(m.reference_section_offset_mm),
-        "rack_shift_mm": float(m.rack_shift_mm),
-    }
+def _member_json(m: "MemberDesign") -> dict[str, Any]:  # noqa: F821
+    """Every field of MemberDesign: angles (metadata unit rad) in degrees as <name>_deg, the rest as
+    they are; plus the derived hand and rack shift."""
+    out: dict[str, Any] = {}
+    for f in dataclasses.fields(m):
+        value = getattr(m, f.name)
+        if f.name == "name":
+            continue
+        if f.metadata.get("unit") == "rad":
+            out[f"{f.name}_deg"] = math.degrees(value)
+        else:
+            out[f.name] = int(value) if isinstance(value, int) else float(value)
+    out["hand"] = m.hand
+    out["rack_shift_mm"] = float(m.rack_shift_mm)
+    return out
 
 
 def design_json(result: DesignResult) -> dict[str, Any]:

@@ -30,6 +30,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+from . import assembly_errors
 from .generated import surface_models
 
 __all__ = [
@@ -322,13 +323,7 @@ def _mis_doc(description: str, unit: str, limit: float) -> KeyDoc:
     return KeyDoc(description, unit, lo=-limit, hi=limit, requirement="optional", default=0.0)
 
 
-_MIS_DOCS: dict[str, KeyDoc] = {
-    "dx_mm": _mis_doc("gear offset error dx_q of Eq 34 (frame S_q of the aligned gear; x_q is the common perpendicular)", "mm", 10.0),
-    "dy_mm": _mis_doc("gear offset error dy_q of Eq 34 (frame S_q)", "mm", 10.0),
-    "dz_mm": _mis_doc("gear offset error dz_q of Eq 34 (frame S_q: along the gear axis)", "mm", 10.0),
-    "vertical_deg": _mis_doc("angular error dgamma_v of Eq 34 (gear axis turned about y_q)", "deg", 5.0),
-    "horizontal_deg": _mis_doc("angular error dgamma_h of Eq 34 (gear axis turned about x_q)", "deg", 5.0),
-}
+_MIS_DOCS: dict[str, KeyDoc] = {e.key: _mis_doc(e.description, e.unit, e.limit) for e in assembly_errors.ERRORS}
 
 def _material_docs() -> dict[str, KeyDoc]:
     out: dict[str, KeyDoc] = {}

@@ -7,17 +7,17 @@ same generated equations: "compiled" (numba, the default when installed) and "nu
 """
 from __future__ import annotations
 
-import math
 import sys
 import time
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import tca
+from . import assembly_errors, tca
 from .status import Status, carries_numbers
 
-DEFAULT_RANGES = {"dx_mm": 0.5, "dy_mm": 0.5, "dz_mm": 0.5, "vertical_deg": 0.2, "horizontal_deg": 0.03}
+#: Default half-widths of the uniform error ranges, keyed and in units as assembly_errors.ERRORS.
+DEFAULT_RANGES = dict(zip(assembly_errors.KEYS, (0.5, 0.5, 0.5, 0.2, 0.03)))
 #: samples x positions above this is refused: the sweep holds ~220 bytes per contact point (~1.1 GB here).
 MAX_CONTACT_POINTS = 5_000_000
 
@@ -41,12 +41,8 @@ def draw_errors(samples, ranges=None, seed=0, nominal=None):
     ``ranges`` are half-widths and ``nominal`` the centre (dicts keyed like DEFAULT_RANGES: mm / deg;
     missing nominal keys are 0).
     """
-    r = dict(DEFAULT_RANGES, **(ranges or {}))
-    c = {k: 0.0 for k in DEFAULT_RANGES} | dict(nominal or {})
-    to_si = (1.0, 1.0, 1.0, math.pi / 180, math.pi / 180)
-    keys = tuple(DEFAULT_RANGES)
-    half = np.array([r[k] * f for k, f in zip(keys, to_si)])
-    centre = np.array([c[k] * f for k, f in zip(keys, to_si)])
+    half = assembly_errors.to_layout(dict(DEFAULT_RANGES, **(ranges or {})))
+    centre = assembly_errors.to_layout(dict(nominal or {}))
     rng = np.random.default_rng(seed)
     return centre + rng.uniform(-1.0, 1.0, (samples, 5)) * half
 
@@ -157,8 +153,7 @@ def sweep(geom, flank="right", samples=1000, positions=50, seed=0, ranges=None, 
     grid = np.linspace(lo + pad, hi - pad, positions)
     # aligned path (the shift reference)
     xa = tca.solve_grid(geom, flank, np.zeros((1, len(tca.ERROR_NAMES))), grid, backend, options).x
-    p_al, _, _ = tca.surface(geom, "pinion", flank, xa[0, :, 0], xa[0, :, 1])
-    g_al, _, _ = tca.surface(geom, "gear", flank, xa[0, :, 2], xa[0, :, 3])
+    p_al, g_al = tca.contact_points(geom, flank, xa[0])
     t0 = time.perf_counter()
     X = np.empty((samples, positions, 5))
     C = np.empty((samples, positions), dtype=np.int64)
@@ -170,8 +165,7 @@ def sweep(geom, flank="right", samples=1000, positions=50, seed=0, ranges=None, 
             progress(sl.stop, samples, t0)
     seconds = time.perf_counter() - t0
     ok = carries_numbers(C)
-    P1, _, _ = tca.surface(geom, "pinion", flank, X[..., 0], X[..., 1])
-    P2, _, _ = tca.surface(geom, "gear", flank, X[..., 2], X[..., 3])
+    P1, P2 = tca.contact_points(geom, flank, X)
     n_ok = ok.sum(axis=1)
     has = n_ok > 0
     pinion_shift = np.full(samples, np.nan)
@@ -179,12 +173,12 @@ def sweep(geom, flank="right", samples=1000, positions=50, seed=0, ranges=None, 
     pinion_shift[has] = np.where(ok, P1[..., 2] - p_al[None, :, 2], 0.0).sum(axis=1)[has] / n_ok[has]
     gear_shift[has] = np.where(ok, P2[..., 2] - g_al[None, :, 2], 0.0).sum(axis=1)[has] / n_ok[has]
     N1, N2 = geom.pinion.teeth, geom.gear.teeth
-    te = X[..., 4] + (N1 / N2) * grid[None, :]
+    te = tca.unknowns(X).gear_angle_rad + (N1 / N2) * grid[None, :]
     ptp = np.full(samples, np.nan)
     ptp[has] = (np.where(ok, te, -np.inf).max(axis=1) - np.where(ok, te, np.inf).min(axis=1))[has]
     s = tca.sensitivity(geom, flank)
-    names = ("dx_mm", "dy_mm", "dz_mm", "vertical_deg", "horizontal_deg")
-    per = [1.0, 1.0, 1.0, math.pi / 180, math.pi / 180]
+    names = assembly_errors.KEYS
+    per = [e.to_layout for e in assembly_errors.ERRORS]
     sens = {
         "pinion_axial_shift_mm_per_unit": {n: float(s["pinion_contact_D_errors"][2, i] * per[i]) for i, n in enumerate(names)},
         "gear_axial_shift_mm_per_unit": {n: float(s["gear_contact_D_errors"][2, i] * per[i]) for i, n in enumerate(names)},

@@ -32,6 +32,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import assembly_errors
 from .generated import layouts, tca_kernels
 from .geometry import Member, PairGeometry  # noqa: F401  (re-exported: tca.PairGeometry.from_design)
 from .solver import backends
@@ -65,6 +66,18 @@ def errors_array(errors) -> np.ndarray:
     return e
 
 
+def unknowns(x) -> layouts.ContactUnknowns:
+    """Named views of solver unknowns x (..., 5): .pinion_l_mm, ..., .gear_angle_rad."""
+    return layouts.ContactUnknowns(*np.moveaxis(np.asarray(x), -1, 0))
+
+
+def contact_points(geom, flank, x):
+    """(pinion point in S_1, gear point in S_2) of contacts x (..., 5)."""
+    u = unknowns(x)
+    return (surface(geom, "pinion", flank, u.pinion_l_mm, u.pinion_u_mm).point,
+            surface(geom, "gear", flank, u.gear_l_mm, u.gear_u_mm).point)
+
+
 def _check_flank(flank):
     if flank not in FLANKS:
         raise ValueError(f"flank = {flank!r}: must be one of {', '.join(FLANKS)}")
@@ -95,8 +108,7 @@ def surface_jacobian(geom, which, flank, l, u):
 def contact_margins(geom, flank, x):
     """Margins (..., 8) in mm of contacts x (..., 5) to both blanks (tca_kernels.CONTACT_BOUNDARIES)."""
     x = np.asarray(x, dtype=float)
-    p1 = surface(geom, "pinion", flank, x[..., 0], x[..., 1]).point
-    p2 = surface(geom, "gear", flank, x[..., 2], x[..., 3]).point
+    p1, p2 = contact_points(geom, flank, x)
     return tca_kernels.contact_margins(x, p1, p2, geom.pinion.blank(), geom.gear.blank())
 
 
@@ -163,7 +175,8 @@ def reference_contact(geom: PairGeometry, flank: str) -> Reference:
     l2, u2, psi2 = _point_at_radius(geom, "gear", flank, g.working_pitch_radius_mm, g.reference_section_offset_mm)
     phi1 = p.pitch_point_angle - psi1
     phi2 = g.pitch_point_angle - psi2
-    x0 = np.array([l1, u1, l2, u2, phi2])
+    x0 = np.asarray(layouts.ContactUnknowns(pinion_l_mm=l1, pinion_u_mm=u1, gear_l_mm=l2, gear_u_mm=u2,
+                                            gear_angle_rad=phi2), dtype=float)
     opts = DEFAULT_OPTIONS
     x, conv, _, res = _core().solve_point(geom.problem(flank), x0, phi1, np.zeros(len(ERROR_NAMES)),
                                           geom.gear.working_pitch_radius_mm, newton_tolerance(geom, opts.tol_mm),
@@ -282,14 +295,6 @@ def _rotate_z(P, angle):
     return out
 
 
-def _rotate_z(P, angle):
-    c, s = np.cos(angle), np.sin(angle)
-    out = P.copy()
-    out[..., 0] = c * P[..., 0] - s * P[..., 1]
-    out[..., 1] = s * P[..., 0] + c * P[..., 1]
-    return out
-
-
 def mesh_flank(geom: PairGeometry, flank: str, errors=(0, 0, 0, 0, 0), positions=200, pairs=3,
                options: SolverOptions = DEFAULT_OPTIONS, window_pitches=None, backend="auto"):
     """TCA of one flank over the mesh with neighbouring tooth pairs.
@@ -312,11 +317,11 @@ def mesh_flank(geom: PairGeometry, flank: str, errors=(0, 0, 0, 0, 0), positions
     nearest = names[np.where(boundary >= 0, boundary, len(names) - 1)]
     kk = np.repeat(ks, positions)
     phi1_all = np.tile(phi1, pairs)
-    phi2 = x[:, 4] - kk * p2  # gear tooth k is turned by -k p2 relative to tooth 0
-    te = phi2 - ref.x[4] + (N1 / N2) * (phi1_all - ref.pinion_angle)
+    phi2 = unknowns(x).gear_angle_rad - kk * p2  # gear tooth k is turned by -k p2 relative to tooth 0
+    te = phi2 - unknowns(ref.x).gear_angle_rad + (N1 / N2) * (phi1_all - ref.pinion_angle)
     # contact points of pair k, back in place in S1 / S2
-    P1 = _rotate_z(surface(geom, "pinion", flank, x[:, 0], x[:, 1]).point, kk * p1)
-    P2 = _rotate_z(surface(geom, "gear", flank, x[:, 2], x[:, 3]).point, -kk * p2)
+    P1, P2 = contact_points(geom, flank, x)
+    P1, P2 = _rotate_z(P1, kk * p1), _rotate_z(P2, -kk * p2)
     valid = carries_numbers(code)
     te_v = np.where(valid, te, np.nan)
     P1[~valid] = np.nan
@@ -343,10 +348,11 @@ def _gap_sign(geom, flank, ref):
     s = evaluate(geom, flank, ref.x, ref.pinion_angle, np.zeros(len(ERROR_NAMES)))
     # d(R_f1 - R_f2)/dphi2 is the gear-angle column of the position rows; the gap grows along
     # n_f1 when R_f2 moves along +n_f1, i.e. (R_f1 - R_f2) moves along -n_f1
-    n1 = surface(geom, "pinion", flank, ref.x[0], ref.x[1]).normal
+    u = unknowns(ref.x)
+    n1 = surface(geom, "pinion", flank, u.pinion_l_mm, u.pinion_u_mm).normal
     c, si = math.cos(ref.pinion_angle), math.sin(ref.pinion_angle)
     nf1 = np.array([c * n1[0] - si * n1[1], si * n1[0] + c * n1[1], n1[2]])
-    dgap = -s.residual_D_unknowns[:3, tca_kernels.UNKNOWNS.index("gear_angle_rad")] @ nf1
+    dgap = -unknowns(s.residual_D_unknowns[:3]).gear_angle_rad @ nf1
     return 1.0 if dgap > 0 else -1.0
 
 
@@ -372,7 +378,7 @@ def _raw_play(geom, errors, backend, options):
     angles, signs, codes = {}, {}, {}
     for fl in FLANKS:
         sol = solve_grid(geom, fl, e, np.array([phi1]), backend, options)
-        angles[fl] = sol.x[0, 0, 4]
+        angles[fl] = unknowns(sol.x[0, 0]).gear_angle_rad
         codes[fl] = Status(int(sol.status[0, 0]))
         signs[fl] = _gap_sign(geom, fl, refs[fl])
     if signs["left"] == signs["right"]:
@@ -424,10 +430,8 @@ class TCAResult:
         return None if self.backlash is None else self.backlash.um
 
     def to_json_dict(self):
-        e = layouts.AssemblyErrors(*map(float, self.errors))
         out = {
-            "errors": {"dx_mm": e.dx_mm, "dy_mm": e.dy_mm, "dz_mm": e.dz_mm,
-                       "vertical_deg": math.degrees(e.vertical_rad), "horizontal_deg": math.degrees(e.horizontal_rad)},
+            "errors": assembly_errors.from_layout(self.errors),
             "flanks": {k: v.to_json_dict() for k, v in self.flanks.items()},
             "te_peak_to_peak_urad": {k: (None if not np.isfinite(v.te_peak_to_peak) else v.te_peak_to_peak * 1e6)
                                      for k, v in self.flanks.items()},
@@ -436,6 +440,8 @@ class TCAResult:
             out["backlash_um"] = self.backlash.um
             out["backlash_status"] = self.backlash.status
         out["notes"] = list(self.notes)
+        if self.backlash is not None and self.backlash.um is None:
+            out["notes"].append(f"backlash not measured ({self.backlash.status}): {self.backlash.reason}")
         return out
 
 
@@ -462,8 +468,6 @@ def analyze(geom: PairGeometry, errors=(0, 0, 0, 0, 0), flanks=FLANKS, positions
         res.notes += pitch_point_notes(geom, fl, options.edge_tol_mm)
     if set(flanks) == set(FLANKS):
         res.backlash = backlash(geom, e, backend=backend, options=options)
-        if res.backlash.um is None:
-            res.notes.append(f"backlash not measured ({res.backlash.status}): {res.backlash.reason}")
     return res
 
 
@@ -482,12 +486,14 @@ def sensitivity(geom: PairGeometry, flank: str, errors=(0, 0, 0, 0, 0), pinion_a
     x = sol.x[0, 0]
     _, derr = tangent(geom, flank, x[None], np.array([phi1]), e)
     derr = derr[0]
-    J1 = surface_jacobian(geom, "pinion", flank, x[0], x[1])
-    J2 = surface_jacobian(geom, "gear", flank, x[2], x[3])
+    u = unknowns(x)
+    J1 = surface_jacobian(geom, "pinion", flank, u.pinion_l_mm, u.pinion_u_mm)
+    J2 = surface_jacobian(geom, "gear", flank, u.gear_l_mm, u.gear_u_mm)
+    d = unknowns(derr.T)  # rows of d(unknowns)/d(errors), by name
     return {
         "x": x, "pinion_angle": phi1, "converged": bool(sol.status[0, 0] != Status.FAILED),
         "unknowns_D_errors": derr,
-        "pinion_contact_D_errors": J1 @ derr[0:2],
-        "gear_contact_D_errors": J2 @ derr[2:4],
-        "gear_angle_D_errors": derr[4],
+        "pinion_contact_D_errors": J1 @ np.stack([d.pinion_l_mm, d.pinion_u_mm]),
+        "gear_contact_D_errors": J2 @ np.stack([d.gear_l_mm, d.gear_u_mm]),
+        "gear_angle_D_errors": d.gear_angle_rad,
     }

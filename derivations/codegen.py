@@ -117,9 +117,10 @@ class ModuleSpec:
     functions: list[Function] = field(default_factory=list)
     scalar_twin: bool = False  # also write <module>_scalar.py (one point per call) for the compiled path
     constants: dict = field(default_factory=dict)  # name -> python literal (repr'd into the module)
+    extra_layouts: tuple = ()  # layouts the runtime reads results with, beyond the arguments' own
 
     def layouts(self):
-        out = {}
+        out = {lay.name: lay for lay in self.extra_layouts}
         for fn in self.functions:
             for a in fn.inputs:
                 if isinstance(a.symbol, Layout):

@@ -76,7 +76,14 @@ PLACEMENT = Layout("PairPlacement", "Where the two members sit in S_f (Eqs 30, 3
     Field("gear_axial_placement_mm", _z2, "mm", "d_w2 - b_c2: the S_2 origin on the gear axis"),
 ))
 
-UNKNOWNS = ("pinion_l_mm", "pinion_u_mm", "gear_l_mm", "gear_u_mm", "gear_angle_rad")
+CONTACT_UNKNOWNS = Layout("ContactUnknowns", "The unknowns of Eq 38 for a given pinion angle, in the solver's order.", (
+    Field("pinion_l_mm", sp.Symbol("l_1", real=True), "mm", "pinion profile parameter l"),
+    Field("pinion_u_mm", sp.Symbol("u_1", real=True), "mm", "pinion lengthwise parameter u"),
+    Field("gear_l_mm", sp.Symbol("l_2", real=True), "mm", "gear profile parameter l"),
+    Field("gear_u_mm", sp.Symbol("u_2", real=True), "mm", "gear lengthwise parameter u"),
+    Field("gear_angle_rad", phi2p, "rad", "gear rotation phi'_2 of Eq 34"),
+))
+UNKNOWNS = tuple(f.name for f in CONTACT_UNKNOWNS.fields)
 
 
 def _camel(name):
@@ -189,7 +196,7 @@ def contact_system_module():
                   Output("residual_D_unknowns", d_unknowns, "", "d residual / d " + str(UNKNOWNS)),
                   Output("residual_D_errors", f.jacobian(errors), "", "d residual / d AssemblyErrors"),
                   Output("residual_D_pinion_angle", f.diff(phi1p), "", "d residual / d phi'_1")]),
-    ], scalar_twin=True, constants={"UNKNOWNS": UNKNOWNS})
+    ], scalar_twin=True, constants={"UNKNOWNS": UNKNOWNS}, extra_layouts=(CONTACT_UNKNOWNS,))
 
 
 def flank_boundaries_module():
@@ -316,7 +323,7 @@ def composed_residual(pinion_model="involute", gear_model="involute", flank="rig
         lay = surface_layout(model_name, model)
         fresh = {f.symbol: sp.Symbol(f"{tag}_{f.name}", real=True) for f in lay.fields}
         p, n, _ = model.tooth_surface(sigma)
-        sub = dict(fresh, **{l: l_sym, u: u_sym})
+        sub = {**fresh, l: l_sym, u: u_sym}
         return p.xreplace(sub), n.xreplace(sub), [fresh[f.symbol] for f in lay.fields]
 
     p1, n1, s1 = member(pinion_model, "pinion", unknowns[0], unknowns[1])

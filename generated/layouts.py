@@ -40,6 +40,36 @@ class AssemblyErrors(typing.NamedTuple):
         return cls(**{name: float(values[name]) for name in cls._fields})
 
 
+class ContactUnknowns(typing.NamedTuple):
+    """The unknowns of Eq 38 for a given pinion angle, in the solver's order."""
+
+    pinion_l_mm: float  # [mm] pinion profile parameter l
+    pinion_u_mm: float  # [mm] pinion lengthwise parameter u
+    gear_l_mm: float  # [mm] gear profile parameter l
+    gear_u_mm: float  # [mm] gear lengthwise parameter u
+    gear_angle_rad: float  # [rad] gear rotation phi'_2 of Eq 34
+
+    UNITS = {
+        "pinion_l_mm": "mm",
+        "pinion_u_mm": "mm",
+        "gear_l_mm": "mm",
+        "gear_u_mm": "mm",
+        "gear_angle_rad": "rad",
+    }
+    DOCS = {
+        "pinion_l_mm": "pinion profile parameter l",
+        "pinion_u_mm": "pinion lengthwise parameter u",
+        "gear_l_mm": "gear profile parameter l",
+        "gear_u_mm": "gear lengthwise parameter u",
+        "gear_angle_rad": "gear rotation phi\u0027_2 of Eq 34",
+    }
+
+    @classmethod
+    def pack(cls, values):
+        """The fields taken by name from a mapping (extra keys are ignored)."""
+        return cls(**{name: float(values[name]) for name in cls._fields})
+
+
 class FlankBlank(typing.NamedTuple):
     """Where one member's flank ends (the blank), in its frame S_i."""
 

@@ -317,3 +317,52 @@ def test_backends_agree_on_statuses_and_numbers_including_failures(geom1):
     assert (a.status == Status.FAILED).any() and (a.status == Status.OK).any()
     solved = a.status != Status.FAILED
     np.testing.assert_allclose(a.x[solved], b.x[solved], rtol=0, atol=1e-9)
+
+
+@pytest.mark.skipif(not backends.AVAILABLE, reason="the compiled backend needs numba")
+def test_compiled_backend_runs_without_a_writable_cache(monkeypatch):
+    """A read-only install (numba: 'cannot cache function ...: no locator available') compiles
+    in memory instead, with one warning, rather than failing."""
+    import numba
+
+    real = numba.njit
+    calls = []
+
+    def njit(*args, cache=False, **kw):
+        calls.append(cache)
+        if cache:
+            raise RuntimeError("cannot cache function 'f': no locator available for file '/ro/f.py'")
+        return real(*args, **kw)
+
+    monkeypatch.setattr(numba, "njit", njit)
+    monkeypatch.setattr(backends, "_cache_warned", False)
+
+    def f(x):
+        return 2.0 * x
+
+    with pytest.warns(RuntimeWarning, match="cannot write its cache"):
+        g = backends._jit(f, parallel=False)
+    assert g(1.5) == 3.0 and calls == [True, False]
+    h = backends._jit(f, parallel=False)  # warned once only
+    assert h(2.0) == 4.0
+
+
+def test_backlash_is_never_wrapped_and_has_a_status():
+    """Issue 14, items 1-2: module 1 mm (case 1 scaled): the play grows with dx as long as both
+    flanks touch on their flanks; beyond that it is 'outside' with no number, never a value
+    reduced modulo the pitch; with nothing touching (vertical 5 deg) likewise."""
+    import tomllib
+
+    from beveloid.spec import spec_from_dict
+
+    data = tomllib.loads((ROOT / "examples" / "case1.toml").read_text())
+    data["pair"].update(normal_module_mm=1.0, offset_mm=38.1666)
+    geom = tca.PairGeometry.from_design(design(spec_from_dict(data)))
+    b = [tca.backlash(geom, (dx, 0, 0, 0, 0), backend="numpy") for dx in (0.0, 0.05, 0.1, 3.0)]
+    assert [x.status for x in b[:3]] == ["ok", "ok", "ok"]
+    assert abs(b[0].um) < 1e-6 and 0 < b[1].um < b[2].um
+    assert b[2].um == pytest.approx(2 * b[1].um, rel=0.05)  # first order in dx
+    assert b[3].status == "outside" and b[3].um is None and "flank" in b[3].reason
+    case1 = tca.PairGeometry.from_design(design(load_spec(ROOT / "examples" / "case1.toml")))
+    off = tca.backlash(case1, (0, 0, 0, 5 * DEG, 0), backend="numpy")
+    assert off.status in ("outside", "failed") and off.um is None
