@@ -16,7 +16,7 @@ import math
 import re
 
 from .cli_paths import check_output_file
-from .cli_tca import FLAG_OF_KEY, _errors_label, error_vector
+from .cli_tca import _errors_label, add_error_flags, apply_error_flags, error_vector
 from .errors import UserError
 
 
@@ -27,11 +27,7 @@ def configure(p: argparse.ArgumentParser) -> None:
                    help="pinion positions over one mesh cycle (default 20)")
     p.add_argument("--pairs", type=int, default=3, metavar="K", help="neighbouring tooth pairs (default 3)")
     p.add_argument("--flank", choices=("left", "right"), default="right", help="flank pair (default right)")
-    p.add_argument("--dx", type=float, metavar="MM", help="gear offset error dx_q (mm); overrides [misalignment]")
-    p.add_argument("--dy", type=float, metavar="MM", help="gear offset error dy_q (mm)")
-    p.add_argument("--dz", type=float, metavar="MM", help="gear offset error dz_q (mm)")
-    p.add_argument("--vertical", type=float, metavar="DEG", help="angular error dgamma_v of Eq 34 (deg)")
-    p.add_argument("--horizontal", type=float, metavar="DEG", help="angular error dgamma_h of Eq 34 (deg)")
+    add_error_flags(p)
     p.add_argument("--grid", default="13x31", metavar="ACROSSxALONG",
                    help="contact cells across x along the contact line per tooth pair (default 13x31)")
     p.add_argument("--plot", metavar="OUT.png", help="write the contact patterns, loaded TE and load sharing here")
@@ -53,7 +49,7 @@ def run(args: argparse.Namespace) -> int:
     """
     from . import ltca, tca
     from .design import design
-    from .spec import SpecError, load_spec, misalignment_with
+    from .spec import load_spec
 
     t = args.torque_nm
     if not (math.isfinite(t) and 0 < t <= 1e6):
@@ -65,15 +61,7 @@ def run(args: argparse.Namespace) -> int:
     across, along = parse_grid(args.grid)
     if args.plot is not None:
         check_output_file(args.plot, "--plot", ".png")
-    spec = load_spec(args.file)
-    try:
-        spec = misalignment_with(spec, dx_mm=args.dx, dy_mm=args.dy, dz_mm=args.dz,
-                                 vertical_deg=args.vertical, horizontal_deg=args.horizontal)
-    except SpecError as exc:  # name the flag the user typed, not the TOML key
-        msg = str(exc)
-        for key, flag in FLAG_OF_KEY.items():
-            msg = msg.replace(f"misalignment.{key}", flag)
-        raise UserError(msg) from None
+    spec = apply_error_flags(load_spec(args.file), args)
     geom = tca.PairGeometry.from_design(design(spec))
     result = ltca.analyze(geom, t, flank=args.flank, errors=error_vector(spec), positions=args.positions,
                           pairs=args.pairs, grid=ltca.GridOptions(across_cells=across, along_cells=along),

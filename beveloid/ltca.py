@@ -43,7 +43,8 @@ from .status import carries_numbers
 OFF_FLANK_GAP_MM = 10.0  #: the gap given to cells that lie off a blank: they never touch
 _NEWTON_TOL_MM = 1e-9  #: both Newtons of the gap (mm)
 _NEWTON_ITERATIONS = 10
-_GAIN = tca_kernels.UNKNOWNS.index("gear_angle_rad")
+_GAIN = tca_kernels.UNKNOWNS.index("gear_angle_rad")  # Jacobian columns by the generated names
+_GEAR_LU = [tca_kernels.UNKNOWNS.index("gear_l_mm"), tca_kernels.UNKNOWNS.index("gear_u_mm")]
 
 
 @dataclass(frozen=True)
@@ -203,7 +204,7 @@ def _gap_along_normal(geom, flank, l1, u1, l2, u2, phi1, phi2, errors, iteration
     idx = np.arange(L1.size)
     z = np.where(ok[:, None], z, z0)  # unsolved points: a finite placeholder, flagged by ok
     sy = system(idx, z)
-    jac = np.concatenate([sy.residual_D_unknowns[..., :3, 2:4], nf1[..., None]], axis=-1)
+    jac = np.concatenate([sy.residual_D_unknowns[..., :3, _GEAR_LU], nf1[..., None]], axis=-1)
     # ds/dphi'_2 by the implicit function theorem on F(l2, u2, s; phi'_2) = 0
     with np.errstate(all="ignore"):
         ds_dphi2 = np.linalg.solve(jac, -sy.residual_D_unknowns[..., :3, _GAIN, None])[..., 2, 0]
@@ -250,10 +251,11 @@ def _cell_gaps(geom, flank, errors, frames, coords, backend):
         return CellGaps(r(out["gear"][:, 2]), r(out["rates"][:, 0]), r(out["rates"][:, 1]), r(on), r(out["lu"]),
                         r(out["p1"]), r(out["p2"]))
     ex = lambda a: a[..., None]  # noqa: E731
-    l1, u1, ok1 = _project_onto_flank(geom, flank, ex(start[:, 0]), ex(start[:, 1]), origin[:, None, :],
+    st = tca.unknowns(start)
+    l1, u1, ok1 = _project_onto_flank(geom, flank, ex(st.pinion_l_mm), ex(st.pinion_u_mm), origin[:, None, :],
                                       axes[:, None, :, :], coords)
-    l2, u2, s, ds2, arm, sy, ok2 = _gap_along_normal(geom, flank, l1, u1, ex(start[:, 2]), ex(start[:, 3]),
-                                                     ex(phi1), ex(start[:, 4]), errors, active=ok1)
+    l2, u2, s, ds2, arm, sy, ok2 = _gap_along_normal(geom, flank, l1, u1, ex(st.gear_l_mm), ex(st.gear_u_mm),
+                                                     ex(phi1), ex(st.gear_angle_rad), errors, active=ok1)
     with np.errstate(invalid="ignore"):
         m1 = flank_boundaries.flank_margins(sy.pinion_point, l1, geom.pinion.blank()).margins.min(axis=-1)
         m2 = flank_boundaries.flank_margins(sy.gear_point, l2, geom.gear.blank()).margins.min(axis=-1)
@@ -437,6 +439,7 @@ class _Setup:
         fr = tca.mesh_flank(geom, flank, self.errors, positions=positions, pairs=pairs, window_pitches=1,
                             backend=self.backend)
         ref = tca.reference_contact(geom, flank)
+        ref_gear = tca.unknowns(ref.x).gear_angle_rad
         p1, p2 = geom.pitch_angles
         self.ks = np.arange(pairs) - pairs // 2
         self.phi1 = fr.pinion_angle[:positions]
@@ -449,7 +452,7 @@ class _Setup:
         active = fr.active.reshape(pairs, positions).T
         self.unloaded_te = np.array([te[j][active[j]][0] if active[j].any() else np.nan for j in range(positions)])
         # each pair's own rigid TE (its tangency, on or off the flanks): how far it stands open
-        self.pair_te = np.where(self.solved, x[..., _GAIN] - self.ks[None, :] * p2 - ref.x[_GAIN]
+        self.pair_te = np.where(self.solved, tca.unknowns(x).gear_angle_rad - self.ks[None, :] * p2 - ref_gear
                                 + (geom.pinion.teeth / geom.gear.teeth) * (self.phi1[:, None] - ref.pinion_angle),
                                 np.nan)
         n1, n2 = geom.pinion.teeth, geom.gear.teeth
@@ -459,7 +462,7 @@ class _Setup:
                                     for j in range(positions)]))
         self.has_reference = np.isfinite(te_any)
         self.te_any = te_any
-        self.gear_angle = te_any + ref.x[_GAIN] - (n1 / n2) * (self.phi1 - ref.pinion_angle)
+        self.gear_angle = te_any + ref_gear - (n1 / n2) * (self.phi1 - ref.pinion_angle)
         # pair k: pinion tooth 0 at phi1 - k p1, gear tooth 0 at phi2 + k p2 (tca.mesh_flank)
         self.pair_phi1 = self.phi1[:, None] - self.ks[None, :] * p1
         self.pair_phi2 = self.gear_angle[:, None] + self.ks[None, :] * p2
@@ -467,8 +470,9 @@ class _Setup:
         self.x = x
         self.n1_over_n2 = n1 / n2
         radius = 0.5 * geom.normal_module_mm
-        self.axes, self.origin = _principal_axes(geom, flank, x[..., 0], x[..., 1], x[..., 2], x[..., 3],
-                                                 self.pair_phi1, x[..., 4], self.errors, radius)
+        u = tca.unknowns(x)
+        self.axes, self.origin = _principal_axes(geom, flank, u.pinion_l_mm, u.pinion_u_mm, u.gear_l_mm, u.gear_u_mm,
+                                                 self.pair_phi1, u.gear_angle_rad, self.errors, radius)
         mn = geom.normal_module_mm
         depth = (geom.pinion.tip_height_mm + geom.pinion.cutter_addendum_mm) / math.cos(geom.normal_pressure_angle)
         face = geom.pinion.face_width_mm / max(math.cos(geom.pinion.helix_angle), 0.3)
@@ -496,7 +500,7 @@ class _Setup:
         x = self.x[jj, kk]
         ex = lambda a: a[..., None]  # noqa: E731
 
-        start = np.concatenate([x[:, :4], self.pair_phi2[jj, kk, None]], axis=-1)
+        start = np.stack(tca.unknowns(x)._replace(gear_angle_rad=self.pair_phi2[jj, kk]), axis=-1)
         frames = (start, self.pair_phi1[jj, kk], self.origin[jj, kk], self.axes[jj, kk])
 
         def gap_at(c):
@@ -546,7 +550,7 @@ def _nearest_te(x, solved, ks, p2, ref, n1, n2, phi1):
     if not solved.any():
         return np.nan
     k = int(np.argmin(np.where(solved, np.abs(ks), 99)))
-    return x[k, _GAIN] - ks[k] * p2 - ref.x[_GAIN] + (n1 / n2) * (phi1 - ref.pinion_angle)
+    return tca.unknowns(x[k]).gear_angle_rad - ks[k] * p2 - tca.unknowns(ref.x).gear_angle_rad + (n1 / n2) * (phi1 - ref.pinion_angle)
 
 
 def _edges(half, n):
@@ -751,7 +755,7 @@ def analyze(geom, torque_nm, flank="right", errors=(0, 0, 0, 0, 0), positions=20
     moment = np.einsum("jkc,c,jkc->j", p, area, np.where(gap.in_flank, gap.pinion_arm_mm, 0.0))
     gear_rot = gap.gear_sign * o["delta"]
     ref = tca.reference_contact(geom, flank)
-    te_rigid_ref = setup.gear_angle - ref.x[_GAIN] + setup.n1_over_n2 * (setup.phi1 - ref.pinion_angle)
+    te_rigid_ref = setup.gear_angle - tca.unknowns(ref.x).gear_angle_rad + setup.n1_over_n2 * (setup.phi1 - ref.pinion_angle)
     loaded_te = np.where(ok, te_rigid_ref + gear_rot, np.nan)
     status = ["ok" if ok[j] else ("no contact" if o["msg"][j] == "no contact" else "not converged")
               for j in range(positions)]

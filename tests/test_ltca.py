@@ -194,7 +194,7 @@ def test_gap_backends_agree(geom1):
     pytest.importorskip("numba")
     setup = ltca._Setup(geom1, "right", np.zeros(5), 4, 3, backend="numpy")
     q = np.array([0, 1, 2])
-    start = np.concatenate([setup.x[1, q, :4], setup.pair_phi2[1, q, None]], axis=-1)
+    start = np.stack(tca.unknowns(setup.x[1, q])._replace(gear_angle_rad=setup.pair_phi2[1, q]), axis=-1)
     frames = (start, setup.pair_phi1[1, q], setup.origin[1, q], setup.axes[1, q])
     xs, ys = np.meshgrid(np.linspace(-2, 2, 5), np.linspace(-40, 40, 17), indexing="ij")
     coords = np.broadcast_to(np.stack([xs.ravel(), ys.ravel()], axis=-1), (3, xs.size, 2))

@@ -16,6 +16,7 @@ import numpy as np
 
 from ..generated.tca_kernels_scalar import (N_ERRORS, N_UNKNOWNS, contact_margin_point, contact_system_point,
                                             surface_jet_point, workspace)
+from ..generated.tca_kernels import UNKNOWNS
 from ..status import Status
 
 try:
@@ -216,6 +217,14 @@ def solve_point(problem, x, phi1, errors, scale, tol, max_iter):
     return xs, conv, it, residual_norm(F, scale)
 
 
+#: where normal_gaps finds each unknown (by the generated names; numba reads them as constants)
+PINION_L = UNKNOWNS.index("pinion_l_mm")
+PINION_U = UNKNOWNS.index("pinion_u_mm")
+GEAR_L = UNKNOWNS.index("gear_l_mm")
+GEAR_U = UNKNOWNS.index("gear_u_mm")
+GEAR_ANGLE = UNKNOWNS.index("gear_angle_rad")
+
+
 def _solve3(a00, a01, a02, a10, a11, a12, a20, a21, a22, b0, b1, b2, out):
     """out = A^-1 b for a 3x3 system by Cramer's rule; False if A is singular or not finite."""
     c00 = a11 * a22 - a12 * a21
@@ -239,12 +248,12 @@ def normal_gaps(problem, pinion_blank, gear_blank, pair_of_point, coords, start,
                 errors, tol, max_iter, out_lu, out_gear, out_rates, out_margin, out_ok, out_p1, out_p2):
     """The unloaded gap of loaded-TCA cells (beveloid/ltca.py), one point per cell.
 
-    Point m belongs to pair q = pair_of_point[m]: the pinion flank point whose offset from
-    origin[q] (S_1) has the components coords[m] on the two rows of axes[q] (2x2 Newton on the
-    pinion surface jet, from start[q]'s (l1, u1)), then the gear point on the pinion's normal
-    line R_f2(l2, u2) = R_f1 + s n_f1 (3x3 Newton on Eq 38's position rows, from start[q]'s
-    (l2, u2), at the pinion angle phi1[q] and the gear angle start[q][4]; rotation[q] is the
-    pinion's L_f1).  Outputs per point: out_lu (l1, u1); out_gear (l2, u2, s); out_rates
+    Point m belongs to pair q = pair_of_point[m]; start[q] holds unknowns (UNKNOWNS order).  The
+    pinion flank point whose offset from origin[q] (S_1) has the components coords[m] on the
+    two rows of axes[q] (2x2 Newton on the pinion surface jet, from start[q]'s pinion l, u), then
+    the gear point on the pinion's normal line R_f2(l2, u2) = R_f1 + s n_f1 (3x3 Newton on
+    Eq 38's position rows, from start[q]'s gear l, u, at the pinion angle phi1[q] and start[q]'s
+    gear angle; rotation[q] is the pinion's L_f1).  Outputs per point: out_lu (l1, u1); out_gear (l2, u2, s); out_rates
     (ds/dphi'_2 by the implicit function theorem, the moment arm n_f1 . dR_f1/dphi'_1);
     out_margin the smallest margin of both points to their blanks; out_ok 1 when both Newtons
     converged; out_p1, out_p2 the points in S_1 and S_2.
@@ -278,12 +287,12 @@ def _normal_gap_point(problem, pinion_blank, gear_blank, q, coords, m, start, ph
     (the previous point's solution) when ``warm``, else from start[q].  True if it converged."""
     pinion_model, gear_model, flank, pinion_params, gear_params, pair = problem
     for i in range(N_UNKNOWNS):
-        if not warm or i == N_UNKNOWNS - 1:
+        if not warm or i == GEAR_ANGLE:
             x[i] = start[q, i]
     ok1 = False
     last = 1e300
     for it in range(max_iter + 1):
-        surface_jet_point(pinion_model, flank, x[0], x[1], pinion_params, pt, nm, dp, dn)
+        surface_jet_point(pinion_model, flank, x[PINION_L], x[PINION_U], pinion_params, pt, nm, dp, dn)
         f0 = -coords[m, 0]
         f1 = -coords[m, 1]
         a00 = 0.0
@@ -307,10 +316,10 @@ def _normal_gap_point(problem, pinion_blank, gear_blank, q, coords, m, start, ph
         det = a00 * a11 - a01 * a10
         if det == 0.0:
             break
-        x[0] += (-f0 * a11 + f1 * a01) / det
-        x[1] += (-a00 * f1 + a10 * f0) / det
-    out_lu[m, 0] = x[0]
-    out_lu[m, 1] = x[1]
+        x[PINION_L] += (-f0 * a11 + f1 * a01) / det
+        x[PINION_U] += (-a00 * f1 + a10 * f0) / det
+    out_lu[m, 0] = x[PINION_L]
+    out_lu[m, 1] = x[PINION_U]
     for i in range(3):
         nf[i] = rotation[q, i, 0] * nm[0] + rotation[q, i, 1] * nm[1] + rotation[q, i, 2] * nm[2]
     s = 0.0
@@ -329,21 +338,21 @@ def _normal_gap_point(problem, pinion_blank, gear_blank, q, coords, m, start, ph
             if it == max_iter or _diverging(err, last, it, 1e3):
                 break
             last = err
-            if not _solve3(J[0, 2], J[0, 3], nf[0], J[1, 2], J[1, 3], nf[1], J[2, 2], J[2, 3], nf[2],
+            if not _solve3(J[0, GEAR_L], J[0, GEAR_U], nf[0], J[1, GEAR_L], J[1, GEAR_U], nf[1], J[2, GEAR_L], J[2, GEAR_U], nf[2],
                            -g0, -g1, -g2, dx):
                 break
-            x[2] += dx[0]
-            x[3] += dx[1]
+            x[GEAR_L] += dx[0]
+            x[GEAR_U] += dx[1]
             s += dx[2]
-    out_gear[m, 0] = x[2]
-    out_gear[m, 1] = x[3]
+    out_gear[m, 0] = x[GEAR_L]
+    out_gear[m, 1] = x[GEAR_U]
     out_gear[m, 2] = s
     out_ok[m] = 0
     out_margin[m] = -1e300
     out_rates[m, 0] = 0.0
     out_rates[m, 1] = 0.0
-    if ok2 and _solve3(J[0, 2], J[0, 3], nf[0], J[1, 2], J[1, 3], nf[1], J[2, 2], J[2, 3], nf[2],
-                       -J[0, 4], -J[1, 4], -J[2, 4], dx):
+    if ok2 and _solve3(J[0, GEAR_L], J[0, GEAR_U], nf[0], J[1, GEAR_L], J[1, GEAR_U], nf[1], J[2, GEAR_L], J[2, GEAR_U], nf[2],
+                       -J[0, GEAR_ANGLE], -J[1, GEAR_ANGLE], -J[2, GEAR_ANGLE], dx):
         out_ok[m] = 1
         out_rates[m, 0] = dx[2]
         out_rates[m, 1] = nf[0] * Jp[0] + nf[1] * Jp[1] + nf[2] * Jp[2]
