@@ -1,12 +1,13 @@
 """``beveloid tca FILE [--dx MM] [--dy MM] [--dz MM] [--vertical DEG] [--horizontal DEG]
-[--flank left|right|both] [--positions N] [--plot OUT.png] [--json]``.
+[--flank left|right|both] [--positions N] [--approach-um UM] [--plot OUT.png] [--json]``.
 
 Flags override the file's [misalignment] table.  The JSON holds "flanks" (keyed "left" and/or
 "right", each with equal-length arrays), "te_peak_to_peak_urad" per flank and, when both flanks
 are solved, "backlash_um" with "backlash_status": the circumferential play at the gear's working
 pitch circle at the left flank's reference pinion angle, positive = play, negative = the flanks
 interfere; a number only when the status is "ok" (both flanks touch on their flanks there), else
-null with the status of the missing contact ("outside" or "failed") and a note saying why.
+null with the status of the missing contact ("outside" or "failed") and a note saying why.  The
+contact ellipses per flank ("contact_ellipse_*", beveloid/contact_ellipse.py) and "approach_mm".
 """
 from __future__ import annotations
 
@@ -28,6 +29,8 @@ def configure(p: argparse.ArgumentParser) -> None:
                    help="pinion positions over the mesh window (default 200)")
     p.add_argument("--pairs", type=int, default=3, metavar="K", help="neighbouring tooth pairs (default 3)")
     p.add_argument("--plot", metavar="OUT.png", help="write contact paths and TE to this PNG")
+    p.add_argument("--approach-um", type=float, default=6.32, metavar="UM",
+                   help="elastic approach of the contact ellipses (um, default 6.32, the paint-layer value)")
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
 
 
@@ -73,12 +76,19 @@ def run(args: argparse.Namespace) -> int:
         raise UserError(f"--positions = {args.positions}: must be an integer from 3 to 100000")
     if args.pairs < 1 or args.pairs > 9 or args.pairs % 2 == 0:
         raise UserError(f"--pairs = {args.pairs}: must be an odd integer from 1 to 9")
+    from .contact_ellipse import attach, check_approach
+
+    try:
+        approach_mm = check_approach(args.approach_um * 1e-3)
+    except ValueError as exc:
+        raise UserError(str(exc)) from None
     if args.plot is not None:
         check_output_file(args.plot, "--plot", ".png")
     spec = apply_error_flags(load_spec(args.file), args)
     geom = tca.PairGeometry.from_design(design(spec))
     flanks = tca.FLANKS if args.flank == "both" else (args.flank,)
-    result = tca.analyze(geom, error_vector(spec), flanks=flanks, positions=args.positions, pairs=args.pairs)
+    result = attach(tca.analyze(geom, error_vector(spec), flanks=flanks, positions=args.positions, pairs=args.pairs),
+                    approach_mm)
     if args.plot is not None:
         from .plots import tca_summary
 

@@ -263,34 +263,21 @@ def _cell_gaps(geom, flank, errors, frames, coords, backend):
     return CellGaps(s, ds2, arm, on, np.stack([l1, u1], axis=-1), sy.pinion_point, sy.gear_point)
 
 
-def _principal_axes(geom, flank, l1, u1, l2, u2, phi1, phi2, errors, radius_mm):
-    """Orthonormal (across, along) axes (..., 2, 3) in S_1 of the gap's quadratic form at the tangency.
+def _principal_axes(geom, flank, x, phi1, errors):
+    """Orthonormal (across, along) axes (..., 2, 3) in S_1 at each pair's tangency x (..., 5), and
+    the tangency point in S_1: the principal directions of the relative curvature H of the two
+    flanks (beveloid.curvature); 'across' is the stiffer one (the contact ellipse's minor axis)."""
+    from . import curvature
 
-    The gap is sampled on a circle of ``radius_mm`` about the tangency in the tangent plane
-    (generated kernels) and fitted by h = a x^2 + 2 b x y + c y^2; 'across' is the stiffer
-    principal direction (the contact ellipse's minor axis).
-    """
-    jet = geom.surface_jet("pinion", flank, l1, u1)
-    t1 = jet.point_D_lu[..., 0]
-    t1 = t1 / np.linalg.norm(t1, axis=-1, keepdims=True)
-    t2 = np.cross(jet.normal, t1)
-    axes = np.stack([t1, t2], axis=-2)
-    ang = np.linspace(0, 2 * np.pi, 8, endpoint=False)
-    c, s = np.cos(ang), np.sin(ang)
-    coords = radius_mm * np.stack([c, s], axis=-1)  # (8, 2)
-    shape = np.shape(l1)
-    ex = lambda a: np.expand_dims(a, -1)  # noqa: E731
-    lp, up, _ = _project_onto_flank(geom, flank, ex(l1), ex(u1), jet.point[..., None, :], axes[..., None, :, :],
-                                    np.broadcast_to(coords, shape + (8, 2)))
-    _, _, h, _, _, _, _ = _gap_along_normal(geom, flank, lp, up, ex(l2), ex(u2), ex(phi1), ex(phi2),
-                                            np.expand_dims(errors, -2) if np.ndim(errors) > 1 else errors)
-    design = np.stack([c * c, 2 * c * s, s * s], axis=-1) * radius_mm ** 2  # (8, 3)
-    coef = np.linalg.lstsq(design, h.reshape(-1, 8).T, rcond=None)[0].T.reshape(shape + (3,))
-    hess = np.stack([np.stack([coef[..., 0], coef[..., 1]], -1), np.stack([coef[..., 1], coef[..., 2]], -1)], -2)
-    _, vec = np.linalg.eigh(hess)  # ascending: column 0 = along (soft), column 1 = across (stiff)
-    across = vec[..., 0, 1, None] * t1 + vec[..., 1, 1, None] * t2
-    along = np.cross(jet.normal, across)
-    return np.stack([across, along], axis=-2), jet.point
+    rc = curvature.relative_curvature(geom, flank, x, phi1, errors)
+    _, vec = np.linalg.eigh(rc.H)  # ascending: column 1 is the stiff direction
+    across_f = np.einsum("...k,...ki->...i", vec[..., :, 1], rc.basis)
+    along_f = np.cross(rc.normal, across_f)
+    rot = placement.pinion_placement(phi1, geom.placement()).rotation  # S_1 -> S_f
+    to_s1 = lambda d: np.einsum("...ji,...j->...i", rot, d)  # noqa: E731  (L_f1^T d)
+    u = tca.unknowns(x)
+    origin = geom.surface("pinion", flank, u.pinion_l_mm, u.pinion_u_mm).point
+    return np.stack([to_s1(across_f), to_s1(along_f)], axis=-2), origin
 
 
 # --------------------------------------------------------------------------------------------
@@ -388,6 +375,8 @@ class LTCAResult:
     gap: PairGap
     cell_area_mm2: np.ndarray  # (cells,)
     axes: np.ndarray  # (N, P, 2, 3) across/along in S_1
+    tangency_unknowns: np.ndarray = None  # (N, P, 5) each pair's rigid-body tangency (tca_kernels.UNKNOWNS)
+    pair_pinion_angle: np.ndarray = None  # (N, P) the pinion angle of each pair's tangency (pair 0 frame)
     notes: list = field(default_factory=list)
     _patterns: dict = field(default_factory=dict, repr=False)
 
@@ -448,6 +437,11 @@ class _Setup:
         self.solved = np.array([[s != "failed" for s in row] for row in status])
         # the pair's tangency lies on both flanks: its patch is a surface contact that sizes the grid
         self.on_flank = np.array([[s in ("ok", "edge") for s in row] for row in status])
+        # how far each tangency lies inside both blanks (mm): a patch within that distance of its
+        # tangency is a surface contact that may size the grid; nearer an edge it is edge contact
+        with np.errstate(invalid="ignore"):
+            margin, _ = tca.boundary_margins(geom, flank, x)
+        self.tangency_margin_mm = np.where(self.solved, margin, -np.inf)
         te = fr.transmission_error.reshape(pairs, positions).T
         active = fr.active.reshape(pairs, positions).T
         self.unloaded_te = np.array([te[j][active[j]][0] if active[j].any() else np.nan for j in range(positions)])
@@ -469,14 +463,17 @@ class _Setup:
         x = np.where(self.solved[..., None], x, x[positions // 2, pairs // 2])  # placeholder where unsolved
         self.x = x
         self.n1_over_n2 = n1 / n2
-        radius = 0.5 * geom.normal_module_mm
-        u = tca.unknowns(x)
-        self.axes, self.origin = _principal_axes(geom, flank, u.pinion_l_mm, u.pinion_u_mm, u.gear_l_mm, u.gear_u_mm,
-                                                 self.pair_phi1, u.gear_angle_rad, self.errors, radius)
+        self.axes, self.origin = _principal_axes(geom, flank, x, self.pair_phi1, self.errors)
         mn = geom.normal_module_mm
         depth = (geom.pinion.tip_height_mm + geom.pinion.cutter_addendum_mm) / math.cos(geom.normal_pressure_angle)
         face = geom.pinion.face_width_mm / max(math.cos(geom.pinion.helix_angle), 0.3)
         self.max_along_mm = math.hypot(depth, face) + mn
+
+    def surface_contacts(self, across_half_mm):
+        """(N, P): pairs whose tangency is on the flanks and more than 3 grid half-widths inside
+        both blanks (their patch sizes the grid); all on-flank pairs if none is."""
+        deep = self.on_flank & (self.tangency_margin_mm > 3.0 * across_half_mm)
+        return deep if deep.any() else self.on_flank
 
     def gap(self, xe, ye, need=None) -> PairGap:
         """The gap over the grid with cell edges xe (across), ye (along) for the (position, pair)s in ``need``."""
@@ -667,15 +664,18 @@ class _PairCompliance(lcp.Compliance):
         return out
 
 
-def _interior(p, in_flank, nx, ny):
-    """Loaded cells (..., nx, ny) that are not next to an off-flank cell: cells at a blank
-    boundary carry edge contact, which the blank (not the grid) truncates."""
+def _interior(p, in_flank, nx, ny, reach=2):
+    """Loaded cells (..., nx, ny) farther than ``reach`` cells (8-neighbourhood) from any
+    off-flank cell: cells near a blank boundary carry edge contact, which the blank (not the
+    grid) truncates."""
     q = (p > 0).reshape(p.shape[:-1] + (nx, ny))
-    f = in_flank.reshape(q.shape)
-    pad = np.pad(f, [(0, 0)] * (f.ndim - 2) + [(1, 1), (1, 1)], constant_values=True)
-    interior = f.copy()
-    for di, dj in ((-1, 0), (1, 0), (0, -1), (0, 1)):
-        interior &= pad[..., 1 + di:1 + di + nx, 1 + dj:1 + dj + ny]
+    interior = in_flank.reshape(q.shape).copy()
+    lead = [(0, 0)] * (interior.ndim - 2)
+    for _ in range(reach):
+        pad = np.pad(interior, lead + [(1, 1), (1, 1)], constant_values=True)
+        for di in (-1, 0, 1):
+            for dj in (-1, 0, 1):
+                interior &= pad[..., 1 + di:1 + di + nx, 1 + dj:1 + dj + ny]
     return q & interior
 
 
@@ -721,10 +721,11 @@ def analyze(geom, torque_nm, flank="right", errors=(0, 0, 0, 0, 0), positions=20
         xe, ye = _edges(X, nx), _edges(Y, ny)
         gap, _, o = _solve_cycle(setup, xe, ye, torque_nm, material, tooth_p, tooth_g, only=probe)
         rotation = np.nanmax(np.abs(o["delta"][probe]))
-        ex, ey = _extent(o["p"][probe], gap.in_flank[probe], nx, ny, xe, ye, setup.on_flank[probe])
+        sizing = setup.surface_contacts(X)[probe]
+        ex, ey = _extent(o["p"][probe], gap.in_flank[probe], nx, ny, xe, ye, sizing)
         if ex is None:
             break
-        edge_x, edge_y = _touches_edge(o["p"][probe], gap.in_flank[probe], nx, ny, setup.on_flank[probe])
+        edge_x, edge_y = _touches_edge(o["p"][probe], gap.in_flank[probe], nx, ny, sizing)
         newX = 2.0 * X if edge_x else grid.margin * ex
         newY = min(setup.max_along_mm, 2.0 * Y if edge_y else grid.margin * ey)
         settled = abs(newX / X - 1) < 0.15 and abs(newY / Y - 1) < 0.15
@@ -738,7 +739,8 @@ def analyze(geom, torque_nm, flank="right", errors=(0, 0, 0, 0, 0), positions=20
         # a pair open by more than 3x the middle position's loaded rotation (plus 2 urad) cannot touch
         open_rad = 3.0 * rotation + 2e-6 if np.isfinite(rotation) else None
         gap, cells, o = _solve_cycle(setup, xe, ye, torque_nm, material, tooth_p, tooth_g, open_rad=open_rad)
-        edge_x, edge_y = _touches_edge(o["p"][o["ok"]], gap.in_flank[o["ok"]], nx, ny, setup.on_flank[o["ok"]])
+        edge_x, edge_y = _touches_edge(o["p"][o["ok"]], gap.in_flank[o["ok"]], nx, ny,
+                                       setup.surface_contacts(X)[o["ok"]])
         edge_y = edge_y and Y < setup.max_along_mm
         if not (edge_x or edge_y):
             break
@@ -767,7 +769,9 @@ def analyze(geom, torque_nm, flank="right", errors=(0, 0, 0, 0, 0), positions=20
         contact_area_mm2=np.where(ok, ((p > 0) * area).sum(axis=(1, 2)), np.nan),
         pinion_moment_nmm=np.where(ok, moment, np.nan), iterations=o["it"],
         complementarity_residual=o["comp"], load_residual=o["load"], across_half_mm=float(X), along_half_mm=float(Y),
-        grid=grid, pressure_mpa=p, gap=gap, cell_area_mm2=area, axes=setup.axes, notes=notes)
+        grid=grid, pressure_mpa=p, gap=gap, cell_area_mm2=area, axes=setup.axes,
+        tangency_unknowns=np.where(setup.solved[..., None], setup.x, np.nan), pair_pinion_angle=setup.pair_phi1,
+        notes=notes)
 
 
 # --------------------------------------------------------------------------------------------

@@ -149,9 +149,12 @@ def tca_summary(result, geom, out_png, title=""):
                     continue
                 r = np.hypot(P[sel, 0], P[sel, 1])
                 ax.plot(P[sel, 2], r, lw=1.5, label=f"tooth pair {k:+d}" if k else "tooth pair 0")
+            if fr.contact_ellipse is not None:
+                draw_bearing_pattern(ax, geom, fr, which)
             ax.set_xlabel("axial position z (mm)  toe -> heel")
             ax.set_ylabel("radius (mm)")
-            ax.set_title(f"{which}, {flank} flank: contact path")
+            ax.set_title(f"{which}, {flank} flank: contact path"
+                         + (" and bearing pattern" if fr.contact_ellipse is not None else ""))
             ax.grid(alpha=0.3)
         row[1].legend(fontsize=8)
         ax = row[2]
@@ -250,4 +253,53 @@ def ltca_torques(results, geom, out_png, title=""):
         ax.tick_params(labelsize=7)
         ax.grid(alpha=0.3)
     axes[3, 0].legend(fontsize=7)
+
+
+def _ellipse_outlines(geom, fr, which):
+    """(z, radius) outlines of the truncated contact ellipses of a flank's active points on one
+    member (fr.contact_ellipse from beveloid.contact_ellipse.attach)."""
+    from .contact_ellipse import ellipse_outline
+    from .generated import placement
+
+    ce = fr.contact_ellipse
+    out = []
+    phi1 = fr.pinion_angle - fr.tooth_pair * geom.pitch_angles[0]
+    for i in np.nonzero(fr.active)[0]:
+        pts = ellipse_outline(ce, i)
+        if pts is None:
+            continue
+        if which == "pinion":
+            P = placement.pinion_placement(phi1[i], geom.placement())
+        else:
+            P = placement.gear_placement(fr.unknowns[i, 4], ce.errors[i], geom.placement())
+        q = (pts - P.translation) @ P.rotation  # S_f -> member frame (rotation about the axis keeps z, r)
+        out.append((q[:, 2], np.hypot(q[:, 0], q[:, 1])))
+    return out
+
+
+def draw_bearing_pattern(ax, geom, fr, which, color="tab:orange", label="bearing pattern"):
+    """Fill the union of the truncated contact ellipses of the active points on one member's flank."""
+    outlines = _ellipse_outlines(geom, fr, which)
+    for j, (z, r) in enumerate(outlines):
+        ax.fill(z, r, color=color, alpha=0.35, lw=0, label=label if j == 0 else None)
+    return len(outlines)
+
+
+def bearing_patterns(results, labels, geom, flank, out_png, title=""):
+    """Bearing pattern (union of truncated contact ellipses over the mesh) on the pinion and gear
+    flanks, one row per result (error set), like the light-load patterns of Figs 24a / 25a."""
+    plt = _plt()
+    fig, axes = plt.subplots(len(results), 2, figsize=(11, 3.4 * len(results)), squeeze=False)
+    for row, res, lab in zip(axes, results, labels):
+        fr = res.flanks[flank]
+        for ax, which in zip(row, ("pinion", "gear")):
+            zb, rb = flank_outline(geom, which, flank)
+            ax.plot(zb, rb, color="0.3", lw=1.2, label="flank boundary")
+            n = draw_bearing_pattern(ax, geom, fr, which)
+            approach = fr.contact_ellipse.approach_mm * 1e3
+            ax.set_title(f"{which}, {flank} flank, {lab}: {n} ellipses, approach {approach:g} um", fontsize=9)
+            ax.set_xlabel("axial position z (mm)  toe -> heel")
+            ax.set_ylabel("radius (mm)")
+            ax.grid(alpha=0.3)
+        row[1].legend(fontsize=8, loc="best")
     _save(fig, out_png, title)

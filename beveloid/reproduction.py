@@ -162,6 +162,18 @@ def edge_onset_offset(geom, flank, direction=+1.0, hi=3.0, tol=1e-4):
     return hi_q
 
 
+def bearing_pattern_figure(geom, results, labels, out_png, title):
+    """The hook for the bearing patterns: contact ellipses attached to each result, then drawn
+    (beveloid/contact_ellipse.py, plots.bearing_patterns)."""
+    from . import plots
+    from .contact_ellipse import attach
+
+    for r in results:
+        if r.approach_mm is None:
+            attach(r)
+    plots.bearing_patterns(results, labels, geom, FLANK, out_png, title)
+
+
 def run(out_dir, positions=200, progress=_progress):
     """Write figures, CSV and report.md into out_dir; returns the report path."""
     from . import plots, tca
@@ -202,6 +214,8 @@ def run(out_dir, positions=200, progress=_progress):
         plots.transmission_error(res, labels, FLANK, out / f"fig{st.te_figure}_transmission_error.png",
                                  f"Fig {st.te_figure} - {st.title} ({FLANK} flank)")
         _write_csv(out / f"fig{st.figure}_fig{st.te_figure}.csv", st, res)
+        bearing_pattern_figure(g, res, labels, out / f"fig{st.figure}_bearing_pattern.png",
+                               f"Fig {st.figure} errors - bearing pattern ({FLANK} flank, like Figs 24a/25a)")
         for (lab, e), r in zip(st.errors, res):
             fr = r.flanks[FLANK]
             pc, gc = path_centre(fr)
@@ -266,7 +280,8 @@ def _report(designs, comparison, summary, sens, onset, aligned, seconds, positio
     for st in STUDIES:
         L += ["", f"### Fig {st.figure} and Fig {st.te_figure}: {st.title}", "",
               f"![Fig {st.figure}](fig{st.figure}_contact_path.png)", "",
-              f"![Fig {st.te_figure}](fig{st.te_figure}_transmission_error.png)",
+              f"![Fig {st.te_figure}](fig{st.te_figure}_transmission_error.png)", "",
+              f"![bearing pattern, errors of Fig {st.figure}](fig{st.figure}_bearing_pattern.png)",
               "", f"Data: fig{st.figure}_fig{st.te_figure}.csv"]
     L += ["", "### Fig 22: aligned TE of both cases", "", "![Fig 22](fig22_transmission_error.png)", ""]
     for c, r in zip(("case1", "case2"), aligned):

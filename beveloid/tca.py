@@ -270,6 +270,7 @@ class FlankResult:
     nearest_boundary: list
     te_peak_to_peak: float  # rad, over the active points; nan if none
     unknowns: np.ndarray = None  # (n, 5) pair 0's (l1, u1, l2, u2, phi'_2) as solved, for every point
+    contact_ellipse: object = None  # contact_ellipse.ContactEllipses, when attached (contact_ellipse.attach)
 
     def to_json_dict(self):
         nan_to_none = lambda a: [None if not np.isfinite(v) else float(v) for v in a]  # noqa: E731
@@ -284,6 +285,7 @@ class FlankResult:
             "tooth_pair": [int(k) for k in self.tooth_pair],
             "active": [bool(a) for a in self.active],
             "nearest_boundary": list(self.nearest_boundary),
+            **(self.contact_ellipse.to_json_dict() if self.contact_ellipse is not None else {}),
         }
 
 
@@ -424,6 +426,7 @@ class TCAResult:
     flanks: dict = field(default_factory=dict)
     backlash: Backlash | None = None
     notes: list = field(default_factory=list)
+    approach_mm: float | None = None  # elastic approach of the contact ellipses, when attached
 
     @property
     def backlash_um(self):
@@ -439,6 +442,8 @@ class TCAResult:
         if self.backlash is not None:
             out["backlash_um"] = self.backlash.um
             out["backlash_status"] = self.backlash.status
+        if self.approach_mm is not None:
+            out["approach_mm"] = self.approach_mm
         out["notes"] = list(self.notes)
         if self.backlash is not None and self.backlash.um is None:
             out["notes"].append(f"backlash not measured ({self.backlash.status}): {self.backlash.reason}")

@@ -162,7 +162,26 @@ def render_derivations_md(results=None) -> str:
     out += _summary_table(checks)
     for e, r in zip(eqs, checks):
         out += [""] + _equation_section(e, r)
+    out += [""] + _extra_section(registry.verify_extra())
     return "\n".join(out) + "\n"
+
+
+def _extra_section(extra) -> list[str]:
+    """Checks beyond the numbered equations (derivations/fpd_principal_directions.py)."""
+    from . import fpd_principal_directions as fpd
+
+    lines = ['<a id="beyond-the-print"></a>', "", "## Beyond the print: the FPD angle from the principal directions", "",
+             "Model: `derivations/fpd_principal_directions.py`", ""]
+    lines += [p.strip() for p in (fpd.__doc__ or "").split("\n\n")[1:] if p.strip()]
+    lines += ["", "| check | how it was checked | status | max rel residual |", "|---|---|---|---:|"]
+    for r in extra:
+        lines.append(f"| {_cell(r.title)} | {_cell(r.method)} | {STATUS_TEXT.get(r.status, r.status)} "
+                     f"| {_fmt_diff(r.max_rel_diff)} |")
+    lines += [""] + [f"> **Note.** {r.note}" for r in extra if r.note]
+    lines += ["", "The same crossing angle taken from the real surfaces' principal directions at the solved "
+              "pitch-point contact (beveloid/curvature.py) is held against the designed xi over designs in "
+              "tests/test_fpd_curvature.py; numbers in docs/validation.md."]
+    return lines
 
 
 def write_derivations_md(path=DEFAULT_PATH, results=None) -> Path:

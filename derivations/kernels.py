@@ -5,7 +5,8 @@ needs one point per call):
 
 * ``surface_<model>``: one per tooth-surface model, per flank: the point and unit normal
   (``surface_<flank>``), with their first derivatives in (l, u) (``surface_jet_<flank>``) and
-  the second derivatives of the point (``surface_second_derivatives_<flank>``).  Parameters:
+  the second derivatives of the point (``surface_second_derivatives_<flank>``) and the first
+  and second fundamental forms (``surface_fundamental_forms_<flank>``, for the curvatures).  Parameters:
   the layout ``<Model>SurfaceParams`` (the rack-generation data every model shares, then the
   model's own fields).
 * ``placement``: Eqs 30-35, the pinion and the gear (with the five errors) in S_f.
@@ -100,6 +101,15 @@ def surface_layout(model_name, model):
 _LU = [Arg("l", l, "mm", "profile parameter along the rack edge"), Arg("u", u, "mm", "parameter along the tooth")]
 
 
+def fundamental_forms(jac, hess, normal):
+    """First and second fundamental forms (2x2 Matrices) of a surface from its [R_l, R_u] (3x2),
+    [R_ll, R_lu, R_uu] (3x3) and unit normal; the second form is taken about that normal."""
+    ru, rv = jac[:, 0], jac[:, 1]
+    first = sp.Matrix([[ru.dot(ru), ru.dot(rv)], [ru.dot(rv), rv.dot(rv)]])
+    L, M, N = (hess[:, k].dot(normal) for k in range(3))
+    return first, sp.Matrix([[L, M], [M, N]])
+
+
 def surface_module(model_name, model):
     lay = surface_layout(model_name, model)
     params = Arg("params", lay, "", "surface parameters")
@@ -124,6 +134,17 @@ def surface_module(model_name, model):
             f"surface_second_derivatives_{name}", f"Second derivatives of the {name} flank point in (l, u).",
             _LU + [params],
             [Output("point_D2_lu", hess, "mm/mm^2", "[d2R/dl2, d2R/dldu, d2R/du2] as columns")]))
+        first, second = fundamental_forms(jac, hess, n)
+        fns.append(Function(
+            f"surface_fundamental_forms_{name}",
+            f"First and second fundamental forms of the {name} flank in (l, u) (curvature; beveloid/curvature.py).",
+            _LU + [params],
+            [Output("point_D_lu", jac, "mm/mm", "[dR/dl, dR/du] as columns"),
+             Output("normal", n, "1", "unit normal, outward from the tooth"),
+             Output("first_form", first, "mm^2", "[[E, F], [F, G]]: E = R_l.R_l, F = R_l.R_u, G = R_u.R_u"),
+             Output("second_form", second, "mm",
+                    "[[L, M], [M, N]] about the outward normal n: L = R_ll.n, M = R_lu.n, N = R_uu.n "
+                    "(negative on a convex tooth)")]))
     source = model.__name__.rsplit(".", 1)[-1] + ".py"
     return ModuleSpec(f"surface_{model_name}", source,
                       f"Tooth surfaces of the '{model_name}' model and their derivatives in (l, u).", fns,

@@ -210,6 +210,123 @@ def surface_second_derivatives_left(l, u, params):
     return SurfaceSecondDerivativesLeft(point_D2_lu)
 
 
+class SurfaceFundamentalFormsLeft(typing.NamedTuple):
+    """Outputs of surface_fundamental_forms_left()."""
+
+    point_D_lu: numpy.ndarray  # [dR/dl, dR/du] as columns [mm/mm], shape (..., 3, 2)
+    normal: numpy.ndarray  # unit normal, outward from the tooth [1], shape (..., 3)
+    first_form: numpy.ndarray  # [[E, F], [F, G]]: E = R_l.R_l, F = R_l.R_u, G = R_u.R_u [mm^2], shape (..., 2, 2)
+    second_form: numpy.ndarray  # [[L, M], [M, N]] about the outward normal n: L = R_ll.n, M = R_lu.n, N = R_uu.n (negative on a convex tooth) [mm], shape (..., 2, 2)
+
+
+def surface_fundamental_forms_left(l, u, params):
+    """First and second fundamental forms of the left flank in (l, u) (curvature; beveloid/curvature.py).
+
+    Inputs (numpy arrays or scalars; all broadcast together over their leading axes):
+        l: profile parameter along the rack edge [mm]
+        u: parameter along the tooth [mm]
+        params: surface parameters (layouts.InvoluteSurfaceParams) [see layout], shape (..., 7)
+    Returns SurfaceFundamentalFormsLeft:
+        point_D_lu: [dR/dl, dR/du] as columns [mm/mm], shape (..., 3, 2)
+        normal: unit normal, outward from the tooth [1], shape (..., 3)
+        first_form: [[E, F], [F, G]]: E = R_l.R_l, F = R_l.R_u, G = R_u.R_u [mm^2], shape (..., 2, 2)
+        second_form: [[L, M], [M, N]] about the outward normal n: L = R_ll.n, M = R_lu.n, N = R_uu.n (negative on a convex tooth) [mm], shape (..., 2, 2)
+    """
+    # ops: 290
+    _shape = numpy.broadcast_shapes(numpy.shape(l), numpy.shape(u), numpy.shape(params)[:-1])
+    normal_pressure_angle = params[..., 0]
+    helix_angle = params[..., 1]
+    cone_angle = params[..., 2]
+    cutter_addendum_mm = params[..., 3]
+    half_thickness_mm = params[..., 4]
+    rack_shift_mm = params[..., 5]
+    pitch_radius_mm = params[..., 6]
+    _x0 = numpy.sin(normal_pressure_angle)
+    _x1 = numpy.cos(cone_angle)
+    _x2 = _x0*_x1
+    _x3 = numpy.sin(helix_angle)
+    _x4 = numpy.sin(cone_angle)
+    _x5 = numpy.cos(normal_pressure_angle)
+    _x6 = _x4*_x5
+    _x7 = _x2 + _x3*_x6
+    _x8 = _x3*u
+    _x9 = numpy.cos(helix_angle)
+    _x10 = -_x0*l + cutter_addendum_mm*numpy.tan(normal_pressure_angle) + half_thickness_mm
+    _x11 = -_x10
+    _x12 = _x11*_x9 + _x8
+    _x13 = _x3*_x4
+    _x14 = _x4*_x9
+    _x15 = _x1*(_x5*l - cutter_addendum_mm + rack_shift_mm) + _x14*u
+    _x16 = -_x11*_x13 + _x15
+    _x17 = _x5*_x9
+    _x18 = _x12*_x7 + _x16*_x17
+    _x19 = pitch_radius_mm**(-1.0)
+    _x20 = _x7**(-1.0)
+    _x21 = _x19*_x20
+    _x22 = _x18*_x21
+    _x23 = numpy.sin(_x22)
+    _x24 = _x0*_x9
+    _x25 = _x0*_x4
+    _x26 = -_x1*_x5 + _x25*_x3
+    _x27 = -_x26
+    _x28 = numpy.cos(_x22)
+    _x29 = _x0*_x7*_x9 + _x17*_x27
+    _x30 = _x28*_x29
+    _x31 = _x12*_x21
+    _x32 = _x16*_x21
+    _x33 = _x23*_x29
+    _x34 = _x7**(-2.0)
+    _x35 = _x18*_x19*_x28*_x29*_x34 - _x23*_x24 + _x27*_x28 - _x30*_x31 - _x32*_x33
+    _x36 = _x9**2
+    _x37 = _x3*_x7 + _x36*_x6
+    _x38 = _x28*_x37
+    _x39 = _x23*_x37
+    _x40 = _x18*_x19*_x28*_x34*_x37 - _x23*_x3 + _x28*_x4*_x9 - _x31*_x38 - _x32*_x39
+    _x41 = _x19*_x34
+    _x42 = _x18*_x41
+    _x43 = _x23*_x27 + _x24*_x28 + _x30*_x32 - _x31*_x33 + _x33*_x42
+    _x44 = _x14*_x23 + _x28*_x3 - _x31*_x39 + _x32*_x38 + _x39*_x42
+    _x45 = -_x2*_x3 - _x6
+    _x46 = _x1*_x9
+    _x47 = _x17*_x23 + _x28*_x7
+    _x48 = -_x17*_x28 + _x23*_x7
+    _x49 = _x35*_x40 + _x43*_x44 + _x45*_x46
+    _x50 = -_x10*_x9 + _x8
+    _x51 = _x10*_x13 + _x15
+    _x52 = _x17*_x51 + _x50*_x7
+    _x53 = _x21*_x52
+    _x54 = numpy.cos(_x53)
+    _x55 = 2*_x24
+    _x56 = numpy.sin(_x53)
+    _x57 = 2*_x26
+    _x58 = _x0*_x7 - _x26*_x5
+    _x59 = _x54*_x58
+    _x60 = _x56*_x58
+    _x61 = _x21*_x9
+    _x62 = _x50*_x61
+    _x63 = _x51*_x61
+    _x64 = _x41*_x52
+    _x65 = _x21*_x47
+    _x66 = _x58*_x9
+    _x67 = _x21*_x48
+    _x68 = _x24*_x37
+    _x69 = _x3*_x9
+    _x70 = _x21*_x37
+    _x71 = _x51*_x70
+    _x72 = _x59*_x9
+    _x73 = _x37*_x64
+    _x74 = _x60*_x9
+    _x75 = _x50*_x70
+    _x76 = _x65*(_x19*_x20*_x37*_x50*_x56*_x58*_x9 + _x20*_x37*_x54*_x58*_x9 + _x26*_x37*_x56 - _x36*_x4*_x60 - _x54*_x68 - _x59*_x69 - _x71*_x72 - _x73*_x74) + _x67*(_x19*_x34*_x37*_x52*_x54*_x58*_x9 + _x20*_x37*_x56*_x58*_x9 - _x26*_x37*_x54 + _x36*_x4*_x54*_x58 - _x56*_x68 - _x60*_x69 - _x71*_x74 - _x72*_x75)
+    _x77 = 2*_x3
+    _x78 = 2*_x14
+    point_D_lu = _stack([_x35, _x40, _x43, _x44, _x45, _x46], (3, 2), _shape)
+    normal = _stack([_x47, _x48, _x1*_x3*_x5 - _x25], (3,), _shape)
+    first_form = _stack([_x35**2 + _x43**2 + _x45**2, _x49, _x49, _x1**2*_x36 + _x40**2 + _x44**2], (2, 2), _shape)
+    second_form = _stack([_x65*_x66*(_x20*_x59*_x9 - _x54*_x55 + _x56*_x57 - _x59*_x63 + _x60*_x62 - _x60*_x64*_x9) + _x66*_x67*(_x19*_x34*_x52*_x54*_x58*_x9 + _x20*_x56*_x58*_x9 - _x54*_x57 - _x55*_x56 - _x59*_x62 - _x60*_x63), _x76, _x76, _x37*_x65*(_x19*_x20*_x37*_x50*_x56 + _x20*_x37*_x54 - _x54*_x71 - _x54*_x77 - _x56*_x73 - _x56*_x78) + _x37*_x67*(_x20*_x37*_x56 + _x54*_x73 - _x54*_x75 + _x54*_x78 - _x56*_x71 - _x56*_x77)], (2, 2), _shape)
+    return SurfaceFundamentalFormsLeft(point_D_lu, normal, first_form, second_form)
+
+
 class SurfaceRight(typing.NamedTuple):
     """Outputs of surface_right()."""
 
@@ -418,6 +535,114 @@ def surface_second_derivatives_right(l, u, params):
     _x45 = _x32*_x37
     point_D2_lu = _stack([_x34*(_x15*_x26 - _x18*_x30 - _x19*_x20 + 2*_x23 + _x27*_x28 - _x33), _x16*(-_x15*_x25*_x37 + _x20*_x37 + _x22*_x38 - _x23*_x36 + _x26*_x3 - _x27*_x39*_x9 + _x29*_x40 + _x33*_x36), _x39*(-_x10*_x41 - _x11*_x40 + _x14*_x15*_x22*_x36*_x9 + _x15*_x18*_x36 - _x19*_x3 - _x32*_x42), _x34*(_x13*_x14*_x18*_x24*_x31*_x7 + _x15*_x22*_x24*_x7 - _x19*_x21 - _x20*_x41 - _x22*_x30 - _x26*_x28), _x16*(-_x18*_x38 + _x20*_x42 + _x21*_x37 - _x25*_x43 - _x25*_x45 + _x27*_x3 + _x29*_x44 + _x34*_x37*_x9), _x39*(_x10*_x19 - _x11*_x44 - _x3*_x41 - _x40*_x9 + _x43 + _x45), 0, 0, 0], (3, 3), _shape)
     return SurfaceSecondDerivativesRight(point_D2_lu)
+
+
+class SurfaceFundamentalFormsRight(typing.NamedTuple):
+    """Outputs of surface_fundamental_forms_right()."""
+
+    point_D_lu: numpy.ndarray  # [dR/dl, dR/du] as columns [mm/mm], shape (..., 3, 2)
+    normal: numpy.ndarray  # unit normal, outward from the tooth [1], shape (..., 3)
+    first_form: numpy.ndarray  # [[E, F], [F, G]]: E = R_l.R_l, F = R_l.R_u, G = R_u.R_u [mm^2], shape (..., 2, 2)
+    second_form: numpy.ndarray  # [[L, M], [M, N]] about the outward normal n: L = R_ll.n, M = R_lu.n, N = R_uu.n (negative on a convex tooth) [mm], shape (..., 2, 2)
+
+
+def surface_fundamental_forms_right(l, u, params):
+    """First and second fundamental forms of the right flank in (l, u) (curvature; beveloid/curvature.py).
+
+    Inputs (numpy arrays or scalars; all broadcast together over their leading axes):
+        l: profile parameter along the rack edge [mm]
+        u: parameter along the tooth [mm]
+        params: surface parameters (layouts.InvoluteSurfaceParams) [see layout], shape (..., 7)
+    Returns SurfaceFundamentalFormsRight:
+        point_D_lu: [dR/dl, dR/du] as columns [mm/mm], shape (..., 3, 2)
+        normal: unit normal, outward from the tooth [1], shape (..., 3)
+        first_form: [[E, F], [F, G]]: E = R_l.R_l, F = R_l.R_u, G = R_u.R_u [mm^2], shape (..., 2, 2)
+        second_form: [[L, M], [M, N]] about the outward normal n: L = R_ll.n, M = R_lu.n, N = R_uu.n (negative on a convex tooth) [mm], shape (..., 2, 2)
+    """
+    # ops: 231
+    _shape = numpy.broadcast_shapes(numpy.shape(l), numpy.shape(u), numpy.shape(params)[:-1])
+    normal_pressure_angle = params[..., 0]
+    helix_angle = params[..., 1]
+    cone_angle = params[..., 2]
+    cutter_addendum_mm = params[..., 3]
+    half_thickness_mm = params[..., 4]
+    rack_shift_mm = params[..., 5]
+    pitch_radius_mm = params[..., 6]
+    _x0 = numpy.sin(normal_pressure_angle)
+    _x1 = numpy.cos(cone_angle)
+    _x2 = numpy.sin(helix_angle)
+    _x3 = numpy.sin(cone_angle)
+    _x4 = numpy.cos(normal_pressure_angle)
+    _x5 = _x3*_x4
+    _x6 = _x0*_x1 - _x2*_x5
+    _x7 = numpy.cos(helix_angle)
+    _x8 = -_x0*l + cutter_addendum_mm*numpy.tan(normal_pressure_angle) + half_thickness_mm
+    _x9 = _x2*u + _x7*_x8
+    _x10 = _x3*_x7
+    _x11 = _x1*(_x4*l - cutter_addendum_mm + rack_shift_mm) + _x10*u - _x2*_x3*_x8
+    _x12 = _x4*_x7
+    _x13 = -_x11*_x12 + _x6*_x9
+    _x14 = pitch_radius_mm**(-1.0)
+    _x15 = _x6**(-1.0)
+    _x16 = _x14*_x15
+    _x17 = _x13*_x16
+    _x18 = numpy.sin(_x17)
+    _x19 = _x0*_x7
+    _x20 = _x18*_x19
+    _x21 = _x1*_x4
+    _x22 = _x0*_x3
+    _x23 = _x2*_x22 + _x21
+    _x24 = numpy.cos(_x17)
+    _x25 = _x23*_x24
+    _x26 = _x23*_x4
+    _x27 = _x0*_x6
+    _x28 = -_x26*_x7 - _x27*_x7
+    _x29 = _x24*_x28
+    _x30 = _x16*_x9
+    _x31 = _x11*_x16
+    _x32 = _x18*_x28
+    _x33 = _x6**(-2.0)
+    _x34 = _x13*_x14*_x33
+    _x35 = _x20 + _x25 - _x29*_x30 + _x29*_x34 - _x31*_x32
+    _x36 = _x18*_x2
+    _x37 = _x7**2
+    _x38 = _x2*_x6 - _x37*_x5
+    _x39 = _x24*_x38
+    _x40 = _x30*_x39
+    _x41 = _x18*_x38
+    _x42 = _x31*_x41
+    _x43 = _x13*_x14*_x24*_x33*_x38 + _x24*_x3*_x7 - _x36 - _x40 - _x42
+    _x44 = _x19*_x24
+    _x45 = _x18*_x23
+    _x46 = _x29*_x31 - _x30*_x32 + _x32*_x34 - _x44 + _x45
+    _x47 = _x2*_x24
+    _x48 = _x10*_x18
+    _x49 = _x31*_x39
+    _x50 = _x34*_x41
+    _x51 = _x30*_x41
+    _x52 = _x49 + _x50 - _x51
+    _x53 = _x47 + _x48 + _x52
+    _x54 = _x0*_x1*_x2 - _x5
+    _x55 = _x1*_x7
+    _x56 = -_x12*_x18 + _x24*_x6
+    _x57 = _x12*_x24 + _x18*_x6
+    _x58 = _x35*_x43 + _x46*_x53 + _x54*_x55
+    _x59 = _x26 + _x27
+    _x60 = _x59*_x7
+    _x61 = _x24*_x60
+    _x62 = _x18*_x60
+    _x63 = _x16*_x57
+    _x64 = _x16*_x56
+    _x65 = _x3*_x37*_x59
+    _x66 = _x15*_x38
+    _x67 = _x18*_x66
+    _x68 = _x34*_x39
+    _x69 = _x63*(_x20*_x38 - _x24*_x65 + _x25*_x38 + _x36*_x60 + _x40*_x60 + _x42*_x60 - _x60*_x67 - _x60*_x68) + _x64*(_x18*_x65 - _x24*_x60*_x66 + _x38*_x44 - _x38*_x45 + _x47*_x60 + _x49*_x60 + _x50*_x60 - _x51*_x60)
+    point_D_lu = _stack([_x35, _x43, _x46, _x53, _x54, _x55], (3, 2), _shape)
+    normal = _stack([_x56, _x57, -_x2*_x21 - _x22], (3,), _shape)
+    first_form = _stack([_x35**2 + _x46**2 + _x54**2, _x58, _x58, _x1**2*_x37 + _x43**2 + _x53**2], (2, 2), _shape)
+    second_form = _stack([_x60*_x63*(_x13*_x14*_x24*_x33*_x59*_x7 + _x15*_x18*_x59*_x7 - 2*_x20 - 2*_x25 - _x30*_x61 - _x31*_x62) + _x60*_x64*(_x15*_x24*_x60 + _x30*_x62 - _x31*_x61 - _x34*_x62 - 2*_x44 + 2*_x45), _x69, _x69, _x38*_x63*(2*_x10*_x24 - 2*_x36 - _x40 - _x42 + _x67 + _x68) + _x38*_x64*(_x15*_x24*_x38 - 2*_x47 - 2*_x48 - _x52)], (2, 2), _shape)
+    return SurfaceFundamentalFormsRight(point_D_lu, normal, first_form, second_form)
 
 
 def _full(value, shape):

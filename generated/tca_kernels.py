@@ -27,8 +27,8 @@ SURFACE_LAYOUTS = {
 PARAMETER_COUNT = 7
 
 _SURFACE = {
-    ("involute", "left"): (_involute.surface_left, _involute.surface_jet_left, _involute.surface_second_derivatives_left),
-    ("involute", "right"): (_involute.surface_right, _involute.surface_jet_right, _involute.surface_second_derivatives_right),
+    ("involute", "left"): (_involute.surface_left, _involute.surface_jet_left, _involute.surface_second_derivatives_left, _involute.surface_fundamental_forms_left),
+    ("involute", "right"): (_involute.surface_right, _involute.surface_jet_right, _involute.surface_second_derivatives_right, _involute.surface_fundamental_forms_right),
 }
 
 
@@ -63,6 +63,11 @@ def surface_jet(model, flank, l, u, params):
 def surface_second_derivatives(model, flank, l, u, params):
     """Second derivatives of the point in (l, u)."""
     return _SURFACE[model, flank][2](l, u, params)
+
+
+def surface_fundamental_forms(model, flank, l, u, params):
+    """[R_l, R_u], outward normal, first and second fundamental forms in (l, u) (beveloid/curvature.py)."""
+    return _SURFACE[model, flank][3](l, u, params)
 
 
 class ContactSystem(typing.NamedTuple):

@@ -107,6 +107,32 @@ def check_flank_json(fd, geom, n_expected):
     return counts
 
 
+ELLIPSE_ARRAYS = ("contact_ellipse_semi_axes_mm", "contact_ellipse_major_axis_deg",
+                  "contact_ellipse_truncated_length_mm", "contact_ellipse_status")
+
+
+def check_ellipse_json(fd, n_expected):
+    """Contact ellipses: numbers exactly where a point is a contact, a >= b > 0, the truncated
+    chord no longer than 2a, the axis angle in (-90, 90]; otherwise null with a status."""
+    for key in ELLIPSE_ARRAYS:
+        assert isinstance(fd[key], list) and len(fd[key]) == n_expected, key
+    for i, st in enumerate(fd["status"]):
+        ab, ang, chord = (fd[k][i] for k in ELLIPSE_ARRAYS[:3])
+        est = fd["contact_ellipse_status"][i]
+        if st in ("outside", "failed"):
+            assert (ab, ang, chord, est) == (None, None, None, "no contact"), (i, st)
+            continue
+        assert est in ("ellipse", "line contact"), (i, est)
+        assert _is_finite_number(ang) and -90 < ang <= 90
+        assert _is_finite_number(chord) and chord >= 0
+        if est == "ellipse":
+            a, b = ab
+            assert _is_finite_number(a) and _is_finite_number(b) and a >= b > 0
+            assert chord <= 2 * a * (1 + 1e-12)
+        else:
+            assert ab is None
+
+
 # ------------------------------------------------------------------------------------------
 # 1. tca --json contract
 # ------------------------------------------------------------------------------------------
@@ -139,6 +165,7 @@ def test_tca_json_contract(capsys, case, flags, flanks, geom1, geom2):
         for st, c in check_flank_json(fd, geom, positions * pairs).items():
             totals[st] += c
         assert sorted(set(fd["tooth_pair"])) == [-1, 0, 1]
+        check_ellipse_json(fd, positions * pairs)
         ptp = data["te_peak_to_peak_urad"][fl]
         if ptp is not None:
             assert _is_finite_number(ptp) and ptp >= 0
@@ -150,6 +177,7 @@ def test_tca_json_contract(capsys, case, flags, flanks, geom1, geom2):
             assert ptp < 1e-3
     if "backlash_um" in data:
         assert data["backlash_um"] is None or _is_finite_number(data["backlash_um"])
+    assert data["approach_mm"] == 0.00632
     assert totals["ok"] > 0
     if flags:  # misaligned: part of the window leaves the flanks, and those points are null above
         assert totals["outside"] + totals["failed"] + totals["edge"] > 0
@@ -281,6 +309,9 @@ ONE_LINE_ERRORS = {
     "tca-plot-unknown-format": (["tca", "{case1}", "--positions", "5", "--plot", "{dir}/plot.txt"],
                                 ["--plot", ".png"]),
     "tca-dx-out-of-range": (["tca", "{case1}", "--positions", "5", "--dx", "11"], ["--dx", "11"]),
+    "tca-approach-zero": (["tca", "{case1}", "--positions", "5", "--approach-um", "0"], ["--approach-um", "0"]),
+    "tca-approach-nan": (["tca", "{case1}", "--positions", "5", "--approach-um", "nan"], ["--approach-um", "nan"]),
+    "tca-approach-huge": (["tca", "{case1}", "--positions", "5", "--approach-um", "5000"], ["--approach-um", "5000"]),
 }
 
 # argparse's usage errors: one line "beveloid <command>: error: argument ... (see ... --help)"
@@ -532,6 +563,7 @@ def test_paper(capsys, tmp_path):
         blob = (out_dir / p).read_bytes()
         assert blob.startswith(PNG_MAGIC), p
     assert {p.name for p in out_dir.glob("*.png")} == set(pngs)  # nothing written but not shown
+    assert sum("bearing_pattern" in p for p in pngs) >= 2  # aligned and under errors (issue 11)
     data_csvs = re.findall(r"Data: (\S+\.csv)", report)
     assert data_csvs
     for c in data_csvs:

@@ -35,13 +35,26 @@ def fake_verify(monkeypatch, verification):
     return state
 
 
-def test_verify_json(fake_verify, capsys):
+@pytest.fixture(scope="session")
+def extra_checks():
+    from beveloid.derivations import registry
+
+    return registry.verify_extra()
+
+
+def test_verify_json(fake_verify, extra_checks, capsys):
     rc = cli.main(["verify", "--json"])
     out, err = capsys.readouterr()
     assert fake_verify["calls"] == 1
     data = json.loads(out)  # stdout holds the JSON and nothing else
-    assert isinstance(data, list) and len(data) == 38
-    assert sorted(d["equation"] for d in data) == sorted(str(n) for n in range(1, 39))
+    numbered = [d for d in data if d["equation"].isdigit()]
+    assert isinstance(data, list) and len(numbered) == 38
+    assert sorted(d["equation"] for d in numbered) == sorted(str(n) for n in range(1, 39))
+    # beyond the print: the FPD angle from the principal directions, one object per surface model
+    extra = [d for d in data if not d["equation"].isdigit()]
+    from beveloid.generated import surface_models
+    assert sorted(d["equation"] for d in extra) == sorted(f"FPD-principal-directions:{m}" for m in surface_models.MODELS)
+    assert all(d["status"] == "verified" for d in extra if d["equation"].endswith(":involute"))
     for d in data:
         assert set(d) >= {"equation", "title", "status", "method", "max_rel_diff", "note"}
         assert d["status"] in ALLOWED_STATUS
@@ -51,12 +64,13 @@ def test_verify_json(fake_verify, capsys):
     assert err == ""  # not a TTY: no progress lines
 
 
-def test_verify_table(fake_verify, capsys):
+def test_verify_table(fake_verify, extra_checks, capsys):
     rc = cli.main(["verify"])
     out, _err = capsys.readouterr()
     assert rc == 0
     assert out.splitlines()[0].split()[:2] == ["Eq", "what"]
     assert "(of 38 equations)" in out
+    assert "FPD-principal-directions:involute" in out and "beyond the print:" in out
 
 
 def test_verify_progress_on_tty(fake_verify, capsys, monkeypatch):

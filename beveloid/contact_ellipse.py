@@ -1,0 +1,225 @@
+"""Instantaneous contact ellipses and the bearing pattern of an unloaded TCA (issue 11).
+
+At a contact the two flanks separate by ``1/2 x^T H x`` along the contact normal, x in the
+common tangent plane (:func:`beveloid.curvature.relative_curvature`).  For an elastic
+approach delta (default 0.00632 mm, the paint-layer value of Litvin's TCA) the contact
+ellipse is where that separation equals delta:
+
+* semi-axes ``a = sqrt(2 delta / lambda_min) >= b = sqrt(2 delta / lambda_max)``, lambda the
+  eigenvalues of H, untruncated;
+* the major axis: the eigenvector of lambda_min, given as an angle in degrees in (-90, 90] from
+  ``e1`` toward ``e2`` of the tangent basis (``e1`` = the pinion axis +z_1 projected on the
+  tangent plane, ``e2 = n_1 x e1``, n_1 the pinion's outward normal, all in S_f);
+* the truncated length: the chord of the major axis that lies inside both flanks (each
+  member's surface points over the axis, held against the generated flank margins), at most 2a.
+
+Near line contact lambda_min -> 0.  When ``lambda_min <= FLAT_RATIO * lambda_max`` the
+semi-axes are not reported (status "line contact"); the truncated length is then the whole
+chord across both flanks.  When lambda_max <= 0 the flanks do not bear on each other to second
+order, or they cross (lambda_min < -FLAT_RATIO lambda_max: status "no ellipse").  Nothing here is ever NaN or inf in the JSON: a missing number is
+null with its status beside it.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import curvature
+from .generated import flank_boundaries, tca_kernels
+from .status import Status, carries_numbers
+
+DEFAULT_APPROACH_MM = 0.00632
+#: lambda_min / lambda_max below this is a line contact: the major semi-axis would be more than
+#: ~3e4 minor semi-axes, beyond any flank, and lambda_min is at the round-off level of H.
+FLAT_RATIO = 1e-9
+APPROACH_RANGE_MM = (1e-6, 1.0)
+STATUSES = ("ellipse", "line contact", "no ellipse", "no contact")
+_BISECTIONS = 30
+_SAMPLES = 40
+
+
+def check_approach(approach_mm, name="--approach-um", scale=1e3, unit="um"):
+    """The approach in mm, or ValueError naming ``name`` and what is valid."""
+    lo, hi = APPROACH_RANGE_MM
+    v = float(approach_mm)
+    if not (math.isfinite(v) and lo <= v <= hi):
+        raise ValueError(f"{name} = {v * scale:g}: must be a number from {lo * scale:g} to {hi * scale:g} {unit}")
+    return v
+
+
+@dataclass
+class ContactEllipses:
+    """Contact ellipses at n points (NaN where a number is not defined; ``status`` says why)."""
+
+    approach_mm: float
+    errors: np.ndarray  # (n, 5) the error sets of the points
+    status: list  # one of STATUSES per point
+    semi_axes_mm: np.ndarray  # (n, 2) [a, b], untruncated
+    major_axis_deg: np.ndarray  # (n,) from e1 toward e2
+    major_axis: np.ndarray  # (n, 3) unit major-axis direction in S_f
+    truncated_mm: np.ndarray  # (n, 2) chord inside both flanks along -major / +major from the contact
+    eigenvalues: np.ndarray  # (n, 2) lambda_min, lambda_max of H [1/mm]
+    point: np.ndarray  # (n, 3) contact point in S_f [mm]
+    basis: np.ndarray  # (n, 2, 3) tangent basis e1, e2 in S_f
+
+    @property
+    def truncated_length_mm(self):
+        return self.truncated_mm.sum(axis=-1)
+
+    def to_json_dict(self):
+        num = lambda v: float(v) if np.isfinite(v) else None  # noqa: E731
+        ab = [[float(a), float(b)] if np.isfinite(a) and np.isfinite(b) else None for a, b in self.semi_axes_mm]
+        return {
+            "contact_ellipse_semi_axes_mm": ab,
+            "contact_ellipse_major_axis_deg": [num(v) for v in self.major_axis_deg],
+            "contact_ellipse_truncated_length_mm": [num(v) for v in self.truncated_length_mm],
+            "contact_ellipse_status": list(self.status),
+        }
+
+
+def _member_frames(geom, x, pinion_angle, errors):
+    """Per member: (surface params, model, rotation L (n,3,3), translation (n,3), l, u)."""
+    from .generated import placement
+
+    pair = geom.placement()
+    p1 = placement.pinion_placement(pinion_angle, pair)
+    p2 = placement.gear_placement(x[:, 4], errors, pair)
+    return {"pinion": (p1.rotation, p1.translation, x[:, 0], x[:, 1]),
+            "gear": (p2.rotation, p2.translation, x[:, 2], x[:, 3])}
+
+
+def _over_tangent(geom, which, flank, L, t, l, u, P0, E, target, iters=8):
+    """(l, u) and member-frame point of the flank point whose tangent-plane coordinates about P0
+    (basis rows E, S_f) are ``target`` (n, 2); Newton from (l, u)."""
+    m = geom.member(which)
+    params = geom.surface_params(which)
+    Ei = E @ L  # basis in S_i
+    P0i = np.einsum("nji,nj->ni", L, P0 - t)
+    for _ in range(iters):
+        jet = tca_kernels.surface_jet(m.tooth_surface, flank, l, u, params)
+        r = np.einsum("nai,ni->na", Ei, jet.point - P0i) - target
+        J = Ei @ jet.point_D_lu
+        with np.errstate(all="ignore"):
+            d = np.linalg.solve(J, -r[..., None])[..., 0]
+        d = np.where(np.isfinite(d), d, 0.0)
+        l, u = l + d[:, 0], u + d[:, 1]
+    return l, u, tca_kernels.surface(m.tooth_surface, flank, l, u, params).point
+
+
+def _min_margin(geom, which, point, l):
+    return flank_boundaries.flank_margins(point, l, geom.member(which).blank()).margins.min(axis=-1)
+
+
+def _chord(geom, flank, frames, P0, E, v2, cap):
+    """Distance (n,) along tangent direction v2 (n, 2) from the contact to the first flank
+    boundary of either member, at most cap (n,)."""
+    n = P0.shape[0]
+    out = cap.copy()
+    for which, (L, t, l0, u0) in frames.items():
+        start = _min_margin(geom, which, _over_tangent(geom, which, flank, L, t, l0, u0, P0, E, 0 * v2)[2], l0)
+        thr = np.minimum(start, 0.0) - 1e-9  # an 'edge' contact may sit just outside
+        s_lo = np.zeros(n)
+        s_hi = np.full(n, np.inf)
+        l, u = l0.copy(), u0.copy()
+        lo_lu = (l.copy(), u.copy())
+        for s in np.linspace(0, 1, _SAMPLES + 1)[1:]:
+            open_ = ~np.isfinite(s_hi)
+            l, u, p = _over_tangent(geom, which, flank, L, t, l, u, P0, E, (s * cap)[:, None] * v2, iters=4)
+            bad = (_min_margin(geom, which, p, l) < thr) & open_
+            s_hi = np.where(bad, s * cap, s_hi)
+            keep = open_ & ~bad
+            s_lo = np.where(keep, s * cap, s_lo)
+            lo_lu = (np.where(keep, l, lo_lu[0]), np.where(keep, u, lo_lu[1]))
+        found = np.isfinite(s_hi)
+        if found.any():
+            lo, hi = s_lo.copy(), np.where(found, s_hi, cap)
+            ll, uu = lo_lu
+            for _ in range(_BISECTIONS):
+                mid = 0.5 * (lo + hi)
+                l2, u2, p = _over_tangent(geom, which, flank, L, t, ll, uu, P0, E, mid[:, None] * v2, iters=4)
+                inside = _min_margin(geom, which, p, l2) >= thr
+                lo, hi = np.where(inside, mid, lo), np.where(inside, hi, mid)
+                ll, uu = np.where(inside, l2, ll), np.where(inside, u2, uu)
+            out = np.where(found, np.minimum(out, lo), out)
+    return out
+
+
+def classify(lmin, lmax, valid):
+    """One of STATUSES per point from the eigenvalues of H (see the module docstring)."""
+    return np.where(~np.asarray(valid, bool), "no contact",
+                    np.where((lmax <= 0) | (lmin < -FLAT_RATIO * lmax), "no ellipse",
+                             np.where(lmin <= FLAT_RATIO * lmax, "line contact", "ellipse")))
+
+
+def ellipses(geom, flank, x, pinion_angle, errors, valid=None, approach_mm=DEFAULT_APPROACH_MM) -> ContactEllipses:
+    """Contact ellipses at solved contacts x (n, 5) (tca_kernels.UNKNOWNS) for pinion angles (n,)
+    and errors (5,) or (n, 5); ``valid`` (n,) marks the points that are contacts."""
+    x = np.atleast_2d(np.asarray(x, dtype=float))
+    n = x.shape[0]
+    phi1 = np.broadcast_to(np.asarray(pinion_angle, dtype=float), (n,))
+    errors = np.broadcast_to(np.asarray(errors, dtype=float), (n, 5))
+    valid = np.ones(n, bool) if valid is None else np.asarray(valid, bool) & np.all(np.isfinite(x), axis=-1)
+    xs = np.where(valid[:, None], x, x[valid][0] if valid.any() else 0.0)  # placeholders keep the kernels finite
+    rc = curvature.relative_curvature(geom, flank, xs, phi1, errors)
+    lam, V = np.linalg.eigh(rc.H)  # ascending
+    lmin, lmax = lam[:, 0], lam[:, 1]
+    status = classify(lmin, lmax, valid)
+    ok = status == "ellipse"
+    with np.errstate(divide="ignore", invalid="ignore"):
+        a = np.where(ok, np.sqrt(2 * approach_mm / lmin), np.nan)
+        b = np.where(ok | (status == "line contact"), np.sqrt(2 * approach_mm / lmax), np.nan)
+    v2 = V[:, :, 0]
+    v2 = np.where((v2[:, 0] < 0)[:, None] | ((v2[:, 0] == 0) & (v2[:, 1] < 0))[:, None], -v2, v2)
+    ang = np.degrees(np.arctan2(v2[:, 1], v2[:, 0]))
+    ang = np.where(ang <= -90, ang + 180, ang)
+    has_axis = ok | (status == "line contact")
+    ang = np.where(has_axis, ang, np.nan)
+    major = np.einsum("na,nai->ni", v2, rc.basis)
+    # the chord: at most a; a line contact is cut by the flanks alone
+    reach = 2.0 * (geom.pinion.face_width_mm + geom.gear.face_width_mm)
+    cap = np.where(ok, np.minimum(a, reach), reach)
+    trunc = np.full((n, 2), np.nan)
+    if has_axis.any():
+        idx = np.nonzero(has_axis)[0]
+        frames = {k: tuple(arr[idx] for arr in fr) for k, fr in _member_frames(geom, xs, phi1, errors).items()}
+        for col, sign in ((0, -1.0), (1, 1.0)):
+            trunc[idx, col] = _chord(geom, flank, frames, rc.point[idx], rc.basis[idx], sign * v2[idx], cap[idx])
+    return ContactEllipses(approach_mm, np.array(errors), [str(s) for s in status], np.stack([a, b], axis=-1), ang,
+                           np.where(has_axis[:, None], major, np.nan), trunc, lam, rc.point, rc.basis)
+
+
+def flank_ellipses(geom, fr, errors, approach_mm=DEFAULT_APPROACH_MM) -> ContactEllipses:
+    """Contact ellipses at every point of a :class:`beveloid.tca.FlankResult` (pair 0's unknowns at
+    the shifted pinion angles: the configuration in S_f is the same as pair k's)."""
+    phi1 = fr.pinion_angle - fr.tooth_pair * geom.pitch_angles[0]
+    valid = carries_numbers(np.asarray([Status[s.upper()] for s in fr.status]))
+    return ellipses(geom, fr.flank, fr.unknowns, phi1, errors, valid, approach_mm)
+
+
+def attach(result, approach_mm=DEFAULT_APPROACH_MM):
+    """Add contact ellipses to every flank of a :class:`beveloid.tca.TCAResult` (in place)."""
+    result.approach_mm = approach_mm
+    for fr in result.flanks.values():
+        fr.contact_ellipse = flank_ellipses(result.geometry, fr, result.errors, approach_mm)
+    return result
+
+
+def ellipse_outline(ce: ContactEllipses, i, n=48, truncate=True):
+    """Points (n, 3) in S_f of ellipse i's outline (semi-axes a, b about the contact point in the
+    tangent plane), its major axis clipped to the truncated chord when ``truncate``."""
+    a, b = ce.semi_axes_mm[i]
+    lo, hi = ce.truncated_mm[i]
+    if not np.isfinite(b):
+        return None
+    if not np.isfinite(a):  # line contact: the chord with the minor width
+        a = max(lo, hi)
+    t = np.linspace(0, 2 * np.pi, n)
+    s = a * np.cos(t)
+    if truncate and np.isfinite(lo):
+        s = np.clip(s, -lo, hi)
+    w = b * np.sin(t)
+    major = ce.major_axis[i]
+    minor = np.cross(np.cross(ce.basis[i, 0], ce.basis[i, 1]), major)
+    return ce.point[i] + s[:, None] * major + w[:, None] * minor
