@@ -14,10 +14,13 @@ from beveloid.spec import load_example
 
 g1 = tca.PairGeometry.from_design(design(load_example("case1")))
 # (1) Hertz
-print("HERTZ")
-for T in (1.0, 2.0, 5.0, 20.0):
+print("HERTZ (reference: curvature.relative_curvature at the tangency; 'fit' = the gap's own quadratic form)")
+from beveloid import curvature
+for case, flank, T in (("case1", "left", 1.0), ("case1", "left", 2.0), ("case1", "left", 5.0), ("case1", "left", 20.0),
+                       ("case2", "left", 2.0), ("case1", "right", 1.0), ("case2", "right", 1.0)):
+    g = tca.PairGeometry.from_design(design(load_example(case)))
     nx, ny = 13, 31
-    r = ltca.analyze(g1, T, "left", positions=3, pairs=1, grid=ltca.GridOptions(nx, ny))
+    r = ltca.analyze(g, T, flank, positions=3, pairs=1, grid=ltca.GridOptions(nx, ny))
     j, k = 1, 0
     p = r.pressure_mpa[j, k].reshape(nx, ny); h = r.gap.gap_mm[j, k].reshape(nx, ny); inside = r.gap.in_flank[j, k].reshape(nx, ny)
     xe, ye = ltca._edges(r.across_half_mm, nx), ltca._edges(r.along_half_mm, ny)
@@ -28,9 +31,11 @@ for T in (1.0, 2.0, 5.0, 20.0):
     fit = inside & (h <= np.percentile(h[inside], 60))
     m = np.stack([x[fit]**2, x[fit]*y[fit], y[fit]**2, x[fit], y[fit], np.ones(fit.sum())], -1)
     c = np.linalg.lstsq(m, h[fit], rcond=None)[0]
-    A, B = np.linalg.eigvalsh(np.array([[c[0], c[1]/2], [c[1]/2, c[2]]]))
+    fA, fB = np.linalg.eigvalsh(np.array([[c[0], c[1]/2], [c[1]/2, c[2]]]))
+    rc = curvature.relative_curvature(g, flank, r.tangency_unknowns[j, k], r.pair_pinion_angle[j, k], np.zeros(5))
+    A, B = np.linalg.eigvalsh(rc.H) / 2
     ref = hertz.hertz_point_contact(A, B, float(r.pair_load_n[j, k]), ltca.Material().e_star_mpa)
-    print(f"T={T} F={r.pair_load_n[j,k]:.1f}N  b={a_:.4f}/{ref.semi_minor_mm:.4f} ({a_/ref.semi_minor_mm-1:+.2%})  a={b_:.3f}/{ref.semi_major_mm:.3f} ({b_/ref.semi_major_mm-1:+.2%})  p={p.max():.1f}/{ref.max_pressure_mpa:.1f} ({p.max()/ref.max_pressure_mpa-1:+.2%}) R_x={1/(2*A):.0f} R_y={1/(2*B):.2f}")
+    print(f"{case} {flank} T={T} F={r.pair_load_n[j,k]:.1f}N R={1/(2*A):.0f}/{1/(2*B):.2f} (fit {1/(2*fA):.0f}/{1/(2*fB):.2f}) b={a_:.4f}/{ref.semi_minor_mm:.4f} ({a_/ref.semi_minor_mm-1:+.2%})  a={b_:.3f}/{ref.semi_major_mm:.3f} ({b_/ref.semi_major_mm-1:+.2%})  p={p.max():.1f}/{ref.max_pressure_mpa:.1f} ({p.max()/ref.max_pressure_mpa-1:+.2%})")
 # (2) convergence
 print("CONVERGENCE")
 for nx, ny in ((7, 15), (9, 21), (13, 31), (19, 45), (25, 61)):
