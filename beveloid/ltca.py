@@ -34,6 +34,7 @@ import typing
 from dataclasses import dataclass, field
 
 import numpy as np
+import scipy.linalg
 
 from . import tca
 from .generated import flank_boundaries, layouts, placement, tca_kernels
@@ -561,8 +562,10 @@ def _tooth_blocks(setup, gap, tooth_p, tooth_g, ny, nx, need):
     out = np.zeros((N, P, ny, ny))
     for j, k in zip(*np.nonzero(need)):
         if gap.in_flank[j, k].any():
-            out[j, k] = (_tooth_line_compliance(tooth_p, gap.pinion_point[j, k, centre])
-                         + _tooth_line_compliance(tooth_g, gap.gear_point[j, k, centre]))
+            t = (_tooth_line_compliance(tooth_p, gap.pinion_point[j, k, centre])
+                 + _tooth_line_compliance(tooth_g, gap.gear_point[j, k, centre]))
+            # Maxwell reciprocity: the beam model is symmetric up to the coupling's cell averaging
+            out[j, k] = 0.5 * (t + t.T)
     return out
 
 
@@ -649,7 +652,11 @@ class _PairCompliance(lcp.Compliance):
             if idx.size:
                 li = self._line[idx]
                 block = self._c[np.ix_(idx, idx)] + self._t[k][np.ix_(li, li)] * self._area[idx]
-                out[sl.start + idx] = np.linalg.solve(block, rhs[sl][idx])
+                try:  # symmetric positive definite on a uniform grid (equal cell areas, symmetric T)
+                    out[sl.start + idx] = scipy.linalg.cho_solve(scipy.linalg.cho_factor(block, check_finite=False),
+                                                                 rhs[sl][idx], check_finite=False)
+                except np.linalg.LinAlgError:
+                    out[sl.start + idx] = np.linalg.solve(block, rhs[sl][idx])
         return out
 
     def matvec_active(self, active, p):

@@ -30,7 +30,7 @@ OUTSIDE = int(Status.OUTSIDE)
 FAILED = int(Status.FAILED)
 
 #: Functions compiled with numba's parallel=True by the compiled backend.
-PARALLEL = ("solve_paths", "normal_gaps")
+PARALLEL = ("solve_paths",)
 
 
 def scratch():
@@ -253,31 +253,31 @@ def normal_gaps(problem, pinion_blank, gear_blank, pair_of_point, coords, start,
     two rows of axes[q] (2x2 Newton on the pinion surface jet, from start[q]'s pinion l, u), then
     the gear point on the pinion's normal line R_f2(l2, u2) = R_f1 + s n_f1 (3x3 Newton on
     Eq 38's position rows, from start[q]'s gear l, u, at the pinion angle phi1[q] and start[q]'s
-    gear angle; rotation[q] is the pinion's L_f1).  Outputs per point: out_lu (l1, u1); out_gear (l2, u2, s); out_rates
-    (ds/dphi'_2 by the implicit function theorem, the moment arm n_f1 . dR_f1/dphi'_1);
+    gear angle; rotation[q] is the pinion's L_f1).  Outputs per point: out_lu (l1, u1); out_gear
+    (l2, u2, s); out_rates (ds/dphi'_2 by the implicit function theorem, the moment arm
+    n_f1 . dR_f1/dphi'_1);
     out_margin the smallest margin of both points to their blanks; out_ok 1 when both Newtons
     converged; out_p1, out_p2 the points in S_1 and S_2.
     """
     pinion_model, gear_model, flank, pinion_params, gear_params, pair = problem
     M = coords.shape[0]
-    chunks = 64
-    for c in prange(chunks):  # scratch once per chunk of points, not per point
-        ws, F, J, Je, Jp, step, dx, rhs, e = scratch()
-        for i in range(N_ERRORS):
-            e[i] = errors[i]
-        pt = np.empty(3)
-        nm = np.empty(3)
-        dp = np.empty((3, 2))
-        dn = np.empty((3, 2))
-        nf = np.empty(3)
-        x = np.empty(N_UNKNOWNS)
-        warm = False
-        for m in range(c * M // chunks, (c + 1) * M // chunks):
-            # continuation: the previous point of the same pair, when it converged, is the start
-            warm = warm and m > 0 and pair_of_point[m - 1] == pair_of_point[m]
-            warm = _normal_gap_point(problem, pinion_blank, gear_blank, pair_of_point[m], coords, m, start, phi1,
-                                     origin, axes, rotation, tol, max_iter, out_lu, out_gear, out_rates, out_margin,
-                                     out_ok, out_p1, out_p2, ws, F, J, Je, Jp, dx, e, pt, nm, dp, dn, nf, x, warm)
+    # serial: a parallel loop measured 3x slower here (small work per point, one thread)
+    ws, F, J, Je, Jp, step, dx, rhs, e = scratch()
+    for i in range(N_ERRORS):
+        e[i] = errors[i]
+    pt = np.empty(3)
+    nm = np.empty(3)
+    dp = np.empty((3, 2))
+    dn = np.empty((3, 2))
+    nf = np.empty(3)
+    x = np.empty(N_UNKNOWNS)
+    warm = False
+    for m in range(M):
+        # continuation: the previous point of the same pair, when it converged, is the start
+        warm = warm and m > 0 and pair_of_point[m - 1] == pair_of_point[m]
+        warm = _normal_gap_point(problem, pinion_blank, gear_blank, pair_of_point[m], coords, m, start, phi1,
+                                 origin, axes, rotation, tol, max_iter, out_lu, out_gear, out_rates, out_margin,
+                                 out_ok, out_p1, out_p2, ws, F, J, Je, Jp, dx, e, pt, nm, dp, dn, nf, x, warm)
 
 
 def _normal_gap_point(problem, pinion_blank, gear_blank, q, coords, m, start, phi1, origin, axes, rotation, tol,
