@@ -253,6 +253,7 @@ def ltca_torques(results, geom, out_png, title=""):
         ax.tick_params(labelsize=7)
         ax.grid(alpha=0.3)
     axes[3, 0].legend(fontsize=7)
+    _save(fig, out_png, title)
 
 
 def _ellipse_outlines(geom, fr, which):
