@@ -6,15 +6,16 @@ At each mesh position and for every tooth pair in the window:
 
 * **Grid.**  A tensor grid of flat rectangular cells in the tangent plane of the pinion
   flank at the pair's rigid-body tangency (from :func:`beveloid.tca.mesh_flank`), its axes
-  along the principal directions of the unloaded gap (``across`` the contact line: the
-  stiff direction; ``along`` it), fitted to the gap sampled on a circle about the tangency.
+  along the principal directions of the flanks' relative curvature
+  (:func:`beveloid.curvature.relative_curvature`; ``across`` the contact line: the stiff
+  direction; ``along`` it), each along-column shifted across onto the unloaded contact line.
   Every cell centre is mapped onto the pinion flank (Newton on the generated surface jet)
   and then along the pinion normal onto the gear flank (Newton on the generated Eq 38
-  kernel ``tca_kernels.contact_system``); the distance along the normal is the unloaded gap.
+  system): ``solver.core.normal_gaps``; the distance along the normal is the unloaded gap.
   Cells whose centre lies off either blank (``flank_margins`` < 0) cannot touch.
 * **Extent.**  The grid extent is sized to the loaded patch, not to the flank: at the
-  middle position the solve is repeated with the extent set to ``margin`` times the patch
-  until it settles; any position whose patch reaches the grid's edge inside the flank makes
+  first, middle and last positions the solve is repeated with the extent set to ``margin``
+  times the patch until it settles; any position whose patch reaches the grid's edge inside the flank makes
   the whole cycle run again on a larger grid.  Along the contact line the extent is capped
   by the flank diagonal, so a patch that reaches a flank edge meets the masked cells there:
   edge loading is represented directly.
@@ -37,9 +38,8 @@ import numpy as np
 import scipy.linalg
 
 from . import tca
-from .generated import flank_boundaries, layouts, placement, tca_kernels
+from .generated import flank_boundaries, placement, tca_kernels
 from .loaded import halfspace, lcp, tooth_compliance
-from .status import carries_numbers
 
 OFF_FLANK_GAP_MM = 10.0  #: the gap given to cells that lie off a blank: they never touch
 _NEWTON_TOL_MM = 1e-9  #: both Newtons of the gap (mm)
@@ -54,7 +54,7 @@ class GridOptions:
 
     across_cells: int = 13  #: cells across the contact line (resolves the Hertz width)
     along_cells: int = 31  #: cells along the contact line
-    margin: float = 1.4  #: grid half-extent / patch half-extent found at the middle position
+    margin: float = 1.4  #: grid half-extent / patch half-extent found at the first, middle, last positions
     initial_across_mm: float = 0.6  #: first guess of the half-extent across the contact line
     max_regrids: int = 4  #: cycle re-runs with a larger grid when a patch reaches its edge
 
