@@ -704,6 +704,18 @@ def _extent(p, in_flank, nx, ny, xe, ye, surface):
             float(np.abs(yc[cols]).max() + hy) if cols.any() else None)
 
 
+def _one_blas_thread():
+    """A context limiting BLAS to one thread: the LTCA's many small factorisations and products
+    run 3x slower with OpenBLAS threads on a busy 2-core machine (docs/performance.md)."""
+    try:
+        from threadpoolctl import threadpool_limits
+    except ImportError:  # optional: without it BLAS keeps its own thread count
+        import contextlib
+
+        return contextlib.nullcontext()
+    return threadpool_limits(limits=1, user_api="blas")
+
+
 def analyze(geom, torque_nm, flank="right", errors=(0, 0, 0, 0, 0), positions=20, pairs=3,
             grid: GridOptions = GridOptions(), material: Material = Material(), backend="auto") -> LTCAResult:
     """Loaded TCA of one flank over one mesh cycle (``positions`` pinion angles over one pinion pitch).
@@ -711,6 +723,11 @@ def analyze(geom, torque_nm, flank="right", errors=(0, 0, 0, 0, 0), positions=20
     ``torque_nm``: the pinion torque (N m), > 0.  Returns an :class:`LTCAResult`; a position
     whose contact problem did not converge carries its status and no numbers.
     """
+    with _one_blas_thread():
+        return _analyze(geom, torque_nm, flank, errors, positions, pairs, grid, material, backend)
+
+
+def _analyze(geom, torque_nm, flank, errors, positions, pairs, grid, material, backend) -> LTCAResult:
     torque_nm = float(torque_nm)
     if not (math.isfinite(torque_nm) and torque_nm > 0):
         raise ValueError(f"torque_nm = {torque_nm!r}: must be a finite number > 0")
