@@ -4,7 +4,8 @@
 Loaded tooth contact analysis (approximate: half-space + thin-slice teeth, frictionless; see
 docs/loaded_contact.md).  The torque is the pinion torque.  The JSON holds "torque_nm",
 "pinion_angle_rad" [N], "loaded_transmission_error_urad" [N], "tooth_pairs" [P],
-"pair_normal_load_n" [N][P], "pair_max_pressure_mpa" [N][P], "contact_area_mm2" [N],
+"pair_normal_load_n" [N][P], "pair_max_pressure_mpa" [N][P], "pair_patch_semi_axes_mm" [N][P][2]
+(across, along: sqrt(5 <x^2>) of the pressure), "contact_area_mm2" [N],
 "pattern_area_fraction" {"pinion", "gear"}, "status" [N] and "solver" (iterations and residuals);
 a position that did not converge has null numbers.
 """

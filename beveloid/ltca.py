@@ -385,6 +385,31 @@ class LTCAResult:
     def converged(self) -> np.ndarray:
         return np.asarray([s == "ok" for s in self.status])
 
+    def cell_coordinates_mm(self, j, k):
+        """(across, along) centres (nx, ny) of pair k's cells at position j in its tangent plane."""
+        nx, ny = self.grid.across_cells, self.grid.along_cells
+        xe, ye = _edges(self.across_half_mm, nx), _edges(self.along_half_mm, ny)
+        x = 0.5 * (xe[1:] + xe[:-1])[:, None] + self.gap.across_shift_mm[j, k][None, :]
+        return x, np.broadcast_to(0.5 * (ye[1:] + ye[:-1])[None, :], x.shape)
+
+    def patch_semi_axes_mm(self):
+        """(N, P, 2): each pair's loaded patch, (across, along) semi-axes sqrt(5 <x^2>) from the
+        pressure's second moments about its centroid (exact for a Hertz ellipse aligned with the
+        grid); nan for an unloaded pair or a position that did not converge."""
+        N, P = self.pair_load_n.shape
+        out = np.full((N, P, 2), np.nan)
+        nx, ny = self.grid.across_cells, self.grid.along_cells
+        for j in range(N):
+            for k in range(P):
+                p = self.pressure_mpa[j, k].reshape(nx, ny)
+                if not self.converged[j] or p.sum() <= 0:
+                    continue
+                x, y = self.cell_coordinates_mm(j, k)
+                w = p / p.sum()
+                out[j, k] = [math.sqrt(5 * (w * (x - (w * x).sum()) ** 2).sum()),
+                             math.sqrt(5 * (w * (y - (w * y).sum()) ** 2).sum())]
+        return out
+
     def pattern(self, geom, member, raster=(48, 96)):
         """:func:`flank_pattern` of one member (cached)."""
         if (member, raster) not in self._patterns:
@@ -407,6 +432,8 @@ class LTCAResult:
             "pair_normal_load_n": [[num(v, o) for v in row] for row, o in zip(self.pair_load_n, ok)],
             "pair_max_pressure_mpa": [[num(v, o) for v in row] for row, o in zip(self.pair_max_pressure_mpa, ok)],
             "contact_area_mm2": [num(v, o) for v, o in zip(self.contact_area_mm2, ok)],
+            "pair_patch_semi_axes_mm": [[None if not np.all(np.isfinite(ab)) else [float(ab[0]), float(ab[1])]
+                                         for ab in row] for row in self.patch_semi_axes_mm()],
             "pattern_area_fraction": {m: (None if f is None else float(f)) for m, f in fractions.items()},
             "grid": {"across_cells": self.grid.across_cells, "along_cells": self.grid.along_cells,
                      "across_half_extent_mm": self.across_half_mm, "along_half_extent_mm": self.along_half_mm},

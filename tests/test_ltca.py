@@ -104,6 +104,7 @@ def test_hertz_limit_on_the_point_contact_flank(case, flank, torque_nm):
     a_small, a_large = np.linalg.eigvalsh(rc.H) / 2
     ref = hertz.hertz_point_contact(a_small, a_large, float(r.pair_load_n[j, k]), ltca.Material().e_star_mpa)
     across, along, p_max = _loaded_patch(r, j, k)
+    assert np.allclose(r.patch_semi_axes_mm()[j, k], [across, along], rtol=1e-12)  # what the JSON reports
     assert abs(across / ref.semi_minor_mm - 1) < 0.05
     assert abs(along / ref.semi_major_mm - 1) < 0.05
     assert abs(p_max / ref.max_pressure_mpa - 1) < 0.05
@@ -166,6 +167,12 @@ def test_ltca_json_contract(capsys):
     assert set(data["pattern_area_fraction"]) == {"pinion", "gear"}
     assert all(0 < v <= 1 for v in data["pattern_area_fraction"].values())
     assert {"iterations", "complementarity_residual", "load_residual", "moment_residual"} <= set(data["solver"])
+    axes = data["pair_patch_semi_axes_mm"]
+    for j in range(n):
+        for k, load in enumerate(data["pair_normal_load_n"][j]):
+            # an axis pair exactly where a converged pair carries load; across <= along (the ellipse's minor axis)
+            assert (axes[j][k] is not None) == bool(load)
+            assert axes[j][k] is None or 0 < axes[j][k][0] < axes[j][k][1]
     assert all(m is None or m < 1e-6 for m in data["solver"]["moment_residual"])
 
 
