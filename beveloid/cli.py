@@ -27,6 +27,8 @@ from .cli_example import configure as _example_configure
 from .cli_example import run as _example_run
 from .cli_sweep import configure as _sweep_configure
 from .cli_sweep import run as _sweep_run
+from .cli_ltca import configure as _ltca_configure
+from .cli_ltca import run as _ltca_run
 from .cli_tca import configure as _tca_configure
 from .cli_tca import run as _tca_run
 from .spec import SpecError
@@ -150,6 +152,7 @@ COMMANDS: dict[str, tuple[Configure, Run]] = {
     "derive": (_configure_derive, _run_derive),
     "design": (_design_configure, _design_run),
     "tca": (_tca_configure, _tca_run),
+    "ltca": (_ltca_configure, _ltca_run),
     "paper": (_configure_paper, _run_paper),
     "sweep": (_sweep_configure, _sweep_run),
     "example": (_example_configure, _example_run),

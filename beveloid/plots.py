@@ -180,6 +180,82 @@ def tca_summary(result, geom, out_png, title=""):
     _save(fig, out_png, title, dpi=100)
 
 
+def ltca_pattern(ax, result, geom, member, vmax=None):
+    """The max pressure over the cycle on one member's flank, in (axial position z, radius)."""
+    pat = result.pattern(geom, member)
+    zb, rb = flank_outline(geom, member, result.flank)
+    ax.plot(zb, rb, color="0.3", lw=1.0)
+    if pat.points.size:
+        r = np.hypot(pat.points[:, 0], pat.points[:, 1])
+        on = pat.max_pressure_mpa > 0
+        ax.scatter(pat.points[~on, 2], r[~on], s=2, color="0.88", lw=0)
+        sc = ax.scatter(pat.points[on, 2], r[on], s=4, c=pat.max_pressure_mpa[on], cmap="inferno_r", lw=0,
+                        vmin=0, vmax=vmax)
+        frac = "-" if pat.area_fraction is None else f"{pat.area_fraction * 100:.0f}%"
+        ax.set_title(f"{member}: {frac} of the flank loaded", fontsize=9)
+        return sc
+    return None
+
+
+def ltca_summary(result, geom, out_png, title=""):
+    """Contact patterns of both members, loaded TE and load sharing over the cycle."""
+    plt = _plt()
+    fig, axes = plt.subplots(2, 2, figsize=(11, 7.5))
+    for ax, member in ((axes[0, 0], "pinion"), (axes[0, 1], "gear")):
+        sc = ltca_pattern(ax, result, geom, member)
+        if sc is not None:
+            fig.colorbar(sc, ax=ax, label="max pressure over the cycle (MPa)")
+        ax.set_xlabel("axial position z (mm)  toe -> heel")
+        ax.set_ylabel("radius (mm)")
+    phi = result.pinion_angle * 1e3
+    ax = axes[1, 0]
+    ax.plot(phi, result.unloaded_te * 1e6, "--", color="0.5", label="unloaded (rigid) TE")
+    ax.plot(phi, result.loaded_te * 1e6, "o-", ms=3, label=f"loaded TE, {result.torque_nm:g} N m")
+    ax.set_xlabel("pinion angle (mrad)")
+    ax.set_ylabel("TE (urad)")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    ax = axes[1, 1]
+    for k, pair in enumerate(result.tooth_pairs):
+        ax.plot(phi, result.pair_load_n[:, k], "o-", ms=3, label=f"tooth pair {pair}")
+    ax.set_xlabel("pinion angle (mrad)")
+    ax.set_ylabel("normal load (N)")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    _save(fig, out_png, title)
+
+
+def ltca_torques(results, geom, out_png, title=""):
+    """Figs 24-25 style: patterns on both flanks at each torque (columns), loaded TE and load sharing."""
+    plt = _plt()
+    n = len(results)
+    fig, axes = plt.subplots(4, n, figsize=(3.2 * n, 11.5), squeeze=False)
+    for c, res in enumerate(results):
+        for r, member in enumerate(("pinion", "gear")):
+            ax = axes[r, c]
+            sc = ltca_pattern(ax, res, geom, member)
+            ax.set_title(f"T1 = {res.torque_nm:g} N m, " + ax.get_title(), fontsize=8)
+            ax.tick_params(labelsize=7)
+            if sc is not None:
+                fig.colorbar(sc, ax=ax, fraction=0.05).ax.tick_params(labelsize=6)
+        phi = res.pinion_angle * 1e3
+        ax = axes[2, c]
+        ax.plot(phi, res.unloaded_te * 1e6, "--", color="0.5", lw=1)
+        ax.plot(phi, res.loaded_te * 1e6, "o-", ms=2)
+        ax.set_title("loaded TE (urad)", fontsize=8)
+        ax.tick_params(labelsize=7)
+        ax.grid(alpha=0.3)
+        ax = axes[3, c]
+        for k, pair in enumerate(res.tooth_pairs):
+            ax.plot(phi, res.pair_load_n[:, k], "o-", ms=2, label=f"pair {pair}")
+        ax.set_title("pair normal load (N)", fontsize=8)
+        ax.set_xlabel("pinion angle (mrad)", fontsize=8)
+        ax.tick_params(labelsize=7)
+        ax.grid(alpha=0.3)
+    axes[3, 0].legend(fontsize=7)
+    _save(fig, out_png, title)
+
+
 def _ellipse_outlines(geom, fr, which):
     """(z, radius) outlines of the truncated contact ellipses of a flank's active points on one
     member (fr.contact_ellipse from beveloid.contact_ellipse.attach)."""

@@ -244,10 +244,15 @@ def run(out_dir, positions=200, progress=_progress):
     crowning = crowning_study.run(out, STUDIES, _err_vec, _write_csv, positions=positions, flank=FLANK,
                                   progress=progress)
 
+    step("Figs 24-25: loaded contact (approximate LTCA)")
+    from .loaded_study import run_loaded
+
+    loaded = run_loaded(out, geoms, designs, progress)
+
     step("report.md")
     report = _report(designs, comparison, summary, sens, onset, aligned, time.perf_counter() - t0, positions)
     report += "\n".join(crowning)
-    (out / "report.md").write_text(report)
+    (out / "report.md").write_text(report + "\n".join(["", *loaded]))
     (out / "table1_case1.txt").write_text(format_table1(designs["case1"]) + "\n")
     (out / "table1_case2.txt").write_text(format_table1(designs["case2"]) + "\n")
     progress(f"done in {time.perf_counter() - t0:.1f} s: {out / 'report.md'}")

@@ -140,11 +140,22 @@ class MisalignmentSpec:
 
 
 @dataclass(frozen=True)
+class MaterialSpec:
+    """Elastic constants of both members (the loaded TCA, ``beveloid ltca``)."""
+
+    pinion_youngs_modulus_gpa: float = 206.0
+    pinion_poisson_ratio: float = 0.3
+    gear_youngs_modulus_gpa: float = 206.0
+    gear_poisson_ratio: float = 0.3
+
+
+@dataclass(frozen=True)
 class DesignSpec:
     pair: PairSpec
     pinion: MemberSpec
     gear: MemberSpec
     misalignment: MisalignmentSpec = field(default_factory=MisalignmentSpec)
+    material: MaterialSpec = field(default_factory=MaterialSpec)
     #: Where the spec came from (file path or "<dict>"); not part of equality.
     source: str = field(default=DEFAULT_SOURCE, compare=False)
 
@@ -314,12 +325,25 @@ def _mis_doc(description: str, unit: str, limit: float) -> KeyDoc:
 
 _MIS_DOCS: dict[str, KeyDoc] = {e.key: _mis_doc(e.description, e.unit, e.limit) for e in assembly_errors.ERRORS}
 
+def _material_docs() -> dict[str, KeyDoc]:
+    out: dict[str, KeyDoc] = {}
+    for member in ("pinion", "gear"):
+        out[f"{member}_youngs_modulus_gpa"] = KeyDoc(
+            f"Young's modulus of the {member} (loaded TCA)", "GPa", lo=1.0, hi=1000.0, requirement="optional",
+            default=206.0)
+        out[f"{member}_poisson_ratio"] = KeyDoc(
+            f"Poisson's ratio of the {member} (loaded TCA)", lo=0.0, hi=0.5, hi_open=True, requirement="optional",
+            default=0.3)
+    return out
+
+
 #: section -> key -> KeyDoc.  The single source of truth for validation and docs.
 KEY_DOCS: dict[str, dict[str, KeyDoc]] = {
     "pair": _PAIR_DOCS,
     "pinion": _member_docs("pinion"),
     "gear": _member_docs("gear"),
     "misalignment": _MIS_DOCS,
+    "material": _material_docs(),
 }
 
 #: Valid top-level sections, in canonical order, with a description.
@@ -328,6 +352,7 @@ SECTIONS: dict[str, str] = {
     "pinion": "its helix angle and profile shift are design inputs",
     "gear": "its helix angle and profile shift are results of the direct design",
     "misalignment": "assembly errors for tooth contact analysis; optional, default 0",
+    "material": "elastic constants of both members for the loaded TCA; optional, default steel",
 }
 REQUIRED_SECTIONS: tuple[str, ...] = ("pair", "pinion", "gear")
 
@@ -564,6 +589,7 @@ def _build(data: Any) -> DesignSpec:
         pinion=MemberSpec(**values["pinion"]),
         gear=MemberSpec(**values["gear"]),
         misalignment=MisalignmentSpec(**values["misalignment"]),
+        material=MaterialSpec(**values["material"]),
     )
 
 

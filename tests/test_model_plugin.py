@@ -4,8 +4,8 @@ nothing in beveloid/ changes.
 In a scratch copy of the checkout, tests/data/shifted_flank_model.py (the involute flank moved
 along the member axis by ``axial_shift_mm``) is registered under the name "shifted" and the
 kernels are regenerated with the real `beveloid derive`.  The gear then uses that model from
-its TOML section, and the TCA (runtime unchanged, numpy backend) must give exactly the
-contact of the involute pair with the gear moved by dz = axial_shift_mm (Eq 34's dz_q moves
+its TOML section, and the TCA and the loaded TCA (runtime unchanged, numpy backend) must give
+exactly the contact and the loaded TE of the involute pair with the gear moved by dz = axial_shift_mm (Eq 34's dz_q moves
 the gear along its own axis, which commutes with the rotation phi'_2).
 """
 from __future__ import annotations
@@ -33,7 +33,16 @@ shift = dict(plug.gear.surface_options)["axial_shift_mm"]
 a = tca.analyze(plug, flanks=("right",), positions=40, backend="numpy").flanks["right"]
 b = tca.analyze(base, (0.0, 0.0, shift, 0.0, 0.0), flanks=("right",), positions=40, backend="numpy").flanks["right"]
 both = np.isfinite(a.gear_angle) & np.isfinite(b.gear_angle)
-print(json.dumps({"models": list(surface_models.MODELS), "gear_model": plug.gear.tooth_surface,
+from beveloid import ltca  # the loaded TCA reaches the surfaces only through geometry.surface/surface_jet
+la = ltca.analyze(plug, 100.0, "right", positions=3, pairs=3, backend="numpy")
+lb = ltca.analyze(base, 100.0, "right", errors=(0.0, 0.0, shift, 0.0, 0.0), positions=3, pairs=3, backend="numpy")
+# the TE references differ (the shifted surface moves the pitch point); the load-induced part does not
+elastic = lambda r: (r.loaded_te - r.unloaded_te) * 1e6  # noqa: E731
+print(json.dumps({"ltca_converged": bool(la.converged.all() and lb.converged.all()),
+                  "ltca_te_diff_urad": float(np.abs(elastic(la) - elastic(lb)).max()),
+                  "ltca_te_urad": float(np.abs(elastic(la)).max()),
+                  "ltca_load_diff": float(np.abs(la.pair_load_n - lb.pair_load_n).max() / np.abs(lb.pair_load_n).max()),
+                  "models": list(surface_models.MODELS), "gear_model": plug.gear.tooth_surface,
                   "pinion_model": plug.pinion.tooth_surface, "shift": shift, "compared": int(both.sum()),
                   "max_diff_rad": float(np.abs(a.gear_angle[both] - b.gear_angle[both]).max()),
                   "import": tca.__file__}))
@@ -79,3 +88,8 @@ def test_a_new_surface_model_needs_no_runtime_edit(tmp_path):
     assert (out["pinion_model"], out["gear_model"], out["shift"]) == ("involute", "shifted", 0.2)
     assert out["compared"] >= 10
     assert out["max_diff_rad"] < 1e-9
+    # the loaded TCA on the new model: the same loaded rotation and pair loads as the involute pair with
+    # the gear moved
+    assert out["ltca_converged"] and out["ltca_te_urad"] > 1.0
+    # (the grid extent is sized by iteration on floats that differ at round-off: 0.1% on the loads)
+    assert out["ltca_te_diff_urad"] < 1e-2 and out["ltca_load_diff"] < 1e-3

@@ -270,8 +270,9 @@ def test_10_plot_targets_are_refused_before_computing(capsys, monkeypatch, tmp_p
         (tmp_path / "plot.svg", "ending in .png"),
     ]
     for target, words in cases:
-        rc, _, err = run_cli(capsys, ["tca", C1, "--positions", "3", "--plot", target])
-        assert_one_line_exit_2(rc, err, "--plot = ", words)
+        for argv in (["tca", C1, "--positions", "3"], ["ltca", C1, "--torque-nm", "10", "--positions", "3"]):
+            rc, _, err = run_cli(capsys, [*argv, "--plot", target])
+            assert_one_line_exit_2(rc, err, "--plot = ", words)
 
 
 def test_10_11_out_targets_are_refused_before_computing(capsys, monkeypatch, tmp_path, targets):
@@ -296,7 +297,7 @@ def test_10_every_output_flag_of_every_command_is_checked():
     sub = next(a for a in parser._actions if a.dest == "command")
     outputs = {(name, opt) for name, p in sub.choices.items() for a in p._actions for opt in a.option_strings
                if opt in ("--plot", "--out", "--output", "-o", "--png", "--csv")}
-    assert outputs == {("tca", "--plot"), ("paper", "--out")}
+    assert outputs == {("tca", "--plot"), ("ltca", "--plot"), ("paper", "--out")}
 
 
 # ---------------------------------------------------------------------------------------------
@@ -518,12 +519,12 @@ def test_5_te_from_a_few_positions_carries_a_caveat(capsys):
     rc, text, _ = run_cli(capsys, ["tca", C1, "--positions", "30", "--dx", "1.2"])
     assert rc == 0
     head, row = _table_row(text, "right")
-    assert head.split()[-5:-3] == ["TE", "points"]  # then "Newton its (mean)"
-    k = int(row.split()[-2].split("/")[0])
-    assert 0 < k < 30 and row.split()[-2] == f"{k}/30"
+    assert head.split()[-2:] == ["TE", "points"]
+    k = int(row.split()[-1].split("/")[0])
+    assert 0 < k < 30 and row.split()[-1] == f"{k}/30"
     assert f"note: right flank: TE peak-to-peak from {k} of 30 positions only" in text
     _, left = _table_row(text, "left")
-    assert left.split()[-2] == "30/30" and "note: left flank: TE peak-to-peak" not in text
+    assert left.split()[-1] == "30/30" and "note: left flank: TE peak-to-peak" not in text
 
 
 def _capture_figures(monkeypatch):

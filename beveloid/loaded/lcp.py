@@ -90,6 +90,10 @@ class Compliance:
     def size(self) -> int:
         return self.slices[-1].stop
 
+    def diagonal(self) -> np.ndarray:
+        """The diagonal of C (all blocks, in cell order)."""
+        return np.concatenate([np.diag(b) for b in self.blocks])
+
     def solve_active(self, active: np.ndarray, rhs: np.ndarray) -> np.ndarray:
         """x with C[S, S] x = rhs[S] block by block (rows of rhs outside S are returned 0)."""
         out = np.zeros_like(rhs)
@@ -199,7 +203,7 @@ def solve_contact(
     if ops.size != n:
         raise ValueError(f"compliance covers {ops.size} cells but gap_mm has {n}: they must match")
     at = a * t
-    diag = np.concatenate([np.diag(b) for b in ops.blocks])
+    diag = ops.diagonal()
 
     if initial_contact is None:
         active = _initial_set(h, w, diag, at, load)
