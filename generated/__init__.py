@@ -6,12 +6,14 @@ MODULES = (
     'placement',
     'contact_system',
     'flank_boundaries',
+    'edge_contact',
     'design_equations',
 )
 SCALAR_MODULES = (
     'surface_involute_scalar',
     'contact_system_scalar',
     'flank_boundaries_scalar',
+    'edge_contact_scalar',
 )
 SUPPORT_MODULES = (
     'layouts',
