@@ -359,7 +359,7 @@ def composed_residual(pinion_model="involute", gear_model="involute", flank="rig
         lay = surface_layout(model_name, model)
         fresh = {f.symbol: sp.Symbol(f"{tag}_{f.name}", real=True) for f in lay.fields}
         p, n, _ = model.tooth_surface(sigma)
-        sub = dict(fresh, **{l: l_sym, u: u_sym})
+        sub = {**fresh, l: l_sym, u: u_sym}
         return p.xreplace(sub), n.xreplace(sub), [fresh[f.symbol] for f in lay.fields]
 
     p1, n1, s1 = member(pinion_model, "pinion", unknowns[0], unknowns[1])
