@@ -132,9 +132,10 @@ def path_centre(fr):
 
 
 def edge_onset_offset(geom, flank, direction=+1.0, hi=3.0, tol=1e-4):
-    """Smallest dq (dx = dy = dz = dq, sign = direction) at which the path reaches toe or heel.
+    """Smallest dq (dx = dy = dz = dq, sign = direction) at which a toe or heel starts to bear
+    (edge contact at a face end).
 
-    Bisection on the face-width margin of the contact points of the aligned engagement window.
+    Bisection on the face-width margin of the contacts over the aligned engagement window.
     """
     from . import tca
 
@@ -145,8 +146,10 @@ def edge_onset_offset(geom, flank, direction=+1.0, hi=3.0, tol=1e-4):
     def face_margin(q):
         fr = tca.mesh_flank(geom, flank, _err_vec(_q(direction * q)), positions=60, pairs=1, window_pitches=3)
         M = tca.contact_margins(geom, flank, fr.unknowns)
-        # a real contact lies between tip and form limit of BOTH members
-        on_profile = (M[:, profile] >= 0).all(axis=1)
+        # a toe or heel bearing: contacts not carried by a tip or form limit (those start and end
+        # the engagement of every pair, aligned or not)
+        on_profile = (M[:, profile] >= -1e-9).all(axis=1) & np.array(
+            [b is None or not any(w in b for w in ("tip", "form limit")) for b in fr.contact_boundary])
         return float(np.min(np.where(on_profile, M[:, face].min(axis=1), np.inf)))
 
     if face_margin(0.0) <= 0:

@@ -8,8 +8,8 @@ class Status(enum.IntEnum):
     """What a solved point is.  Only OK and EDGE points carry numbers."""
 
     OK = 0  #: surface contact inside both flanks
-    EDGE = 1  #: surface contact within the edge margin of a flank boundary
-    OUTSIDE = 2  #: the tangency lies off a flank: no contact of these flank patches there
+    EDGE = 1  #: edge or corner contact: a boundary curve (tip, toe, heel, form limit) bears on the mating flank
+    OUTSIDE = 2  #: the two bounded flank patches cannot touch at this position: no numbers
     FAILED = 3  #: the solver did not converge: no number
 
     @property

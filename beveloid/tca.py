@@ -51,11 +51,12 @@ class SolverOptions:
     tol_mm: float = 1e-12  #: Newton tolerance on Eq 38 (normal rows times r_w2), or the round-off floor
     max_iter: int = 25  #: Newton iterations per point
     homotopy_steps: int = 3  #: equal steps from the aligned contact to the errors (x4, x16 on a lost set)
-    edge_tol_mm: float = 0.01  #: a contact this close to a flank boundary is 'edge'
+    #: a point lies on a flank patch when none of its margins is below -patch_tol_mm (round-off of
+    #: the boundary equations); a tangency further off is replaced by the edge or corner contact
+    patch_tol_mm: float = 1e-9
 
 
 DEFAULT_OPTIONS = SolverOptions()
-EDGE_TOL_MM = DEFAULT_OPTIONS.edge_tol_mm
 
 
 def errors_array(errors) -> np.ndarray:
@@ -196,7 +197,8 @@ class GridSolution:
     x: np.ndarray  # (K, N, 5) tca_kernels.UNKNOWNS
     status: np.ndarray  # (K, N) Status codes
     iterations: np.ndarray  # (K, N) Newton iterations
-    boundary: np.ndarray  # (K, N) index into tca_kernels.CONTACT_BOUNDARIES of the nearest boundary, -1 if failed
+    boundary: np.ndarray  # (K, N) index into tca_kernels.CONTACT_BOUNDARIES of the tangency's nearest boundary, -1 if failed
+    active: np.ndarray = None  # (K, N, 2) CONTACT_BOUNDARIES indices of an edge / corner contact, -1: none
 
     def __iter__(self):  # (x, status, iterations), as solve_grid returned before
         return iter((self.x, self.status, self.iterations))
@@ -217,7 +219,7 @@ def solve_grid(geom, flank, errors, phi_grid, backend="auto", options: SolverOpt
             break
         again = _solve_grid_once(geom, flank, errors[lost], phi_grid, backend, options,
                                  options.homotopy_steps * factor)
-        for name in ("x", "status", "iterations", "boundary"):
+        for name in ("x", "status", "iterations", "boundary", "active"):
             getattr(sol, name)[lost] = getattr(again, name)
     return sol
 
@@ -232,14 +234,24 @@ def _solve_grid_once(geom, flank, errors, phi_grid, backend, options, homotopy_s
     code = np.empty((K, N), dtype=np.int64)
     iters = np.empty((K, N), dtype=np.int64)
     boundary = np.empty((K, N), dtype=np.int64)
+    active = np.empty((K, N, 2), dtype=np.int64)
     core = _core(backend, announce=True)
     core.solve_paths(geom.problem(flank), geom.pinion.blank(), geom.gear.blank(), np.ascontiguousarray(ref.x),
                      ref.pinion_angle, errors, grid, geom.gear.working_pitch_radius_mm,
-                     newton_tolerance(geom, options.tol_mm), options.max_iter, homotopy_steps, options.edge_tol_mm,
-                     x, code, iters, boundary)
+                     newton_tolerance(geom, options.tol_mm), options.max_iter, homotopy_steps, options.patch_tol_mm,
+                     first_touch_sign(geom, flank), x, code, iters, boundary, active)
     inv = np.empty_like(order)
     inv[order] = np.arange(N)
-    return GridSolution(x[:, inv], code[:, inv], iters[:, inv], boundary[:, inv])
+    return GridSolution(x[:, inv], code[:, inv], iters[:, inv], boundary[:, inv], active[:, inv])
+
+
+def contact_boundary_names(active):
+    """Names of the active boundaries (..., 2) of solved contacts: None for surface contact, else
+    e.g. "pinion tip" (edge contact) or "corner: pinion tip / gear heel"."""
+    names = tca_kernels.CONTACT_BOUNDARIES
+    a = np.asarray(active).reshape(-1, 2)
+    out = [None if i < 0 else names[i] if j < 0 else f"corner: {names[i]} / {names[j]}" for i, j in a]
+    return out
 
 
 def tangent(geom, flank, x, phi1, errors):
@@ -271,6 +283,11 @@ class FlankResult:
     te_peak_to_peak: float  # rad, over the active points; nan if none
     unknowns: np.ndarray = None  # (n, 5) pair 0's (l1, u1, l2, u2, phi'_2) as solved, for every point
     contact_ellipse: object = None  # contact_ellipse.ContactEllipses, when attached (contact_ellipse.attach)
+    #: per point: None (surface contact or no contact), else the boundary of an edge contact
+    #: ("pinion tip") or the two of a corner contact ("corner: pinion tip / gear heel")
+    contact_boundary: list = None
+    #: per point: the contact's smallest margin (mm) to the boundaries that do not carry it; nan without contact
+    boundary_margin_mm: np.ndarray = None
 
     @property
     def newton_iterations_mean(self) -> float | None:
@@ -294,6 +311,10 @@ class FlankResult:
             **(self.contact_ellipse.to_json_dict() if self.contact_ellipse is not None else {}),
             "newton_iterations": [int(k) for k in self.iterations],
             "newton_iterations_mean": self.newton_iterations_mean,
+            "contact_boundary": (list(self.contact_boundary) if self.contact_boundary is not None
+                                 else [None] * len(self.status)),
+            "boundary_margin_mm": (nan_to_none(self.boundary_margin_mm) if self.boundary_margin_mm is not None
+                                   else [None] * len(self.status)),
         }
 
 
@@ -323,6 +344,7 @@ def mesh_flank(geom: PairGeometry, flank: str, errors=(0, 0, 0, 0, 0), positions
     shifted = (phi1[None, :] - ks[:, None] * p1).ravel()
     sol = solve_grid(geom, flank, e, shifted, backend, options)
     x, code, iterations, boundary = sol.x[0], sol.status[0], sol.iterations[0], sol.boundary[0]
+    act = sol.active[0]
     names = np.asarray(tca_kernels.CONTACT_BOUNDARIES + ("",))
     nearest = names[np.where(boundary >= 0, boundary, len(names) - 1)]
     kk = np.repeat(ks, positions)
@@ -349,8 +371,24 @@ def mesh_flank(geom: PairGeometry, flank: str, errors=(0, 0, 0, 0, 0), positions
     active = (np.abs(TE - env[None, :]) <= 1e-12 + 1e-9 * np.abs(env)[None, :]) & np.isfinite(TE)
     env_ok = env[np.isfinite(env)]
     ptp = float(env_ok.max() - env_ok.min()) if env_ok.size else float("nan")
+    with np.errstate(invalid="ignore"):
+        M = contact_margins(geom, flank, x)
+    rows = np.arange(len(x))
+    for c in range(2):
+        hit = act[:, c] >= 0
+        M[rows[hit], act[hit, c]] = np.inf
+    margin = np.where(valid, M.min(axis=-1), np.nan)
+    boundary_names = [n if v else None for n, v in zip(contact_boundary_names(act), valid)]
     return FlankResult(flank, phi1_all, phi2_v, te_v, P1, P2, Status.labels(code), kk, active.ravel(), iterations,
-                       [str(n) for n in nearest], ptp, x)
+                       [str(n) for n in nearest], ptp, x, contact_boundary=boundary_names,
+                       boundary_margin_mm=margin)
+
+
+@functools.lru_cache(maxsize=64)
+def first_touch_sign(geom, flank):
+    """+1 if a tooth pair's contact is the largest gear angle phi'_2 at which its patches touch,
+    -1 if the smallest (the side from which the gear closes the gap, see _gap_sign)."""
+    return _gap_sign(geom, flank, reference_contact(geom, flank))
 
 
 def _gap_sign(geom, flank, ref):
@@ -475,6 +513,13 @@ def backlash(geom: PairGeometry, errors=(0, 0, 0, 0, 0), backend="auto", options
             smallest, centre = np.nanmin(play), fine[np.nanargmin(play)]
         step /= 8
     r_um = geom.gear.working_pitch_radius_mm * 1e3
+    pitch_um = geom.pitch_angles[1] * r_um
+    if max(abs(smallest), abs(largest)) * r_um > pitch_um:
+        # two flanks that bound one tooth space cannot be a circular pitch apart: the contacts found
+        # (e.g. edges of far misaligned teeth) do not measure a play
+        return Backlash(None, Status.OUTSIDE.label,
+                        f"the two flank contacts are {smallest * r_um:.0f} um apart, more than a circular pitch "
+                        f"({pitch_um:.0f} um): they bound no single tooth space")
     return Backlash(float(smallest * r_um), Status.OK.label,
                     at_reference_um=float(at_reference * r_um) if np.isfinite(at_reference) else None,
                     max_um=float(largest * r_um))
@@ -514,11 +559,11 @@ class TCAResult:
         return out
 
 
-def pitch_point_notes(geom: PairGeometry, flank: str, edge_tol_mm=EDGE_TOL_MM):
+def pitch_point_notes(geom: PairGeometry, flank: str, patch_tol_mm=DEFAULT_OPTIONS.patch_tol_mm):
     """Why an aligned flank may show no contact: the pitch point P lies off a member's active flank."""
     ref = reference_contact(geom, flank)
     margin, which = boundary_margins(geom, flank, ref.x[None])
-    if margin[0] >= -edge_tol_mm:
+    if margin[0] >= -patch_tol_mm:
         return []
     return [f"{flank} flank: the pitch point P lies {-margin[0]:.3f} mm beyond the {which[0]} boundary, so the "
             f"aligned contact near P is off the active flank (the working pitch circle is outside the active "
@@ -534,7 +579,7 @@ def analyze(geom: PairGeometry, errors=(0, 0, 0, 0, 0), flanks=FLANKS, positions
     res = TCAResult(geom, e)
     for fl in flanks:
         res.flanks[fl] = mesh_flank(geom, fl, e, positions=positions, pairs=pairs, options=options, backend=backend)
-        res.notes += pitch_point_notes(geom, fl, options.edge_tol_mm)
+        res.notes += pitch_point_notes(geom, fl, options.patch_tol_mm)
     if set(flanks) == set(FLANKS):
         res.backlash = backlash(geom, e, backend=backend, options=options)
     return res
@@ -546,7 +591,9 @@ def sensitivity(geom: PairGeometry, flank: str, errors=(0, 0, 0, 0, 0), pinion_a
     Returns dict with 'unknowns_D_errors' (5x5: d(UNKNOWNS)/d(errors)),
     'pinion_contact_D_errors' (3x5, mm per error unit), 'gear_contact_D_errors' (3x5) and
     'gear_angle_D_errors' (5,), at the contact for the given errors and pinion angle
-    (default: the reference pinion angle).
+    (default: the reference pinion angle).  They are the derivatives of the surface contact
+    (Eq 38): 'converged' is False unless the point is a surface contact ('ok'), 'status' says
+    what it is.
     """
     e = errors_array(errors).reshape(1, len(ERROR_NAMES))
     ref = reference_contact(geom, flank)
@@ -560,7 +607,8 @@ def sensitivity(geom: PairGeometry, flank: str, errors=(0, 0, 0, 0, 0), pinion_a
     J2 = surface_jacobian(geom, "gear", flank, u.gear_l_mm, u.gear_u_mm)
     d = unknowns(derr.T)  # rows of d(unknowns)/d(errors), by name
     return {
-        "x": x, "pinion_angle": phi1, "converged": bool(sol.status[0, 0] != Status.FAILED),
+        "x": x, "pinion_angle": phi1, "converged": bool(sol.status[0, 0] == Status.OK),
+        "status": Status(int(sol.status[0, 0])).label,
         "unknowns_D_errors": derr,
         "pinion_contact_D_errors": J1 @ np.stack([d.pinion_l_mm, d.pinion_u_mm]),
         "gear_contact_D_errors": J2 @ np.stack([d.gear_l_mm, d.gear_u_mm]),

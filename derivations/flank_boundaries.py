@@ -23,6 +23,8 @@ tip_height = sp.Symbol("h_a", positive=True)
 toe_z, heel_z = sp.symbols("z_toe z_heel", real=True)
 
 BOUNDARIES = ("form limit", "tip", "toe", "heel")
+#: The boundary on the far side of the patch: the two never meet (no corner between them).
+OPPOSITE = {"form limit": "tip", "tip": "form limit", "toe": "heel", "heel": "toe"}
 
 BLANK = Layout("FlankBlank", "Where one member's flank ends (the blank), in its frame S_i.", (
     Field("pitch_radius_mm", r, "mm", "generating (reference) pitch radius r"),

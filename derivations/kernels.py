@@ -39,7 +39,9 @@ from __future__ import annotations
 
 import sympy as sp
 
-from . import codegen, crowned_flank, design_chain, eq04_07_tooth_surface, eq28_38_meshing_model, flank_boundaries
+from . import (
+    codegen, crowned_flank, design_chain, edge_contact, eq04_07_tooth_surface, eq28_38_meshing_model, flank_boundaries,
+)
 from .codegen import Arg, Field, Function, Layout, ModuleSpec, Output
 from .eq01_03_rack_cutter import LEFT, RIGHT
 from .symbols import (
@@ -245,6 +247,46 @@ def flank_boundaries_module():
     ], scalar_twin=True, constants={"BOUNDARIES": fb.BOUNDARIES})
 
 
+def edge_contact_module():
+    """Boundary jets and the edge tangency rows over abstract surface jets (derivations/edge_contact.py)."""
+    ec = edge_contact
+    p, dp, d2p = ec.surface_jet_symbols("flank")
+    m, m1, m2 = ec.boundary_jet(p, dp, d2p)
+    jet_args = [Arg("point", p, "mm", "flank point in the member frame S_i"),
+                Arg("point_D_lu", dp, "mm/mm", "[dR/dl, dR/du]"),
+                Arg("point_D2_lu", d2p, "mm/mm^2", "[d2R/dl2, d2R/dldu, d2R/du2]"),
+                Arg("l", l, "mm", "the point's rack parameter l"),
+                Arg("blank", flank_boundaries.BLANK, "", "the member's blank")]
+    fns = [Function("boundary_jet", "Margins of a flank point to its blank and their derivatives in (l, u).",
+                    jet_args,
+                    [Output("margins", m, "mm", "[form limit, tip, toe, heel], positive inside"),
+                     Output("margins_D_lu", m1, "mm/mm", "d margins / d(l, u)"),
+                     Output("margins_D2_lu", m2, "mm/mm^2", "[d2/dl2, d2/dldu, d2/du2] of the margins")])]
+    errors, pair = Arg("errors", ERRORS, "", "assembly errors"), Arg("pair", PLACEMENT, "", "pair placement")
+    for member in ("pinion", "gear"):
+        other = "gear" if member == "pinion" else "pinion"
+        row, d_unknowns, d_errors, d_phi1, (cdp, cd2p, g1, g2, n, dn) = ec.edge_tangency(member)
+        fns.append(Function(
+            f"{member}_edge_tangency",
+            f"Edge contact: a {member} boundary curve g = 0 tangent to the {other} flank, (L t) . n_f = 0.",
+            [Arg(f"{member}_point_D_lu", cdp, "mm/mm", f"{member} [dR/dl, dR/du]"),
+             Arg(f"{member}_point_D2_lu", cd2p, "mm/mm^2", f"{member} [d2R/dl2, d2R/dldu, d2R/du2]"),
+             Arg("g_D_lu", g1, "mm/mm", "d g / d(l, u) of the boundary"),
+             Arg("g_D2_lu", g2, "mm/mm^2", "[g_ll, g_lu, g_uu] of the boundary"),
+             Arg(f"{other}_normal", n, "1", f"{other} unit outward normal in S_i"),
+             Arg(f"{other}_normal_D_lu", dn, "1/mm", f"{other} [dn/dl, dn/du]"),
+             Arg("pinion_angle", phi1p, "rad", "phi'_1 of Eq 30"),
+             Arg("gear_angle", phi2p, "rad", "phi'_2 of Eq 34"), errors, pair],
+            [Output("tangency", _placed(sp.Matrix([row]))[0, 0], "mm/mm",
+                    "(L t) . n_f of the other member, t = R_l g_u - R_u g_l"),
+             Output("tangency_D_unknowns", _placed(d_unknowns), "", "d tangency / d " + str(UNKNOWNS)),
+             Output("tangency_D_errors", _placed(d_errors), "", "d tangency / d AssemblyErrors"),
+             Output("tangency_D_pinion_angle", _placed(sp.Matrix([d_phi1]))[0, 0], "", "d tangency / d phi'_1")]))
+    return ModuleSpec("edge_contact", "edge_contact.py",
+                      "Edge and corner contact over abstract surface jets: boundary jets and tangency rows.", fns,
+                      scalar_twin=True)
+
+
 def _pair_args():
     return [
         Arg("normal_module", m_n, "mm", "normal module m_n"),
@@ -322,7 +364,9 @@ def glue_files(models=None):
     ctx = dict(models=[dict(name=k, module=f"surface_{k}", layout=surface_layout(k, m).name,
                             nparams=len(surface_layout(k, m).fields)) for k, m in models.items()],
                flanks=[f for f, _ in FLANKS], unknowns=UNKNOWNS, n_errors=len(ERRORS.fields),
-               boundaries=flank_boundaries.BOUNDARIES)
+               boundaries=flank_boundaries.BOUNDARIES,
+               opposite=[flank_boundaries.BOUNDARIES.index(flank_boundaries.OPPOSITE[b])
+                         for b in flank_boundaries.BOUNDARIES])
     for m, (name, model) in zip(ctx["models"], models.items()):
         fields = {f.name: f for f in getattr(model, "PARAMETERS", ())}
         m["input_keys"] = [dict(name=k, unit=fields[k].unit, doc=fields[k].doc, default=float(d), lo=float(lo), hi=float(hi))
@@ -336,7 +380,8 @@ def glue_files(models=None):
 def module_specs(models=None):
     models = models or SURFACE_MODELS
     return ([surface_module(k, m) for k, m in models.items()]
-            + [placement_module(), contact_system_module(), flank_boundaries_module(), design_module()])
+            + [placement_module(), contact_system_module(), flank_boundaries_module(), edge_contact_module(),
+               design_module()])
 
 
 def composed_residual(pinion_model="involute", gear_model="involute", flank="right"):

@@ -7,6 +7,7 @@ MODULES = (
     'placement',
     'contact_system',
     'flank_boundaries',
+    'edge_contact',
     'design_equations',
 )
 SCALAR_MODULES = (
@@ -14,6 +15,7 @@ SCALAR_MODULES = (
     'surface_crowned_scalar',
     'contact_system_scalar',
     'flank_boundaries_scalar',
+    'edge_contact_scalar',
 )
 SUPPORT_MODULES = (
     'layouts',

@@ -7,15 +7,25 @@ of one contact and its margins.  Plain Python; the core runs it as it is or unde
 import numpy
 
 from .contact_system_scalar import contact_residual_point as _contact_residual
+from .edge_contact_scalar import boundary_jet_point as _boundary_jet
+from .edge_contact_scalar import gear_edge_tangency_point as _gear_edge_tangency
+from .edge_contact_scalar import pinion_edge_tangency_point as _pinion_edge_tangency
 from .flank_boundaries_scalar import flank_margins_point as _flank_margins
 from .surface_involute_scalar import surface_jet_left_point as _involute_jet_left
 from .surface_involute_scalar import surface_jet_right_point as _involute_jet_right
 from .surface_crowned_scalar import surface_jet_left_point as _crowned_jet_left
 from .surface_crowned_scalar import surface_jet_right_point as _crowned_jet_right
+from .surface_involute_scalar import surface_second_derivatives_left_point as _involute_d2_left
+from .surface_involute_scalar import surface_second_derivatives_right_point as _involute_d2_right
+from .surface_crowned_scalar import surface_second_derivatives_left_point as _crowned_d2_left
+from .surface_crowned_scalar import surface_second_derivatives_right_point as _crowned_d2_right
 
 N_UNKNOWNS = 5
 N_ERRORS = 5
 N_MARGINS = 8
+N_BOUNDARIES = 4
+#: index of the boundary on the far side of the patch (flank_boundaries.OPPOSITE): no corner with it
+OPPOSITE_BOUNDARY = (1, 0, 3, 2, )
 
 
 def workspace():
@@ -37,6 +47,20 @@ def surface_jet_point(model, flank, l, u, params, out_point, out_normal, out_poi
             _crowned_jet_left(l, u, params, out_point, out_normal, out_point_D_lu, out_normal_D_lu)
         elif flank == 1:
             _crowned_jet_right(l, u, params, out_point, out_normal, out_point_D_lu, out_normal_D_lu)
+
+
+def surface_second_derivatives_point(model, flank, l, u, params, out_point_D2_lu):
+    """Second derivatives of the point of model MODELS[model], flank FLANKS[flank]."""
+    if model == 0:
+        if flank == 0:
+            _involute_d2_left(l, u, params, out_point_D2_lu)
+        elif flank == 1:
+            _involute_d2_right(l, u, params, out_point_D2_lu)
+    elif model == 1:
+        if flank == 0:
+            _crowned_d2_left(l, u, params, out_point_D2_lu)
+        elif flank == 1:
+            _crowned_d2_right(l, u, params, out_point_D2_lu)
 
 
 def contact_system_point(pinion_model, gear_model, flank, x, pinion_angle, errors, pinion_params, gear_params,
@@ -67,3 +91,77 @@ def contact_margin_point(x, pinion_blank, gear_blank, ws):
             best = m[i]
             which = 4 + i
     return best, which
+
+
+def edge_workspace():
+    """Scratch arrays of one candidate-system evaluation (with workspace(); once per thread).  Zeroed:
+    entries a corner system does not evaluate stay finite."""
+    nb = 4
+    return (numpy.zeros((3, 3)), numpy.zeros((3, 3)), numpy.zeros(nb), numpy.zeros((nb, 2)), numpy.zeros((nb, 3)),
+            numpy.zeros(nb), numpy.zeros((nb, 2)), numpy.zeros((nb, 3)), numpy.zeros(2), numpy.zeros(3),
+            numpy.zeros(1), numpy.zeros(N_UNKNOWNS), numpy.zeros(N_ERRORS), numpy.zeros(1))
+
+
+def candidate_system_point(pinion_model, gear_model, flank, first, second, x, pinion_angle, errors, pinion_params,
+                           gear_params, pair, pinion_blank, gear_blank, ws, ews, out_residual,
+                           out_residual_D_unknowns, out_residual_D_errors, out_residual_D_pinion_angle, out_margins):
+    """The contact system of the active boundaries (first, second), indices into
+    tca_kernels.CONTACT_BOUNDARIES (-1: none), at the unknowns x, with exact Jacobians:
+
+    * (-1, -1): Eq 38 (surface contact);
+    * (a, -1): rows 0-2 of Eq 38, the margin g_a, the tangency of the curve g_a = 0 to the other
+      member's flank (edge contact, edge_contact.py);
+    * (a, b): rows 0-2 of Eq 38, g_a, g_b (corner contact).
+
+    Also writes all N_MARGINS margins of the two points to out_margins."""
+    nb = 4
+    p1, n1, dp1, dn1, p2, n2, dp2, dn2, _, _, _ = ws
+    d2p1, d2p2, m1, m1d, m1dd, m2, m2d, m2dd, gd, gdd, t, t_du, t_de, t_dp = ews
+    contact_system_point(pinion_model, gear_model, flank, x, pinion_angle, errors, pinion_params, gear_params, pair,
+                         ws, out_residual, out_residual_D_unknowns, out_residual_D_errors, out_residual_D_pinion_angle)
+    edge = first >= 0 and second < 0
+    if edge and first < nb:
+        surface_second_derivatives_point(pinion_model, flank, x[0], x[1], pinion_params, d2p1)
+    if edge and first >= nb:
+        surface_second_derivatives_point(gear_model, flank, x[2], x[3], gear_params, d2p2)
+    _boundary_jet(p1, dp1, d2p1, x[0], pinion_blank, m1, m1d, m1dd)
+    _boundary_jet(p2, dp2, d2p2, x[2], gear_blank, m2, m2d, m2dd)
+    for i in range(nb):
+        out_margins[i] = m1[i]
+        out_margins[nb + i] = m2[i]
+    for row in range(3, 5):
+        which = first if row == 3 else second
+        if which < 0:
+            continue
+        for c in range(N_UNKNOWNS):
+            out_residual_D_unknowns[row, c] = 0.0
+        for c in range(N_ERRORS):
+            out_residual_D_errors[row, c] = 0.0
+        out_residual_D_pinion_angle[row] = 0.0
+        if which < nb:
+            out_residual[row] = m1[which]
+            out_residual_D_unknowns[row, 0] = m1d[which, 0]
+            out_residual_D_unknowns[row, 1] = m1d[which, 1]
+        else:
+            out_residual[row] = m2[which - nb]
+            out_residual_D_unknowns[row, 2] = m2d[which - nb, 0]
+            out_residual_D_unknowns[row, 3] = m2d[which - nb, 1]
+    if edge:
+        if first < nb:
+            for k in range(2):
+                gd[k] = m1d[first, k]
+            for k in range(3):
+                gdd[k] = m1dd[first, k]
+            _pinion_edge_tangency(dp1, d2p1, gd, gdd, n2, dn2, pinion_angle, x[4], errors, pair, t, t_du, t_de, t_dp)
+        else:
+            for k in range(2):
+                gd[k] = m2d[first - nb, k]
+            for k in range(3):
+                gdd[k] = m2dd[first - nb, k]
+            _gear_edge_tangency(dp2, d2p2, gd, gdd, n1, dn1, pinion_angle, x[4], errors, pair, t, t_du, t_de, t_dp)
+        out_residual[4] = t[0]
+        for c in range(N_UNKNOWNS):
+            out_residual_D_unknowns[4, c] = t_du[c]
+        for c in range(N_ERRORS):
+            out_residual_D_errors[4, c] = t_de[c]
+        out_residual_D_pinion_angle[4] = t_dp[0]

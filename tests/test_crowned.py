@@ -261,7 +261,8 @@ def test_aligned_crowned_pair_has_a_parabola_per_tooth_pair():
     fr = tca.mesh_flank(geom, "right", positions=41, pairs=3, backend="numpy")
     te = fr.transmission_error.reshape(3, 41)
     mid = te[1]
-    ok = np.isfinite(mid)
+    # surface contact only: at the ends of its engagement a pair bears with an edge (issue 12)
+    ok = np.isfinite(mid) & (np.array(fr.status).reshape(3, 41)[1] == "ok")
     assert ok.sum() > 20
     # zero at the pitch point (the reference), negative about it: crowning removes material
     assert abs(mid[20]) < 1e-9
@@ -276,8 +277,8 @@ def test_aligned_crowned_pair_has_a_parabola_per_tooth_pair():
     assert np.abs(fit - mid[ok]).max() < 0.1 * np.ptp(mid[ok])
     # Newton iterated at every point but the reference angle itself, where the path starts (the
     # involute pair's predictor lands on the contact at once: 0 iterations everywhere)
-    its = fr.iterations[np.isfinite(fr.transmission_error)]
-    assert np.count_nonzero(its == 0) <= 1 and fr.newton_iterations_mean >= 1
+    its = fr.iterations[np.array(fr.status) == "ok"]
+    assert np.count_nonzero(its == 0) <= 1 and its.mean() >= 1
     assert fr.te_peak_to_peak > 1e-6
 
 

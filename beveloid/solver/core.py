@@ -1,5 +1,5 @@
-"""The contact solver, written once: Newton on Eq 38, error homotopy, path continuation and
-classification.
+"""The contact solver, written once: Newton on Eq 38, error homotopy, path continuation,
+classification, and the first touch of the bounded flank patches (edge and corner contact).
 
 Every function here is plain Python over floats and small numpy arrays, in the subset that
 numba compiles.  :mod:`beveloid.solver.backends` runs the same functions either as they are
@@ -9,14 +9,31 @@ members' surface models and the flank margins), so a new surface model changes n
 
 A *problem* is the tuple (pinion_model, gear_model, flank, pinion_params, gear_params, pair)
 of model and flank indices and the generated parameter vectors (see beveloid/tca.py).
+
+**First touch.**  A tooth pair's contact is the extreme gear angle (``sign`` * phi'_2 largest,
+``sign`` from tca._gap_sign) over the pairs of points of the two bounded patches that coincide.
+When the Eq 38 tangency lies on both patches it is that extreme (surface contact, OK).  Otherwise
+:func:`first_touch` looks for the Karush-Kuhn-Tucker point of the problem "maximize sign * phi'_2
+subject to R_f1 = R_f2 and the eight margins g_i >= 0" by an active-set iteration over the
+candidate systems of ``tca_kernels_scalar.candidate_system_point`` (edge: one active boundary;
+corner: two): solve the system of the active set by Newton, add the most violated inactive
+boundary, drop an active one whose multiplier (from J^T y = -sign e_phi'2, the rows of J being
+the gradients of the constraints) has the wrong sign, until the point is feasible with
+non-negative multipliers.  Along a path the previous point's active set and solution, predicted
+with the exact tangent, start the next point, so a point usually costs one Newton solve.  If the
+iteration does not settle, every candidate system is solved from the tangency and the extreme
+feasible solution is kept (:func:`enumerate_candidates`); none feasible means the patches do
+not touch (OUTSIDE).
 """
 import math
 
 import numpy as np
 
-from ..generated.tca_kernels_scalar import (N_ERRORS, N_UNKNOWNS, contact_margin_point, contact_system_point,
-                                            surface_jet_point, workspace)
 from ..generated.tca_kernels import UNKNOWNS
+from ..generated.tca_kernels_scalar import (
+    N_BOUNDARIES, N_ERRORS, N_MARGINS, N_UNKNOWNS, OPPOSITE_BOUNDARY, candidate_system_point, contact_margin_point,
+    contact_system_point, edge_workspace, surface_jet_point, workspace,
+)
 from ..status import Status
 
 try:
@@ -31,6 +48,8 @@ FAILED = int(Status.FAILED)
 
 #: Functions compiled with numba's parallel=True by the compiled backend.
 PARALLEL = ("solve_paths",)
+#: Active-set rounds of first_touch before it falls back to solving every candidate.
+MAX_ROUNDS = 8
 
 
 def scratch():
@@ -43,8 +62,11 @@ def scratch():
 def evaluate(problem, x, phi1, e, ws, F, J, Je, Jp):
     """Eq 38 at unknowns x: residual F, d/d unknowns J, d/d errors Je, d/d pinion angle Jp."""
     pinion_model, gear_model, flank, pinion_params, gear_params, pair = problem
-    contact_system_point(pinion_model, gear_model, flank, x, phi1, e, pinion_params, gear_params, pair, ws, F, J, Je,
-                         Jp)
+    try:
+        contact_system_point(pinion_model, gear_model, flank, x, phi1, e, pinion_params, gear_params, pair, ws, F, J,
+                             Je, Jp)
+    except Exception:  # a math domain error or overflow of a runaway iterate (numba gives nan): not finite
+        F[0] = math.nan
 
 
 def solve_linear(A, b, out):
@@ -84,11 +106,12 @@ def solve_linear(A, b, out):
     return True
 
 
-def residual_norm(F, scale):
-    """max |F_i| in mm: the normal rows (dimensionless) times the length scale; inf if not finite."""
+def residual_norm(F, scale, n_mm=3):
+    """max |F_i| in mm: rows from n_mm on (normals, tangency: dimensionless) times the length scale;
+    inf if not finite."""
     r = 0.0
     for i in range(F.shape[0]):
-        v = abs(F[i]) * (scale if i >= 3 else 1.0)
+        v = abs(F[i]) * (scale if i >= n_mm else 1.0)
         if not math.isfinite(v):
             return math.inf
         if v > r:
@@ -96,36 +119,215 @@ def residual_norm(F, scale):
     return r
 
 
+def newton_update(F, J, x, step, r, tol, last):
+    """One Newton decision at residual norm r: 1 converged, -1 failed (not finite, singular, or
+    the last iteration), 0 stepped (x += -J^-1 F; F is negated)."""
+    if not math.isfinite(r):
+        return -1
+    if r <= tol:
+        return 1
+    if last:
+        return -1
+    for i in range(F.shape[0]):
+        F[i] = -F[i]
+    if not solve_linear(J, F, step):
+        return -1
+    for i in range(x.shape[0]):
+        x[i] += step[i]
+    return 0
+
+
 def newton(problem, x, phi1, e, scale, tol, max_iter, ws, F, J, Je, Jp, step):
     """Newton in place on x.  Returns (converged, iterations); F, J, Je, Jp and ws hold the
     last evaluation (at the returned x)."""
     for it in range(max_iter + 1):
         evaluate(problem, x, phi1, e, ws, F, J, Je, Jp)
-        r = residual_norm(F, scale)
-        if not math.isfinite(r):
-            return False, it
-        if r <= tol:
-            return True, it
-        if it == max_iter:
-            break
-        for i in range(F.shape[0]):
-            F[i] = -F[i]
-        if not solve_linear(J, F, step):
-            return False, it
-        for i in range(x.shape[0]):
-            x[i] += step[i]
+        s = newton_update(F, J, x, step, residual_norm(F, scale), tol, it == max_iter)
+        if s != 0:
+            return s > 0, it
     return False, max_iter
 
 
-def classify(converged, margin, edge_tol):
-    """Status code of a point from convergence and its smallest flank margin (mm)."""
+def classify(converged, margin, patch_tol):
+    """Status code of an Eq 38 tangency from convergence and its smallest flank margin (mm): OK on
+    both patches (margin >= -patch_tol), OUTSIDE off a patch (then first_touch decides), FAILED."""
     if not converged or not math.isfinite(margin):
         return FAILED
-    if margin > edge_tol:
+    if margin >= -patch_tol:
         return OK
-    if margin >= -edge_tol:
-        return EDGE
     return OUTSIDE
+
+
+def edge_scratch():
+    """Work arrays of the first-touch search: (edge workspace, margins, F, J, Je, Jp, step, y, rhs, JT)."""
+    return (edge_workspace(), np.zeros(N_MARGINS), np.empty(N_UNKNOWNS), np.empty((N_UNKNOWNS, N_UNKNOWNS)),
+            np.empty((N_UNKNOWNS, N_ERRORS)), np.empty(N_UNKNOWNS), np.empty(N_UNKNOWNS), np.empty(N_UNKNOWNS),
+            np.empty(N_UNKNOWNS), np.empty((N_UNKNOWNS, N_UNKNOWNS)))
+
+
+def evaluate_candidate(problem, blanks, first, second, x, phi1, e, ws, ews, F, J, Je, Jp, margins):
+    """The candidate system of the active boundaries (first, second) at x (tca_kernels_scalar)."""
+    pinion_model, gear_model, flank, pinion_params, gear_params, pair = problem
+    pinion_blank, gear_blank = blanks
+    try:
+        candidate_system_point(pinion_model, gear_model, flank, first, second, x, phi1, e, pinion_params,
+                               gear_params, pair, pinion_blank, gear_blank, ws, ews, F, J, Je, Jp, margins)
+    except Exception:  # as in evaluate: the same verdict on both backends
+        F[0] = math.nan
+
+
+def newton_candidate(problem, blanks, first, second, x, phi1, e, scale, tol, max_iter, ws, ews, F, J, Je, Jp, step,
+                     margins):
+    """Newton in place on x for one candidate system; (converged, iterations).  F, J, Je, Jp and
+    margins hold the last evaluation."""
+    n_mm = 3 + (1 if first >= 0 else 0) + (1 if second >= 0 else 0)
+    for it in range(max_iter + 1):
+        evaluate_candidate(problem, blanks, first, second, x, phi1, e, ws, ews, F, J, Je, Jp, margins)
+        s = newton_update(F, J, x, step, residual_norm(F, scale, n_mm), tol, it == max_iter)
+        if s != 0:
+            return s > 0, it
+    return False, max_iter
+
+
+def conflicting(a, b):
+    """True if boundaries a and b (indices into CONTACT_BOUNDARIES) cannot be active together:
+    the same boundary, or opposite sides of one member's patch."""
+    if a < 0 or b < 0:
+        return False
+    if a == b:
+        return True
+    if (a < N_BOUNDARIES) != (b < N_BOUNDARIES):
+        return False
+    return OPPOSITE_BOUNDARY[a % N_BOUNDARIES] == b % N_BOUNDARIES
+
+
+def multipliers(J, sign, y, rhs, JT):
+    """Multipliers of the active boundaries (rows 3 and 4) at a solution whose Jacobian is J:
+    J^T y = -sign e_phi'2 (the KKT condition of max sign * phi'_2).  (lambda_3, lambda_4); nan if
+    J is singular."""
+    for i in range(N_UNKNOWNS):
+        for k in range(N_UNKNOWNS):
+            JT[i, k] = J[k, i]
+        rhs[i] = 0.0
+    rhs[N_UNKNOWNS - 1] = -sign
+    if not solve_linear(JT, rhs, y):
+        return math.nan, math.nan
+    return y[3], y[4]
+
+
+def worst_inactive(margins, first, second, patch_tol):
+    """The most violated boundary not in the active set (-1 if all >= -patch_tol)."""
+    worst = -1
+    wv = -patch_tol
+    for i in range(N_MARGINS):
+        if i != first and i != second and margins[i] < wv:
+            wv = margins[i]
+            worst = i
+    return worst
+
+
+def first_touch(problem, blanks, sign, x, first, second, phi1, e, scale, tol, max_iter, patch_tol, ws, es):
+    """Active-set search for the first touch from x with the active set (first, second).  In
+    place on x; returns (found, first, second).  J, Jp of ``es`` hold the final system."""
+    ews, margins, F, J, Je, Jp, step, y, rhs, JT = es
+    a = first
+    b = second
+    for _ in range(MAX_ROUNDS):
+        conv, _ = newton_candidate(problem, blanks, a, b, x, phi1, e, scale, tol, max_iter, ws, ews, F, J, Je, Jp,
+                                   step, margins)
+        if not conv:
+            return False, a, b
+        worst = worst_inactive(margins, a, b, patch_tol)
+        if worst >= 0:
+            if a < 0:
+                a = worst
+            elif b < 0:
+                if conflicting(a, worst):
+                    a = worst
+                else:
+                    b = worst
+            elif conflicting(a, worst):
+                a = worst
+            elif conflicting(b, worst):
+                b = worst
+            else:
+                la, lb = multipliers(J, sign, y, rhs, JT)
+                if la < lb:
+                    a = worst
+                else:
+                    b = worst
+            if b >= 0 and b < a:
+                a, b = b, a
+            continue
+        if a < 0:
+            return True, a, b
+        la, lb = multipliers(J, sign, y, rhs, JT)
+        if not math.isfinite(la):
+            return False, a, b
+        if b < 0:
+            if la < 0.0:
+                return False, a, b  # not binding: let the enumeration decide
+            return True, a, b
+        if la < 0.0 or lb < 0.0:
+            if la < lb:
+                a = b
+            b = -1
+            continue
+        return True, a, b
+    return False, a, b
+
+
+def enumerate_candidates(problem, blanks, sign, x_start, x, phi1, e, scale, tol, max_iter, patch_tol, ws, es, xt):
+    """Every edge and corner system solved from x_start; the feasible solution with the largest
+    sign * phi'_2 is written to x.  Returns (found, first, second)."""
+    ews, margins, F, J, Je, Jp, step, y, rhs, JT = es
+    best = -math.inf
+    ba = -1
+    bb = -1
+    for a in range(N_MARGINS):
+        for b in range(-1, N_MARGINS):
+            if b >= 0 and (b <= a or conflicting(a, b)):
+                continue
+            xt[:] = x_start
+            conv, _ = newton_candidate(problem, blanks, a, b, xt, phi1, e, scale, tol, max_iter, ws, ews, F, J, Je,
+                                       Jp, step, margins)
+            if conv and worst_inactive(margins, a, b, patch_tol) < 0 and sign * xt[4] > best:
+                best = sign * xt[4]
+                ba = a
+                bb = b
+                x[:] = xt
+    if ba < 0:
+        return False, -1, -1
+    # leave the winner's system in es (J, Jp for the next point's predictor)
+    conv, _ = newton_candidate(problem, blanks, ba, bb, x, phi1, e, scale, tol, max_iter, ws, ews, F, J, Je, Jp, step,
+                               margins)
+    return True, ba, bb
+
+
+def solve_off_patch(problem, blanks, sign, x_tangency, have_prev, x_prev, prev_first, prev_second, phi1, phi_prev, e,
+                    scale, tol, max_iter, patch_tol, ws, es, xe, xt, dx):
+    """The first touch at phi1 when the tangency x_tangency is off a patch: from the previous
+    point's edge contact (predicted along its exact tangent) when there is one, else from the
+    tangency; the enumeration when the active-set search does not settle.  Result in xe;
+    returns (found, first, second)."""
+    ews, margins, F, J, Je, Jp, step, y, rhs, JT = es
+    if have_prev:
+        xe[:] = x_prev
+        for i in range(N_UNKNOWNS):
+            rhs[i] = -Jp[i]
+        if solve_linear(J, rhs, dx):
+            for i in range(N_UNKNOWNS):
+                xe[i] += dx[i] * (phi1 - phi_prev)
+        found, a, b = first_touch(problem, blanks, sign, xe, prev_first, prev_second, phi1, e, scale, tol, max_iter,
+                                  patch_tol, ws, es)
+        if found:
+            return True, a, b
+    xe[:] = x_tangency
+    found, a, b = first_touch(problem, blanks, sign, xe, -1, -1, phi1, e, scale, tol, max_iter, patch_tol, ws, es)
+    if found and a >= 0:
+        return True, a, b
+    return enumerate_candidates(problem, blanks, sign, x_tangency, xe, phi1, e, scale, tol, max_iter, patch_tol, ws,
+                                es, xt)
 
 
 def homotopy(problem, x, phi_ref, target, steps, scale, tol, max_iter, ws, F, J, Je, Jp, step, dx, e, rhs):
@@ -153,23 +355,32 @@ def homotopy(problem, x, phi_ref, target, steps, scale, tol, max_iter, ws, F, J,
 
 
 def solve_paths(problem, pinion_blank, gear_blank, x_ref, phi_ref, errors, phi_grid, scale, tol, max_iter,
-                homotopy_steps, edge_tol, x_out, code_out, iters_out, boundary_out):
-    """Error sets (K, N_ERRORS) x pinion angles (N,) sorted ascending: contact unknowns, status
-    codes, Newton iterations and the index of the nearest flank boundary (-1 if failed).
+                homotopy_steps, patch_tol, sign, x_out, code_out, iters_out, boundary_out, active_out):
+    """Error sets (K, N_ERRORS) x pinion angles (N,) sorted ascending: the contact unknowns, status
+    codes, Newton iterations, the nearest flank boundary of the tangency (-1 if failed) and the
+    active boundaries (K, N, 2) of an edge or corner contact (-1: none).
 
     x_ref is the aligned contact at phi_ref.  Per error set: the homotopy in the errors at
     phi_ref, then a march up and a march down the grid with the exact tangent d x / d phi_1 as
     predictor, plus the second-order term from the change of the tangent over the last step once
     two converged points are behind (non-conjugate surfaces, e.g. crowned: one Newton step instead
-    of two).  A point that fails restarts the next one from the homotopy's solution.
+    of two).  A point that fails restarts the next one from the homotopy's solution.  Where the
+    tangency leaves a patch, the first touch (edge or corner contact) is solved and reported;
+    ``sign`` (+1 or -1) says which extreme of phi'_2 touches first.
     """
     K = errors.shape[0]
     N = phi_grid.shape[0]
+    blanks = (pinion_blank, gear_blank)
     j0 = 0
     while j0 < N and phi_grid[j0] < phi_ref:
         j0 += 1
     for k in prange(K):
         ws, F, J, Je, Jp, step, dx, rhs, e = scratch()
+        es = edge_scratch()
+        ews = workspace()  # the candidates' surface jets (ws keeps the tangency's)
+        xe = np.empty(N_UNKNOWNS)
+        xp = np.empty(N_UNKNOWNS)
+        xt = np.empty(N_UNKNOWNS)
         x = x_ref.copy()
         ok_all = homotopy(problem, x, phi_ref, errors[k], homotopy_steps, scale, tol, max_iter, ws, F, J, Je, Jp,
                           step, dx, e, rhs)
@@ -185,6 +396,10 @@ def solve_paths(problem, pinion_blank, gear_blank, x_ref, phi_ref, errors, phi_g
             good = ok_all
             curved = False  # tprev and hprev hold the last step's tangent and length
             hprev = 0.0
+            have_edge = False
+            ea = -1
+            eb = -1
+            phi_edge = phi_ref
             if direction == 0:
                 j, stop, inc = j0, N, 1
             else:
@@ -210,13 +425,32 @@ def solve_paths(problem, pinion_blank, gear_blank, x_ref, phi_ref, errors, phi_g
                 for i in range(N_UNKNOWNS):
                     x_out[k, j, i] = x[i]
                 iters_out[k, j] = it
+                active_out[k, j, 0] = -1
+                active_out[k, j, 1] = -1
                 if conv and ok_all:
                     margin, which = contact_margin_point(x, pinion_blank, gear_blank, ws)
-                    code_out[k, j] = classify(True, margin, edge_tol)
+                    code = classify(True, margin, patch_tol)
                     boundary_out[k, j] = which
+                    if code == OUTSIDE:
+                        xp[:] = xe
+                        found, ea, eb = solve_off_patch(problem, blanks, sign, x, have_edge, xp, ea, eb, phi,
+                                                        phi_edge, e, scale, tol, max_iter, patch_tol, ews, es, xe,
+                                                        xt, dx)
+                        have_edge = found
+                        if found:
+                            code = EDGE
+                            phi_edge = phi
+                            for i in range(N_UNKNOWNS):
+                                x_out[k, j, i] = xe[i]
+                            active_out[k, j, 0] = ea
+                            active_out[k, j, 1] = eb
+                    else:
+                        have_edge = False
+                    code_out[k, j] = code
                 else:
                     code_out[k, j] = FAILED
                     boundary_out[k, j] = -1
+                    have_edge = False
                     x[:] = xs  # restart the next point from the reference
                 good = conv
                 prev = phi
