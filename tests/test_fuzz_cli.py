@@ -225,7 +225,7 @@ def _call(argv):
     return rc, out.getvalue(), err.getvalue(), [str(w.message) for w in caught]
 
 
-@settings(max_examples=300, deadline=None, derandomize=True, database=None,
+@settings(max_examples=120, deadline=None, derandomize=True, database=None,
           suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large, HealthCheck.filter_too_much])
 @given(data=st.data())
 def test_cli_fuzz_success_or_one_line_exit_2(data):

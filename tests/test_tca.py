@@ -361,11 +361,11 @@ def test_backlash_is_never_wrapped_and_has_a_status():
     data = tomllib.loads((ROOT / "examples" / "case1.toml").read_text())
     data["pair"].update(normal_module_mm=1.0, offset_mm=38.1666)
     geom = tca.PairGeometry.from_design(design(spec_from_dict(data)))
-    b = [tca.backlash(geom, (dx, 0, 0, 0, 0), backend="numpy") for dx in (0.0, 0.05, 0.1, 3.0)]
+    b = [tca.backlash(geom, (dx, 0, 0, 0, 0)) for dx in (0.0, 0.05, 0.1, 3.0)]
     assert [x.status for x in b[:3]] == ["ok", "ok", "ok"]
     assert abs(b[0].um) < 1e-6 and 0 < b[1].um < b[2].um
     assert b[2].um == pytest.approx(2 * b[1].um, rel=0.05)  # first order in dx
     assert b[3].status == "outside" and b[3].um is None and "flank" in b[3].reason
     case1 = tca.PairGeometry.from_design(design(load_spec(ROOT / "examples" / "case1.toml")))
-    off = tca.backlash(case1, (0, 0, 0, 5 * DEG, 0), backend="numpy")
+    off = tca.backlash(case1, (0, 0, 0, 5 * DEG, 0))
     assert off.status in ("outside", "failed") and off.um is None and off.reason
