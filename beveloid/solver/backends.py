@@ -98,8 +98,9 @@ def _compile(modules):
         copy = types.FunctionType(fn.__code__, glob[mod], fn.__name__, fn.__defaults__, fn.__closure__)
         copy.__qualname__ = fn.__qualname__
         copy.__module__ = fn.__module__
-        jitted[fn] = _jit(copy, parallel=(mod is core and fn.__name__ in core.PARALLEL),
-                          inline="never" if mod is core else "always")
+        # inline="never": inlining the generated kernels (numba inline="always") made an evaluation
+        # ~20 % faster but the first compilation 157 s instead of 47 s (docs/performance.md)
+        jitted[fn] = _jit(copy, parallel=(mod is core and fn.__name__ in core.PARALLEL), inline="never")
     for g in glob.values():
         for name, val in list(g.items()):
             if isinstance(val, types.FunctionType) and val in jitted:
