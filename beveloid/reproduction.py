@@ -187,7 +187,7 @@ def run(out_dir, positions=200, progress=_progress):
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
-    steps = 2 + len(STUDIES) + 4
+    steps = 1 + len(STUDIES) + 6  # Table 1, the error studies, Fig 22, sensitivity, onset, crowning, LTCA, report
     k = 0
 
     def step(msg):
