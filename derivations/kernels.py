@@ -41,6 +41,7 @@ import sympy as sp
 
 from . import (
     codegen, crowned_flank, design_chain, edge_contact, eq04_07_tooth_surface, eq28_38_meshing_model, flank_boundaries,
+    patch_clearance,
 )
 from .codegen import Arg, Field, Function, Layout, ModuleSpec, Output
 from .eq01_03_rack_cutter import LEFT, RIGHT
@@ -287,6 +288,20 @@ def edge_contact_module():
                       scalar_twin=True)
 
 
+def patch_clearance_module():
+    """The rigid map S_1 -> S_2 at phi'_2 = 0 of the patch-clearance pre-check (patch_clearance.py)."""
+    pc = patch_clearance
+    return ModuleSpec("patch_clearance", "patch_clearance.py",
+                      "Whether a pinion flank patch can reach the gear blank at a pinion angle, at any gear angle.", [
+        Function("pinion_in_gear_frame",
+                 "The pinion frame S_1 seen from the gear frame S_2 at phi'_2 = 0: M_21 = M_f2(0)^-1 M_f1(phi'_1).",
+                 [Arg("pinion_angle", phi1p, "rad", "phi'_1 of Eq 30"), Arg("errors", ERRORS, "", "assembly errors"),
+                  Arg("pair", PLACEMENT, "", "pair placement")],
+                 [Output("rotation", _placed(pc.L_21), "1", "L_21: pinion axes in S_2"),
+                  Output("translation", _placed(pc.T_21), "mm", "origin of S_1 in S_2")]),
+    ], scalar_twin=True)
+
+
 def _pair_args():
     return [
         Arg("normal_module", m_n, "mm", "normal module m_n"),
@@ -381,7 +396,7 @@ def module_specs(models=None):
     models = models or SURFACE_MODELS
     return ([surface_module(k, m) for k, m in models.items()]
             + [placement_module(), contact_system_module(), flank_boundaries_module(), edge_contact_module(),
-               design_module()])
+               patch_clearance_module(), design_module()])
 
 
 def composed_residual(pinion_model="involute", gear_model="involute", flank="right"):

@@ -8,6 +8,7 @@ MODULES = (
     'contact_system',
     'flank_boundaries',
     'edge_contact',
+    'patch_clearance',
     'design_equations',
 )
 SCALAR_MODULES = (
@@ -16,6 +17,7 @@ SCALAR_MODULES = (
     'contact_system_scalar',
     'flank_boundaries_scalar',
     'edge_contact_scalar',
+    'patch_clearance_scalar',
 )
 SUPPORT_MODULES = (
     'layouts',

@@ -11,6 +11,8 @@ from .edge_contact_scalar import boundary_jet_point as _boundary_jet
 from .edge_contact_scalar import gear_edge_tangency_point as _gear_edge_tangency
 from .edge_contact_scalar import pinion_edge_tangency_point as _pinion_edge_tangency
 from .flank_boundaries_scalar import flank_margins_point as _flank_margins
+from .flank_boundaries_scalar import flank_margins_point as blank_margins_point  # noqa: F401  (the core's clearance check)
+from .patch_clearance_scalar import pinion_in_gear_frame_point  # noqa: F401  (the core's clearance check)
 from .surface_involute_scalar import surface_jet_left_point as _involute_jet_left
 from .surface_involute_scalar import surface_jet_right_point as _involute_jet_right
 from .surface_crowned_scalar import surface_jet_left_point as _crowned_jet_left
