@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import assembly_errors
+from . import assembly_errors, patch_cover
 from .generated import layouts, tca_kernels
 from .geometry import Member, PairGeometry  # noqa: F401  (re-exported: tca.PairGeometry.from_design)
 from .solver import backends
@@ -236,7 +236,8 @@ def _solve_grid_once(geom, flank, errors, phi_grid, backend, options, homotopy_s
     boundary = np.empty((K, N), dtype=np.int64)
     active = np.empty((K, N, 2), dtype=np.int64)
     core = _core(backend, announce=True)
-    core.solve_paths(geom.problem(flank), geom.pinion.blank(), geom.gear.blank(), np.ascontiguousarray(ref.x),
+    cover = patch_cover.patch_cover(geom, "pinion", flank, options.patch_tol_mm).cells
+    core.solve_paths(geom.problem(flank), geom.pinion.blank(), geom.gear.blank(), cover, np.ascontiguousarray(ref.x),
                      ref.pinion_angle, errors, grid, geom.gear.working_pitch_radius_mm,
                      newton_tolerance(geom, options.tol_mm), options.max_iter, homotopy_steps, options.patch_tol_mm,
                      first_touch_sign(geom, flank), x, code, iters, boundary, active)
@@ -360,7 +361,7 @@ def mesh_flank(geom: PairGeometry, flank: str, errors=(0, 0, 0, 0, 0), positions
     P2[~valid] = np.nan
     phi2_v = np.where(valid, phi2, np.nan)
     # envelope: the pair that constrains the gear most carries the contact
-    sign = _gap_sign(geom, flank, ref)
+    sign = first_touch_sign(geom, flank)
     TE = te_v.reshape(pairs, positions)
     with np.errstate(invalid="ignore"):
         if sign > 0:
@@ -435,7 +436,7 @@ def _raw_play(geom, errors, backend, options):
         sol = solve_grid(geom, fl, e, np.array([phi1]), backend, options)
         angles[fl] = unknowns(sol.x[0, 0]).gear_angle_rad
         codes[fl] = Status(int(sol.status[0, 0]))
-        signs[fl] = _gap_sign(geom, fl, refs[fl])
+        signs[fl] = first_touch_sign(geom, fl)
     if signs["left"] == signs["right"]:
         raise RuntimeError("both flanks open in the same direction: flank orientation is inconsistent")
     # the left contact lets the gear move toward sign_left; the right contact stops it
@@ -464,7 +465,7 @@ def _flank_limit(geom, flank, errors, phi1, backend, options):
     sol = solve_grid(geom, flank, errors, (phi1[None, :] - ks[:, None] * p1).ravel(), backend, options)
     phi2 = (unknowns(sol.x[0]).gear_angle_rad - np.repeat(ks, phi1.size) * p2).reshape(ks.size, phi1.size)
     phi2 = np.where(carries_numbers(sol.status[0]).reshape(phi2.shape), phi2, np.nan)
-    if _gap_sign(geom, flank, reference_contact(geom, flank)) > 0:
+    if first_touch_sign(geom, flank) > 0:
         limit = np.where(np.isnan(phi2), -np.inf, phi2).max(axis=0)
     else:
         limit = np.where(np.isnan(phi2), np.inf, phi2).min(axis=0)
@@ -476,7 +477,7 @@ def _play(geom, errors, phi1, whole, backend, options):
     limits, codes = {}, {}
     for fl in FLANKS:
         limits[fl], codes[fl] = _flank_limit(geom, fl, errors, phi1, backend, options)
-    sign = _gap_sign(geom, "left", reference_contact(geom, "left"))
+    sign = first_touch_sign(geom, "left")
     return (limits["right"] - limits["left"]) * sign - whole * geom.pitch_angles[1], codes
 
 

@@ -23,17 +23,21 @@ non-negative multipliers.  Along a path the previous point's active set and solu
 with the exact tangent, start the next point, so a point usually costs one Newton solve.  If the
 iteration does not settle, every candidate system is solved from the tangency and the extreme
 feasible solution is kept (:func:`enumerate_candidates`); none feasible means the patches do
-not touch (OUTSIDE).
+not touch (OUTSIDE).  Before the search from the tangency, :func:`patches_apart` tries to prove
+that the pinion's patch cannot reach the gear's at any gear angle (out-of-mesh tooth pairs):
+then the point is OUTSIDE at once.
 """
 import math
 
 import numpy as np
 
-from ..generated.tca_kernels import UNKNOWNS
+from ..generated.tca_kernels import BOUNDARIES, UNKNOWNS
 from ..generated.tca_kernels_scalar import (
-    N_BOUNDARIES, N_ERRORS, N_MARGINS, N_UNKNOWNS, OPPOSITE_BOUNDARY, candidate_system_point, contact_margin_point,
-    contact_system_point, edge_workspace, surface_jet_point, workspace,
+    N_BOUNDARIES, N_ERRORS, N_MARGINS, N_UNKNOWNS, OPPOSITE_BOUNDARY, blank_margins_point, candidate_system_point,
+    contact_margin_point, contact_system_point, edge_workspace, pinion_in_gear_frame_point, surface_jet_point,
+    workspace,
 )
+from ..patch_cover import CELL_FIELDS
 from ..status import Status
 
 try:
@@ -50,6 +54,14 @@ FAILED = int(Status.FAILED)
 PARALLEL = ("solve_paths",)
 #: Active-set rounds of first_touch before it falls back to solving every candidate.
 MAX_ROUNDS = 8
+#: How often patches_apart may halve a cell of the pinion patch cover (root spheres of a few mm
+#: become 1/64 of that) before it gives up the proof.
+MAX_SPLITS = 6
+#: the form limit is a margin in the rack parameter (l >= 0), not in the point: no sphere test
+FORM_LIMIT = BOUNDARIES.index("form limit")
+CELL_X, CELL_L, CELL_U = CELL_FIELDS.index("x_mm"), CELL_FIELDS.index("l_mm"), CELL_FIELDS.index("u_mm")
+CELL_HALF_L, CELL_HALF_U = CELL_FIELDS.index("half_l_mm"), CELL_FIELDS.index("half_u_mm")
+CELL_STRETCH = CELL_FIELDS.index("stretch")
 
 
 def scratch():
@@ -304,12 +316,83 @@ def enumerate_candidates(problem, blanks, sign, x_start, x, phi1, e, scale, tol,
     return True, ba, bb
 
 
-def solve_off_patch(problem, blanks, sign, x_tangency, have_prev, x_prev, prev_first, prev_second, phi1, phi_prev, e,
-                    scale, tol, max_iter, patch_tol, ws, es, xe, xt, dx):
+def clearance_scratch():
+    """Work arrays of patches_apart: (rotation, translation, margins, margins_D_point, margins_D_l,
+    point in S_2, pinion point, normal, point_D_lu, normal_D_lu, stack of cells (l, u, half_l,
+    half_u, depth))."""
+    return (np.empty((3, 3)), np.empty(3), np.empty(N_BOUNDARIES), np.empty((N_BOUNDARIES, 3)),
+            np.empty(N_BOUNDARIES), np.empty(3), np.empty(3), np.empty(3), np.empty((3, 2)), np.empty((3, 2)),
+            np.empty((4 * MAX_SPLITS + 4, 5)))
+
+
+def sphere_outside_blank(p, radius, l, blank, m, mdp, mdl):
+    """(the sphere about p lies outside the blank, p itself lies inside it): the sphere is outside
+    when some point margin g_i has g_i(p) + radius |grad g_i| < 0 (derivations/patch_clearance.py);
+    the form limit (l >= 0) is checked at p only."""
+    blank_margins_point(p, l, blank, m, mdp, mdl)
+    inside = True
+    for b in range(N_BOUNDARIES):
+        if m[b] < 0.0:
+            inside = False
+        if b != FORM_LIMIT and m[b] + radius * math.sqrt(mdp[b, 0] ** 2 + mdp[b, 1] ** 2 + mdp[b, 2] ** 2) < 0.0:
+            return True, False
+    return False, inside
+
+
+def patches_apart(problem, cells, pinion_blank, gear_blank, phi1, e, patch_tol, cs):
+    """True when the pinion's bounded flank cannot meet the gear's at phi1 for any gear angle
+    (derivations/patch_clearance.py): every cell of the pinion patch cover (beveloid/patch_cover.py)
+    has its sphere outside the pinion blank (no patch point) or, carried into S_2 at phi'_2 = 0,
+    outside the gear blank.  A cell that is neither is cut in four, at most MAX_SPLITS times.
+    False when that cannot be shown: a cell centre on the patch and inside the gear blank, or a
+    cell still undecided after MAX_SPLITS."""
+    pinion_model, gear_model, flank, pinion_params, gear_params, pair = problem
+    rot, trans, m, mdp, mdl, q, pt, nm, dp, dn, stack = cs
+    pinion_in_gear_frame_point(phi1, e, pair, rot, trans)
+    for i in range(cells.shape[0]):
+        stretch = cells[i, CELL_STRETCH]
+        stack[0, 0] = cells[i, CELL_L]
+        stack[0, 1] = cells[i, CELL_U]
+        stack[0, 2] = cells[i, CELL_HALF_L]
+        stack[0, 3] = cells[i, CELL_HALF_U]
+        stack[0, 4] = 0.0
+        top = 1
+        while top > 0:
+            top -= 1
+            l, u, hl, hu, depth = stack[top, 0], stack[top, 1], stack[top, 2], stack[top, 3], stack[top, 4]
+            if depth == 0.0:
+                for a in range(3):
+                    pt[a] = cells[i, CELL_X + a]
+            else:
+                surface_jet_point(pinion_model, flank, l, u, pinion_params, pt, nm, dp, dn)
+            radius = math.sqrt(hl * hl + hu * hu) * stretch + patch_tol
+            out, on_patch = sphere_outside_blank(pt, radius, l, pinion_blank, m, mdp, mdl)
+            if out:
+                continue
+            for a in range(3):
+                q[a] = trans[a] + rot[a, 0] * pt[0] + rot[a, 1] * pt[1] + rot[a, 2] * pt[2]
+            out, in_gear = sphere_outside_blank(q, radius, 0.0, gear_blank, m, mdp, mdl)
+            if out:
+                continue
+            if (on_patch and in_gear) or depth >= MAX_SPLITS:
+                return False
+            for a in range(2):
+                for b in range(2):
+                    stack[top, 0] = l + (a - 0.5) * hl
+                    stack[top, 1] = u + (b - 0.5) * hu
+                    stack[top, 2] = 0.5 * hl
+                    stack[top, 3] = 0.5 * hu
+                    stack[top, 4] = depth + 1.0
+                    top += 1
+    return True
+
+
+def solve_off_patch(problem, blanks, cells, sign, x_tangency, have_prev, x_prev, prev_first, prev_second, phi1,
+                    phi_prev, e, scale, tol, max_iter, patch_tol, ws, es, cs, xe, xt, dx):
     """The first touch at phi1 when the tangency x_tangency is off a patch: from the previous
-    point's edge contact (predicted along its exact tangent) when there is one, else from the
-    tangency; the enumeration when the active-set search does not settle.  Result in xe;
-    returns (found, first, second)."""
+    point's edge contact (predicted along its exact tangent) when there is one; else, unless
+    patches_apart proves the patches cannot touch, from the tangency and, when the active-set
+    search does not settle, by the enumeration.  Result in xe; returns (found, first, second)."""
     ews, margins, F, J, Je, Jp, step, y, rhs, JT = es
     if have_prev:
         xe[:] = x_prev
@@ -322,6 +405,8 @@ def solve_off_patch(problem, blanks, sign, x_tangency, have_prev, x_prev, prev_f
                                   patch_tol, ws, es)
         if found:
             return True, a, b
+    if patches_apart(problem, cells, blanks[0], blanks[1], phi1, e, patch_tol, cs):
+        return False, -1, -1
     xe[:] = x_tangency
     found, a, b = first_touch(problem, blanks, sign, xe, -1, -1, phi1, e, scale, tol, max_iter, patch_tol, ws, es)
     if found and a >= 0:
@@ -354,13 +439,14 @@ def homotopy(problem, x, phi_ref, target, steps, scale, tol, max_iter, ws, F, J,
     return ok
 
 
-def solve_paths(problem, pinion_blank, gear_blank, x_ref, phi_ref, errors, phi_grid, scale, tol, max_iter,
+def solve_paths(problem, pinion_blank, gear_blank, pinion_cover, x_ref, phi_ref, errors, phi_grid, scale, tol, max_iter,
                 homotopy_steps, patch_tol, sign, x_out, code_out, iters_out, boundary_out, active_out):
     """Error sets (K, N_ERRORS) x pinion angles (N,) sorted ascending: the contact unknowns, status
     codes, Newton iterations, the nearest flank boundary of the tangency (-1 if failed) and the
     active boundaries (K, N, 2) of an edge or corner contact (-1: none).
 
-    x_ref is the aligned contact at phi_ref.  Per error set: the homotopy in the errors at
+    x_ref is the aligned contact at phi_ref; pinion_cover the cells of the pinion's flank patch
+    (beveloid/patch_cover.py) for the proof that a pair's patches cannot touch.  Per error set: the homotopy in the errors at
     phi_ref, then a march up and a march down the grid with the exact tangent d x / d phi_1 as
     predictor, plus the second-order term from the change of the tangent over the last step once
     two converged points are behind (non-conjugate surfaces, e.g. crowned: one Newton step instead
@@ -377,6 +463,7 @@ def solve_paths(problem, pinion_blank, gear_blank, x_ref, phi_ref, errors, phi_g
     for k in prange(K):
         ws, F, J, Je, Jp, step, dx, rhs, e = scratch()
         es = edge_scratch()
+        cs = clearance_scratch()
         ews = workspace()  # the candidates' surface jets (ws keeps the tangency's)
         xe = np.empty(N_UNKNOWNS)
         xp = np.empty(N_UNKNOWNS)
@@ -433,9 +520,9 @@ def solve_paths(problem, pinion_blank, gear_blank, x_ref, phi_ref, errors, phi_g
                     boundary_out[k, j] = which
                     if code == OUTSIDE:
                         xp[:] = xe
-                        found, ea, eb = solve_off_patch(problem, blanks, sign, x, have_edge, xp, ea, eb, phi,
-                                                        phi_edge, e, scale, tol, max_iter, patch_tol, ews, es, xe,
-                                                        xt, dx)
+                        found, ea, eb = solve_off_patch(problem, blanks, pinion_cover, sign, x, have_edge, xp, ea,
+                                                        eb, phi, phi_edge, e, scale, tol, max_iter, patch_tol, ews,
+                                                        es, cs, xe, xt, dx)
                         have_edge = found
                         if found:
                             code = EDGE
