@@ -57,6 +57,14 @@ MAX_ROUNDS = 8
 #: How often patches_apart may halve a cell of the pinion patch cover (root spheres of a few mm
 #: become 1/64 of that) before it gives up the proof.
 MAX_SPLITS = 6
+#: A Newton step of at most FINAL_STEP_MM (the angle times the length scale) taken from a residual
+#: of at most FINAL_STEP_RESIDUAL_MM ends the iteration without a further evaluation: Newton's
+#: error after it is of the order of the curvature times the step squared (~1e-15 mm), far below
+#: any tolerance.  A predicted point (the path continuations) then costs one evaluation, not two;
+#: J, Jp and the margins the caller reads are those of the point one such step before.
+FINAL_STEP_RESIDUAL_MM = 1e-8
+FINAL_STEP_MM = 1e-7
+GEAR_ANGLE = UNKNOWNS.index("gear_angle_rad")
 #: the form limit is a margin in the rack parameter (l >= 0), not in the point: no sphere test
 FORM_LIMIT = BOUNDARIES.index("form limit")
 CELL_X, CELL_L, CELL_U = CELL_FIELDS.index("x_mm"), CELL_FIELDS.index("l_mm"), CELL_FIELDS.index("u_mm")
@@ -131,9 +139,10 @@ def residual_norm(F, scale, n_mm=3):
     return r
 
 
-def newton_update(F, J, x, step, r, tol, last):
+def newton_update(F, J, x, step, r, tol, last, scale):
     """One Newton decision at residual norm r: 1 converged, -1 failed (not finite, singular, or
-    the last iteration), 0 stepped (x += -J^-1 F; F is negated)."""
+    the last iteration), 0 stepped (x += -J^-1 F; F is negated), 2 stepped and converged (a step
+    of at most FINAL_STEP_MM from a residual of at most FINAL_STEP_RESIDUAL_MM)."""
     if not math.isfinite(r):
         return -1
     if r <= tol:
@@ -144,17 +153,23 @@ def newton_update(F, J, x, step, r, tol, last):
         F[i] = -F[i]
     if not solve_linear(J, F, step):
         return -1
+    size = 0.0
     for i in range(x.shape[0]):
         x[i] += step[i]
+        size = max(size, abs(step[i]) * (scale if i == GEAR_ANGLE else 1.0))
+    if r <= FINAL_STEP_RESIDUAL_MM and size <= FINAL_STEP_MM:
+        return 2
     return 0
 
 
 def newton(problem, x, phi1, e, scale, tol, max_iter, ws, F, J, Je, Jp, step):
     """Newton in place on x.  Returns (converged, iterations); F, J, Je, Jp and ws hold the
-    last evaluation (at the returned x)."""
+    last evaluation: at the returned x, or one final small step before it (FINAL_STEP_MM)."""
     for it in range(max_iter + 1):
         evaluate(problem, x, phi1, e, ws, F, J, Je, Jp)
-        s = newton_update(F, J, x, step, residual_norm(F, scale), tol, it == max_iter)
+        s = newton_update(F, J, x, step, residual_norm(F, scale), tol, it == max_iter, scale)
+        if s == 2:
+            return True, it + 1
         if s != 0:
             return s > 0, it
     return False, max_iter
@@ -191,11 +206,13 @@ def evaluate_candidate(problem, blanks, first, second, x, phi1, e, ws, ews, F, J
 def newton_candidate(problem, blanks, first, second, x, phi1, e, scale, tol, max_iter, ws, ews, F, J, Je, Jp, step,
                      margins):
     """Newton in place on x for one candidate system; (converged, iterations).  F, J, Je, Jp and
-    margins hold the last evaluation."""
+    margins hold the last evaluation (as in :func:`newton`)."""
     n_mm = 3 + (1 if first >= 0 else 0) + (1 if second >= 0 else 0)
     for it in range(max_iter + 1):
         evaluate_candidate(problem, blanks, first, second, x, phi1, e, ws, ews, F, J, Je, Jp, margins)
-        s = newton_update(F, J, x, step, residual_norm(F, scale, n_mm), tol, it == max_iter)
+        s = newton_update(F, J, x, step, residual_norm(F, scale, n_mm), tol, it == max_iter, scale)
+        if s == 2:
+            return True, it + 1
         if s != 0:
             return s > 0, it
     return False, max_iter
@@ -289,6 +306,15 @@ def first_touch(problem, blanks, sign, x, first, second, phi1, e, scale, tol, ma
     return False, a, b
 
 
+def nearest_turn(x, angle):
+    """Turn the gear angle of x by whole turns to within pi of ``angle``: the gear in the same
+    place (every system here is 2 pi-periodic in phi'_2), on the branch of the pair's tangency.
+    A search that wanders a turn away would otherwise look more extreme than any real contact."""
+    turns = math.floor((x[GEAR_ANGLE] - angle) / (2 * math.pi) + 0.5)
+    if turns != 0:
+        x[GEAR_ANGLE] -= 2 * math.pi * turns
+
+
 def enumerate_candidates(problem, blanks, sign, x_start, x, phi1, e, scale, tol, max_iter, patch_tol, ws, es, xt):
     """Every edge and corner system solved from x_start; the feasible solution with the largest
     sign * phi'_2 is written to x.  Returns (found, first, second)."""
@@ -303,8 +329,9 @@ def enumerate_candidates(problem, blanks, sign, x_start, x, phi1, e, scale, tol,
             xt[:] = x_start
             conv, _ = newton_candidate(problem, blanks, a, b, xt, phi1, e, scale, tol, max_iter, ws, ews, F, J, Je,
                                        Jp, step, margins)
-            if conv and worst_inactive(margins, a, b, patch_tol) < 0 and sign * xt[4] > best:
-                best = sign * xt[4]
+            nearest_turn(xt, x_start[GEAR_ANGLE])
+            if conv and worst_inactive(margins, a, b, patch_tol) < 0 and sign * xt[GEAR_ANGLE] > best:
+                best = sign * xt[GEAR_ANGLE]
                 ba = a
                 bb = b
                 x[:] = xt
@@ -388,28 +415,48 @@ def patches_apart(problem, cells, pinion_blank, gear_blank, phi1, e, patch_tol, 
 
 
 def solve_off_patch(problem, blanks, cells, sign, x_tangency, have_prev, x_prev, prev_first, prev_second, phi1,
-                    phi_prev, e, scale, tol, max_iter, patch_tol, ws, es, cs, xe, xt, dx):
+                    phi_prev, e, scale, tol, max_iter, patch_tol, ws, es, cs, xe, xt, dx, track):
     """The first touch at phi1 when the tangency x_tangency is off a patch: from the previous
     point's edge contact (predicted along its exact tangent) when there is one; else, unless
     patches_apart proves the patches cannot touch, from the tangency and, when the active-set
-    search does not settle, by the enumeration.  Result in xe; returns (found, first, second)."""
+    search does not settle, by the enumeration.  Result in xe; returns (found, first, second).
+
+    ``track`` (N_UNKNOWNS + 2) carries the edge path's tangent at the point before the previous
+    one, the step from there and a validity flag: when the previous two edge points had the same
+    active set, the prediction adds the second-order term from the change of the tangent (as the
+    surface path does), so the candidate system usually converges in one Newton step."""
     ews, margins, F, J, Je, Jp, step, y, rhs, JT = es
+    n = N_UNKNOWNS
     if have_prev:
         xe[:] = x_prev
-        for i in range(N_UNKNOWNS):
+        h = phi1 - phi_prev
+        for i in range(n):
             rhs[i] = -Jp[i]
         if solve_linear(J, rhs, dx):
-            for i in range(N_UNKNOWNS):
-                xe[i] += dx[i] * (phi1 - phi_prev)
+            curved = track[n + 1] > 0.0 and track[n] != 0.0
+            for i in range(n):
+                xe[i] += dx[i] * h
+                if curved:
+                    xe[i] += 0.5 * (dx[i] - track[i]) / track[n] * h * h
+                track[i] = dx[i]
+            track[n] = h
+            track[n + 1] = 1.0
+        else:
+            track[n + 1] = 0.0
         found, a, b = first_touch(problem, blanks, sign, xe, prev_first, prev_second, phi1, e, scale, tol, max_iter,
                                   patch_tol, ws, es)
         if found:
+            nearest_turn(xe, x_tangency[GEAR_ANGLE])
+            if a != prev_first or b != prev_second:
+                track[n + 1] = 0.0  # the stored tangent belongs to the previous active set
             return True, a, b
+    track[n + 1] = 0.0
     if patches_apart(problem, cells, blanks[0], blanks[1], phi1, e, patch_tol, cs):
         return False, -1, -1
     xe[:] = x_tangency
     found, a, b = first_touch(problem, blanks, sign, xe, -1, -1, phi1, e, scale, tol, max_iter, patch_tol, ws, es)
     if found and a >= 0:
+        nearest_turn(xe, x_tangency[GEAR_ANGLE])
         return True, a, b
     return enumerate_candidates(problem, blanks, sign, x_tangency, xe, phi1, e, scale, tol, max_iter, patch_tol, ws,
                                 es, xt)
@@ -467,6 +514,7 @@ def solve_paths(problem, pinion_blank, gear_blank, pinion_cover, x_ref, phi_ref,
         ews = workspace()  # the candidates' surface jets (ws keeps the tangency's)
         xe = np.empty(N_UNKNOWNS)
         xp = np.empty(N_UNKNOWNS)
+        track = np.zeros(N_UNKNOWNS + 2)  # the edge path's last tangent, step and validity
         xt = np.empty(N_UNKNOWNS)
         x = x_ref.copy()
         ok_all = homotopy(problem, x, phi_ref, errors[k], homotopy_steps, scale, tol, max_iter, ws, F, J, Je, Jp,
@@ -522,7 +570,7 @@ def solve_paths(problem, pinion_blank, gear_blank, pinion_cover, x_ref, phi_ref,
                         xp[:] = xe
                         found, ea, eb = solve_off_patch(problem, blanks, pinion_cover, sign, x, have_edge, xp, ea,
                                                         eb, phi, phi_edge, e, scale, tol, max_iter, patch_tol, ews,
-                                                        es, cs, xe, xt, dx)
+                                                        es, cs, xe, xt, dx, track)
                         have_edge = found
                         if found:
                             code = EDGE
@@ -557,7 +605,6 @@ PINION_L = UNKNOWNS.index("pinion_l_mm")
 PINION_U = UNKNOWNS.index("pinion_u_mm")
 GEAR_L = UNKNOWNS.index("gear_l_mm")
 GEAR_U = UNKNOWNS.index("gear_u_mm")
-GEAR_ANGLE = UNKNOWNS.index("gear_angle_rad")
 
 
 def _solve3(a00, a01, a02, a10, a11, a12, a20, a21, a22, b0, b1, b2, out):
