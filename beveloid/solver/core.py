@@ -57,13 +57,14 @@ MAX_ROUNDS = 8
 #: How often patches_apart may halve a cell of the pinion patch cover (root spheres of a few mm
 #: become 1/64 of that) before it gives up the proof.
 MAX_SPLITS = 6
-#: A Newton step of at most FINAL_STEP_MM (the angle times the length scale) taken from a residual
-#: of at most FINAL_STEP_RESIDUAL_MM ends the iteration without a further evaluation: Newton's
-#: error after it is of the order of the curvature times the step squared (~1e-15 mm), far below
-#: any tolerance.  A predicted point (the path continuations) then costs one evaluation, not two;
-#: J, Jp and the margins the caller reads are those of the point one such step before.
-FINAL_STEP_RESIDUAL_MM = 1e-8
-FINAL_STEP_MM = 1e-7
+#: Newton's residual after a step s is about K |s|^2, K from the system's second derivatives
+#: (measured K <= 0.1 /mm on case 1 and its crowned variant: benchmarks/newton_final_step.py).  A
+#: step with FINAL_STEP_K |s|^2 <= tol (|s| with the angle times the length scale), taken from a
+#: residual of at most FINAL_STEP_RESIDUAL_MM, ends the iteration without evaluating again: a
+#: predicted point (the path continuations) then costs one evaluation, not two.  J, Jp and the
+#: margins the caller reads are then those of the point one such step (~1e-6 mm) before.
+FINAL_STEP_K = 1.0
+FINAL_STEP_RESIDUAL_MM = 1e-4
 GEAR_ANGLE = UNKNOWNS.index("gear_angle_rad")
 #: the form limit is a margin in the rack parameter (l >= 0), not in the point: no sphere test
 FORM_LIMIT = BOUNDARIES.index("form limit")
@@ -142,7 +143,7 @@ def residual_norm(F, scale, n_mm=3):
 def newton_update(F, J, x, step, r, tol, last, scale):
     """One Newton decision at residual norm r: 1 converged, -1 failed (not finite, singular, or
     the last iteration), 0 stepped (x += -J^-1 F; F is negated), 2 stepped and converged (a step
-    of at most FINAL_STEP_MM from a residual of at most FINAL_STEP_RESIDUAL_MM)."""
+    so small that the residual after it is below tol: FINAL_STEP_K)."""
     if not math.isfinite(r):
         return -1
     if r <= tol:
@@ -157,14 +158,14 @@ def newton_update(F, J, x, step, r, tol, last, scale):
     for i in range(x.shape[0]):
         x[i] += step[i]
         size = max(size, abs(step[i]) * (scale if i == GEAR_ANGLE else 1.0))
-    if r <= FINAL_STEP_RESIDUAL_MM and size <= FINAL_STEP_MM:
+    if r <= FINAL_STEP_RESIDUAL_MM and FINAL_STEP_K * size * size <= tol:
         return 2
     return 0
 
 
 def newton(problem, x, phi1, e, scale, tol, max_iter, ws, F, J, Je, Jp, step):
     """Newton in place on x.  Returns (converged, iterations); F, J, Je, Jp and ws hold the
-    last evaluation: at the returned x, or one final small step before it (FINAL_STEP_MM)."""
+    last evaluation: at the returned x, or one final small step before it (FINAL_STEP_K)."""
     for it in range(max_iter + 1):
         evaluate(problem, x, phi1, e, ws, F, J, Je, Jp)
         s = newton_update(F, J, x, step, residual_norm(F, scale), tol, it == max_iter, scale)
