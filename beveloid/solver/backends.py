@@ -98,9 +98,12 @@ def _compile(modules):
         copy = types.FunctionType(fn.__code__, glob[mod], fn.__name__, fn.__defaults__, fn.__closure__)
         copy.__qualname__ = fn.__qualname__
         copy.__module__ = fn.__module__
-        # inline="never": inlining the generated kernels (numba inline="always") made an evaluation
-        # ~20 % faster but the first compilation 157 s instead of 47 s (docs/performance.md)
-        jitted[fn] = _jit(copy, parallel=(mod is core and fn.__name__ in core.PARALLEL), inline="never")
+        # the generated kernels are not inlined: inlining them (numba inline="always") made an
+        # evaluation ~20 % faster but the first compilation 157 s instead of 47 s; the glue that
+        # dispatches to them (tca_kernels_scalar: small, unpacks the work tuples) is, which made the
+        # first compilation faster too (docs/performance.md)
+        inline = "always" if mod.__name__.endswith(".tca_kernels_scalar") else "never"
+        jitted[fn] = _jit(copy, parallel=(mod is core and fn.__name__ in core.PARALLEL), inline=inline)
     for g in glob.values():
         for name, val in list(g.items()):
             if isinstance(val, types.FunctionType) and val in jitted:
