@@ -152,14 +152,18 @@ def edge_onset_offset(geom, flank, direction=+1.0, hi=3.0, tol=1e-4):
             [b is None or not any(w in b for w in ("tip", "form limit")) for b in fr.contact_boundary])
         return float(np.min(np.where(on_profile, M[:, face].min(axis=1), np.inf)))
 
-    if face_margin(0.0) <= 0:
+    # a contact on the toe or heel itself has a face margin of 0 to round-off (either sign): a
+    # bearing is a margin within the solver's patch tolerance, so the bisection does not follow
+    # the sign of round-off
+    clear = tca.DEFAULT_OPTIONS.patch_tol_mm
+    if face_margin(0.0) <= clear:
         return 0.0
     lo_q, hi_q = 0.0, hi
-    if face_margin(hi_q) > 0:
+    if face_margin(hi_q) > clear:
         return float("inf")
     while hi_q - lo_q > tol:
         mid = 0.5 * (lo_q + hi_q)
-        if face_margin(mid) > 0:
+        if face_margin(mid) > clear:
             lo_q = mid
         else:
             hi_q = mid
