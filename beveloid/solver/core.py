@@ -80,12 +80,19 @@ def scratch():
             np.empty(N_UNKNOWNS), np.empty(N_ERRORS))
 
 
-def evaluate(problem, x, phi1, e, ws, F, J, Je, Jp):
-    """Eq 38 at unknowns x: residual F, d/d unknowns J, d/d errors Je, d/d pinion angle Jp."""
+def evaluate_unchecked(problem, x, phi1, e, ws, F, J, Je, Jp):
+    """Eq 38 at unknowns x: residual F, d/d unknowns J, d/d errors Je, d/d pinion angle Jp.  May
+    raise on a runaway iterate (math domain error, division by zero): callers catch it once
+    around their loop (a try per evaluation cost ~15 % of an evaluation, compiled)."""
     pinion_model, gear_model, flank, pinion_params, gear_params, pair = problem
+    contact_system_point(pinion_model, gear_model, flank, x, phi1, e, pinion_params, gear_params, pair, ws, F, J, Je,
+                         Jp)
+
+
+def evaluate(problem, x, phi1, e, ws, F, J, Je, Jp):
+    """evaluate_unchecked with a failure made non-finite (F[0] = nan) instead of raised."""
     try:
-        contact_system_point(pinion_model, gear_model, flank, x, phi1, e, pinion_params, gear_params, pair, ws, F, J,
-                             Je, Jp)
+        evaluate_unchecked(problem, x, phi1, e, ws, F, J, Je, Jp)
     except Exception:  # a math domain error or overflow of a runaway iterate (numba gives nan): not finite
         F[0] = math.nan
 
@@ -166,13 +173,19 @@ def newton_update(F, J, x, step, r, tol, last, scale):
 def newton(problem, x, phi1, e, scale, tol, max_iter, ws, F, J, Je, Jp, step):
     """Newton in place on x.  Returns (converged, iterations); F, J, Je, Jp and ws hold the
     last evaluation: at the returned x, or one final small step before it (FINAL_STEP_K)."""
-    for it in range(max_iter + 1):
-        evaluate(problem, x, phi1, e, ws, F, J, Je, Jp)
-        s = newton_update(F, J, x, step, residual_norm(F, scale), tol, it == max_iter, scale)
-        if s == 2:
-            return True, it + 1
-        if s != 0:
-            return s > 0, it
+    done = 0
+    try:
+        for it in range(max_iter + 1):
+            done = it
+            evaluate_unchecked(problem, x, phi1, e, ws, F, J, Je, Jp)
+            s = newton_update(F, J, x, step, residual_norm(F, scale), tol, it == max_iter, scale)
+            if s == 2:
+                return True, it + 1
+            if s != 0:
+                return s > 0, it
+    except Exception:  # an evaluation failed (see evaluate): not converged
+        F[0] = math.nan
+        return False, done
     return False, max_iter
 
 
@@ -194,14 +207,12 @@ def edge_scratch():
 
 
 def evaluate_candidate(problem, blanks, first, second, x, phi1, e, ws, ews, F, J, Je, Jp, margins):
-    """The candidate system of the active boundaries (first, second) at x (tca_kernels_scalar)."""
+    """The candidate system of the active boundaries (first, second) at x (tca_kernels_scalar).
+    May raise, as evaluate_unchecked: newton_candidate catches it around its loop."""
     pinion_model, gear_model, flank, pinion_params, gear_params, pair = problem
     pinion_blank, gear_blank = blanks
-    try:
-        candidate_system_point(pinion_model, gear_model, flank, first, second, x, phi1, e, pinion_params,
-                               gear_params, pair, pinion_blank, gear_blank, ws, ews, F, J, Je, Jp, margins)
-    except Exception:  # as in evaluate: the same verdict on both backends
-        F[0] = math.nan
+    candidate_system_point(pinion_model, gear_model, flank, first, second, x, phi1, e, pinion_params, gear_params,
+                           pair, pinion_blank, gear_blank, ws, ews, F, J, Je, Jp, margins)
 
 
 def newton_candidate(problem, blanks, first, second, x, phi1, e, scale, tol, max_iter, ws, ews, F, J, Je, Jp, step,
@@ -209,13 +220,19 @@ def newton_candidate(problem, blanks, first, second, x, phi1, e, scale, tol, max
     """Newton in place on x for one candidate system; (converged, iterations).  F, J, Je, Jp and
     margins hold the last evaluation (as in :func:`newton`)."""
     n_mm = 3 + (1 if first >= 0 else 0) + (1 if second >= 0 else 0)
-    for it in range(max_iter + 1):
-        evaluate_candidate(problem, blanks, first, second, x, phi1, e, ws, ews, F, J, Je, Jp, margins)
-        s = newton_update(F, J, x, step, residual_norm(F, scale, n_mm), tol, it == max_iter, scale)
-        if s == 2:
-            return True, it + 1
-        if s != 0:
-            return s > 0, it
+    done = 0
+    try:
+        for it in range(max_iter + 1):
+            done = it
+            evaluate_candidate(problem, blanks, first, second, x, phi1, e, ws, ews, F, J, Je, Jp, margins)
+            s = newton_update(F, J, x, step, residual_norm(F, scale, n_mm), tol, it == max_iter, scale)
+            if s == 2:
+                return True, it + 1
+            if s != 0:
+                return s > 0, it
+    except Exception:  # as in newton: the same verdict on both backends
+        F[0] = math.nan
+        return False, done
     return False, max_iter
 
 
