@@ -56,8 +56,9 @@ def _nodes(geom, which, flank, l, u):
     params = geom.surface_params(which)
     jet = tca_kernels.surface_jet(m.tooth_surface, flank, l, u, params)
     d2 = tca_kernels.surface_second_derivatives(m.tooth_surface, flank, l, u, params).point_D2_lu
-    g = np.einsum("...ki,...kj->...ij", jet.point_D_lu, jet.point_D_lu)  # R_lu^T R_lu: its larger eigenvalue
-    mean, dev = (g[..., 0, 0] + g[..., 1, 1]) / 2, np.hypot((g[..., 0, 0] - g[..., 1, 1]) / 2, g[..., 0, 1])
+    rl, ru = jet.point_D_lu[..., 0], jet.point_D_lu[..., 1]
+    gll, guu, glu = (rl * rl).sum(-1), (ru * ru).sum(-1), (rl * ru).sum(-1)  # R_lu^T R_lu: its larger eigenvalue
+    mean, dev = (gll + guu) / 2, np.hypot((gll - guu) / 2, glu)
     stretch = np.sqrt(mean + dev)  # |R_lu|_2, the largest singular value
     bend = np.sqrt((d2[..., 0] ** 2).sum(-1) + 2 * (d2[..., 1] ** 2).sum(-1) + (d2[..., 2] ** 2).sum(-1))
     return jet.point, stretch, bend
@@ -74,6 +75,13 @@ def _outside_own_blank(geom, which, centre, radius):
     return out
 
 
+def _cell_max(a, k):
+    """Max of a node grid a ((k nl + 1) x (k nu + 1)) over each cell's (k + 1) x (k + 1) nodes."""
+    nl, nu = (a.shape[0] - 1) // k, (a.shape[1] - 1) // k
+    rows = np.maximum(a[:-1].reshape(nl, k, -1).max(axis=1), a[k::k])  # (nl, k nu + 1)
+    return np.maximum(rows[:, :-1].reshape(nl, nu, k).max(axis=2), rows[:, k::k])
+
+
 def _grid(geom, which, flank, box, cells, patch_tol, samples=SAMPLES):
     """Centres (nl, nu, 3), radii (nl, nu) and stretch bounds (nl, nu) of the cells of ``box``
     cut (nl, nu) times, sampled on samples x samples nodes per cell (odd: one is the centre)."""
@@ -83,10 +91,7 @@ def _grid(geom, which, flank, box, cells, patch_tol, samples=SAMPLES):
                        indexing="ij")
     point, stretch, bend = _nodes(geom, which, flank, L, U)
     h = 0.5 * math.hypot((box[1] - box[0]) / nl, (box[3] - box[2]) / nu)
-    win = np.lib.stride_tricks.sliding_window_view
-    s_max = win(stretch, (k + 1, k + 1))[::k, ::k].max(axis=(-2, -1))
-    b_max = win(bend, (k + 1, k + 1))[::k, ::k].max(axis=(-2, -1))
-    bound = s_max + h * b_max
+    bound = _cell_max(stretch, k) + h * _cell_max(bend, k)
     return point[k // 2::k, k // 2::k], h * bound + patch_tol, bound
 
 
