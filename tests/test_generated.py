@@ -1130,7 +1130,7 @@ def test_registry_variant_names_its_source_in_the_header():
 
 
 # ---------------------------------------------------------------------------------------
-# 10. `beveloid derive --check` and the sympy-free runtime
+# 10. `beveloid derive --check` / `--no-docs` and the sympy-free runtime
 # ---------------------------------------------------------------------------------------
 
 
@@ -1192,6 +1192,33 @@ def test_derive_check_reports_a_stale_copy(cheap_derive, capsys, monkeypatch, tm
     assert HINT in err
     # --check writes nothing
     assert "# ops: 0\n" in stale.read_text() and (tmp_path / "generated" / "orphan.py").exists()
+
+
+def test_derive_no_docs_leaves_the_docs_page_and_its_verification_out(cheap_derive, capsys, monkeypatch, tmp_path):
+    from beveloid.cli import main
+    from beveloid.derivations import derive, registry
+
+    shutil.copytree(GENERATED, tmp_path / "generated", ignore=shutil.ignore_patterns("__pycache__"))
+    shutil.copytree(ROOT / "docs", tmp_path / "docs")
+    (tmp_path / "pyproject.toml").write_text("")
+    page = tmp_path / "docs" / "derivations.md"
+    page.write_text("stale\n")
+    monkeypatch.setattr(derive, "source_root", lambda: tmp_path)
+
+    assert main(["derive", "--check"]) == 1
+    assert "--- docs/derivations.md (committed)\n" in capsys.readouterr().out
+
+    def no_verification(*args, **kwargs):
+        raise AssertionError("--no-docs verified the equations")
+
+    monkeypatch.setattr(registry, "verify", no_verification)
+    assert main(["derive", "--check", "--no-docs"]) == 0
+    out, err = capsys.readouterr()
+    assert out == "" and "generated/ is up to date" in err
+    (tmp_path / "generated" / "orphan.py").write_text("x = 1\n")
+    assert main(["derive", "--no-docs"]) == 0
+    assert "(files changed)" in capsys.readouterr().err
+    assert not (tmp_path / "generated" / "orphan.py").exists() and page.read_text() == "stale\n"
 
 
 def test_runtime_kernels_import_without_sympy(tmp_path):
