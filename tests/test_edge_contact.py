@@ -153,6 +153,7 @@ def brute_extreme(geom, flank, phi1, errors, near, n=150, n_edge=4000):
 ERROR_SETS = [(1.2, 1.2, 1.2, 0.0, 0.0), (0.0, 0.0, 0.0, 0.0, 0.03 * DEG), (-0.4, 0.3, 0.2, 0.1 * DEG, -0.02 * DEG)]
 
 
+@pytest.mark.xdist_group("edge_patch_grids")  # one worker: the patch grids are computed once
 @pytest.mark.parametrize("errors", ERROR_SETS)
 def test_solved_contact_is_the_extreme_over_the_patches(geom1, errors):
     """The brute-force extreme of phi'_2 over grids of both patches never exceeds the solved

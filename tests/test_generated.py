@@ -50,6 +50,9 @@ GENERATED = ROOT / "generated"
 TEMPLATES = {False: "derivations/templates/module.py.jinja", True: "derivations/templates/scalar_module.py.jinja"}
 HINT = "run `beveloid derive` to update"
 
+# One xdist worker runs this module: its sympy models and renderings (~60 s) are built once per process.
+pytestmark = pytest.mark.xdist_group("generated")
+
 SEED = 20130101
 N_POINTS = 20
 RTOL = 1e-12  # generated vs symbolic, CSE vs no-CSE, complex step

@@ -20,6 +20,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[1]
 
 SCRIPT = r"""
@@ -61,6 +63,7 @@ def _snapshot(folder, pattern):
     return {p.relative_to(folder): p.read_bytes() for p in folder.rglob(pattern) if p.is_file()}
 
 
+@pytest.mark.long_running
 def test_a_new_surface_model_needs_no_runtime_edit(tmp_path):
     work = tmp_path / "checkout"
     ignore = shutil.ignore_patterns("__pycache__", "*.nbi", "*.nbc")
