@@ -8,8 +8,10 @@ The suite runs in parallel (pytest-xdist, ``-n auto --dist loadgroup`` in pyproj
 * work built once per process and shared by many tests stays in one process: the tests that
   use ``verification`` form the xdist group "verification", test_generated.py (its sympy
   models and renderings, ~60 s) the group "generated";
-* tests marked ``long_running`` (tens of seconds each) are collected first, so that a worker
-  starts them early instead of finishing the run alone with one of them;
+* tests marked ``long_running`` (tens of seconds each) are collected first, each followed by
+  two ordinary tests (xdist hands a worker another test whenever it has two or fewer left:
+  this keeps one worker from queueing all of them), so that the workers start them early
+  instead of one finishing the run alone with one of them;
 * numba compiles the solver core on its first use after a fresh install (~50 s) and caches it
   on disk.  Two workers compiling at once would each spend those 50 s, so the first use of the
   compiled backend in a process compiles everything the backend runs under a lock shared by
@@ -53,7 +55,14 @@ def pytest_collection_modifyitems(config, items):
     for item in items:
         if "verification" in item.fixturenames:
             item.add_marker(pytest.mark.xdist_group("verification"))
-    items.sort(key=lambda item: item.get_closest_marker("long_running") is None)  # stable
+    long = [item for item in items if item.get_closest_marker("long_running")]
+    ordinary = [item for item in items if not item.get_closest_marker("long_running")]
+    items[:] = []
+    for item in long:
+        items.append(item)
+        items.extend(ordinary[:2])
+        del ordinary[:2]
+    items.extend(ordinary)
 
 
 def pytest_collection_finish(session):
