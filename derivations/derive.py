@@ -2,6 +2,7 @@
 
 ``derive(root, check=True)`` renders everything in memory and compares it with the files
 under ``root``: it returns the unified diff instead of writing (empty when up to date).
+``docs_page=False`` leaves docs/derivations.md out (and the verification of Eqs 1-38 it shows).
 """
 from __future__ import annotations
 
@@ -27,25 +28,27 @@ def source_root() -> Path:
                             f"none at {SOURCE_ROOT} or in the current directory {Path.cwd()}; cd into the checkout")
 
 
-def render_all(progress=None, cse=True):
-    """{relative path: text} of every derived file."""
+def render_all(progress=None, cse=True, docs_page=True):
+    """{relative path: text} of every derived file (without docs/derivations.md if not docs_page)."""
     t0 = time.perf_counter()
     files = {}
     specs = kernels.module_specs()
     for name, text in codegen.generate(None, specs, cse=cse, progress=progress, extra=kernels.glue_files()).items():
         files[f"generated/{name}"] = text
-    if progress:
-        progress("docs/derivations.md (verifying Eqs 1-38)")
-    files["docs/derivations.md"] = docs.render_derivations_md(registry.verify())
+    if docs_page:
+        if progress:
+            progress("docs/derivations.md (verifying Eqs 1-38)")
+        files["docs/derivations.md"] = docs.render_derivations_md(registry.verify())
     return files, time.perf_counter() - t0
 
 
-def derive(root=None, check=False, progress=None):
-    """Regenerate (or with check=True compare). Returns (diff_text, seconds)."""
+def derive(root=None, check=False, progress=None, docs_page=True):
+    """Regenerate (or with check=True compare) generated/ and, if docs_page, docs/derivations.md.
+    Returns (diff_text, seconds)."""
     import difflib
 
     root = Path(root) if root else source_root()
-    files, seconds = render_all(progress)
+    files, seconds = render_all(progress, docs_page=docs_page)
     chunks = []
     stale_generated = {p.name for p in (root / "generated").glob("*.py")} - {Path(k).name for k in files
                                                                              if k.startswith("generated/")}

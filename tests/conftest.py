@@ -1,11 +1,40 @@
-"""Shared fixtures.
+"""Shared fixtures, and how the suite shares its expensive work when it runs in parallel.
 
 ``verification`` runs ``registry.verify()`` (the 50-digit check of all 38 equations,
-~15-20 s) once per test session; every test that needs results uses it.
+~20-30 s) once per test process; every test that needs results uses it.
+
+The suite runs in parallel (pytest-xdist, ``-n auto --dist loadgroup`` in pyproject.toml):
+
+* work built once per process and shared by many tests stays in one process: the tests that
+  use ``verification`` form the xdist group "verification", test_generated.py (its sympy
+  models and renderings, ~60 s) the group "generated";
+* tests marked ``long_running`` (tens of seconds each) are collected first, each followed by
+  two ordinary tests (xdist hands a worker another test whenever it has two or fewer left:
+  this keeps one worker from queueing all of them), so that the workers start them early
+  instead of one finishing the run alone with one of them;
+* numba compiles the solver core on its first use after a fresh install (~50 s) and caches it
+  on disk.  Two workers compiling at once would each spend those 50 s, so the first use of the
+  compiled backend in a process compiles everything the backend runs under a lock shared by
+  every process of this install (the others then load numba's cache).  The fixture
+  ``compiled_solver`` does it up front, for a test that must not compile in the middle (the
+  CLI fuzz test, whose examples have a hang guard).
 """
 from __future__ import annotations
 
+import contextlib
+import hashlib
+import tempfile
+import warnings
+from pathlib import Path
+
 import pytest
+
+try:
+    import fcntl
+except ImportError:  # not POSIX: no lock, each process compiles (or loads the cache) by itself
+    fcntl = None
+
+ROOT = Path(__file__).resolve().parents[1]
 
 
 @pytest.fixture(scope="session")
@@ -14,3 +43,121 @@ def verification():
     from beveloid.derivations import registry
 
     return registry.verify()
+
+
+# ---------------------------------------------------------------------------------------------
+# parallel runs: groups and order
+# ---------------------------------------------------------------------------------------------
+
+
+@pytest.hookimpl(tryfirst=True)  # before xdist reads the groups
+def pytest_collection_modifyitems(config, items):
+    for item in items:
+        if "verification" in item.fixturenames:
+            item.add_marker(pytest.mark.xdist_group("verification"))
+    long = [item for item in items if item.get_closest_marker("long_running")]
+    ordinary = [item for item in items if not item.get_closest_marker("long_running")]
+    items[:] = []
+    for item in long:
+        items.append(item)
+        items.extend(ordinary[:2])
+        del ordinary[:2]
+    items.extend(ordinary)
+
+
+def pytest_collection_finish(session):
+    """In a worker of ``--dist loadgroup``, xdist has tagged the node id of each grouped test with
+    "@group" by now; say so when it has not (the tests still run, each worker building the
+    shared work it needs)."""
+    if getattr(session.config.option, "loadgroup", False) and any(
+            item.get_closest_marker("xdist_group") and "@" not in item.nodeid for item in session.items):
+        warnings.warn("the xdist groups are not in effect (tests that share an expensive fixture are spread over "
+                      "the workers and build it in each): see the pytest pin in pyproject.toml", stacklevel=1)
+
+
+# ---------------------------------------------------------------------------------------------
+# one numba compilation at a time
+# ---------------------------------------------------------------------------------------------
+
+_compiled = False
+
+
+@contextlib.contextmanager
+def _compile_lock():
+    """An exclusive lock shared by the processes that run this install of beveloid (its numba
+    cache lives beside it)."""
+    from beveloid.solver import backends
+
+    if fcntl is None:
+        yield
+        return
+    where = hashlib.sha1(str(Path(backends.__file__).resolve().parent).encode()).hexdigest()[:16]
+    with open(Path(tempfile.gettempdir()) / f"beveloid-numba-compile-{where}.lock", "a") as fh:
+        fcntl.flock(fh, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(fh, fcntl.LOCK_UN)
+
+
+def _compile_solver():
+    """Run every entry point of the compiled backend once, on case 1 (compiles them, or loads
+    them from numba's cache): the contact paths (TCA, sweep, backlash), the single-point Newton
+    and the loaded TCA's normal gaps.  Once per process, under the lock."""
+    global _compiled
+    if _compiled:
+        return
+    _compiled = True  # before the calls below, which come back through backends.namespace
+    import numpy as np
+
+    from beveloid import ltca, tca
+    from beveloid.design import design
+    from beveloid.solver import backends
+    from beveloid.spec import load_spec
+
+    geom = tca.PairGeometry.from_design(design(load_spec(ROOT / "examples" / "case1.toml")))
+    ref = tca.reference_contact(geom, "right")
+    runs = (
+        lambda: tca.solve_grid(geom, "right", np.zeros(5), [ref.pinion_angle], backend="compiled"),
+        lambda: backends.namespace("compiled").solve_point(geom.problem("right"), ref.x.copy(), ref.pinion_angle,
+                                                           np.zeros(5), geom.gear.working_pitch_radius_mm,
+                                                           tca.newton_tolerance(geom), 3),
+        lambda: ltca.analyze(geom, 100.0, "right", positions=2, pairs=1, backend="compiled"),
+    )
+    with _compile_lock():
+        for run in runs:
+            try:
+                run()
+            except Exception:  # noqa: BLE001 -- only a head start: the tests run (and report) the same code
+                pass
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _compile_once_under_a_lock():
+    """The first ``backends.namespace("compiled")`` of the process compiles the solver first
+    (``_compile_solver``); the namespace returned is the one the backend would return anyway."""
+    from beveloid.solver import backends
+
+    if not backends.AVAILABLE:
+        yield
+        return
+    real = backends.namespace
+
+    def namespace(backend):
+        ns = real(backend)
+        if backend == "compiled":
+            _compile_solver()
+        return ns
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(backends, "namespace", namespace)
+        yield
+
+
+@pytest.fixture(scope="session")
+def compiled_solver():
+    """The compiled backend compiled (or loaded from numba's cache) before the test starts."""
+    from beveloid.solver import backends
+
+    if backends.AVAILABLE:
+        backends.namespace("compiled")

@@ -8,6 +8,7 @@
   of the neighbouring pairs never beat the conjugate contact (TE stays zero);
 * the candidate systems' Jacobians (edge tangency rows through the glue) against differences.
 """
+import functools
 import math
 from pathlib import Path
 
@@ -41,9 +42,14 @@ def _u_at_z(geom, which, flank, l, z):
     return u
 
 
+@functools.lru_cache(maxsize=None)
 def patch_grid(geom, which, flank, n_l, n_z):
     """(l, u) of a grid spanning the member's patch, boundaries included (z from toe to heel,
-    l from the form limit to the tip)."""
+    l from the form limit to the tip).
+
+    A function of the geometry and the grid size only (not of the pinion angle or the errors):
+    computed once per (member, flank, size) and shared, read-only, by every brute-force search
+    (the tip bisection is most of a search's time)."""
     m = geom.member(which)
     toe, heel = m.face_limits
     z = np.linspace(toe, heel, n_z)
@@ -57,7 +63,10 @@ def patch_grid(geom, which, flank, n_l, n_z):
     s = np.linspace(0.0, 1.0, n_l)
     L = s[:, None] * lo[None, :]
     Z = np.broadcast_to(z[None, :], L.shape)
-    return L.ravel(), _u_at_z(geom, which, flank, L.ravel(), Z.ravel())
+    grid = L.ravel(), _u_at_z(geom, which, flank, L.ravel(), Z.ravel())
+    for a in grid:
+        a.flags.writeable = False
+    return grid
 
 
 def extreme_gear_angle(geom, flank, phi1, errors, near, n_l=200, n_z=200):
@@ -144,6 +153,7 @@ def brute_extreme(geom, flank, phi1, errors, near, n=150, n_edge=4000):
 ERROR_SETS = [(1.2, 1.2, 1.2, 0.0, 0.0), (0.0, 0.0, 0.0, 0.0, 0.03 * DEG), (-0.4, 0.3, 0.2, 0.1 * DEG, -0.02 * DEG)]
 
 
+@pytest.mark.xdist_group("edge_patch_grids")  # one worker: the patch grids are computed once
 @pytest.mark.parametrize("errors", ERROR_SETS)
 def test_solved_contact_is_the_extreme_over_the_patches(geom1, errors):
     """The brute-force extreme of phi'_2 over grids of both patches never exceeds the solved

@@ -19,6 +19,7 @@ import tomllib
 import warnings
 from pathlib import Path
 
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -225,6 +226,8 @@ def _call(argv):
     return rc, out.getvalue(), err.getvalue(), [str(w.message) for w in caught]
 
 
+@pytest.mark.long_running
+@pytest.mark.usefixtures("compiled_solver")  # not inside an example's hang guard
 @settings(max_examples=120, deadline=None, derandomize=True, database=None,
           suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large, HealthCheck.filter_too_much])
 @given(data=st.data())
