@@ -204,6 +204,10 @@ class GridSolution:
         return iter((self.x, self.status, self.iterations))
 
 
+#: solve_grid runs up to this many error sets in one thread (a mesh study, a backlash: one set)
+SERIAL_MAX_SETS = 32
+
+
 def solve_grid(geom, flank, errors, phi_grid, backend="auto", options: SolverOptions = DEFAULT_OPTIONS):
     """Pair 0 for error sets (K, 5) x pinion angles (N,), in any order.
 
@@ -237,7 +241,9 @@ def _solve_grid_once(geom, flank, errors, phi_grid, backend, options, homotopy_s
     active = np.empty((K, N, 2), dtype=np.int64)
     core = _core(backend, announce=True)
     cover = patch_cover.patch_cover(geom, "pinion", flank, options.patch_tol_mm).cells
-    core.solve_paths(geom.problem(flank), geom.pinion.blank(), geom.gear.blank(), cover, np.ascontiguousarray(ref.x),
+    # a parallel call costs ~8 ms to start its threads (docs/performance.md): few error sets run serially
+    solve_paths = core.solve_paths if K > SERIAL_MAX_SETS else core.solve_paths_serial
+    solve_paths(geom.problem(flank), geom.pinion.blank(), geom.gear.blank(), cover, np.ascontiguousarray(ref.x),
                      ref.pinion_angle, errors, grid, geom.gear.working_pitch_radius_mm,
                      newton_tolerance(geom, options.tol_mm), options.max_iter, homotopy_steps, options.patch_tol_mm,
                      first_touch_sign(geom, flank), x, code, iters, boundary, active)

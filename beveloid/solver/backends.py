@@ -55,8 +55,9 @@ def namespace(backend: str) -> types.SimpleNamespace:
     from . import core
 
     if backend == "numpy":
-        return types.SimpleNamespace(**{k: v for k, v in vars(core).items() if isinstance(v, types.FunctionType)},
-                                     compiled=False)
+        funcs = {k: v for k, v in vars(core).items() if isinstance(v, types.FunctionType)}
+        funcs.update({name + "_serial": funcs[name] for name in core.PARALLEL})
+        return types.SimpleNamespace(**funcs, compiled=False)
     if backend != "compiled":
         raise ValueError(f"backend must be 'numpy' or 'compiled', got {backend!r}")
     return _compile(_modules())
@@ -110,6 +111,14 @@ def _compile(modules):
                 g[name] = jitted[val]
     # the core's functions and the kernels it imports, as the core sees them
     funcs = {name: val for name, val in glob[core].items() if any(val is d for d in jitted.values())}
+    # a serial twin of each parallel function: a parallel call costs ~8 ms to start its threads
+    # here (measured: docs/performance.md), more than a mesh study's whole solve
+    for name in core.PARALLEL:
+        fn = vars(core)[name]
+        copy = types.FunctionType(fn.__code__, glob[core], fn.__name__, fn.__defaults__, fn.__closure__)
+        copy.__qualname__ = fn.__qualname__ + "_serial"  # its own entry in numba's cache (not the parallel one)
+        copy.__module__ = fn.__module__
+        funcs[name + "_serial"] = _jit(copy, parallel=False)
     return types.SimpleNamespace(**funcs, compiled=True)
 
 
