@@ -118,7 +118,10 @@ def _compile_solver():
     geom = tca.PairGeometry.from_design(design(load_spec(ROOT / "examples" / "case1.toml")))
     ref = tca.reference_contact(geom, "right")
     runs = (
-        lambda: tca.solve_grid(geom, "right", np.zeros(5), [ref.pinion_angle], backend="compiled"),
+        lambda: tca.solve_grid(geom, "right", np.zeros(5), [ref.pinion_angle], backend="compiled"),  # serial
+        # more error sets than tca.SERIAL_MAX_SETS: the parallel solve_paths (sweeps)
+        lambda: tca.solve_grid(geom, "right", np.zeros((tca.SERIAL_MAX_SETS + 1, 5)), [ref.pinion_angle],
+                               backend="compiled"),
         lambda: backends.namespace("compiled").solve_point(geom.problem("right"), ref.x.copy(), ref.pinion_angle,
                                                            np.zeros(5), geom.gear.working_pitch_radius_mm,
                                                            tca.newton_tolerance(geom), 3),
