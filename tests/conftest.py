@@ -115,24 +115,26 @@ def _compile_solver():
     from beveloid.solver import backends
     from beveloid.spec import load_spec
 
-    geom = tca.PairGeometry.from_design(design(load_spec(ROOT / "examples" / "case1.toml")))
-    ref = tca.reference_contact(geom, "right")
+    def geometry():
+        geom = tca.PairGeometry.from_design(design(load_spec(ROOT / "examples" / "case1.toml")))
+        return geom, tca.reference_contact(geom, "right")
+
     runs = (
-        lambda: tca.solve_grid(geom, "right", np.zeros(5), [ref.pinion_angle], backend="compiled"),  # serial
+        lambda geom, ref: tca.solve_grid(geom, "right", np.zeros(5), [ref.pinion_angle], backend="compiled"),  # serial
         # more error sets than tca.SERIAL_MAX_SETS: the parallel solve_paths (sweeps)
-        lambda: tca.solve_grid(geom, "right", np.zeros((tca.SERIAL_MAX_SETS + 1, 5)), [ref.pinion_angle],
-                               backend="compiled"),
-        lambda: backends.namespace("compiled").solve_point(geom.problem("right"), ref.x.copy(), ref.pinion_angle,
-                                                           np.zeros(5), geom.gear.working_pitch_radius_mm,
-                                                           tca.newton_tolerance(geom), 3),
-        lambda: ltca.analyze(geom, 100.0, "right", positions=2, pairs=1, backend="compiled"),
+        lambda geom, ref: tca.solve_grid(geom, "right", np.zeros((tca.SERIAL_MAX_SETS + 1, 5)), [ref.pinion_angle],
+                                         backend="compiled"),
+        lambda geom, ref: backends.namespace("compiled").solve_point(
+            geom.problem("right"), ref.x.copy(), ref.pinion_angle, np.zeros(5), geom.gear.working_pitch_radius_mm,
+            tca.newton_tolerance(geom), 3),
+        lambda geom, ref: ltca.analyze(geom, 100.0, "right", positions=2, pairs=1, backend="compiled"),
     )
-    with _compile_lock():
+    # only a head start: whatever fails here, the tests run (and report) the same code themselves
+    with _compile_lock(), contextlib.suppress(Exception):
+        geom, ref = geometry()
         for run in runs:
-            try:
-                run()
-            except Exception:  # noqa: BLE001 -- only a head start: the tests run (and report) the same code
-                pass
+            with contextlib.suppress(Exception):
+                run(geom, ref)
 
 
 @pytest.fixture(scope="session", autouse=True)
