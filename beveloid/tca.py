@@ -435,8 +435,7 @@ class Backlash:
 def _raw_play(geom, errors, backend, options):
     """(play in rad before removing whole pitches, statuses of the left and right contacts)."""
     e = errors_array(errors).reshape(1, len(ERROR_NAMES))
-    refs = {fl: reference_contact(geom, fl) for fl in FLANKS}
-    phi1 = refs["left"].pinion_angle
+    phi1 = reference_contact(geom, "left").pinion_angle
     angles, signs, codes = {}, {}, {}
     for fl in FLANKS:
         sol = solve_grid(geom, fl, e, np.array([phi1]), backend, options)
