@@ -20,7 +20,9 @@ corner: two): solve the system of the active set by Newton, add the most violate
 boundary, drop an active one whose multiplier (from J^T y = -sign e_phi'2, the rows of J being
 the gradients of the constraints) has the wrong sign, until the point is feasible with
 non-negative multipliers.  Along a path the previous point's active set and solution, predicted
-with the exact tangent, start the next point, so a point usually costs one Newton solve.  If the
+with the exact tangent, start the next point, so a point usually costs one Newton solve; the
+Eq 38 tangency is not solved while an edge contact is followed that way (its multiplier turns
+negative where the tangency returns onto the patches, and the search then gives up).  If the
 iteration does not settle, every candidate system is solved from the tangency and the extreme
 feasible solution is kept (:func:`enumerate_candidates`); none feasible means the patches do
 not touch (OUTSIDE).  Before the search from the tangency, :func:`patches_apart` tries to prove
@@ -71,6 +73,11 @@ FORM_LIMIT = BOUNDARIES.index("form limit")
 CELL_X, CELL_L, CELL_U = CELL_FIELDS.index("x_mm"), CELL_FIELDS.index("l_mm"), CELL_FIELDS.index("u_mm")
 CELL_HALF_L, CELL_HALF_U = CELL_FIELDS.index("half_l_mm"), CELL_FIELDS.index("half_u_mm")
 CELL_STRETCH = CELL_FIELDS.index("stretch")
+#: the edge path's memory (follow_edge): tangents at the last two points before the previous one,
+#: the two steps between them, and how many of the tangents are valid
+TRACK_T1, TRACK_T2 = 0, N_UNKNOWNS
+TRACK_H1, TRACK_H2, TRACK_VALID = 2 * N_UNKNOWNS, 2 * N_UNKNOWNS + 1, 2 * N_UNKNOWNS + 2
+TRACK_SIZE = 2 * N_UNKNOWNS + 3
 
 
 def scratch():
@@ -275,15 +282,18 @@ def worst_inactive(margins, first, second, patch_tol):
 
 def first_touch(problem, blanks, sign, x, first, second, phi1, e, scale, tol, max_iter, patch_tol, ws, es):
     """Active-set search for the first touch from x with the active set (first, second).  In
-    place on x; returns (found, first, second).  J, Jp of ``es`` hold the final system."""
+    place on x; returns (found, first, second, Newton iterations).  J, Jp of ``es`` hold the final
+    system."""
     ews, margins, F, J, Je, Jp, step, y, rhs, JT = es
     a = first
     b = second
+    its = 0
     for _ in range(MAX_ROUNDS):
-        conv, _ = newton_candidate(problem, blanks, a, b, x, phi1, e, scale, tol, max_iter, ws, ews, F, J, Je, Jp,
-                                   step, margins)
+        conv, it = newton_candidate(problem, blanks, a, b, x, phi1, e, scale, tol, max_iter, ws, ews, F, J, Je, Jp,
+                                    step, margins)
+        its += it
         if not conv:
-            return False, a, b
+            return False, a, b, its
         worst = worst_inactive(margins, a, b, patch_tol)
         if worst >= 0:
             if a < 0:
@@ -307,21 +317,21 @@ def first_touch(problem, blanks, sign, x, first, second, phi1, e, scale, tol, ma
                 a, b = b, a
             continue
         if a < 0:
-            return True, a, b
+            return True, a, b, its
         la, lb = multipliers(J, sign, y, rhs, JT)
         if not math.isfinite(la):
-            return False, a, b
+            return False, a, b, its
         if b < 0:
             if la < 0.0:
-                return False, a, b  # not binding: let the enumeration decide
-            return True, a, b
+                return False, a, b, its  # not binding: let the enumeration decide
+            return True, a, b, its
         if la < 0.0 or lb < 0.0:
             if la < lb:
                 a = b
             b = -1
             continue
-        return True, a, b
-    return False, a, b
+        return True, a, b, its
+    return False, a, b, its
 
 
 def nearest_turn(x, angle):
@@ -335,18 +345,20 @@ def nearest_turn(x, angle):
 
 def enumerate_candidates(problem, blanks, sign, x_start, x, phi1, e, scale, tol, max_iter, patch_tol, ws, es, xt):
     """Every edge and corner system solved from x_start; the feasible solution with the largest
-    sign * phi'_2 is written to x.  Returns (found, first, second)."""
+    sign * phi'_2 is written to x.  Returns (found, first, second, Newton iterations)."""
     ews, margins, F, J, Je, Jp, step, y, rhs, JT = es
     best = -math.inf
     ba = -1
     bb = -1
+    its = 0
     for a in range(N_MARGINS):
         for b in range(-1, N_MARGINS):
             if b >= 0 and (b <= a or conflicting(a, b)):
                 continue
             xt[:] = x_start
-            conv, _ = newton_candidate(problem, blanks, a, b, xt, phi1, e, scale, tol, max_iter, ws, ews, F, J, Je,
-                                       Jp, step, margins)
+            conv, it = newton_candidate(problem, blanks, a, b, xt, phi1, e, scale, tol, max_iter, ws, ews, F, J, Je,
+                                        Jp, step, margins)
+            its += it
             nearest_turn(xt, x_start[GEAR_ANGLE])
             if conv and worst_inactive(margins, a, b, patch_tol) < 0 and sign * xt[GEAR_ANGLE] > best:
                 best = sign * xt[GEAR_ANGLE]
@@ -354,11 +366,11 @@ def enumerate_candidates(problem, blanks, sign, x_start, x, phi1, e, scale, tol,
                 bb = b
                 x[:] = xt
     if ba < 0:
-        return False, -1, -1
+        return False, -1, -1, its
     # leave the winner's system in es (J, Jp for the next point's predictor)
-    conv, _ = newton_candidate(problem, blanks, ba, bb, x, phi1, e, scale, tol, max_iter, ws, ews, F, J, Je, Jp, step,
-                               margins)
-    return True, ba, bb
+    conv, it = newton_candidate(problem, blanks, ba, bb, x, phi1, e, scale, tol, max_iter, ws, ews, F, J, Je, Jp, step,
+                                margins)
+    return True, ba, bb, its + it
 
 
 def clearance_scratch():
@@ -432,52 +444,80 @@ def patches_apart(problem, cells, pinion_blank, gear_blank, phi1, e, patch_tol, 
     return True
 
 
-def solve_off_patch(problem, blanks, cells, sign, x_tangency, have_prev, x_prev, prev_first, prev_second, phi1,
-                    phi_prev, e, scale, tol, max_iter, patch_tol, ws, es, cs, xe, xt, dx, track):
-    """The first touch at phi1 when the tangency x_tangency is off a patch: from the previous
-    point's edge contact (predicted along its exact tangent) when there is one; else, unless
-    patches_apart proves the patches cannot touch, from the tangency and, when the active-set
-    search does not settle, by the enumeration.  Result in xe; returns (found, first, second).
+def follow_edge(problem, blanks, sign, x_prev, prev_first, prev_second, phi1, phi_prev, e, scale, tol, max_iter,
+                patch_tol, ws, es, xe, dx, track):
+    """The first touch at phi1 continued from the previous point's edge or corner contact x_prev
+    (at phi_prev, active set (prev_first, prev_second)), predicted along its exact tangent, without
+    solving the Eq 38 tangency: the active-set search from there settles on a feasible point with
+    non-negative multipliers (a Karush-Kuhn-Tucker point of "maximize sign * phi'_2") or fails.  When
+    the tangency comes back onto the patches the multiplier of the edge goes through zero
+    (the edge solution meets the tangency there), the search gives up and the caller solves the
+    tangency.  Result in xe; returns (found, first, second, Newton iterations); found with
+    first < 0 (the search dropped every boundary) is left to the caller's tangency solve too.
 
-    ``track`` (N_UNKNOWNS + 2) carries the edge path's tangent at the point before the previous
-    one, the step from there and a validity flag: when the previous two edge points had the same
-    active set, the prediction adds the second-order term from the change of the tangent (as the
-    surface path does), so the candidate system usually converges in one Newton step."""
+    ``track`` (TRACK_SIZE) carries the edge path's tangents at the two points before the
+    previous one, the steps between them and how many are valid (same active set): with one, the
+    prediction adds the second-order term from the change of the tangent (as the surface path
+    does); with two, also the third-order term of the tangents' quadratic through the three
+    points.  The candidate system then usually converges in one Newton step."""
     ews, margins, F, J, Je, Jp, step, y, rhs, JT = es
     n = N_UNKNOWNS
-    if have_prev:
-        xe[:] = x_prev
-        h = phi1 - phi_prev
+    xe[:] = x_prev
+    h = phi1 - phi_prev
+    for i in range(n):
+        rhs[i] = -Jp[i]
+    if solve_linear(J, rhs, dx):
+        valid = track[TRACK_VALID]
+        h1 = track[TRACK_H1]
+        h2 = track[TRACK_H2]
         for i in range(n):
-            rhs[i] = -Jp[i]
-        if solve_linear(J, rhs, dx):
-            curved = track[n + 1] > 0.0 and track[n] != 0.0
-            for i in range(n):
-                xe[i] += dx[i] * h
-                if curved:
-                    xe[i] += 0.5 * (dx[i] - track[i]) / track[n] * h * h
-                track[i] = dx[i]
-            track[n] = h
-            track[n + 1] = 1.0
-        else:
-            track[n + 1] = 0.0
-        found, a, b = first_touch(problem, blanks, sign, xe, prev_first, prev_second, phi1, e, scale, tol, max_iter,
-                                  patch_tol, ws, es)
-        if found:
-            nearest_turn(xe, x_tangency[GEAR_ANGLE])
-            if a != prev_first or b != prev_second:
-                track[n + 1] = 0.0  # the stored tangent belongs to the previous active set
-            return True, a, b
-    track[n + 1] = 0.0
+            # x(phi_prev + h) with the tangent t(tau) = t0 + a tau + b tau^2 through the known tangents
+            a = 0.0
+            b = 0.0
+            if valid >= 1.0 and h1 != 0.0:
+                d1 = (dx[i] - track[TRACK_T1 + i]) / h1
+                a = d1
+                if valid >= 2.0 and h2 != 0.0:
+                    b = (d1 - (dx[i] - track[TRACK_T2 + i]) / (h1 + h2)) / h2
+                    a = d1 + b * h1
+            xe[i] += dx[i] * h + a * h * h / 2.0 + b * h * h * h / 3.0
+            track[TRACK_T2 + i] = track[TRACK_T1 + i]
+            track[TRACK_T1 + i] = dx[i]
+        track[TRACK_H2] = h1
+        track[TRACK_H1] = h
+        track[TRACK_VALID] = min(valid + 1.0, 2.0)
+    else:
+        track[TRACK_VALID] = 0.0
+    found, a, b, its = first_touch(problem, blanks, sign, xe, prev_first, prev_second, phi1, e, scale, tol, max_iter,
+                                   patch_tol, ws, es)
+    if not found or a < 0:
+        track[TRACK_VALID] = 0.0
+        return False, a, b, its
+    # the gear angle moves little between points (a near-singular tangent can throw the prediction far)
+    nearest_turn(xe, x_prev[GEAR_ANGLE])
+    if a != prev_first or b != prev_second:
+        track[TRACK_VALID] = 0.0  # the stored tangents belong to the previous active set
+    return True, a, b, its
+
+
+def solve_off_patch(problem, blanks, cells, sign, x_tangency, phi1, e, scale, tol, max_iter, patch_tol, ws, es, cs,
+                    xe, xt, track):
+    """The first touch at phi1 when the tangency x_tangency is off a patch and no edge contact is
+    being followed (:func:`follow_edge`): unless patches_apart proves the patches cannot touch,
+    the active-set search from the tangency and, when it does not settle, the enumeration.  Result
+    in xe; returns (found, first, second, Newton iterations)."""
+    track[TRACK_VALID] = 0.0
     if patches_apart(problem, cells, blanks[0], blanks[1], phi1, e, patch_tol, cs):
-        return False, -1, -1
+        return False, -1, -1, 0
     xe[:] = x_tangency
-    found, a, b = first_touch(problem, blanks, sign, xe, -1, -1, phi1, e, scale, tol, max_iter, patch_tol, ws, es)
+    found, a, b, its = first_touch(problem, blanks, sign, xe, -1, -1, phi1, e, scale, tol, max_iter, patch_tol, ws,
+                                   es)
     if found and a >= 0:
         nearest_turn(xe, x_tangency[GEAR_ANGLE])
-        return True, a, b
-    return enumerate_candidates(problem, blanks, sign, x_tangency, xe, phi1, e, scale, tol, max_iter, patch_tol, ws,
-                                es, xt)
+        return True, a, b, its
+    found, a, b, more = enumerate_candidates(problem, blanks, sign, x_tangency, xe, phi1, e, scale, tol, max_iter,
+                                             patch_tol, ws, es, xt)
+    return found, a, b, its + more
 
 
 def homotopy(problem, x, phi_ref, target, steps, scale, tol, max_iter, ws, F, J, Je, Jp, step, dx, e, rhs):
@@ -507,8 +547,10 @@ def homotopy(problem, x, phi_ref, target, steps, scale, tol, max_iter, ws, F, J,
 def solve_paths(problem, pinion_blank, gear_blank, pinion_cover, x_ref, phi_ref, errors, phi_grid, scale, tol, max_iter,
                 homotopy_steps, patch_tol, sign, x_out, code_out, iters_out, boundary_out, active_out):
     """Error sets (K, N_ERRORS) x pinion angles (N,) sorted ascending: the contact unknowns, status
-    codes, Newton iterations, the nearest flank boundary of the tangency (-1 if failed) and the
-    active boundaries (K, N, 2) of an edge or corner contact (-1: none).
+    codes, Newton iterations (of the Eq 38 tangency and of the first-touch search, when there is
+    one), the flank boundary nearest the tangency or, at an edge or corner contact, the (first)
+    boundary that carries it (-1 if failed), and the active boundaries (K, N, 2) of an edge or
+    corner contact (-1: none).
 
     x_ref is the aligned contact at phi_ref; pinion_cover the cells of the pinion's flank patch
     (beveloid/patch_cover.py) for the proof that a pair's patches cannot touch.  Per error set: the homotopy in the errors at
@@ -517,7 +559,10 @@ def solve_paths(problem, pinion_blank, gear_blank, pinion_cover, x_ref, phi_ref,
     two converged points are behind (non-conjugate surfaces, e.g. crowned: one Newton step instead
     of two).  A point that fails restarts the next one from the homotopy's solution.  Where the
     tangency leaves a patch, the first touch (edge or corner contact) is solved and reported;
-    ``sign`` (+1 or -1) says which extreme of phi'_2 touches first.
+    ``sign`` (+1 or -1) says which extreme of phi'_2 touches first.  The next points follow that
+    edge contact (:func:`follow_edge`) without solving the tangency, until the search from it
+    fails (its multiplier changes sign where the tangency comes back onto the patches): then the
+    tangency is solved again, predicted from the last point where it was.
     """
     K = errors.shape[0]
     N = phi_grid.shape[0]
@@ -532,7 +577,7 @@ def solve_paths(problem, pinion_blank, gear_blank, pinion_cover, x_ref, phi_ref,
         ews = workspace()  # the candidates' surface jets (ws keeps the tangency's)
         xe = np.empty(N_UNKNOWNS)
         xp = np.empty(N_UNKNOWNS)
-        track = np.zeros(N_UNKNOWNS + 2)  # the edge path's last tangent, step and validity
+        track = np.zeros(TRACK_SIZE)  # the edge path's last tangents, steps and validity (follow_edge)
         xt = np.empty(N_UNKNOWNS)
         x = x_ref.copy()
         ok_all = homotopy(problem, x, phi_ref, errors[k], homotopy_steps, scale, tol, max_iter, ws, F, J, Je, Jp,
@@ -550,6 +595,7 @@ def solve_paths(problem, pinion_blank, gear_blank, pinion_cover, x_ref, phi_ref,
             curved = False  # tprev and hprev hold the last step's tangent and length
             hprev = 0.0
             have_edge = False
+            skipped = False  # points followed on an edge since the tangency was last solved
             ea = -1
             eb = -1
             phi_edge = phi_ref
@@ -559,18 +605,49 @@ def solve_paths(problem, pinion_blank, gear_blank, pinion_cover, x_ref, phi_ref,
                 j, stop, inc = j0 - 1, -1, -1
             while j != stop:
                 phi = phi_grid[j]
-                h = phi - prev
-                predicted = False
-                if good:
-                    for i in range(N_UNKNOWNS):
-                        rhs[i] = -Jp[i]
-                    if solve_linear(J, rhs, dx):
-                        predicted = True
+                if have_edge:
+                    # follow the edge contact: the tangency is left unsolved while the edge carries
+                    xp[:] = xe
+                    found, ea, eb, its = follow_edge(problem, blanks, sign, xp, ea, eb, phi, phi_edge, e, scale, tol,
+                                                     max_iter, patch_tol, ews, es, xe, dx, track)
+                    if found:
+                        phi_edge = phi
                         for i in range(N_UNKNOWNS):
-                            x[i] += dx[i] * h
-                            if curved and hprev != 0.0:
-                                x[i] += 0.5 * (dx[i] - tprev[i]) / hprev * h * h
-                conv, it = newton(problem, x, phi, e, scale, tol, max_iter, ws, F, J, Je, Jp, step)
+                            x_out[k, j, i] = xe[i]
+                        code_out[k, j] = EDGE
+                        iters_out[k, j] = its
+                        boundary_out[k, j] = ea
+                        active_out[k, j, 0] = ea
+                        active_out[k, j, 1] = eb
+                        skipped = True
+                        j += inc
+                        continue
+                    have_edge = False
+                h = phi - prev  # prev: the last tangency solved, perhaps several points back
+                predicted = False
+                if skipped:
+                    # the tangency was left unsolved for a while: start from the last edge contact,
+                    # which meets the tangency where the edge stops carrying (a stale prediction
+                    # over many steps can make Newton wander, even by whole turns of the gear)
+                    xt[:] = x
+                    x[:] = xp
+                    conv, it = newton(problem, x, phi, e, scale, tol, max_iter, ws, F, J, Je, Jp, step)
+                    if not conv:  # then from the tangency where it was last solved
+                        x[:] = xt
+                        conv, it = newton(problem, x, phi, e, scale, tol, max_iter, ws, F, J, Je, Jp, step)
+                    nearest_turn(x, xp[GEAR_ANGLE])
+                    skipped = False
+                else:
+                    if good:
+                        for i in range(N_UNKNOWNS):
+                            rhs[i] = -Jp[i]
+                        if solve_linear(J, rhs, dx):
+                            predicted = True
+                            for i in range(N_UNKNOWNS):
+                                x[i] += dx[i] * h
+                                if curved and hprev != 0.0:
+                                    x[i] += 0.5 * (dx[i] - tprev[i]) / hprev * h * h
+                    conv, it = newton(problem, x, phi, e, scale, tol, max_iter, ws, F, J, Je, Jp, step)
                 curved = conv and predicted
                 if curved:
                     tprev[:] = dx
@@ -585,20 +662,18 @@ def solve_paths(problem, pinion_blank, gear_blank, pinion_cover, x_ref, phi_ref,
                     code = classify(True, margin, patch_tol)
                     boundary_out[k, j] = which
                     if code == OUTSIDE:
-                        xp[:] = xe
-                        found, ea, eb = solve_off_patch(problem, blanks, pinion_cover, sign, x, have_edge, xp, ea,
-                                                        eb, phi, phi_edge, e, scale, tol, max_iter, patch_tol, ews,
-                                                        es, cs, xe, xt, dx, track)
+                        found, ea, eb, its = solve_off_patch(problem, blanks, pinion_cover, sign, x, phi, e, scale, tol,
+                                                             max_iter, patch_tol, ews, es, cs, xe, xt, track)
                         have_edge = found
                         if found:
                             code = EDGE
                             phi_edge = phi
+                            iters_out[k, j] = it + its
+                            boundary_out[k, j] = ea
                             for i in range(N_UNKNOWNS):
                                 x_out[k, j, i] = xe[i]
                             active_out[k, j, 0] = ea
                             active_out[k, j, 1] = eb
-                    else:
-                        have_edge = False
                     code_out[k, j] = code
                 else:
                     code_out[k, j] = FAILED
