@@ -3,7 +3,8 @@
 * ``"numpy"``: the core's functions as they are, over the generated scalar kernels: the
   reference, needs nothing beyond numpy, slow (interpreted).
 * ``"compiled"``: the same functions and kernels compiled by numba (``nogil``, the sweep in
-  parallel over error sets), with numba's on-disk cache.  Where the cache cannot be written
+  parallel over error sets, reference counting only where arrays are allocated), with numba's
+  on-disk cache.  Where the cache cannot be written
   (a read-only install without a writable home) the solver is compiled in memory instead,
   with one warning.
 
@@ -66,11 +67,13 @@ def namespace(backend: str) -> types.SimpleNamespace:
 _cache_warned = False
 
 
-def _jit(fn, parallel, inline="never"):
+def _jit(fn, parallel, inline="never", nrt=True):
     global _cache_warned
     import numba
 
-    opts = dict(nogil=True, parallel=parallel, inline=inline)
+    # _nrt: numba's reference counting, off for the functions that allocate nothing (core.ALLOCATING);
+    # set explicitly either way, as a callee otherwise inherits its caller's setting
+    opts = dict(nogil=True, parallel=parallel, inline=inline, _nrt=nrt)
     try:
         return numba.njit(cache=True, **opts)(fn)
     except RuntimeError as exc:  # "cannot cache function ...: no locator available"
@@ -104,7 +107,8 @@ def _compile(modules):
         # dispatches to them (tca_kernels_scalar: small, unpacks the work tuples) is, which made the
         # first compilation faster too (docs/performance.md)
         inline = "always" if mod.__name__.endswith(".tca_kernels_scalar") else "never"
-        jitted[fn] = _jit(copy, parallel=(mod is core and fn.__name__ in core.PARALLEL), inline=inline)
+        nrt = fn.__name__ in core.ALLOCATING
+        jitted[fn] = _jit(copy, parallel=(mod is core and fn.__name__ in core.PARALLEL), inline=inline, nrt=nrt)
     for g in glob.values():
         for name, val in list(g.items()):
             if isinstance(val, types.FunctionType) and val in jitted:

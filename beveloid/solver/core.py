@@ -54,6 +54,13 @@ FAILED = int(Status.FAILED)
 
 #: Functions compiled with numba's parallel=True by the compiled backend.
 PARALLEL = ("solve_paths",)
+#: Functions that allocate arrays (here and in the generated glue).  The compiled backend keeps
+#: numba's reference counting (NRT) for them only: every other function just works on arrays its
+#: caller owns, and without the atomic increments and decrements of their references an
+#: evaluation of the contact system costs ~28 % less (docs/performance.md).  numba refuses to
+#: compile a function outside this list that allocates ("NRT required but not enabled").
+ALLOCATING = ("scratch", "edge_scratch", "clearance_scratch", "workspace", "edge_workspace", "solve_paths",
+              "solve_point", "normal_gaps", "solve_linear")
 #: Active-set rounds of first_touch before it falls back to solving every candidate.
 MAX_ROUNDS = 8
 #: How often patches_apart may halve a cell of the pinion patch cover (root spheres of a few mm
@@ -102,6 +109,12 @@ def evaluate(problem, x, phi1, e, ws, F, J, Je, Jp):
         evaluate_unchecked(problem, x, phi1, e, ws, F, J, Je, Jp)
     except Exception:  # a math domain error or overflow of a runaway iterate (numba gives nan): not finite
         F[0] = math.nan
+
+
+def copy_into(dst, src):
+    """dst[:] = src for vectors, in the subset numba compiles without reference counting."""
+    for i in range(src.shape[0]):
+        dst[i] = src[i]
 
 
 def solve_linear(A, b, out):
@@ -355,7 +368,7 @@ def enumerate_candidates(problem, blanks, sign, x_start, x, phi1, e, scale, tol,
         for b in range(-1, N_MARGINS):
             if b >= 0 and (b <= a or conflicting(a, b)):
                 continue
-            xt[:] = x_start
+            copy_into(xt, x_start)
             conv, it = newton_candidate(problem, blanks, a, b, xt, phi1, e, scale, tol, max_iter, ws, ews, F, J, Je,
                                         Jp, step, margins)
             its += it
@@ -364,7 +377,7 @@ def enumerate_candidates(problem, blanks, sign, x_start, x, phi1, e, scale, tol,
                 best = sign * xt[GEAR_ANGLE]
                 ba = a
                 bb = b
-                x[:] = xt
+                copy_into(x, xt)
     if ba < 0:
         return False, -1, -1, its
     # leave the winner's system in es (J, Jp for the next point's predictor)
@@ -462,7 +475,7 @@ def follow_edge(problem, blanks, sign, x_prev, prev_first, prev_second, phi1, ph
     points.  The candidate system then usually converges in one Newton step."""
     ews, margins, F, J, Je, Jp, step, y, rhs, JT = es
     n = N_UNKNOWNS
-    xe[:] = x_prev
+    copy_into(xe, x_prev)
     h = phi1 - phi_prev
     for i in range(n):
         rhs[i] = -Jp[i]
@@ -509,7 +522,7 @@ def solve_off_patch(problem, blanks, cells, sign, x_tangency, phi1, e, scale, to
     track[TRACK_VALID] = 0.0
     if patches_apart(problem, cells, blanks[0], blanks[1], phi1, e, patch_tol, cs):
         return False, -1, -1, 0
-    xe[:] = x_tangency
+    copy_into(xe, x_tangency)
     found, a, b, its = first_touch(problem, blanks, sign, xe, -1, -1, phi1, e, scale, tol, max_iter, patch_tol, ws,
                                    es)
     if found and a >= 0:
