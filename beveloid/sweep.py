@@ -165,7 +165,7 @@ def sweep(geom, flank="right", samples=1000, positions=50, seed=0, ranges=None, 
             progress(sl.stop, samples, t0)
     seconds = time.perf_counter() - t0
     ok = carries_numbers(C)
-    P1, P2 = tca.contact_points(geom, flank, X)
+    P1, P2 = tca.solved_contact_points(geom, flank, X, C, backend)
     n_ok = ok.sum(axis=1)
     has = n_ok > 0
     pinion_shift = np.full(samples, np.nan)

@@ -13,6 +13,10 @@ from .edge_contact_scalar import pinion_edge_tangency_point as _pinion_edge_tang
 from .flank_boundaries_scalar import flank_margins_point as _flank_margins
 from .flank_boundaries_scalar import flank_margins_point as blank_margins_point  # noqa: F401  (the core's clearance check)
 from .patch_clearance_scalar import pinion_in_gear_frame_point  # noqa: F401  (the core's clearance check)
+from .surface_involute_scalar import surface_left_point as _involute_surface_left
+from .surface_involute_scalar import surface_right_point as _involute_surface_right
+from .surface_crowned_scalar import surface_left_point as _crowned_surface_left
+from .surface_crowned_scalar import surface_right_point as _crowned_surface_right
 from .surface_involute_scalar import surface_jet_left_point as _involute_jet_left
 from .surface_involute_scalar import surface_jet_right_point as _involute_jet_right
 from .surface_crowned_scalar import surface_jet_left_point as _crowned_jet_left
@@ -35,6 +39,20 @@ def workspace():
     return (numpy.empty(3), numpy.empty(3), numpy.empty((3, 2)), numpy.empty((3, 2)),
             numpy.empty(3), numpy.empty(3), numpy.empty((3, 2)), numpy.empty((3, 2)),
             numpy.empty(4), numpy.empty((4, 3)), numpy.empty(4))
+
+
+def surface_point(model, flank, l, u, params, out_point, out_normal, out_roll_angle):
+    """Point, normal and roll angle of model MODELS[model], flank FLANKS[flank]."""
+    if model == 0:
+        if flank == 0:
+            _involute_surface_left(l, u, params, out_point, out_normal, out_roll_angle)
+        elif flank == 1:
+            _involute_surface_right(l, u, params, out_point, out_normal, out_roll_angle)
+    elif model == 1:
+        if flank == 0:
+            _crowned_surface_left(l, u, params, out_point, out_normal, out_roll_angle)
+        elif flank == 1:
+            _crowned_surface_right(l, u, params, out_point, out_normal, out_roll_angle)
 
 
 def surface_jet_point(model, flank, l, u, params, out_point, out_normal, out_point_D_lu, out_normal_D_lu):

@@ -460,6 +460,28 @@ def test_sweep_backends_agree(geom1):
         np.testing.assert_allclose(a, b, rtol=0, atol=1e-9, equal_nan=True)
 
 
+def test_solved_contact_points_compiled_pass_is_the_surface(geom1):
+    """The sweep's compiled contact-point pass gives the whole-array surface points where the
+    status carries numbers (ok and edge) and nan elsewhere."""
+    pytest.importorskip("numba")
+    ref = tca.reference_contact(geom1, "right")
+    p1 = geom1.pitch_angles[0]
+    grid = ref.pinion_angle + np.linspace(-2.5 * p1, 2.5 * p1, 40)  # into and out of mesh
+    errors = sweep.draw_errors(6, None, 5, None)
+    sol = tca.solve_grid(geom1, "right", errors, grid, "compiled")
+    codes = set(sol.status.ravel().tolist())
+    assert {0, 1} <= codes and len(codes) > 2  # ok, edge and some without numbers
+    P1c, P2c = tca.solved_contact_points(geom1, "right", sol.x, sol.status, "compiled")
+    P1n, P2n = tca.solved_contact_points(geom1, "right", sol.x, sol.status, "numpy")
+    Q1, Q2 = tca.contact_points(geom1, "right", sol.x)
+    has = np.isin(sol.status, (0, 1))
+    for Pc, Pn, Q in ((P1c, P1n, Q1), (P2c, P2n, Q2)):
+        np.testing.assert_array_equal(np.isnan(Pc).any(axis=-1), ~has)
+        np.testing.assert_array_equal(np.isnan(Pn).any(axis=-1), ~has)
+        np.testing.assert_allclose(Pc[has], Q[has], rtol=0, atol=1e-9)
+        np.testing.assert_allclose(Pn[has], Q[has], rtol=0, atol=0)
+
+
 @pytest.mark.parametrize("errors", [
     (0.3, -0.2, 0.4, math.radians(0.1), math.radians(-0.02)),
     (0.5, 0.5, 0.5, 0.0, math.radians(0.03)),

@@ -37,7 +37,7 @@ from ..generated.tca_kernels import BOUNDARIES, UNKNOWNS
 from ..generated.tca_kernels_scalar import (
     N_BOUNDARIES, N_ERRORS, N_MARGINS, N_UNKNOWNS, OPPOSITE_BOUNDARY, blank_margins_point, candidate_system_point,
     contact_margin_point, contact_system_point, edge_workspace, pinion_in_gear_frame_point, surface_jet_point,
-    workspace,
+    surface_point, workspace,
 )
 from ..patch_cover import CELL_FIELDS
 from ..status import Status
@@ -60,7 +60,7 @@ PARALLEL = ("solve_paths",)
 #: evaluation of the contact system costs ~28 % less (docs/performance.md).  numba refuses to
 #: compile a function outside this list that allocates ("NRT required but not enabled").
 ALLOCATING = ("scratch", "edge_scratch", "clearance_scratch", "workspace", "edge_workspace", "solve_paths",
-              "solve_point", "normal_gaps", "solve_linear")
+              "solve_point", "normal_gaps", "solve_linear", "contact_points")
 #: Active-set rounds of first_touch before it falls back to solving every candidate.
 MAX_ROUNDS = 8
 #: How often patches_apart may halve a cell of the pinion patch cover (root spheres of a few mm
@@ -704,6 +704,29 @@ def solve_point(problem, x, phi1, errors, scale, tol, max_iter):
     xs = x.copy()
     conv, it = newton(problem, xs, phi1, errors, scale, tol, max_iter, ws, F, J, Je, Jp, step)
     return xs, conv, it, residual_norm(F, scale)
+
+
+def contact_points(problem, x, code, p1_out, p2_out):
+    """The pinion point in S_1 and the gear point in S_2 (K, N, 3) of the solved contacts x
+    (K, N, N_UNKNOWNS) whose status code carries numbers (OK, EDGE); nan elsewhere.  The compiled
+    twin of tca.contact_points for a whole sweep (one pass, no temporaries)."""
+    pinion_model, gear_model, flank, pinion_params, gear_params, pair = problem
+    p = np.empty(3)
+    nm = np.empty(3)
+    roll = np.empty(1)
+    for k in range(x.shape[0]):
+        for j in range(x.shape[1]):
+            if code[k, j] == OK or code[k, j] == EDGE:
+                surface_point(pinion_model, flank, x[k, j, 0], x[k, j, 1], pinion_params, p, nm, roll)
+                for i in range(3):
+                    p1_out[k, j, i] = p[i]
+                surface_point(gear_model, flank, x[k, j, 2], x[k, j, 3], gear_params, p, nm, roll)
+                for i in range(3):
+                    p2_out[k, j, i] = p[i]
+            else:
+                for i in range(3):
+                    p1_out[k, j, i] = math.nan
+                    p2_out[k, j, i] = math.nan
 
 
 #: where normal_gaps finds each unknown (by the generated names; numba reads them as constants)
