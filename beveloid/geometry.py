@@ -58,9 +58,9 @@ class Member:
 
     def blank(self) -> np.ndarray:
         toe, heel = self.face_limits
-        return np.asarray(layouts.FlankBlank(
+        return np.asarray(layouts.FlankBlank.pack(dict(
             pitch_radius_mm=self.pitch_radius_mm, tip_height_mm=self.tip_height_mm, rack_shift_mm=self.rack_shift_mm,
-            cone_angle=self.cone_angle, toe_z_mm=toe, heel_z_mm=heel), dtype=float)
+            cone_angle=self.cone_angle, toe_z_mm=toe, heel_z_mm=heel)), dtype=float)
 
 
 @dataclass(frozen=True)
@@ -119,10 +119,10 @@ class PairGeometry:
         return tca_kernels.pack_surface_params(self.member(which).tooth_surface, self.surface_values(which))
 
     def placement(self) -> np.ndarray:
-        return np.asarray(layouts.PairPlacement(
+        return np.asarray(layouts.PairPlacement.pack(dict(
             offset_mm=self.offset_mm, shaft_angle=self.shaft_angle,
             pinion_axial_placement_mm=self.pinion.axial_placement_mm,
-            gear_axial_placement_mm=self.gear.axial_placement_mm), dtype=float)
+            gear_axial_placement_mm=self.gear.axial_placement_mm)), dtype=float)
 
     def problem(self, flank: str):
         """The solver core's problem tuple for one flank (see beveloid/solver/core.py)."""

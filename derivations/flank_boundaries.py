@@ -15,7 +15,7 @@ edge contact (curve against surface) uses the same functions and their derivativ
 """
 import sympy as sp
 
-from .codegen import Field, Layout
+from .codegen import Field, Layout, with_trig
 from .symbols import gamma, l, r, s
 
 x, y, z = sp.symbols("x y z", real=True)
@@ -26,14 +26,14 @@ BOUNDARIES = ("form limit", "tip", "toe", "heel")
 #: The boundary on the far side of the patch: the two never meet (no corner between them).
 OPPOSITE = {"form limit": "tip", "tip": "form limit", "toe": "heel", "heel": "toe"}
 
-BLANK = Layout("FlankBlank", "Where one member's flank ends (the blank), in its frame S_i.", (
+BLANK = Layout("FlankBlank", "Where one member's flank ends (the blank), in its frame S_i.", with_trig((
     Field("pitch_radius_mm", r, "mm", "generating (reference) pitch radius r"),
     Field("tip_height_mm", tip_height, "mm", "tip above the rack pitch plane, along the rack depth axis"),
     Field("rack_shift_mm", s, "mm", "rack shift s along its depth axis"),
     Field("cone_angle", gamma, "rad", "cone angle gamma"),
     Field("toe_z_mm", toe_z, "mm", "axial position of the toe (small end) in S_i"),
     Field("heel_z_mm", heel_z, "mm", "axial position of the heel (large end) in S_i"),
-))
+), ("cone_angle",)))
 
 
 def tip_radius(zz=z):

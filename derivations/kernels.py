@@ -43,7 +43,7 @@ from . import (
     codegen, crowned_flank, design_chain, edge_contact, eq04_07_tooth_surface, eq28_38_meshing_model, flank_boundaries,
     patch_clearance,
 )
-from .codegen import Arg, Field, Function, Layout, ModuleSpec, Output
+from .codegen import Arg, Field, Function, Layout, ModuleSpec, Output, with_trig
 from .eq01_03_rack_cutter import LEFT, RIGHT
 from .symbols import (
     E, N1, N2, a, alpha_n, alpha_nw, b, b_c1, b_c2, beta, beta1, beta_w1, d_w1, d_w2, delta, dg_h, dg_v, dx_q,
@@ -69,6 +69,9 @@ RACK_FIELDS = (
     Field("pitch_radius_mm", r, "mm", "generating (reference) pitch radius r"),
 )
 
+#: the rack fields whose sin, cos and tan every surface layout carries precomputed (with_trig)
+RACK_ANGLES = ("normal_pressure_angle", "helix_angle", "cone_angle")
+
 ERRORS = Layout("AssemblyErrors", "The five assembly errors of Eq 34 (frame S_q of the aligned gear).", (
     Field("dx_mm", dx_q, "mm", "gear offset error along x_q (the common perpendicular)"),
     Field("dy_mm", dy_q, "mm", "gear offset error along y_q"),
@@ -78,12 +81,12 @@ ERRORS = Layout("AssemblyErrors", "The five assembly errors of Eq 34 (frame S_q 
 ))
 
 _z1, _z2 = sp.symbols("z_1 z_2", real=True)
-PLACEMENT = Layout("PairPlacement", "Where the two members sit in S_f (Eqs 30, 33).", (
+PLACEMENT = Layout("PairPlacement", "Where the two members sit in S_f (Eqs 30, 33).", with_trig((
     Field("offset_mm", E, "mm", "offset E between the crossed axes"),
     Field("shaft_angle", delta, "rad", "shaft angle delta"),
     Field("pinion_axial_placement_mm", _z1, "mm", "d_w1 - b_c1: the S_1 origin on the pinion axis"),
     Field("gear_axial_placement_mm", _z2, "mm", "d_w2 - b_c2: the S_2 origin on the gear axis"),
-))
+), ("shaft_angle",)))
 
 CONTACT_UNKNOWNS = Layout("ContactUnknowns", "The unknowns of Eq 38 for a given pinion angle, in the solver's order.", (
     Field("pinion_l_mm", sp.Symbol("l_1", real=True), "mm", "pinion profile parameter l"),
@@ -103,7 +106,7 @@ def surface_layout(model_name, model):
     extra = tuple(getattr(model, "PARAMETERS", ()))
     return Layout(f"{_camel(model_name)}SurfaceParams",
                   f"Parameters of the '{model_name}' tooth-surface model ({model.__name__.rsplit('.', 1)[-1]}.py).",
-                  RACK_FIELDS + extra)
+                  with_trig(RACK_FIELDS + extra, RACK_ANGLES))
 
 
 _LU = [Arg("l", l, "mm", "profile parameter along the rack edge"), Arg("u", u, "mm", "parameter along the tooth")]

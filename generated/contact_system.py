@@ -35,14 +35,14 @@ def contact_residual(
         pinion_angle: phi'_1 of Eq 30 [rad]
         gear_angle: phi'_2 of Eq 34 [rad]
         errors: assembly errors (layouts.AssemblyErrors) [see layout], shape (..., 5)
-        pair: pair placement (layouts.PairPlacement) [see layout], shape (..., 4)
+        pair: pair placement (layouts.PairPlacement) [see layout], shape (..., 7)
     Returns ContactResidual:
         residual: [R_f1 - R_f2 (x, y, z), (n_f1 + n_f2)_x, (n_f1 + n_f2)_z] [mm | 1], shape (..., 5)
         residual_D_unknowns: d residual / d ('pinion_l_mm', 'pinion_u_mm', 'gear_l_mm', 'gear_u_mm', 'gear_angle_rad') [], shape (..., 5, 5)
         residual_D_errors: d residual / d AssemblyErrors [], shape (..., 5, 5)
         residual_D_pinion_angle: d residual / d phi'_1 [], shape (..., 5)
     """
-    # ops: 294
+    # ops: 288
     _shape = numpy.broadcast_shapes(numpy.shape(pinion_point)[:-1], numpy.shape(pinion_normal)[:-1], numpy.shape(pinion_point_D_lu)[:-2], numpy.shape(pinion_normal_D_lu)[:-2], numpy.shape(gear_point)[:-1], numpy.shape(gear_normal)[:-1], numpy.shape(gear_point_D_lu)[:-2], numpy.shape(gear_normal_D_lu)[:-2], numpy.shape(pinion_angle), numpy.shape(gear_angle), numpy.shape(errors)[:-1], numpy.shape(pair)[:-1])
     pinion_point_0 = pinion_point[..., 0]
     pinion_point_1 = pinion_point[..., 1]
@@ -89,6 +89,9 @@ def contact_residual(
     shaft_angle = pair[..., 1]
     pinion_axial_placement_mm = pair[..., 2]
     gear_axial_placement_mm = pair[..., 3]
+    sin_shaft_angle = pair[..., 4]
+    cos_shaft_angle = pair[..., 5]
+    tan_shaft_angle = pair[..., 6]
     _x0 = numpy.sin(vertical_rad)
     _x1 = numpy.sin(pinion_angle)
     _x2 = _x1*pinion_point_1
@@ -97,58 +100,56 @@ def contact_residual(
     _x5 = numpy.cos(vertical_rad)
     _x6 = _x4*_x5
     _x7 = numpy.sin(gear_angle)
-    _x8 = numpy.cos(shaft_angle)
-    _x9 = numpy.sin(shaft_angle)
-    _x10 = _x1*pinion_point_0
-    _x11 = _x3*pinion_point_1
-    _x12 = numpy.sin(horizontal_rad)
-    _x13 = _x12*_x5
-    _x14 = numpy.cos(horizontal_rad)
-    _x15 = _x13*_x8 + _x14*_x5*_x9
-    _x16 = _x14*_x4
-    _x17 = _x12*_x7
-    _x18 = _x0*_x17 + _x16
-    _x19 = _x12*_x4
-    _x20 = _x14*_x7
-    _x21 = _x0*_x20 - _x19
-    _x22 = _x21*_x9
-    _x23 = _x18*_x8 + _x22
-    _x24 = -_x0*_x19 + _x20
-    _x25 = _x0*_x16 + _x17
-    _x26 = -_x25
-    _x27 = _x26*_x9
-    _x28 = _x24*_x8 + _x27
-    _x29 = _x13*_x9 - _x14*_x5*_x8
-    _x30 = -_x29
-    _x31 = _x30*gear_point_2
-    _x32 = _x18*_x9 - _x21*_x8
-    _x33 = -_x32
-    _x34 = _x26*_x8
-    _x35 = -_x24*_x9 + _x34
-    _x36 = _x5*_x7
-    _x37 = -_x15
+    _x8 = _x1*pinion_point_0
+    _x9 = _x3*pinion_point_1
+    _x10 = numpy.sin(horizontal_rad)
+    _x11 = _x5*cos_shaft_angle
+    _x12 = numpy.cos(horizontal_rad)
+    _x13 = _x5*sin_shaft_angle
+    _x14 = _x10*_x11 + _x12*_x13
+    _x15 = _x12*_x4
+    _x16 = _x10*_x7
+    _x17 = _x0*_x16 + _x15
+    _x18 = _x10*_x4
+    _x19 = _x12*_x7
+    _x20 = _x0*_x19 - _x18
+    _x21 = _x20*sin_shaft_angle
+    _x22 = _x17*cos_shaft_angle + _x21
+    _x23 = -_x0*_x18 + _x19
+    _x24 = _x0*_x15 + _x16
+    _x25 = -_x24
+    _x26 = _x25*sin_shaft_angle
+    _x27 = _x23*cos_shaft_angle + _x26
+    _x28 = -_x10*_x13 + _x11*_x12
+    _x29 = _x28*gear_point_2
+    _x30 = _x20*cos_shaft_angle
+    _x31 = -_x17*sin_shaft_angle + _x30
+    _x32 = _x25*cos_shaft_angle
+    _x33 = -_x23*sin_shaft_angle + _x32
+    _x34 = _x5*_x7
+    _x35 = -_x14
+    _x36 = -_x22
+    _x37 = -_x27
     _x38 = -_x23
-    _x39 = -_x28
-    _x40 = -_x24
-    _x41 = -_x35
-    _x42 = _x40*_x9
-    _x43 = _x25*_x8 - _x42
-    _x44 = _x0*_x7
-    _x45 = -_x8
-    _x46 = _x0*_x8
-    _x47 = _x0*_x9
-    _x48 = _x5*_x8
-    _x49 = _x5*_x9
-    _x50 = -_x18
-    _x51 = _x12*_x47 - _x14*_x46
-    _x52 = -_x16*_x48 + _x19*_x49
-    _x53 = _x14*_x5*_x7*_x8 - _x17*_x49
-    _x54 = -_x27 + _x40*_x8
-    _x55 = -_x22 + _x50*_x8
-    residual = _stack([-_x0*gear_point_2 - _x2 + _x3*pinion_point_0 + _x5*_x7*gear_point_1 - _x6*gear_point_0 - dx_mm - offset_mm, _x10 + _x11 - _x15*gear_point_2 - _x23*gear_point_1 - _x28*gear_point_0 - _x8*dy_mm - _x9*dz_mm - _x9*gear_axial_placement_mm, -_x31 - _x33*gear_point_1 - _x35*gear_point_0 - _x8*dz_mm - _x8*gear_axial_placement_mm + _x9*dy_mm + pinion_axial_placement_mm + pinion_point_2, _x0*gear_normal_2 - _x1*pinion_normal_1 + _x3*pinion_normal_0 - _x36*gear_normal_1 + _x6*gear_normal_0, _x30*gear_normal_2 + _x33*gear_normal_1 + _x35*gear_normal_0 + pinion_normal_2], (5,), _shape)
-    residual_D_unknowns = _stack([-_x1*pinion_point_D_lu_10 + _x3*pinion_point_D_lu_00, -_x1*pinion_point_D_lu_11 + _x3*pinion_point_D_lu_01, -_x0*gear_point_D_lu_20 + _x5*_x7*gear_point_D_lu_10 - _x6*gear_point_D_lu_00, -_x0*gear_point_D_lu_21 + _x5*_x7*gear_point_D_lu_11 - _x6*gear_point_D_lu_01, _x36*gear_point_0 + _x6*gear_point_1, _x1*pinion_point_D_lu_00 + _x3*pinion_point_D_lu_10, _x1*pinion_point_D_lu_01 + _x3*pinion_point_D_lu_11, _x37*gear_point_D_lu_20 + _x38*gear_point_D_lu_10 + _x39*gear_point_D_lu_00, _x37*gear_point_D_lu_21 + _x38*gear_point_D_lu_11 + _x39*gear_point_D_lu_01, -_x23*gear_point_0 - gear_point_1*(_x25*_x9 + _x40*_x8), pinion_point_D_lu_20, pinion_point_D_lu_21, _x29*gear_point_D_lu_20 + _x32*gear_point_D_lu_10 + _x41*gear_point_D_lu_00, _x29*gear_point_D_lu_21 + _x32*gear_point_D_lu_11 + _x41*gear_point_D_lu_01, -_x33*gear_point_0 - _x43*gear_point_1, -_x1*pinion_normal_D_lu_10 + _x3*pinion_normal_D_lu_00, -_x1*pinion_normal_D_lu_11 + _x3*pinion_normal_D_lu_01, _x0*gear_normal_D_lu_20 - _x36*gear_normal_D_lu_10 + _x6*gear_normal_D_lu_00, _x0*gear_normal_D_lu_21 - _x36*gear_normal_D_lu_11 + _x6*gear_normal_D_lu_01, -_x36*gear_normal_0 - _x6*gear_normal_1, pinion_normal_D_lu_20, pinion_normal_D_lu_21, _x30*gear_normal_D_lu_20 + _x33*gear_normal_D_lu_10 + _x35*gear_normal_D_lu_00, _x30*gear_normal_D_lu_21 + _x33*gear_normal_D_lu_11 + _x35*gear_normal_D_lu_01, _x33*gear_normal_0 + _x43*gear_normal_1], (5, 5), _shape)
-    residual_D_errors = _stack([-1, 0, 0, _x0*_x4*gear_point_0 - _x44*gear_point_1 - _x5*gear_point_2, 0, 0, _x45, -_x9, -gear_point_0*(-_x16*_x49 - _x19*_x48) - gear_point_1*(_x17*_x48 + _x20*_x49) - gear_point_2*(-_x12*_x46 - _x14*_x47), -_x31 - gear_point_0*(_x34 + _x42) - gear_point_1*(_x21*_x8 + _x50*_x9), 0, _x9, _x45, -_x51*gear_point_2 - _x52*gear_point_0 - _x53*gear_point_1, -_x37*gear_point_2 - _x54*gear_point_0 - _x55*gear_point_1, 0, 0, 0, -_x0*_x4*gear_normal_0 + _x44*gear_normal_1 + _x5*gear_normal_2, 0, 0, 0, 0, _x51*gear_normal_2 + _x52*gear_normal_0 + _x53*gear_normal_1, _x37*gear_normal_2 + _x54*gear_normal_0 + _x55*gear_normal_1], (5, 5), _shape)
-    residual_D_pinion_angle = _stack([-_x10 - _x11, -_x2 + _x3*pinion_point_0, 0, -_x1*pinion_normal_0 - _x3*pinion_normal_1, 0], (5,), _shape)
+    _x39 = _x38*cos_shaft_angle
+    _x40 = -_x28
+    _x41 = -_x31
+    _x42 = -_x33
+    _x43 = _x38*sin_shaft_angle
+    _x44 = _x24*cos_shaft_angle - _x43
+    _x45 = _x0*_x7
+    _x46 = -cos_shaft_angle
+    _x47 = _x0*_x12
+    _x48 = -_x17
+    _x49 = _x0*_x10*sin_shaft_angle - _x47*cos_shaft_angle
+    _x50 = _x10*_x4*_x5*sin_shaft_angle - _x11*_x15
+    _x51 = _x11*_x19 - _x13*_x16
+    _x52 = -_x26 + _x39
+    _x53 = -_x21 + _x48*cos_shaft_angle
+    residual = _stack([-_x0*gear_point_2 - _x2 + _x3*pinion_point_0 + _x5*_x7*gear_point_1 - _x6*gear_point_0 - dx_mm - offset_mm, -_x14*gear_point_2 - _x22*gear_point_1 - _x27*gear_point_0 + _x8 + _x9 - cos_shaft_angle*dy_mm - dz_mm*sin_shaft_angle - gear_axial_placement_mm*sin_shaft_angle, -_x29 - _x31*gear_point_1 - _x33*gear_point_0 - cos_shaft_angle*dz_mm - cos_shaft_angle*gear_axial_placement_mm + dy_mm*sin_shaft_angle + pinion_axial_placement_mm + pinion_point_2, _x0*gear_normal_2 - _x1*pinion_normal_1 + _x3*pinion_normal_0 - _x34*gear_normal_1 + _x6*gear_normal_0, _x28*gear_normal_2 + _x31*gear_normal_1 + _x33*gear_normal_0 + pinion_normal_2], (5,), _shape)
+    residual_D_unknowns = _stack([-_x1*pinion_point_D_lu_10 + _x3*pinion_point_D_lu_00, -_x1*pinion_point_D_lu_11 + _x3*pinion_point_D_lu_01, -_x0*gear_point_D_lu_20 + _x5*_x7*gear_point_D_lu_10 - _x6*gear_point_D_lu_00, -_x0*gear_point_D_lu_21 + _x5*_x7*gear_point_D_lu_11 - _x6*gear_point_D_lu_01, _x34*gear_point_0 + _x6*gear_point_1, _x1*pinion_point_D_lu_00 + _x3*pinion_point_D_lu_10, _x1*pinion_point_D_lu_01 + _x3*pinion_point_D_lu_11, _x35*gear_point_D_lu_20 + _x36*gear_point_D_lu_10 + _x37*gear_point_D_lu_00, _x35*gear_point_D_lu_21 + _x36*gear_point_D_lu_11 + _x37*gear_point_D_lu_01, -_x22*gear_point_0 - gear_point_1*(_x24*sin_shaft_angle + _x39), pinion_point_D_lu_20, pinion_point_D_lu_21, _x40*gear_point_D_lu_20 + _x41*gear_point_D_lu_10 + _x42*gear_point_D_lu_00, _x40*gear_point_D_lu_21 + _x41*gear_point_D_lu_11 + _x42*gear_point_D_lu_01, -_x31*gear_point_0 - _x44*gear_point_1, -_x1*pinion_normal_D_lu_10 + _x3*pinion_normal_D_lu_00, -_x1*pinion_normal_D_lu_11 + _x3*pinion_normal_D_lu_01, _x0*gear_normal_D_lu_20 - _x34*gear_normal_D_lu_10 + _x6*gear_normal_D_lu_00, _x0*gear_normal_D_lu_21 - _x34*gear_normal_D_lu_11 + _x6*gear_normal_D_lu_01, -_x34*gear_normal_0 - _x6*gear_normal_1, pinion_normal_D_lu_20, pinion_normal_D_lu_21, _x28*gear_normal_D_lu_20 + _x31*gear_normal_D_lu_10 + _x33*gear_normal_D_lu_00, _x28*gear_normal_D_lu_21 + _x31*gear_normal_D_lu_11 + _x33*gear_normal_D_lu_01, _x31*gear_normal_0 + _x44*gear_normal_1], (5, 5), _shape)
+    residual_D_errors = _stack([-1, 0, 0, _x0*_x4*gear_point_0 - _x45*gear_point_1 - _x5*gear_point_2, 0, 0, _x46, -sin_shaft_angle, -gear_point_0*(-_x11*_x18 - _x13*_x15) - gear_point_1*(_x11*_x16 + _x13*_x19) - gear_point_2*(-_x0*_x10*cos_shaft_angle - _x47*sin_shaft_angle), -_x29 - gear_point_0*(_x32 + _x43) - gear_point_1*(_x30 + _x48*sin_shaft_angle), 0, sin_shaft_angle, _x46, -_x49*gear_point_2 - _x50*gear_point_0 - _x51*gear_point_1, -_x35*gear_point_2 - _x52*gear_point_0 - _x53*gear_point_1, 0, 0, 0, -_x0*_x4*gear_normal_0 + _x45*gear_normal_1 + _x5*gear_normal_2, 0, 0, 0, 0, _x49*gear_normal_2 + _x50*gear_normal_0 + _x51*gear_normal_1, _x35*gear_normal_2 + _x52*gear_normal_0 + _x53*gear_normal_1], (5, 5), _shape)
+    residual_D_pinion_angle = _stack([-_x8 - _x9, -_x2 + _x3*pinion_point_0, 0, -_x1*pinion_normal_0 - _x3*pinion_normal_1, 0], (5,), _shape)
     return ContactResidual(residual, residual_D_unknowns, residual_D_errors, residual_D_pinion_angle)
 
 

@@ -22,13 +22,13 @@ def boundary_jet(point, point_D_lu, point_D2_lu, l, blank):
         point_D_lu: [dR/dl, dR/du] [mm/mm], shape (..., 3, 2)
         point_D2_lu: [d2R/dl2, d2R/dldu, d2R/du2] [mm/mm^2], shape (..., 3, 3)
         l: the point's rack parameter l [mm]
-        blank: the member's blank (layouts.FlankBlank) [see layout], shape (..., 6)
+        blank: the member's blank (layouts.FlankBlank) [see layout], shape (..., 9)
     Returns BoundaryJet:
         margins: [form limit, tip, toe, heel], positive inside [mm], shape (..., 4)
         margins_D_lu: d margins / d(l, u) [mm/mm], shape (..., 4, 2)
         margins_D2_lu: [d2/dl2, d2/dldu, d2/du2] of the margins [mm/mm^2], shape (..., 4, 3)
     """
-    # ops: 98
+    # ops: 96
     _shape = numpy.broadcast_shapes(numpy.shape(point)[:-1], numpy.shape(point_D_lu)[:-2], numpy.shape(point_D2_lu)[:-2], numpy.shape(l), numpy.shape(blank)[:-1])
     point_0 = point[..., 0]
     point_1 = point[..., 1]
@@ -54,35 +54,37 @@ def boundary_jet(point, point_D_lu, point_D2_lu, l, blank):
     cone_angle = blank[..., 3]
     toe_z_mm = blank[..., 4]
     heel_z_mm = blank[..., 5]
-    _x0 = numpy.tan(cone_angle)
-    _x1 = point_0**2
-    _x2 = point_1**2
-    _x3 = _x1 + _x2
-    _x4 = numpy.sqrt(_x3)
-    _x5 = -toe_z_mm
-    _x6 = _x5 + heel_z_mm
-    _x7 = _x6/abs(_x6)
-    _x8 = _x4**(-1.0)
-    _x9 = _x8*point_D_lu_00
-    _x10 = _x8*point_D_lu_10
-    _x11 = _x8*point_D_lu_01
-    _x12 = _x8*point_D_lu_11
-    _x13 = _x7*point_D_lu_20
-    _x14 = _x7*point_D_lu_21
-    _x15 = _x8*point_0
-    _x16 = _x8*point_1
-    _x17 = _x3**(-3/2)
-    _x18 = _x17*point_0*point_1
-    _x19 = _x1*_x17
-    _x20 = _x18*point_D_lu_10 + _x19*point_D_lu_00 - _x9
-    _x21 = _x17*_x2
-    _x22 = -_x10 + _x18*point_D_lu_00 + _x21*point_D_lu_10
-    _x23 = _x7*point_D2_lu_20
-    _x24 = _x7*point_D2_lu_21
-    _x25 = _x7*point_D2_lu_22
-    margins = _stack([l, _x0*point_2 - _x4 + pitch_radius_mm + (rack_shift_mm + tip_height_mm)/numpy.cos(cone_angle), _x7*(_x5 + point_2), _x7*(heel_z_mm - point_2)], (4,), _shape)
-    margins_D_lu = _stack([1, 0, _x0*point_D_lu_20 - _x10*point_1 - _x9*point_0, _x0*point_D_lu_21 - _x11*point_0 - _x12*point_1, _x13, _x14, -_x13, -_x14], (4, 2), _shape)
-    margins_D2_lu = _stack([0, 0, 0, _x0*point_D2_lu_20 - _x15*point_D2_lu_00 - _x16*point_D2_lu_10 + _x20*point_D_lu_00 + _x22*point_D_lu_10, _x0*point_D2_lu_21 - _x15*point_D2_lu_01 - _x16*point_D2_lu_11 + _x20*point_D_lu_01 + _x22*point_D_lu_11, _x0*point_D2_lu_22 - _x15*point_D2_lu_02 - _x16*point_D2_lu_12 + point_D_lu_01*(-_x11 + _x18*point_D_lu_11 + _x19*point_D_lu_01) + point_D_lu_11*(-_x12 + _x18*point_D_lu_01 + _x21*point_D_lu_11), _x23, _x24, _x25, -_x23, -_x24, -_x25], (4, 3), _shape)
+    sin_cone_angle = blank[..., 6]
+    cos_cone_angle = blank[..., 7]
+    tan_cone_angle = blank[..., 8]
+    _x0 = point_0**2
+    _x1 = point_1**2
+    _x2 = _x0 + _x1
+    _x3 = numpy.sqrt(_x2)
+    _x4 = -toe_z_mm
+    _x5 = _x4 + heel_z_mm
+    _x6 = _x5/abs(_x5)
+    _x7 = _x3**(-1.0)
+    _x8 = _x7*point_D_lu_00
+    _x9 = _x7*point_D_lu_10
+    _x10 = _x7*point_D_lu_01
+    _x11 = _x7*point_D_lu_11
+    _x12 = _x6*point_D_lu_20
+    _x13 = _x6*point_D_lu_21
+    _x14 = _x7*point_0
+    _x15 = _x7*point_1
+    _x16 = _x2**(-3/2)
+    _x17 = _x16*point_0*point_1
+    _x18 = _x0*_x16
+    _x19 = _x17*point_D_lu_10 + _x18*point_D_lu_00 - _x8
+    _x20 = _x1*_x16
+    _x21 = _x17*point_D_lu_00 + _x20*point_D_lu_10 - _x9
+    _x22 = _x6*point_D2_lu_20
+    _x23 = _x6*point_D2_lu_21
+    _x24 = _x6*point_D2_lu_22
+    margins = _stack([l, -_x3 + pitch_radius_mm + point_2*tan_cone_angle + (rack_shift_mm + tip_height_mm)/cos_cone_angle, _x6*(_x4 + point_2), _x6*(heel_z_mm - point_2)], (4,), _shape)
+    margins_D_lu = _stack([1, 0, -_x8*point_0 - _x9*point_1 + point_D_lu_20*tan_cone_angle, -_x10*point_0 - _x11*point_1 + point_D_lu_21*tan_cone_angle, _x12, _x13, -_x12, -_x13], (4, 2), _shape)
+    margins_D2_lu = _stack([0, 0, 0, -_x14*point_D2_lu_00 - _x15*point_D2_lu_10 + _x19*point_D_lu_00 + _x21*point_D_lu_10 + point_D2_lu_20*tan_cone_angle, -_x14*point_D2_lu_01 - _x15*point_D2_lu_11 + _x19*point_D_lu_01 + _x21*point_D_lu_11 + point_D2_lu_21*tan_cone_angle, -_x14*point_D2_lu_02 - _x15*point_D2_lu_12 + point_D2_lu_22*tan_cone_angle + point_D_lu_01*(-_x10 + _x17*point_D_lu_11 + _x18*point_D_lu_01) + point_D_lu_11*(-_x11 + _x17*point_D_lu_01 + _x20*point_D_lu_11), _x22, _x23, _x24, -_x22, -_x23, -_x24], (4, 3), _shape)
     return BoundaryJet(margins, margins_D_lu, margins_D2_lu)
 
 
@@ -111,14 +113,14 @@ def pinion_edge_tangency(
         pinion_angle: phi'_1 of Eq 30 [rad]
         gear_angle: phi'_2 of Eq 34 [rad]
         errors: assembly errors (layouts.AssemblyErrors) [see layout], shape (..., 5)
-        pair: pair placement (layouts.PairPlacement) [see layout], shape (..., 4)
+        pair: pair placement (layouts.PairPlacement) [see layout], shape (..., 7)
     Returns PinionEdgeTangency:
         tangency: (L t) . n_f of the other member, t = R_l g_u - R_u g_l [mm/mm], shape (...)
         tangency_D_unknowns: d tangency / d ('pinion_l_mm', 'pinion_u_mm', 'gear_l_mm', 'gear_u_mm', 'gear_angle_rad') [], shape (..., 5)
         tangency_D_errors: d tangency / d AssemblyErrors [], shape (..., 5)
         tangency_D_pinion_angle: d tangency / d phi'_1 [], shape (...)
     """
-    # ops: 273
+    # ops: 267
     _shape = numpy.broadcast_shapes(numpy.shape(pinion_point_D_lu)[:-2], numpy.shape(pinion_point_D2_lu)[:-2], numpy.shape(g_D_lu)[:-1], numpy.shape(g_D2_lu)[:-1], numpy.shape(gear_normal)[:-1], numpy.shape(gear_normal_D_lu)[:-2], numpy.shape(pinion_angle), numpy.shape(gear_angle), numpy.shape(errors)[:-1], numpy.shape(pair)[:-1])
     pinion_point_D_lu_00 = pinion_point_D_lu[..., 0, 0]
     pinion_point_D_lu_01 = pinion_point_D_lu[..., 0, 1]
@@ -158,6 +160,9 @@ def pinion_edge_tangency(
     shaft_angle = pair[..., 1]
     pinion_axial_placement_mm = pair[..., 2]
     gear_axial_placement_mm = pair[..., 3]
+    sin_shaft_angle = pair[..., 4]
+    cos_shaft_angle = pair[..., 5]
+    tan_shaft_angle = pair[..., 6]
     _x0 = numpy.sin(vertical_rad)
     _x1 = numpy.cos(gear_angle)
     _x2 = numpy.cos(vertical_rad)
@@ -171,32 +176,32 @@ def pinion_edge_tangency(
     _x10 = -g_D_lu_0*pinion_point_D_lu_11 + g_D_lu_1*pinion_point_D_lu_10
     _x11 = -_x10*_x9 + _x7*_x8
     _x12 = -g_D_lu_0*pinion_point_D_lu_21 + g_D_lu_1*pinion_point_D_lu_20
-    _x13 = numpy.sin(shaft_angle)
-    _x14 = numpy.sin(horizontal_rad)
-    _x15 = _x14*_x2
-    _x16 = numpy.cos(horizontal_rad)
-    _x17 = numpy.cos(shaft_angle)
-    _x18 = -_x13*_x15 + _x16*_x17*_x2
-    _x19 = _x18*gear_normal_2
-    _x20 = _x1*_x16
-    _x21 = _x14*_x4
-    _x22 = _x0*_x21 + _x20
-    _x23 = _x1*_x14
-    _x24 = _x16*_x4
-    _x25 = _x0*_x24 - _x23
-    _x26 = -_x13*_x22 + _x17*_x25
-    _x27 = _x0*_x20 + _x21
+    _x13 = numpy.cos(horizontal_rad)
+    _x14 = _x2*cos_shaft_angle
+    _x15 = numpy.sin(horizontal_rad)
+    _x16 = _x2*sin_shaft_angle
+    _x17 = _x13*_x14 - _x15*_x16
+    _x18 = _x17*gear_normal_2
+    _x19 = _x1*_x15
+    _x20 = _x13*_x4
+    _x21 = _x0*_x20 - _x19
+    _x22 = _x21*cos_shaft_angle
+    _x23 = _x1*_x13
+    _x24 = _x15*_x4
+    _x25 = _x0*_x24 + _x23
+    _x26 = _x22 - _x25*sin_shaft_angle
+    _x27 = _x0*_x23 + _x24
     _x28 = -_x27
-    _x29 = _x17*_x28
-    _x30 = -_x0*_x23 + _x24
-    _x31 = -_x13*_x30 + _x29
-    _x32 = _x19 + _x26*gear_normal_1 + _x31*gear_normal_0
+    _x29 = _x28*cos_shaft_angle
+    _x30 = -_x0*_x19 + _x20
+    _x31 = _x29 - _x30*sin_shaft_angle
+    _x32 = _x18 + _x26*gear_normal_1 + _x31*gear_normal_0
     _x33 = _x10*_x7 + _x8*_x9
-    _x34 = _x13*_x16*_x2 + _x15*_x17
-    _x35 = _x13*_x25
-    _x36 = _x17*_x22 + _x35
-    _x37 = _x13*_x28
-    _x38 = _x17*_x30 + _x37
+    _x34 = _x13*_x16 + _x14*_x15
+    _x35 = _x21*sin_shaft_angle
+    _x36 = _x25*cos_shaft_angle + _x35
+    _x37 = _x28*sin_shaft_angle
+    _x38 = _x30*cos_shaft_angle + _x37
     _x39 = _x34*gear_normal_2 + _x36*gear_normal_1 + _x38*gear_normal_0
     _x40 = _x32*g_D_lu_1
     _x41 = _x32*g_D_lu_0
@@ -209,19 +214,17 @@ def pinion_edge_tangency(
     _x48 = -_x42*g_D_lu_0 - _x43*g_D_lu_0
     _x49 = _x32*pinion_point_D_lu_20 + _x39*(_x7*pinion_point_D_lu_10 + _x9*pinion_point_D_lu_00) + _x6*(_x7*pinion_point_D_lu_00 - _x9*pinion_point_D_lu_10)
     _x50 = -_x32*pinion_point_D_lu_21 + _x39*(-_x7*pinion_point_D_lu_11 - _x9*pinion_point_D_lu_01) + _x6*(-_x7*pinion_point_D_lu_01 + _x9*pinion_point_D_lu_11)
-    _x51 = _x0*_x11 + _x12*_x18 + _x33*_x34
+    _x51 = _x0*_x11 + _x12*_x17 + _x33*_x34
     _x52 = -_x11*_x5 + _x12*_x26 + _x33*_x36
     _x53 = _x11*_x3 + _x12*_x31 + _x33*_x38
     _x54 = -_x30
-    _x55 = _x13*_x54
-    _x56 = _x0*_x13
-    _x57 = _x0*_x17
-    _x58 = _x13*_x2
-    _x59 = _x17*_x2
-    _x60 = -_x22
+    _x55 = _x54*sin_shaft_angle
+    _x56 = _x54*cos_shaft_angle
+    _x57 = _x0*_x13
+    _x58 = -_x25
     tangency = _full(_x11*_x6 + _x12*_x32 + _x33*_x39, _shape)
-    tangency_D_unknowns = _stack([_x40*pinion_point_D2_lu_20 - _x41*pinion_point_D2_lu_21 + _x44*pinion_point_D2_lu_00 + _x46*pinion_point_D2_lu_10 + _x47*pinion_point_D2_lu_11 + _x48*pinion_point_D2_lu_01 + _x49*g_D2_lu_1 + _x50*g_D2_lu_0, _x40*pinion_point_D2_lu_21 - _x41*pinion_point_D2_lu_22 + _x44*pinion_point_D2_lu_01 + _x46*pinion_point_D2_lu_11 + _x47*pinion_point_D2_lu_12 + _x48*pinion_point_D2_lu_02 + _x49*g_D2_lu_2 + _x50*g_D2_lu_1, _x51*gear_normal_D_lu_20 + _x52*gear_normal_D_lu_10 + _x53*gear_normal_D_lu_00, _x51*gear_normal_D_lu_21 + _x52*gear_normal_D_lu_11 + _x53*gear_normal_D_lu_01, _x11*(-_x3*gear_normal_1 - _x5*gear_normal_0) + _x12*(_x26*gear_normal_0 + gear_normal_1*(_x17*_x27 - _x55)) + _x33*(_x36*gear_normal_0 + gear_normal_1*(_x13*_x27 + _x17*_x54))], (5,), _shape)
-    tangency_D_errors = _stack([0, 0, 0, _x11*(-_x0*_x1*gear_normal_0 + _x0*_x4*gear_normal_1 + _x2*gear_normal_2) + _x12*(gear_normal_0*(-_x20*_x59 + _x23*_x58) + gear_normal_1*(_x16*_x17*_x2*_x4 - _x21*_x58) + gear_normal_2*(_x14*_x56 - _x16*_x57)) + _x33*(gear_normal_0*(-_x20*_x58 - _x23*_x59) + gear_normal_1*(_x21*_x59 + _x24*_x58) + gear_normal_2*(-_x14*_x57 - _x16*_x56)), _x12*(-_x34*gear_normal_2 + gear_normal_0*(_x17*_x54 - _x37) + gear_normal_1*(_x17*_x60 - _x35)) + _x33*(_x19 + gear_normal_0*(_x29 + _x55) + gear_normal_1*(_x13*_x60 + _x17*_x25))], (5,), _shape)
+    tangency_D_unknowns = _stack([_x40*pinion_point_D2_lu_20 - _x41*pinion_point_D2_lu_21 + _x44*pinion_point_D2_lu_00 + _x46*pinion_point_D2_lu_10 + _x47*pinion_point_D2_lu_11 + _x48*pinion_point_D2_lu_01 + _x49*g_D2_lu_1 + _x50*g_D2_lu_0, _x40*pinion_point_D2_lu_21 - _x41*pinion_point_D2_lu_22 + _x44*pinion_point_D2_lu_01 + _x46*pinion_point_D2_lu_11 + _x47*pinion_point_D2_lu_12 + _x48*pinion_point_D2_lu_02 + _x49*g_D2_lu_2 + _x50*g_D2_lu_1, _x51*gear_normal_D_lu_20 + _x52*gear_normal_D_lu_10 + _x53*gear_normal_D_lu_00, _x51*gear_normal_D_lu_21 + _x52*gear_normal_D_lu_11 + _x53*gear_normal_D_lu_01, _x11*(-_x3*gear_normal_1 - _x5*gear_normal_0) + _x12*(_x26*gear_normal_0 + gear_normal_1*(_x27*cos_shaft_angle - _x55)) + _x33*(_x36*gear_normal_0 + gear_normal_1*(_x27*sin_shaft_angle + _x56))], (5,), _shape)
+    tangency_D_errors = _stack([0, 0, 0, _x11*(-_x0*_x1*gear_normal_0 + _x0*_x4*gear_normal_1 + _x2*gear_normal_2) + _x12*(gear_normal_0*(_x1*_x15*_x2*sin_shaft_angle - _x14*_x23) + gear_normal_1*(_x14*_x20 - _x16*_x24) + gear_normal_2*(_x0*_x15*sin_shaft_angle - _x57*cos_shaft_angle)) + _x33*(gear_normal_0*(-_x14*_x19 - _x16*_x23) + gear_normal_1*(_x14*_x24 + _x16*_x20) + gear_normal_2*(-_x0*_x15*cos_shaft_angle - _x57*sin_shaft_angle)), _x12*(-_x34*gear_normal_2 + gear_normal_0*(-_x37 + _x56) + gear_normal_1*(-_x35 + _x58*cos_shaft_angle)) + _x33*(_x18 + gear_normal_0*(_x29 + _x55) + gear_normal_1*(_x22 + _x58*sin_shaft_angle))], (5,), _shape)
     tangency_D_pinion_angle = _full(_x11*_x39 - _x33*_x6, _shape)
     return PinionEdgeTangency(tangency, tangency_D_unknowns, tangency_D_errors, tangency_D_pinion_angle)
 
@@ -251,14 +254,14 @@ def gear_edge_tangency(
         pinion_angle: phi'_1 of Eq 30 [rad]
         gear_angle: phi'_2 of Eq 34 [rad]
         errors: assembly errors (layouts.AssemblyErrors) [see layout], shape (..., 5)
-        pair: pair placement (layouts.PairPlacement) [see layout], shape (..., 4)
+        pair: pair placement (layouts.PairPlacement) [see layout], shape (..., 7)
     Returns GearEdgeTangency:
         tangency: (L t) . n_f of the other member, t = R_l g_u - R_u g_l [mm/mm], shape (...)
         tangency_D_unknowns: d tangency / d ('pinion_l_mm', 'pinion_u_mm', 'gear_l_mm', 'gear_u_mm', 'gear_angle_rad') [], shape (..., 5)
         tangency_D_errors: d tangency / d AssemblyErrors [], shape (..., 5)
         tangency_D_pinion_angle: d tangency / d phi'_1 [], shape (...)
     """
-    # ops: 307
+    # ops: 301
     _shape = numpy.broadcast_shapes(numpy.shape(gear_point_D_lu)[:-2], numpy.shape(gear_point_D2_lu)[:-2], numpy.shape(g_D_lu)[:-1], numpy.shape(g_D2_lu)[:-1], numpy.shape(pinion_normal)[:-1], numpy.shape(pinion_normal_D_lu)[:-2], numpy.shape(pinion_angle), numpy.shape(gear_angle), numpy.shape(errors)[:-1], numpy.shape(pair)[:-1])
     gear_point_D_lu_00 = gear_point_D_lu[..., 0, 0]
     gear_point_D_lu_01 = gear_point_D_lu[..., 0, 1]
@@ -298,6 +301,9 @@ def gear_edge_tangency(
     shaft_angle = pair[..., 1]
     pinion_axial_placement_mm = pair[..., 2]
     gear_axial_placement_mm = pair[..., 3]
+    sin_shaft_angle = pair[..., 4]
+    cos_shaft_angle = pair[..., 5]
+    tan_shaft_angle = pair[..., 6]
     _x0 = numpy.cos(pinion_angle)
     _x1 = numpy.sin(pinion_angle)
     _x2 = _x0*pinion_normal_0 - _x1*pinion_normal_1
@@ -311,37 +317,37 @@ def gear_edge_tangency(
     _x10 = numpy.sin(gear_angle)
     _x11 = _x10*_x7
     _x12 = -_x11*_x9 + _x3*_x4 + _x5*_x8
-    _x13 = numpy.sin(shaft_angle)
-    _x14 = numpy.sin(horizontal_rad)
-    _x15 = _x14*_x7
-    _x16 = numpy.cos(horizontal_rad)
-    _x17 = numpy.cos(shaft_angle)
-    _x18 = -_x13*_x15 + _x16*_x17*_x7
-    _x19 = _x18*_x4
-    _x20 = _x16*_x6
-    _x21 = _x10*_x14
-    _x22 = _x20 + _x21*_x3
-    _x23 = _x14*_x6
-    _x24 = _x10*_x16
-    _x25 = -_x23 + _x24*_x3
-    _x26 = -_x13*_x22 + _x17*_x25
-    _x27 = _x20*_x3 + _x21
+    _x13 = numpy.cos(horizontal_rad)
+    _x14 = _x7*cos_shaft_angle
+    _x15 = numpy.sin(horizontal_rad)
+    _x16 = _x7*sin_shaft_angle
+    _x17 = _x13*_x14 - _x15*_x16
+    _x18 = _x17*_x4
+    _x19 = _x15*_x6
+    _x20 = _x10*_x13
+    _x21 = -_x19 + _x20*_x3
+    _x22 = _x21*cos_shaft_angle
+    _x23 = _x13*_x6
+    _x24 = _x10*_x15
+    _x25 = _x23 + _x24*_x3
+    _x26 = _x22 - _x25*sin_shaft_angle
+    _x27 = _x23*_x3 + _x24
     _x28 = -_x27
-    _x29 = _x17*_x28
-    _x30 = -_x23*_x3 + _x24
-    _x31 = -_x13*_x30 + _x29
-    _x32 = _x19 + _x26*_x9 + _x31*_x5
+    _x29 = _x28*cos_shaft_angle
+    _x30 = -_x19*_x3 + _x20
+    _x31 = _x29 - _x30*sin_shaft_angle
+    _x32 = _x18 + _x26*_x9 + _x31*_x5
     _x33 = _x0*pinion_normal_1 + _x1*pinion_normal_0
-    _x34 = _x13*_x16*_x7 + _x15*_x17
-    _x35 = _x13*_x25
-    _x36 = _x17*_x22 + _x35
-    _x37 = _x13*_x28
-    _x38 = _x17*_x30 + _x37
+    _x34 = _x13*_x16 + _x14*_x15
+    _x35 = _x21*sin_shaft_angle
+    _x36 = _x25*cos_shaft_angle + _x35
+    _x37 = _x28*sin_shaft_angle
+    _x38 = _x30*cos_shaft_angle + _x37
     _x39 = _x34*_x4 + _x36*_x9 + _x38*_x5
     _x40 = _x0*_x12 + _x1*_x39
     _x41 = _x0*_x39 - _x1*_x12
     _x42 = _x2*_x3
-    _x43 = _x18*pinion_normal_2
+    _x43 = _x17*pinion_normal_2
     _x44 = _x33*_x34
     _x45 = _x42*g_D_lu_1 + _x43*g_D_lu_1 + _x44*g_D_lu_1
     _x46 = -_x42*g_D_lu_0 - _x43*g_D_lu_0 - _x44*g_D_lu_0
@@ -354,18 +360,16 @@ def gear_edge_tangency(
     _x53 = _x33*_x38
     _x54 = _x51*g_D_lu_1 + _x52*g_D_lu_1 + _x53*g_D_lu_1
     _x55 = -_x51*g_D_lu_0 - _x52*g_D_lu_0 - _x53*g_D_lu_0
-    _x56 = _x2*(-_x11*gear_point_D_lu_10 + _x3*gear_point_D_lu_20 + _x8*gear_point_D_lu_00) + _x33*(_x34*gear_point_D_lu_20 + _x36*gear_point_D_lu_10 + _x38*gear_point_D_lu_00) + pinion_normal_2*(_x18*gear_point_D_lu_20 + _x26*gear_point_D_lu_10 + _x31*gear_point_D_lu_00)
-    _x57 = _x2*(_x10*_x7*gear_point_D_lu_11 - _x3*gear_point_D_lu_21 - _x8*gear_point_D_lu_01) + _x33*(-_x34*gear_point_D_lu_21 - _x36*gear_point_D_lu_11 - _x38*gear_point_D_lu_01) + pinion_normal_2*(-_x18*gear_point_D_lu_21 - _x26*gear_point_D_lu_11 - _x31*gear_point_D_lu_01)
+    _x56 = _x2*(-_x11*gear_point_D_lu_10 + _x3*gear_point_D_lu_20 + _x8*gear_point_D_lu_00) + _x33*(_x34*gear_point_D_lu_20 + _x36*gear_point_D_lu_10 + _x38*gear_point_D_lu_00) + pinion_normal_2*(_x17*gear_point_D_lu_20 + _x26*gear_point_D_lu_10 + _x31*gear_point_D_lu_00)
+    _x57 = _x2*(_x10*_x7*gear_point_D_lu_11 - _x3*gear_point_D_lu_21 - _x8*gear_point_D_lu_01) + _x33*(-_x34*gear_point_D_lu_21 - _x36*gear_point_D_lu_11 - _x38*gear_point_D_lu_01) + pinion_normal_2*(-_x17*gear_point_D_lu_21 - _x26*gear_point_D_lu_11 - _x31*gear_point_D_lu_01)
     _x58 = -_x30
-    _x59 = _x13*_x58
-    _x60 = _x13*_x3
-    _x61 = _x17*_x3
-    _x62 = _x13*_x7
-    _x63 = _x17*_x7
-    _x64 = -_x22
+    _x59 = _x58*sin_shaft_angle
+    _x60 = _x58*cos_shaft_angle
+    _x61 = _x13*_x3
+    _x62 = -_x25
     tangency = _full(_x12*_x2 + _x32*pinion_normal_2 + _x33*_x39, _shape)
-    tangency_D_unknowns = _stack([_x32*pinion_normal_D_lu_20 + _x40*pinion_normal_D_lu_00 + _x41*pinion_normal_D_lu_10, _x32*pinion_normal_D_lu_21 + _x40*pinion_normal_D_lu_01 + _x41*pinion_normal_D_lu_11, _x45*gear_point_D2_lu_20 + _x46*gear_point_D2_lu_21 + _x49*gear_point_D2_lu_10 + _x50*gear_point_D2_lu_11 + _x54*gear_point_D2_lu_00 + _x55*gear_point_D2_lu_01 + _x56*g_D2_lu_1 + _x57*g_D2_lu_0, _x45*gear_point_D2_lu_21 + _x46*gear_point_D2_lu_22 + _x49*gear_point_D2_lu_11 + _x50*gear_point_D2_lu_12 + _x54*gear_point_D2_lu_01 + _x55*gear_point_D2_lu_02 + _x56*g_D2_lu_2 + _x57*g_D2_lu_1, _x2*(-_x11*_x5 - _x8*_x9) + _x33*(_x36*_x5 + _x9*(_x13*_x27 + _x17*_x58)) + pinion_normal_2*(_x26*_x5 + _x9*(_x17*_x27 - _x59))], (5,), _shape)
-    tangency_D_errors = _stack([0, 0, 0, _x2*(_x10*_x3*_x9 - _x3*_x5*_x6 + _x4*_x7) + _x33*(_x4*(-_x14*_x61 - _x16*_x60) + _x5*(-_x20*_x62 - _x23*_x63) + _x9*(_x21*_x63 + _x24*_x62)) + pinion_normal_2*(_x4*(_x14*_x60 - _x16*_x61) + _x5*(-_x20*_x63 + _x23*_x62) + _x9*(_x10*_x16*_x17*_x7 - _x21*_x62)), _x33*(_x19 + _x5*(_x29 + _x59) + _x9*(_x13*_x64 + _x17*_x25)) + pinion_normal_2*(-_x34*_x4 + _x5*(_x17*_x58 - _x37) + _x9*(_x17*_x64 - _x35))], (5,), _shape)
+    tangency_D_unknowns = _stack([_x32*pinion_normal_D_lu_20 + _x40*pinion_normal_D_lu_00 + _x41*pinion_normal_D_lu_10, _x32*pinion_normal_D_lu_21 + _x40*pinion_normal_D_lu_01 + _x41*pinion_normal_D_lu_11, _x45*gear_point_D2_lu_20 + _x46*gear_point_D2_lu_21 + _x49*gear_point_D2_lu_10 + _x50*gear_point_D2_lu_11 + _x54*gear_point_D2_lu_00 + _x55*gear_point_D2_lu_01 + _x56*g_D2_lu_1 + _x57*g_D2_lu_0, _x45*gear_point_D2_lu_21 + _x46*gear_point_D2_lu_22 + _x49*gear_point_D2_lu_11 + _x50*gear_point_D2_lu_12 + _x54*gear_point_D2_lu_01 + _x55*gear_point_D2_lu_02 + _x56*g_D2_lu_2 + _x57*g_D2_lu_1, _x2*(-_x11*_x5 - _x8*_x9) + _x33*(_x36*_x5 + _x9*(_x27*sin_shaft_angle + _x60)) + pinion_normal_2*(_x26*_x5 + _x9*(_x27*cos_shaft_angle - _x59))], (5,), _shape)
+    tangency_D_errors = _stack([0, 0, 0, _x2*(_x10*_x3*_x9 - _x3*_x5*_x6 + _x4*_x7) + _x33*(_x4*(-_x15*_x3*cos_shaft_angle - _x61*sin_shaft_angle) + _x5*(-_x14*_x19 - _x16*_x23) + _x9*(_x14*_x24 + _x16*_x20)) + pinion_normal_2*(_x4*(_x15*_x3*sin_shaft_angle - _x61*cos_shaft_angle) + _x5*(-_x14*_x23 + _x15*_x6*_x7*sin_shaft_angle) + _x9*(_x14*_x20 - _x16*_x24)), _x33*(_x18 + _x5*(_x29 + _x59) + _x9*(_x22 + _x62*sin_shaft_angle)) + pinion_normal_2*(-_x34*_x4 + _x5*(-_x37 + _x60) + _x9*(-_x35 + _x62*cos_shaft_angle))], (5,), _shape)
     tangency_D_pinion_angle = _full(-_x12*_x33 + _x2*_x39, _shape)
     return GearEdgeTangency(tangency, tangency_D_unknowns, tangency_D_errors, tangency_D_pinion_angle)
 

@@ -3,11 +3,14 @@
 """Named parameter vectors of the generated kernels.
 
 A kernel that takes a layout takes it as one float array whose last axis holds the fields in
-the order below: build it with ``numpy.asarray(Layout(field=value, ...), dtype=float)`` (or
-``Layout.pack(mapping)``), never by counting positions.  ``UNITS`` and ``DOCS`` name each
-field's unit and meaning.
+the order below: build it with ``numpy.asarray(Layout.pack(mapping), dtype=float)``, never by
+counting positions.  ``pack`` also fills the DERIVED fields (the sin, cos and tan of angles the
+kernels would otherwise evaluate on every call).  ``UNITS`` and ``DOCS`` name each field's unit
+and meaning.
 """
 import typing
+
+import numpy
 
 
 class AssemblyErrors(typing.NamedTuple):
@@ -34,10 +37,12 @@ class AssemblyErrors(typing.NamedTuple):
         "horizontal_rad": "angular error dgamma_h (gear axis turned about x_q)",
     }
 
+    DERIVED = ()
+
     @classmethod
     def pack(cls, values):
-        """The fields taken by name from a mapping (extra keys are ignored)."""
-        return cls(**{name: float(values[name]) for name in cls._fields})
+        """The fields taken by name from a mapping (extra keys are ignored).  Floats or arrays."""
+        return cls(**{name: _value(values[name]) for name in cls._fields})
 
 
 class ContactUnknowns(typing.NamedTuple):
@@ -64,10 +69,12 @@ class ContactUnknowns(typing.NamedTuple):
         "gear_angle_rad": "gear rotation phi\u0027_2 of Eq 34",
     }
 
+    DERIVED = ()
+
     @classmethod
     def pack(cls, values):
-        """The fields taken by name from a mapping (extra keys are ignored)."""
-        return cls(**{name: float(values[name]) for name in cls._fields})
+        """The fields taken by name from a mapping (extra keys are ignored).  Floats or arrays."""
+        return cls(**{name: _value(values[name]) for name in cls._fields})
 
 
 class CrownedSurfaceParams(typing.NamedTuple):
@@ -84,6 +91,15 @@ class CrownedSurfaceParams(typing.NamedTuple):
     lead_crowning_um: float  # [um] lead crowning C_beta: rack removal at the face ends u = +-W/2
     face_width_mm: float  # [mm] the member's face width W (filled from the design)
     normal_module_mm: float  # [mm] normal module m_n (filled from the design)
+    sin_normal_pressure_angle: float  # [1] sin(normal_pressure_angle), computed by pack
+    cos_normal_pressure_angle: float  # [1] cos(normal_pressure_angle), computed by pack
+    tan_normal_pressure_angle: float  # [1] tan(normal_pressure_angle), computed by pack
+    sin_helix_angle: float  # [1] sin(helix_angle), computed by pack
+    cos_helix_angle: float  # [1] cos(helix_angle), computed by pack
+    tan_helix_angle: float  # [1] tan(helix_angle), computed by pack
+    sin_cone_angle: float  # [1] sin(cone_angle), computed by pack
+    cos_cone_angle: float  # [1] cos(cone_angle), computed by pack
+    tan_cone_angle: float  # [1] tan(cone_angle), computed by pack
 
     UNITS = {
         "normal_pressure_angle": "rad",
@@ -97,6 +113,15 @@ class CrownedSurfaceParams(typing.NamedTuple):
         "lead_crowning_um": "um",
         "face_width_mm": "mm",
         "normal_module_mm": "mm",
+        "sin_normal_pressure_angle": "1",
+        "cos_normal_pressure_angle": "1",
+        "tan_normal_pressure_angle": "1",
+        "sin_helix_angle": "1",
+        "cos_helix_angle": "1",
+        "tan_helix_angle": "1",
+        "sin_cone_angle": "1",
+        "cos_cone_angle": "1",
+        "tan_cone_angle": "1",
     }
     DOCS = {
         "normal_pressure_angle": "normal pressure angle of the rack, alpha_n",
@@ -110,12 +135,57 @@ class CrownedSurfaceParams(typing.NamedTuple):
         "lead_crowning_um": "lead crowning C_beta: rack removal at the face ends u = +-W/2",
         "face_width_mm": "the member\u0027s face width W (filled from the design)",
         "normal_module_mm": "normal module m_n (filled from the design)",
+        "sin_normal_pressure_angle": "sin(normal_pressure_angle), computed by pack",
+        "cos_normal_pressure_angle": "cos(normal_pressure_angle), computed by pack",
+        "tan_normal_pressure_angle": "tan(normal_pressure_angle), computed by pack",
+        "sin_helix_angle": "sin(helix_angle), computed by pack",
+        "cos_helix_angle": "cos(helix_angle), computed by pack",
+        "tan_helix_angle": "tan(helix_angle), computed by pack",
+        "sin_cone_angle": "sin(cone_angle), computed by pack",
+        "cos_cone_angle": "cos(cone_angle), computed by pack",
+        "tan_cone_angle": "tan(cone_angle), computed by pack",
     }
+
+    #: the entries pack computes from the others (the kernels read them instead of evaluating them)
+    DERIVED = ("sin_normal_pressure_angle", "cos_normal_pressure_angle", "tan_normal_pressure_angle", "sin_helix_angle", "cos_helix_angle", "tan_helix_angle", "sin_cone_angle", "cos_cone_angle", "tan_cone_angle", )
 
     @classmethod
     def pack(cls, values):
-        """The fields taken by name from a mapping (extra keys are ignored)."""
-        return cls(**{name: float(values[name]) for name in cls._fields})
+        """The fields taken by name from a mapping (extra keys are ignored); the DERIVED ones
+        computed from them (any values given for those are ignored).  Floats or arrays."""
+        normal_pressure_angle = _value(values["normal_pressure_angle"])
+        helix_angle = _value(values["helix_angle"])
+        cone_angle = _value(values["cone_angle"])
+        cutter_addendum_mm = _value(values["cutter_addendum_mm"])
+        half_thickness_mm = _value(values["half_thickness_mm"])
+        rack_shift_mm = _value(values["rack_shift_mm"])
+        pitch_radius_mm = _value(values["pitch_radius_mm"])
+        profile_crowning_um = _value(values["profile_crowning_um"])
+        lead_crowning_um = _value(values["lead_crowning_um"])
+        face_width_mm = _value(values["face_width_mm"])
+        normal_module_mm = _value(values["normal_module_mm"])
+        return cls(
+            normal_pressure_angle,
+            helix_angle,
+            cone_angle,
+            cutter_addendum_mm,
+            half_thickness_mm,
+            rack_shift_mm,
+            pitch_radius_mm,
+            profile_crowning_um,
+            lead_crowning_um,
+            face_width_mm,
+            normal_module_mm,
+            numpy.sin(normal_pressure_angle),
+            numpy.cos(normal_pressure_angle),
+            numpy.tan(normal_pressure_angle),
+            numpy.sin(helix_angle),
+            numpy.cos(helix_angle),
+            numpy.tan(helix_angle),
+            numpy.sin(cone_angle),
+            numpy.cos(cone_angle),
+            numpy.tan(cone_angle),
+        )
 
 
 class FlankBlank(typing.NamedTuple):
@@ -127,6 +197,9 @@ class FlankBlank(typing.NamedTuple):
     cone_angle: float  # [rad] cone angle gamma
     toe_z_mm: float  # [mm] axial position of the toe (small end) in S_i
     heel_z_mm: float  # [mm] axial position of the heel (large end) in S_i
+    sin_cone_angle: float  # [1] sin(cone_angle), computed by pack
+    cos_cone_angle: float  # [1] cos(cone_angle), computed by pack
+    tan_cone_angle: float  # [1] tan(cone_angle), computed by pack
 
     UNITS = {
         "pitch_radius_mm": "mm",
@@ -135,6 +208,9 @@ class FlankBlank(typing.NamedTuple):
         "cone_angle": "rad",
         "toe_z_mm": "mm",
         "heel_z_mm": "mm",
+        "sin_cone_angle": "1",
+        "cos_cone_angle": "1",
+        "tan_cone_angle": "1",
     }
     DOCS = {
         "pitch_radius_mm": "generating (reference) pitch radius r",
@@ -143,12 +219,35 @@ class FlankBlank(typing.NamedTuple):
         "cone_angle": "cone angle gamma",
         "toe_z_mm": "axial position of the toe (small end) in S_i",
         "heel_z_mm": "axial position of the heel (large end) in S_i",
+        "sin_cone_angle": "sin(cone_angle), computed by pack",
+        "cos_cone_angle": "cos(cone_angle), computed by pack",
+        "tan_cone_angle": "tan(cone_angle), computed by pack",
     }
+
+    #: the entries pack computes from the others (the kernels read them instead of evaluating them)
+    DERIVED = ("sin_cone_angle", "cos_cone_angle", "tan_cone_angle", )
 
     @classmethod
     def pack(cls, values):
-        """The fields taken by name from a mapping (extra keys are ignored)."""
-        return cls(**{name: float(values[name]) for name in cls._fields})
+        """The fields taken by name from a mapping (extra keys are ignored); the DERIVED ones
+        computed from them (any values given for those are ignored).  Floats or arrays."""
+        pitch_radius_mm = _value(values["pitch_radius_mm"])
+        tip_height_mm = _value(values["tip_height_mm"])
+        rack_shift_mm = _value(values["rack_shift_mm"])
+        cone_angle = _value(values["cone_angle"])
+        toe_z_mm = _value(values["toe_z_mm"])
+        heel_z_mm = _value(values["heel_z_mm"])
+        return cls(
+            pitch_radius_mm,
+            tip_height_mm,
+            rack_shift_mm,
+            cone_angle,
+            toe_z_mm,
+            heel_z_mm,
+            numpy.sin(cone_angle),
+            numpy.cos(cone_angle),
+            numpy.tan(cone_angle),
+        )
 
 
 class InvoluteSurfaceParams(typing.NamedTuple):
@@ -161,6 +260,15 @@ class InvoluteSurfaceParams(typing.NamedTuple):
     half_thickness_mm: float  # [mm] half tooth thickness on the rack pitch line, b
     rack_shift_mm: float  # [mm] rack shift along its depth axis, x_t m_n cos(gamma)/cos(beta)
     pitch_radius_mm: float  # [mm] generating (reference) pitch radius r
+    sin_normal_pressure_angle: float  # [1] sin(normal_pressure_angle), computed by pack
+    cos_normal_pressure_angle: float  # [1] cos(normal_pressure_angle), computed by pack
+    tan_normal_pressure_angle: float  # [1] tan(normal_pressure_angle), computed by pack
+    sin_helix_angle: float  # [1] sin(helix_angle), computed by pack
+    cos_helix_angle: float  # [1] cos(helix_angle), computed by pack
+    tan_helix_angle: float  # [1] tan(helix_angle), computed by pack
+    sin_cone_angle: float  # [1] sin(cone_angle), computed by pack
+    cos_cone_angle: float  # [1] cos(cone_angle), computed by pack
+    tan_cone_angle: float  # [1] tan(cone_angle), computed by pack
 
     UNITS = {
         "normal_pressure_angle": "rad",
@@ -170,6 +278,15 @@ class InvoluteSurfaceParams(typing.NamedTuple):
         "half_thickness_mm": "mm",
         "rack_shift_mm": "mm",
         "pitch_radius_mm": "mm",
+        "sin_normal_pressure_angle": "1",
+        "cos_normal_pressure_angle": "1",
+        "tan_normal_pressure_angle": "1",
+        "sin_helix_angle": "1",
+        "cos_helix_angle": "1",
+        "tan_helix_angle": "1",
+        "sin_cone_angle": "1",
+        "cos_cone_angle": "1",
+        "tan_cone_angle": "1",
     }
     DOCS = {
         "normal_pressure_angle": "normal pressure angle of the rack, alpha_n",
@@ -179,12 +296,49 @@ class InvoluteSurfaceParams(typing.NamedTuple):
         "half_thickness_mm": "half tooth thickness on the rack pitch line, b",
         "rack_shift_mm": "rack shift along its depth axis, x_t m_n cos(gamma)/cos(beta)",
         "pitch_radius_mm": "generating (reference) pitch radius r",
+        "sin_normal_pressure_angle": "sin(normal_pressure_angle), computed by pack",
+        "cos_normal_pressure_angle": "cos(normal_pressure_angle), computed by pack",
+        "tan_normal_pressure_angle": "tan(normal_pressure_angle), computed by pack",
+        "sin_helix_angle": "sin(helix_angle), computed by pack",
+        "cos_helix_angle": "cos(helix_angle), computed by pack",
+        "tan_helix_angle": "tan(helix_angle), computed by pack",
+        "sin_cone_angle": "sin(cone_angle), computed by pack",
+        "cos_cone_angle": "cos(cone_angle), computed by pack",
+        "tan_cone_angle": "tan(cone_angle), computed by pack",
     }
+
+    #: the entries pack computes from the others (the kernels read them instead of evaluating them)
+    DERIVED = ("sin_normal_pressure_angle", "cos_normal_pressure_angle", "tan_normal_pressure_angle", "sin_helix_angle", "cos_helix_angle", "tan_helix_angle", "sin_cone_angle", "cos_cone_angle", "tan_cone_angle", )
 
     @classmethod
     def pack(cls, values):
-        """The fields taken by name from a mapping (extra keys are ignored)."""
-        return cls(**{name: float(values[name]) for name in cls._fields})
+        """The fields taken by name from a mapping (extra keys are ignored); the DERIVED ones
+        computed from them (any values given for those are ignored).  Floats or arrays."""
+        normal_pressure_angle = _value(values["normal_pressure_angle"])
+        helix_angle = _value(values["helix_angle"])
+        cone_angle = _value(values["cone_angle"])
+        cutter_addendum_mm = _value(values["cutter_addendum_mm"])
+        half_thickness_mm = _value(values["half_thickness_mm"])
+        rack_shift_mm = _value(values["rack_shift_mm"])
+        pitch_radius_mm = _value(values["pitch_radius_mm"])
+        return cls(
+            normal_pressure_angle,
+            helix_angle,
+            cone_angle,
+            cutter_addendum_mm,
+            half_thickness_mm,
+            rack_shift_mm,
+            pitch_radius_mm,
+            numpy.sin(normal_pressure_angle),
+            numpy.cos(normal_pressure_angle),
+            numpy.tan(normal_pressure_angle),
+            numpy.sin(helix_angle),
+            numpy.cos(helix_angle),
+            numpy.tan(helix_angle),
+            numpy.sin(cone_angle),
+            numpy.cos(cone_angle),
+            numpy.tan(cone_angle),
+        )
 
 
 class PairPlacement(typing.NamedTuple):
@@ -194,21 +348,51 @@ class PairPlacement(typing.NamedTuple):
     shaft_angle: float  # [rad] shaft angle delta
     pinion_axial_placement_mm: float  # [mm] d_w1 - b_c1: the S_1 origin on the pinion axis
     gear_axial_placement_mm: float  # [mm] d_w2 - b_c2: the S_2 origin on the gear axis
+    sin_shaft_angle: float  # [1] sin(shaft_angle), computed by pack
+    cos_shaft_angle: float  # [1] cos(shaft_angle), computed by pack
+    tan_shaft_angle: float  # [1] tan(shaft_angle), computed by pack
 
     UNITS = {
         "offset_mm": "mm",
         "shaft_angle": "rad",
         "pinion_axial_placement_mm": "mm",
         "gear_axial_placement_mm": "mm",
+        "sin_shaft_angle": "1",
+        "cos_shaft_angle": "1",
+        "tan_shaft_angle": "1",
     }
     DOCS = {
         "offset_mm": "offset E between the crossed axes",
         "shaft_angle": "shaft angle delta",
         "pinion_axial_placement_mm": "d_w1 - b_c1: the S_1 origin on the pinion axis",
         "gear_axial_placement_mm": "d_w2 - b_c2: the S_2 origin on the gear axis",
+        "sin_shaft_angle": "sin(shaft_angle), computed by pack",
+        "cos_shaft_angle": "cos(shaft_angle), computed by pack",
+        "tan_shaft_angle": "tan(shaft_angle), computed by pack",
     }
+
+    #: the entries pack computes from the others (the kernels read them instead of evaluating them)
+    DERIVED = ("sin_shaft_angle", "cos_shaft_angle", "tan_shaft_angle", )
 
     @classmethod
     def pack(cls, values):
-        """The fields taken by name from a mapping (extra keys are ignored)."""
-        return cls(**{name: float(values[name]) for name in cls._fields})
+        """The fields taken by name from a mapping (extra keys are ignored); the DERIVED ones
+        computed from them (any values given for those are ignored).  Floats or arrays."""
+        offset_mm = _value(values["offset_mm"])
+        shaft_angle = _value(values["shaft_angle"])
+        pinion_axial_placement_mm = _value(values["pinion_axial_placement_mm"])
+        gear_axial_placement_mm = _value(values["gear_axial_placement_mm"])
+        return cls(
+            offset_mm,
+            shaft_angle,
+            pinion_axial_placement_mm,
+            gear_axial_placement_mm,
+            numpy.sin(shaft_angle),
+            numpy.cos(shaft_angle),
+            numpy.tan(shaft_angle),
+        )
+
+
+def _value(v):
+    """A float, or a float array for a batch of vectors (numpy.stack(pack(...), axis=-1))."""
+    return float(v) if numpy.ndim(v) == 0 else numpy.asarray(v, dtype=float)

@@ -19,12 +19,12 @@ def pinion_in_gear_frame(pinion_angle, errors, pair):
     Inputs (numpy arrays or scalars; all broadcast together over their leading axes):
         pinion_angle: phi'_1 of Eq 30 [rad]
         errors: assembly errors (layouts.AssemblyErrors) [see layout], shape (..., 5)
-        pair: pair placement (layouts.PairPlacement) [see layout], shape (..., 4)
+        pair: pair placement (layouts.PairPlacement) [see layout], shape (..., 7)
     Returns PinionInGearFrame:
         rotation: L_21: pinion axes in S_2 [1], shape (..., 3, 3)
         translation: origin of S_1 in S_2 [mm], shape (..., 3)
     """
-    # ops: 76
+    # ops: 72
     _shape = numpy.broadcast_shapes(numpy.shape(pinion_angle), numpy.shape(errors)[:-1], numpy.shape(pair)[:-1])
     dx_mm = errors[..., 0]
     dy_mm = errors[..., 1]
@@ -35,32 +35,33 @@ def pinion_in_gear_frame(pinion_angle, errors, pair):
     shaft_angle = pair[..., 1]
     pinion_axial_placement_mm = pair[..., 2]
     gear_axial_placement_mm = pair[..., 3]
+    sin_shaft_angle = pair[..., 4]
+    cos_shaft_angle = pair[..., 5]
+    tan_shaft_angle = pair[..., 6]
     _x0 = numpy.cos(pinion_angle)
     _x1 = numpy.cos(vertical_rad)
     _x2 = numpy.sin(pinion_angle)
     _x3 = numpy.sin(vertical_rad)
     _x4 = numpy.sin(horizontal_rad)
-    _x5 = numpy.cos(shaft_angle)
-    _x6 = _x4*_x5
-    _x7 = numpy.sin(shaft_angle)
-    _x8 = numpy.cos(horizontal_rad)
-    _x9 = _x7*_x8
-    _x10 = _x3*_x6 + _x3*_x9
-    _x11 = -_x10
-    _x12 = _x4*_x7
-    _x13 = _x12*_x3 - _x3*_x5*_x8
-    _x14 = _x12 - _x5*_x8
-    _x15 = -_x14
-    _x16 = _x6 + _x9
-    _x17 = -_x16
-    _x18 = _x1*_x6 + _x1*_x9
-    _x19 = _x1*_x12 - _x1*_x5*_x8
-    _x20 = -_x19
-    _x21 = dx_mm + offset_mm
-    _x22 = _x5*dy_mm + _x7*dz_mm + _x7*gear_axial_placement_mm
-    _x23 = _x5*dz_mm + _x5*gear_axial_placement_mm - _x7*dy_mm
-    rotation = _stack([_x0*_x1 + _x11*_x2, _x0*_x11 - _x1*_x2, _x13, _x15*_x2, _x0*_x15, _x17, _x0*_x3 + _x18*_x2, _x0*_x18 - _x2*_x3, _x20], (3, 3), _shape)
-    translation = _stack([-_x1*_x21 + _x10*_x22 - _x13*_x23 + _x13*pinion_axial_placement_mm, _x14*_x22 + _x16*_x23 + _x17*pinion_axial_placement_mm, -_x18*_x22 + _x19*_x23 + _x20*pinion_axial_placement_mm - _x21*_x3], (3,), _shape)
+    _x5 = _x4*cos_shaft_angle
+    _x6 = numpy.cos(horizontal_rad)
+    _x7 = _x6*sin_shaft_angle
+    _x8 = _x3*_x5 + _x3*_x7
+    _x9 = -_x8
+    _x10 = _x6*cos_shaft_angle
+    _x11 = _x10*_x3 - _x3*_x4*sin_shaft_angle
+    _x12 = -_x11
+    _x13 = _x4*sin_shaft_angle
+    _x14 = _x10 - _x13
+    _x15 = _x5 + _x7
+    _x16 = -_x15
+    _x17 = _x1*_x5 + _x1*_x7
+    _x18 = _x1*_x10 - _x1*_x13
+    _x19 = dx_mm + offset_mm
+    _x20 = cos_shaft_angle*dy_mm + dz_mm*sin_shaft_angle + gear_axial_placement_mm*sin_shaft_angle
+    _x21 = cos_shaft_angle*dz_mm + cos_shaft_angle*gear_axial_placement_mm - dy_mm*sin_shaft_angle
+    rotation = _stack([_x0*_x1 + _x2*_x9, _x0*_x9 - _x1*_x2, _x12, _x14*_x2, _x0*_x14, _x16, _x0*_x3 + _x17*_x2, _x0*_x17 - _x2*_x3, _x18], (3, 3), _shape)
+    translation = _stack([-_x1*_x19 + _x11*_x21 + _x12*pinion_axial_placement_mm + _x20*_x8, -_x14*_x20 + _x15*_x21 + _x16*pinion_axial_placement_mm, -_x17*_x20 - _x18*_x21 + _x18*pinion_axial_placement_mm - _x19*_x3], (3,), _shape)
     return PinionInGearFrame(rotation, translation)
 
 

@@ -18,7 +18,7 @@ def pinion_placement(pinion_angle, pair):
 
     Inputs (numpy arrays or scalars; all broadcast together over their leading axes):
         pinion_angle: phi'_1 of Eq 30 [rad]
-        pair: pair placement (layouts.PairPlacement) [see layout], shape (..., 4)
+        pair: pair placement (layouts.PairPlacement) [see layout], shape (..., 7)
     Returns PinionPlacement:
         rotation: L_f1 [1], shape (..., 3, 3)
         translation: origin of S_1 in S_f [mm], shape (..., 3)
@@ -29,6 +29,9 @@ def pinion_placement(pinion_angle, pair):
     shaft_angle = pair[..., 1]
     pinion_axial_placement_mm = pair[..., 2]
     gear_axial_placement_mm = pair[..., 3]
+    sin_shaft_angle = pair[..., 4]
+    cos_shaft_angle = pair[..., 5]
+    tan_shaft_angle = pair[..., 6]
     _x0 = numpy.cos(pinion_angle)
     _x1 = numpy.sin(pinion_angle)
     rotation = _stack([_x0, -_x1, 0, _x1, _x0, 0, 0, 0, 1], (3, 3), _shape)
@@ -49,12 +52,12 @@ def gear_placement(gear_angle, errors, pair):
     Inputs (numpy arrays or scalars; all broadcast together over their leading axes):
         gear_angle: phi'_2 of Eq 34 [rad]
         errors: assembly errors (layouts.AssemblyErrors) [see layout], shape (..., 5)
-        pair: pair placement (layouts.PairPlacement) [see layout], shape (..., 4)
+        pair: pair placement (layouts.PairPlacement) [see layout], shape (..., 7)
     Returns GearPlacement:
         rotation: L_f2 [1], shape (..., 3, 3)
         translation: origin of S_2 in S_f [mm], shape (..., 3)
     """
-    # ops: 56
+    # ops: 53
     _shape = numpy.broadcast_shapes(numpy.shape(gear_angle), numpy.shape(errors)[:-1], numpy.shape(pair)[:-1])
     dx_mm = errors[..., 0]
     dy_mm = errors[..., 1]
@@ -65,25 +68,27 @@ def gear_placement(gear_angle, errors, pair):
     shaft_angle = pair[..., 1]
     pinion_axial_placement_mm = pair[..., 2]
     gear_axial_placement_mm = pair[..., 3]
+    sin_shaft_angle = pair[..., 4]
+    cos_shaft_angle = pair[..., 5]
+    tan_shaft_angle = pair[..., 6]
     _x0 = numpy.cos(gear_angle)
     _x1 = numpy.cos(vertical_rad)
     _x2 = numpy.sin(gear_angle)
     _x3 = numpy.sin(vertical_rad)
-    _x4 = numpy.cos(shaft_angle)
-    _x5 = numpy.cos(horizontal_rad)
-    _x6 = _x2*_x5
-    _x7 = numpy.sin(horizontal_rad)
-    _x8 = _x0*_x7
-    _x9 = -_x3*_x8 + _x6
-    _x10 = numpy.sin(shaft_angle)
-    _x11 = _x2*_x7
-    _x12 = _x0*_x5
-    _x13 = -_x11 - _x12*_x3
-    _x14 = _x11*_x3 + _x12
-    _x15 = _x3*_x6 - _x8
-    _x16 = _x1*_x7
-    rotation = _stack([_x0*_x1, -_x1*_x2, _x3, _x10*_x13 + _x4*_x9, _x10*_x15 + _x14*_x4, _x1*_x10*_x5 + _x16*_x4, -_x10*_x9 + _x13*_x4, -_x10*_x14 + _x15*_x4, _x1*_x4*_x5 - _x10*_x16], (3, 3), _shape)
-    translation = _stack([dx_mm + offset_mm, _x10*dz_mm + _x10*gear_axial_placement_mm + _x4*dy_mm, -_x10*dy_mm + _x4*dz_mm + _x4*gear_axial_placement_mm], (3,), _shape)
+    _x4 = numpy.cos(horizontal_rad)
+    _x5 = _x2*_x4
+    _x6 = numpy.sin(horizontal_rad)
+    _x7 = _x0*_x6
+    _x8 = -_x3*_x7 + _x5
+    _x9 = _x2*_x6
+    _x10 = _x0*_x4
+    _x11 = -_x10*_x3 - _x9
+    _x12 = _x10 + _x3*_x9
+    _x13 = _x3*_x5 - _x7
+    _x14 = _x1*cos_shaft_angle
+    _x15 = _x1*sin_shaft_angle
+    rotation = _stack([_x0*_x1, -_x1*_x2, _x3, _x11*sin_shaft_angle + _x8*cos_shaft_angle, _x12*cos_shaft_angle + _x13*sin_shaft_angle, _x14*_x6 + _x15*_x4, _x11*cos_shaft_angle - _x8*sin_shaft_angle, -_x12*sin_shaft_angle + _x13*cos_shaft_angle, _x14*_x4 - _x15*_x6], (3, 3), _shape)
+    translation = _stack([dx_mm + offset_mm, cos_shaft_angle*dy_mm + dz_mm*sin_shaft_angle + gear_axial_placement_mm*sin_shaft_angle, cos_shaft_angle*dz_mm + cos_shaft_angle*gear_axial_placement_mm - dy_mm*sin_shaft_angle], (3,), _shape)
     return GearPlacement(rotation, translation)
 
 

@@ -20,13 +20,13 @@ def surface_left(l, u, params):
     Inputs (numpy arrays or scalars; all broadcast together over their leading axes):
         l: profile parameter along the rack edge [mm]
         u: parameter along the tooth [mm]
-        params: surface parameters (layouts.InvoluteSurfaceParams) [see layout], shape (..., 7)
+        params: surface parameters (layouts.InvoluteSurfaceParams) [see layout], shape (..., 16)
     Returns SurfaceLeft:
         point: surface point [x, y, z] [mm], shape (..., 3)
         normal: unit normal, outward from the tooth [1], shape (..., 3)
         roll_angle: generating roll angle phi(l, u) of Eq 7 [rad], shape (...)
     """
-    # ops: 66
+    # ops: 58
     _shape = numpy.broadcast_shapes(numpy.shape(l), numpy.shape(u), numpy.shape(params)[:-1])
     normal_pressure_angle = params[..., 0]
     helix_angle = params[..., 1]
@@ -35,26 +35,30 @@ def surface_left(l, u, params):
     half_thickness_mm = params[..., 4]
     rack_shift_mm = params[..., 5]
     pitch_radius_mm = params[..., 6]
-    _x0 = numpy.sin(normal_pressure_angle)
-    _x1 = numpy.cos(cone_angle)
-    _x2 = numpy.cos(normal_pressure_angle)
-    _x3 = numpy.sin(helix_angle)
-    _x4 = numpy.sin(cone_angle)
-    _x5 = _x3*_x4
-    _x6 = _x0*_x1 + _x2*_x5
-    _x7 = numpy.cos(helix_angle)
-    _x8 = _x0*l - cutter_addendum_mm*numpy.tan(normal_pressure_angle) - half_thickness_mm
-    _x9 = _x3*u + _x7*_x8
-    _x10 = _x2*l - cutter_addendum_mm + rack_shift_mm
-    _x11 = _x1*_x10 + _x4*_x7*u - _x5*_x8
-    _x12 = _x2*_x7
-    _x13 = (_x11*_x12 + _x6*_x9)/_x6
-    _x14 = _x13/pitch_radius_mm
-    _x15 = numpy.cos(_x14)
-    _x16 = numpy.sin(_x14)
-    point = _stack([_x11*_x15 + _x13*_x16 + _x15*pitch_radius_mm - _x16*_x9, _x11*_x16 - _x13*_x15 + _x15*_x9 + _x16*pitch_radius_mm, -_x1*_x3*_x8 + _x1*_x7*u - _x10*_x4], (3,), _shape)
-    normal = _stack([_x12*_x16 + _x15*_x6, -_x12*_x15 + _x16*_x6, -_x0*_x4 + _x1*_x2*_x3], (3,), _shape)
-    roll_angle = _full(_x14, _shape)
+    sin_normal_pressure_angle = params[..., 7]
+    cos_normal_pressure_angle = params[..., 8]
+    tan_normal_pressure_angle = params[..., 9]
+    sin_helix_angle = params[..., 10]
+    cos_helix_angle = params[..., 11]
+    tan_helix_angle = params[..., 12]
+    sin_cone_angle = params[..., 13]
+    cos_cone_angle = params[..., 14]
+    tan_cone_angle = params[..., 15]
+    _x0 = sin_cone_angle*sin_helix_angle
+    _x1 = _x0*cos_normal_pressure_angle + cos_cone_angle*sin_normal_pressure_angle
+    _x2 = -cutter_addendum_mm*tan_normal_pressure_angle - half_thickness_mm + l*sin_normal_pressure_angle
+    _x3 = _x2*cos_helix_angle + sin_helix_angle*u
+    _x4 = cos_normal_pressure_angle*l - cutter_addendum_mm + rack_shift_mm
+    _x5 = -_x0*_x2 + _x4*cos_cone_angle + cos_helix_angle*sin_cone_angle*u
+    _x6 = cos_helix_angle*cos_normal_pressure_angle
+    _x7 = (_x1*_x3 + _x5*_x6)/_x1
+    _x8 = _x7/pitch_radius_mm
+    _x9 = numpy.cos(_x8)
+    _x10 = numpy.sin(_x8)
+    _x11 = cos_cone_angle*sin_helix_angle
+    point = _stack([-_x10*_x3 + _x10*_x7 + _x5*_x9 + _x9*pitch_radius_mm, _x10*_x5 + _x10*pitch_radius_mm + _x3*_x9 - _x7*_x9, -_x11*_x2 - _x4*sin_cone_angle + cos_cone_angle*cos_helix_angle*u], (3,), _shape)
+    normal = _stack([_x1*_x9 + _x10*_x6, _x1*_x10 - _x6*_x9, _x11*cos_normal_pressure_angle - sin_cone_angle*sin_normal_pressure_angle], (3,), _shape)
+    roll_angle = _full(_x8, _shape)
     return SurfaceLeft(point, normal, roll_angle)
 
 
@@ -73,14 +77,14 @@ def surface_jet_left(l, u, params):
     Inputs (numpy arrays or scalars; all broadcast together over their leading axes):
         l: profile parameter along the rack edge [mm]
         u: parameter along the tooth [mm]
-        params: surface parameters (layouts.InvoluteSurfaceParams) [see layout], shape (..., 7)
+        params: surface parameters (layouts.InvoluteSurfaceParams) [see layout], shape (..., 16)
     Returns SurfaceJetLeft:
         point: surface point [x, y, z] [mm], shape (..., 3)
         normal: unit normal, outward from the tooth [1], shape (..., 3)
         point_D_lu: [dR/dl, dR/du] as columns [mm/mm], shape (..., 3, 2)
         normal_D_lu: [dn/dl, dn/du] as columns [1/mm], shape (..., 3, 2)
     """
-    # ops: 154
+    # ops: 138
     _shape = numpy.broadcast_shapes(numpy.shape(l), numpy.shape(u), numpy.shape(params)[:-1])
     normal_pressure_angle = params[..., 0]
     helix_angle = params[..., 1]
@@ -89,52 +93,57 @@ def surface_jet_left(l, u, params):
     half_thickness_mm = params[..., 4]
     rack_shift_mm = params[..., 5]
     pitch_radius_mm = params[..., 6]
+    sin_normal_pressure_angle = params[..., 7]
+    cos_normal_pressure_angle = params[..., 8]
+    tan_normal_pressure_angle = params[..., 9]
+    sin_helix_angle = params[..., 10]
+    cos_helix_angle = params[..., 11]
+    tan_helix_angle = params[..., 12]
+    sin_cone_angle = params[..., 13]
+    cos_cone_angle = params[..., 14]
+    tan_cone_angle = params[..., 15]
     _x0 = pitch_radius_mm**(-1.0)
-    _x1 = numpy.sin(normal_pressure_angle)
-    _x2 = numpy.cos(cone_angle)
-    _x3 = _x1*_x2
-    _x4 = numpy.sin(helix_angle)
-    _x5 = numpy.sin(cone_angle)
-    _x6 = numpy.cos(normal_pressure_angle)
-    _x7 = _x5*_x6
-    _x8 = _x3 + _x4*_x7
-    _x9 = _x8**(-1.0)
-    _x10 = numpy.cos(helix_angle)
-    _x11 = _x1*l - cutter_addendum_mm*numpy.tan(normal_pressure_angle) - half_thickness_mm
-    _x12 = _x10*_x11 + _x4*u
-    _x13 = _x10*_x5
-    _x14 = _x6*l - cutter_addendum_mm + rack_shift_mm
-    _x15 = _x11*_x4
-    _x16 = _x13*u + _x14*_x2 - _x15*_x5
-    _x17 = _x10*_x6
-    _x18 = _x12*_x8 + _x16*_x17
-    _x19 = _x18*_x9
-    _x20 = _x0*_x19
-    _x21 = numpy.cos(_x20)
-    _x22 = numpy.sin(_x20)
-    _x23 = _x12*_x22
-    _x24 = _x16*_x21
-    _x25 = _x12*_x21
-    _x26 = _x16*_x22
-    _x27 = _x17*_x22
-    _x28 = _x1*_x5
-    _x29 = _x1*_x10
-    _x30 = _x2*_x6 - _x28*_x4
-    _x31 = _x17*_x30 + _x29*_x8
-    _x32 = _x0*_x9
-    _x33 = _x31*_x32
-    _x34 = _x8**(-2.0)
-    _x35 = _x10**2*_x7 + _x4*_x8
-    _x36 = _x32*_x35
-    _x37 = _x0*_x22
-    _x38 = _x31*_x37
-    _x39 = _x18*_x34
-    _x40 = _x35*_x37
-    _x41 = _x0*_x21
-    point = _stack([_x19*_x22 + _x21*pitch_radius_mm - _x23 + _x24, -_x19*_x21 + _x22*pitch_radius_mm + _x25 + _x26, _x10*_x2*u - _x14*_x5 - _x15*_x2], (3,), _shape)
-    normal = _stack([_x21*_x8 + _x27, -_x17*_x21 + _x22*_x8, _x2*_x4*_x6 - _x28], (3,), _shape)
-    point_D_lu = _stack([_x0*_x18*_x21*_x31*_x34 + _x21*_x30 - _x22*_x29 - _x25*_x33 - _x26*_x33, _x0*_x18*_x21*_x34*_x35 + _x10*_x21*_x5 - _x22*_x4 - _x25*_x36 - _x26*_x36, _x21*_x29 + _x22*_x30 - _x23*_x33 + _x24*_x33 + _x38*_x39, _x13*_x22 + _x21*_x4 - _x23*_x36 + _x24*_x36 + _x39*_x40, -_x3*_x4 - _x7, _x10*_x2], (3, 2), _shape)
-    normal_D_lu = _stack([_x0*_x10*_x21*_x31*_x6*_x9 - _x38, _x0*_x10*_x21*_x35*_x6*_x9 - _x40, _x27*_x33 + _x31*_x41, _x27*_x36 + _x35*_x41, 0, 0], (3, 2), _shape)
+    _x1 = cos_cone_angle*sin_normal_pressure_angle
+    _x2 = cos_normal_pressure_angle*sin_cone_angle
+    _x3 = _x1 + _x2*sin_helix_angle
+    _x4 = _x3**(-1.0)
+    _x5 = -cutter_addendum_mm*tan_normal_pressure_angle - half_thickness_mm + l*sin_normal_pressure_angle
+    _x6 = _x5*cos_helix_angle + sin_helix_angle*u
+    _x7 = cos_helix_angle*sin_cone_angle
+    _x8 = cos_normal_pressure_angle*l - cutter_addendum_mm + rack_shift_mm
+    _x9 = _x5*sin_helix_angle
+    _x10 = _x7*u + _x8*cos_cone_angle - _x9*sin_cone_angle
+    _x11 = cos_helix_angle*cos_normal_pressure_angle
+    _x12 = _x10*_x11 + _x3*_x6
+    _x13 = _x12*_x4
+    _x14 = _x0*_x13
+    _x15 = numpy.cos(_x14)
+    _x16 = numpy.sin(_x14)
+    _x17 = _x16*_x6
+    _x18 = _x10*_x15
+    _x19 = _x15*_x6
+    _x20 = _x10*_x16
+    _x21 = _x11*_x16
+    _x22 = _x11*_x15
+    _x23 = sin_cone_angle*sin_normal_pressure_angle
+    _x24 = cos_cone_angle*cos_normal_pressure_angle
+    _x25 = cos_helix_angle*sin_normal_pressure_angle
+    _x26 = -_x23*sin_helix_angle + _x24
+    _x27 = _x11*_x26 + _x25*_x3
+    _x28 = _x0*_x4
+    _x29 = _x27*_x28
+    _x30 = _x3**(-2.0)
+    _x31 = _x2*cos_helix_angle**2 + _x3*sin_helix_angle
+    _x32 = _x28*_x31
+    _x33 = _x0*_x16
+    _x34 = _x27*_x33
+    _x35 = _x12*_x30
+    _x36 = _x31*_x33
+    _x37 = _x0*_x15
+    point = _stack([_x13*_x16 + _x15*pitch_radius_mm - _x17 + _x18, -_x13*_x15 + _x16*pitch_radius_mm + _x19 + _x20, -_x8*sin_cone_angle - _x9*cos_cone_angle + cos_cone_angle*cos_helix_angle*u], (3,), _shape)
+    normal = _stack([_x15*_x3 + _x21, _x16*_x3 - _x22, -_x23 + _x24*sin_helix_angle], (3,), _shape)
+    point_D_lu = _stack([_x0*_x12*_x15*_x27*_x30 + _x15*_x26 - _x16*_x25 - _x19*_x29 - _x20*_x29, _x0*_x12*_x15*_x30*_x31 + _x15*cos_helix_angle*sin_cone_angle - _x16*sin_helix_angle - _x19*_x32 - _x20*_x32, _x15*_x25 + _x16*_x26 - _x17*_x29 + _x18*_x29 + _x34*_x35, _x15*sin_helix_angle + _x16*_x7 - _x17*_x32 + _x18*_x32 + _x35*_x36, -_x1*sin_helix_angle - _x2, cos_cone_angle*cos_helix_angle], (3, 2), _shape)
+    normal_D_lu = _stack([_x22*_x29 - _x34, _x22*_x32 - _x36, _x21*_x29 + _x27*_x37, _x21*_x32 + _x31*_x37, 0, 0], (3, 2), _shape)
     return SurfaceJetLeft(point, normal, point_D_lu, normal_D_lu)
 
 
@@ -150,7 +159,7 @@ def surface_second_derivatives_left(l, u, params):
     Inputs (numpy arrays or scalars; all broadcast together over their leading axes):
         l: profile parameter along the rack edge [mm]
         u: parameter along the tooth [mm]
-        params: surface parameters (layouts.InvoluteSurfaceParams) [see layout], shape (..., 7)
+        params: surface parameters (layouts.InvoluteSurfaceParams) [see layout], shape (..., 16)
     Returns SurfaceSecondDerivativesLeft:
         point_D2_lu: [d2R/dl2, d2R/dldu, d2R/du2] as columns [mm/mm^2], shape (..., 3, 3)
     """
@@ -163,50 +172,52 @@ def surface_second_derivatives_left(l, u, params):
     half_thickness_mm = params[..., 4]
     rack_shift_mm = params[..., 5]
     pitch_radius_mm = params[..., 6]
-    _x0 = numpy.sin(normal_pressure_angle)
-    _x1 = numpy.cos(cone_angle)
-    _x2 = numpy.cos(normal_pressure_angle)
-    _x3 = numpy.sin(helix_angle)
-    _x4 = numpy.sin(cone_angle)
-    _x5 = _x3*_x4
-    _x6 = _x0*_x1 + _x2*_x5
-    _x7 = numpy.cos(helix_angle)
-    _x8 = -_x0*l + cutter_addendum_mm*numpy.tan(normal_pressure_angle) + half_thickness_mm
-    _x9 = _x3*u - _x7*_x8
-    _x10 = _x4*_x7
-    _x11 = _x1*(_x2*l - cutter_addendum_mm + rack_shift_mm) + _x10*u + _x5*_x8
-    _x12 = _x11*_x7
-    _x13 = _x12*_x2 + _x6*_x9
-    _x14 = pitch_radius_mm**(-1.0)
-    _x15 = _x6**(-1.0)
-    _x16 = _x14*_x15
-    _x17 = _x13*_x16
-    _x18 = numpy.cos(_x17)
-    _x19 = 2*_x18
-    _x20 = _x0*_x7
-    _x21 = _x0*_x5 - _x1*_x2
-    _x22 = numpy.sin(_x17)
-    _x23 = _x0*_x6 - _x2*_x21
-    _x24 = _x23*_x7
-    _x25 = _x18*_x24
-    _x26 = _x22*_x24
-    _x27 = _x16*_x9
-    _x28 = _x12*_x23
-    _x29 = _x16*_x28
-    _x30 = _x6**(-2.0)
-    _x31 = _x13*_x14*_x30
-    _x32 = _x16*_x24
-    _x33 = _x7**2
-    _x34 = _x33*_x4
-    _x35 = _x2*_x34 + _x3*_x6
-    _x36 = _x18*_x35
-    _x37 = _x16*_x36
-    _x38 = _x22*_x35
-    _x39 = _x31*_x38
-    _x40 = 2*_x22
-    _x41 = _x16*_x35
-    _x42 = _x22*_x41
-    point_D2_lu = _stack([_x32*(_x15*_x25 - _x18*_x29 - _x19*_x20 + 2*_x21*_x22 + _x26*_x27 - _x26*_x31), _x16*(_x14*_x15*_x22*_x23*_x35*_x7*_x9 + _x15*_x18*_x23*_x35*_x7 - _x20*_x36 + _x21*_x22*_x35 - _x22*_x23*_x34 - _x24*_x39 - _x25*_x3 - _x28*_x37), _x41*(-_x10*_x40 - _x11*_x37 + _x14*_x15*_x22*_x35*_x9 + _x15*_x18*_x35 - _x19*_x3 - _x39), _x32*(_x13*_x14*_x18*_x23*_x30*_x7 + _x15*_x22*_x23*_x7 - _x19*_x21 - _x20*_x40 - _x22*_x29 - _x25*_x27), _x16*(_x13*_x14*_x18*_x23*_x30*_x35*_x7 + _x15*_x22*_x23*_x35*_x7 + _x18*_x23*_x33*_x4 - _x20*_x38 - _x21*_x36 - _x26*_x3 - _x28*_x42 - _x32*_x36*_x9), _x41*(_x10*_x19 - _x11*_x42 + _x15*_x22*_x35 - _x3*_x40 + _x31*_x36 - _x37*_x9), 0, 0, 0], (3, 3), _shape)
+    sin_normal_pressure_angle = params[..., 7]
+    cos_normal_pressure_angle = params[..., 8]
+    tan_normal_pressure_angle = params[..., 9]
+    sin_helix_angle = params[..., 10]
+    cos_helix_angle = params[..., 11]
+    tan_helix_angle = params[..., 12]
+    sin_cone_angle = params[..., 13]
+    cos_cone_angle = params[..., 14]
+    tan_cone_angle = params[..., 15]
+    _x0 = sin_cone_angle*sin_helix_angle
+    _x1 = _x0*cos_normal_pressure_angle + cos_cone_angle*sin_normal_pressure_angle
+    _x2 = cutter_addendum_mm*tan_normal_pressure_angle + half_thickness_mm - l*sin_normal_pressure_angle
+    _x3 = -_x2*cos_helix_angle + sin_helix_angle*u
+    _x4 = cos_helix_angle*sin_cone_angle
+    _x5 = _x0*_x2 + _x4*u + cos_cone_angle*(cos_normal_pressure_angle*l - cutter_addendum_mm + rack_shift_mm)
+    _x6 = _x5*cos_helix_angle
+    _x7 = _x1*_x3 + _x6*cos_normal_pressure_angle
+    _x8 = pitch_radius_mm**(-1.0)
+    _x9 = _x1**(-1.0)
+    _x10 = _x8*_x9
+    _x11 = _x10*_x7
+    _x12 = numpy.cos(_x11)
+    _x13 = 2*_x12
+    _x14 = cos_helix_angle*sin_normal_pressure_angle
+    _x15 = -cos_cone_angle*cos_normal_pressure_angle + sin_cone_angle*sin_helix_angle*sin_normal_pressure_angle
+    _x16 = numpy.sin(_x11)
+    _x17 = _x1*sin_normal_pressure_angle - _x15*cos_normal_pressure_angle
+    _x18 = _x17*_x6
+    _x19 = _x10*_x18
+    _x20 = _x17*cos_helix_angle
+    _x21 = _x16*_x20
+    _x22 = _x1**(-2.0)
+    _x23 = _x22*_x7*_x8
+    _x24 = _x21*_x23
+    _x25 = _x10*_x20
+    _x26 = cos_helix_angle**2
+    _x27 = _x26*sin_cone_angle
+    _x28 = _x1*sin_helix_angle + _x27*cos_normal_pressure_angle
+    _x29 = _x12*_x28
+    _x30 = _x12*_x20
+    _x31 = _x10*_x29
+    _x32 = 2*_x16
+    _x33 = _x16*_x28
+    _x34 = _x10*_x28
+    _x35 = _x16*_x34
+    point_D2_lu = _stack([_x25*(_x12*_x17*_x9*cos_helix_angle - _x12*_x19 - _x13*_x14 + 2*_x15*_x16 + _x16*_x17*_x3*_x8*_x9*cos_helix_angle - _x24), _x10*(_x12*_x17*_x28*_x9*cos_helix_angle - _x14*_x29 + _x15*_x16*_x28 - _x16*_x17*_x27 + _x16*_x17*_x28*_x3*_x8*_x9*cos_helix_angle - _x18*_x31 - _x24*_x28 - _x30*sin_helix_angle), _x34*(_x12*_x28*_x9 - _x13*sin_helix_angle + _x16*_x28*_x3*_x8*_x9 - _x23*_x33 - _x31*_x5 - _x32*_x4), _x25*(-_x10*_x3*_x30 + _x12*_x17*_x22*_x7*_x8*cos_helix_angle - _x13*_x15 - _x14*_x32 + _x16*_x17*_x9*cos_helix_angle - _x16*_x19), _x10*(_x12*_x17*_x22*_x28*_x7*_x8*cos_helix_angle + _x12*_x17*_x26*sin_cone_angle - _x14*_x33 - _x15*_x29 + _x16*_x17*_x28*_x9*cos_helix_angle - _x18*_x35 - _x21*sin_helix_angle - _x25*_x29*_x3), _x34*(_x13*_x4 + _x16*_x28*_x9 + _x23*_x29 - _x3*_x31 - _x32*sin_helix_angle - _x35*_x5), 0, 0, 0], (3, 3), _shape)
     return SurfaceSecondDerivativesLeft(point_D2_lu)
 
 
@@ -225,14 +236,14 @@ def surface_fundamental_forms_left(l, u, params):
     Inputs (numpy arrays or scalars; all broadcast together over their leading axes):
         l: profile parameter along the rack edge [mm]
         u: parameter along the tooth [mm]
-        params: surface parameters (layouts.InvoluteSurfaceParams) [see layout], shape (..., 7)
+        params: surface parameters (layouts.InvoluteSurfaceParams) [see layout], shape (..., 16)
     Returns SurfaceFundamentalFormsLeft:
         point_D_lu: [dR/dl, dR/du] as columns [mm/mm], shape (..., 3, 2)
         normal: unit normal, outward from the tooth [1], shape (..., 3)
         first_form: [[E, F], [F, G]]: E = R_l.R_l, F = R_l.R_u, G = R_u.R_u [mm^2], shape (..., 2, 2)
         second_form: [[L, M], [M, N]] about the outward normal n: L = R_ll.n, M = R_lu.n, N = R_uu.n (negative on a convex tooth) [mm], shape (..., 2, 2)
     """
-    # ops: 290
+    # ops: 289
     _shape = numpy.broadcast_shapes(numpy.shape(l), numpy.shape(u), numpy.shape(params)[:-1])
     normal_pressure_angle = params[..., 0]
     helix_angle = params[..., 1]
@@ -241,89 +252,90 @@ def surface_fundamental_forms_left(l, u, params):
     half_thickness_mm = params[..., 4]
     rack_shift_mm = params[..., 5]
     pitch_radius_mm = params[..., 6]
-    _x0 = numpy.sin(normal_pressure_angle)
-    _x1 = numpy.cos(cone_angle)
-    _x2 = _x0*_x1
-    _x3 = numpy.sin(helix_angle)
-    _x4 = numpy.sin(cone_angle)
-    _x5 = numpy.cos(normal_pressure_angle)
-    _x6 = _x4*_x5
-    _x7 = _x2 + _x3*_x6
-    _x8 = _x3*u
-    _x9 = numpy.cos(helix_angle)
-    _x10 = -_x0*l + cutter_addendum_mm*numpy.tan(normal_pressure_angle) + half_thickness_mm
-    _x11 = -_x10
-    _x12 = _x11*_x9 + _x8
-    _x13 = _x3*_x4
-    _x14 = _x4*_x9
-    _x15 = _x1*(_x5*l - cutter_addendum_mm + rack_shift_mm) + _x14*u
-    _x16 = -_x11*_x13 + _x15
-    _x17 = _x5*_x9
-    _x18 = _x12*_x7 + _x16*_x17
-    _x19 = pitch_radius_mm**(-1.0)
-    _x20 = _x7**(-1.0)
-    _x21 = _x19*_x20
-    _x22 = _x18*_x21
-    _x23 = numpy.sin(_x22)
-    _x24 = _x0*_x9
-    _x25 = _x0*_x4
-    _x26 = -_x1*_x5 + _x25*_x3
-    _x27 = -_x26
-    _x28 = numpy.cos(_x22)
-    _x29 = _x0*_x7*_x9 + _x17*_x27
-    _x30 = _x28*_x29
-    _x31 = _x12*_x21
-    _x32 = _x16*_x21
-    _x33 = _x23*_x29
-    _x34 = _x7**(-2.0)
-    _x35 = _x18*_x19*_x28*_x29*_x34 - _x23*_x24 + _x27*_x28 - _x30*_x31 - _x32*_x33
-    _x36 = _x9**2
-    _x37 = _x3*_x7 + _x36*_x6
-    _x38 = _x28*_x37
-    _x39 = _x23*_x37
-    _x40 = _x18*_x19*_x28*_x34*_x37 - _x23*_x3 + _x28*_x4*_x9 - _x31*_x38 - _x32*_x39
-    _x41 = _x19*_x34
-    _x42 = _x18*_x41
-    _x43 = _x23*_x27 + _x24*_x28 + _x30*_x32 - _x31*_x33 + _x33*_x42
-    _x44 = _x14*_x23 + _x28*_x3 - _x31*_x39 + _x32*_x38 + _x39*_x42
-    _x45 = -_x2*_x3 - _x6
-    _x46 = _x1*_x9
-    _x47 = _x17*_x23 + _x28*_x7
-    _x48 = -_x17*_x28 + _x23*_x7
-    _x49 = _x35*_x40 + _x43*_x44 + _x45*_x46
-    _x50 = -_x10*_x9 + _x8
-    _x51 = _x10*_x13 + _x15
-    _x52 = _x17*_x51 + _x50*_x7
-    _x53 = _x21*_x52
-    _x54 = numpy.cos(_x53)
-    _x55 = 2*_x24
-    _x56 = numpy.sin(_x53)
-    _x57 = 2*_x26
-    _x58 = _x0*_x7 - _x26*_x5
-    _x59 = _x54*_x58
-    _x60 = _x56*_x58
-    _x61 = _x21*_x9
-    _x62 = _x50*_x61
-    _x63 = _x51*_x61
-    _x64 = _x41*_x52
-    _x65 = _x21*_x47
-    _x66 = _x58*_x9
-    _x67 = _x21*_x48
-    _x68 = _x24*_x37
-    _x69 = _x3*_x9
-    _x70 = _x21*_x37
-    _x71 = _x51*_x70
-    _x72 = _x59*_x9
-    _x73 = _x37*_x64
-    _x74 = _x60*_x9
-    _x75 = _x50*_x70
-    _x76 = _x65*(_x19*_x20*_x37*_x50*_x56*_x58*_x9 + _x20*_x37*_x54*_x58*_x9 + _x26*_x37*_x56 - _x36*_x4*_x60 - _x54*_x68 - _x59*_x69 - _x71*_x72 - _x73*_x74) + _x67*(_x19*_x34*_x37*_x52*_x54*_x58*_x9 + _x20*_x37*_x56*_x58*_x9 - _x26*_x37*_x54 + _x36*_x4*_x54*_x58 - _x56*_x68 - _x60*_x69 - _x71*_x74 - _x72*_x75)
-    _x77 = 2*_x3
-    _x78 = 2*_x14
-    point_D_lu = _stack([_x35, _x40, _x43, _x44, _x45, _x46], (3, 2), _shape)
-    normal = _stack([_x47, _x48, _x1*_x3*_x5 - _x25], (3,), _shape)
-    first_form = _stack([_x35**2 + _x43**2 + _x45**2, _x49, _x49, _x1**2*_x36 + _x40**2 + _x44**2], (2, 2), _shape)
-    second_form = _stack([_x65*_x66*(_x20*_x59*_x9 - _x54*_x55 + _x56*_x57 - _x59*_x63 + _x60*_x62 - _x60*_x64*_x9) + _x66*_x67*(_x19*_x34*_x52*_x54*_x58*_x9 + _x20*_x56*_x58*_x9 - _x54*_x57 - _x55*_x56 - _x59*_x62 - _x60*_x63), _x76, _x76, _x37*_x65*(_x19*_x20*_x37*_x50*_x56 + _x20*_x37*_x54 - _x54*_x71 - _x54*_x77 - _x56*_x73 - _x56*_x78) + _x37*_x67*(_x20*_x37*_x56 + _x54*_x73 - _x54*_x75 + _x54*_x78 - _x56*_x71 - _x56*_x77)], (2, 2), _shape)
+    sin_normal_pressure_angle = params[..., 7]
+    cos_normal_pressure_angle = params[..., 8]
+    tan_normal_pressure_angle = params[..., 9]
+    sin_helix_angle = params[..., 10]
+    cos_helix_angle = params[..., 11]
+    tan_helix_angle = params[..., 12]
+    sin_cone_angle = params[..., 13]
+    cos_cone_angle = params[..., 14]
+    tan_cone_angle = params[..., 15]
+    _x0 = cos_cone_angle*sin_normal_pressure_angle
+    _x1 = cos_normal_pressure_angle*sin_cone_angle
+    _x2 = _x0 + _x1*sin_helix_angle
+    _x3 = cutter_addendum_mm*tan_normal_pressure_angle + half_thickness_mm - l*sin_normal_pressure_angle
+    _x4 = -_x3
+    _x5 = _x4*cos_helix_angle + sin_helix_angle*u
+    _x6 = sin_cone_angle*sin_helix_angle
+    _x7 = cos_helix_angle*sin_cone_angle
+    _x8 = _x7*u + cos_cone_angle*(cos_normal_pressure_angle*l - cutter_addendum_mm + rack_shift_mm)
+    _x9 = -_x4*_x6 + _x8
+    _x10 = cos_helix_angle*cos_normal_pressure_angle
+    _x11 = _x10*_x9 + _x2*_x5
+    _x12 = pitch_radius_mm**(-1.0)
+    _x13 = _x2**(-1.0)
+    _x14 = _x12*_x13
+    _x15 = _x11*_x14
+    _x16 = numpy.sin(_x15)
+    _x17 = cos_helix_angle*sin_normal_pressure_angle
+    _x18 = cos_cone_angle*cos_normal_pressure_angle
+    _x19 = sin_cone_angle*sin_normal_pressure_angle
+    _x20 = _x18 - _x19*sin_helix_angle
+    _x21 = numpy.cos(_x15)
+    _x22 = _x10*_x20 + _x2*cos_helix_angle*sin_normal_pressure_angle
+    _x23 = _x21*_x22
+    _x24 = _x14*_x5
+    _x25 = _x14*_x9
+    _x26 = _x16*_x22
+    _x27 = _x2**(-2.0)
+    _x28 = _x11*_x12*_x21*_x22*_x27 - _x16*_x17 + _x20*_x21 - _x23*_x24 - _x25*_x26
+    _x29 = cos_helix_angle**2
+    _x30 = _x1*_x29 + _x2*sin_helix_angle
+    _x31 = _x21*_x30
+    _x32 = _x16*_x30
+    _x33 = _x11*_x12*_x21*_x27*_x30 - _x16*sin_helix_angle + _x21*cos_helix_angle*sin_cone_angle - _x24*_x31 - _x25*_x32
+    _x34 = _x12*_x27
+    _x35 = _x11*_x34
+    _x36 = _x16*_x20 + _x17*_x21 + _x23*_x25 - _x24*_x26 + _x26*_x35
+    _x37 = _x16*_x7 + _x21*sin_helix_angle - _x24*_x32 + _x25*_x31 + _x32*_x35
+    _x38 = -_x0*sin_helix_angle - _x1
+    _x39 = cos_cone_angle*cos_helix_angle
+    _x40 = _x10*_x16 + _x2*_x21
+    _x41 = -_x10*_x21 + _x16*_x2
+    _x42 = _x28*_x33 + _x36*_x37 + _x38*_x39
+    _x43 = -_x3*cos_helix_angle + sin_helix_angle*u
+    _x44 = _x3*_x6 + _x8
+    _x45 = _x10*_x44 + _x2*_x43
+    _x46 = _x14*_x45
+    _x47 = numpy.cos(_x46)
+    _x48 = 2*_x17
+    _x49 = -_x20
+    _x50 = numpy.sin(_x46)
+    _x51 = _x2*sin_normal_pressure_angle - _x49*cos_normal_pressure_angle
+    _x52 = _x47*_x51
+    _x53 = _x14*cos_helix_angle
+    _x54 = _x44*_x53
+    _x55 = _x50*_x51
+    _x56 = _x34*_x45
+    _x57 = _x14*_x40
+    _x58 = _x51*cos_helix_angle
+    _x59 = _x14*_x41
+    _x60 = _x17*_x30
+    _x61 = cos_helix_angle*sin_helix_angle
+    _x62 = _x14*_x30
+    _x63 = _x44*_x62
+    _x64 = _x52*cos_helix_angle
+    _x65 = _x30*_x56
+    _x66 = _x55*cos_helix_angle
+    _x67 = _x43*_x62
+    _x68 = _x57*(_x12*_x13*_x30*_x43*_x50*_x51*cos_helix_angle + _x13*_x30*_x47*_x51*cos_helix_angle - _x29*_x55*sin_cone_angle + _x30*_x49*_x50 - _x47*_x60 - _x52*_x61 - _x63*_x64 - _x65*_x66) + _x59*(_x12*_x27*_x30*_x45*_x47*_x51*cos_helix_angle + _x13*_x30*_x50*_x51*cos_helix_angle + _x29*_x47*_x51*sin_cone_angle - _x30*_x47*_x49 - _x50*_x60 - _x55*_x61 - _x63*_x66 - _x64*_x67)
+    _x69 = 2*sin_helix_angle
+    _x70 = 2*_x7
+    point_D_lu = _stack([_x28, _x33, _x36, _x37, _x38, _x39], (3, 2), _shape)
+    normal = _stack([_x40, _x41, _x18*sin_helix_angle - _x19], (3,), _shape)
+    first_form = _stack([_x28**2 + _x36**2 + _x38**2, _x42, _x42, _x29*cos_cone_angle**2 + _x33**2 + _x37**2], (2, 2), _shape)
+    second_form = _stack([_x57*_x58*(_x12*_x13*_x43*_x50*_x51*cos_helix_angle + _x13*_x47*_x51*cos_helix_angle - _x47*_x48 + 2*_x49*_x50 - _x52*_x54 - _x55*_x56*cos_helix_angle) + _x58*_x59*(_x12*_x27*_x45*_x47*_x51*cos_helix_angle + _x13*_x50*_x51*cos_helix_angle - _x43*_x52*_x53 - 2*_x47*_x49 - _x48*_x50 - _x54*_x55), _x68, _x68, _x30*_x57*(_x12*_x13*_x30*_x43*_x50 + _x13*_x30*_x47 - _x47*_x63 - _x47*_x69 - _x50*_x65 - _x50*_x70) + _x30*_x59*(_x13*_x30*_x50 + _x47*_x65 - _x47*_x67 + _x47*_x70 - _x50*_x63 - _x50*_x69)], (2, 2), _shape)
     return SurfaceFundamentalFormsLeft(point_D_lu, normal, first_form, second_form)
 
 
@@ -341,13 +353,13 @@ def surface_right(l, u, params):
     Inputs (numpy arrays or scalars; all broadcast together over their leading axes):
         l: profile parameter along the rack edge [mm]
         u: parameter along the tooth [mm]
-        params: surface parameters (layouts.InvoluteSurfaceParams) [see layout], shape (..., 7)
+        params: surface parameters (layouts.InvoluteSurfaceParams) [see layout], shape (..., 16)
     Returns SurfaceRight:
         point: surface point [x, y, z] [mm], shape (..., 3)
         normal: unit normal, outward from the tooth [1], shape (..., 3)
         roll_angle: generating roll angle phi(l, u) of Eq 7 [rad], shape (...)
     """
-    # ops: 66
+    # ops: 59
     _shape = numpy.broadcast_shapes(numpy.shape(l), numpy.shape(u), numpy.shape(params)[:-1])
     normal_pressure_angle = params[..., 0]
     helix_angle = params[..., 1]
@@ -356,27 +368,30 @@ def surface_right(l, u, params):
     half_thickness_mm = params[..., 4]
     rack_shift_mm = params[..., 5]
     pitch_radius_mm = params[..., 6]
-    _x0 = numpy.sin(normal_pressure_angle)
-    _x1 = numpy.cos(cone_angle)
-    _x2 = numpy.cos(normal_pressure_angle)
-    _x3 = numpy.sin(helix_angle)
-    _x4 = numpy.sin(cone_angle)
-    _x5 = _x3*_x4
-    _x6 = _x0*_x1 - _x2*_x5
-    _x7 = numpy.cos(helix_angle)
-    _x8 = -_x0*l + cutter_addendum_mm*numpy.tan(normal_pressure_angle) + half_thickness_mm
-    _x9 = _x3*u + _x7*_x8
-    _x10 = _x2*l - cutter_addendum_mm + rack_shift_mm
-    _x11 = _x1*_x10 + _x4*_x7*u - _x5*_x8
-    _x12 = _x2*_x7
-    _x13 = (-_x11*_x12 + _x6*_x9)/_x6
-    _x14 = _x13/pitch_radius_mm
-    _x15 = numpy.cos(_x14)
-    _x16 = numpy.sin(_x14)
-    _x17 = _x1*_x3
-    point = _stack([_x11*_x15 + _x13*_x16 + _x15*pitch_radius_mm - _x16*_x9, _x11*_x16 - _x13*_x15 + _x15*_x9 + _x16*pitch_radius_mm, _x1*_x7*u - _x10*_x4 - _x17*_x8], (3,), _shape)
-    normal = _stack([-_x12*_x16 + _x15*_x6, _x12*_x15 + _x16*_x6, -_x0*_x4 - _x17*_x2], (3,), _shape)
-    roll_angle = _full(_x14, _shape)
+    sin_normal_pressure_angle = params[..., 7]
+    cos_normal_pressure_angle = params[..., 8]
+    tan_normal_pressure_angle = params[..., 9]
+    sin_helix_angle = params[..., 10]
+    cos_helix_angle = params[..., 11]
+    tan_helix_angle = params[..., 12]
+    sin_cone_angle = params[..., 13]
+    cos_cone_angle = params[..., 14]
+    tan_cone_angle = params[..., 15]
+    _x0 = sin_cone_angle*sin_helix_angle
+    _x1 = -_x0*cos_normal_pressure_angle + cos_cone_angle*sin_normal_pressure_angle
+    _x2 = cutter_addendum_mm*tan_normal_pressure_angle + half_thickness_mm - l*sin_normal_pressure_angle
+    _x3 = _x2*cos_helix_angle + sin_helix_angle*u
+    _x4 = cos_normal_pressure_angle*l - cutter_addendum_mm + rack_shift_mm
+    _x5 = -_x0*_x2 + _x4*cos_cone_angle + cos_helix_angle*sin_cone_angle*u
+    _x6 = cos_helix_angle*cos_normal_pressure_angle
+    _x7 = (_x1*_x3 - _x5*_x6)/_x1
+    _x8 = _x7/pitch_radius_mm
+    _x9 = numpy.cos(_x8)
+    _x10 = numpy.sin(_x8)
+    _x11 = cos_cone_angle*sin_helix_angle
+    point = _stack([-_x10*_x3 + _x10*_x7 + _x5*_x9 + _x9*pitch_radius_mm, _x10*_x5 + _x10*pitch_radius_mm + _x3*_x9 - _x7*_x9, -_x11*_x2 - _x4*sin_cone_angle + cos_cone_angle*cos_helix_angle*u], (3,), _shape)
+    normal = _stack([_x1*_x9 - _x10*_x6, _x1*_x10 + _x6*_x9, -_x11*cos_normal_pressure_angle - sin_cone_angle*sin_normal_pressure_angle], (3,), _shape)
+    roll_angle = _full(_x8, _shape)
     return SurfaceRight(point, normal, roll_angle)
 
 
@@ -395,14 +410,14 @@ def surface_jet_right(l, u, params):
     Inputs (numpy arrays or scalars; all broadcast together over their leading axes):
         l: profile parameter along the rack edge [mm]
         u: parameter along the tooth [mm]
-        params: surface parameters (layouts.InvoluteSurfaceParams) [see layout], shape (..., 7)
+        params: surface parameters (layouts.InvoluteSurfaceParams) [see layout], shape (..., 16)
     Returns SurfaceJetRight:
         point: surface point [x, y, z] [mm], shape (..., 3)
         normal: unit normal, outward from the tooth [1], shape (..., 3)
         point_D_lu: [dR/dl, dR/du] as columns [mm/mm], shape (..., 3, 2)
         normal_D_lu: [dn/dl, dn/du] as columns [1/mm], shape (..., 3, 2)
     """
-    # ops: 146
+    # ops: 141
     _shape = numpy.broadcast_shapes(numpy.shape(l), numpy.shape(u), numpy.shape(params)[:-1])
     normal_pressure_angle = params[..., 0]
     helix_angle = params[..., 1]
@@ -411,54 +426,56 @@ def surface_jet_right(l, u, params):
     half_thickness_mm = params[..., 4]
     rack_shift_mm = params[..., 5]
     pitch_radius_mm = params[..., 6]
+    sin_normal_pressure_angle = params[..., 7]
+    cos_normal_pressure_angle = params[..., 8]
+    tan_normal_pressure_angle = params[..., 9]
+    sin_helix_angle = params[..., 10]
+    cos_helix_angle = params[..., 11]
+    tan_helix_angle = params[..., 12]
+    sin_cone_angle = params[..., 13]
+    cos_cone_angle = params[..., 14]
+    tan_cone_angle = params[..., 15]
     _x0 = pitch_radius_mm**(-1.0)
-    _x1 = numpy.sin(normal_pressure_angle)
-    _x2 = numpy.cos(cone_angle)
-    _x3 = numpy.sin(helix_angle)
-    _x4 = numpy.sin(cone_angle)
-    _x5 = numpy.cos(normal_pressure_angle)
-    _x6 = _x4*_x5
-    _x7 = _x1*_x2 - _x3*_x6
-    _x8 = _x7**(-1.0)
-    _x9 = numpy.cos(helix_angle)
-    _x10 = -_x1*l + cutter_addendum_mm*numpy.tan(normal_pressure_angle) + half_thickness_mm
-    _x11 = _x10*_x9 + _x3*u
-    _x12 = _x4*_x9
-    _x13 = _x5*l - cutter_addendum_mm + rack_shift_mm
-    _x14 = _x10*_x3
-    _x15 = _x12*u + _x13*_x2 - _x14*_x4
-    _x16 = _x5*_x9
-    _x17 = _x11*_x7 - _x15*_x16
-    _x18 = _x17*_x8
-    _x19 = _x0*_x18
-    _x20 = numpy.cos(_x19)
-    _x21 = numpy.sin(_x19)
-    _x22 = _x11*_x21
-    _x23 = _x15*_x20
-    _x24 = _x11*_x20
-    _x25 = _x15*_x21
-    _x26 = _x16*_x21
-    _x27 = _x16*_x20
-    _x28 = _x1*_x4
-    _x29 = _x2*_x5
-    _x30 = _x1*_x9
-    _x31 = _x28*_x3 + _x29
-    _x32 = -_x16*_x31 - _x30*_x7
-    _x33 = _x0*_x8
-    _x34 = _x32*_x33
-    _x35 = _x0*_x20
-    _x36 = _x32*_x35
-    _x37 = _x7**(-2.0)
-    _x38 = _x17*_x37
-    _x39 = _x3*_x7 - _x6*_x9**2
-    _x40 = _x33*_x39
-    _x41 = _x0*_x21
-    _x42 = _x32*_x41
-    _x43 = _x39*_x41
-    point = _stack([_x18*_x21 + _x20*pitch_radius_mm - _x22 + _x23, -_x18*_x20 + _x21*pitch_radius_mm + _x24 + _x25, -_x13*_x4 - _x14*_x2 + _x2*_x9*u], (3,), _shape)
-    normal = _stack([_x20*_x7 - _x26, _x21*_x7 + _x27, -_x28 - _x29*_x3], (3,), _shape)
-    point_D_lu = _stack([_x20*_x31 + _x21*_x30 - _x24*_x34 - _x25*_x34 + _x36*_x38, _x0*_x17*_x20*_x37*_x39 + _x20*_x4*_x9 - _x21*_x3 - _x24*_x40 - _x25*_x40, -_x20*_x30 + _x21*_x31 - _x22*_x34 + _x23*_x34 + _x38*_x42, _x12*_x21 + _x20*_x3 - _x22*_x40 + _x23*_x40 + _x38*_x43, _x1*_x2*_x3 - _x6, _x2*_x9], (3, 2), _shape)
-    normal_D_lu = _stack([-_x27*_x34 - _x42, -_x27*_x40 - _x43, -_x26*_x34 + _x36, -_x26*_x40 + _x35*_x39, 0, 0], (3, 2), _shape)
+    _x1 = cos_cone_angle*sin_normal_pressure_angle
+    _x2 = cos_normal_pressure_angle*sin_cone_angle
+    _x3 = _x1 - _x2*sin_helix_angle
+    _x4 = _x3**(-1.0)
+    _x5 = cutter_addendum_mm*tan_normal_pressure_angle + half_thickness_mm - l*sin_normal_pressure_angle
+    _x6 = _x5*cos_helix_angle + sin_helix_angle*u
+    _x7 = cos_helix_angle*sin_cone_angle
+    _x8 = cos_normal_pressure_angle*l - cutter_addendum_mm + rack_shift_mm
+    _x9 = _x5*sin_helix_angle
+    _x10 = _x7*u + _x8*cos_cone_angle - _x9*sin_cone_angle
+    _x11 = cos_helix_angle*cos_normal_pressure_angle
+    _x12 = -_x10*_x11 + _x3*_x6
+    _x13 = _x12*_x4
+    _x14 = _x0*_x13
+    _x15 = numpy.cos(_x14)
+    _x16 = numpy.sin(_x14)
+    _x17 = _x16*_x6
+    _x18 = _x10*_x15
+    _x19 = _x15*_x6
+    _x20 = _x10*_x16
+    _x21 = _x11*_x16
+    _x22 = _x11*_x15
+    _x23 = sin_cone_angle*sin_normal_pressure_angle
+    _x24 = cos_cone_angle*cos_normal_pressure_angle
+    _x25 = cos_helix_angle*sin_normal_pressure_angle
+    _x26 = _x23*sin_helix_angle + _x24
+    _x27 = -_x11*_x26 - _x25*_x3
+    _x28 = _x0*_x4
+    _x29 = _x27*_x28
+    _x30 = _x3**(-2.0)
+    _x31 = _x12*_x30
+    _x32 = -_x2*cos_helix_angle**2 + _x3*sin_helix_angle
+    _x33 = _x28*_x32
+    _x34 = _x0*_x16
+    _x35 = _x27*_x34
+    _x36 = _x32*_x34
+    point = _stack([_x13*_x16 + _x15*pitch_radius_mm - _x17 + _x18, -_x13*_x15 + _x16*pitch_radius_mm + _x19 + _x20, -_x8*sin_cone_angle - _x9*cos_cone_angle + cos_cone_angle*cos_helix_angle*u], (3,), _shape)
+    normal = _stack([_x15*_x3 - _x21, _x16*_x3 + _x22, -_x23 - _x24*sin_helix_angle], (3,), _shape)
+    point_D_lu = _stack([_x0*_x15*_x27*_x31 + _x15*_x26 + _x16*_x25 - _x19*_x29 - _x20*_x29, _x0*_x12*_x15*_x30*_x32 + _x15*cos_helix_angle*sin_cone_angle - _x16*sin_helix_angle - _x19*_x33 - _x20*_x33, -_x15*_x25 + _x16*_x26 - _x17*_x29 + _x18*_x29 + _x31*_x35, _x15*sin_helix_angle + _x16*_x7 - _x17*_x33 + _x18*_x33 + _x31*_x36, _x1*sin_helix_angle - _x2, cos_cone_angle*cos_helix_angle], (3, 2), _shape)
+    normal_D_lu = _stack([-_x22*_x29 - _x35, -_x22*_x33 - _x36, _x0*_x15*_x27 - _x21*_x29, _x0*_x15*_x32 - _x21*_x33, 0, 0], (3, 2), _shape)
     return SurfaceJetRight(point, normal, point_D_lu, normal_D_lu)
 
 
@@ -474,7 +491,7 @@ def surface_second_derivatives_right(l, u, params):
     Inputs (numpy arrays or scalars; all broadcast together over their leading axes):
         l: profile parameter along the rack edge [mm]
         u: parameter along the tooth [mm]
-        params: surface parameters (layouts.InvoluteSurfaceParams) [see layout], shape (..., 7)
+        params: surface parameters (layouts.InvoluteSurfaceParams) [see layout], shape (..., 16)
     Returns SurfaceSecondDerivativesRight:
         point_D2_lu: [d2R/dl2, d2R/dldu, d2R/du2] as columns [mm/mm^2], shape (..., 3, 3)
     """
@@ -487,53 +504,54 @@ def surface_second_derivatives_right(l, u, params):
     half_thickness_mm = params[..., 4]
     rack_shift_mm = params[..., 5]
     pitch_radius_mm = params[..., 6]
-    _x0 = numpy.sin(normal_pressure_angle)
-    _x1 = numpy.cos(cone_angle)
-    _x2 = numpy.cos(normal_pressure_angle)
-    _x3 = numpy.sin(helix_angle)
-    _x4 = numpy.sin(cone_angle)
-    _x5 = _x3*_x4
-    _x6 = _x0*_x1 - _x2*_x5
-    _x7 = numpy.cos(helix_angle)
-    _x8 = -_x0*l + cutter_addendum_mm*numpy.tan(normal_pressure_angle) + half_thickness_mm
-    _x9 = _x3*u + _x7*_x8
-    _x10 = _x4*_x7
-    _x11 = _x1*(_x2*l - cutter_addendum_mm + rack_shift_mm) + _x10*u - _x5*_x8
-    _x12 = _x11*_x7
-    _x13 = -_x12*_x2 + _x6*_x9
-    _x14 = pitch_radius_mm**(-1.0)
-    _x15 = _x6**(-1.0)
-    _x16 = _x14*_x15
-    _x17 = _x13*_x16
-    _x18 = numpy.cos(_x17)
-    _x19 = 2*_x18
-    _x20 = _x0*_x7
-    _x21 = _x0*_x5 + _x1*_x2
-    _x22 = numpy.sin(_x17)
-    _x23 = _x21*_x22
-    _x24 = _x0*_x6 + _x2*_x21
-    _x25 = _x24*_x7
-    _x26 = _x18*_x25
-    _x27 = _x22*_x25
-    _x28 = _x16*_x9
-    _x29 = _x12*_x24
-    _x30 = _x16*_x29
-    _x31 = _x6**(-2.0)
-    _x32 = _x13*_x14*_x31
-    _x33 = _x27*_x32
-    _x34 = _x16*_x25
-    _x35 = _x4*_x7**2
-    _x36 = -_x2*_x35 + _x3*_x6
-    _x37 = _x18*_x36
-    _x38 = _x24*_x35
-    _x39 = _x16*_x36
-    _x40 = _x16*_x37
-    _x41 = 2*_x22
-    _x42 = _x22*_x36
-    _x43 = _x15*_x22*_x36
-    _x44 = _x22*_x39
-    _x45 = _x32*_x37
-    point_D2_lu = _stack([_x34*(_x15*_x26 - _x18*_x30 - _x19*_x20 + 2*_x23 + _x27*_x28 - _x33), _x16*(-_x15*_x25*_x37 + _x20*_x37 + _x22*_x38 - _x23*_x36 + _x26*_x3 - _x27*_x39*_x9 + _x29*_x40 + _x33*_x36), _x39*(-_x10*_x41 - _x11*_x40 + _x14*_x15*_x22*_x36*_x9 + _x15*_x18*_x36 - _x19*_x3 - _x32*_x42), _x34*(_x13*_x14*_x18*_x24*_x31*_x7 + _x15*_x22*_x24*_x7 - _x19*_x21 - _x20*_x41 - _x22*_x30 - _x26*_x28), _x16*(-_x18*_x38 + _x20*_x42 + _x21*_x37 - _x25*_x43 - _x25*_x45 + _x27*_x3 + _x29*_x44 + _x34*_x37*_x9), _x39*(_x10*_x19 - _x11*_x44 - _x3*_x41 - _x40*_x9 + _x43 + _x45), 0, 0, 0], (3, 3), _shape)
+    sin_normal_pressure_angle = params[..., 7]
+    cos_normal_pressure_angle = params[..., 8]
+    tan_normal_pressure_angle = params[..., 9]
+    sin_helix_angle = params[..., 10]
+    cos_helix_angle = params[..., 11]
+    tan_helix_angle = params[..., 12]
+    sin_cone_angle = params[..., 13]
+    cos_cone_angle = params[..., 14]
+    tan_cone_angle = params[..., 15]
+    _x0 = sin_cone_angle*sin_helix_angle
+    _x1 = -_x0*cos_normal_pressure_angle + cos_cone_angle*sin_normal_pressure_angle
+    _x2 = cutter_addendum_mm*tan_normal_pressure_angle + half_thickness_mm - l*sin_normal_pressure_angle
+    _x3 = _x2*cos_helix_angle + sin_helix_angle*u
+    _x4 = cos_helix_angle*sin_cone_angle
+    _x5 = -_x0*_x2 + _x4*u + cos_cone_angle*(cos_normal_pressure_angle*l - cutter_addendum_mm + rack_shift_mm)
+    _x6 = _x5*cos_helix_angle
+    _x7 = _x1*_x3 - _x6*cos_normal_pressure_angle
+    _x8 = pitch_radius_mm**(-1.0)
+    _x9 = _x1**(-1.0)
+    _x10 = _x8*_x9
+    _x11 = _x10*_x7
+    _x12 = numpy.cos(_x11)
+    _x13 = 2*_x12
+    _x14 = cos_helix_angle*sin_normal_pressure_angle
+    _x15 = _x0*sin_normal_pressure_angle + cos_cone_angle*cos_normal_pressure_angle
+    _x16 = numpy.sin(_x11)
+    _x17 = _x1*sin_normal_pressure_angle + _x15*cos_normal_pressure_angle
+    _x18 = _x17*_x6
+    _x19 = _x10*_x18
+    _x20 = _x17*cos_helix_angle
+    _x21 = _x16*_x20
+    _x22 = _x1**(-2.0)
+    _x23 = _x22*_x7*_x8
+    _x24 = _x21*_x23
+    _x25 = _x10*_x20
+    _x26 = cos_helix_angle**2*sin_cone_angle
+    _x27 = _x1*sin_helix_angle - _x26*cos_normal_pressure_angle
+    _x28 = _x12*_x27
+    _x29 = _x12*_x20
+    _x30 = _x17*_x26
+    _x31 = _x10*_x27
+    _x32 = _x10*_x28
+    _x33 = 2*_x16
+    _x34 = _x16*_x27
+    _x35 = _x16*_x27*_x9
+    _x36 = _x16*_x31
+    _x37 = _x23*_x28
+    point_D2_lu = _stack([_x25*(_x12*_x17*_x9*cos_helix_angle - _x12*_x19 - _x13*_x14 + 2*_x15*_x16 + _x16*_x17*_x3*_x8*_x9*cos_helix_angle - _x24), _x10*(_x14*_x28 - _x15*_x16*_x27 + _x16*_x30 + _x18*_x32 - _x20*_x28*_x9 - _x21*_x3*_x31 + _x24*_x27 + _x29*sin_helix_angle), _x31*(_x12*_x27*_x9 - _x13*sin_helix_angle + _x16*_x27*_x3*_x8*_x9 - _x23*_x34 - _x32*_x5 - _x33*_x4), _x25*(-_x10*_x29*_x3 + _x12*_x17*_x22*_x7*_x8*cos_helix_angle - _x13*_x15 - _x14*_x33 + _x16*_x17*_x9*cos_helix_angle - _x16*_x19), _x10*(-_x12*_x30 + _x14*_x34 + _x15*_x28 + _x18*_x36 - _x20*_x35 - _x20*_x37 + _x21*sin_helix_angle + _x25*_x28*_x3), _x31*(_x13*_x4 - _x3*_x32 - _x33*sin_helix_angle + _x35 - _x36*_x5 + _x37), 0, 0, 0], (3, 3), _shape)
     return SurfaceSecondDerivativesRight(point_D2_lu)
 
 
@@ -552,14 +570,14 @@ def surface_fundamental_forms_right(l, u, params):
     Inputs (numpy arrays or scalars; all broadcast together over their leading axes):
         l: profile parameter along the rack edge [mm]
         u: parameter along the tooth [mm]
-        params: surface parameters (layouts.InvoluteSurfaceParams) [see layout], shape (..., 7)
+        params: surface parameters (layouts.InvoluteSurfaceParams) [see layout], shape (..., 16)
     Returns SurfaceFundamentalFormsRight:
         point_D_lu: [dR/dl, dR/du] as columns [mm/mm], shape (..., 3, 2)
         normal: unit normal, outward from the tooth [1], shape (..., 3)
         first_form: [[E, F], [F, G]]: E = R_l.R_l, F = R_l.R_u, G = R_u.R_u [mm^2], shape (..., 2, 2)
         second_form: [[L, M], [M, N]] about the outward normal n: L = R_ll.n, M = R_lu.n, N = R_uu.n (negative on a convex tooth) [mm], shape (..., 2, 2)
     """
-    # ops: 231
+    # ops: 229
     _shape = numpy.broadcast_shapes(numpy.shape(l), numpy.shape(u), numpy.shape(params)[:-1])
     normal_pressure_angle = params[..., 0]
     helix_angle = params[..., 1]
@@ -568,80 +586,84 @@ def surface_fundamental_forms_right(l, u, params):
     half_thickness_mm = params[..., 4]
     rack_shift_mm = params[..., 5]
     pitch_radius_mm = params[..., 6]
-    _x0 = numpy.sin(normal_pressure_angle)
-    _x1 = numpy.cos(cone_angle)
-    _x2 = numpy.sin(helix_angle)
-    _x3 = numpy.sin(cone_angle)
-    _x4 = numpy.cos(normal_pressure_angle)
-    _x5 = _x3*_x4
-    _x6 = _x0*_x1 - _x2*_x5
-    _x7 = numpy.cos(helix_angle)
-    _x8 = -_x0*l + cutter_addendum_mm*numpy.tan(normal_pressure_angle) + half_thickness_mm
-    _x9 = _x2*u + _x7*_x8
-    _x10 = _x3*_x7
-    _x11 = _x1*(_x4*l - cutter_addendum_mm + rack_shift_mm) + _x10*u - _x2*_x3*_x8
-    _x12 = _x4*_x7
-    _x13 = -_x11*_x12 + _x6*_x9
-    _x14 = pitch_radius_mm**(-1.0)
-    _x15 = _x6**(-1.0)
-    _x16 = _x14*_x15
-    _x17 = _x13*_x16
-    _x18 = numpy.sin(_x17)
-    _x19 = _x0*_x7
+    sin_normal_pressure_angle = params[..., 7]
+    cos_normal_pressure_angle = params[..., 8]
+    tan_normal_pressure_angle = params[..., 9]
+    sin_helix_angle = params[..., 10]
+    cos_helix_angle = params[..., 11]
+    tan_helix_angle = params[..., 12]
+    sin_cone_angle = params[..., 13]
+    cos_cone_angle = params[..., 14]
+    tan_cone_angle = params[..., 15]
+    _x0 = cos_cone_angle*sin_normal_pressure_angle
+    _x1 = cos_normal_pressure_angle*sin_cone_angle
+    _x2 = _x0 - _x1*sin_helix_angle
+    _x3 = cutter_addendum_mm*tan_normal_pressure_angle + half_thickness_mm - l*sin_normal_pressure_angle
+    _x4 = _x3*cos_helix_angle + sin_helix_angle*u
+    _x5 = cos_helix_angle*sin_cone_angle
+    _x6 = -_x3*sin_cone_angle*sin_helix_angle + _x5*u + cos_cone_angle*(cos_normal_pressure_angle*l - cutter_addendum_mm + rack_shift_mm)
+    _x7 = cos_helix_angle*cos_normal_pressure_angle
+    _x8 = _x2*_x4 - _x6*_x7
+    _x9 = pitch_radius_mm**(-1.0)
+    _x10 = _x2**(-1.0)
+    _x11 = _x10*_x9
+    _x12 = _x11*_x8
+    _x13 = numpy.sin(_x12)
+    _x14 = cos_helix_angle*sin_normal_pressure_angle
+    _x15 = _x13*_x14
+    _x16 = cos_cone_angle*cos_normal_pressure_angle
+    _x17 = sin_cone_angle*sin_normal_pressure_angle
+    _x18 = _x16 + _x17*sin_helix_angle
+    _x19 = numpy.cos(_x12)
     _x20 = _x18*_x19
-    _x21 = _x1*_x4
-    _x22 = _x0*_x3
-    _x23 = _x2*_x22 + _x21
-    _x24 = numpy.cos(_x17)
-    _x25 = _x23*_x24
-    _x26 = _x23*_x4
-    _x27 = _x0*_x6
-    _x28 = -_x26*_x7 - _x27*_x7
-    _x29 = _x24*_x28
-    _x30 = _x16*_x9
-    _x31 = _x11*_x16
-    _x32 = _x18*_x28
-    _x33 = _x6**(-2.0)
-    _x34 = _x13*_x14*_x33
-    _x35 = _x20 + _x25 - _x29*_x30 + _x29*_x34 - _x31*_x32
-    _x36 = _x18*_x2
-    _x37 = _x7**2
-    _x38 = _x2*_x6 - _x37*_x5
-    _x39 = _x24*_x38
-    _x40 = _x30*_x39
-    _x41 = _x18*_x38
-    _x42 = _x31*_x41
-    _x43 = _x13*_x14*_x24*_x33*_x38 + _x24*_x3*_x7 - _x36 - _x40 - _x42
-    _x44 = _x19*_x24
-    _x45 = _x18*_x23
-    _x46 = _x29*_x31 - _x30*_x32 + _x32*_x34 - _x44 + _x45
-    _x47 = _x2*_x24
-    _x48 = _x10*_x18
-    _x49 = _x31*_x39
-    _x50 = _x34*_x41
-    _x51 = _x30*_x41
-    _x52 = _x49 + _x50 - _x51
-    _x53 = _x47 + _x48 + _x52
-    _x54 = _x0*_x1*_x2 - _x5
-    _x55 = _x1*_x7
-    _x56 = -_x12*_x18 + _x24*_x6
-    _x57 = _x12*_x24 + _x18*_x6
-    _x58 = _x35*_x43 + _x46*_x53 + _x54*_x55
-    _x59 = _x26 + _x27
-    _x60 = _x59*_x7
-    _x61 = _x24*_x60
-    _x62 = _x18*_x60
-    _x63 = _x16*_x57
-    _x64 = _x16*_x56
-    _x65 = _x3*_x37*_x59
-    _x66 = _x15*_x38
-    _x67 = _x18*_x66
-    _x68 = _x34*_x39
-    _x69 = _x63*(_x20*_x38 - _x24*_x65 + _x25*_x38 + _x36*_x60 + _x40*_x60 + _x42*_x60 - _x60*_x67 - _x60*_x68) + _x64*(_x18*_x65 - _x24*_x60*_x66 + _x38*_x44 - _x38*_x45 + _x47*_x60 + _x49*_x60 + _x50*_x60 - _x51*_x60)
-    point_D_lu = _stack([_x35, _x43, _x46, _x53, _x54, _x55], (3, 2), _shape)
-    normal = _stack([_x56, _x57, -_x2*_x21 - _x22], (3,), _shape)
-    first_form = _stack([_x35**2 + _x46**2 + _x54**2, _x58, _x58, _x1**2*_x37 + _x43**2 + _x53**2], (2, 2), _shape)
-    second_form = _stack([_x60*_x63*(_x13*_x14*_x24*_x33*_x59*_x7 + _x15*_x18*_x59*_x7 - 2*_x20 - 2*_x25 - _x30*_x61 - _x31*_x62) + _x60*_x64*(_x15*_x24*_x60 + _x30*_x62 - _x31*_x61 - _x34*_x62 - 2*_x44 + 2*_x45), _x69, _x69, _x38*_x63*(2*_x10*_x24 - 2*_x36 - _x40 - _x42 + _x67 + _x68) + _x38*_x64*(_x15*_x24*_x38 - 2*_x47 - 2*_x48 - _x52)], (2, 2), _shape)
+    _x21 = _x18*cos_normal_pressure_angle
+    _x22 = _x2*sin_normal_pressure_angle
+    _x23 = -_x21*cos_helix_angle - _x22*cos_helix_angle
+    _x24 = _x19*_x23
+    _x25 = _x11*_x4
+    _x26 = _x11*_x6
+    _x27 = _x13*_x23
+    _x28 = _x2**(-2.0)
+    _x29 = _x28*_x8*_x9
+    _x30 = _x15 + _x20 - _x24*_x25 + _x24*_x29 - _x26*_x27
+    _x31 = _x13*sin_helix_angle
+    _x32 = cos_helix_angle**2
+    _x33 = -_x1*_x32 + _x2*sin_helix_angle
+    _x34 = _x19*_x33
+    _x35 = _x25*_x34
+    _x36 = _x13*_x33
+    _x37 = _x26*_x36
+    _x38 = _x19*_x28*_x33*_x8*_x9 + _x19*cos_helix_angle*sin_cone_angle - _x31 - _x35 - _x37
+    _x39 = _x14*_x19
+    _x40 = _x13*_x18
+    _x41 = _x24*_x26 - _x25*_x27 + _x27*_x29 - _x39 + _x40
+    _x42 = _x19*sin_helix_angle
+    _x43 = _x13*_x5
+    _x44 = _x26*_x34
+    _x45 = _x29*_x36
+    _x46 = _x25*_x36
+    _x47 = _x44 + _x45 - _x46
+    _x48 = _x42 + _x43 + _x47
+    _x49 = _x0*sin_helix_angle - _x1
+    _x50 = cos_cone_angle*cos_helix_angle
+    _x51 = -_x13*_x7 + _x19*_x2
+    _x52 = _x13*_x2 + _x19*_x7
+    _x53 = _x30*_x38 + _x41*_x48 + _x49*_x50
+    _x54 = _x21 + _x22
+    _x55 = _x54*cos_helix_angle
+    _x56 = _x19*_x55
+    _x57 = _x13*_x55
+    _x58 = _x11*_x52
+    _x59 = _x11*_x51
+    _x60 = _x32*_x54*sin_cone_angle
+    _x61 = _x10*_x33
+    _x62 = _x13*_x61
+    _x63 = _x29*_x34
+    _x64 = _x58*(_x15*_x33 - _x19*_x60 + _x20*_x33 + _x31*_x55 + _x35*_x55 + _x37*_x55 - _x55*_x62 - _x55*_x63) + _x59*(_x13*_x60 - _x19*_x55*_x61 + _x33*_x39 - _x33*_x40 + _x42*_x55 + _x44*_x55 + _x45*_x55 - _x46*_x55)
+    point_D_lu = _stack([_x30, _x38, _x41, _x48, _x49, _x50], (3, 2), _shape)
+    normal = _stack([_x51, _x52, -_x16*sin_helix_angle - _x17], (3,), _shape)
+    first_form = _stack([_x30**2 + _x41**2 + _x49**2, _x53, _x53, _x32*cos_cone_angle**2 + _x38**2 + _x48**2], (2, 2), _shape)
+    second_form = _stack([_x55*_x58*(_x10*_x13*_x54*cos_helix_angle - 2*_x15 + _x19*_x28*_x54*_x8*_x9*cos_helix_angle - 2*_x20 - _x25*_x56 - _x26*_x57) + _x55*_x59*(_x10*_x13*_x4*_x54*_x9*cos_helix_angle + _x10*_x19*_x54*cos_helix_angle + 2*_x13*_x18 - _x26*_x56 - _x29*_x57 - 2*_x39), _x64, _x64, _x33*_x58*(2*_x19*_x5 - 2*_x31 - _x35 - _x37 + _x62 + _x63) + _x33*_x59*(_x10*_x19*_x33 - 2*_x42 - 2*_x43 - _x47)], (2, 2), _shape)
     return SurfaceFundamentalFormsRight(point_D_lu, normal, first_form, second_form)
 
 

@@ -26,7 +26,7 @@ SURFACE_LAYOUTS = {
     "involute": layouts.InvoluteSurfaceParams,
     "crowned": layouts.CrownedSurfaceParams,
 }
-PARAMETER_COUNT = 11
+PARAMETER_COUNT = 20
 
 _SURFACE = {
     ("involute", "left"): (_involute.surface_left, _involute.surface_jet_left, _involute.surface_second_derivatives_left, _involute.surface_fundamental_forms_left),

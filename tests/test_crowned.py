@@ -140,10 +140,10 @@ def _params(rng, n, profile_um, lead_um):
                   cone_angle=rng.choice([-1, 1], n) * rng.uniform(0.5, 8, n) * math.pi / 180,
                   cutter_addendum_mm=rng.uniform(2.5, 10, n), half_thickness_mm=rng.uniform(1.5, 6.5, n),
                   rack_shift_mm=rng.uniform(-3, 3, n), pitch_radius_mm=rng.uniform(15, 400, n))
-    inv = np.stack(layouts.InvoluteSurfaceParams(**common), axis=-1)
-    cro = np.stack(layouts.CrownedSurfaceParams(
+    inv = np.stack(layouts.InvoluteSurfaceParams.pack(common), axis=-1)
+    cro = np.stack(layouts.CrownedSurfaceParams.pack(dict(
         **common, profile_crowning_um=np.broadcast_to(profile_um, n), lead_crowning_um=np.broadcast_to(lead_um, n),
-        face_width_mm=rng.uniform(10, 120, n), normal_module_mm=rng.uniform(2, 8, n)), axis=-1)
+        face_width_mm=rng.uniform(10, 120, n), normal_module_mm=rng.uniform(2, 8, n))), axis=-1)
     return inv, cro
 
 

@@ -229,7 +229,10 @@ def _domain(module, name):
 def sample_arg(module, arg, rng, n):
     """Float array (n, *arg.shape) drawn from the argument's domain (layouts field by field)."""
     if isinstance(arg.symbol, codegen.Layout):
-        return np.stack([_domain(module, f.name)(rng, n) for f in arg.symbol.fields], axis=-1)
+        # the base entries from their domains, the derived ones (with_trig) computed from them as pack does
+        base = {f.symbol: _domain(module, f.name)(rng, n) for f in arg.symbol.base_fields()}
+        derived = lambda f: np.broadcast_to(sp.lambdify(list(base), f.derived, "numpy")(*base.values()), (n,))  # noqa: E731
+        return np.stack([base[f.symbol] if f.derived is None else derived(f) for f in arg.symbol.fields], axis=-1)
     if isinstance(arg.symbol, sp.MatrixBase):
         draw = ARRAYS.get(_member(arg.name), lambda rng, n, shape: rng.uniform(-1, 1, (n,) + shape))
         return draw(rng, n, arg.shape)
@@ -372,8 +375,33 @@ def test_layouts_module_holds_the_spec_layouts(specs):
         cls = getattr(layouts, name)
         assert cls._fields == tuple(f.name for f in lay.fields), name
         assert cls.UNITS == {f.name: f.unit for f in lay.fields} and cls.DOCS == {f.name: f.doc for f in lay.fields}
-        values = {f: float(i) for i, f in enumerate(reversed(cls._fields))} | {"not_a_field": 1.0}
-        assert list(np.asarray(cls.pack(values))) == [values[f] for f in cls._fields]
+        values = {f: 0.1 * i for i, f in enumerate(reversed(cls._fields))} | {"not_a_field": 1.0}
+        packed = cls.pack(values)
+        base = [f.name for f in lay.fields if f.derived is None]
+        assert [getattr(packed, f) for f in base] == [values[f] for f in base]
+        # derived entries: computed from the base ones (the values given for them are ignored)
+        assert cls.DERIVED == tuple(f.name for f in lay.fields if f.derived is not None)
+        for f in lay.fields:
+            if f.derived is not None:
+                at = {b.symbol: values[b.name] for b in lay.fields if b.derived is None}
+                assert getattr(packed, f.name) == pytest.approx(float(f.derived.subs(at)), rel=1e-15), f.name
+                assert getattr(packed, f.name) != values[f.name]
+        batch = cls.pack({f: np.full(3, v) for f, v in values.items()})  # arrays: a batch of vectors
+        np.testing.assert_array_equal(np.stack(batch, axis=-1), np.tile(np.asarray(packed, dtype=float), (3, 1)))
+
+
+def test_trigonometry_of_layout_angles_is_read_not_evaluated():
+    """Kernels taking a layout with derived sin/cos/tan entries never evaluate those functions of
+    its angles again (the point of with_trig), and their values agree with the model's."""
+    import inspect
+
+    for module in ("surface_involute_scalar", "surface_crowned_scalar", "flank_boundaries_scalar",
+                   "contact_system_scalar"):
+        text = inspect.getsource(_committed(module))
+        for angle in ("normal_pressure_angle", "helix_angle", "cone_angle", "shaft_angle"):
+            for fn in ("sin", "cos", "tan"):
+                assert f"math.{fn}({angle})" not in text, (module, fn, angle)
+        assert "sin_" in text or "tan_" in text or "cos_" in text
 
 
 def test_glue_constants_follow_the_registry():
@@ -393,7 +421,10 @@ def test_glue_constants_follow_the_registry():
         values = {f.name: 1.0 + i for i, f in enumerate(lay.fields)}
         packed = tk.pack_surface_params(k, values)
         assert packed.shape == (tk.PARAMETER_COUNT,)
-        assert list(packed) == [1.0 + i for i in range(len(lay.fields))] + [0.0] * (packed.size - len(lay.fields))
+        cls = tk.SURFACE_LAYOUTS[k]
+        assert list(packed) == list(np.asarray(cls.pack(values))) + [0.0] * (packed.size - len(lay.fields))
+        assert list(packed[:len(cls._fields) - len(cls.DERIVED)]) == [values[f.name] for f in lay.fields
+                                                                     if f.derived is None]
     assert [tk.model_id(k) for k in tk.MODELS] == list(range(len(tk.MODELS)))
     assert [tk.flank_id(f) for f in FLANKS] == list(range(len(FLANKS)))
 
@@ -493,14 +524,14 @@ def test_no_timestamp_or_version(name):
 
 
 # exact `import X` statements; the glue is checked separately (relative imports of its siblings)
-EXACT_IMPORTS = {"__init__": [], "layouts": ["typing"], "surface_models": [],  # the spec reads it without numpy
+EXACT_IMPORTS = {"__init__": [], "layouts": ["numpy", "typing"], "surface_models": [],  # the spec reads it without numpy
                  **{m: ["numpy", "typing"] for m in MODULES}, **{m: ["math"] for m in SCALAR_MODULES}}
 
 
 @pytest.mark.parametrize("name", FILES)
 def test_imports(name):
     """numpy modules import typing and numpy, scalar twins only math (numba-compilable),
-    layouts.py only typing, __init__ and surface_models.py nothing; the other glue numpy/typing
+    layouts.py typing and numpy (pack computes the derived entries), __init__ and surface_models.py nothing; the other glue numpy/typing
     and sibling generated modules only (the scalar glue only scalar twins), and a glue that
     dispatches to surface kernels imports those of every registered model."""
     module = name.removesuffix(".py")

@@ -13,7 +13,7 @@ import sympy as sp
 from beveloid import patch_cover, tca
 from beveloid.derivations import patch_clearance
 from beveloid.design import design
-from beveloid.generated import flank_boundaries, patch_clearance as pc_kernels, placement
+from beveloid.generated import flank_boundaries, layouts, patch_clearance as pc_kernels, placement
 from beveloid.solver import backends, core
 from beveloid.spec import load_spec
 from beveloid.status import Status
@@ -41,7 +41,8 @@ def test_margin_slopes_are_constant():
     assert all(sp.simplify(g - e) == 0 for g, e in zip(got, patch_clearance.expected_slopes()))
     # and the generated kernel gives it at random points
     rng = np.random.default_rng(3)
-    blank = np.array([100.0, 6.0, 1.0, math.radians(7.0), -20.0, 30.0])
+    blank = np.asarray(layouts.FlankBlank.pack(dict(pitch_radius_mm=100.0, tip_height_mm=6.0, rack_shift_mm=1.0,
+                                                    cone_angle=math.radians(7.0), toe_z_mm=-20.0, heel_z_mm=30.0)))
     p = rng.uniform(-150, 150, (50, 3))
     slopes = np.linalg.norm(flank_boundaries.flank_margins(p, 0.0, blank).margins_D_point, axis=-1)
     assert np.allclose(slopes[:, 1], 1 / math.cos(math.radians(7.0)), rtol=1e-12)
@@ -51,7 +52,8 @@ def test_margin_slopes_are_constant():
 def test_generated_map_is_the_composed_placement():
     """pinion_in_gear_frame = M_f2(0)^-1 M_f1(phi'_1), from the generated placements."""
     rng = np.random.default_rng(5)
-    pair = np.array([229.0, math.radians(13.0), 120.0, -35.0])
+    pair = np.asarray(layouts.PairPlacement.pack(dict(offset_mm=229.0, shaft_angle=math.radians(13.0),
+                                                      pinion_axial_placement_mm=120.0, gear_axial_placement_mm=-35.0)))
     for _ in range(5):
         phi1, e = rng.uniform(-3, 3), rng.uniform(-0.5, 0.5, 5) * [1, 1, 1, 0.01, 0.01]
         m = pc_kernels.pinion_in_gear_frame(phi1, e, pair)
