@@ -19,7 +19,9 @@ class Status(enum.IntEnum):
 
     @classmethod
     def labels(cls, codes) -> list[str]:
-        return [cls(int(c)).label for c in codes]
+        """Labels of a sequence of codes (one lookup per code: a mesh study has ~1200)."""
+        table = {int(s): s.label for s in cls}
+        return [table[c] if c in table else cls(c).label for c in map(int, codes)]  # cls(c): the enum's error
 
 
 def carries_numbers(codes):

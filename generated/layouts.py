@@ -395,4 +395,6 @@ class PairPlacement(typing.NamedTuple):
 
 def _value(v):
     """A float, or a float array for a batch of vectors (numpy.stack(pack(...), axis=-1))."""
+    if type(v) is float:
+        return v
     return float(v) if numpy.ndim(v) == 0 else numpy.asarray(v, dtype=float)

@@ -575,7 +575,8 @@ def solve_paths(problem, pinion_blank, gear_blank, pinion_cover, x_ref, phi_ref,
     ``sign`` (+1 or -1) says which extreme of phi'_2 touches first.  The next points follow that
     edge contact (:func:`follow_edge`) without solving the tangency, until the search from it
     fails (its multiplier changes sign where the tangency comes back onto the patches): then the
-    tangency is solved again, predicted from the last point where it was.
+    tangency is solved again, from the last edge contact (which meets it there) or, if that does
+    not converge, from where the tangency was last solved.
     """
     K = errors.shape[0]
     N = phi_grid.shape[0]
