@@ -500,6 +500,24 @@ def test_analyze_backends_agree(geom1, errors):
     assert rn.backlash_um == pytest.approx(rc.backlash_um, abs=1e-6)
 
 
+def test_compiled_backend_drops_reference_counting_where_nothing_is_allocated():
+    """The installed numba takes _nrt (else the compiled solver silently keeps its ~28 % slower
+    reference counting), and the solver's hot functions are compiled without it, the allocating
+    ones with it."""
+    pytest.importorskip("numba")
+    from beveloid.solver import core
+
+    assert backends._nrt_option()
+    allocating = set(core.ALLOCATING)
+    for name in ("scratch", "edge_scratch", "solve_paths", "contact_points"):
+        assert name in allocating
+    ns = backends.namespace("compiled")
+    for name in ("evaluate_unchecked", "newton", "first_touch", "follow_edge", "patches_apart"):
+        assert name not in allocating and callable(getattr(ns, name))
+        assert getattr(ns, name).targetoptions.get("_nrt") is False, name
+    assert ns.solve_paths_serial.targetoptions.get("_nrt") is True
+
+
 def test_resolve_backend(monkeypatch):
     assert tca.resolve_backend("numpy") == "numpy"
     with pytest.raises(ValueError):

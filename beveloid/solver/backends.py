@@ -67,13 +67,27 @@ def namespace(backend: str) -> types.SimpleNamespace:
 _cache_warned = False
 
 
+@functools.lru_cache(maxsize=None)
+def _nrt_option() -> bool:
+    """numba takes the (underscored, so unpromised) _nrt option: without it every function keeps
+    reference counting (slower, the same results)."""
+    try:
+        from numba.core import cpu
+
+        return hasattr(cpu.CPUTargetOptions, "_nrt")
+    except ImportError:  # numba internals moved
+        return False
+
+
 def _jit(fn, parallel, inline="never", nrt=True):
     global _cache_warned
     import numba
 
-    # _nrt: numba's reference counting, off for the functions that allocate nothing (core.ALLOCATING);
-    # set explicitly either way, as a callee otherwise inherits its caller's setting
-    opts = dict(nogil=True, parallel=parallel, inline=inline, _nrt=nrt)
+    opts = dict(nogil=True, parallel=parallel, inline=inline)
+    if _nrt_option():
+        # numba's reference counting, off for the functions that allocate nothing (core.ALLOCATING);
+        # set explicitly either way, as a callee otherwise inherits its caller's setting
+        opts["_nrt"] = nrt
     try:
         return numba.njit(cache=True, **opts)(fn)
     except RuntimeError as exc:  # "cannot cache function ...: no locator available"
