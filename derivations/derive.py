@@ -28,17 +28,45 @@ def source_root() -> Path:
                             f"none at {SOURCE_ROOT} or in the current directory {Path.cwd()}; cd into the checkout")
 
 
+def _derivations_page() -> str:
+    return docs.render_derivations_md(registry.verify())
+
+
 def render_all(progress=None, cse=True, docs_page=True):
-    """{relative path: text} of every derived file (without docs/derivations.md if not docs_page)."""
+    """{relative path: text} of every derived file (without docs/derivations.md if not docs_page).
+    The docs page (the 50-digit verification of Eqs 1-38, ~half the time) is rendered in a second
+    process while this one generates the modules; where no process can be started, after them."""
     t0 = time.perf_counter()
     files = {}
-    specs = kernels.module_specs()
-    for name, text in codegen.generate(None, specs, cse=cse, progress=progress, extra=kernels.glue_files()).items():
-        files[f"generated/{name}"] = text
+    pending = None
     if docs_page:
         if progress:
-            progress("docs/derivations.md (verifying Eqs 1-38)")
-        files["docs/derivations.md"] = docs.render_derivations_md(registry.verify())
+            progress("docs/derivations.md (verifying Eqs 1-38, alongside)")
+        try:
+            from concurrent.futures import ProcessPoolExecutor
+
+            pool = ProcessPoolExecutor(max_workers=1)
+            pending = pool.submit(_derivations_page)
+        except (OSError, NotImplementedError, ImportError):  # no processes here: in turn
+            pool = None
+    try:
+        specs = kernels.module_specs()
+        for name, text in codegen.generate(None, specs, cse=cse, progress=progress,
+                                           extra=kernels.glue_files()).items():
+            files[f"generated/{name}"] = text
+        if docs_page:
+            page = None
+            if pending is not None:
+                from concurrent.futures.process import BrokenProcessPool
+
+                try:
+                    page = pending.result()
+                except BrokenProcessPool:  # the helper process died (memory, a signal): in turn
+                    page = None
+            files["docs/derivations.md"] = page if page is not None else _derivations_page()
+    finally:
+        if pending is not None:
+            pool.shutdown(cancel_futures=True)
     return files, time.perf_counter() - t0
 
 
