@@ -38,6 +38,28 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 @pytest.fixture(scope="session")
+def pair1():
+    """Case 1 of the paper's Table 1 as a :class:`beveloid.pair.Pair` (design and geometry built once)."""
+    from beveloid.pair import Pair
+
+    return Pair.example("case1")
+
+
+@pytest.fixture(scope="session")
+def pair2():
+    """Case 2 of the paper's Table 1 as a :class:`beveloid.pair.Pair`."""
+    from beveloid.pair import Pair
+
+    return Pair.example("case2")
+
+
+@pytest.fixture(scope="session")
+def geom1(pair1):
+    """Case 1's geometry as the solver sees it (``pair1.geometry``)."""
+    return pair1.geometry
+
+
+@pytest.fixture(scope="session")
 def verification():
     """``(equations, results)`` from one ``registry.verify()`` call per session."""
     from beveloid.derivations import registry
