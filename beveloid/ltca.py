@@ -40,10 +40,12 @@ import scipy.linalg
 from . import tca
 from .generated import flank_boundaries, placement, tca_kernels
 from .loaded import halfspace, lcp, tooth_compliance
+from .solver.core import on_patch
 
 OFF_FLANK_GAP_MM = 10.0  #: the gap given to cells that lie off a blank: they never touch
 _NEWTON_TOL_MM = 1e-9  #: both Newtons of the gap (mm)
 _NEWTON_ITERATIONS = 10
+_PATCH_TOL_MM = tca.DEFAULT_OPTIONS.patch_tol_mm  #: a cell is on a flank by the TCA's rule (core.on_patch)
 _GAIN = tca_kernels.UNKNOWNS.index("gear_angle_rad")  # Jacobian columns by the generated names
 _GEAR_LU = [tca_kernels.UNKNOWNS.index("gear_l_mm"), tca_kernels.UNKNOWNS.index("gear_u_mm")]
 
@@ -222,10 +224,11 @@ class CellGaps(typing.NamedTuple):
     gap_mm: np.ndarray
     gap_D_gear_angle: np.ndarray  # ds/dphi'_2 (mm/rad)
     pinion_arm_mm: np.ndarray  # n_f1 . dR_f1/dphi'_1
-    on_flanks: np.ndarray  # both Newtons converged and both points on their blanks
+    on_flanks: np.ndarray  # both Newtons converged and both points on their blanks (core.on_patch)
     pinion_lu: np.ndarray  # (..., cells, 2)
     pinion_point: np.ndarray  # (..., cells, 3) in S_1
     gear_point: np.ndarray  # (..., cells, 3) in S_2
+    margin_mm: np.ndarray  # the smaller of both points' smallest margins to their blanks (mm)
 
 
 def _cell_gaps(geom, flank, errors, frames, coords, backend):
@@ -248,9 +251,10 @@ def _cell_gaps(geom, flank, errors, frames, coords, backend):
                          _NEWTON_ITERATIONS, out["lu"], out["gear"], out["rates"], out["margin"], out["ok"],
                          out["p1"], out["p2"])
         r = lambda a: a.reshape((Q, n) + a.shape[1:])  # noqa: E731
-        on = (out["ok"] == 1) & (out["margin"] >= 0.0)
-        return CellGaps(r(out["gear"][:, 2]), r(out["rates"][:, 0]), r(out["rates"][:, 1]), r(on), r(out["lu"]),
-                        r(out["p1"]), r(out["p2"]))
+        on = (out["ok"] == 1) & on_patch(out["margin"], _PATCH_TOL_MM)
+        return CellGaps(gap_mm=r(out["gear"][:, 2]), gap_D_gear_angle=r(out["rates"][:, 0]),
+                        pinion_arm_mm=r(out["rates"][:, 1]), on_flanks=r(on), pinion_lu=r(out["lu"]),
+                        pinion_point=r(out["p1"]), gear_point=r(out["p2"]), margin_mm=r(out["margin"]))
     ex = lambda a: a[..., None]  # noqa: E731
     st = tca.unknowns(start)
     l1, u1, ok1 = _project_onto_flank(geom, flank, ex(st.pinion_l_mm), ex(st.pinion_u_mm), origin[:, None, :],
@@ -260,8 +264,11 @@ def _cell_gaps(geom, flank, errors, frames, coords, backend):
     with np.errstate(invalid="ignore"):
         m1 = flank_boundaries.flank_margins(sy.pinion_point, l1, geom.pinion.blank()).margins.min(axis=-1)
         m2 = flank_boundaries.flank_margins(sy.gear_point, l2, geom.gear.blank()).margins.min(axis=-1)
-        on = ok1 & ok2 & (m1 >= 0.0) & (m2 >= 0.0) & np.isfinite(s)
-    return CellGaps(s, ds2, arm, on, np.stack([l1, u1], axis=-1), sy.pinion_point, sy.gear_point)
+        margin = np.minimum(m1, m2)
+        on = ok1 & ok2 & on_patch(margin, _PATCH_TOL_MM) & np.isfinite(s)
+    return CellGaps(gap_mm=s, gap_D_gear_angle=ds2, pinion_arm_mm=arm, on_flanks=on,
+                    pinion_lu=np.stack([l1, u1], axis=-1), pinion_point=sy.pinion_point, gear_point=sy.gear_point,
+                    margin_mm=margin)
 
 
 def _principal_axes(geom, flank, x, phi1, errors):

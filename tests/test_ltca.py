@@ -224,7 +224,16 @@ def test_gap_backends_agree(geom1):
     a = ltca._cell_gaps(geom1, "right", setup.errors, frames, coords, "numpy")
     b = ltca._cell_gaps(geom1, "right", setup.errors, frames, coords, "compiled")
     assert a.on_flanks.any() and not a.on_flanks.all()
-    assert np.array_equal(a.on_flanks, b.on_flanks)
+    # one rule decides membership on both backends (solver.core.on_patch): a cell whose margin lies
+    # within round-off of 0 (one such cell sits on the pinion's tip here) is on the flank on both
+    tol = tca.DEFAULT_OPTIONS.patch_tol_mm
+    for g in (a, b):
+        near_zero = np.abs(g.margin_mm) < 1e-12
+        assert np.all(g.on_flanks[near_zero] | ~np.isfinite(g.gap_mm[near_zero]))
+    # compare the flags away from the rule's own threshold, where round-off cannot decide them
+    decided = np.abs(a.margin_mm + tol) > 1e-11
+    assert decided.mean() > 0.9
+    assert np.array_equal(a.on_flanks[decided], b.on_flanks[decided])
     on = a.on_flanks
     for name in ("gap_mm", "gap_D_gear_angle", "pinion_arm_mm", "pinion_lu", "pinion_point", "gear_point"):
         assert np.allclose(getattr(a, name)[on], getattr(b, name)[on], rtol=1e-9, atol=1e-8), name

@@ -209,12 +209,22 @@ def newton(problem, x, phi1, e, scale, tol, max_iter, ws, F, J, Je, Jp, step):
     return False, max_iter
 
 
+def on_patch(margin, patch_tol):
+    """THE rule of boundary membership, for the TCA's statuses, the edge candidates and the loaded
+    TCA's cells: a point lies on its flank patch when its smallest margin (mm) is at least
+    -patch_tol.  A point that lies on a boundary within round-off (|margin| ~ 1e-14 mm, which two
+    backends or two CPUs may round to either side of 0) is on the patch on every machine; only a
+    margin within round-off of -patch_tol itself could be decided differently (tests compare away
+    from it).  Works on a float and elementwise on arrays."""
+    return margin >= -patch_tol
+
+
 def classify(converged, margin, patch_tol):
     """Status code of an Eq 38 tangency from convergence and its smallest flank margin (mm): OK on
-    both patches (margin >= -patch_tol), OUTSIDE off a patch (then first_touch decides), FAILED."""
+    both patches (:func:`on_patch`), OUTSIDE off a patch (then first_touch decides), FAILED."""
     if not converged or not math.isfinite(margin):
         return FAILED
-    if margin >= -patch_tol:
+    if on_patch(margin, patch_tol):
         return OK
     return OUTSIDE
 
@@ -287,7 +297,7 @@ def worst_inactive(margins, first, second, patch_tol):
     worst = -1
     wv = -patch_tol
     for i in range(N_MARGINS):
-        if i != first and i != second and margins[i] < wv:
+        if i != first and i != second and not on_patch(margins[i], patch_tol) and margins[i] < wv:
             wv = margins[i]
             worst = i
     return worst
