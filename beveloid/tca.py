@@ -36,6 +36,7 @@ from . import assembly_errors, patch_cover
 from .generated import layouts, tca_kernels
 from .geometry import Member, PairGeometry  # noqa: F401  (re-exported: tca.PairGeometry.from_design)
 from .solver import backends
+from .solver.options import DEFAULT_OPTIONS, SolverOptions  # noqa: F401  (re-exported: tca.SolverOptions)
 from .status import Status, carries_numbers
 
 FLANKS = tca_kernels.FLANKS
@@ -44,19 +45,6 @@ ERROR_NAMES = layouts.AssemblyErrors._fields
 ERROR_UNITS = layouts.AssemblyErrors.UNITS
 
 
-@dataclass(frozen=True)
-class SolverOptions:
-    """Tolerances and limits of the contact solver (the one place they are set)."""
-
-    tol_mm: float = 1e-12  #: Newton tolerance on Eq 38 (normal rows times r_w2), or the round-off floor
-    max_iter: int = 25  #: Newton iterations per point
-    homotopy_steps: int = 3  #: equal steps from the aligned contact to the errors (x4, x16 on a lost set)
-    #: a point lies on a flank patch when none of its margins is below -patch_tol_mm (round-off of
-    #: the boundary equations); a tangency further off is replaced by the edge or corner contact
-    patch_tol_mm: float = 1e-9
-
-
-DEFAULT_OPTIONS = SolverOptions()
 
 
 def errors_array(errors) -> np.ndarray:
