@@ -252,7 +252,7 @@ def run(out_dir, positions=200, progress=_progress):
                                   progress=progress)
 
     step("Figs 24-25: loaded contact (approximate LTCA)")
-    from .loaded_study import run_loaded
+    from .studies.loaded import run_loaded
 
     loaded = run_loaded(out, geoms, designs, progress)
 

@@ -27,7 +27,8 @@ FLANK = "right"
 
 def run_loaded(out, geoms, designs, progress=lambda msg: None):
     """Compute the loaded study for both cases; write the figures and CSV into ``out``; return report lines."""
-    from . import ltca, plots
+    from .. import ltca
+    from ..ltca import plots
 
     t0 = time.perf_counter()
     rows = []
@@ -47,7 +48,7 @@ def run_loaded(out, geoms, designs, progress=lambda msg: None):
         results = []
         for t in TORQUES_NM:
             progress(f"   loaded contact {case}, T1 = {t:g} N m")
-            r = ltca.analyze(g, t, FLANK, positions=POSITIONS, grid=ltca.GridOptions(*GRID))
+            r = ltca.analyze(g, ltca.Options(torque_nm=t, flank=FLANK, positions=POSITIONS))
             results.append(r)
             ok = r.converged
             fr = {m: r.pattern(g, m).area_fraction for m in ("pinion", "gear")}
