@@ -9,7 +9,7 @@ import numpy as np
 
 from beveloid import ltca, tca
 from beveloid.design import design
-from beveloid.loaded import hertz
+from beveloid.ltca import hertz
 from beveloid.spec import load_example
 
 g1 = tca.PairGeometry.from_design(design(load_example("case1")))
@@ -23,9 +23,7 @@ for case, flank, T in (("case1", "left", 1.0), ("case1", "left", 2.0), ("case1",
     r = ltca.analyze(g, T, flank, positions=3, pairs=1, grid=ltca.GridOptions(nx, ny))
     j, k = 1, 0
     p = r.pressure_mpa[j, k].reshape(nx, ny); h = r.gap.gap_mm[j, k].reshape(nx, ny); inside = r.gap.in_flank[j, k].reshape(nx, ny)
-    xe, ye = ltca._edges(r.across_half_mm, nx), ltca._edges(r.along_half_mm, ny)
-    xc, yc = 0.5*(xe[1:]+xe[:-1]), 0.5*(ye[1:]+ye[:-1])
-    x = xc[:, None] + r.gap.across_shift_mm[j, k][None, :]; y = np.broadcast_to(yc[None, :], x.shape)
+    x, y = r.cell_coordinates_mm(j, k)
     w = p/p.sum(); mx, my = (w*x).sum(), (w*y).sum()
     a_ = math.sqrt(5*(w*(x-mx)**2).sum()); b_ = math.sqrt(5*(w*(y-my)**2).sum())
     fit = inside & (h <= np.percentile(h[inside], 60))
@@ -65,9 +63,9 @@ for case in ("case1", "case2"):
         j = 4; k = int(np.argmax(r.pair_load_n[j]))
         p = r.pressure_mpa[j, k].reshape(nx, ny) > 0
         cols = np.nonzero(p.any(axis=0))[0]
-        dy = 2 * r.along_half_mm / ny
+        dy = 2 * r.grid.along_half_mm[j, k] / ny
         length = (cols.max() - cols.min() + 1) * dy
-        width = p.sum(axis=0).max() * 2 * r.across_half_mm / nx
+        width = p.sum(axis=0).max() * 2 * r.grid.across_half_mm[j, k] / nx
         inside = r.gap.in_flank[j, k].reshape(nx, ny)
         mres = np.nanmax(np.abs(r.pinion_moment_nmm / (T * 1e3) - 1))
         print(case, T, f"pair {r.tooth_pairs[k]} length {length:.1f} mm width {width:.3f} mm ratio {length/width:.0f}  moment res {mres:.1e}  loads {np.round(r.pair_load_n[j])}")

@@ -61,12 +61,17 @@ def _run(geom, errors, options, material, solver):
                            * np.ones((N, P, 1)) * [grids.EXTENT_ACROSS, grids.EXTENT_ALONG])
 
     every = setup.solved & setup.has_reference[:, None]
-    # 2. first pass: coarse, every pair sized for the whole torque
-    first = solve(setup, sized(coarse, full), every, T, e_star, teeth)
+    # 2. first pass: coarse, every pair sized for the whole torque (along: at most the flank's half diagonal)
+    g1 = sized(coarse, full)
+    g1 = g1._replace(along_half_mm=np.minimum(g1.along_half_mm, 0.5 * setup.max_along_mm))
+    first = solve(setup, g1, every, T, e_star, teeth)
     load1 = np.where(first.converged[:, None], first.pair_load_n(), full)
     need = every & ~setup.open_pairs(first.rotation_rad) | (load1 > 0) & every
-    # 3. result pass, sized from the first pass's loads
+    # 3. result pass, sized from the first pass's loads; along the line no longer than the first
+    # pass's loaded patch (a patch cut by the flank ends is shorter than Hertz's)
     g = sized(fine, np.maximum(load1, grids.LOAD_FLOOR * full))
+    reach = grids.loaded_along_mm(first) * grids.PATCH_MARGIN
+    g = g._replace(along_half_mm=np.where(np.isfinite(reach), np.minimum(g.along_half_mm, reach), g.along_half_mm))
     sol = solve(setup, g, need, T, e_star, teeth)
     notes = []
     for attempt in range(grids.MAX_GROWTHS + 1):

@@ -22,6 +22,7 @@ EXTENT_ALONG = 1.5  #: grid half-extent along the contact line / Hertz semi-majo
 GROWTH = 1.5  #: a grid whose interior loaded cells reach its edge grows by this factor
 MAX_GROWTHS = 3
 LOAD_FLOOR = 0.02  #: a pair is sized for at least this share of the full load
+PATCH_MARGIN = 1.25  #: the result grid's along extent / the first pass's loaded half-length (plus a cell)
 INTERIOR_REACH = 2  #: loaded cells within this many cells of an off-flank cell are edge contact
 
 
@@ -112,3 +113,14 @@ def reaches_edge(p, in_flank, nx, ny):
     """(N, P, 2): an interior loaded cell in the outermost (across, along) rows of each grid."""
     q = interior(p, in_flank, nx, ny)
     return np.stack([q[..., [0, -1], :].any(axis=(-1, -2)), q[..., :, [0, -1]].any(axis=(-1, -2))], axis=-1)
+
+
+def loaded_along_mm(solution):
+    """(N, P) half-length along the line of each pair's loaded cells, plus one cell (nan if unloaded)."""
+    g = solution.grid
+    nx, ny = g.across_cells, g.along_cells
+    q = (solution.pressure_mpa > 0).reshape(solution.pressure_mpa.shape[:2] + (nx, ny)).any(axis=-2)
+    y = np.abs(centres(1.0, ny))[None, None, :] * g.along_half_mm[..., None]
+    with np.errstate(invalid="ignore"):
+        half = np.where(q, y, -np.inf).max(axis=-1) + 2 * g.along_half_mm / ny
+    return np.where(q.any(axis=-1), half, np.nan)

@@ -36,11 +36,13 @@ def ltca_pattern(ax, result, geom, member, vmax=None):
     ax.set_ylabel("radius (mm)", fontsize=8)
     if not pat.points.size:
         return None
-    r = np.hypot(pat.points[:, 0], pat.points[:, 1])
-    on = pat.max_pressure_mpa > 0
-    ax.scatter(pat.points[~on, 2], r[~on], s=3, color="0.9", lw=0, marker="s")
-    sc = ax.scatter(pat.points[on, 2], r[on], s=5, c=pat.max_pressure_mpa[on], cmap="inferno_r", lw=0, marker="s",
-                    vmin=0, vmax=vmax)
+    pts = pat.raster_points
+    z, rad = pts[..., 2], np.hypot(pts[..., 0], pts[..., 1])
+    shown = np.ma.masked_where(~pat.raster_inside, pat.raster_pressure_mpa)
+    loaded = np.ma.masked_where(~pat.raster_inside | (pat.raster_pressure_mpa <= 0), shown)
+    ax.pcolormesh(z, rad, np.ma.masked_where(~pat.raster_inside, np.zeros(z.shape)), cmap="Greys", vmin=-1,
+                  vmax=12, shading="nearest")  # the flank, light grey
+    sc = ax.pcolormesh(z, rad, loaded, cmap="inferno_r", vmin=0, vmax=vmax, shading="nearest")
     frac = "-" if pat.area_fraction is None else f"{pat.area_fraction * 100:.0f}%"
     ax.set_title(f"{member}: {frac} of the flank loaded", fontsize=9)
     return sc

@@ -124,9 +124,10 @@ class LTCAResult:
         conv = self.convergence.converged() | ~self.converged
         if not conv.all():
             bad = np.flatnonzero(~conv)
+            top = lambda a: "-" if not np.isfinite(a[bad]).any() else f"{np.nanmax(a[bad]) * 100:.1f}"  # noqa: E731
             out.append(f"grid not converged at {bad.size} of {len(self.status)} positions (peak pressure change up"
-                       f" to {np.nanmax(self.convergence.pressure_change[bad]) * 100:.1f} %, pair load change up to"
-                       f" {np.nanmax(self.convergence.load_change[bad]) * 100:.1f} % against a once-coarsened grid;"
+                       f" to {top(self.convergence.pressure_change)} %, pair load change up to"
+                       f" {top(self.convergence.load_change)} % against a once-coarsened grid;"
                        f" tolerances {PRESSURE_CHANGE_TOL * 100:g} % and {LOAD_CHANGE_TOL * 100:g} %): use a finer"
                        " --grid")
         reasons = sorted({v for v in self.validity if v})
