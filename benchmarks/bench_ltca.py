@@ -1,6 +1,6 @@
 """LTCA benchmark: the cost per mesh position of ``ltca.analyze`` at its defaults (3 tooth pairs).
 
-    python benchmarks/bench_ltca.py [--torque-nm 200] [--case case1] [--flank right] [--positions 20] [--repeats 3] [--json]
+    python benchmarks/bench_ltca.py [--torque-nm 200] [--case case1 | --spec FILE] [--flank right] [--positions 20] [--repeats 3] [--json]
 
 Not a test.  One core: BLAS threads are set to 1 before numpy is imported.  Uses only the keyword
 form ``ltca.analyze(geom, torque, flank, positions=N)`` that every version since issue 13 takes,
@@ -30,12 +30,19 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--torque-nm", type=float, default=200.0)
     ap.add_argument("--case", default="case1")
+    ap.add_argument("--spec", default=None, help="a TOML spec instead of --case")
     ap.add_argument("--flank", default="right")
     ap.add_argument("--positions", type=int, default=20)
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--json", action="store_true")
     a = ap.parse_args()
-    g = tca.PairGeometry.from_design(design(load_example(a.case)))
+    if a.spec:
+        from beveloid.spec import load_spec
+
+        g = tca.PairGeometry.from_design(design(load_spec(a.spec)))
+        a.case = a.spec
+    else:
+        g = tca.PairGeometry.from_design(design(load_example(a.case)))
     run = lambda: ltca.analyze(g, a.torque_nm, a.flank, positions=a.positions)  # noqa: E731
     r = run()
     times = []
