@@ -128,14 +128,19 @@ def _result(setup, options, sol, check, e_star, notes):
     for j in range(N):
         why = []
         if ok[j]:
-            peak = np.nanmax(np.where(np.isfinite(surface[j]), surface[j], p[j].max(axis=-1)))
-            if peak > MAX_PRESSURE_OVER_E_STAR * e_star:
-                why.append(f"peak pressure {peak:.0f} MPa > {MAX_PRESSURE_OVER_E_STAR:g} E* = "
-                           f"{MAX_PRESSURE_OVER_E_STAR * e_star:.0f} MPa (beyond the elastic range of gear steels)")
+            # surface peaks only: an edge peak is singular and grid-dependent by nature
+            peak = np.nanmax(np.append(surface[j], 0.0))
+            # and the mean pressure of the whole contact (2/3 of the peak for Hertz), which an edge
+            # contact's grid does not change
+            contact = ((p[j] > 0) * area[j][:, None]).sum()
+            mean = loads[j].sum() / contact if contact > 0 else 0.0
+            if peak > MAX_PRESSURE_OVER_E_STAR * e_star or mean > 2 / 3 * MAX_PRESSURE_OVER_E_STAR * e_star:
+                lim = MAX_PRESSURE_OVER_E_STAR * e_star
+                why.append(f"pressure beyond the elastic range of gear steels (surface peak > {MAX_PRESSURE_OVER_E_STAR:g}"
+                           f" E* = {lim:.0f} MPa or mean > {2 * lim / 3:.0f} MPa)")
             strain = np.nanmax(np.append(semi[j] * setup.frame.curvature_across[j], 0.0))
             if strain > MAX_HALF_WIDTH_TIMES_CURVATURE:
-                why.append(f"patch half-width x curvature {strain:.2f} > {MAX_HALF_WIDTH_TIMES_CURVATURE:g} "
-                           "(not a small strain)")
+                why.append(f"patch half-width x curvature > {MAX_HALF_WIDTH_TIMES_CURVATURE:g} (not a small strain)")
         validity.append("; ".join(why) or None)
     gear_rot = setup.gear_sign * sol.rotation_rad
     ref = setup.reference

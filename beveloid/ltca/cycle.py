@@ -64,11 +64,14 @@ class Setup:
         # pair k: pinion tooth 0 at phi1 - k p1, gear tooth 0 at phi2 + k p2 (tca.mesh_flank)
         self.pair_phi1 = self.phi1[:, None] - self.ks[None, :] * p1
         self.pair_phi2 = self.gear_angle[:, None] + self.ks[None, :] * p2
-        x = np.where(self.solved[..., None], x, x[positions // 2, pairs // 2])  # placeholder where unsolved
+        # a finite placeholder where unsolved (never gridded): a solved tangency, else the reference
+        spare = x[self.solved][0] if self.solved.any() else ref.x
+        x = np.where(self.solved[..., None], x, spare)
         self.x = x
         self.start = np.concatenate([x[..., :4], np.where(np.isfinite(self.pair_phi2), self.pair_phi2,
                                                           x[..., 4])[..., None]], axis=-1)
         self.frame = gaps.principal_frame(geom, flank, x, self.pair_phi1, self.errors)
+        self.solved &= np.isfinite(self.frame.axes).all(axis=(-1, -2))
         mn = geom.normal_module_mm
         depth = (geom.pinion.tip_height_mm + geom.pinion.cutter_addendum_mm) / math.cos(geom.normal_pressure_angle)
         face = geom.pinion.face_width_mm / max(math.cos(geom.pinion.helix_angle), 0.3)

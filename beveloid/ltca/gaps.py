@@ -78,7 +78,26 @@ class PrincipalFrame(typing.NamedTuple):
 def principal_frame(geom, flank, x, phi1, errors) -> PrincipalFrame:
     """The principal directions of the relative curvature H of the two flanks at each pair's
     tangency x (..., 5) (beveloid.curvature); 'across' is the stiffer one (the contact ellipse's
-    minor axis), both in S_1, with the principal relative curvatures."""
+    minor axis), both in S_1, with the principal relative curvatures.  Tangencies where the
+    curvature is not defined (not finite, a singular first form) get nan."""
+    shape = x.shape[:-1]
+    xs, ps = x.reshape(-1, x.shape[-1]), np.broadcast_to(phi1, shape).ravel()
+    es = np.broadcast_to(errors, shape + (errors.shape[-1],)).reshape(-1, errors.shape[-1])
+    out = PrincipalFrame(np.full((xs.shape[0], 2, 3), np.nan), np.full((xs.shape[0], 3), np.nan),
+                         np.full(xs.shape[0], np.nan), np.full(xs.shape[0], np.nan), np.full(xs.shape[0], np.nan))
+    rows = np.flatnonzero(np.isfinite(xs).all(axis=-1) & np.isfinite(ps))
+    try:
+        _frame_into(out, rows, geom, flank, xs[rows], ps[rows], es[rows])
+    except np.linalg.LinAlgError:  # one singular row: the others one by one
+        for i in rows:
+            try:
+                _frame_into(out, [i], geom, flank, xs[[i]], ps[[i]], es[[i]])
+            except np.linalg.LinAlgError:
+                pass
+    return PrincipalFrame(*[a.reshape(shape + a.shape[1:]) for a in out])
+
+
+def _frame_into(out, rows, geom, flank, x, phi1, errors):
     rc = curvature.relative_curvature(geom, flank, x, phi1, errors)
     val, vec = np.linalg.eigh(rc.H)  # ascending: column 1 is the stiff direction
     across_f = np.einsum("...k,...ki->...i", vec[..., :, 1], rc.basis)
@@ -87,9 +106,11 @@ def principal_frame(geom, flank, x, phi1, errors) -> PrincipalFrame:
     to_s1 = lambda d: np.einsum("...ji,...j->...i", rot, d)  # noqa: E731  (L_f1^T d)
     u = tca.unknowns(x)
     s = geom.surface("pinion", flank, u.pinion_l_mm, u.pinion_u_mm)
-    arm = np.abs(s.point[..., 0] * s.normal[..., 1] - s.point[..., 1] * s.normal[..., 0])  # (R x n)_z, S_1
-    return PrincipalFrame(np.stack([to_s1(across_f), to_s1(along_f)], axis=-2), s.point, val[..., 1], val[..., 0],
-                          arm)
+    out.axes[rows] = np.stack([to_s1(across_f), to_s1(along_f)], axis=-2)
+    out.origin[rows] = s.point
+    out.curvature_across[rows] = val[..., 1]
+    out.curvature_along[rows] = val[..., 0]
+    out.pinion_arm_mm[rows] = np.abs(s.point[..., 0] * s.normal[..., 1] - s.point[..., 1] * s.normal[..., 0])
 
 
 class PairGap(typing.NamedTuple):
