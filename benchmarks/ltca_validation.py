@@ -19,8 +19,8 @@ from beveloid import curvature
 for case, flank, T in (("case1", "left", 1.0), ("case1", "left", 2.0), ("case1", "left", 5.0), ("case1", "left", 20.0),
                        ("case2", "left", 2.0), ("case1", "right", 1.0), ("case2", "right", 1.0)):
     g = tca.PairGeometry.from_design(design(load_example(case)))
-    nx, ny = 13, 31
-    r = ltca.analyze(g, T, flank, positions=3, pairs=1, grid=ltca.GridOptions(nx, ny))
+    r = ltca.analyze(g, T, flank, positions=3, pairs=1)  # the default grid
+    nx, ny = r.grid.across_cells, r.grid.along_cells
     j, k = 1, 0
     p = r.pressure_mpa[j, k].reshape(nx, ny); h = r.gap.gap_mm[j, k].reshape(nx, ny); inside = r.gap.in_flank[j, k].reshape(nx, ny)
     x, y = r.cell_coordinates_mm(j, k)
@@ -34,13 +34,7 @@ for case, flank, T in (("case1", "left", 1.0), ("case1", "left", 2.0), ("case1",
     A, B = np.linalg.eigvalsh(rc.H) / 2
     ref = hertz.hertz_point_contact(A, B, float(r.pair_load_n[j, k]), ltca.Material().e_star_mpa)
     print(f"{case} {flank} T={T} F={r.pair_load_n[j,k]:.1f}N R={1/(2*A):.0f}/{1/(2*B):.2f} (fit {1/(2*fA):.0f}/{1/(2*fB):.2f}) b={a_:.4f}/{ref.semi_minor_mm:.4f} ({a_/ref.semi_minor_mm-1:+.2%})  a={b_:.3f}/{ref.semi_major_mm:.3f} ({b_/ref.semi_major_mm-1:+.2%})  p={p.max():.1f}/{ref.max_pressure_mpa:.1f} ({p.max()/ref.max_pressure_mpa-1:+.2%})")
-# (2) convergence
-print("CONVERGENCE")
-for nx, ny in ((7, 15), (9, 21), (13, 31), (19, 45), (25, 61)):
-    r = ltca.analyze(g1, 200.0, "right", positions=5, pairs=3, grid=ltca.GridOptions(nx, ny))
-    j = 2
-    fp = [r.pattern(g1, m).area_fraction for m in ("pinion","gear")]
-    print(f"{nx}x{ny}: loads {np.round(r.pair_load_n[j],1)} pmax {np.round(r.pair_max_pressure_mpa[j],0)} TE {r.loaded_te[j]*1e6:.3f} area {r.contact_area_mm2[j]:.2f} X {r.across_half_mm:.3f} Y {r.along_half_mm:.1f} TE0 {r.loaded_te[0]*1e6:.3f} loads0 {np.round(r.pair_load_n[0],1)} frac {fp[0]:.3f} {fp[1]:.3f}")
+# (2) convergence: benchmarks/ltca_grid_convergence.py
 # (4) stiffness
 print("STIFFNESS")
 for case in ("case1", "case2"):
