@@ -7,7 +7,12 @@ docs/loaded_contact.md).  The torque is the pinion torque.  The JSON holds "torq
 "pair_normal_load_n" [N][P], "pair_max_pressure_mpa" [N][P], "pair_patch_semi_axes_mm" [N][P][2]
 (across, along: sqrt(5 <x^2>) of the pressure), "contact_area_mm2" [N],
 "pattern_area_fraction" {"pinion", "gear"}, "status" [N] and "solver" (iterations and residuals);
-a position that did not converge has null numbers.
+a position that did not converge has null numbers.  Since issue 23 also: "pair_surface_max_pressure_mpa"
+and "pair_edge_max_pressure_mpa" [N][P] (the peak away from / at a flank edge; the edge one is
+grid-dependent), "grid_convergence" (per position the change of the surface peak and of the pair
+loads against the once-coarsened grid, with tolerances), "validity" (None per position inside the
+model: linear elastic, small strain), "loaded_transmission_error_peak_to_peak_urad" (null with fewer
+than 3 converged positions), "warnings" (also printed on stderr) and per-pair grid extents.
 """
 from __future__ import annotations
 
