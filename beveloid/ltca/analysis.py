@@ -90,7 +90,8 @@ def _run(geom, errors, options, material, solver):
         sol = merge(sol, solve(setup, g2, need, T, e_star, teeth, positions=rows), rows)
     # 4. the convergence indicator
     check = solve(setup, sol.grid.coarsened(), need, T, e_star, teeth)
-    return _result(setup, options, sol, check, e_star, notes)
+    hertz_ref = grids.hertz_peak_mpa(fr.curvature_across, fr.curvature_along, sol.pair_load_n(), e_star, line)
+    return _result(setup, options, sol, check, e_star, notes, hertz_ref)
 
 
 def _peaks(sol):
@@ -105,7 +106,7 @@ def _peaks(sol):
     return np.where(np.isfinite(surf), surf, np.nan), np.where(np.isfinite(edge), edge, np.nan)
 
 
-def _result(setup, options, sol, check, e_star, notes):
+def _result(setup, options, sol, check, e_star, notes, hertz_ref):
     N = options.positions
     ok = sol.converged
     p = sol.pressure_mpa
@@ -154,6 +155,7 @@ def _result(setup, options, sol, check, e_star, notes):
         pair_load_n=np.where(okc, loads, np.nan), pair_max_pressure_mpa=np.where(okc, p.max(axis=-1), np.nan),
         pair_surface_max_pressure_mpa=np.where(okc, surface, np.nan),
         pair_edge_max_pressure_mpa=np.where(okc, edge, np.nan),
+        pair_hertz_max_pressure_mpa=np.where(okc & (loads > 0), hertz_ref, np.nan),
         contact_area_mm2=np.where(ok, ((p > 0) * area[..., None]).sum(axis=(1, 2)), np.nan),
         pinion_moment_nmm=np.where(ok, moment, np.nan), iterations=sol.iterations,
         complementarity_residual=sol.complementarity_residual, load_residual=sol.load_residual, grid=sol.grid,

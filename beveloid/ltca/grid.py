@@ -87,6 +87,15 @@ def hertz_semi_axes(k_across, k_along, load_n, e_star_mpa, line_length_mm):
     return b, a
 
 
+def hertz_peak_mpa(k_across, k_along, load_n, e_star_mpa, line_length_mm):
+    """The Hertz peak pressure (MPa) of :func:`hertz_semi_axes`' contact: 3F/(2 pi a b), or
+    2 q/(pi b) with q = F / line_length_mm for a line contact; nan where there is no contact."""
+    b, a = hertz_semi_axes(k_across, k_along, load_n, e_star_mpa, line_length_mm)
+    load = np.broadcast_to(np.asarray(load_n, float), b.shape)
+    with np.errstate(all="ignore"):
+        return np.where(np.isfinite(a), 3 * load / (2 * np.pi * a * b), 2 * load / line_length_mm / (np.pi * b))
+
+
 def sized(cells, b, a, max_along_mm, fallback) -> PairGrid:
     """A grid of ``cells`` (across, along) whose extents are EXTENT times the semi-axes (b, a)
     (N, P); where they are unknown (no load, no curvature), the extents of ``fallback`` (N, P, 2)."""

@@ -45,6 +45,7 @@ class LTCAResult:
     pair_max_pressure_mpa: np.ndarray  # (N, P) the largest cell pressure (surface or edge)
     pair_surface_max_pressure_mpa: np.ndarray  # (N, P) over the cells away from the flank edges; nan if none
     pair_edge_max_pressure_mpa: np.ndarray  # (N, P) over the cells at a flank edge (grid-dependent); nan if none
+    pair_hertz_max_pressure_mpa: np.ndarray  # (N, P) Hertz for the pair's load and its tangency's curvature
     contact_area_mm2: np.ndarray  # (N,)
     pinion_moment_nmm: np.ndarray  # (N,) moment of the contact forces about the pinion axis
     iterations: np.ndarray  # (N,)
@@ -165,6 +166,10 @@ def to_json_dict(result: LTCAResult, geom) -> dict:
         "pair_max_pressure_mpa": rows(r.pair_max_pressure_mpa),
         "pair_surface_max_pressure_mpa": rows(r.pair_surface_max_pressure_mpa),
         "pair_edge_max_pressure_mpa": rows(r.pair_edge_max_pressure_mpa),
+        "pair_hertz_max_pressure_mpa": rows(r.pair_hertz_max_pressure_mpa),
+        "hertz_note": "Hertz (half-space only) for each pair's load and the relative curvature at its rigid "
+                      "tangency; the LTCA's surface peak departs from it near the flank edges and where the "
+                      "tooth beams bend under a patch as long as the tooth is high (docs/loaded_contact.md)",
         "edge_pressure_note": "at a flank edge (tip, form limit, toe, heel): grid-dependent, grows with refinement",
         "contact_area_mm2": [num(v, o) for v, o in zip(r.contact_area_mm2, ok)],
         "pair_patch_semi_axes_mm": [[None if not np.all(np.isfinite(ab)) else [float(ab[0]), float(ab[1])]
