@@ -116,7 +116,8 @@ class LTCAResult:
 
         raster = raster or RASTER
         if (member, raster) not in self._patterns:
-            self._patterns[member, raster] = flank_pattern(self, geom, member, raster)
+            with np.errstate(all="ignore"):
+                self._patterns[member, raster] = flank_pattern(self, geom, member, raster)
         return self._patterns[member, raster]
 
     def warnings(self) -> list:
