@@ -1,0 +1,216 @@
+"""The few OpenCASCADE (OCP) calls the export makes, in one place.
+
+``cadquery-ocp`` names some static methods with a ``_s`` suffix and, from OCCT 8 on, some without;
+:func:`static` finds either.  Importing this module imports OCP: callers reach it through
+:func:`beveloid.export.require_cad`, which says in one line what to install when it is missing.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from OCP.Approx import Approx_IsoParametric
+from OCP.BRep import BRep_Builder, BRep_Tool
+from OCP.BRepAlgoAPI import BRepAlgoAPI_Cut
+from OCP.BRepBuilderAPI import (BRepBuilderAPI_MakeFace, BRepBuilderAPI_MakeSolid, BRepBuilderAPI_Sewing,
+                                BRepBuilderAPI_Transform)
+from OCP.BRepCheck import BRepCheck_Analyzer
+from OCP.BRepGProp import BRepGProp
+from OCP.BRepMesh import BRepMesh_IncrementalMesh
+from OCP.BRepPrimAPI import BRepPrimAPI_MakeCylinder
+from OCP.GeomAPI import GeomAPI_PointsToBSplineSurface, GeomAPI_ProjectPointOnSurf
+from OCP.GProp import GProp_GProps
+from OCP.gp import gp_Ax1, gp_Ax2, gp_Dir, gp_Pnt, gp_Trsf
+from OCP.IFSelect import IFSelect_RetDone
+from OCP.Interface import Interface_Static
+from OCP.ShapeAnalysis import ShapeAnalysis_FreeBounds
+from OCP.ShapeFix import ShapeFix_Solid
+from OCP.STEPControl import STEPControl_AsIs, STEPControl_Reader, STEPControl_Writer
+from OCP.TopAbs import TopAbs_FACE, TopAbs_REVERSED, TopAbs_SHELL, TopAbs_SOLID, TopAbs_WIRE
+from OCP.TopExp import TopExp_Explorer
+from OCP.TopLoc import TopLoc_Location
+from OCP.TopoDS import TopoDS, TopoDS_Compound
+
+try:
+    from OCP.collections import Array2_gp_Pnt as _PointGrid  # cadquery-ocp 8
+except ImportError:  # cadquery-ocp 7
+    from OCP.TColgp import TColgp_Array2OfPnt as _PointGrid
+
+#: sewing tolerance (mm): neighbouring fitted faces share their boundary points, so their edges
+#: differ by the fit error (< 1e-6 mm); this only has to exceed that
+SEWING_TOL_MM = 1e-4
+
+
+def static(cls, name):
+    """A static method of an OCP class, ``name_s`` or ``name``."""
+    return getattr(cls, name + "_s", None) or getattr(cls, name)
+
+
+def _downcast(kind, shape):
+    return static(TopoDS, kind)(shape)
+
+
+def fit_surface(points):
+    """A bicubic B-spline surface interpolating a grid of points (n_s, n_z, 3) (mm), parameters uniform
+    in the grid index (faces sampled on the same rows then have the same boundary curves)."""
+    n_s, n_z, _ = points.shape
+    grid = _PointGrid(1, n_s, 1, n_z)
+    for i in range(n_s):
+        for j in range(n_z):
+            x, y, z = (float(c) for c in points[i, j])
+            grid.SetValue(i + 1, j + 1, gp_Pnt(x, y, z))
+    fit = GeomAPI_PointsToBSplineSurface()
+    fit.Interpolate(grid, Approx_IsoParametric)
+    if not fit.IsDone():
+        raise RuntimeError("OpenCASCADE could not interpolate a B-spline surface through the sampled points")
+    return fit.Surface()
+
+
+def distances_to_surface(surface, points):
+    """Distances (mm) from points (..., 3) to a surface (orthogonal projection)."""
+    pts = np.asarray(points, dtype=float).reshape(-1, 3)
+    out = np.empty(len(pts))
+    for k, (x, y, z) in enumerate(pts):
+        proj = GeomAPI_ProjectPointOnSurf(gp_Pnt(float(x), float(y), float(z)), surface)
+        out[k] = proj.LowerDistance() if proj.NbPoints() else math.inf
+    return out.reshape(np.shape(points)[:-1])
+
+
+def face(surface):
+    return BRepBuilderAPI_MakeFace(surface, 1e-7).Face()
+
+
+def rotation_z(angle):
+    t = gp_Trsf()
+    t.SetRotation(gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), float(angle))
+    return t
+
+
+def placement(rotation, translation):
+    """A rigid transform p -> rotation @ p + translation (3x3, 3,)."""
+    t = gp_Trsf()
+    r, d = np.asarray(rotation, dtype=float), np.asarray(translation, dtype=float)
+    t.SetValues(*(float(v) for v in np.column_stack([r, d]).ravel()))
+    return t
+
+
+def transformed(shape, trsf):
+    return BRepBuilderAPI_Transform(shape, trsf, True).Shape()
+
+
+def closed_solid(faces):
+    """A solid from faces that bound it except for planar ends: sewn, the ends capped by planar faces."""
+    sew = BRepBuilderAPI_Sewing(SEWING_TOL_MM)
+    for f in faces:
+        sew.Add(f)
+    sew.Perform()
+    open_shell = sew.SewedShape()
+    bounds = ShapeAnalysis_FreeBounds(open_shell, SEWING_TOL_MM, False, False).GetClosedWires()
+    sew = BRepBuilderAPI_Sewing(SEWING_TOL_MM)
+    sew.Add(open_shell)
+    for wire in _each(bounds, TopAbs_WIRE, "Wire"):
+        cap = BRepBuilderAPI_MakeFace(wire, True)
+        if not cap.IsDone():
+            raise RuntimeError("OpenCASCADE could not cap an end of the gear with a planar face")
+        sew.Add(cap.Face())
+    sew.Perform()
+    shells = list(_each(sew.SewedShape(), TopAbs_SHELL, "Shell"))
+    if len(shells) != 1 or sew.NbFreeEdges():
+        raise RuntimeError(f"the sewn gear is not one closed shell ({len(shells)} shells,"
+                           f" {sew.NbFreeEdges()} free edges)")
+    fix = ShapeFix_Solid(BRepBuilderAPI_MakeSolid(shells[0]).Solid())
+    fix.Perform()
+    return _downcast("Solid", fix.Solid())
+
+
+def cut_bore(solid, diameter_mm, z_range_mm):
+    """The solid less a coaxial cylinder of the diameter, through its whole length."""
+    lo, hi = min(z_range_mm) - 1.0, max(z_range_mm) + 1.0
+    tool = BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, lo), gp_Dir(0, 0, 1)), diameter_mm / 2, hi - lo).Shape()
+    cut = BRepAlgoAPI_Cut(solid, tool)
+    if not cut.IsDone():
+        raise RuntimeError("OpenCASCADE could not cut the bore")
+    solids = list(_each(cut.Shape(), TopAbs_SOLID, "Solid"))
+    if len(solids) != 1:
+        raise RuntimeError(f"cutting the bore left {len(solids)} solids")
+    return solids[0]
+
+
+def is_valid(shape) -> bool:
+    return bool(BRepCheck_Analyzer(shape).IsValid())
+
+
+def volume_mm3(shape) -> float:
+    props = GProp_GProps()
+    static(BRepGProp, "VolumeProperties")(shape, props)
+    return float(props.Mass())
+
+
+def compound(shapes):
+    builder, out = BRep_Builder(), TopoDS_Compound()
+    builder.MakeCompound(out)
+    for s in shapes:
+        builder.Add(out, s)
+    return out
+
+
+def faces_of(shape):
+    return list(_each(shape, TopAbs_FACE, "Face"))
+
+
+def solids_of(shape):
+    return list(_each(shape, TopAbs_SOLID, "Solid"))
+
+
+def surface_of(face_shape):
+    return static(BRep_Tool, "Surface")(face_shape)
+
+
+def write_step(shape, path):
+    static(Interface_Static, "SetCVal")("write.step.unit", "MM")
+    static(Interface_Static, "SetCVal")("write.step.schema", "AP214IS")
+    writer = STEPControl_Writer()
+    writer.Transfer(shape, STEPControl_AsIs)
+    if writer.Write(str(path)) != IFSelect_RetDone:
+        raise OSError(f"{path}: OpenCASCADE could not write the STEP file")
+
+
+def read_step(path):
+    reader = STEPControl_Reader()
+    if reader.ReadFile(str(path)) != IFSelect_RetDone:
+        raise OSError(f"{path}: OpenCASCADE could not read the STEP file")
+    reader.TransferRoots()
+    return reader.OneShape()
+
+
+def triangulate(shape, deflection_mm, angle_rad=0.5):
+    """(vertices (n, 3), triangles (m, 3)) of the shape's faces, meshed within the chord deflection,
+    outward-oriented; vertices on shared edges appear once per face (merge them to close the mesh)."""
+    mesh = BRepMesh_IncrementalMesh(shape, float(deflection_mm), False, float(angle_rad), False)
+    mesh.Perform()
+    vertices, triangles, offset = [], [], 0
+    for f in faces_of(shape):
+        loc = TopLoc_Location()
+        tri = static(BRep_Tool, "Triangulation")(f, loc)
+        if tri is None:
+            raise RuntimeError("OpenCASCADE left a face without triangulation")
+        trsf = loc.Transformation()
+        nodes = np.array([[c for c in _xyz(tri.Node(i).Transformed(trsf))] for i in range(1, tri.NbNodes() + 1)])
+        tris = np.array([tri.Triangle(i).Get() for i in range(1, tri.NbTriangles() + 1)], dtype=np.int64) - 1
+        if f.Orientation() == TopAbs_REVERSED:
+            tris = tris[:, ::-1]
+        vertices.append(nodes)
+        triangles.append(tris + offset)
+        offset += len(nodes)
+    return np.concatenate(vertices), np.concatenate(triangles)
+
+
+def _xyz(p):
+    return p.X(), p.Y(), p.Z()
+
+
+def _each(shape, kind, name):
+    ex = TopExp_Explorer(shape, kind)
+    while ex.More():
+        yield _downcast(name, ex.Current())
+        ex.Next()
