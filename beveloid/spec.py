@@ -124,6 +124,8 @@ class MemberSpec:
     cutter_addendum_coefficient: float = 1.25
     #: bc: distance from the working pitch circle to the reference transverse section.
     reference_section_offset_mm: float = 0.0
+    #: Bore of the exported solid (``beveloid export``), 0: none.
+    bore_diameter_mm: float = 0.0
     #: Tooth-surface model (generated/surface_models.py MODELS).
     tooth_surface: str = surface_models.DEFAULT_MODEL
     #: The model's own input keys and values, as sorted (key, value) pairs.
@@ -296,6 +298,15 @@ def _member_docs(member: str) -> dict[str, KeyDoc]:
             requirement="optional",
             default=0.0,
             bound_key="face_width_mm",
+        ),
+        "bore_diameter_mm": KeyDoc(
+            "diameter of the bore of the exported solid (beveloid export; 0: no bore); must be below the"
+            " member's smallest root diameter",
+            "mm",
+            lo=0.0,
+            hi=10000.0,
+            requirement="optional",
+            default=0.0,
         ),
         "tooth_surface": KeyDoc(
             "tooth-surface model (generated/surface_models.py); by default the model whose keys below are"

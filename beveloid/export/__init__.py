@@ -5,8 +5,10 @@ root fillets, tip and root lands are B-spline surfaces fitted through the genera
 (:mod:`beveloid.export.solid`), and writes it:
 
 * ``ExportOptions(format="step")``: a STEP file (AP214, mm) written by OpenCASCADE;
-* ``ExportOptions(format="stl")``: the solid meshed by OpenCASCADE within ``chord_um`` and written
-  as a binary STL by trimesh (watertight: checked before writing).
+* ``ExportOptions(format="stl")``: a closed triangle mesh whose vertices are generated surface
+  points, within ``chord_um`` of the surfaces (:mod:`beveloid.export.mesh`), written as a binary
+  STL by trimesh (watertight: checked before writing).  No OpenCASCADE on this path: the two
+  formats are built independently, and their volumes agree (tests/export).
 
 Each member is written in its own frame S_i (``<stem>_pinion.step``, ``<stem>_gear.step``); with
 ``assembled=True`` the requested members go into one file ``<stem>_pair.<ext>``, placed in the
@@ -23,9 +25,8 @@ from pathlib import Path
 FORMATS = ("step", "stl")
 MEMBERS = ("pinion", "gear")
 INSTALL_HINT = 'beveloid export needs OpenCASCADE and trimesh: pip install "beveloid[cad]"'
-#: the STL's chord error (um): the mesh lies within this of the fitted faces, which lie within 1 um
-#: of the generated surfaces (5 um promised in all)
-CHORD_UM = 2.0
+#: the STL's chord error aimed at (um) at the cells' centres; 5 um is promised anywhere
+CHORD_UM = 3.0
 
 
 class CadMissing(ImportError):
@@ -57,8 +58,8 @@ class ExportOptions:
             raise ValueError(f"format = {self.format!r}: must be one of {', '.join(FORMATS)}")
         if not self.members or any(m not in MEMBERS for m in self.members) or len(set(self.members)) != len(self.members):
             raise ValueError(f"members = {self.members!r}: must be pinion, gear or both, each once")
-        if not (0.1 <= self.chord_um <= 3.0):
-            raise ValueError(f"chord_um = {self.chord_um!r}: must be from 0.1 to 3 (um)")
+        if not (0.5 <= self.chord_um <= 4.0):
+            raise ValueError(f"chord_um = {self.chord_um!r}: must be from 0.5 to 4 (um)")
 
 
 @dataclass(frozen=True)
@@ -69,14 +70,17 @@ class WrittenFile:
     members: tuple
     volume_mm3: float  # of the solid(s) (STEP) or of the mesh (STL)
     teeth: tuple  # per member
-    max_fit_error_um: float  # the fitted faces against the generated surfaces, off the fit points
+    #: STEP: the fitted faces' largest distance to the generated surfaces; STL: the mesh's largest
+    #: chord error; both at the grid cells' centres (points not used to build them)
+    max_error_um: float
     triangles: int | None = None  # STL only
 
 
 @dataclass(frozen=True)
 class ExportResult:
     files: tuple = field(default_factory=tuple)
-    solids: dict = field(default_factory=dict)  # member -> solid.MemberSolid (member frame)
+    #: member -> solid.MemberSolid (STEP) or mesh.MemberMesh (STL), in the member frame
+    members: dict = field(default_factory=dict)
 
 
 def bore_diameters(spec) -> dict:
@@ -87,28 +91,40 @@ def bore_diameters(spec) -> dict:
 def export(pair, options: ExportOptions = ExportOptions()) -> ExportResult:
     """Build the requested members and write them (see the module docstring)."""
     require_cad()
-    from . import occ, solid, stl
+    from . import assembly, mesh
 
     bores = bore_diameters(pair.spec)
-    solids = {m: solid.build_member(pair.geometry, m, bores[m]) for m in options.members}
     out = Path(options.out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    if options.assembled:
-        places = solid.assembly_placements(pair)
-        groups = [(out / f"{options.stem}_pair.{options.format}", options.members,
-                   occ.compound([occ.transformed(solids[m].shape, places[m]) for m in options.members]))]
+    places = assembly.assembly_placements(pair) if options.assembled else None
+    if options.format == "step":
+        from . import occ, solid
+
+        built = {m: solid.build_member(pair.geometry, m, bores[m]) for m in options.members}
+        shapes = {m: built[m].shape if places is None else occ.transformed(built[m].shape, places[m].trsf)
+                  for m in options.members}
+        fits = {m: built[m].max_fit_error_um for m in options.members}
     else:
-        groups = [(out / f"{options.stem}_{m}.{options.format}", (m,), solids[m].shape) for m in options.members]
+        built = {m: mesh.build_mesh(pair.geometry, m, bores[m], options.chord_um) for m in options.members}
+        shapes = {m: built[m].mesh if places is None else mesh.placed(built[m].mesh, *places[m].matrix)
+                  for m in options.members}
+        fits = {m: built[m].max_chord_error_um for m in options.members}
+    if options.assembled:
+        groups = [(f"{options.stem}_pair", options.members)]
+    else:
+        groups = [(f"{options.stem}_{m}", (m,)) for m in options.members]
     written = []
-    for path, members, shape in groups:
-        teeth = tuple(solids[m].teeth for m in members)
-        fit = max(solids[m].max_fit_error_um for m in members)
+    for name, members in groups:
+        path = out / f"{name}.{options.format}"
+        teeth = tuple(built[m].teeth for m in members)
+        error = max(fits[m] for m in members)
         if options.format == "step":
+            shape = occ.compound([shapes[m] for m in members]) if len(members) > 1 else shapes[members[0]]
             occ.write_step(shape, path)
             volume = sum(occ.volume_mm3(s) for s in occ.solids_of(shape))
-            written.append(WrittenFile(path, members, volume, teeth, fit))
+            written.append(WrittenFile(path, members, volume, teeth, error))
         else:
-            mesh = stl.mesh_of(shape, options.chord_um * 1e-3)
-            stl.write(mesh, path)
-            written.append(WrittenFile(path, members, float(mesh.volume), teeth, fit, len(mesh.faces)))
-    return ExportResult(tuple(written), solids)
+            joined = mesh.joined([shapes[m] for m in members])
+            mesh.write(joined, path)
+            written.append(WrittenFile(path, members, float(joined.volume), teeth, error, len(joined.faces)))
+    return ExportResult(tuple(written), built)

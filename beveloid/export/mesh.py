@@ -88,20 +88,37 @@ def _refined_ring(sampler, z_range, chord_mm, first=FIRST_GRID):
                        f" surfaces (more than {1e3 * chord_mm:.2f} um)")
 
 
-def _cap(outline, bore_mm, z, first_index, centre_index, bore_index, member):
-    """Triangles closing one end: outline ring indices -> axis (fan) or -> bore ring (strip)."""
+def _angles_round(outline, z, member):
+    """Polar angles of a section's outline, unwrapped from its first point (n + 1: the last closes)."""
     ang = np.arctan2(outline[:, 1], outline[:, 0])
     step = np.angle(np.exp(1j * (np.roll(ang, -1) - ang)))  # outline point k -> k + 1, round the gear
     if np.any(step < -1e-12) or abs(step.sum() - 2 * np.pi) > 1e-6:
         raise ExportGeometryError(f"{member}: the transverse section at z = {z:.3f} mm is not star-shaped about the"
                                   " axis (its outline turns back): the STL end faces cannot be closed")
-    n = len(outline)
-    i = first_index + np.arange(n)
-    k = first_index + (np.arange(n) + 1) % n
-    if bore_mm <= 0:
-        return np.column_stack([np.full(n, centre_index), k, i])
-    bi, bk = bore_index + np.arange(n), bore_index + (np.arange(n) + 1) % n
-    return np.concatenate([np.column_stack([bi, k, i]), np.column_stack([bi, bk, k])])
+    return ang[0] + np.concatenate([[0.0], np.cumsum(step)])
+
+
+def _stitch(outer_angles, inner_angles):
+    """Triangles (outer/inner ring positions, +z normals) between two closed rings round the axis, both
+    with non-decreasing unwrapped angles over one turn (n + 1 and m + 1 values: the last closes the
+    ring); the inner ring starts at or after the outer one.  Returns (k, 3) of (ring, position) codes:
+    outer position p as p, inner position q as -1 - q."""
+    n, m = len(outer_angles) - 1, len(inner_angles) - 1
+    out, i, k = [], 0, 0
+    while i < n or k < m:
+        if k == m or (i < n and outer_angles[i + 1] <= inner_angles[k + 1]):
+            out.append((i, (i + 1) % n, -1 - (k % m)))
+            i += 1
+        else:
+            out.append((i % n, -1 - ((k + 1) % m), -1 - (k % m)))
+            k += 1
+    return np.array(out)
+
+
+def _bore_ring(radius_mm, chord_mm):
+    """Uniform angles (over one turn from 0) of a polygon within chord_mm of the bore circle."""
+    m = max(64, int(np.ceil(2 * np.pi / np.sqrt(8 * chord_mm / radius_mm))))
+    return 2 * np.pi * np.arange(m) / m
 
 
 def build_mesh(geometry, member: str, bore_diameter_mm: float = 0.0, chord_um: float = 3.0,
@@ -115,35 +132,37 @@ def build_mesh(geometry, member: str, bore_diameter_mm: float = 0.0, chord_um: f
     n_t, n_z = sampler.teeth, len(z)
     rings = np.concatenate([rotate_z(ring, k * sampler.pitch_angle_rad) for k in range(n_t)])  # (n, n_z, 3)
     n = len(rings)
-    index = np.arange(n * n_z).reshape(n, n_z)
+    index = np.arange(n * n_z).reshape(n, n_z)  # vertex i * n_z + j: ring point i in section j
     i0, i1 = index, np.roll(index, -1, axis=0)
-    a, b, c, d = i0[:, :-1], i1[:, :-1], i1[:, 1:], i0[:, 1:]
+    a, b, c, d = i0[:, :-1], i1[:, :-1], i1[:, 1:], i0[:, 1:]  # angle, then z increasing: outward normals
     tris = [np.column_stack([a.ravel(), b.ravel(), c.ravel()]), np.column_stack([a.ravel(), c.ravel(), d.ravel()])]
-    vertices = [rings.reshape(-1, 3)]  # vertex i * n_z + j: ring point i in section j
-    extra = n * n_z
-    for j, orient in ((0, 1), (n_z - 1, -1)):
-        zz = z[j]
-        if bore_diameter_mm > 0:
-            ang = np.arctan2(rings[:, j, 1], rings[:, j, 0])
-            r = bore_diameter_mm / 2
-            vertices.append(np.column_stack([r * np.cos(ang), r * np.sin(ang), np.full(n, zz)]))
-            cap = _cap(rings[:, j], bore_diameter_mm, zz, 0, -1, extra, member)
-            cap = np.where(cap < n, cap * n_z + j, cap)  # outline ring index -> vertex index
-            tris.append(cap[:, ::orient])
-            extra += n
+    vertices = [rings.reshape(-1, 3)]
+    count = n * n_z
+    bore = _bore_ring(bore_diameter_mm / 2, chord_um * 1e-3) if bore_diameter_mm > 0 else None
+    bore_rings = []
+    for j, flip in ((0, True), (n_z - 1, False)):  # the toe's normal is -z, the heel's +z
+        outer = _angles_round(rings[:, j], z[j], member)
+        if bore is None:
+            codes = np.column_stack([np.arange(n), np.roll(np.arange(n), -1), np.full(n, -1)])
+            inner_index = np.array([count])
+            vertices.append(np.array([[0.0, 0.0, z[j]]]))
         else:
-            vertices.append(np.array([[0.0, 0.0, zz]]))
-            cap = _cap(rings[:, j], 0.0, zz, 0, extra, -1, member)
-            cap = np.where(cap < n, cap * n_z + j, cap)
-            tris.append(cap[:, ::orient])
-            extra += 1
-    if bore_diameter_mm > 0:  # the bore wall between the toe's and the heel's bore rings
-        lo, hi = n * n_z + np.arange(n), n * n_z + n + np.arange(n)
+            start = int(np.searchsorted(np.mod(bore - outer[0], 2 * np.pi), 0.0))  # first at or after the outline's
+            order = np.roll(np.arange(len(bore)), -start)
+            rel = np.mod(bore[order] - outer[0], 2 * np.pi)
+            codes = _stitch(outer - outer[0], np.concatenate([rel, [rel[0] + 2 * np.pi]]))
+            inner_index = count + order
+            r = bore_diameter_mm / 2
+            vertices.append(np.column_stack([r * np.cos(bore), r * np.sin(bore), np.full(len(bore), z[j])]))
+            bore_rings.append(count + np.arange(len(bore)))
+        cap = np.where(codes >= 0, index[np.clip(codes, 0, n - 1), j], inner_index[np.clip(-1 - codes, 0, None)])
+        tris.append(cap[:, ::-1] if flip else cap)
+        count += len(inner_index) if bore is not None else 1
+    if bore is not None:  # the bore wall, normals toward the axis
+        lo, hi = bore_rings
         lo1, hi1 = np.roll(lo, -1), np.roll(hi, -1)
-        tris += [np.column_stack([lo, hi, hi1]), np.column_stack([lo, hi1, lo1])]
+        tris += [np.column_stack([lo, hi1, lo1]), np.column_stack([lo, hi, hi1])]
     mesh = trimesh.Trimesh(vertices=np.concatenate(vertices), faces=np.concatenate(tris), process=False)
-    if mesh.volume < 0:
-        mesh.invert()
     if not (mesh.is_watertight and mesh.is_winding_consistent and mesh.volume > 0):
         raise RuntimeError(f"{member}: the STL mesh is not closed (watertight {mesh.is_watertight}, consistently"
                            f" wound {mesh.is_winding_consistent})")
@@ -155,6 +174,11 @@ def placed(mesh: trimesh.Trimesh, rotation, translation) -> trimesh.Trimesh:
     out = mesh.copy()
     out.vertices = out.vertices @ np.asarray(rotation, dtype=float).T + np.asarray(translation, dtype=float)
     return out
+
+
+def joined(meshes) -> trimesh.Trimesh:
+    """One mesh of several closed meshes (each stays a closed shell)."""
+    return meshes[0] if len(meshes) == 1 else trimesh.util.concatenate(list(meshes))
 
 
 def write(mesh: trimesh.Trimesh, path) -> None:

@@ -6,7 +6,10 @@
 """
 from __future__ import annotations
 
+import contextlib
 import math
+import os
+import sys
 
 import numpy as np
 from OCP.Approx import Approx_IsoParametric
@@ -16,7 +19,6 @@ from OCP.BRepBuilderAPI import (BRepBuilderAPI_MakeFace, BRepBuilderAPI_MakeSoli
                                 BRepBuilderAPI_Transform)
 from OCP.BRepCheck import BRepCheck_Analyzer
 from OCP.BRepGProp import BRepGProp
-from OCP.BRepMesh import BRepMesh_IncrementalMesh
 from OCP.BRepPrimAPI import BRepPrimAPI_MakeCylinder
 from OCP.GeomAPI import GeomAPI_PointsToBSplineSurface, GeomAPI_ProjectPointOnSurf
 from OCP.GProp import GProp_GProps
@@ -26,9 +28,8 @@ from OCP.Interface import Interface_Static
 from OCP.ShapeAnalysis import ShapeAnalysis_FreeBounds
 from OCP.ShapeFix import ShapeFix_Solid
 from OCP.STEPControl import STEPControl_AsIs, STEPControl_Reader, STEPControl_Writer
-from OCP.TopAbs import TopAbs_FACE, TopAbs_REVERSED, TopAbs_SHELL, TopAbs_SOLID, TopAbs_WIRE
+from OCP.TopAbs import TopAbs_FACE, TopAbs_SHELL, TopAbs_SOLID, TopAbs_WIRE
 from OCP.TopExp import TopExp_Explorer
-from OCP.TopLoc import TopLoc_Location
 from OCP.TopoDS import TopoDS, TopoDS_Compound
 
 try:
@@ -166,47 +167,43 @@ def surface_of(face_shape):
     return static(BRep_Tool, "Surface")(face_shape)
 
 
+@contextlib.contextmanager
+def quiet():
+    """OpenCASCADE's STEP translator prints its statistics on the process's stdout: send them to
+    /dev/null (the command's own output stays clean, e.g. for a pipe)."""
+    sys.stdout.flush()
+    saved = os.dup(1)
+    try:
+        with open(os.devnull, "wb") as null:
+            os.dup2(null.fileno(), 1)
+            try:
+                yield
+            finally:
+                os.dup2(saved, 1)
+    finally:
+        os.close(saved)
+
+
 def write_step(shape, path):
-    static(Interface_Static, "SetCVal")("write.step.unit", "MM")
-    static(Interface_Static, "SetCVal")("write.step.schema", "AP214IS")
-    writer = STEPControl_Writer()
-    writer.Transfer(shape, STEPControl_AsIs)
-    if writer.Write(str(path)) != IFSelect_RetDone:
+    with quiet():
+        static(Interface_Static, "SetCVal")("write.step.unit", "MM")
+        static(Interface_Static, "SetCVal")("write.step.schema", "AP214IS")
+        writer = STEPControl_Writer()
+        writer.Transfer(shape, STEPControl_AsIs)
+        done = writer.Write(str(path)) == IFSelect_RetDone
+    if not done:
         raise OSError(f"{path}: OpenCASCADE could not write the STEP file")
 
 
 def read_step(path):
-    reader = STEPControl_Reader()
-    if reader.ReadFile(str(path)) != IFSelect_RetDone:
+    with quiet():
+        reader = STEPControl_Reader()
+        done = reader.ReadFile(str(path)) == IFSelect_RetDone
+        if done:
+            reader.TransferRoots()
+    if not done:
         raise OSError(f"{path}: OpenCASCADE could not read the STEP file")
-    reader.TransferRoots()
     return reader.OneShape()
-
-
-def triangulate(shape, deflection_mm, angle_rad=0.5):
-    """(vertices (n, 3), triangles (m, 3)) of the shape's faces, meshed within the chord deflection,
-    outward-oriented; vertices on shared edges appear once per face (merge them to close the mesh)."""
-    mesh = BRepMesh_IncrementalMesh(shape, float(deflection_mm), False, float(angle_rad), False)
-    mesh.Perform()
-    vertices, triangles, offset = [], [], 0
-    for f in faces_of(shape):
-        loc = TopLoc_Location()
-        tri = static(BRep_Tool, "Triangulation")(f, loc)
-        if tri is None:
-            raise RuntimeError("OpenCASCADE left a face without triangulation")
-        trsf = loc.Transformation()
-        nodes = np.array([[c for c in _xyz(tri.Node(i).Transformed(trsf))] for i in range(1, tri.NbNodes() + 1)])
-        tris = np.array([tri.Triangle(i).Get() for i in range(1, tri.NbTriangles() + 1)], dtype=np.int64) - 1
-        if f.Orientation() == TopAbs_REVERSED:
-            tris = tris[:, ::-1]
-        vertices.append(nodes)
-        triangles.append(tris + offset)
-        offset += len(nodes)
-    return np.concatenate(vertices), np.concatenate(triangles)
-
-
-def _xyz(p):
-    return p.X(), p.Y(), p.Z()
 
 
 def _each(shape, kind, name):

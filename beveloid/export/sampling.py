@@ -23,6 +23,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import UserError
+
 FLANKS = ("left", "right")
 #: the faces of one tooth and the gap after it, in the order the solid is built from
 FACES = ("flank_left", "flank_right", "fillet_left", "fillet_right", "tip", "root")
@@ -30,8 +32,8 @@ FACES = ("flank_left", "flank_right", "fillet_left", "fillet_right", "tip", "roo
 _NEWTON_STEPS = 60
 
 
-class ExportGeometryError(ValueError):
-    """A member whose tooth the export cannot build (undercut, pointed, a bore through the root)."""
+class ExportGeometryError(UserError):
+    """A member whose tooth the export cannot build (undercut, pointed, a bore through the root): one line."""
 
 
 @dataclass(frozen=True)

@@ -20,7 +20,7 @@ from .sampling import FACES, ExportGeometryError, ToothSampler
 #: (the export promises 1 um; the fit aims at a quarter of it)
 FIT_TOL_UM = 0.25
 #: the first grid (profile samples, axial samples) and how often it may be refined
-FIRST_GRID = (16, 10)
+FIRST_GRID = (24, 13)
 MAX_REFINEMENTS = 3
 
 
@@ -109,34 +109,3 @@ def build_member(geometry, member: str, bore_diameter_mm: float = 0.0, first=FIR
     if not occ.is_valid(shape):
         raise RuntimeError(f"{member}: OpenCASCADE finds the solid invalid (BRepCheck_Analyzer)")
     return MemberSolid(member, sampler.teeth, float(bore_diameter_mm), (toe, heel), shape, fits)
-
-
-def assembly_angles(pair):
-    """(pinion angle, gear angle) (rad) of the pair in mesh: the left flanks touch at the reference
-    pinion angle (the TCA's aligned pitch-point contact), under the spec's [misalignment]."""
-    from .. import tca
-
-    geometry = pair.geometry
-    ref = tca.reference_contact(geometry, "left")
-    errors = np.asarray(pair.errors, dtype=float)
-    if not np.any(errors):
-        return ref.pinion_angle, float(tca.unknowns(ref.x).gear_angle_rad)
-    sol = tca.solve_grid(geometry, "left", errors.reshape(1, -1), np.array([ref.pinion_angle]), backend="numpy")
-    from ..status import Status
-
-    if Status(int(sol.status[0, 0])) == Status.FAILED:
-        raise ExportGeometryError("misalignment: no contact of the left flanks found at the reference pinion angle"
-                                  " under the file's [misalignment]; --assembled needs one to place the gear")
-    return ref.pinion_angle, float(tca.unknowns(sol.x[0, 0]).gear_angle_rad)
-
-
-def assembly_placements(pair):
-    """{member: OCP transform from the member frame S_i to the fixed frame S_f} (Eqs 30-35)."""
-    from ..generated import placement
-
-    phi1, phi2 = assembly_angles(pair)
-    layout = pair.geometry.placement()
-    p = placement.pinion_placement(phi1, layout)
-    g = placement.gear_placement(phi2, np.asarray(pair.errors, dtype=float), layout)
-    return {"pinion": occ.placement(p.rotation, p.translation), "gear": occ.placement(g.rotation, g.translation)}
-
