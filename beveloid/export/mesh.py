@@ -125,6 +125,7 @@ def build_mesh(geometry, member: str, bore_diameter_mm: float = 0.0, chord_um: f
                first=FIRST_GRID) -> MemberMesh:
     """The member's closed mesh in S_i, vertices on the generated surfaces, within chord_um of them."""
     sampler = ToothSampler(geometry, member)
+    sampler.check_bore(bore_diameter_mm)
     toe, heel = sampler.z_range_mm
     z_range = (min(toe, heel), max(toe, heel))
     sampler.check_buildable(np.linspace(*z_range, 21))

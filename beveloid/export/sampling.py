@@ -147,6 +147,14 @@ class ToothSampler:
         raise ValueError(f"face must be one of {FACES}, got {face!r}")
 
     # ------------------------------------------------------------------ checks
+    def check_bore(self, bore_mm: float) -> None:
+        """A bore must leave material under the root cone: below the smallest root diameter."""
+        root = 2 * float(np.min(self.root_radius_mm(np.array(self.z_range_mm))))
+        if not bore_mm < root:
+            raise ExportGeometryError(
+                f"{self.member}.bore_diameter_mm = {bore_mm:g}: must be below the smallest root diameter,"
+                f" {root:.3f} mm (0: no bore)")
+
     def check_buildable(self, z):
         """Refuse a tooth the export cannot build: pointed within the face, undercut flank, no root land."""
         z = np.asarray(z, dtype=float)

@@ -83,19 +83,10 @@ def fit_tooth(sampler: ToothSampler, z_range, first=FIRST_GRID, tol_um=FIT_TOL_U
                        f" {tol_um} um)")
 
 
-def check_bore(sampler: ToothSampler, bore_mm: float) -> None:
-    """A bore must leave material under the root cone: below the smallest root diameter."""
-    root = 2 * float(np.min(sampler.root_radius_mm(np.array(sampler.z_range_mm))))
-    if not bore_mm < root:
-        raise ExportGeometryError(
-            f"{sampler.member}.bore_diameter_mm = {bore_mm:g}: must be below the smallest root diameter,"
-            f" {root:.3f} mm (0: no bore)")
-
-
 def build_member(geometry, member: str, bore_diameter_mm: float = 0.0, first=FIRST_GRID) -> MemberSolid:
     """The member's whole gear as a valid OpenCASCADE solid in its frame S_i."""
     sampler = ToothSampler(geometry, member)
-    check_bore(sampler, bore_diameter_mm)
+    sampler.check_bore(bore_diameter_mm)
     toe, heel = sampler.z_range_mm
     z_range = (min(toe, heel), max(toe, heel))
     sampler.check_buildable(np.linspace(*z_range, 21))
