@@ -64,3 +64,18 @@ def test_without_the_cad_extra_it_says_what_to_install(tmp_path, capsys, monkeyp
 def test_bad_flags_are_usage_errors(tmp_path, capsys, args):
     assert main(["export", str(_spec(tmp_path)), *args]) == 2
     assert capsys.readouterr().err.count("\n") == 1
+
+
+def test_out_targets_are_refused_before_exporting(tmp_path, capsys, monkeypatch):
+    """--out is checked like every output target (beveloid.cli.paths) before anything is built."""
+    def boom(*_args, **_kwargs):
+        raise AssertionError("exported despite a bad --out")
+
+    monkeypatch.setattr("beveloid.export.export", boom)
+    a_file = tmp_path / "a_file"
+    a_file.write_text("x", encoding="utf-8")
+    for target, words in (("", "an empty name"), (str(a_file), "exists and is not a folder"),
+                          (str(tmp_path / ("d" * 256)), "more than the 255")):
+        assert main(["export", str(_spec(tmp_path)), "--out", target]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and err.startswith("beveloid: error: --out = ") and words in err, err
