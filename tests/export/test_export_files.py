@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 import trimesh
-from conftest import distances_to_mesh, distances_to_step_faces, off_fit_points, section_crossings, tooth_probe
+from export_checks import distances_to_mesh, distances_to_step_faces, off_fit_points, section_crossings, tooth_probe
 
 from beveloid.export import ExportOptions, export, occ
 from beveloid.export.sampling import ExportGeometryError
