@@ -398,3 +398,26 @@ def test_key_docs_markdown_has_row_per_key():
     assert len(rows) == 2 + sum(len(d) for d in KEY_DOCS.values())
     assert all(row.startswith("|") and row.endswith("|") for row in rows)
     assert "`pinion.teeth`" in table and "an integer from 6 to 400" in table
+
+
+def test_a_key_without_its_dataclass_field_is_refused(monkeypatch):
+    """Adding a key is a KeyDoc plus a field: the package names the one that is missing."""
+    from beveloid.spec import KeyDoc
+    from beveloid.spec.validate import check_fields_match_keys
+
+    check_fields_match_keys()  # the shipped tables agree
+    monkeypatch.setitem(KEY_DOCS["pair"], "backlash_mm", KeyDoc("test", "mm", lo=0.0, hi=1.0,
+                                                               requirement="optional", default=0.0))
+    with pytest.raises(RuntimeError, match=r"\['backlash_mm'\]"):
+        check_fields_match_keys()
+
+
+def test_a_default_that_differs_from_the_field_is_refused(monkeypatch):
+    import dataclasses
+
+    from beveloid.spec.validate import check_fields_match_keys
+
+    doc = KEY_DOCS["pinion"]["addendum_coefficient"]
+    monkeypatch.setitem(KEY_DOCS["pinion"], "addendum_coefficient", dataclasses.replace(doc, default=1.1))
+    with pytest.raises(RuntimeError, match="addendum_coefficient"):
+        check_fields_match_keys()
