@@ -186,7 +186,7 @@ def run(out_dir, positions=200, progress=_progress):
     """Write figures, CSV and report.md into out_dir; returns the report path."""
     from . import crowning_study, plots, tca
     from .design import design
-    from .design_report import format_table1
+    from .design import format_table1
 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)

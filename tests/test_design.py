@@ -1,4 +1,4 @@
-"""Tests for beveloid.design (direct / indirect pitch-cone design) and beveloid.design_report.
+"""Tests for beveloid.design (direct / indirect pitch-cone design) and beveloid.design.report.
 
 The oracle for the residual identities is an independent plain-numpy transcription of the
 *printed* Eqs 12-27 (as read in /work/shared/paper/equations.md), not the generated kernels.
@@ -23,7 +23,7 @@ from hypothesis import strategies as st
 
 from beveloid.cli import design as cli_design
 from beveloid.design import DesignError, DesignResult, MemberDesign, design, indirect_design
-from beveloid.design_report import TABLE1_ROWS, design_json, format_table1
+from beveloid.design import TABLE1_ROWS, design_json, format_table1
 from beveloid.errors import UserError
 from beveloid.generated import design_equations as kernels
 from beveloid.spec import SpecError, load_spec, spec_from_dict, spec_to_dict
@@ -496,7 +496,7 @@ def test_steep_end_of_the_tangency_range_is_solved_to_float_resolution(monkeypat
          "gear": {"teeth": 287, "cone_angle_deg": -12.110536505916276, "face_width_mm": 50.0}}
     with pytest.raises(DesignError, match=r"pitch point P .* below the start of the active profile"):
         design(spec_from_dict(d))
-    monkeypatch.setattr("beveloid.design._check_pitch_point", lambda *args: None)
+    monkeypatch.setattr("beveloid.design.checks.check_pitch_point", lambda *args: None)
     r = design(spec_from_dict(d))
     assert any(n.startswith("Eq 17 solved only to |E(alpha_nw) - E| = ") for n in r.notes)
     assert abs(r.offset_residual_mm) < 1e-7
@@ -611,7 +611,7 @@ def test_runtime_does_not_import_sympy(tmp_path):
     import subprocess
     import sys
 
-    code = ("import sys, beveloid.design, beveloid.design_report, beveloid.cli.design;"
+    code = ("import sys, beveloid.design, beveloid.design.report, beveloid.cli.design;"
             "from beveloid.spec import load_spec; beveloid.design.design(load_spec(sys.argv[1]));"
             "print('sympy' in sys.modules)")
     # run outside the checkout: there `python -c` would import the bare beveloid/ folder

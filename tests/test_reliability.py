@@ -86,10 +86,10 @@ def test_8_feasibility_check_agrees_with_the_tca_boundaries(monkeypatch):
     agree on whether the aligned contact at P is on both members' flanks, on random designs."""
     from beveloid import tca
 
-    import beveloid.design as dmod
+    import beveloid.design.checks as dmod
 
-    real_check = dmod._check_pitch_point
-    monkeypatch.setattr(dmod, "_check_pitch_point", lambda *a: None)
+    real_check = dmod.check_pitch_point
+    monkeypatch.setattr(dmod, "check_pitch_point", lambda *a: None)
     rng = np.random.default_rng(5)
     base = spec_to_dict(load_spec(C1))
     seen = {True: 0, False: 0}
@@ -363,7 +363,7 @@ def test_4_help_and_readme_document_the_nominal_errors():
 def test_9_sweep_without_aligned_contact_is_one_line(capsys, monkeypatch, tmp_path):
     """Item 8 now rejects the issue's design in design(); with that check off, the sweep itself must
     still report the flank without contact in one line."""
-    monkeypatch.setattr("beveloid.design._check_pitch_point", lambda *a: None)
+    monkeypatch.setattr("beveloid.design.checks.check_pitch_point", lambda *a: None)
     path = case1_with(tmp_path, offset_mm="1.0")
     rc, _, err = run_cli(capsys, ["sweep", path, "--samples", "2", "--positions", "3", "--flank", "right"])
     assert_one_line_exit_2(rc, err, "cannot sweep the right flank", "no contact", "beveloid tca")
