@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import copy
+import dataclasses
 import json
 import math
 import tomllib
@@ -411,8 +412,6 @@ INFEASIBLE = [
     (dict(pair__shaft_angle_deg=1.0, pinion__cone_angle_deg=8.0, gear__cone_angle_deg=8.0),
      "pair.shaft_angle_deg", "increase the shaft angle"),
     (dict(pair__offset_mm=5000.0), "pair.offset_mm", "reduce pair.offset_mm"),
-    (dict(pinion__cone_angle_deg=0.0), "pinion.cone_angle_deg", "increase |pinion.cone_angle_deg|"),
-    (dict(gear__cone_angle_deg=0.0), "gear.cone_angle_deg", "increase |gear.cone_angle_deg|"),
     (dict(pinion__profile_shift=1.5, pinion__teeth=12), "pinion.profile_shift", "reduce pinion.profile_shift"),
     (dict(pair__offset_mm=300.0), "pair.offset_mm", "reduce pair.offset_mm"),  # gear x_t2 ~ 17: pointed
     (dict(pinion__profile_shift=-1.5, pinion__teeth=10), "pinion.profile_shift",
@@ -440,6 +439,20 @@ def test_infeasible_geometry_raises_design_error(changes, key, direction):
     msg = str(err)
     assert key in msg and key in err.keys, msg
     assert direction in msg, msg
+
+
+@pytest.mark.parametrize("member", ["pinion", "gear"])
+def test_zero_cone_angle_is_refused_by_the_spec_and_by_the_design(member):
+    """The spec states the real range (non-zero); a DesignSpec built without the spec's check still
+    gets the design's one-line error naming the key."""
+    with pytest.raises(SpecError, match=rf"^{member}\.cone_angle_deg = 0\.0: must be a non-zero number from -15 to 15"):
+        spec_from_dict(modified(**{f"{member}__cone_angle_deg": 0.0}))
+    spec = spec_from_dict(modified())
+    spec = dataclasses.replace(spec, **{member: dataclasses.replace(getattr(spec, member), cone_angle_deg=0.0)})
+    with pytest.raises(DesignError) as info:
+        design(spec)
+    assert_good_error(info.value)
+    assert f"increase |{member}.cone_angle_deg|" in str(info.value) and f"{member}.cone_angle_deg" in info.value.keys
 
 
 def test_tangency_message_is_the_documented_one():

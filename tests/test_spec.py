@@ -105,6 +105,7 @@ BAD_CASES = [
     # --- members
     ("cone_high", {"pinion.cone_angle_deg": 15.5}, "pinion.cone_angle_deg", "15.5", "from -15 to 15"),
     ("cone_low", {"gear.cone_angle_deg": -16}, "gear.cone_angle_deg", "-16", "from -15 to 15"),
+    ("cone_zero", {"pinion.cone_angle_deg": 0}, "pinion.cone_angle_deg", "0", "a non-zero number from -15 to 15"),
     ("helix_60", {"pinion.helix_angle_deg": 60.0}, "pinion.helix_angle_deg", "60.0", "< 60"),
     ("helix_minus_60", {"pinion.helix_angle_deg": -60.0}, "pinion.helix_angle_deg", "-60.0", "> -60"),
     ("shift_high", {"pinion.profile_shift": 1.6}, "pinion.profile_shift", "1.6", "from -1.5 to 1.5"),
@@ -317,14 +318,14 @@ def test_ints_become_floats_and_optional_keys_accepted():
                 "pinion.addendum_coefficient": 0.8,
                 "pinion.cutter_addendum_coefficient": 1.4,
                 "pinion.reference_section_offset_mm": -50,
-                "gear.cone_angle_deg": 0,
+                "gear.cone_angle_deg": -1,
                 "misalignment.vertical_deg": -5,
             }
         )
     )
     assert spec.pair.offset_mm == 229.0 and isinstance(spec.pair.offset_mm, float)
     assert spec.pinion.reference_section_offset_mm == -50.0
-    assert spec.gear.cone_angle_deg == 0.0
+    assert spec.gear.cone_angle_deg == -1.0 and isinstance(spec.gear.cone_angle_deg, float)
     assert spec.misalignment.vertical_deg == -5.0
 
 

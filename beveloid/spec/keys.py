@@ -44,6 +44,8 @@ class KeyDoc:
     default: float | int | str | None = None
     bound_key: str | None = None
     choices: tuple[str, ...] = ()
+    #: 0 is not valid (inside the range)
+    nonzero: bool = False
     #: for a tooth-surface model's own key: the model that takes it
     model: str | None = None
 
@@ -68,6 +70,8 @@ class KeyDoc:
         if self.kind == "choice":
             return "one of " + ", ".join(f'"{c}"' for c in self.choices)
         noun = "an integer" if self.kind == "integer" else "a number"
+        if self.nonzero:
+            noun = "a non-zero " + noun.split()[-1]
         if self.bound_key is not None:
             bound = f"{section}.{self.bound_key}" if section else self.bound_key
             return f"a finite number with |value| <= {bound}{self.unit_suffix}"
@@ -79,10 +83,12 @@ class KeyDoc:
         if self.hi is not None:
             parts.append(f"{'<' if self.hi_open else '<='} {_num(self.hi)}")
         if self.lo is None or self.hi is None:
-            noun = "a finite integer" if self.kind == "integer" else "a finite number"
+            noun = ("a finite " + noun.split()[-1]) if not self.nonzero else ("a finite, " + noun[2:])
         return f"{noun} {' and '.join(parts)}{self.unit_suffix}".replace("  ", " ")
 
     def in_range(self, x: float) -> bool:
+        if self.nonzero and x == 0:
+            return False
         if not math.isfinite(x):
             return False
         if self.lo is not None and (x <= self.lo if self.lo_open else x < self.lo):
@@ -109,7 +115,8 @@ def _member_docs(member: str) -> dict[str, KeyDoc]:
     mate = "gear" if member == "pinion" else "pinion"
     return {
         "teeth": KeyDoc("number of teeth", kind="integer", lo=6, hi=400),
-        "cone_angle_deg": KeyDoc("cone angle (signed)", "deg", lo=-15.0, hi=15.0),
+        "cone_angle_deg": KeyDoc("cone angle (signed; 0 is a cylinder, whose cone apex and mounting distance"
+                                 " are at infinity: not a beveloid)", "deg", lo=-15.0, hi=15.0, nonzero=True),
         "helix_angle_deg": KeyDoc(
             "helix angle, signed: + right hand, - left hand",
             "deg",
