@@ -252,7 +252,7 @@ def _no_compute(monkeypatch):
     def boom(*a, **k):
         raise AssertionError("computed before checking the output target")
     monkeypatch.setattr("beveloid.design.design", boom)
-    monkeypatch.setattr("beveloid.reproduction.run", boom)
+    monkeypatch.setattr("beveloid.studies.paper.run", boom)
 
 
 ROOT = os.geteuid() == 0  # root may write anywhere: the permission cases only apply to other users
