@@ -9,11 +9,11 @@ evaluated at run time; this module never imports sympy):
     (``[pair]``), N1, gamma1, beta1, x_t1 (``[pinion]``), N2, gamma2 (``[gear]``) and the
     blank data (face widths, addendum coefficients, b_c).  The working normal pressure
     angle alpha_nw is the root of ``offset_residual(alpha_nw, ...) = E(alpha_nw) - E``
-    (Eq 17 with the working data of Eqs 16, 23, 25, 26), found by Brent's method
-    (scipy.optimize.brentq) on each sign change of the residual, to the floating-point resolution of
-    alpha_nw; ``|residual| < 1e-11 mm`` is then met (relaxed to 8 ulp of E for E > ~5600 mm; where
-    E(alpha_nw) is so steep -- next to the end of the tangency range, E -> 0 -- that alpha_nw reaches
-    floating-point resolution first, the attained residual is accepted and a note says so).  The admissible
+    (Eq 17 with the working data of Eqs 16, 23, 25, 26), found by a safeguarded
+    Newton/bisection iteration with the exact derivative ``residual_D_alpha_nw`` to
+    ``|residual| < 1e-11 mm`` (relaxed to 8 ulp of E for E > ~5600 mm; where E(alpha_nw) is so steep
+    -- next to the end of the tangency range, E -> 0 -- that alpha_nw reaches floating-point
+    resolution first, the attained residual is accepted and a note says so).  The admissible
     interval of alpha_nw is where the kernel is real: ``sin(alpha_nw) > |sin(gamma_i)| sin(alpha_n)``
     (Eq 25), the Eq 26 arcsine and the Eq 16 arccosine (pitch-cone tangency) defined, and
     ``alpha_nw < 60 deg``; it is scanned on a grid for sign changes.  If Eq 17 has several roots
