@@ -10,7 +10,7 @@ import tomllib
 
 from .model import DEFAULT_SOURCE, DesignSpec, SpecError
 from .text import fmt_value, printable
-from .validate import spec_from_dict
+from .validate import NESTED_TOO_DEEP, spec_from_dict
 
 #: A spec file larger than this (bytes) is refused: real specs are about 2 kB.
 MAX_SPEC_BYTES = 1_000_000
@@ -64,6 +64,8 @@ def spec_from_toml_bytes(data: bytes, source: str = DEFAULT_SOURCE) -> DesignSpe
         parsed = tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
         raise SpecError(f"TOML syntax error: {printable(str(err))}", source=source) from None
+    except RecursionError:  # tomllib parses nested arrays and inline tables recursively
+        raise SpecError(NESTED_TOO_DEEP, source=source) from None
     return spec_from_dict(parsed, source=source)
 
 

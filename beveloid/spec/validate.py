@@ -138,6 +138,10 @@ def check_clearance(values: dict[str, dict[str, Any]]) -> None:
             )
 
 
+#: The message of a spec nested deeper than Python's recursion allows (a spec is two levels deep).
+NESTED_TOO_DEEP = ("arrays or tables nested too deeply: a spec holds sections of keys"
+                   " with single values (`beveloid example case1` prints one)")
+
 #: Rules between keys, run in this order on the checked values (section -> key -> value)
 #: after every key passed its own range check; each raises :class:`SpecError`.
 CROSS_CHECKS: tuple[Callable[[dict[str, dict[str, Any]]], None], ...] = (check_clearance,)
@@ -214,6 +218,8 @@ def spec_from_dict(data: dict, source: str = DEFAULT_SOURCE) -> DesignSpec:
         spec = _build(data)
     except SpecError as err:
         raise SpecError(err.detail, key=err.key, source=source) from None
+    except RecursionError:  # a value nested thousands deep, shown in a message
+        raise SpecError(NESTED_TOO_DEEP, source=source) from None
     return dataclasses.replace(spec, source=source)
 
 
