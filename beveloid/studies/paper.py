@@ -179,14 +179,28 @@ def bearing_pattern_figure(geom, results, labels, out_png, title):
 
 
 def run(out_dir, positions=200, progress=_progress):
-    """Write figures, CSV and report.md into out_dir; returns the report path."""
+    """Write figures, CSV and report.md into out_dir; returns the report path.
+
+    The files are written into a folder of their own and moved into out_dir at the end
+    (:func:`beveloid.studies.output.staged_folder`): two runs into one folder leave one run's files.
+    """
+    from .output import staged_folder
+
+    t0 = time.perf_counter()
+    with staged_folder(out_dir) as stage:
+        write_study(stage, positions, progress)
+    report = Path(out_dir) / "report.md"
+    progress(f"done in {time.perf_counter() - t0:.1f} s: {report}")
+    return report
+
+
+def write_study(out: Path, positions=200, progress=_progress) -> None:
+    """Compute every study and write its figures, CSV and report.md into the folder ``out``."""
     from .. import plots, tca
     from ..design import format_table1
     from ..pair import Pair
     from . import crowning
 
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
     steps = 1 + len(STUDIES) + 6  # Table 1, the error studies, Fig 22, sensitivity, onset, crowning, LTCA, report
     k = 0
@@ -260,8 +274,6 @@ def run(out_dir, positions=200, progress=_progress):
     (out / "report.md").write_text(report + "\n".join(["", *loaded]))
     (out / "table1_case1.txt").write_text(format_table1(designs["case1"]) + "\n")
     (out / "table1_case2.txt").write_text(format_table1(designs["case2"]) + "\n")
-    progress(f"done in {time.perf_counter() - t0:.1f} s: {out / 'report.md'}")
-    return out / "report.md"
 
 
 def _fmt(v, f="{:.3f}"):
