@@ -22,7 +22,7 @@ Adding a key
 ------------
 1. Its :class:`KeyDoc` (range, unit, default, description) in ``keys.py``, in the section's table;
    the validation, the error messages, ``beveloid example --schema`` and the README key table
-   (regenerate it with ``key_docs_markdown()``; tests/test_readme.py compares) follow from it.
+   (regenerate it with ``key_docs_markdown()``; tests/docs/test_docs_readme.py compares) follow from it.
 2. The field of the same name and default in the section's dataclass in ``model.py``;
    :mod:`beveloid.spec.validate` refuses to import when the two disagree.
 3. Only if its valid range depends on other keys: a function in ``validate.CROSS_CHECKS``.

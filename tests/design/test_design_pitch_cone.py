@@ -29,10 +29,10 @@ from beveloid.errors import UserError
 from beveloid.generated import design_equations as kernels
 from beveloid.spec import SpecError, load_spec, spec_from_dict, spec_to_dict
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = ROOT / "examples"
 # the paper's printed Table 1, shipped with the package (beveloid/data/) for `beveloid paper`
-TABLE1 = tomllib.loads((Path(__file__).resolve().parents[1] / "beveloid" / "data" / "table1.toml").read_text())
+TABLE1 = tomllib.loads((Path(__file__).resolve().parents[2] / "beveloid" / "data" / "table1.toml").read_text())
 
 deg, rad = math.degrees, math.radians
 sin, cos, tan = math.sin, math.cos, math.tan

@@ -166,6 +166,6 @@ def test_the_fpd_check_of_crowned_flanks_is_not_applicable_with_its_reason():
     (row,) = json.loads(registry.results_json([result]))
     assert row["status"] == "not applicable" and "straight-edged rack" in row["method"]
     assert "not applicable" in registry.results_table([result])
-    docs = (Path(__file__).resolve().parent.parent / "docs" / "derivations.md").read_text(encoding="utf-8")
+    docs = (Path(__file__).resolve().parents[2] / "docs" / "derivations.md").read_text(encoding="utf-8")
     crowned_row = next(line for line in docs.splitlines() if "('crowned' flanks)" in line)
     assert "| not applicable |" in crowned_row and "straight-edged rack" in crowned_row

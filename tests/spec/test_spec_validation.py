@@ -23,7 +23,7 @@ from beveloid.spec import (
     spec_to_dict,
 )
 
-EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 BASE = {
     "pair": {
