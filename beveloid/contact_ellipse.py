@@ -199,11 +199,13 @@ def flank_ellipses(geom, fr, errors, approach_mm=DEFAULT_APPROACH_MM) -> Contact
 
 
 def attach(result, approach_mm=DEFAULT_APPROACH_MM):
-    """Add contact ellipses to every flank of a :class:`beveloid.tca.TCAResult` (in place)."""
-    result.approach_mm = approach_mm
-    for fr in result.flanks.values():
-        fr.contact_ellipse = flank_ellipses(result.geometry, fr, result.errors, approach_mm)
-    return result
+    """A :class:`beveloid.tca.TCAResult` whose flanks carry their contact ellipses (a new result:
+    ``result`` is not changed; one that already carries them at this approach is returned as it is)."""
+    from .tca import with_ellipses
+
+    if result.approach_mm == approach_mm and all(fr.contact_ellipse is not None for fr in result.flanks.values()):
+        return result
+    return with_ellipses(result, approach_mm)
 
 
 def ellipse_outline(ce: ContactEllipses, i, n=48, truncate=True):

@@ -39,7 +39,7 @@ from ..generated.tca_kernels_scalar import (
     contact_margin_point, contact_system_point, edge_workspace, pinion_in_gear_frame_point, surface_jet_point,
     surface_point, workspace,
 )
-from ..patch_cover import CELL_FIELDS
+from .patch_cover import CELL_FIELDS
 from ..status import Status
 
 try:

@@ -30,7 +30,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .generated import flank_boundaries, tca_kernels
+from ..generated import flank_boundaries, tca_kernels
 
 #: root cells along l and u of the patch's parameter box
 CELLS = (4, 16)
