@@ -240,7 +240,7 @@ def _cell_gaps(geom, flank, errors, frames, coords, backend):
     Q, n = coords.shape[:2]
     rotation = placement.pinion_placement(phi1, geom.placement()).rotation
     if backend == "compiled":
-        core = tca._core("compiled", announce=True)
+        core = tca.Solver("compiled").announced_core()
         M = Q * n
         out = dict(lu=np.empty((M, 2)), gear=np.empty((M, 3)), rates=np.empty((M, 2)), margin=np.empty(M),
                    ok=np.empty(M, dtype=np.int64), p1=np.empty((M, 3)), p2=np.empty((M, 3)))
@@ -766,7 +766,7 @@ def _analyze(geom, torque_nm, flank, errors, positions, pairs, grid, material, b
     if not (math.isfinite(torque_nm) and torque_nm > 0):
         raise ValueError(f"torque_nm = {torque_nm!r}: must be a finite number > 0")
     grid.check()
-    setup = _Setup(geom, tca._check_flank(flank), errors, positions, pairs, backend)
+    setup = _Setup(geom, tca.check_flank(flank), errors, positions, pairs, backend)
     tooth_p = _member_tooth(geom, "pinion", material.pinion_e_mpa, material.pinion_nu)
     tooth_g = _member_tooth(geom, "gear", material.gear_e_mpa, material.gear_nu)
     nx, ny = grid.across_cells, grid.along_cells

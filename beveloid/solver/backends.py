@@ -21,12 +21,18 @@ import sys
 import types
 import warnings
 
-from ..errors import UserError
-
 #: numba is installed (it is imported only when the compiled backend is first used: ~0.3 s).
 AVAILABLE = importlib.util.find_spec("numba") is not None
 
 BACKENDS = ("auto", "compiled", "numpy")
+
+
+class BackendError(ValueError):
+    """A backend that does not exist or is not installed: ``backend`` and ``requirement`` (what is valid)."""
+
+    def __init__(self, backend, requirement):
+        self.backend, self.requirement = backend, requirement
+        super().__init__(f"backend = {backend}: {requirement}")
 
 
 def resolve(backend: str) -> str:
@@ -34,9 +40,9 @@ def resolve(backend: str) -> str:
     if backend == "auto":
         return "compiled" if AVAILABLE else "numpy"
     if backend == "compiled" and not AVAILABLE:
-        raise UserError("backend = compiled: numba is not installed; use backend numpy or pip install numba")
+        raise BackendError(backend, "numba is not installed; use backend numpy or pip install numba")
     if backend not in BACKENDS:
-        raise ValueError(f"backend = {backend!r}: must be one of {', '.join(BACKENDS)}")
+        raise BackendError(repr(backend), f"must be one of {', '.join(BACKENDS)}")
     return backend
 
 

@@ -11,7 +11,7 @@ A *problem* is the tuple (pinion_model, gear_model, flank, pinion_params, gear_p
 of model and flank indices and the generated parameter vectors (see beveloid/tca.py).
 
 **First touch.**  A tooth pair's contact is the extreme gear angle (``sign`` * phi'_2 largest,
-``sign`` from tca._gap_sign) over the pairs of points of the two bounded patches that coincide.
+``sign`` from tca.gap_sign) over the pairs of points of the two bounded patches that coincide.
 When the Eq 38 tangency lies on both patches it is that extreme (surface contact, OK).  Otherwise
 :func:`first_touch` looks for the Karush-Kuhn-Tucker point of the problem "maximize sign * phi'_2
 subject to R_f1 = R_f2 and the eight margins g_i >= 0" by an active-set iteration over the
@@ -421,7 +421,7 @@ def sphere_outside_blank(p, radius, l, blank, m, mdp, mdl):
 
 def patches_apart(problem, cells, pinion_blank, gear_blank, phi1, e, patch_tol, cs):
     """True when the pinion's bounded flank cannot meet the gear's at phi1 for any gear angle
-    (derivations/patch_clearance.py): every cell of the pinion patch cover (beveloid/patch_cover.py)
+    (derivations/patch_clearance.py): every cell of the pinion patch cover (beveloid/solver/patch_cover.py)
     has its sphere outside the pinion blank (no patch point) or, carried into S_2 at phi'_2 = 0,
     outside the gear blank.  A cell that is neither is cut in four, at most MAX_SPLITS times.
     False when that cannot be shown: a cell centre on the patch and inside the gear blank, or a
@@ -576,7 +576,7 @@ def solve_paths(problem, pinion_blank, gear_blank, pinion_cover, x_ref, phi_ref,
     corner contact (-1: none).
 
     x_ref is the aligned contact at phi_ref; pinion_cover the cells of the pinion's flank patch
-    (beveloid/patch_cover.py) for the proof that a pair's patches cannot touch.  Per error set: the homotopy in the errors at
+    (beveloid/solver/patch_cover.py) for the proof that a pair's patches cannot touch.  Per error set: the homotopy in the errors at
     phi_ref, then a march up and a march down the grid with the exact tangent d x / d phi_1 as
     predictor, plus the second-order term from the change of the tangent over the last step once
     two converged points are behind (non-conjugate surfaces, e.g. crowned: one Newton step instead

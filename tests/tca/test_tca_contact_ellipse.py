@@ -12,9 +12,9 @@ from beveloid import contact_ellipse, curvature, tca
 from beveloid.design import design
 from beveloid.generated import flank_boundaries, placement
 from beveloid.spec import load_spec
-from test_curvature import _height
+from test_tca_curvature import _height
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 @pytest.fixture(scope="module")

@@ -14,7 +14,7 @@ from beveloid.design import design
 from beveloid.generated import placement, surface_models
 from beveloid.spec import load_spec
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 FLANKS = tca.FLANKS
 
 

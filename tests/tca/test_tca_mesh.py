@@ -13,7 +13,7 @@ from beveloid.status import Status
 from beveloid.design import design
 from beveloid.spec import load_spec
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 DEG = math.pi / 180
 
 

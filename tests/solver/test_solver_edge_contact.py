@@ -23,7 +23,7 @@ from beveloid.solver import backends
 from beveloid.spec import load_spec
 from beveloid.status import Status
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 DEG = math.pi / 180
 TIP = flank_boundaries.BOUNDARIES.index("tip")
 
