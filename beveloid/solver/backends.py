@@ -199,9 +199,17 @@ def needs_compiling(ns) -> bool:
         return False
 
 
+_notified = False
+
+
 def notify_compiling(ns, stream=None):
-    """Say on a terminal that numba is about to compile (nothing otherwise)."""
+    """Say on a terminal that numba is about to compile (nothing otherwise); the cache is looked
+    at once per process (reading its index costs ~1 ms, more than a mesh study's solve)."""
+    global _notified
     stream = stream or sys.stderr
-    if needs_compiling(ns) and getattr(stream, "isatty", lambda: False)():
+    if _notified or not getattr(ns, "compiled", False) or not getattr(stream, "isatty", lambda: False)():
+        return
+    _notified = True
+    if needs_compiling(ns):
         stream.write("beveloid: compiling the contact solver with numba (first use only; cached afterwards)...\n")
         stream.flush()
