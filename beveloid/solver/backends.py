@@ -48,14 +48,19 @@ def resolve(backend: str) -> str:
     return backend
 
 
+#: the core's modules, by job (beveloid.solver.core is their one namespace)
+CORE_MODULES = ("linalg", "newton", "first_touch", "clearance", "paths", "gaps")
+
+
 def _modules():
-    """The core and every generated scalar module it reaches (all compiled together)."""
+    """The core's modules and every generated scalar module they reach (all compiled together)."""
     from .. import generated
     from . import core
 
+    jobs = [importlib.import_module(f"{__package__}.{m}") for m in CORE_MODULES]
     gen = [importlib.import_module(f"{generated.__name__}.{m}") for m in generated.SCALAR_MODULES]
     gen.append(importlib.import_module(f"{generated.__name__}.tca_kernels_scalar"))
-    return [core] + gen
+    return [core] + jobs + gen
 
 
 @functools.lru_cache(maxsize=None)
@@ -167,7 +172,7 @@ def _compile(modules):
         # first compilation faster too (docs/performance.md)
         inline = "always" if mod.__name__.endswith(".tca_kernels_scalar") else "never"
         nrt = fn.__name__ in core.ALLOCATING
-        jitted[fn] = _jit(copy, parallel=(mod is core and fn.__name__ in core.PARALLEL), inline=inline, nrt=nrt)
+        jitted[fn] = _jit(copy, parallel=(fn.__name__ in core.PARALLEL), inline=inline, nrt=nrt)
     for g in glob.values():
         for name, val in list(g.items()):
             if isinstance(val, types.FunctionType) and val in jitted:
@@ -178,7 +183,7 @@ def _compile(modules):
     # here (measured: docs/performance.md), more than a mesh study's whole solve
     for name in core.PARALLEL:
         fn = vars(core)[name]
-        copy = types.FunctionType(fn.__code__, glob[core], fn.__name__, fn.__defaults__, fn.__closure__)
+        copy = types.FunctionType(fn.__code__, glob[originals[fn]], fn.__name__, fn.__defaults__, fn.__closure__)
         copy.__qualname__ = fn.__qualname__ + "_serial"  # its own entry in numba's cache (not the parallel one)
         copy.__module__ = fn.__module__
         funcs[name + "_serial"] = _jit(copy, parallel=False)
