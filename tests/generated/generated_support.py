@@ -77,7 +77,7 @@ def exec_module(text, name):
     return ns
 
 
-def committed(module):
+def committed_module(module):
     return importlib.import_module(f"beveloid.generated.{module}")
 
 
@@ -95,7 +95,7 @@ SURFACE_MODULES = tuple(m for m in MODULES if m.startswith("surface_"))
 FILES = ["__init__.py"] + [f"{m}.py" for m in MODULES + SCALAR_MODULES + SUPPORT_MODULES]
 
 # (module, function) pairs of the committed kernels; checked against the specs below.
-FUNCTIONS = [(m, f) for m in MODULES for f in public_functions(committed(m))]
+FUNCTIONS = [(m, f) for m in MODULES for f in public_functions(committed_module(m))]
 FUNCTION_IDS = [f"{m}.{f}" for m, f in FUNCTIONS]
 
 
@@ -225,7 +225,7 @@ def sample(module, function, n, seed=SEED):
 def sample_contact(n, seed=SEED):
     """Arguments of ``tca_kernels.contact_system`` after (pinion_model, gear_model, flank), both
     members of MODEL (parameters zero-padded to PARAMETER_COUNT as pack_surface_params does)."""
-    tk = committed("tca_kernels")
+    tk = committed_module("tca_kernels")
     rng = np.random.default_rng(seed)
     params = spec_arg(f"surface_{MODEL}", "surface_left", "params")
 
@@ -244,7 +244,7 @@ def sample_contact(n, seed=SEED):
 
 
 def args_of(module, function):
-    return list(inspect.signature(getattr(committed(module), function)).parameters)
+    return list(inspect.signature(getattr(committed_module(module), function)).parameters)
 
 
 def at(value, i):

@@ -33,7 +33,7 @@ pytestmark = pytest.mark.xdist_group("generated")
 
 @pytest.mark.parametrize("module, function", FUNCTIONS, ids=FUNCTION_IDS)
 def test_cse_and_plain_builds_agree(nocse, module, function):
-    f = getattr(committed(module), function)
+    f = getattr(committed_module(module), function)
     plain = nocse[module][function]
     values = sample(module, function, N_POINTS)
     shapes = documented_shapes(f)
@@ -76,15 +76,15 @@ def test_cse_reduces_the_op_count_of_the_contact_system(nocse_texts):
         assert cse_ops[name] < plain_ops[name], f"{name}: CSE {cse_ops[name]} ops vs {plain_ops[name]} without"
 
 
-SCALAR_FUNCTIONS = [(m, f) for m in SCALAR_MODULES for f in public_functions(committed(m))]
+SCALAR_FUNCTIONS = [(m, f) for m in SCALAR_MODULES for f in public_functions(committed_module(m))]
 
 
 @pytest.mark.parametrize("module, function", SCALAR_FUNCTIONS, ids=[f"{m}.{f}" for m, f in SCALAR_FUNCTIONS])
 def test_scalar_twin_matches_numpy_kernel(module, function):
     """``<f>_point(args..., out_<output>...)`` (one point, math) == the numpy kernel ``<f>``."""
     numpy_module, name = module.removesuffix("_scalar"), function.removesuffix("_point")
-    f = getattr(committed(numpy_module), name)
-    point = getattr(committed(module), function)
+    f = getattr(committed_module(numpy_module), name)
+    point = getattr(committed_module(module), function)
     shapes = documented_shapes(f)
     args = args_of(numpy_module, name)
     assert list(inspect.signature(point).parameters) == args + [f"out_{o}" for o in shapes]
@@ -102,14 +102,14 @@ def test_scalar_twin_matches_numpy_kernel(module, function):
 def test_scalar_glue_matches_the_numpy_glue(flank):
     """tca_kernels_scalar (what the solver core runs) == tca_kernels, point by point: the
     contact system and the smallest margin of a contact with its boundary."""
-    tk, tks = committed("tca_kernels"), committed("tca_kernels_scalar")
+    tk, tks = committed_module("tca_kernels"), committed_module("tca_kernels_scalar")
     values = sample_contact(N_POINTS)
     want = tk.contact_system(MODEL, MODEL, flank, **values)
     rng = np.random.default_rng(SEED + 1)
     blank = spec_arg("flank_boundaries", "flank_margins", "blank")
     pinion_blank, gear_blank = (sample_arg("flank_boundaries", blank, rng, N_POINTS) for _ in range(2))
     margins = tk.contact_margins(values["x"], want.pinion_point, want.gear_point, pinion_blank, gear_blank)
-    fm = committed("flank_boundaries").flank_margins
+    fm = committed_module("flank_boundaries").flank_margins
     assert_close(margins, np.concatenate([fm(want.pinion_point, values["x"][:, 0], pinion_blank).margins,
                                           fm(want.gear_point, values["x"][:, 2], gear_blank).margins], axis=-1),
                  0.0, "contact_margins")

@@ -60,12 +60,12 @@ def test_specs_and_committed_functions_agree(specs):
     assert [(s.module, f.name) for s in specs.values() for f in s.functions] == FUNCTIONS
     for module in SCALAR_MODULES:
         numpy_twin = module.removesuffix("_scalar")
-        assert public_functions(committed(module)) == [f"{f.name}_point" for f in specs[numpy_twin].functions]
+        assert public_functions(committed_module(module)) == [f"{f.name}_point" for f in specs[numpy_twin].functions]
 
 
 def test_layouts_module_holds_the_spec_layouts(specs):
     """One NamedTuple per layout of any kernel: fields in the kernels' order, units and docs."""
-    layouts = committed("layouts")
+    layouts = committed_module("layouts")
     expected = {}
     for spec in specs.values():
         expected.update(spec.layouts())
@@ -97,7 +97,7 @@ def test_trigonometry_of_layout_angles_is_read_not_evaluated():
 
     for module in ("surface_involute_scalar", "surface_crowned_scalar", "flank_boundaries_scalar",
                    "contact_system_scalar"):
-        text = inspect.getsource(committed(module))
+        text = inspect.getsource(committed_module(module))
         for angle in ("normal_pressure_angle", "helix_angle", "cone_angle", "shaft_angle"):
             for fn in ("sin", "cos", "tan"):
                 assert f"math.{fn}({angle})" not in text, (module, fn, angle)
@@ -105,12 +105,12 @@ def test_trigonometry_of_layout_angles_is_read_not_evaluated():
 
 
 def test_glue_constants_follow_the_registry():
-    tk, tks = committed("tca_kernels"), committed("tca_kernels_scalar")
-    layouts = committed("layouts")
-    assert tk.MODELS == tuple(kernels.SURFACE_MODELS) == committed("surface_models").MODELS and tk.FLANKS == FLANKS
-    assert committed("surface_models").DEFAULT_MODEL in tk.MODELS
-    assert tk.UNKNOWNS == kernels.UNKNOWNS == committed("contact_system").UNKNOWNS
-    assert tk.BOUNDARIES == committed("flank_boundaries").BOUNDARIES
+    tk, tks = committed_module("tca_kernels"), committed_module("tca_kernels_scalar")
+    layouts = committed_module("layouts")
+    assert tk.MODELS == tuple(kernels.SURFACE_MODELS) == committed_module("surface_models").MODELS and tk.FLANKS == FLANKS
+    assert committed_module("surface_models").DEFAULT_MODEL in tk.MODELS
+    assert tk.UNKNOWNS == kernels.UNKNOWNS == committed_module("contact_system").UNKNOWNS
+    assert tk.BOUNDARIES == committed_module("flank_boundaries").BOUNDARIES
     assert tk.CONTACT_BOUNDARIES == tuple(f"{who} {b}" for who in ("pinion", "gear") for b in tk.BOUNDARIES)
     params = {k: spec_arg(f"surface_{k}", "surface_left", "params").symbol for k in tk.MODELS}
     assert {k: v.__name__ for k, v in tk.SURFACE_LAYOUTS.items()} == {k: lay.name for k, lay in params.items()}
@@ -257,7 +257,7 @@ def test_imports(name):
         else:  # from .<module> import <function> as _<name>
             imported.add(node.module)
             for a in node.names:
-                assert hasattr(committed(node.module), a.name), f"generated/{name}: `{ast.unparse(node)}`"
+                assert hasattr(committed_module(node.module), a.name), f"generated/{name}: `{ast.unparse(node)}`"
     assert imported <= siblings, f"generated/{name} imports {sorted(imported - siblings)}"
     scalar = module.endswith("_scalar")
     assert all(m.endswith("_scalar") == scalar for m in imported - {"layouts"}), sorted(imported)

@@ -35,7 +35,7 @@ BATCH = 7
 
 @pytest.mark.parametrize("module, function", FUNCTIONS, ids=FUNCTION_IDS)
 def test_outputs_have_documented_shapes(specs, module, function):
-    mod = committed(module)
+    mod = committed_module(module)
     f = getattr(mod, function)
     fn = spec_function(specs, module, function)
     cls, inputs, outputs = documented(f)
@@ -56,7 +56,7 @@ def test_outputs_have_documented_shapes(specs, module, function):
 
 @pytest.mark.parametrize("module, function", FUNCTIONS, ids=FUNCTION_IDS)
 def test_batch_equals_stack_of_scalar_calls(module, function):
-    f = getattr(committed(module), function)
+    f = getattr(committed_module(module), function)
     values = sample(module, function, BATCH)
     batch = f(**values)
     singles = [f(**{k: at(v, i) for k, v in values.items()}) for i in range(BATCH)]
@@ -70,14 +70,14 @@ def test_design_kernels_take_integer_tooth_numbers():
     values = sample("design_equations", "direct_design", BATCH)
     as_int = dict(values, pinion_teeth=values["pinion_teeth"].astype(int),
                   gear_teeth=values["gear_teeth"].astype(int))
-    dm = committed("design_equations")
+    dm = committed_module("design_equations")
     for a, b in zip(dm.direct_design(**as_int), dm.direct_design(**values)):
         assert_close(as_batch(a, BATCH, ()), as_batch(b, BATCH, ()), 0.0, "direct_design with int teeth")
 
 
 def _broadcast_failures(module, function):
     """Arguments that, alone given as a batch (others one point), do not batch every output."""
-    f = getattr(committed(module), function)
+    f = getattr(committed_module(module), function)
     shapes = documented_shapes(f)
     values = sample(module, function, BATCH)
     failures = []
@@ -102,7 +102,7 @@ def test_one_batched_argument_batches_every_output(module, function):
 @pytest.mark.parametrize("module, function", FUNCTIONS, ids=FUNCTION_IDS)
 def test_mixed_scalar_and_array_arguments_broadcast(module, function):
     """Half the arguments as one point, half as batches: same values as the all-batch call."""
-    f = getattr(committed(module), function)
+    f = getattr(committed_module(module), function)
     shapes = documented_shapes(f)
     values = sample(module, function, BATCH)
     keep_scalar = list(values)[1::2]
@@ -115,8 +115,8 @@ def test_mixed_scalar_and_array_arguments_broadcast(module, function):
 def test_positions_times_misalignments_broadcast():
     """Points (7,) x assembly-error sets (4, 1, 5) -> (4, 7, ...) in one call of the composed
     contact system, equal to row-by-row calls."""
-    tk = committed("tca_kernels")
-    shapes = documented_shapes(committed("contact_system").contact_residual)
+    tk = committed_module("tca_kernels")
+    shapes = documented_shapes(committed_module("contact_system").contact_residual)
     values = sample_contact(BATCH)
     errors = values["errors"]
     grid = tk.contact_system(MODEL, MODEL, "left", **dict(values, errors=errors[:4, None, :]))

@@ -35,7 +35,7 @@ pytestmark = pytest.mark.xdist_group("generated")
 def _contact_jacobian_cases(tk):
     """(argument, index, output, column of that output) of every Jacobian of tca_kernels.contact_system."""
     return ([("x", k, "residual_D_unknowns", k) for k in range(len(tk.UNKNOWNS))]
-            + [("errors", k, "residual_D_errors", k) for k in range(len(committed("layouts").AssemblyErrors._fields))]
+            + [("errors", k, "residual_D_errors", k) for k in range(len(committed_module("layouts").AssemblyErrors._fields))]
             + [("pinion_angle", None, "residual_D_pinion_angle", None)])
 
 
@@ -43,7 +43,7 @@ def _contact_jacobian_cases(tk):
 def test_contact_system_jacobians(flank):
     """The composed Eq 38 system (surface jets -> contact_residual): its exact Jacobians are the
     derivatives of its residual, which checks the chain rule inside contact_residual."""
-    tk = committed("tca_kernels")
+    tk = committed_module("tca_kernels")
     f = functools.partial(tk.contact_system, MODEL, MODEL, flank)
     values = sample_contact(N_POINTS)
     out = f(**values)
@@ -56,7 +56,7 @@ def test_contact_system_jacobians(flank):
 @pytest.mark.parametrize("module", SURFACE_MODULES)
 @pytest.mark.parametrize("flank", FLANKS)
 def test_surface_jet_and_second_derivatives(module, flank):
-    sm = committed(module)
+    sm = committed_module(module)
     surface = getattr(sm, f"surface_{flank}")
     jet = getattr(sm, f"surface_jet_{flank}")
     values = sample(module, surface.__name__, N_POINTS)
@@ -79,9 +79,9 @@ def test_surface_jet_and_second_derivatives(module, flank):
 
 
 def test_flank_margins_derivatives():
-    f = committed("flank_boundaries").flank_margins
+    f = committed_module("flank_boundaries").flank_margins
     values = sample("flank_boundaries", "flank_margins", N_POINTS)
-    fields = committed("layouts").FlankBlank._fields
+    fields = committed_module("layouts").FlankBlank._fields
     toe, heel = (values["blank"][:, fields.index(k)] for k in ("toe_z_mm", "heel_z_mm"))
     assert {False, True} <= set(toe < heel)  # the sampled blanks have the toe on either side of the heel
     out = f(**values)
@@ -93,7 +93,7 @@ def test_flank_margins_derivatives():
 
 
 def test_offset_residual_derivative():
-    f = committed("design_equations").offset_residual
+    f = committed_module("design_equations").offset_residual
     values = sample("design_equations", "offset_residual", N_POINTS)
     d, rtol = derivative(f, values, "alpha_nw", "residual")
     assert_close(f(**values).residual_D_alpha_nw, d, rtol, "residual_D_alpha_nw")
@@ -103,16 +103,16 @@ def test_complex_step_is_what_the_jacobian_tests_use():
     """The kernels are complex-analytic (numpy trig/sqrt/arc*), so the exact complex step applies:
     to every kernel differentiated above, and through the glue's composition."""
     def case(module, function, *args):
-        return getattr(committed(module), function), sample(module, function, 3), *args
+        return getattr(committed_module(module), function), sample(module, function, 3), *args
 
-    contact = functools.partial(committed("tca_kernels").contact_system, MODEL, MODEL, "right")
+    contact = functools.partial(committed_module("tca_kernels").contact_system, MODEL, MODEL, "right")
     cases = ([case("design_equations", "offset_residual", "alpha_nw", None, "residual"),
               case("flank_boundaries", "flank_margins", "l", None, "margins")]
              + [case("flank_boundaries", "flank_margins", "point", k, "margins") for k in range(3)]
              + [case(m, f"surface{kind}_{flank}", arg, None, "point")
                 for m in SURFACE_MODULES for kind in ("", "_jet") for flank in FLANKS for arg in ("l", "u")]
              + [(contact, sample_contact(3), arg, index, "residual")
-                for arg, index, _, _ in _contact_jacobian_cases(committed("tca_kernels"))])
+                for arg, index, _, _ in _contact_jacobian_cases(committed_module("tca_kernels"))])
     fallback = [f"{getattr(f, '__name__', 'tca_kernels.contact_system')} d/d {arg}[{index}]"
                 for f, values, arg, index, output in cases
                 if derivative(f, values, arg, output, index)[1] != COMPLEX_STEP_RTOL]

@@ -73,7 +73,7 @@ def test_registry_variant_adds_its_surface_module(variant):
     assert changed == sorted({"__init__.py", "layouts.py", "surface_shifted.py", "surface_shifted_scalar.py"}
                              | set(kernels.glue_files()))
     assert "class ShiftedSurfaceParams(typing.NamedTuple)" in variant.files["layouts.py"]
-    committed = committed(f"surface_{MODEL}")
+    committed = committed_module(f"surface_{MODEL}")
     for flank in FLANKS:
         values = sample(f"surface_{MODEL}", f"surface_{flank}", N_POINTS)
         for kind in ("surface", "surface_jet", "surface_second_derivatives"):
@@ -93,10 +93,10 @@ def test_registry_variant_reaches_the_contact_system(variant, flank):
     assert tk.MODELS == (MODEL, "shifted")
     values = sample_contact(N_POINTS)
     base = tk.contact_system(MODEL, MODEL, flank, **values)
-    for name, a, b in zip(base._fields, base, committed("tca_kernels").contact_system(MODEL, MODEL, flank, **values)):
+    for name, a, b in zip(base._fields, base, committed_module("tca_kernels").contact_system(MODEL, MODEL, flank, **values)):
         assert_close(a, b, 0.0, f"{MODEL} pair through the variant glue: {name}")
 
-    placement = committed("placement")
+    placement = committed_module("placement")
     at = dict(pinion_angle=values["pinion_angle"], pair=values["pair"])
     rotation = placement.pinion_placement(**at).rotation
     d_rotation, rtol = derivative(placement.pinion_placement, at, "pinion_angle", "rotation")

@@ -53,7 +53,7 @@ def _lambdified_outputs(fn, values, n):
 def test_generated_matches_symbolic(specs, module, function):
     fn = spec_function(specs, module, function)
     values = sample(module, function, N_POINTS)
-    generated = getattr(committed(module), function)(**values)
+    generated = getattr(committed_module(module), function)(**values)
     assert len(generated) == len(fn.outputs)
     for o, got, want in zip(fn.outputs, generated, _lambdified_outputs(fn, values, N_POINTS)):
         assert_close(as_batch(got, N_POINTS, expr_shape(o.expr)), want, RTOL, f"{function}.{o.name}")
