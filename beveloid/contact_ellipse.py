@@ -22,7 +22,7 @@ null with its status beside it.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -198,11 +198,16 @@ def flank_ellipses(geom, fr, errors, approach_mm=DEFAULT_APPROACH_MM) -> Contact
     return ellipses(geom, fr.flank, fr.unknowns, phi1, errors, valid, approach_mm)
 
 
-def attach(result, approach_mm=DEFAULT_APPROACH_MM):
-    """A :class:`beveloid.tca.TCAResult` whose flanks carry their contact ellipses (a new result:
-    ``result`` is not changed; one that already carries them at this approach is returned as it is)."""
-    from .tca import with_ellipses
+def with_ellipses(result, approach_mm=DEFAULT_APPROACH_MM):
+    """A new :class:`beveloid.tca.TCAResult` whose flanks carry their contact ellipses at the
+    elastic approach (mm); ``result`` is not changed."""
+    flanks = {k: replace(fr, contact_ellipse=flank_ellipses(result.geometry, fr, result.errors, approach_mm))
+              for k, fr in result.flanks.items()}
+    return replace(result, flanks=flanks, approach_mm=approach_mm)
 
+
+def attach(result, approach_mm=DEFAULT_APPROACH_MM):
+    """:func:`with_ellipses`, or ``result`` itself when it already carries them at this approach."""
     if result.approach_mm == approach_mm and all(fr.contact_ellipse is not None for fr in result.flanks.values()):
         return result
     return with_ellipses(result, approach_mm)

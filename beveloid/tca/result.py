@@ -1,11 +1,12 @@
 """The result of a TCA (immutable) and its JSON writer, and analyze()."""
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from .. import assembly_errors
+from ..contact_ellipse import with_ellipses
 from ..geometry import PairGeometry
 from ..solver import Solver
 from .backlash import Backlash, backlash
@@ -53,15 +54,6 @@ def to_json_dict(result: TCAResult) -> dict:
     if bl is not None and bl.um is None:
         out["notes"].append(f"backlash not measured ({bl.status}): {bl.reason}")
     return out
-
-
-def with_ellipses(result: TCAResult, approach_mm) -> TCAResult:
-    """A new result whose flanks carry their contact ellipses at the elastic approach (mm)."""
-    from ..contact_ellipse import flank_ellipses
-
-    flanks = {k: replace(fr, contact_ellipse=flank_ellipses(result.geometry, fr, result.errors, approach_mm))
-              for k, fr in result.flanks.items()}
-    return replace(result, flanks=flanks, approach_mm=approach_mm)
 
 
 def _notes(flanks: dict[str, FlankResult], positions):
