@@ -4,7 +4,7 @@ tests/solver/test_solver_model_plugin.py; not part of the product."""
 import sympy as sp
 
 from . import eq04_07_tooth_surface as involute
-from .codegen import Field
+from .interface import Field
 
 axial_shift = sp.Symbol("axial_shift_mm", real=True)
 
