@@ -13,19 +13,12 @@ import sympy as sp
 from beveloid import tca
 from beveloid.solver import patch_cover
 from beveloid.derivations import patch_clearance
-from beveloid.design import design
 from beveloid.generated import flank_boundaries, layouts, patch_clearance as pc_kernels, placement
 from beveloid.solver import backends, core
-from beveloid.spec import load_spec
 from beveloid.status import Status
 
 ROOT = Path(__file__).resolve().parents[2]
 COLS = {name: i for i, name in enumerate(patch_cover.CELL_FIELDS)}
-
-
-@pytest.fixture(scope="module")
-def geom1():
-    return tca.PairGeometry.from_design(design(load_spec(ROOT / "examples" / "case1.toml")))
 
 
 def test_gear_angle_only_turns_the_gear_frame_about_its_axis():

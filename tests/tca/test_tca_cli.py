@@ -58,18 +58,9 @@ def run_json(capsys, argv):
     return strict_json(out)  # stdout holds the JSON and nothing else
 
 
-def _geom(path):
-    return tca.PairGeometry.from_design(design(load_spec(path)))
-
-
 @pytest.fixture(scope="module")
-def geom1():
-    return _geom(CASE1)
-
-
-@pytest.fixture(scope="module")
-def geom2():
-    return _geom(CASE2)
+def geom2(pair2):
+    return pair2.geometry
 
 
 def _is_finite_number(v):

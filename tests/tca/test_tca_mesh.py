@@ -30,11 +30,6 @@ def geom(request):
     return tca.PairGeometry.from_design(design(load_spec(ROOT / "examples" / f"{request.param}.toml")))
 
 
-@pytest.fixture(scope="module")
-def geom1():
-    return tca.PairGeometry.from_design(design(load_spec(ROOT / "examples" / "case1.toml")))
-
-
 # ---- an independent transcription of the printed placement (Eqs 30, 33, 34) -----------------
 def _printed_Mf1(phi1, z1):
     c, s = math.cos(phi1), math.sin(phi1)
