@@ -51,13 +51,11 @@ def run(args: argparse.Namespace) -> int:
     """
     from .. import tca
     from ..pair import Pair
-    from ..spec import load_spec
     from ..progress import for_terminal
-    from ..sweep import sweep
-
     from ..solver import Solver
     from ..solver.backends import BackendError
-    from ..sweep import SweepSizeError, check_sweep_size
+    from ..spec import load_spec
+    from ..sweep import SweepSizeError, check_sweep_size, sweep
 
     try:
         check_sweep_size(args.samples, args.positions, flags=True)

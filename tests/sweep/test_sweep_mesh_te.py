@@ -6,7 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from beveloid import assembly_errors, crowning_study, sweep, tca
+from beveloid import assembly_errors, sweep, tca
+from beveloid.studies import crowning as crowning_study
 
 ZERO = {k: 0.0 for k in sweep.DEFAULT_RANGES}
 
