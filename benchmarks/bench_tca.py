@@ -122,7 +122,8 @@ def run(repeats=5, only=None):
                 "W3": dict(sweep_workload(crowned_case1()), target_us_per_point=3.0, target_speedup=1000,
                            crowning_um=20.0)}
     t_imp = time.perf_counter()
-    from beveloid import patch_cover, sweep, tca
+    from beveloid import sweep, tca
+    from beveloid.solver import patch_cover
     from beveloid.solver import backends
     from beveloid.design import design
     from beveloid.spec import load_spec
@@ -143,7 +144,7 @@ def run(repeats=5, only=None):
     for _ in range(repeats):
         # a new design pays for every per-geometry cache: the reference contacts, the first-touch
         # signs, the whole pitches of the backlash and the pinion patch covers
-        for cached in (tca.reference_contact, tca.first_touch_sign, tca._whole_pitches, patch_cover.patch_cover):
+        for cached in (tca.reference_contact, tca.first_touch_sign, tca.whole_pitches, patch_cover.patch_cover):
             cached.cache_clear()
         t = time.perf_counter()
         geom, res = w1()

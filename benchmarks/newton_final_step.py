@@ -3,7 +3,7 @@
     python benchmarks/newton_final_step.py
 
 The solver core ends Newton after a step s with FINAL_STEP_K |s|^2 <= tol without evaluating
-again (beveloid/solver/core.py).  This script measures, with that shortcut switched off, every
+again (beveloid/solver/newton.py).  This script measures, with that shortcut switched off, every
 Newton step that was followed by convergence on W2-like paths (case 1, 20 error sets x 50
 positions, right flank, numpy backend) for the involute pair and its crowned variant (20 um):
 the residual before the step, the step size |s| (angle times the length scale) and the residual
@@ -14,13 +14,13 @@ import numpy as np
 from beveloid import sweep, tca
 from beveloid.studies.crowning import crowned_geometry
 from beveloid.design import design
-from beveloid.solver import core
+from beveloid.solver import first_touch, newton
 from beveloid.spec import load_example
 
 
 def measure(geom):
     steps = []
-    original = core.newton_update
+    original = newton.newton_update
 
     def recording(F, J, x, step, r, tol, last, scale):
         s = original(F, J, x, step, r, tol, last, scale)
@@ -28,14 +28,18 @@ def measure(geom):
         steps.append((s, r, size))
         return s
 
-    saved = core.FINAL_STEP_K
-    core.FINAL_STEP_K, core.newton_update = float("inf"), recording  # no shortcut: every step is checked
+    saved = newton.FINAL_STEP_K
+    newton.FINAL_STEP_K = float("inf")  # no shortcut: every step is checked
+    for mod in (newton, first_touch):  # the modules whose functions call newton_update
+        mod.newton_update = recording
     try:
         lo, hi = sweep.engagement_window(geom, "right", backend="numpy")
         steps.clear()
         tca.solve_grid(geom, "right", sweep.draw_errors(20, seed=0), np.linspace(lo, hi, 50), "numpy")
     finally:
-        core.FINAL_STEP_K, core.newton_update = saved, original
+        newton.FINAL_STEP_K = saved
+        for mod in (newton, first_touch):
+            mod.newton_update = original
     rows = np.array([(a[1], a[2], b[1]) for a, b in zip(steps, steps[1:]) if a[0] == 0 and b[0] == 1])
     return rows, tca.newton_tolerance(geom)
 
@@ -51,7 +55,7 @@ def main():
             r0, s, r1 = np.percentile(rows, q, axis=0)
             print(f"  p{q:<3} residual before {r0:.2e} mm, step {s:.2e} mm, residual after {r1:.2e} mm")
         print(f"  K = after / step^2 over {len(big)} steps > 1e-6 mm: median {np.median(k):.3g}, "
-              f"max {k.max():.3g} /mm (core.FINAL_STEP_K = {core.FINAL_STEP_K})")
+              f"max {k.max():.3g} /mm (newton.FINAL_STEP_K = {newton.FINAL_STEP_K})")
 
 
 if __name__ == "__main__":

@@ -22,7 +22,7 @@ null with its status beside it.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -198,12 +198,19 @@ def flank_ellipses(geom, fr, errors, approach_mm=DEFAULT_APPROACH_MM) -> Contact
     return ellipses(geom, fr.flank, fr.unknowns, phi1, errors, valid, approach_mm)
 
 
+def with_ellipses(result, approach_mm=DEFAULT_APPROACH_MM):
+    """A new :class:`beveloid.tca.TCAResult` whose flanks carry their contact ellipses at the
+    elastic approach (mm); ``result`` is not changed."""
+    flanks = {k: replace(fr, contact_ellipse=flank_ellipses(result.geometry, fr, result.errors, approach_mm))
+              for k, fr in result.flanks.items()}
+    return replace(result, flanks=flanks, approach_mm=approach_mm)
+
+
 def attach(result, approach_mm=DEFAULT_APPROACH_MM):
-    """Add contact ellipses to every flank of a :class:`beveloid.tca.TCAResult` (in place)."""
-    result.approach_mm = approach_mm
-    for fr in result.flanks.values():
-        fr.contact_ellipse = flank_ellipses(result.geometry, fr, result.errors, approach_mm)
-    return result
+    """:func:`with_ellipses`, or ``result`` itself when it already carries them at this approach."""
+    if result.approach_mm == approach_mm and all(fr.contact_ellipse is not None for fr in result.flanks.values()):
+        return result
+    return with_ellipses(result, approach_mm)
 
 
 def ellipse_outline(ce: ContactEllipses, i, n=48, truncate=True):

@@ -154,27 +154,37 @@ def tca_summary(result, geom, out_png, title=""):
             ax.set_xlabel("axial position z (mm)  toe -> heel")
             ax.set_ylabel("radius (mm)")
             ax.set_title(f"{which}, {flank} flank: contact path"
-                         + (" and bearing pattern" if fr.contact_ellipse is not None else ""))
+                         + (" and bearing pattern" if fr.contact_ellipse is not None else ""), fontsize=10)
             ax.grid(alpha=0.3)
         row[1].legend(fontsize=8)
         ax = row[2]
         phi = np.degrees(fr.pinion_angle)
         te = fr.transmission_error * 1e6
+        act = fr.active & np.isfinite(te)
         for k in sorted(set(fr.tooth_pair.tolist())):
             sel = (fr.tooth_pair == k) & np.isfinite(te)
-            ax.plot(phi[sel], te[sel], lw=1.0, label=f"pair {k:+d}")
-        act = fr.active & np.isfinite(te)
+            # each pair faint where it does not carry the contact (its curve runs far outside the
+            # envelope there), solid where it does
+            line, = ax.plot(phi[sel], te[sel], lw=0.8, alpha=0.35)
+            carry = np.where(act & (fr.tooth_pair == k), te, np.nan)[fr.tooth_pair == k]
+            ax.plot(phi[fr.tooth_pair == k], carry, lw=1.6, color=line.get_color(), label=f"pair {k:+d}")
         ax.plot(phi[act], te[act], "k.", ms=2, label="contact (envelope)")
         ax.set_xlabel("pinion angle phi'_1 (deg)")
         ax.set_ylabel("TE (urad)")
         ptp = fr.te_peak_to_peak * 1e6
+        if act.any() and not te_axis(ax, te[act], [ptp]):
+            lo, hi = float(te[act].min()), float(te[act].max())
+            pad = max(0.25 * (hi - lo), 0.5)
+            ax.set_ylim(lo - pad, hi + pad)  # the envelope, not each pair's whole path
         if np.isfinite(ptp):
-            te_axis(ax, te[act], [ptp])
-            ax.set_title(f"{flank} flank: TE, peak-to-peak {ptp:.2e} urad from {int(act.sum())} points")
+            ax.set_title(f"{flank} flank: TE (peak-to-peak {ptp:.3g} urad,\n{int(act.sum())} contact points;"
+                         f" faint: pairs out of contact)", fontsize=10)
+        elif act.any():
+            ax.set_title(f"{flank} flank: TE at one position\n(peak-to-peak not available)", fontsize=10)
         else:
             st = list(fr.status)
-            ax.set_title(f"{flank} flank: no TE: no contact on the flanks ({st.count('outside')} outside,"
-                         f" {st.count('failed')} not solved)")
+            ax.set_title(f"{flank} flank: no TE: no contact on the flanks\n({st.count('outside')} outside,"
+                         f" {st.count('failed')} not solved)", fontsize=10)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
     _save(fig, out_png, title, dpi=100)

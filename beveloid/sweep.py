@@ -7,32 +7,40 @@ same generated equations: "compiled" (numba, the default when installed) and "nu
 """
 from __future__ import annotations
 
-import sys
+import math
 import time
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import assembly_errors, tca
+from . import assembly_errors, mesh, tca
 from .status import Status, carries_numbers
 
 #: Default half-widths of the uniform error ranges, keyed and in units as assembly_errors.ERRORS.
 DEFAULT_RANGES = dict(zip(assembly_errors.KEYS, (0.5, 0.5, 0.5, 0.2, 0.03)))
 #: samples x positions above this is refused: the sweep holds ~220 bytes per contact point (~1.1 GB here).
 MAX_CONTACT_POINTS = 5_000_000
+#: (smallest, largest) samples and positions of a sweep: the one range table the CLI reads
+SIZES = {"samples": (1, 10_000_000), "positions": (2, 10_000)}
 
 
-def check_sweep_size(samples, positions):
-    """samples >= 1, positions >= 2 and samples * positions <= MAX_CONTACT_POINTS, else a one-line UserError."""
-    from .errors import UserError
+class SweepSizeError(ValueError):
+    """A sweep size out of range (one line naming it, its value and what is valid)."""
 
-    for name, v, lo in (("samples", samples, 1), ("positions", positions, 2)):
-        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < lo:
-            raise UserError(f"{name} = {v!r}: must be an integer >= {lo}")
+
+def check_sweep_size(samples, positions, flags=False):
+    """The sizes of SIZES, and samples * positions <= MAX_CONTACT_POINTS, else a one-line
+    SweepSizeError (``flags``: named as the command line's --samples, --positions)."""
+    name = (lambda n: "--" + n) if flags else (lambda n: n)
+    for key, v in (("samples", samples), ("positions", positions)):
+        lo, hi = SIZES[key]
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not lo <= v <= hi:
+            raise SweepSizeError(f"{name(key)} = {v!r}: must be an integer from {lo} to {hi}")
     if samples * positions > MAX_CONTACT_POINTS:
-        raise UserError(f"samples x positions = {samples} x {positions} = {samples * positions} contact points:"
-                        f" at most {MAX_CONTACT_POINTS} per sweep (memory, ~220 bytes a point); use fewer"
-                        f" samples or positions, or run several sweeps with different seeds")
+        raise SweepSizeError(f"{name('samples')} x {name('positions')} = {samples} x {positions} ="
+                             f" {samples * positions} contact points: at most {MAX_CONTACT_POINTS} per sweep"
+                             f" (memory, ~220 bytes a point); use fewer samples or positions, or run several"
+                             f" sweeps with different seeds")
 
 
 def draw_errors(samples, ranges=None, seed=0, nominal=None):
@@ -47,7 +55,7 @@ def draw_errors(samples, ranges=None, seed=0, nominal=None):
     return centre + rng.uniform(-1.0, 1.0, (samples, 5)) * half
 
 
-def engagement_window(geom, flank, ref=None, resolution=400, backend="auto"):
+def engagement_window(geom, flank, ref=None, resolution=400, backend: "tca.Solver | str" = "auto"):
     """Pinion-angle interval over which the aligned pair-0 contact is 'ok' (rad)."""
     ref = ref or tca.reference_contact(geom, flank)
     p1, _ = geom.pitch_angles
@@ -55,7 +63,7 @@ def engagement_window(geom, flank, ref=None, resolution=400, backend="auto"):
     sol = tca.solve_grid(geom, flank, np.zeros((1, len(tca.ERROR_NAMES))), grid, backend)
     ok = np.nonzero(sol.status[0] == Status.OK)[0]
     if ok.size == 0:
-        raise RuntimeError(f"the aligned {flank} flank has no contact on the flanks")
+        raise tca.NoContactError(f"the aligned {flank} flank has no contact on the flanks")
     lo, hi = grid[ok[0]], grid[ok[-1]]
     return lo, hi
 
@@ -70,7 +78,7 @@ def _stats(v):
             "p95": float(np.percentile(v, 95)), "max": float(v.max())}
 
 
-@dataclass
+@dataclass(frozen=True)
 class SweepResult:
     flank: str
     samples: int
@@ -126,33 +134,58 @@ class SweepResult:
         }
 
 
-def _progress_bar(done, total, t0, stream=sys.stderr, width=30):
-    frac = done / total
-    bar = "#" * int(width * frac) + "-" * (width - int(width * frac))
-    el = time.perf_counter() - t0
-    eta = el / frac - el if frac > 0 else float("nan")
-    stream.write(f"\r  [{bar}] {done}/{total} error sets  {el:5.1f} s  eta {eta:5.1f} s")
-    stream.flush()
-    if done == total:
-        stream.write("\n")
+def position_lattice(ref_angle, lo, hi, positions, pinion_pitch):
+    """(pinion angles (positions,), steps per pinion pitch m, lattice index of the first angle):
+    ``positions`` angles ref + j p1/m inside [lo, hi] less 1 % at each end (the aligned
+    engagement), m the fewest steps per pitch that fit them, centred; on this lattice a mesh cycle
+    folds exactly onto neighbouring pairs (see mesh_te_peak_to_peak)."""
+    pad = 0.01 * (hi - lo)
+    a, b = lo + pad - ref_angle, hi - pad - ref_angle
+    m = max(1, math.ceil(pinion_pitch * positions / (b - a)))
+    h = pinion_pitch / m
+    first_slot, last_slot = math.ceil(a / h), math.floor(b / h)
+    first = first_slot + max(0, (last_slot - first_slot - (positions - 1)) // 2)
+    return ref_angle + h * (first + np.arange(positions)), m, first
+
+
+def mesh_te_peak_to_peak(te, m, first, sign):
+    """Peak-to-peak (K,) of the mesh TE envelope from pair 0's TE (K, N) on the lattice of
+    :func:`position_lattice` (nan where no contact): pair k at angle phi is pair 0 at phi - k p1,
+    so angles one pinion pitch (m steps) apart are the same cycle angle of neighbouring pairs;
+    the envelope over them (mesh.envelope, the flank's first-touch sign) is the TE of the mesh,
+    as tca reports it.  nan for a set without contact."""
+    K, N = te.shape
+    idx = first + np.arange(N)
+    cycle, turn = idx % m, idx // m
+    turn = turn - turn.min()
+    folded = np.full((int(turn.max()) + 1, K, m), np.nan)
+    folded[turn, :, cycle] = te.T
+    env, _ = mesh.envelope(folded, sign)
+    return mesh.peak_to_peak(env)
 
 
 def sweep(geom, flank="right", samples=1000, positions=50, seed=0, ranges=None, backend="auto",
-          options=tca.DEFAULT_OPTIONS, progress=None, chunk=2000, nominal=None):
-    """Run the sweep; ``progress`` is a callable(done, total, t0) or None.
+          options=None, progress=None, chunk=2000, nominal=None):
+    """Run the sweep; ``progress`` is a callable(done, total, t0) or None (beveloid.progress).
+
+    ``geom``: a :class:`beveloid.pair.Pair` or its PairGeometry; ``backend``: a
+    :class:`beveloid.solver.Solver` or a backend name (``options`` override its SolverOptions).
+    The positions lie on a lattice of whole fractions of a pinion pitch over the aligned
+    engagement (:func:`position_lattice`), so that the TE peak-to-peak is the mesh TE envelope's
+    (as tca's), the neighbouring pairs being the same path a pitch earlier or later.
 
     Error sets are drawn uniformly within ``ranges`` (half-widths) about ``nominal`` (mm / deg dicts).
     """
     check_sweep_size(samples, positions)
     t_start = time.perf_counter()
+    geom = tca.geometry_of(geom)
     errors = draw_errors(samples, ranges, seed, nominal)
     ref = tca.reference_contact(geom, flank)
-    backend = tca.resolve_backend(backend)
-    lo, hi = engagement_window(geom, flank, ref, backend=backend)
-    pad = 0.01 * (hi - lo)
-    grid = np.linspace(lo + pad, hi - pad, positions)
+    solver = tca.as_solver(backend, options)
+    lo, hi = engagement_window(geom, flank, ref, backend=solver)
+    grid, per_pitch, first = position_lattice(ref.pinion_angle, lo, hi, positions, geom.pitch_angles[0])
     # aligned path (the shift reference)
-    xa = tca.solve_grid(geom, flank, np.zeros((1, len(tca.ERROR_NAMES))), grid, backend, options).x
+    xa = tca.solve_grid(geom, flank, np.zeros((1, len(tca.ERROR_NAMES))), grid, solver).x
     p_al, g_al = tca.contact_points(geom, flank, xa[0])
     t0 = time.perf_counter()
     X = np.empty((samples, positions, 5))
@@ -160,23 +193,22 @@ def sweep(geom, flank="right", samples=1000, positions=50, seed=0, ranges=None, 
     IT = np.empty((samples, positions), dtype=np.int64)
     for start in range(0, samples, chunk):
         sl = slice(start, min(samples, start + chunk))
-        X[sl], C[sl], IT[sl] = tca.solve_grid(geom, flank, errors[sl], grid, backend, options)
+        X[sl], C[sl], IT[sl] = tca.solve_grid(geom, flank, errors[sl], grid, solver)
         if progress:
             progress(sl.stop, samples, t0)
     seconds = time.perf_counter() - t0
     ok = carries_numbers(C)
-    P1, P2 = tca.solved_contact_points(geom, flank, X, C, backend)
+    P1, P2 = tca.solved_contact_points(geom, flank, X, C, solver)
     n_ok = ok.sum(axis=1)
     has = n_ok > 0
     pinion_shift = np.full(samples, np.nan)
     gear_shift = np.full(samples, np.nan)
     pinion_shift[has] = np.where(ok, P1[..., 2] - p_al[None, :, 2], 0.0).sum(axis=1)[has] / n_ok[has]
     gear_shift[has] = np.where(ok, P2[..., 2] - g_al[None, :, 2], 0.0).sum(axis=1)[has] / n_ok[has]
-    N1, N2 = geom.pinion.teeth, geom.gear.teeth
-    te = tca.unknowns(X).gear_angle_rad + (N1 / N2) * grid[None, :]
-    ptp = np.full(samples, np.nan)
-    ptp[has] = (np.where(ok, te, -np.inf).max(axis=1) - np.where(ok, te, np.inf).min(axis=1))[has]
-    s = tca.sensitivity(geom, flank)
+    te = mesh.transmission_error(tca.unknowns(X).gear_angle_rad, grid[None, :], tca.unknowns(ref.x).gear_angle_rad,
+                                 ref.pinion_angle, geom.pinion.teeth / geom.gear.teeth)
+    ptp = mesh_te_peak_to_peak(np.where(ok, te, np.nan), per_pitch, first, tca.first_touch_sign(geom, flank))
+    s = tca.sensitivity(geom, flank, backend=solver)
     names = assembly_errors.KEYS
     per = [e.to_layout for e in assembly_errors.ERRORS]
     sens = {
@@ -186,7 +218,8 @@ def sweep(geom, flank="right", samples=1000, positions=50, seed=0, ranges=None, 
         "units": "per mm for dx, dy, dz; per degree for vertical, horizontal; at the aligned pitch point",
     }
     r = dict(DEFAULT_RANGES, **(ranges or {}))
-    out = SweepResult(flank, samples, positions, errors, grid, C, pinion_shift, gear_shift, ptp, sens, backend,
-                      seconds, float(IT.mean()), r, {k: 0.0 for k in DEFAULT_RANGES} | dict(nominal or {}))
-    out.seconds_total = time.perf_counter() - t_start
-    return out
+    return SweepResult(flank=flank, samples=samples, positions=positions, errors=errors, pinion_angles=grid,
+                       status_codes=C, pinion_shift_mm=pinion_shift, gear_shift_mm=gear_shift, te_peak_to_peak=ptp,
+                       sensitivity=sens, backend=solver.backend, seconds=seconds, newton_iterations_mean=float(IT.mean()),
+                       ranges=r, nominal_errors={k: 0.0 for k in DEFAULT_RANGES} | dict(nominal or {}),
+                       seconds_total=time.perf_counter() - t_start)

@@ -32,7 +32,7 @@ phi(l, u) = (n_xc y_c - n_yc x_c) / (r n_xc) with the displaced point and normal
 import sympy as sp
 
 from . import eq04_07_tooth_surface as involute
-from .codegen import Field
+from .interface import Field
 from .eq01_03_rack_cutter import rack_normal, rack_point
 from .symbols import a, alpha_n, l, m_n, n_xc, n_yc, phi, u, x_c, y_c
 

@@ -182,7 +182,7 @@ def _extra_section(extra) -> list[str]:
     lines += [""] + [f"> **Note.** {r.note}" for r in extra if r.note]
     lines += ["", "The same crossing angle taken from the real surfaces' principal directions at the solved "
               "pitch-point contact (beveloid/curvature.py) is held against the designed xi over designs in "
-              "tests/test_fpd_curvature.py; numbers in docs/validation.md."]
+              "tests/tca/test_tca_fpd_curvature.py; numbers in docs/validation.md."]
     return lines
 
 

@@ -15,7 +15,7 @@ edge contact (curve against surface) uses the same functions and their derivativ
 """
 import sympy as sp
 
-from .codegen import Field, Layout, with_trig
+from .interface import Field, Layout, with_trig
 from .symbols import gamma, l, r, s
 
 x, y, z = sp.symbols("x y z", real=True)

@@ -20,7 +20,7 @@ needs one point per call):
 A new tooth-surface model: write a derivation module with ``tooth_surface(sigma)`` returning
 (point, outward unit normal, roll angle) in (l, u) over the symbols of Eqs 1-7, plus optionally
 
-* ``PARAMETERS``: its own fields (a tuple of :class:`codegen.Field`).  A field named like a
+* ``PARAMETERS``: its own fields (a tuple of :class:`interface.Field`).  A field named like a
   member quantity the runtime knows (``face_width_mm``, ``normal_module_mm``) is filled from
   the design; every other field is an input key of the member's TOML section;
 * ``KEYS``: {field name: (default, lowest, highest)} of those input keys;
@@ -43,7 +43,8 @@ from . import (
     codegen, crowned_flank, design_chain, edge_contact, eq04_07_tooth_surface, eq28_38_meshing_model, flank_boundaries,
     patch_clearance,
 )
-from .codegen import Arg, Field, Function, Layout, ModuleSpec, Output, with_trig
+from .codegen import Arg, Function, ModuleSpec, Output
+from .interface import Field, Layout, with_trig
 from .eq01_03_rack_cutter import LEFT, RIGHT
 from .symbols import (
     E, N1, N2, a, alpha_n, alpha_nw, b, b_c1, b_c2, beta, beta1, beta_w1, d_w1, d_w2, delta, dg_h, dg_v, dx_q,

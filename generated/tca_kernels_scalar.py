@@ -27,6 +27,12 @@ from .surface_crowned_scalar import surface_second_derivatives_left_point as _cr
 from .surface_crowned_scalar import surface_second_derivatives_right_point as _crowned_d2_right
 
 N_UNKNOWNS = 5
+#: index of each unknown in x (tca_kernels.UNKNOWNS, layouts.ContactUnknowns): the glue reads x by name
+PINION_L_MM = 0
+PINION_U_MM = 1
+GEAR_L_MM = 2
+GEAR_U_MM = 3
+GEAR_ANGLE_RAD = 4
 N_ERRORS = 5
 N_MARGINS = 8
 N_BOUNDARIES = 4
@@ -88,9 +94,9 @@ def contact_system_point(pinion_model, gear_model, flank, x, pinion_angle, error
                          out_residual_D_pinion_angle):
     """Eq 38 and its Jacobians at the unknowns x (pinion_l_mm, pinion_u_mm, gear_l_mm, gear_u_mm, gear_angle_rad); keeps both surface jets in ws."""
     p1, n1, dp1, dn1, p2, n2, dp2, dn2, _, _, _ = ws
-    surface_jet_point(pinion_model, flank, x[0], x[1], pinion_params, p1, n1, dp1, dn1)
-    surface_jet_point(gear_model, flank, x[2], x[3], gear_params, p2, n2, dp2, dn2)
-    _contact_residual(p1, n1, dp1, dn1, p2, n2, dp2, dn2, pinion_angle, x[4], errors, pair, out_residual,
+    surface_jet_point(pinion_model, flank, x[PINION_L_MM], x[PINION_U_MM], pinion_params, p1, n1, dp1, dn1)
+    surface_jet_point(gear_model, flank, x[GEAR_L_MM], x[GEAR_U_MM], gear_params, p2, n2, dp2, dn2)
+    _contact_residual(p1, n1, dp1, dn1, p2, n2, dp2, dn2, pinion_angle, x[GEAR_ANGLE_RAD], errors, pair, out_residual,
                       out_residual_D_unknowns, out_residual_D_errors, out_residual_D_pinion_angle)
 
 
@@ -100,12 +106,12 @@ def contact_margin_point(x, pinion_blank, gear_blank, ws):
     p1, _, _, _, p2, _, _, _, m, mdp, mdl = ws
     best = 1e300
     which = -1
-    _flank_margins(p1, x[0], pinion_blank, m, mdp, mdl)
+    _flank_margins(p1, x[PINION_L_MM], pinion_blank, m, mdp, mdl)
     for i in range(4):
         if m[i] < best:
             best = m[i]
             which = i
-    _flank_margins(p2, x[2], gear_blank, m, mdp, mdl)
+    _flank_margins(p2, x[GEAR_L_MM], gear_blank, m, mdp, mdl)
     for i in range(4):
         if m[i] < best:
             best = m[i]
@@ -141,11 +147,11 @@ def candidate_system_point(pinion_model, gear_model, flank, first, second, x, pi
                          ws, out_residual, out_residual_D_unknowns, out_residual_D_errors, out_residual_D_pinion_angle)
     edge = first >= 0 and second < 0
     if edge and first < nb:
-        surface_second_derivatives_point(pinion_model, flank, x[0], x[1], pinion_params, d2p1)
+        surface_second_derivatives_point(pinion_model, flank, x[PINION_L_MM], x[PINION_U_MM], pinion_params, d2p1)
     if edge and first >= nb:
-        surface_second_derivatives_point(gear_model, flank, x[2], x[3], gear_params, d2p2)
-    _boundary_jet(p1, dp1, d2p1, x[0], pinion_blank, m1, m1d, m1dd)
-    _boundary_jet(p2, dp2, d2p2, x[2], gear_blank, m2, m2d, m2dd)
+        surface_second_derivatives_point(gear_model, flank, x[GEAR_L_MM], x[GEAR_U_MM], gear_params, d2p2)
+    _boundary_jet(p1, dp1, d2p1, x[PINION_L_MM], pinion_blank, m1, m1d, m1dd)
+    _boundary_jet(p2, dp2, d2p2, x[GEAR_L_MM], gear_blank, m2, m2d, m2dd)
     for i in range(nb):
         out_margins[i] = m1[i]
         out_margins[nb + i] = m2[i]
@@ -172,13 +178,13 @@ def candidate_system_point(pinion_model, gear_model, flank, first, second, x, pi
                 gd[k] = m1d[first, k]
             for k in range(3):
                 gdd[k] = m1dd[first, k]
-            _pinion_edge_tangency(dp1, d2p1, gd, gdd, n2, dn2, pinion_angle, x[4], errors, pair, t, t_du, t_de, t_dp)
+            _pinion_edge_tangency(dp1, d2p1, gd, gdd, n2, dn2, pinion_angle, x[GEAR_ANGLE_RAD], errors, pair, t, t_du, t_de, t_dp)
         else:
             for k in range(2):
                 gd[k] = m2d[first - nb, k]
             for k in range(3):
                 gdd[k] = m2dd[first - nb, k]
-            _gear_edge_tangency(dp2, d2p2, gd, gdd, n1, dn1, pinion_angle, x[4], errors, pair, t, t_du, t_de, t_dp)
+            _gear_edge_tangency(dp2, d2p2, gd, gdd, n1, dn1, pinion_angle, x[GEAR_ANGLE_RAD], errors, pair, t, t_du, t_de, t_dp)
         out_residual[4] = t[0]
         for c in range(N_UNKNOWNS):
             out_residual_D_unknowns[4, c] = t_du[c]

@@ -6,7 +6,7 @@
 The suite runs in parallel (pytest-xdist, ``-n auto --dist loadgroup`` in pyproject.toml):
 
 * work built once per process and shared by many tests stays in one process: the tests that
-  use ``verification`` form the xdist group "verification", test_generated.py (its sympy
+  use ``verification`` form the xdist group "verification", tests/generated/ (their sympy
   models and renderings, ~60 s) the group "generated";
 * tests marked ``long_running`` (tens of seconds each) are collected first, each followed by
   two ordinary tests (xdist hands a worker another test whenever it has two or fewer left:

@@ -50,20 +50,23 @@ def run(args: argparse.Namespace) -> int:
     peak-to-peak statistics (each with the number of sets behind it) and first-order sensitivities.
     """
     from .. import tca
-    from ..design import design
+    from ..pair import Pair
+    from ..progress import for_terminal
+    from ..solver import Solver
+    from ..solver.backends import BackendError
     from ..spec import load_spec
-    from ..sweep import _progress_bar, sweep
+    from ..sweep import SweepSizeError, check_sweep_size, sweep
 
-    if not 1 <= args.samples <= 10_000_000:
-        raise UserError(f"--samples = {args.samples}: must be an integer from 1 to 10000000")
+    try:
+        check_sweep_size(args.samples, args.positions, flags=True)
+    except SweepSizeError as exc:
+        raise UserError(str(exc)) from None
     if not 0 <= args.seed < 2 ** 63:
         raise UserError(f"--seed = {args.seed}: must be an integer from 0 to 2**63 - 1")
-    if not 2 <= args.positions <= 10_000:
-        raise UserError(f"--positions = {args.positions}: must be an integer from 2 to 10000")
-    if args.samples * args.positions > MAX_CONTACT_POINTS:
-        raise UserError(f"--samples x --positions = {args.samples} x {args.positions} ="
-                        f" {args.samples * args.positions} contact points: at most {MAX_CONTACT_POINTS} per sweep"
-                        f" (memory); use fewer, or several sweeps with different --seed")
+    try:
+        solver = Solver(args.backend)
+    except BackendError as exc:
+        raise UserError(f"--backend = {args.backend}: {exc.requirement}") from None
     ranges = {}
     for key in DEFAULT_RANGES:
         v = getattr(args, key)
@@ -80,15 +83,13 @@ def run(args: argparse.Namespace) -> int:
                 f"{_flag(key)} = {ranges[key]:g} with misalignment.{key} = {centre:g} in the file: the errors"
                 f" would reach {abs(centre) + ranges[key]:g} {unit}; |nominal| + half-width must be <="
                 f" {LIMITS[key]:g} {unit}")
-    geom = tca.PairGeometry.from_design(design(spec))
-    progress = _progress_bar if sys.stderr.isatty() else None
+    pair = Pair.from_spec(spec)
+    progress = for_terminal(sys.stderr)
     try:
-        res = sweep(geom, args.flank, args.samples, args.positions, args.seed, ranges, args.backend,
+        res = sweep(pair, args.flank, args.samples, args.positions, args.seed, ranges, solver,
                     progress=progress, nominal=nominal)
-    except RuntimeError as exc:
+    except tca.NoContactError as exc:
         # the aligned pair has no contact on this flank: the sweep has no engagement to sample
-        if "no contact" not in str(exc):
-            raise
         raise UserError(f"{args.file}: cannot sweep the {args.flank} flank: {exc} (the aligned pair does not"
                         f" touch within the flank boundaries, so there is no engagement to sample); check the"
                         f" design with `beveloid tca {args.file} --flank {args.flank}`") from None

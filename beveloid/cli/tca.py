@@ -43,26 +43,25 @@ def run(args: argparse.Namespace) -> int:
     peak-to-peak and the backlash; --json prints the full arrays.
     """
     from .. import tca
-    from ..design import design
+    from ..contact_ellipse import check_approach
+    from ..pair import Pair
     from ..spec import load_spec
-
-    if args.positions < 3 or args.positions > 100000:
-        raise UserError(f"--positions = {args.positions}: must be an integer from 3 to 100000")
-    if args.pairs < 1 or args.pairs > 9 or args.pairs % 2 == 0:
-        raise UserError(f"--pairs = {args.pairs}: must be an odd integer from 1 to 9")
-    from ..contact_ellipse import attach, check_approach
 
     try:
         approach_mm = check_approach(args.approach_um * 1e-3)
     except ValueError as exc:
         raise UserError(str(exc)) from None
+    try:
+        options = tca.Options(flanks=tca.FLANKS if args.flank == "both" else (args.flank,),
+                              positions=args.positions, pairs=args.pairs, approach_mm=approach_mm)
+    except tca.OptionError as exc:
+        raise UserError(exc.for_flag("--" + exc.key.replace("_", "-"))) from None
     if args.plot is not None:
         check_output_file(args.plot, "--plot", ".png")
     spec = apply_error_flags(load_spec(args.file), args)
-    geom = tca.PairGeometry.from_design(design(spec))
-    flanks = tca.FLANKS if args.flank == "both" else (args.flank,)
-    result = attach(tca.analyze(geom, error_vector(spec), flanks=flanks, positions=args.positions, pairs=args.pairs),
-                    approach_mm)
+    pair = Pair.from_spec(spec)
+    geom = pair.geometry
+    result = tca.analyze(pair, options, tca.Solver())
     if args.plot is not None:
         from ..plots import tca_summary
 
@@ -110,7 +109,8 @@ def format_summary(result, spec) -> str:
         te = fr.transmission_error[fr.active & np.isfinite(fr.transmission_error)]
         n_te = int((fr.active & np.isfinite(fr.transmission_error)).reshape(pairs, positions).any(axis=0).sum())
         mean = f"{te.mean() * 1e6:.3f}" if te.size else "-"
-        ptp = f"{fr.te_peak_to_peak * 1e6:.3e}" if np.isfinite(fr.te_peak_to_peak) else "-"
+        ptp = (f"{fr.te_peak_to_peak * 1e6:.3e}" if np.isfinite(fr.te_peak_to_peak)
+               else "n/a" if positions == 1 else "-")
         its = fr.newton_iterations_mean
         rows.append((flank, *cnt, _z_range(fr.pinion_contact, st), _z_range(fr.gear_contact, st), mean, ptp,
                      "-" if its is None else f"{its:.2f}", f"{n_te}/{positions}"))

@@ -4,9 +4,11 @@
   reference, needs nothing beyond numpy, slow (interpreted).
 * ``"compiled"``: the same functions and kernels compiled by numba (``nogil``, the sweep in
   parallel over error sets, reference counting only where arrays are allocated), with numba's
-  on-disk cache.  Where the cache cannot be written
-  (a read-only install without a writable home) the solver is compiled in memory instead,
-  with one warning.
+  on-disk cache: next to the sources, or in the folder named by ``BEVELOID_CACHE_DIR`` (or
+  numba's own ``NUMBA_CACHE_DIR``).  Where the sources' folder cannot be written (a read-only
+  install) the cache goes to the user's cache folder (``$XDG_CACHE_HOME/beveloid`` or
+  ``~/.cache/beveloid``), else to the temporary folder; only when none can be written is the
+  solver compiled in memory, with one line on stderr.
 
 ``"auto"`` is "compiled" when numba is installed.  Both run the same source, so they give the
 same statuses and the same numbers.
@@ -18,10 +20,8 @@ import importlib
 import importlib.util
 import os
 import sys
+import tempfile
 import types
-import warnings
-
-from ..errors import UserError
 
 #: numba is installed (it is imported only when the compiled backend is first used: ~0.3 s).
 AVAILABLE = importlib.util.find_spec("numba") is not None
@@ -29,25 +29,38 @@ AVAILABLE = importlib.util.find_spec("numba") is not None
 BACKENDS = ("auto", "compiled", "numpy")
 
 
+class BackendError(ValueError):
+    """A backend that does not exist or is not installed: ``backend`` and ``requirement`` (what is valid)."""
+
+    def __init__(self, backend, requirement):
+        self.backend, self.requirement = backend, requirement
+        super().__init__(f"backend = {backend}: {requirement}")
+
+
 def resolve(backend: str) -> str:
     """'auto' -> 'compiled' when numba is installed, else 'numpy'."""
     if backend == "auto":
         return "compiled" if AVAILABLE else "numpy"
     if backend == "compiled" and not AVAILABLE:
-        raise UserError("backend = compiled: numba is not installed; use backend numpy or pip install numba")
+        raise BackendError(backend, "numba is not installed; use backend numpy or pip install numba")
     if backend not in BACKENDS:
-        raise ValueError(f"backend = {backend!r}: must be one of {', '.join(BACKENDS)}")
+        raise BackendError(repr(backend), f"must be one of {', '.join(BACKENDS)}")
     return backend
 
 
+#: the core's modules, by job (beveloid.solver.core is their one namespace)
+CORE_MODULES = ("linalg", "newton", "first_touch", "clearance", "paths", "gaps")
+
+
 def _modules():
-    """The core and every generated scalar module it reaches (all compiled together)."""
+    """The core's modules and every generated scalar module they reach (all compiled together)."""
     from .. import generated
     from . import core
 
+    jobs = [importlib.import_module(f"{__package__}.{m}") for m in CORE_MODULES]
     gen = [importlib.import_module(f"{generated.__name__}.{m}") for m in generated.SCALAR_MODULES]
     gen.append(importlib.import_module(f"{generated.__name__}.tca_kernels_scalar"))
-    return [core] + gen
+    return [core] + jobs + gen
 
 
 @functools.lru_cache(maxsize=None)
@@ -65,6 +78,9 @@ def namespace(backend: str) -> types.SimpleNamespace:
 
 
 _cache_warned = False
+_cache_redirected = False
+#: names the folder of the compiled solver's cache (before numba's own NUMBA_CACHE_DIR)
+CACHE_ENV = "BEVELOID_CACHE_DIR"
 
 
 @functools.lru_cache(maxsize=None)
@@ -79,8 +95,32 @@ def _nrt_option() -> bool:
         return False
 
 
+def _writable(folder) -> bool:
+    try:
+        os.makedirs(folder, exist_ok=True)
+        return os.access(folder, os.W_OK | os.X_OK)
+    except OSError:
+        return False
+
+
+def fallback_cache_dir() -> str | None:
+    """A writable folder for numba's cache when the sources' folder is not: BEVELOID_CACHE_DIR,
+    the user's cache folder, the temporary folder (per user); None if none can be written."""
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    uid = os.getuid() if hasattr(os, "getuid") else os.environ.get("USERNAME", "user")
+    for folder in (os.environ.get(CACHE_ENV), os.path.join(base, "beveloid", "numba"),
+                   os.path.join(tempfile.gettempdir(), f"beveloid-numba-{uid}")):
+        if folder and _writable(folder):
+            return folder
+    return None
+
+
+def _use_cache_dir(numba, folder):
+    numba.config.CACHE_DIR = folder
+
+
 def _jit(fn, parallel, inline="never", nrt=True):
-    global _cache_warned
+    global _cache_warned, _cache_redirected
     import numba
 
     opts = dict(nogil=True, parallel=parallel, inline=inline)
@@ -88,16 +128,26 @@ def _jit(fn, parallel, inline="never", nrt=True):
         # numba's reference counting, off for the functions that allocate nothing (core.ALLOCATING);
         # set explicitly either way, as a callee otherwise inherits its caller's setting
         opts["_nrt"] = nrt
-    try:
-        return numba.njit(cache=True, **opts)(fn)
-    except RuntimeError as exc:  # "cannot cache function ...: no locator available"
-        if "cannot cache" not in str(exc):
-            raise
-        if not _cache_warned:
-            warnings.warn("numba cannot write its cache here (read-only install, no writable home); the contact "
-                          "solver is compiled in memory on every run", RuntimeWarning, stacklevel=3)
-            _cache_warned = True
-        return numba.njit(cache=False, **opts)(fn)
+    if not _cache_redirected and os.environ.get(CACHE_ENV) and not os.environ.get("NUMBA_CACHE_DIR"):
+        _cache_redirected = True  # the user's choice, before the sources' folder
+        if _writable(os.environ[CACHE_ENV]):
+            _use_cache_dir(numba, os.environ[CACHE_ENV])
+    for attempt in range(2):
+        try:
+            return numba.njit(cache=True, **opts)(fn)
+        except RuntimeError as exc:  # "cannot cache function ...: no locator available"
+            if "cannot cache" not in str(exc):
+                raise
+        folder = None if _cache_redirected else fallback_cache_dir()
+        _cache_redirected = True
+        if folder is None:
+            break
+        _use_cache_dir(numba, folder)
+    if not _cache_warned:
+        sys.stderr.write(f"beveloid: no writable folder for numba's cache (the install is read-only; set {CACHE_ENV}"
+                         " to a writable folder): the contact solver is compiled in memory on every run\n")
+        _cache_warned = True
+    return numba.njit(cache=False, **opts)(fn)
 
 
 def _compile(modules):
@@ -122,7 +172,7 @@ def _compile(modules):
         # first compilation faster too (docs/performance.md)
         inline = "always" if mod.__name__.endswith(".tca_kernels_scalar") else "never"
         nrt = fn.__name__ in core.ALLOCATING
-        jitted[fn] = _jit(copy, parallel=(mod is core and fn.__name__ in core.PARALLEL), inline=inline, nrt=nrt)
+        jitted[fn] = _jit(copy, parallel=(fn.__name__ in core.PARALLEL), inline=inline, nrt=nrt)
     for g in glob.values():
         for name, val in list(g.items()):
             if isinstance(val, types.FunctionType) and val in jitted:
@@ -133,7 +183,7 @@ def _compile(modules):
     # here (measured: docs/performance.md), more than a mesh study's whole solve
     for name in core.PARALLEL:
         fn = vars(core)[name]
-        copy = types.FunctionType(fn.__code__, glob[core], fn.__name__, fn.__defaults__, fn.__closure__)
+        copy = types.FunctionType(fn.__code__, glob[originals[fn]], fn.__name__, fn.__defaults__, fn.__closure__)
         copy.__qualname__ = fn.__qualname__ + "_serial"  # its own entry in numba's cache (not the parallel one)
         copy.__module__ = fn.__module__
         funcs[name + "_serial"] = _jit(copy, parallel=False)
@@ -141,19 +191,30 @@ def _compile(modules):
 
 
 def needs_compiling(ns) -> bool:
-    """True when the compiled sweep has no cache on disk yet (the first run compiles, ~10-30 s)."""
+    """True when the compiled sweep has no usable cache on disk (none yet, or one written for
+    other sources): the first run compiles, ~10-60 s."""
     if not getattr(ns, "compiled", False):
         return False
     try:
         cache = ns.solve_paths._cache
-        return not os.path.exists(os.path.join(cache._cache_path, cache._index_name))
+        if not hasattr(cache, "_cache_file"):  # compiled in memory: it compiles on every run
+            return True
+        return not cache._cache_file._load_index()  # empty when absent or stale (the sources changed)
     except Exception:  # numba internals moved: say nothing rather than guess
         return False
 
 
+_notified = False
+
+
 def notify_compiling(ns, stream=None):
-    """Say on a terminal that numba is about to compile (nothing otherwise)."""
+    """Say on a terminal that numba is about to compile (nothing otherwise); the cache is looked
+    at once per process (reading its index costs ~1 ms, more than a mesh study's solve)."""
+    global _notified
     stream = stream or sys.stderr
-    if needs_compiling(ns) and getattr(stream, "isatty", lambda: False)():
+    if _notified or not getattr(ns, "compiled", False) or not getattr(stream, "isatty", lambda: False)():
+        return
+    _notified = True
+    if needs_compiling(ns):
         stream.write("beveloid: compiling the contact solver with numba (first use only; cached afterwards)...\n")
         stream.flush()

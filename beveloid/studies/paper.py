@@ -172,9 +172,7 @@ def bearing_pattern_figure(geom, results, labels, out_png, title):
     from .. import plots
     from ..contact_ellipse import attach
 
-    for r in results:
-        if r.approach_mm is None:
-            attach(r)
+    results = [r if r.approach_mm is not None else attach(r) for r in results]
     plots.bearing_patterns(results, labels, geom, FLANK, out_png, title)
 
 

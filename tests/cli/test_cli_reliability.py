@@ -3,6 +3,7 @@ in test_fuzz_cli.py.  CLI tests call ``beveloid.cli.main`` in-process."""
 from __future__ import annotations
 
 import copy
+import dataclasses
 import json
 import os
 import re
@@ -499,13 +500,13 @@ def test_failed_points_are_not_called_off_the_flank():
     res = tca.analyze(Pair.from_spec(spec).geometry, positions=5, flanks=("right",))
     fr = res.flanks["right"]
     n = len(fr.status)
-    fr.status = ["failed"] * n  # as when the solver loses track everywhere
+    res.flanks["right"] = fr = dataclasses.replace(fr, status=["failed"] * n)  # as when the solver loses track everywhere
     fr.pinion_contact[:] = np.nan
     fr.gear_contact[:] = np.nan
     text = format_summary(res, spec)
     _, row = _table_row(text, "right")
     assert "none (not solved)" in row and "off the flank" not in text
-    fr.status = ["outside"] * (n - 2) + ["failed"] * 2
+    res.flanks["right"] = dataclasses.replace(fr, status=["outside"] * (n - 2) + ["failed"] * 2)
     assert f"none ({n - 2} outside, 2 failed)" in _table_row(format_summary(res, spec), "right")[1]
 
 
@@ -522,7 +523,7 @@ def test_te_from_a_few_positions_carries_a_caveat(capsys):
     gone = np.zeros((pairs, 30), bool)
     gone[:, :7] = True
     gone = gone.ravel()
-    fr.status = ["failed" if g else s for g, s in zip(gone, fr.status)]
+    res.flanks["right"] = fr = dataclasses.replace(fr, status=["failed" if g else s for g, s in zip(gone, fr.status)])
     fr.transmission_error[gone] = np.nan
     text = format_summary(res, spec)
     head, row = _table_row(text, "right")

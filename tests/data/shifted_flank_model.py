@@ -1,10 +1,10 @@
 """A tooth-surface model for the plug-in test: the involute flank (Eqs 1-7) moved along the
 member's own axis by ``axial_shift_mm``.  Copied into a scratch checkout's derivations/ by
-tests/test_model_plugin.py; not part of the product."""
+tests/solver/test_solver_model_plugin.py; not part of the product."""
 import sympy as sp
 
 from . import eq04_07_tooth_surface as involute
-from .codegen import Field
+from .interface import Field
 
 axial_shift = sp.Symbol("axial_shift_mm", real=True)
 

@@ -11,7 +11,7 @@ from beveloid.design import design
 from beveloid.generated import placement
 from beveloid.spec import load_spec
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 BASE = (ROOT / "examples" / "case1.toml").read_text()
 
 

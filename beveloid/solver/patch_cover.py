@@ -30,7 +30,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .generated import flank_boundaries, tca_kernels
+from ..generated import flank_boundaries, tca_kernels
 
 #: root cells along l and u of the patch's parameter box
 CELLS = (4, 16)
@@ -48,6 +48,9 @@ class PatchCover(NamedTuple):
 
 #: the columns of PatchCover.cells
 CELL_FIELDS = ("x_mm", "y_mm", "z_mm", "l_mm", "u_mm", "half_l_mm", "half_u_mm", "stretch")
+
+#: the most cells along u of the box search (a face width of 1000 mm on a small module)
+MAX_BOX_CELLS = 2000
 
 
 def _nodes(geom, which, flank, l, u):
@@ -97,7 +100,18 @@ def _grid(geom, which, flank, box, cells, patch_tol, samples=SAMPLES):
 
 def _box(geom, which, flank, patch_tol):
     """A parameter box holding the whole patch: grown until no cell that may hold a patch point
-    touches its far edges, then shrunk to the cells that may."""
+    touches its far edges, then shrunk to the cells that may.  A face far longer than the tooth
+    is deep (cells far larger than the depth, so that every edge cell "may hold a patch point")
+    is searched again with cells about as long as wide."""
+    box = _box_search(geom, which, flank, patch_tol, square=False)
+    if box is None:
+        box = _box_search(geom, which, flank, patch_tol, square=True)
+    if box is None:
+        raise RuntimeError(f"the {which}'s {flank} flank patch is unbounded in its parameters")
+    return box
+
+
+def _box_search(geom, which, flank, patch_tol, square):
     m = geom.member(which)
     depth = m.cutter_addendum_mm + m.tip_height_mm + abs(m.rack_shift_mm)
     l_max = 1.5 * depth / math.cos(geom.normal_pressure_angle)
@@ -107,16 +121,22 @@ def _box(geom, which, flank, patch_tol):
     cells = (3 * CELLS[0], 3 * CELLS[1])
     for _ in range(8):
         box = (0.0, l_max, u0, u1)
+        if square:
+            cells = (cells[0], max(3 * CELLS[1], min(MAX_BOX_CELLS, math.ceil(cells[0] * (u1 - u0) / l_max))))
         centre, radius, _ = _grid(geom, which, flank, box, cells, patch_tol, samples=3)
         keep = ~_outside_own_blank(geom, which, centre, radius)
         if not keep.any():
             raise RuntimeError(f"the {which}'s {flank} flank patch is empty (no point inside its blank)")
         il, iu = np.nonzero(keep)
-        if il.max() < cells[0] - 1 and iu.min() > 0 and iu.max() < cells[1] - 1:
+        grow_l, grow_u = il.max() >= cells[0] - 1, iu.min() == 0 or iu.max() >= cells[1] - 1
+        if not (grow_l or grow_u):
             dl, du = (box[1] - box[0]) / cells[0], (box[3] - box[2]) / cells[1]
             return (0.0, (il.max() + 1) * dl, u0 + iu.min() * du, u0 + (iu.max() + 1) * du)
-        l_max, u0, u1 = 2 * l_max, u0 - (u1 - u0) / 2, u1 + (u1 - u0) / 2
-    raise RuntimeError(f"the {which}'s {flank} flank patch is unbounded in its parameters")
+        if grow_l or not square:
+            l_max = 2 * l_max
+        if grow_u or not square:
+            u0, u1 = u0 - (u1 - u0) / 2, u1 + (u1 - u0) / 2
+    return None
 
 
 @functools.lru_cache(maxsize=64)

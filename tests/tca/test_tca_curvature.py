@@ -10,17 +10,10 @@ import pytest
 
 from beveloid.status import Status
 from beveloid import curvature, tca
-from beveloid.design import design
 from beveloid.generated import placement, surface_models
-from beveloid.spec import load_spec
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 FLANKS = tca.FLANKS
-
-
-@pytest.fixture(scope="module")
-def geom1():
-    return tca.PairGeometry.from_design(design(load_spec(ROOT / "examples" / "case1.toml")))
 
 
 def _flank_points(geom, which, flank, n=7):

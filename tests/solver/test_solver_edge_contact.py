@@ -16,21 +16,14 @@ import numpy as np
 import pytest
 
 from beveloid import tca
-from beveloid.design import design
 from beveloid.generated import flank_boundaries, placement
 from beveloid.generated import tca_kernels_scalar as tks
 from beveloid.solver import backends
-from beveloid.spec import load_spec
 from beveloid.status import Status
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 DEG = math.pi / 180
 TIP = flank_boundaries.BOUNDARIES.index("tip")
-
-
-@pytest.fixture(scope="module")
-def geom1():
-    return tca.PairGeometry.from_design(design(load_spec(ROOT / "examples" / "case1.toml")))
 
 
 # ---- brute force of the definition (numpy, generated surface and placement kernels) ---------

@@ -270,7 +270,7 @@ def test_aligned_crowned_pair_has_a_parabola_per_tooth_pair():
     assert abs(mid[20]) < 1e-9
     # the gear rests against the pair that constrains it most; material removed away from P
     # lets it turn toward closing the gap: TE on the closing side only (sign as tca.mesh_flank)
-    closing = -tca._gap_sign(geom, "right", tca.reference_contact(geom, "right")) * mid
+    closing = -tca.gap_sign(geom, "right", tca.reference_contact(geom, "right")) * mid
     assert np.nanmin(closing) >= -1e-9 and np.nanmax(closing) > 1e-6
     # a parabola in the pinion angle about the reference (the curvature is the same on both sides)
     phi = fr.pinion_angle[:41] - fr.pinion_angle[20]

@@ -20,10 +20,9 @@ import pytest
 from beveloid import cli, sweep, tca
 from beveloid.solver import backends
 from beveloid.design import design
-from beveloid.errors import UserError
 from beveloid.spec import load_spec
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 CASE1 = ROOT / "examples" / "case1.toml"
 CASE2 = ROOT / "examples" / "case2.toml"
 STATUSES = {"ok", "edge", "outside", "failed"}
@@ -59,18 +58,9 @@ def run_json(capsys, argv):
     return strict_json(out)  # stdout holds the JSON and nothing else
 
 
-def _geom(path):
-    return tca.PairGeometry.from_design(design(load_spec(path)))
-
-
 @pytest.fixture(scope="module")
-def geom1():
-    return _geom(CASE1)
-
-
-@pytest.fixture(scope="module")
-def geom2():
-    return _geom(CASE2)
+def geom2(pair2):
+    return pair2.geometry
 
 
 def _is_finite_number(v):
@@ -294,7 +284,7 @@ ONE_LINE_ERRORS = {
     "unknown-key": (["tca", "{unknown}", "--positions", "5"], ["gear.foo_mm", "unknown key"]),
     "bad-value": (["sweep", "{badvalue}", "--samples", "2", "--positions", "3"], ["pinion.teeth", "5"]),
     "file-is-dir": (["design", "{dir}"], ["cannot read"]),
-    "tca-positions-1": (["tca", "{case1}", "--positions", "1"], ["--positions", "1"]),
+    "tca-positions-0": (["tca", "{case1}", "--positions", "0"], ["--positions", "0"]),
     "tca-pairs-2": (["tca", "{case1}", "--pairs", "2"], ["--pairs", "2"]),
     "tca-pairs-11": (["tca", "{case1}", "--pairs", "11"], ["--pairs", "11"]),
     "tca-vertical-inf": (["tca", "{case1}", "--vertical", "inf"], ["--vertical", "inf"]),
@@ -531,7 +521,7 @@ def test_resolve_backend(monkeypatch):
     with pytest.raises(ValueError):
         tca.resolve_backend("gpu")
     monkeypatch.setattr(backends, "AVAILABLE", False)
-    with pytest.raises(UserError):
+    with pytest.raises(backends.BackendError, match="numba is not installed"):
         tca.resolve_backend("compiled")
     assert tca.resolve_backend("auto") == "numpy"
 

@@ -9,17 +9,10 @@ import numpy as np
 import pytest
 
 from beveloid import contact_ellipse, curvature, tca
-from beveloid.design import design
 from beveloid.generated import flank_boundaries, placement
-from beveloid.spec import load_spec
-from test_curvature import _height
+from test_tca_curvature import _height
 
-ROOT = Path(__file__).resolve().parents[1]
-
-
-@pytest.fixture(scope="module")
-def geom1():
-    return tca.PairGeometry.from_design(design(load_spec(ROOT / "examples" / "case1.toml")))
+ROOT = Path(__file__).resolve().parents[2]
 
 
 @pytest.mark.parametrize("flank", tca.FLANKS)

@@ -1,5 +1,5 @@
 """The patch-clearance pre-check of edge contact (derivations/patch_clearance.py,
-beveloid/patch_cover.py, core.patches_apart): its derivation, the cover's soundness, and that
+beveloid/solver/patch_cover.py, core.patches_apart): its derivation, the cover's soundness, and that
 what it calls OUTSIDE really cannot touch."""
 from __future__ import annotations
 
@@ -10,21 +10,15 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from beveloid import patch_cover, tca
+from beveloid import tca
+from beveloid.solver import patch_cover
 from beveloid.derivations import patch_clearance
-from beveloid.design import design
 from beveloid.generated import flank_boundaries, layouts, patch_clearance as pc_kernels, placement
 from beveloid.solver import backends, core
-from beveloid.spec import load_spec
 from beveloid.status import Status
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 COLS = {name: i for i, name in enumerate(patch_cover.CELL_FIELDS)}
-
-
-@pytest.fixture(scope="module")
-def geom1():
-    return tca.PairGeometry.from_design(design(load_spec(ROOT / "examples" / "case1.toml")))
 
 
 def test_gear_angle_only_turns_the_gear_frame_about_its_axis():

@@ -14,7 +14,7 @@ from beveloid.design import design
 from beveloid.solver import backends, core
 from beveloid.spec import load_spec
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 GEAR_ANGLE = tca.tca_kernels.UNKNOWNS.index("gear_angle_rad")
 
 

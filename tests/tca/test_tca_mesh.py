@@ -13,7 +13,7 @@ from beveloid.status import Status
 from beveloid.design import design
 from beveloid.spec import load_spec
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 DEG = math.pi / 180
 
 
@@ -28,11 +28,6 @@ def _homotopy(geom, flank, e, backend="numpy"):
 @pytest.fixture(scope="module", params=["case1", "case2"])
 def geom(request):
     return tca.PairGeometry.from_design(design(load_spec(ROOT / "examples" / f"{request.param}.toml")))
-
-
-@pytest.fixture(scope="module")
-def geom1():
-    return tca.PairGeometry.from_design(design(load_spec(ROOT / "examples" / "case1.toml")))
 
 
 # ---- an independent transcription of the printed placement (Eqs 30, 33, 34) -----------------
@@ -322,32 +317,65 @@ def test_backends_agree_on_statuses_and_numbers_including_failures(geom1):
     np.testing.assert_allclose(a.x[solved], b.x[solved], rtol=0, atol=1e-9)
 
 
-@pytest.mark.skipif(not backends.AVAILABLE, reason="the compiled backend needs numba")
-def test_compiled_backend_runs_without_a_writable_cache(monkeypatch):
-    """A read-only install (numba: 'cannot cache function ...: no locator available') compiles
-    in memory instead, with one warning, rather than failing."""
+def _unwritable_numba(monkeypatch, writable_folders):
+    """numba.njit that cannot cache next to the sources; config.CACHE_DIR works when writable."""
     import numba
 
     real = numba.njit
     calls = []
 
     def njit(*args, cache=False, **kw):
-        calls.append(cache)
-        if cache:
+        calls.append((cache, getattr(numba.config, "CACHE_DIR", "")))
+        if cache and numba.config.CACHE_DIR not in writable_folders:
             raise RuntimeError("cannot cache function 'f': no locator available for file '/ro/f.py'")
         return real(*args, **kw)
 
     monkeypatch.setattr(numba, "njit", njit)
+    monkeypatch.setattr(numba.config, "CACHE_DIR", "")
     monkeypatch.setattr(backends, "_cache_warned", False)
+    monkeypatch.setattr(backends, "_cache_redirected", False)
+    return calls
 
-    def f(x):
-        return 2.0 * x
 
-    with pytest.warns(RuntimeWarning, match="cannot write its cache"):
-        g = backends._jit(f, parallel=False)
-    assert g(1.5) == 3.0 and calls == [True, False]
-    h = backends._jit(f, parallel=False)  # warned once only
-    assert h(2.0) == 4.0
+def _double(x):
+    return 2.0 * x
+
+
+@pytest.mark.skipif(not backends.AVAILABLE, reason="the compiled backend needs numba")
+def test_read_only_install_caches_in_a_user_folder(monkeypatch, tmp_path, capsys):
+    """A read-only install (numba: 'cannot cache function ...: no locator available') caches in
+    the folder BEVELOID_CACHE_DIR names (else the user's cache folder, else the temporary one)."""
+    folder = str(tmp_path / "cache")
+    monkeypatch.setenv(backends.CACHE_ENV, folder)
+    monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
+    calls = _unwritable_numba(monkeypatch, {folder})
+    g = backends._jit(_double, parallel=False)
+    assert calls == [(True, folder)]  # the named folder first, and it works
+    assert g(1.5) == 3.0
+    assert capsys.readouterr().err == ""
+
+
+@pytest.mark.skipif(not backends.AVAILABLE, reason="the compiled backend needs numba")
+def test_compiled_backend_runs_without_any_writable_cache(monkeypatch, capsys):
+    """No folder can be written: compiled in memory, with one line on stderr, once."""
+    monkeypatch.delenv(backends.CACHE_ENV, raising=False)
+    monkeypatch.setattr(backends, "fallback_cache_dir", lambda: None)
+    calls = _unwritable_numba(monkeypatch, set())
+    g = backends._jit(_double, parallel=False)
+    assert [c for c, _ in calls] == [True, False]
+    assert g(1.5) == 3.0
+    err = capsys.readouterr().err
+    assert len(err.splitlines()) == 1 and "compiled in memory" in err and backends.CACHE_ENV in err
+    h = backends._jit(_double, parallel=False)  # said once only
+    assert h(2.0) == 4.0 and capsys.readouterr().err == ""
+
+
+def test_fallback_cache_dir_is_writable(monkeypatch, tmp_path):
+    monkeypatch.setenv(backends.CACHE_ENV, str(tmp_path / "mine"))
+    assert backends.fallback_cache_dir() == str(tmp_path / "mine")
+    monkeypatch.delenv(backends.CACHE_ENV)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    assert backends.fallback_cache_dir() == str(tmp_path / "xdg" / "beveloid" / "numba")
 
 
 def test_backlash_is_never_wrapped_and_has_a_status():

@@ -1,0 +1,56 @@
+"""The mesh: the transmission-error formula and the tooth-pair envelope, shared by the TCA, the
+sweep, the backlash and the loaded TCA.
+
+* TE = phi'_2 - phi'_2,ref + (N1/N2)(phi'_1 - phi'_1,ref), the reference being the contact at
+  the pitch point P of the aligned pair on the same flank (:func:`transmission_error`).
+* Pair k (pinion tooth k with gear tooth k) at pinion angle phi'_1 is pair 0 at phi'_1 - k p_1,
+  its gear turned by -k p_2 (:func:`pair_angles`); its TE is pair 0's TE at phi'_1 - k p_1.
+* At each pinion angle the tooth pair that constrains the gear most carries the contact: the
+  largest TE when the flank's first-touch sign is +1, the smallest when -1 (:func:`envelope`).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+#: an envelope point is carried by every pair within this of the envelope (abs + rel x |env|, rad)
+ACTIVE_ABS_RAD = 1e-12
+ACTIVE_REL = 1e-9
+
+
+def transmission_error(gear_angle_rad, pinion_angle_rad, ref_gear_angle_rad, ref_pinion_angle_rad, ratio):
+    """TE (rad) = phi'_2 - phi'_2,ref + ratio (phi'_1 - phi'_1,ref), ratio = N1/N2; broadcasts."""
+    return gear_angle_rad - ref_gear_angle_rad + ratio * (pinion_angle_rad - ref_pinion_angle_rad)
+
+
+def pair_angles(pinion_angle_rad, pairs, pinion_pitch_rad):
+    """(pair indices k (pairs,), pair 0's pinion angles (pairs, N) standing for pair k at the given angles)."""
+    ks = np.arange(pairs) - pairs // 2
+    phi = np.asarray(pinion_angle_rad, dtype=float)
+    return ks, phi[None, :] - ks[:, None] * pinion_pitch_rad
+
+
+def envelope(values_by_pair, sign):
+    """(envelope (N,), active (pairs, N)) of per-pair values (pairs, N), nan where a pair has no
+    contact: the largest value when ``sign`` > 0, else the smallest; nan where no pair has one.
+    ``active`` marks the pairs that carry the envelope (to ACTIVE_ABS_RAD + ACTIVE_REL |env|)."""
+    v = np.asarray(values_by_pair, dtype=float)
+    with np.errstate(invalid="ignore"):
+        if sign > 0:
+            env = np.where(np.isnan(v), -np.inf, v).max(axis=0)
+        else:
+            env = np.where(np.isnan(v), np.inf, v).min(axis=0)
+    env = np.where(np.isfinite(env), env, np.nan)
+    with np.errstate(invalid="ignore"):
+        active = (np.abs(v - env[None, :]) <= ACTIVE_ABS_RAD + ACTIVE_REL * np.abs(env)[None, :]) & np.isfinite(v)
+    return env, active
+
+
+def peak_to_peak(values):
+    """max - min of the finite values (nan when there are none) along the last axis."""
+    v = np.asarray(values, dtype=float)
+    has = np.isfinite(v).any(axis=-1)
+    with np.errstate(invalid="ignore"):
+        hi = np.where(np.isfinite(v), v, -np.inf).max(axis=-1)
+        lo = np.where(np.isfinite(v), v, np.inf).min(axis=-1)
+    out = np.where(has, hi - lo, np.nan)
+    return float(out) if out.ndim == 0 else out

@@ -1,0 +1,145 @@
+"""Newton on Eq 38, its classification (the one boundary rule, on_patch), the error homotopy and
+one point from a start.
+
+Plain Python in numba's subset: compiled with the rest of the core by
+:mod:`beveloid.solver.backends` (see :mod:`beveloid.solver.core`)."""
+import math
+
+import numpy as np
+
+from ..generated.tca_kernels import UNKNOWNS
+from ..generated.tca_kernels_scalar import N_ERRORS, N_UNKNOWNS, contact_system_point, workspace
+from ..status import Status
+from .linalg import residual_norm, solve_linear
+
+OK = int(Status.OK)
+EDGE = int(Status.EDGE)
+OUTSIDE = int(Status.OUTSIDE)
+FAILED = int(Status.FAILED)
+#: Newton's residual after a step s is about K |s|^2, K from the system's second derivatives
+#: (measured K <= 0.1 /mm on case 1 and its crowned variant: benchmarks/newton_final_step.py).  A
+#: step with FINAL_STEP_K |s|^2 <= tol (|s| with the angle times the length scale), taken from a
+#: residual of at most FINAL_STEP_RESIDUAL_MM, ends the iteration without evaluating again: a
+#: predicted point (the path continuations) then costs one evaluation, not two.  J, Jp and the
+#: margins the caller reads are then those of the point one such step (~1e-6 mm) before.
+FINAL_STEP_K = 1.0
+FINAL_STEP_RESIDUAL_MM = 1e-4
+GEAR_ANGLE = UNKNOWNS.index("gear_angle_rad")
+
+
+def scratch():
+    """Work arrays of one solver thread: (workspace, F, J, Je, Jp, step, dx, rhs, e)."""
+    return (workspace(), np.empty(N_UNKNOWNS), np.empty((N_UNKNOWNS, N_UNKNOWNS)),
+            np.empty((N_UNKNOWNS, N_ERRORS)), np.empty(N_UNKNOWNS), np.empty(N_UNKNOWNS), np.empty(N_UNKNOWNS),
+            np.empty(N_UNKNOWNS), np.empty(N_ERRORS))
+
+
+def evaluate_unchecked(problem, x, phi1, e, ws, F, J, Je, Jp):
+    """Eq 38 at unknowns x: residual F, d/d unknowns J, d/d errors Je, d/d pinion angle Jp.  May
+    raise on a runaway iterate (math domain error, division by zero): callers catch it once
+    around their loop (a try per evaluation cost ~15 % of an evaluation, compiled)."""
+    pinion_model, gear_model, flank, pinion_params, gear_params, pair = problem
+    contact_system_point(pinion_model, gear_model, flank, x, phi1, e, pinion_params, gear_params, pair, ws, F, J, Je,
+                         Jp)
+
+
+def evaluate(problem, x, phi1, e, ws, F, J, Je, Jp):
+    """evaluate_unchecked with a failure made non-finite (F[0] = nan) instead of raised."""
+    try:
+        evaluate_unchecked(problem, x, phi1, e, ws, F, J, Je, Jp)
+    except Exception:  # a math domain error or overflow of a runaway iterate (numba gives nan): not finite
+        F[0] = math.nan
+
+
+def newton_update(F, J, x, step, r, tol, last, scale):
+    """One Newton decision at residual norm r: 1 converged, -1 failed (not finite, singular, or
+    the last iteration), 0 stepped (x += -J^-1 F; F is negated), 2 stepped and converged (a step
+    so small that the residual after it is below tol: FINAL_STEP_K)."""
+    if not math.isfinite(r):
+        return -1
+    if r <= tol:
+        return 1
+    if last:
+        return -1
+    for i in range(F.shape[0]):
+        F[i] = -F[i]
+    if not solve_linear(J, F, step):
+        return -1
+    size = 0.0
+    for i in range(x.shape[0]):
+        x[i] += step[i]
+        size = max(size, abs(step[i]) * (scale if i == GEAR_ANGLE else 1.0))
+    if r <= FINAL_STEP_RESIDUAL_MM and FINAL_STEP_K * size * size <= tol:
+        return 2
+    return 0
+
+
+def newton(problem, x, phi1, e, scale, tol, max_iter, ws, F, J, Je, Jp, step):
+    """Newton in place on x.  Returns (converged, iterations); F, J, Je, Jp and ws hold the
+    last evaluation: at the returned x, or one final small step before it (FINAL_STEP_K)."""
+    done = 0
+    try:
+        for it in range(max_iter + 1):
+            done = it
+            evaluate_unchecked(problem, x, phi1, e, ws, F, J, Je, Jp)
+            s = newton_update(F, J, x, step, residual_norm(F, scale), tol, it == max_iter, scale)
+            if s == 2:
+                return True, it + 1
+            if s != 0:
+                return s > 0, it
+    except Exception:  # an evaluation failed (see evaluate): not converged
+        F[0] = math.nan
+        return False, done
+    return False, max_iter
+
+
+def on_patch(margin, patch_tol):
+    """THE rule of boundary membership, for the TCA's statuses, the edge candidates and the loaded
+    TCA's cells: a point lies on its flank patch when its smallest margin (mm) is at least
+    -patch_tol.  A point that lies on a boundary within round-off (|margin| ~ 1e-14 mm, which two
+    backends or two CPUs may round to either side of 0) is on the patch on every machine; only a
+    margin within round-off of -patch_tol itself could be decided differently (tests compare away
+    from it).  Works on a float and elementwise on arrays."""
+    return margin >= -patch_tol
+
+
+def classify(converged, margin, patch_tol):
+    """Status code of an Eq 38 tangency from convergence and its smallest flank margin (mm): OK on
+    both patches (:func:`on_patch`), OUTSIDE off a patch (then first_touch decides), FAILED."""
+    if not converged or not math.isfinite(margin):
+        return FAILED
+    if on_patch(margin, patch_tol):
+        return OK
+    return OUTSIDE
+
+
+def homotopy(problem, x, phi_ref, target, steps, scale, tol, max_iter, ws, F, J, Je, Jp, step, dx, e, rhs):
+    """Carry the solution x at phi_ref from zero errors to ``target`` in ``steps`` equal steps,
+    each predicted along d x / d errors and corrected by Newton.  In place; True if every step
+    converged.  On return e == target."""
+    ok = True
+    for i in range(e.shape[0]):
+        e[i] = 0.0
+    for h in range(1, steps + 1):
+        evaluate(problem, x, phi_ref, e, ws, F, J, Je, Jp)
+        for i in range(rhs.shape[0]):
+            s = 0.0
+            for c in range(e.shape[0]):
+                s -= Je[i, c] * target[c] / steps
+            rhs[i] = s
+        if solve_linear(J, rhs, dx):
+            for i in range(x.shape[0]):
+                x[i] += dx[i]
+        for c in range(e.shape[0]):
+            e[c] = target[c] if h == steps else target[c] * h / steps
+        conv, _ = newton(problem, x, phi_ref, e, scale, tol, max_iter, ws, F, J, Je, Jp, step)
+        ok = ok and conv
+    return ok
+
+
+def solve_point(problem, x, phi1, errors, scale, tol, max_iter):
+    """One Newton solve from the guess x (copied): (x, converged, iterations, residual_norm_mm)."""
+    ws, F, J, Je, Jp, step, _, _, _ = scratch()
+    xs = x.copy()
+    conv, it = newton(problem, xs, phi1, errors, scale, tol, max_iter, ws, F, J, Je, Jp, step)
+    return xs, conv, it, residual_norm(F, scale)

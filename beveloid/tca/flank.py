@@ -1,0 +1,136 @@
+"""One flank over the mesh: neighbouring tooth pairs, their TE and the envelope that carries it."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import mesh
+from ..generated import tca_kernels
+from ..geometry import PairGeometry
+from ..solver import Solver
+from ..solver.options import SolverOptions
+from ..status import Status, carries_numbers
+from .contact import (ERROR_NAMES, as_solver, contact_boundary_names, contact_margins, contact_points,
+                      errors_array, rotate_z, unknowns)
+from .grid import solve_grid
+from .reference import first_touch_sign, reference_contact
+
+
+@dataclass(frozen=True)
+class FlankResult:
+    """One flank over the mesh: pairs x positions, flattened in pair-major order."""
+
+    flank: str
+    pinion_angle: np.ndarray
+    gear_angle: np.ndarray
+    transmission_error: np.ndarray
+    pinion_contact: np.ndarray  # (n, 3) in S1
+    gear_contact: np.ndarray  # (n, 3) in S2
+    status: list
+    tooth_pair: np.ndarray
+    active: np.ndarray  # carries the contact (envelope of all pairs) at its pinion angle
+    iterations: np.ndarray
+    nearest_boundary: list
+    #: rad, over the active points; nan if none, or with one position (a peak-to-peak needs several)
+    te_peak_to_peak: float
+    unknowns: np.ndarray = None  # (n, 5) pair 0's (l1, u1, l2, u2, phi'_2) as solved, for every point
+    contact_ellipse: object = None  # contact_ellipse.ContactEllipses, when computed (tca.Options.approach_mm)
+    #: per point: None (surface contact or no contact), else the boundary of an edge contact
+    #: ("pinion tip") or the two of a corner contact ("corner: pinion tip / gear heel")
+    contact_boundary: list = None
+    #: per point: the contact's smallest margin (mm) to the boundaries that do not carry it; nan without contact
+    boundary_margin_mm: np.ndarray = None
+
+    @property
+    def positions(self) -> int:
+        """Pinion positions (the points are pairs x positions)."""
+        return len(self.status) // len(np.unique(self.tooth_pair))
+
+    @property
+    def newton_iterations_mean(self) -> float | None:
+        """Mean Newton iterations of the points that converged (None if none did)."""
+        solved = np.array([st != Status.FAILED.label for st in self.status])
+        return float(np.mean(self.iterations[solved])) if solved.any() else None
+
+    def to_json_dict(self):
+        nan_to_none = lambda a: [None if not np.isfinite(v) else float(v) for v in a]  # noqa: E731
+        pts = lambda P: [None if not np.all(np.isfinite(p)) else [float(c) for c in p] for p in P]  # noqa: E731
+        return {
+            "pinion_angle_rad": [float(v) for v in self.pinion_angle],
+            "gear_angle_rad": nan_to_none(self.gear_angle),
+            "transmission_error_rad": nan_to_none(self.transmission_error),
+            "pinion_contact_mm": pts(self.pinion_contact),
+            "gear_contact_mm": pts(self.gear_contact),
+            "status": list(self.status),
+            "tooth_pair": [int(k) for k in self.tooth_pair],
+            "active": [bool(a) for a in self.active],
+            "nearest_boundary": list(self.nearest_boundary),
+            **(self.contact_ellipse.to_json_dict() if self.contact_ellipse is not None else {}),
+            "newton_iterations": [int(k) for k in self.iterations],
+            "newton_iterations_mean": self.newton_iterations_mean,
+            "contact_boundary": (list(self.contact_boundary) if self.contact_boundary is not None
+                                 else [None] * len(self.status)),
+            "boundary_margin_mm": (nan_to_none(self.boundary_margin_mm) if self.boundary_margin_mm is not None
+                                   else [None] * len(self.status)),
+        }
+
+
+def mesh_angles(geom, flank, positions, pairs, window_pitches=None):
+    """The pinion angles of a mesh study: ``positions`` points over ``window_pitches`` (default
+    ``pairs``) pinion pitches centred on the reference contact; one position: the reference angle."""
+    ref = reference_contact(geom, flank)
+    if positions == 1:
+        return np.array([ref.pinion_angle])
+    window = (window_pitches or pairs) * geom.pitch_angles[0]
+    return ref.pinion_angle + np.linspace(-window / 2, window / 2, positions)
+
+
+def mesh_flank(geom: PairGeometry, flank: str, errors=(0, 0, 0, 0, 0), positions=200, pairs=3,
+               options: SolverOptions | None = None, window_pitches=None,
+               backend: "Solver | str" = "auto") -> FlankResult:
+    """TCA of one flank over the mesh with neighbouring tooth pairs.
+
+    Pinion angles: ``positions`` points spread over ``window_pitches`` pinion pitches (default:
+    ``pairs``) centred on the reference contact; pairs k = -(pairs//2) .. pairs//2.
+    ``backend``: a :class:`beveloid.solver.Solver` or a backend name.
+    """
+    solver = as_solver(backend, options)
+    e = errors_array(errors).reshape(1, len(ERROR_NAMES))
+    ref = reference_contact(geom, flank)
+    p1, p2 = geom.pitch_angles
+    phi1 = mesh_angles(geom, flank, positions, pairs, window_pitches)
+    ks, shifted = mesh.pair_angles(phi1, pairs, p1)
+    sol = solve_grid(geom, flank, e, shifted.ravel(), solver)
+    x, code, iterations, boundary = sol.x[0], sol.status[0], sol.iterations[0], sol.boundary[0]
+    act = sol.active[0]
+    names = np.asarray(tca_kernels.CONTACT_BOUNDARIES + ("",))
+    nearest = names[np.where(boundary >= 0, boundary, len(names) - 1)]
+    kk = np.repeat(ks, positions)
+    phi1_all = np.tile(phi1, pairs)
+    phi2 = unknowns(x).gear_angle_rad - kk * p2  # gear tooth k is turned by -k p2 relative to tooth 0
+    te = mesh.transmission_error(phi2, phi1_all, unknowns(ref.x).gear_angle_rad, ref.pinion_angle,
+                                 geom.pinion.teeth / geom.gear.teeth)
+    # contact points of pair k, back in place in S1 / S2
+    P1, P2 = contact_points(geom, flank, x)
+    P1, P2 = rotate_z(P1, kk * p1), rotate_z(P2, -kk * p2)
+    valid = carries_numbers(code)
+    te_v = np.where(valid, te, np.nan)
+    P1[~valid] = np.nan
+    P2[~valid] = np.nan
+    phi2_v = np.where(valid, phi2, np.nan)
+    env, active = mesh.envelope(te_v.reshape(pairs, positions), first_touch_sign(geom, flank))
+    ptp = mesh.peak_to_peak(env) if positions > 1 else float("nan")
+    with np.errstate(invalid="ignore"):
+        M = contact_margins(geom, flank, x)
+    rows = np.arange(len(x))
+    for c in range(2):
+        hit = act[:, c] >= 0
+        M[rows[hit], act[hit, c]] = np.inf
+    margin = np.where(valid, M.min(axis=-1), np.nan)
+    boundary_names = [n if v else None for n, v in zip(contact_boundary_names(act), valid)]
+    return FlankResult(flank=flank, pinion_angle=phi1_all, gear_angle=phi2_v, transmission_error=te_v,
+                       pinion_contact=P1, gear_contact=P2, status=Status.labels(code), tooth_pair=kk,
+                       active=active.ravel(), iterations=iterations, nearest_boundary=[str(n) for n in nearest],
+                       te_peak_to_peak=ptp, unknowns=x, contact_boundary=boundary_names,
+                       boundary_margin_mm=margin)

@@ -1,0 +1,102 @@
+"""Pair 0 solved over error sets x pinion angles: the one call into the solver core's paths."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..generated import tca_kernels
+from ..solver import Solver, patch_cover
+from ..solver.options import SolverOptions
+from ..status import Status, carries_numbers
+from .contact import as_solver, contact_points, errors_array, newton_tolerance
+from .reference import first_touch_sign, reference_contact
+
+
+@dataclass(frozen=True)
+class GridSolution:
+    """Pair 0 solved for error sets (K) x pinion angles (N)."""
+
+    x: np.ndarray  # (K, N, 5) tca_kernels.UNKNOWNS
+    status: np.ndarray  # (K, N) Status codes
+    iterations: np.ndarray  # (K, N) Newton iterations
+    #: (K, N) index into tca_kernels.CONTACT_BOUNDARIES: the boundary nearest the tangency or, at an
+    #: edge or corner contact, the (first) one that carries it; -1 if failed
+    boundary: np.ndarray
+    active: np.ndarray  # (K, N, 2) CONTACT_BOUNDARIES indices of an edge / corner contact, -1: none
+
+    def __iter__(self):  # (x, status, iterations), as solve_grid returned before
+        return iter((self.x, self.status, self.iterations))
+
+
+#: solve_grid runs up to this many error sets in one thread (a mesh study, a backlash: one set)
+SERIAL_MAX_SETS = 32
+_FIELDS = ("x", "status", "iterations", "boundary", "active")
+
+
+def solve_grid(geom, flank, errors, phi_grid, backend: "Solver | str" = "auto",
+               options: SolverOptions | None = None) -> GridSolution:
+    """Pair 0 for error sets (K, 5) x pinion angles (N,), in any order.
+
+    ``backend``: a :class:`beveloid.solver.Solver` or a backend name; ``options`` override the
+    solver's.  Both backends run the same solver core.  Error sets whose every point failed (the
+    homotopy from the aligned contact lost track) are solved again with 4x, then 16x, as many
+    homotopy steps.
+    """
+    solver = as_solver(backend, options)
+    opts = solver.options
+    errors = np.ascontiguousarray(np.atleast_2d(errors_array(errors)), dtype=float)
+    sol = _solve_once(geom, flank, errors, phi_grid, solver, opts.homotopy_steps)
+    for factor in (4, 16):
+        lost = np.nonzero((sol.status == Status.FAILED).all(axis=1))[0]
+        if lost.size == 0:
+            break
+        again = _solve_once(geom, flank, errors[lost], phi_grid, solver, opts.homotopy_steps * factor)
+        for name in _FIELDS:
+            getattr(sol, name)[lost] = getattr(again, name)
+    return sol
+
+
+def _solve_once(geom, flank, errors, phi_grid, solver, homotopy_steps):
+    options = solver.options
+    ref = reference_contact(geom, flank)
+    phi_grid = np.asarray(phi_grid, dtype=float)
+    order = np.argsort(phi_grid, kind="stable")
+    grid = np.ascontiguousarray(phi_grid[order])
+    K, N = errors.shape[0], grid.shape[0]
+    out = dict(x=np.empty((K, N, len(tca_kernels.UNKNOWNS))), status=np.empty((K, N), dtype=np.int64),
+               iterations=np.empty((K, N), dtype=np.int64), boundary=np.empty((K, N), dtype=np.int64),
+               active=np.empty((K, N, 2), dtype=np.int64))
+    core = solver.announced_core()
+    cover = patch_cover.patch_cover(geom, "pinion", flank, options.patch_tol_mm).cells
+    # a parallel call costs ~8 ms to start its threads (docs/performance.md): few error sets run serially
+    solve_paths = core.solve_paths if K > SERIAL_MAX_SETS else core.solve_paths_serial
+    solve_paths(geom.problem(flank), geom.pinion.blank(), geom.gear.blank(), cover, np.ascontiguousarray(ref.x),
+                ref.pinion_angle, errors, grid, geom.gear.working_pitch_radius_mm,
+                newton_tolerance(geom, options.tol_mm), options.max_iter, homotopy_steps, options.patch_tol_mm,
+                first_touch_sign(geom, flank), out["x"], out["status"], out["iterations"], out["boundary"],
+                out["active"])
+    if np.array_equal(order, np.arange(N)):  # an ascending grid (the sweep's): no copies back
+        return GridSolution(**out)
+    inv = np.empty_like(order)
+    inv[order] = np.arange(N)
+    return GridSolution(**{k: v[:, inv] for k, v in out.items()})
+
+
+def solved_contact_points(geom, flank, x, status, backend: "Solver | str" = "auto"):
+    """contact_points of a solved grid x (K, N, 5) with its status codes (K, N): nan where the
+    status carries no numbers.  On the compiled backend one pass of the solver core (a sweep's
+    500k points: ~2x faster than the whole-array kernels, docs/performance.md)."""
+    x = np.ascontiguousarray(x, dtype=float)
+    status = np.asarray(status)
+    solver = as_solver(backend)
+    if solver.compiled:
+        P1 = np.empty(x.shape[:-1] + (3,))
+        P2 = np.empty_like(P1)
+        solver.core.contact_points(geom.problem(flank), x, np.ascontiguousarray(status, dtype=np.int64), P1, P2)
+        return P1, P2
+    P1, P2 = contact_points(geom, flank, x)
+    none = ~carries_numbers(status)
+    P1[none] = np.nan
+    P2[none] = np.nan
+    return P1, P2

@@ -1,0 +1,57 @@
+"""What a TCA computes: the one range table that the CLI and the JSON read."""
+from __future__ import annotations
+
+import numbers
+from dataclasses import dataclass
+
+from ..contact_ellipse import DEFAULT_APPROACH_MM, check_approach
+from .contact import FLANKS
+
+#: (smallest, largest) of each integer option; pairs must also be odd (pair 0 in the middle)
+POSITIONS = (1, 100_000)
+PAIRS = (1, 9)
+
+
+class OptionError(ValueError):
+    """A TCA option out of its range: ``key``, ``value`` and ``requirement`` (what is valid)."""
+
+    def __init__(self, key, value, requirement):
+        self.key, self.value, self.requirement = key, value, requirement
+        super().__init__(f"{key} = {value!r}: {requirement}")
+
+    def for_flag(self, flag: str) -> str:
+        """The message with the command-line flag in place of the key."""
+        return f"{flag} = {self.value}: {self.requirement}"
+
+
+def _integer(key, value, lo, hi, odd=False):
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not lo <= value <= hi or (
+            odd and value % 2 == 0):
+        raise OptionError(key, value, f"must be {'an odd' if odd else 'an'} integer from {lo} to {hi}")
+
+
+@dataclass(frozen=True)
+class Options:
+    """A mesh study: ``positions`` pinion angles over ``window_pitches`` pinion pitches (default
+    ``pairs``; one position: the reference angle, where TE statistics are not available), ``pairs``
+    neighbouring tooth pairs (odd), the ``flanks`` solved (both: also the backlash), and the
+    contact ellipses at the elastic approach ``approach_mm`` (None: no ellipses)."""
+
+    flanks: tuple = FLANKS
+    positions: int = 200
+    pairs: int = 3
+    approach_mm: float | None = DEFAULT_APPROACH_MM
+    window_pitches: float | None = None
+
+    def __post_init__(self):
+        flanks = (self.flanks,) if isinstance(self.flanks, str) else tuple(self.flanks)
+        if not flanks or any(f not in FLANKS for f in flanks) or len(set(flanks)) != len(flanks):
+            raise OptionError("flanks", self.flanks, f"must be one or both of {', '.join(FLANKS)}")
+        object.__setattr__(self, "flanks", flanks)
+        _integer("positions", self.positions, *POSITIONS)
+        _integer("pairs", self.pairs, *PAIRS, odd=True)
+        if self.approach_mm is not None:
+            check_approach(self.approach_mm, "approach_mm", 1.0, "mm")
+        if self.window_pitches is not None and not (isinstance(self.window_pitches, numbers.Real)
+                                                    and 0 < self.window_pitches <= 100):
+            raise OptionError("window_pitches", self.window_pitches, "must be a number > 0 and <= 100, or None")

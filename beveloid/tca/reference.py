@@ -1,0 +1,94 @@
+"""The TE reference (the aligned contact at the pitch point P) and each flank's first-touch sign."""
+from __future__ import annotations
+
+import functools
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..generated import layouts
+from ..geometry import PairGeometry
+from ..solver import backends
+from ..solver.options import DEFAULT_OPTIONS
+from .contact import (ERROR_NAMES, NoContactError, boundary_margins, check_flank, evaluate, newton_tolerance,
+                      surface, unknowns)
+
+
+def point_at_radius(geom, which, flank, radius, z):
+    """(l, u, polar angle) of the flank point at the given radius in the transverse section z."""
+    m = geom.member(which)
+    l, u = m.cutter_addendum_mm / math.cos(geom.normal_pressure_angle), 0.0
+    for _ in range(30):
+        jet = geom.surface_jet(which, flank, l, u)
+        p, J = jet.point, jet.point_D_lu
+        rad = math.hypot(p[0], p[1])
+        F = np.array([rad - radius, p[2] - z])
+        G = np.array([[(p[0] * J[0, 0] + p[1] * J[1, 0]) / rad, (p[0] * J[0, 1] + p[1] * J[1, 1]) / rad],
+                      [J[2, 0], J[2, 1]]])
+        d = np.linalg.solve(G, -F)
+        l, u = l + d[0], u + d[1]
+        if abs(d).max() < 1e-12 * max(1.0, radius):  # quadratic convergence: the last step was round-off
+            break
+    p = geom.surface(which, flank, l, u).point
+    return l, u, math.atan2(p[1], p[0])
+
+
+@dataclass(frozen=True)
+class Reference:
+    flank: str
+    pinion_angle: float
+    x: np.ndarray  # tca_kernels.UNKNOWNS at the pitch point, aligned
+
+
+@functools.lru_cache(maxsize=64)
+def reference_contact(geom: PairGeometry, flank: str) -> Reference:
+    """Contact of the aligned pair at the pitch point P (the TE reference); cached per geometry.
+
+    Solved by the numpy backend of the core (one point: no compiled code to load)."""
+    check_flank(flank)
+    p, g = geom.pinion, geom.gear
+    l1, u1, psi1 = point_at_radius(geom, "pinion", flank, p.working_pitch_radius_mm, p.reference_section_offset_mm)
+    l2, u2, psi2 = point_at_radius(geom, "gear", flank, g.working_pitch_radius_mm, g.reference_section_offset_mm)
+    phi1 = p.pitch_point_angle - psi1
+    phi2 = g.pitch_point_angle - psi2
+    x0 = np.asarray(layouts.ContactUnknowns(pinion_l_mm=l1, pinion_u_mm=u1, gear_l_mm=l2, gear_u_mm=u2,
+                                            gear_angle_rad=phi2), dtype=float)
+    opts = DEFAULT_OPTIONS
+    x, conv, _, res = backends.namespace("numpy").solve_point(
+        geom.problem(flank), x0, phi1, np.zeros(len(ERROR_NAMES)), geom.gear.working_pitch_radius_mm,
+        newton_tolerance(geom, opts.tol_mm), opts.max_iter)
+    if not conv:
+        raise NoContactError(f"no contact at the pitch point on the {flank} flank (residual {res:.2e} mm)")
+    return Reference(flank, phi1, x)
+
+
+@functools.lru_cache(maxsize=64)
+def first_touch_sign(geom, flank):
+    """+1 if a tooth pair's contact is the largest gear angle phi'_2 at which its patches touch,
+    -1 if the smallest (the side from which the gear closes the gap, see gap_sign)."""
+    return gap_sign(geom, flank, reference_contact(geom, flank))
+
+
+def gap_sign(geom, flank, ref):
+    """+1 if turning the gear by +dphi2 opens the contact (so the contact pair is the max TE)."""
+    s = evaluate(geom, flank, ref.x, ref.pinion_angle, np.zeros(len(ERROR_NAMES)))
+    # d(R_f1 - R_f2)/dphi2 is the gear-angle column of the position rows; the gap grows along
+    # n_f1 when R_f2 moves along +n_f1, i.e. (R_f1 - R_f2) moves along -n_f1
+    u = unknowns(ref.x)
+    n1 = surface(geom, "pinion", flank, u.pinion_l_mm, u.pinion_u_mm).normal
+    c, si = math.cos(ref.pinion_angle), math.sin(ref.pinion_angle)
+    nf1 = np.array([c * n1[0] - si * n1[1], si * n1[0] + c * n1[1], n1[2]])
+    dgap = -unknowns(s.residual_D_unknowns[:3]).gear_angle_rad @ nf1
+    return 1.0 if dgap > 0 else -1.0
+
+
+def pitch_point_notes(geom: PairGeometry, flank: str, patch_tol_mm=DEFAULT_OPTIONS.patch_tol_mm):
+    """Why an aligned flank may show no contact: the pitch point P lies off a member's active flank."""
+    ref = reference_contact(geom, flank)
+    margin, which = boundary_margins(geom, flank, ref.x[None])
+    if margin[0] >= -patch_tol_mm:
+        return []
+    return [f"{flank} flank: the pitch point P lies {-margin[0]:.3f} mm beyond the {which[0]} boundary, so the "
+            f"aligned contact near P is off the active flank (the working pitch circle is outside the active "
+            f"profile: check the profile shifts and the working pressure angle of the design)"]

@@ -1,0 +1,108 @@
+"""The result of a TCA (immutable) and its JSON writer, and analyze()."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .. import assembly_errors
+from ..contact_ellipse import with_ellipses
+from ..geometry import PairGeometry
+from ..solver import Solver
+from .backlash import Backlash, backlash
+from .contact import FLANKS, as_solver, errors_array, geometry_of
+from .flank import FlankResult, mesh_flank
+from .options import Options
+from .reference import pitch_point_notes
+
+
+@dataclass(frozen=True)
+class TCAResult:
+    geometry: PairGeometry
+    errors: np.ndarray
+    flanks: dict = field(default_factory=dict)  # flank name -> FlankResult
+    backlash: Backlash | None = None
+    notes: tuple = ()
+    approach_mm: float | None = None  # elastic approach of the contact ellipses, when computed
+
+    @property
+    def backlash_um(self):
+        return None if self.backlash is None else self.backlash.um
+
+    def to_json_dict(self):
+        return to_json_dict(self)
+
+
+def to_json_dict(result: TCAResult) -> dict:
+    """The JSON of `beveloid tca --json` (docs: beveloid/cli/tca.py)."""
+    out = {
+        "errors": assembly_errors.from_layout(result.errors),
+        "flanks": {k: v.to_json_dict() for k, v in result.flanks.items()},
+        "te_peak_to_peak_urad": {k: (None if not np.isfinite(v.te_peak_to_peak) else v.te_peak_to_peak * 1e6)
+                                 for k, v in result.flanks.items()},
+    }
+    bl = result.backlash
+    if bl is not None:
+        out["backlash_um"] = bl.um
+        out["backlash_status"] = bl.status
+        out["backlash_at_reference_um"] = bl.at_reference_um
+        out["backlash_max_um"] = bl.max_um
+    if result.approach_mm is not None:
+        out["approach_mm"] = result.approach_mm
+    out["newton_iterations_mean"] = {k: v.newton_iterations_mean for k, v in result.flanks.items()}
+    out["notes"] = list(result.notes)
+    if bl is not None and bl.um is None:
+        out["notes"].append(f"backlash not measured ({bl.status}): {bl.reason}")
+    return out
+
+
+def _notes(flanks: dict[str, FlankResult], positions):
+    if positions > 1:
+        return []
+    return [f"{fl} flank: TE peak-to-peak not available from one position (it needs several)" for fl in flanks]
+
+
+def run(pair, errors, options: Options, solver: Solver) -> TCAResult:
+    """TCA of ``options.flanks`` of a pair (Pair or PairGeometry) under ``errors`` (5,)."""
+    geom = geometry_of(pair)
+    e = errors_array(errors)
+    flanks, notes = {}, []
+    for fl in options.flanks:
+        flanks[fl] = mesh_flank(geom, fl, e, positions=options.positions, pairs=options.pairs,
+                                window_pitches=options.window_pitches, backend=solver)
+        notes += pitch_point_notes(geom, fl, solver.options.patch_tol_mm)
+    notes += _notes(flanks, options.positions)
+    bl = backlash(geom, e, backend=solver) if set(options.flanks) == set(FLANKS) else None
+    result = TCAResult(geom, e, flanks, bl, tuple(notes))
+    return with_ellipses(result, options.approach_mm) if options.approach_mm is not None else result
+
+
+def analyze(pair, options=None, solver=None, *, errors=None, flanks=None, positions=None, pairs=None,
+            backend=None) -> TCAResult:
+    """TCA of a pair over the mesh; the two-flank backlash when both flanks are solved.
+
+    New form: ``analyze(pair, Options(...), Solver(...))`` (``pair``: a :class:`beveloid.pair.Pair`,
+    whose [misalignment] are the errors unless ``errors=`` is given, or a PairGeometry).
+    The earlier form stays: ``analyze(geom, errors, flanks=..., positions=200, pairs=3,
+    options=SolverOptions, backend="auto")``: no contact ellipses (add them with
+    ``contact_ellipse.attach``).
+    """
+    from ..solver.options import SolverOptions
+
+    solver_options = None
+    if isinstance(options, SolverOptions):  # the earlier keyword options=SolverOptions(...)
+        solver_options, options = options, None
+    if isinstance(options, Options):
+        tca_options = options
+        if any(v is not None for v in (flanks, positions, pairs)):
+            raise TypeError("analyze: give flanks, positions and pairs in Options, not beside it")
+    else:  # the earlier form: the second argument is the errors
+        if errors is None and options is not None:
+            errors = options
+        tca_options = Options(flanks=FLANKS if flanks is None else tuple(flanks),
+                              positions=200 if positions is None else positions,
+                              pairs=3 if pairs is None else pairs, approach_mm=None)
+    s = as_solver(backend if solver is None else solver, solver_options)
+    if errors is None:
+        errors = getattr(pair, "errors", np.zeros(5))
+    return run(pair, errors, tca_options, s)

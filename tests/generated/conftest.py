@@ -1,0 +1,31 @@
+"""Fixtures of tests/generated: the sympy specs and the renderings, built once per process."""
+from __future__ import annotations
+
+import pytest
+
+from beveloid.derivations import codegen, kernels
+from generated_support import exec_module, module_specs
+
+
+@pytest.fixture(scope="session")
+def specs():
+    return module_specs()
+
+
+@pytest.fixture(scope="session")
+def rendered(specs):
+    """{file name: text} rendered in memory, as ``beveloid derive`` would write it."""
+    return codegen.generate(None, list(specs.values()), extra=kernels.glue_files())
+
+
+@pytest.fixture(scope="session")
+def nocse_texts(specs):
+    return {name: codegen.render_module(spec, cse=False) for name, spec in specs.items()}
+
+
+@pytest.fixture(scope="session")
+def nocse(nocse_texts):
+    """{module name: namespace} of the non-CSE builds, exec'd in memory."""
+    return {name: exec_module(text, f"<{name} (no CSE)>") for name, text in nocse_texts.items()}
+
+
