@@ -314,9 +314,19 @@ def _model_key_docs() -> dict[str, KeyDoc]:
     out: dict[str, KeyDoc] = {}
     for model, keys in surface_models.MODEL_KEYS.items():
         for key, (unit, default, lo, hi, doc) in keys.items():
-            out[key] = KeyDoc(f"{doc} (tooth_surface = \"{model}\")", unit, lo=lo, hi=hi, requirement="optional",
+            if key in out:  # a key shared by several models: with the first, all named
+                continue
+            takers = " or ".join(f'"{m}"' for m, k in surface_models.MODEL_KEYS.items() if key in k)
+            out[key] = KeyDoc(f"{doc} (tooth_surface = {takers})", unit, lo=lo, hi=hi, requirement="optional",
                               default=default, model=model)
+        for key, (default, choices, doc) in surface_models.MODEL_CHOICES.get(model, {}).items():
+            out[key] = KeyDoc(f"{doc} (tooth_surface = \"{model}\")", kind="choice", choices=tuple(choices),
+                              requirement="optional", default=default, model=model)
     return out
+
+
+def _takes(model: str, key: str) -> bool:
+    return key in surface_models.MODEL_KEYS[model] or key in surface_models.MODEL_CHOICES.get(model, {})
 
 
 def _mis_doc(description: str, unit: str, limit: float) -> KeyDoc:
@@ -534,15 +544,32 @@ def _resolve_surface_model(name: str, raw: Mapping, out: dict[str, Any], docs: d
         model = out["tooth_surface"]
     else:
         chosen = [m for m, keys in surface_models.SELECTED_BY.items() if any(out.get(k) for k in keys)]
+        # the first selected model that takes every key given away from its default
+        moved = [k for k in given if out[k] != docs[k].default]
+        chosen = [m for m in chosen if all(_takes(m, k) for k in moved)] or chosen
         model = chosen[0] if chosen else surface_models.DEFAULT_MODEL
         out["tooth_surface"] = model
     for key in sorted(given):
-        if docs[key].model != model and out[key] != docs[key].default:  # another model's key at its default is moot
+        if not _takes(model, key) and out[key] != docs[key].default:  # another model's key at its default is moot
             raise SpecError(
                 f"{name}.{key} = {_fmt(raw[key])}: the tooth surface \"{model}\" takes no such key; set"
                 f" {name}.tooth_surface = \"{docs[key].model}\" or remove {name}.{key}", key=f"{name}.{key}")
     opts = {k: out.pop(k) for k in list(out) if k in docs and docs[k].model}
-    out["surface_options"] = tuple(sorted((k, v) for k, v in opts.items() if docs[k].model == model))
+    out["surface_options"] = tuple(sorted((k, v) for k, v in opts.items() if _takes(model, k)))
+
+
+def _check_relief_extent(values: dict[str, dict[str, Any]]) -> None:
+    """A tip relief's height below the working depth, an end relief's length below half the face."""
+    depth = (values["pinion"]["addendum_coefficient"] + values["gear"]["addendum_coefficient"]) * \
+        values["pair"]["normal_module_mm"]
+    for member in ("pinion", "gear"):
+        opts = dict(values[member].get("surface_options", ()))
+        for amount, key, limit, what in (("tip_relief_um", "tip_relief_height_mm", depth, "the working depth"),
+                                         ("end_relief_um", "end_relief_length_mm",
+                                          values[member]["face_width_mm"] / 2, f"half of {member}.face_width_mm")):
+            if opts.get(amount) and not opts[key] < limit:
+                raise SpecError(f"{member}.{key} = {_fmt(opts[key])}: must be below {what} = {_fmt(limit)} (mm)",
+                                key=f"{member}.{key}")
 
 
 def _check_clearance(members: dict[str, dict[str, Any]]) -> None:
@@ -584,6 +611,7 @@ def _build(data: Any) -> DesignSpec:
             )
     values = {name: _check_section(name, data.get(name, {})) for name in SECTIONS}
     _check_clearance(values)
+    _check_relief_extent(values)
     return DesignSpec(
         pair=PairSpec(**values["pair"]),
         pinion=MemberSpec(**values["pinion"]),
