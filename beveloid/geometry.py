@@ -113,6 +113,7 @@ class PairGeometry:
                       normal_module_mm=self.normal_module_mm, tip_height_mm=m.tip_height_mm,
                       reference_section_offset_mm=m.reference_section_offset_mm)
         choices = surface_models.MODEL_CHOICES.get(m.tooth_surface, {})  # keys given by name -> kernel values
+        values.update({k: names[default] for k, (default, names, _) in choices.items()})
         values.update({k: choices[k][1][v] if k in choices else v for k, v in m.surface_options})
         return values
 
