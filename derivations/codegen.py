@@ -217,20 +217,24 @@ def render_function(fn: Function, cse=True, scalar=False):
     printer = _ScalarPrinter() if scalar else _Printer()
     body = []
     stage_lines = []
-    if stages:  # the intermediate values first, with their own CSE (symbols _y)
-        srepl, sreduced = (sp.cse(stage_exprs, symbols=sp.numbered_symbols("_y"), order="canonical") if cse
-                           else ([], stage_exprs))
-        stage_lines = [f"{s_} = {printer.doprint(v)}" for s_, v in srepl]
-        stage_lines += [f"{sym} = {printer.doprint(v)}" for (sym, _), v in zip(stages, sreduced)]
-        stage_ops = sum(sp.count_ops(v) for _, v in srepl) + sum(sp.count_ops(e) for e in sreduced)
+    stage_ops = 0
+    for level, group in enumerate(_stage_levels(stages, stage_exprs)):
+        # the intermediate values first, level by level (a level uses only earlier ones), each level
+        # with its own CSE (symbols _y, _y1_, ...)
+        exprs = [e for _, e in group]
+        prefix = "_y" if level == 0 else f"_y{level}_"
+        srepl, sreduced = (sp.cse(exprs, symbols=sp.numbered_symbols(prefix), order="canonical") if cse
+                           else ([], exprs))
+        stage_lines += [f"{s_} = {printer.doprint(v)}" for s_, v in srepl]
+        stage_lines += [f"{sym} = {printer.doprint(v)}" for (sym, _), v in zip(group, sreduced)]
+        stage_ops += sum(sp.count_ops(v) for _, v in srepl) + sum(sp.count_ops(e) for e in sreduced)
     if cse:
         syms = sp.numbered_symbols("_x")
         repl, reduced = sp.cse(all_exprs, symbols=syms, order="canonical")
     else:
         repl, reduced = [], all_exprs
     ops = sum(sp.count_ops(v) for _, v in repl) + sum(sp.count_ops(e) for e in reduced)
-    if stages:
-        ops += stage_ops
+    ops += stage_ops
     if not scalar:
         # every output carries the broadcast shape of all inputs, used or not
         def batch(a):
@@ -292,6 +296,19 @@ def _needed_stages(fn, exprs, allowed):
             need |= free & names
             out.append((sym, expr))
     return out[::-1]
+
+
+def _stage_levels(stages, exprs):
+    """[[(symbol, expr), ...] per level]: level 0 uses no other stage, level k only levels < k."""
+    names = {sym for sym, _ in stages}
+    level = {}
+    for (sym, _), e in zip(stages, exprs):
+        deps = e.free_symbols & names
+        level[sym] = 1 + max((level[d] for d in deps), default=-1)
+    groups = [[] for _ in range(1 + max(level.values(), default=-1))]
+    for (sym, _), e in zip(stages, exprs):
+        groups[level[sym]].append((sym, e))
+    return groups
 
 
 def _indices(shape):

@@ -162,8 +162,13 @@ def tooth_surface_staged(sigma):
     explicit = base_sub(sp.Matrix([forms[k.expr].diff(*k.variables) if isinstance(k, sp.Derivative) else forms[k]
                                    for k in keys]))
     stages = tuple((jets[k], e) for k, e in zip(keys, explicit))
+    # delta and its derivatives: stages over the base jets
     explicit_d = removal(_q)
-    delta = {(_d.diff(*v) if v else _d): (explicit_d.diff(*v) if v else explicit_d).xreplace(jets) for v in _ORDERS}
+    delta = {}
+    for v, tag in zip(_ORDERS, _TAGS):
+        sym = sp.Symbol(f"_jet_delta{tag}", real=True)
+        delta[_d.diff(*v) if v else _d] = sym
+        stages += ((sym, (explicit_d.diff(*v) if v else explicit_d).xreplace(jets)),)
     phi_explicit = base_sub(bphi)
 
     def substitute(expr):
@@ -177,10 +182,12 @@ def tooth_surface_late(sigma):
     """The staged surface with the stages substituted (explicit in (l, u); large trees: for checks
     at a few points, not for the generator)."""
     point, normal, ph, substitute, stages = tooth_surface_staged(sigma)
-    values = {sym: e for sym, e in stages}
 
     def explicit(expr):
-        return substitute(expr).xreplace(values)
+        out = substitute(expr)
+        for sym, e in reversed(stages):  # later stages use earlier ones
+            out = out.xreplace({sym: e})
+        return out
 
     return point, normal, ph, explicit
 
