@@ -183,3 +183,48 @@ def test_derivatives_at_a_linear_kink_are_one_sided(geom1):
     jump = np.linalg.norm(d_above - d_below)
     assert jump > 1e-3  # 30 um over 1 mm of radius: a slope change of order 0.03
     assert np.linalg.norm(pt(hi) - pt(lo)) < 1e-9  # continuous
+
+
+@pytest.mark.long_running
+def test_displacement_is_the_removal_in_50_digits():
+    """The derivation itself (derivations/flank_micro_geometry.py: the modified point over its stages,
+    the stages being the crowned derivation's point and normal and the removal) at 50 digits:
+    P - (q - delta n), with delta from the definition in mpmath."""
+    import mpmath
+    import sympy as sp
+
+    from beveloid.derivations import crowned_flank, flank_micro_geometry as fm
+    from beveloid.derivations.flank_boundaries import tip_height
+    from beveloid.derivations.symbols import a, alpha_n, b, beta, gamma, l, m_n, r, s, u
+
+    mpmath.mp.dps = 50
+    sigma = 1
+    point, _, _, substitute, stages = fm.tooth_surface_staged(sigma)
+    P = substitute(point)
+    q, n, _ = crowned_flank.tooth_surface(sigma)
+    jets = {sym: e for sym, e in stages}
+    names = [f"_jet_{v}{c}" for v in "qn" for c in "xyz"]
+    base = {sp.Symbol(k, real=True): (list(q) + list(n))[i] for i, k in enumerate(names)}
+    assert all(sp.Symbol(k, real=True) in jets for k in names)
+    R = sp.Rational
+    vals = {alpha_n: sp.pi / 9, beta: R(2, 5), gamma: R(7, 200), a: R(15, 2), b: 3 * sp.pi / 2, s: R(3, 10), r: 95,
+            m_n: 6, fm.W: 50, crowned_flank.C_alpha: 8, crowned_flank.C_beta: 15, tip_height: 6, fm.b_c: R(3, 2),
+            fm.C_a: 25, fm.h_tr: 2, fm.e_a: 1, fm.C_e: 18, fm.L_e: 4, fm.e_e: 2, fm.f_b: -9}
+    seen = set()
+    for lv, uv in ((R(3), R(-23)), (R(12), R(2)), (R(13), R(24)), (R(6), R(10))):
+        at = {k: sp.Float(sp.N(v, 60), 60) for k, v in {**vals, l: lv, u: uv}.items()}
+        num = {sym: sp.Float(e.evalf(60, subs=at), 60) for sym, e in base.items()}  # q, n from crowned_flank
+        num[sp.Symbol("_jet_delta", real=True)] = jets[sp.Symbol("_jet_delta", real=True)].evalf(60, subs={**at, **num})
+        pv = [mpmath.mpf(str(c.evalf(60, subs={**at, **num}))) for c in P]
+        qv = [mpmath.mpf(str(num[sp.Symbol(f"_jet_q{c}", real=True)])) for c in "xyz"]
+        nv = [mpmath.mpf(str(num[sp.Symbol(f"_jet_n{c}", real=True)])) for c in "xyz"]
+        rho = mpmath.sqrt(qv[0] ** 2 + qv[1] ** 2)
+        g = mpmath.mpf(7) / 200
+        rho_a = 95 + (6 + mpmath.mpf(3) / 10) / mpmath.cos(g) + qv[2] * mpmath.tan(g)
+        z = qv[2] - mpmath.mpf(3) / 2
+        t_tip = (rho - (rho_a - 2)) / 2
+        t_end = (abs(z) - (25 - 4)) / 4
+        delta = (25 * max(0, t_tip) + 18 * max(0, t_end) ** 2 - 9 * z / 25) / 1000
+        seen |= {("tip", t_tip > 0), ("end", t_end > 0)}
+        assert max(abs(pv[i] - (qv[i] - delta * nv[i])) for i in range(3)) < mpmath.mpf(10) ** -40
+    assert seen == {("tip", True), ("tip", False), ("end", True), ("end", False)}  # every branch sampled
