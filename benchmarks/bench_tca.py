@@ -111,7 +111,7 @@ def sweep_workload(geom, K=10_000, N=50, with_baseline=True):
 
 def crowned_case1(amount_um=20.0):
     """W3's pair: case 1 with C_alpha = C_beta = amount_um on both members."""
-    from beveloid.crowning_study import crowned_geometry
+    from beveloid.studies.crowning import crowned_geometry
 
     return crowned_geometry("case1", amount_um)
 

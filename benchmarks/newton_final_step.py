@@ -12,7 +12,7 @@ after it, and K = residual after / |s|^2 for the steps above round-off.  Not a t
 import numpy as np
 
 from beveloid import sweep, tca
-from beveloid.crowning_study import crowned_geometry
+from beveloid.studies.crowning import crowned_geometry
 from beveloid.design import design
 from beveloid.solver import core
 from beveloid.spec import load_example

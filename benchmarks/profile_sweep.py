@@ -133,7 +133,7 @@ def main():
     a = ap.parse_args()
     numba.set_num_threads(1)
     if a.crowned:
-        from beveloid.crowning_study import crowned_geometry
+        from beveloid.studies.crowning import crowned_geometry
 
         geom = crowned_geometry("case1", a.crowned)
     else:

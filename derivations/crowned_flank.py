@@ -51,9 +51,9 @@ PARAMETERS = (
 # modules of a few mm) and keeps delta a small displacement of the flank: the tests and the
 # validation study use up to 50 um.
 MAX_CROWNING_UM = 200.0
-#: The 50-digit FPD principal-direction check (fpd_principal_directions.py) takes > 10 min on this
-#: model's second fundamental form: skipped, and said so in beveloid verify.
-FPD_CHECK = False
+#: The FPD theory (Eqs 18-21) takes the flanks' rack contact lines as straight: the crowned rack's are
+#: not, so the FPD principal-direction check (fpd_principal_directions.py) does not apply to this model.
+STRAIGHT_EDGED_RACK = False
 KEYS = {"profile_crowning_um": (0.0, 0.0, MAX_CROWNING_UM), "lead_crowning_um": (0.0, 0.0, MAX_CROWNING_UM)}
 SELECTED_BY = ("profile_crowning_um", "lead_crowning_um")
 

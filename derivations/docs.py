@@ -33,6 +33,8 @@ STATUS_TEXT = {
     "verified": "verified",
     "definition": "definition",
     "differs": "**DIFFERS**",
+    "not applicable": "not applicable",
+    "not checked": "not checked",
 }
 
 

@@ -68,7 +68,8 @@ PARAMETERS = base.PARAMETERS + (
     Field("end_relief_shape", e_e, "1", "end relief shape: \"linear\" (exponent 1) or \"parabolic\" (2)"),
     Field("lead_slope_um", f_b, "um", "lead slope f_b: removal at z = +W/2 from the face centre (negative: at z = -W/2)"),
 )
-FPD_CHECK = False  # as the crowned model: its 50-digit principal-direction check is too slow
+#: generated from the crowned rack and then displaced: the FPD check's straight-edged premise does not hold
+STRAIGHT_EDGED_RACK = False
 #: numeric input keys: {name: (default, lowest, highest)}.  The heights and lengths default to
 #: 1 mm (they only matter with a non-zero amount; the kernels divide by them); the spec also
 #: refuses a height not below the working depth and a length not below half the face.

@@ -333,7 +333,7 @@ def test_functional_backlash_is_the_minimum_over_the_mesh_cycle():
 def test_aligned_te_grows_in_proportion_to_small_crowning():
     """First order: the aligned TE of a crowned pair is proportional to the crowning (the
     crowning study's search for the paper's 7.5 / 14.3 urad relies on it to converge fast)."""
-    from beveloid import crowning_study
+    from beveloid.studies import crowning as crowning_study
 
     ptp = [tca.mesh_flank(crowning_study.crowned_geometry("case1", c), "right", positions=31,
                           backend="numpy").te_peak_to_peak for c in (2.0, 4.0)]

@@ -22,8 +22,12 @@ derivations at module level (``verify`` and ``derive`` load them when they run).
 from __future__ import annotations
 
 import argparse
+import codecs
+import errno
 import importlib
+import os
 import sys
+import unicodedata
 from collections.abc import Sequence
 
 from ..errors import UserError
@@ -91,8 +95,56 @@ def _error(message: str) -> int:
     return 2
 
 
+#: errors of writing the output that are the place's, not the program's: one line and exit 2
+OUTPUT_ERRNOS = frozenset(getattr(errno, n) for n in ("ENOSPC", "EIO", "EFBIG", "EDQUOT", "EROFS", "EBADF")
+                          if hasattr(errno, n))
+
+
+def _by_name(exc: UnicodeEncodeError) -> tuple[str, int]:
+    """Codec error handler: a character the output's encoding lacks, by its name (``α`` -> ``alpha``)."""
+    out = []
+    for ch in exc.object[exc.start:exc.end]:
+        name = unicodedata.name(ch, "")
+        if name.startswith(("GREEK SMALL LETTER ", "GREEK CAPITAL LETTER ")):
+            word = name.rsplit(" ", 1)[-1].lower()
+            out.append(word if "SMALL" in name else word.capitalize())
+        elif name.startswith("SUBSCRIPT ") or name.startswith("SUPERSCRIPT "):
+            out.append(str(unicodedata.digit(ch, "")) or ch.encode("ascii", "backslashreplace").decode())
+        else:
+            out.append(ch.encode("ascii", "backslashreplace").decode("ascii"))
+    return "".join(out), exc.end
+
+
+codecs.register_error("beveloid-names", _by_name)
+
+
+def _robust_environment() -> None:
+    """Output in any terminal encoding, and a plotting backend that always works.
+
+    Characters the stream's encoding lacks (Greek symbols with PYTHONIOENCODING=ascii) are written by
+    name; every figure is a file, so matplotlib gets its file backend whatever MPLBACKEND says
+    (beveloid.plots selects Agg too; an invalid MPLBACKEND would fail the import before that).
+    """
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.reconfigure(errors="beveloid-names")
+        except (AttributeError, ValueError, OSError):  # not a TextIOWrapper (replaced, closed)
+            pass
+    if "MPLBACKEND" in os.environ:
+        os.environ["MPLBACKEND"] = "agg"
+
+
+def _drop_stdout() -> None:
+    """Point stdout at the null device: nothing more is written, nor flushed at exit."""
+    try:
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+    except (OSError, ValueError):  # no file descriptor (in-process callers' capture)
+        pass
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``beveloid`` script; returns the exit status."""
+    _robust_environment()
     argv = sys.argv[1:] if argv is None else list(argv)
     parser = build_parser(argv[0] if argv and argv[0] in COMMANDS else None)
     try:
@@ -100,14 +152,19 @@ def main(argv: Sequence[str] | None = None) -> int:
     except SystemExit as exc:  # --help, --version (0) and usage errors (2)
         return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 2)
     try:
-        return args._run(args)
+        status = args._run(args)
+        sys.stdout.flush()  # a full or failing output shows here, not at the interpreter's exit
+        return status
     except USER_ERRORS as exc:
         return _error(str(exc))
     except BrokenPipeError:  # e.g. `beveloid tca ... --json | head`
-        import os
-
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        _drop_stdout()
         return 0
+    except OSError as exc:  # stdout on a full disk (/dev/full), a failing device
+        if exc.errno not in OUTPUT_ERRNOS:
+            raise
+        _drop_stdout()
+        return _error(f"cannot write the output: {exc.strerror or exc} (errno {exc.errno})")
     except KeyboardInterrupt:
         print(f"{PROG}: interrupted", file=sys.stderr)
         return 130

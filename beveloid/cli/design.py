@@ -1,8 +1,8 @@
 """``beveloid design FILE [--json]``: direct pitch-cone design from a TOML spec.
 
 ``configure(parser)`` adds the arguments; ``run(args) -> int`` prints the Table 1 layout
-(:func:`beveloid.design_report.format_table1`) or, with ``--json``, the JSON of
-:func:`beveloid.design_report.design_json` on stdout and returns 0.  Invalid input and
+(:func:`beveloid.design.format_table1`) or, with ``--json``, the JSON of
+:func:`beveloid.design.design_json` on stdout and returns 0.  Invalid input and
 infeasible designs raise :class:`beveloid.spec.SpecError` / :class:`beveloid.design.DesignError`;
 the main CLI turns them into a one-line message and exit status 2.
 """
@@ -24,7 +24,7 @@ def run(args: argparse.Namespace) -> int:
     Prints a table laid out like the paper's Table 1 (angles in degrees), or JSON with --json.
     """
     from ..design import design
-    from ..design_report import design_json, format_table1
+    from ..design import design_json, format_table1
     from ..spec import load_spec
 
     result = design(load_spec(args.file))

@@ -14,7 +14,7 @@ def configure(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Reproduce Table 1 and the studies of Figs 10-22 into DIR (PNG, CSV, report.md)."""
-    from ..reproduction import run as reproduce
+    from ..studies.paper import run as reproduce
     from .paths import check_output_dir
 
     if not 10 <= args.positions <= 5000:

@@ -1,5 +1,5 @@
 """``beveloid paper --out DIR``: Table 1 and the studies of Figs 10-22, with a report (and the
-crowning study of beveloid/crowning_study.py).
+crowning study of beveloid/studies/crowning.py).
 
 Everything is computed from examples/case1.toml and examples/case2.toml (shipped in the
 package as beveloid/data/) by the design and TCA of this package; the paper's printed values
@@ -64,12 +64,6 @@ def load_table1():
         return tomllib.load(f)
 
 
-def load_case(case):
-    from .spec import load_example
-
-    return load_example(case)
-
-
 def _err_vec(e):
     return np.array([e[0], e[1], e[2], e[3] * DEG, e[4] * DEG])
 
@@ -131,50 +125,52 @@ def path_centre(fr):
     return float(fr.pinion_contact[ok, 2].mean()), float(fr.gear_contact[ok, 2].mean())
 
 
-def edge_onset_offset(geom, flank, direction=+1.0, hi=3.0, tol=1e-4):
-    """Smallest dq (dx = dy = dz = dq, sign = direction) at which a toe or heel starts to bear
-    (edge contact at a face end).
-
-    Bisection on the face-width margin of the contacts over the aligned engagement window.
-    """
-    from . import tca
+def edge_face_margin(geom, flank, dq):
+    """Smallest distance (mm) from a toe or heel of the contacts over the engagement window under
+    dx = dy = dz = dq, among the contacts not carried by a tip or form limit (those start and end
+    the engagement of every pair, aligned or not); ``inf`` when there is none."""
+    from .. import tca
 
     names = list(tca.tca_kernels.CONTACT_BOUNDARIES)
     profile = [names.index(f"{w} {b}") for w in ("pinion", "gear") for b in ("form limit", "tip")]
     face = [names.index(f"{w} {b}") for w in ("pinion", "gear") for b in ("toe", "heel")]
+    fr = tca.mesh_flank(geom, flank, _err_vec(_q(dq)), positions=60, pairs=1, window_pitches=3)
+    M = tca.contact_margins(geom, flank, fr.unknowns)
+    on_profile = (M[:, profile] >= -1e-9).all(axis=1) & np.array(
+        [b is None or not any(w in b for w in ("tip", "form limit")) for b in fr.contact_boundary])
+    return float(np.min(np.where(on_profile, M[:, face].min(axis=1), np.inf)))
 
-    def face_margin(q):
-        fr = tca.mesh_flank(geom, flank, _err_vec(_q(direction * q)), positions=60, pairs=1, window_pitches=3)
-        M = tca.contact_margins(geom, flank, fr.unknowns)
-        # a toe or heel bearing: contacts not carried by a tip or form limit (those start and end
-        # the engagement of every pair, aligned or not)
-        on_profile = (M[:, profile] >= -1e-9).all(axis=1) & np.array(
-            [b is None or not any(w in b for w in ("tip", "form limit")) for b in fr.contact_boundary])
-        return float(np.min(np.where(on_profile, M[:, face].min(axis=1), np.inf)))
 
-    # a contact on the toe or heel itself has a face margin of 0 to round-off (either sign): a
-    # bearing is a margin within the solver's patch tolerance, so the bisection does not follow
-    # the sign of round-off
+def edge_onset_offset(geom, flank, direction=+1.0, hi=3.0, tol=1e-4):
+    """Smallest dq (dx = dy = dz = dq, sign = direction) at which a toe or heel starts to bear
+    (edge contact at a face end), to ``tol`` mm; ``inf`` when none bears up to ``hi`` mm.
+
+    A contact on the toe or heel itself has a face margin of 0 to round-off (either sign): a
+    bearing is a margin within the solver's patch tolerance, so the search does not follow the
+    sign of round-off.  The onset is the root of (face margin - that tolerance), found by
+    scipy.optimize.brentq (the margin is the minimum over the window: continuous, with kinks).
+    """
+    from scipy.optimize import brentq
+
+    from .. import tca
+
     clear = tca.DEFAULT_OPTIONS.patch_tol_mm
-    if face_margin(0.0) <= clear:
+
+    def clearance(q):  # > 0: no toe or heel bears; finite for brentq (no contact counts as 1 m clear)
+        return min(edge_face_margin(geom, flank, direction * q), 1e3) - clear
+
+    if clearance(0.0) <= 0.0:
         return 0.0
-    lo_q, hi_q = 0.0, hi
-    if face_margin(hi_q) > clear:
+    if clearance(hi) > 0.0:
         return float("inf")
-    while hi_q - lo_q > tol:
-        mid = 0.5 * (lo_q + hi_q)
-        if face_margin(mid) > clear:
-            lo_q = mid
-        else:
-            hi_q = mid
-    return hi_q
+    return float(brentq(clearance, 0.0, hi, xtol=0.5 * tol, rtol=1e-12))
 
 
 def bearing_pattern_figure(geom, results, labels, out_png, title):
     """The hook for the bearing patterns: contact ellipses attached to each result, then drawn
     (beveloid/contact_ellipse.py, plots.bearing_patterns)."""
-    from . import plots
-    from .contact_ellipse import attach
+    from .. import plots
+    from ..contact_ellipse import attach
 
     for r in results:
         if r.approach_mm is None:
@@ -183,13 +179,28 @@ def bearing_pattern_figure(geom, results, labels, out_png, title):
 
 
 def run(out_dir, positions=200, progress=_progress):
-    """Write figures, CSV and report.md into out_dir; returns the report path."""
-    from . import crowning_study, plots, tca
-    from .design import design
-    from .design_report import format_table1
+    """Write figures, CSV and report.md into out_dir; returns the report path.
 
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    The files are written into a folder of their own and moved into out_dir at the end
+    (:func:`beveloid.studies.output.staged_folder`): two runs into one folder leave one run's files.
+    """
+    from .output import staged_folder
+
+    t0 = time.perf_counter()
+    with staged_folder(out_dir) as stage:
+        write_study(stage, positions, progress)
+    report = Path(out_dir) / "report.md"
+    progress(f"done in {time.perf_counter() - t0:.1f} s: {report}")
+    return report
+
+
+def write_study(out: Path, positions=200, progress=_progress) -> None:
+    """Compute every study and write its figures, CSV and report.md into the folder ``out``."""
+    from .. import plots, tca
+    from ..design import format_table1
+    from ..pair import Pair
+    from . import crowning
+
     t0 = time.perf_counter()
     steps = 1 + len(STUDIES) + 7  # Table 1, the error studies, Fig 22, sensitivity, onset, crowning, LTCA, micro, report
     k = 0
@@ -200,8 +211,9 @@ def run(out_dir, positions=200, progress=_progress):
         progress(f"[{k}/{steps}] {msg}")
 
     step("Table 1: direct design of both cases")
-    designs = {c: design(load_case(c)) for c in ("case1", "case2")}
-    geoms = {c: tca.PairGeometry.from_design(r) for c, r in designs.items()}
+    pairs = {c: Pair.example(c) for c in ("case1", "case2")}
+    designs = {c: p.design for c, p in pairs.items()}
+    geoms = {c: p.geometry for c, p in pairs.items()}
     comparison = table1_comparison(designs)
     with open(out / "table1.csv", "w", newline="") as f:
         w = csv.writer(f)
@@ -247,27 +259,25 @@ def run(out_dir, positions=200, progress=_progress):
     onset = {c: (edge_onset_offset(geoms[c], FLANK, +1), edge_onset_offset(geoms[c], FLANK, -1))
              for c in ("case1", "case2")}
 
-    step("crowning study: TE of crowned pairs (beveloid/crowning_study.py)")
-    crowning = crowning_study.run(out, STUDIES, _err_vec, _write_csv, positions=positions, flank=FLANK,
-                                  progress=progress)
+    step("crowning study: TE of crowned pairs (beveloid/studies/crowning.py)")
+    crowned = crowning.run(out, STUDIES, _err_vec, _write_csv, positions=positions, flank=FLANK,
+                           progress=progress)
 
     step("Figs 24-25: loaded contact (approximate LTCA)")
-    from .loaded_study import run_loaded
+    from ..loaded_study import run_loaded
 
     loaded = run_loaded(out, geoms, designs, progress)
     step("micro-geometry study: tip and end relief (beveloid/studies/micro_geometry.py)")
-    from .studies import micro_geometry
+    from . import micro_geometry
 
     loaded += micro_geometry.run(out, geoms, progress)
 
     step("report.md")
     report = _report(designs, comparison, summary, sens, onset, aligned, time.perf_counter() - t0, positions)
-    report += "\n".join(crowning)
+    report += "\n".join(crowned)
     (out / "report.md").write_text(report + "\n".join(["", *loaded]))
     (out / "table1_case1.txt").write_text(format_table1(designs["case1"]) + "\n")
     (out / "table1_case2.txt").write_text(format_table1(designs["case2"]) + "\n")
-    progress(f"done in {time.perf_counter() - t0:.1f} s: {out / 'report.md'}")
-    return out / "report.md"
 
 
 def _fmt(v, f="{:.3f}"):

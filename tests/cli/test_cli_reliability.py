@@ -15,6 +15,7 @@ import pytest
 
 from beveloid import cli
 from beveloid.design import DesignError, design, pitch_point_margins
+from beveloid.pair import Pair
 from beveloid.spec import (
     MAX_SPEC_BYTES,
     SpecError,
@@ -23,7 +24,7 @@ from beveloid.spec import (
     spec_to_dict,
 )
 
-REPO = Path(__file__).resolve().parent.parent
+REPO = Path(__file__).resolve().parents[2]
 C1 = str(REPO / "examples" / "case1.toml")
 CASE1_TEXT = (REPO / "examples" / "case1.toml").read_text(encoding="utf-8")
 
@@ -62,7 +63,7 @@ def case1_with(tmp_path, name="spec.toml", **replace):
 # ---------------------------------------------------------------------------------------------
 
 
-def test_8_pitch_point_below_the_active_profile_is_rejected(tmp_path):
+def test_pitch_point_below_the_active_profile_is_rejected(tmp_path):
     path = case1_with(tmp_path, offset_mm="1.0")
     with pytest.raises(DesignError) as info:
         design(load_spec(path))
@@ -73,7 +74,7 @@ def test_8_pitch_point_below_the_active_profile_is_rejected(tmp_path):
     assert "pair.offset_mm" in info.value.keys
 
 
-def test_8_pitch_point_above_the_tip_is_rejected():
+def test_pitch_point_above_the_tip_is_rejected():
     d = spec_to_dict(load_spec(C1))
     d["pinion"]["profile_shift"] = -1.2
     with pytest.raises(DesignError, match=r"above the tip \(tip circle [\d.]+ mm\) of the pinion teeth.*"
@@ -81,15 +82,15 @@ def test_8_pitch_point_above_the_tip_is_rejected():
         design(spec_from_dict(d))
 
 
-def test_8_feasibility_check_agrees_with_the_tca_boundaries(monkeypatch):
+def test_feasibility_check_agrees_with_the_tca_boundaries(monkeypatch):
     """The design's pitch-point check (closed form) and the TCA's flank boundaries (generated surfaces)
     agree on whether the aligned contact at P is on both members' flanks, on random designs."""
     from beveloid import tca
 
-    import beveloid.design as dmod
+    import beveloid.design.checks as dmod
 
-    real_check = dmod._check_pitch_point
-    monkeypatch.setattr(dmod, "_check_pitch_point", lambda *a: None)
+    real_check = dmod.check_pitch_point
+    monkeypatch.setattr(dmod, "check_pitch_point", lambda *a: None)
     rng = np.random.default_rng(5)
     base = spec_to_dict(load_spec(C1))
     seen = {True: 0, False: 0}
@@ -121,7 +122,7 @@ def test_8_feasibility_check_agrees_with_the_tca_boundaries(monkeypatch):
     assert seen[True] >= 10 and seen[False] >= 10, seen
 
 
-def test_8_sweep_and_tca_on_the_issue_example_exit_2(capsys, tmp_path):
+def test_sweep_and_tca_on_the_issue_example_exit_2(capsys, tmp_path):
     path = case1_with(tmp_path, offset_mm="1.0")
     for argv in (["design", path], ["tca", path, "--positions", "5"],
                  ["sweep", path, "--samples", "2", "--positions", "3"]):
@@ -135,7 +136,7 @@ def test_8_sweep_and_tca_on_the_issue_example_exit_2(capsys, tmp_path):
 
 
 @pytest.mark.parametrize("value", ["1e300", "1.7e308", "1000000.5"])
-def test_13_huge_offset_is_a_range_error_without_warnings(capsys, tmp_path, value):
+def test_huge_offset_is_a_range_error_without_warnings(capsys, tmp_path, value):
     path = case1_with(tmp_path, offset_mm=value)
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # any RuntimeWarning fails the test
@@ -143,7 +144,7 @@ def test_13_huge_offset_is_a_range_error_without_warnings(capsys, tmp_path, valu
     assert_one_line_exit_2(rc, err, "pair.offset_mm = ", "must be a number > 0 and <= 1000000 (mm)")
 
 
-def test_13_offset_too_large_quotes_the_true_reachable_range():
+def test_offset_too_large_quotes_the_true_reachable_range():
     """Near the new bound the message's E range comes from Eq 17 itself, not from E(alpha) - E + E."""
     d = spec_to_dict(load_spec(C1))
     d["pair"]["offset_mm"] = 999_999.0
@@ -163,7 +164,7 @@ def test_13_offset_too_large_quotes_the_true_reachable_range():
 # ---------------------------------------------------------------------------------------------
 
 
-def test_14_dev_zero_and_fifo_are_refused_quickly(capsys, tmp_path):
+def test_dev_zero_and_fifo_are_refused_quickly(capsys, tmp_path):
     fifo = tmp_path / "pipe.toml"
     os.mkfifo(fifo)
     for target, kind in (("/dev/zero", "a device"), (fifo, "a FIFO"), (tmp_path, "a folder")):
@@ -173,7 +174,7 @@ def test_14_dev_zero_and_fifo_are_refused_quickly(capsys, tmp_path):
         assert_one_line_exit_2(rc, err, str(target), f"it is {kind}", "regular TOML file")
 
 
-def test_14_oversized_file_is_refused(capsys, tmp_path):
+def test_oversized_file_is_refused(capsys, tmp_path):
     path = tmp_path / "big.toml"
     path.write_bytes(CASE1_TEXT.encode() + b"#" * (MAX_SPEC_BYTES + 10))
     rc, _, err = run_cli(capsys, ["tca", path])
@@ -185,13 +186,13 @@ def test_14_oversized_file_is_refused(capsys, tmp_path):
 # ---------------------------------------------------------------------------------------------
 
 
-def test_16_utf8_bom_is_accepted(tmp_path):
+def test_utf8_bom_is_accepted(tmp_path):
     path = tmp_path / "bom.toml"
     path.write_bytes(b"\xef\xbb\xbf" + CASE1_TEXT.encode())
     assert load_spec(path) == load_spec(C1)
 
 
-def test_16_control_characters_in_keys_are_escaped(capsys, tmp_path):
+def test_control_characters_in_keys_are_escaped(capsys, tmp_path):
     path = tmp_path / "nul.toml"
     path.write_text(CASE1_TEXT.replace("teeth = 29 ", '"te\\u0000e\\u001b[31mth" = 29 ', 1), encoding="utf-8")
     rc, _, err = run_cli(capsys, ["design", path])
@@ -199,7 +200,7 @@ def test_16_control_characters_in_keys_are_escaped(capsys, tmp_path):
     assert line.isprintable()
 
 
-def test_16_dates_are_shown_as_dates(tmp_path):
+def test_dates_are_shown_as_dates(tmp_path):
     path = case1_with(tmp_path, teeth="1979-05-27")
     with pytest.raises(SpecError) as info:
         load_spec(path)
@@ -212,7 +213,7 @@ def test_16_dates_are_shown_as_dates(tmp_path):
     ("teeth = 29", ["teeth = 29: unknown top-level key", "teeth belongs in [pinion] or [gear]"]),
     ("[extra]", ["extra: unknown section", "valid sections are: pair"]),
 ])
-def test_16_top_level_keys_are_not_called_sections(tmp_path, line, words):
+def test_top_level_keys_are_not_called_sections(tmp_path, line, words):
     path = tmp_path / "top.toml"
     path.write_text(line + "\n" + CASE1_TEXT if not line.startswith("[") else CASE1_TEXT + "\n" + line + "\n")
     with pytest.raises(SpecError) as info:
@@ -252,13 +253,13 @@ def _no_compute(monkeypatch):
     def boom(*a, **k):
         raise AssertionError("computed before checking the output target")
     monkeypatch.setattr("beveloid.design.design", boom)
-    monkeypatch.setattr("beveloid.reproduction.run", boom)
+    monkeypatch.setattr("beveloid.studies.paper.run", boom)
 
 
 ROOT = os.geteuid() == 0  # root may write anywhere: the permission cases only apply to other users
 
 
-def test_10_plot_targets_are_refused_before_computing(capsys, monkeypatch, tmp_path, targets):
+def test_plot_targets_are_refused_before_computing(capsys, monkeypatch, tmp_path, targets):
     folder, ro_file, ro_dir, a_file = targets
     _no_compute(monkeypatch)
     cases = [
@@ -275,7 +276,7 @@ def test_10_plot_targets_are_refused_before_computing(capsys, monkeypatch, tmp_p
             assert_one_line_exit_2(rc, err, "--plot = ", words)
 
 
-def test_10_11_out_targets_are_refused_before_computing(capsys, monkeypatch, tmp_path, targets):
+def test_out_targets_are_refused_before_computing(capsys, monkeypatch, tmp_path, targets):
     folder, ro_file, ro_dir, a_file = targets
     _no_compute(monkeypatch)
     cases = [
@@ -290,7 +291,7 @@ def test_10_11_out_targets_are_refused_before_computing(capsys, monkeypatch, tmp
         assert_one_line_exit_2(rc, err, "--out = ", words)
 
 
-def test_10_every_output_flag_of_every_command_is_checked():
+def test_every_output_flag_of_every_command_is_checked():
     """The flags that name an output (--plot, --out) are exactly the ones this module checks; a new one
     must be added to the checks (and to the tests above)."""
     parser = cli.build_parser()
@@ -308,7 +309,7 @@ WIDE = ["--dx-max", "9.99", "--dy-max", "9.99", "--dz-max", "9.99", "--vertical-
         "--horizontal-max", "4.99"]
 
 
-def test_3_sweep_text_gives_counts_per_status_and_sets_behind_each_statistic(capsys):
+def test_sweep_text_gives_counts_per_status_and_sets_behind_each_statistic(capsys):
     argv = ["sweep", C1, "--samples", "400", "--positions", "5", *WIDE]
     rc, text, _ = run_cli(capsys, argv)
     assert rc == 0
@@ -327,7 +328,7 @@ def test_3_sweep_text_gives_counts_per_status_and_sets_behind_each_statistic(cap
     assert f"with failed points: {o['sets_with_failed_points']} of 400" in text
 
 
-def test_4_sweep_draws_about_the_files_misalignment(capsys, tmp_path):
+def test_sweep_draws_about_the_files_misalignment(capsys, tmp_path):
     path = case1_with(tmp_path, dx_mm="0.02", vertical_deg="-0.004")
     tiny = [f"--{k}-max" for k in ("dx", "dy", "dz", "vertical", "horizontal")]
     tiny = [a for flag in tiny for a in (flag, "0.0001")]
@@ -352,7 +353,7 @@ def test_4_sweep_draws_about_the_files_misalignment(capsys, tmp_path):
     assert_one_line_exit_2(rc, err, "--dx-max = 9.9 with misalignment.dx_mm = 0.4", "<= 10 mm")
 
 
-def test_4_help_and_readme_document_the_nominal_errors():
+def test_help_and_readme_document_the_nominal_errors():
     parser = cli.build_parser()
     sub = next(a for a in parser._actions if a.dest == "command").choices["sweep"]
     assert "[misalignment]" in " ".join(sub.format_help().split())
@@ -360,16 +361,16 @@ def test_4_help_and_readme_document_the_nominal_errors():
     assert "nominal_errors" in readme and "[misalignment]" in readme.split("## Commands")[1].split("## ")[0]
 
 
-def test_9_sweep_without_aligned_contact_is_one_line(capsys, monkeypatch, tmp_path):
+def test_sweep_without_aligned_contact_is_one_line(capsys, monkeypatch, tmp_path):
     """Item 8 now rejects the issue's design in design(); with that check off, the sweep itself must
     still report the flank without contact in one line."""
-    monkeypatch.setattr("beveloid.design._check_pitch_point", lambda *a: None)
+    monkeypatch.setattr("beveloid.design.checks.check_pitch_point", lambda *a: None)
     path = case1_with(tmp_path, offset_mm="1.0")
     rc, _, err = run_cli(capsys, ["sweep", path, "--samples", "2", "--positions", "3", "--flank", "right"])
     assert_one_line_exit_2(rc, err, "cannot sweep the right flank", "no contact", "beveloid tca")
 
 
-def test_9_other_runtime_errors_are_not_swallowed(monkeypatch, tmp_path):
+def test_other_runtime_errors_are_not_swallowed(monkeypatch, tmp_path):
     def cache_error(*a, **k):
         raise RuntimeError("cannot cache function 'x': no locator available")
     monkeypatch.setattr("beveloid.sweep.sweep", cache_error)
@@ -377,7 +378,7 @@ def test_9_other_runtime_errors_are_not_swallowed(monkeypatch, tmp_path):
         cli.main(["sweep", C1, "--samples", "2", "--positions", "3"])
 
 
-def test_12_sweep_memory_is_bounded(capsys):
+def test_sweep_memory_is_bounded(capsys):
     from beveloid import sweep as sw
 
     t0 = time.perf_counter()
@@ -391,7 +392,7 @@ def test_12_sweep_memory_is_bounded(capsys):
 
 
 @pytest.mark.parametrize("samples, positions", [(0, 5), (-3, 5), (5, 1), (2.5, 5)])
-def test_16_api_sweep_rejects_bad_sizes_without_numpy_warnings(geom1, samples, positions):
+def test_api_sweep_rejects_bad_sizes_without_numpy_warnings(geom1, samples, positions):
     from beveloid import sweep as sw
 
     with warnings.catch_warnings():
@@ -400,20 +401,13 @@ def test_16_api_sweep_rejects_bad_sizes_without_numpy_warnings(geom1, samples, p
             sw.sweep(geom1, samples=samples, positions=positions)
 
 
-@pytest.fixture(scope="module")
-def geom1():
-    from beveloid import tca
-
-    return tca.PairGeometry.from_design(design(load_spec(C1)))
-
-
 # ---------------------------------------------------------------------------------------------
 # 17: first use: packaged examples and the key schema
 # ---------------------------------------------------------------------------------------------
 
 
 @pytest.mark.parametrize("name", ["case1", "case2"])
-def test_17_example_prints_a_spec_that_designs(capsys, monkeypatch, tmp_path, name):
+def test_example_prints_a_spec_that_designs(capsys, monkeypatch, tmp_path, name):
     monkeypatch.chdir(tmp_path)  # no checkout around
     rc, out, err = run_cli(capsys, ["example", name])
     assert rc == 0 and err == ""
@@ -426,7 +420,7 @@ def test_17_example_prints_a_spec_that_designs(capsys, monkeypatch, tmp_path, na
     assert load_spec(tmp_path / "my.toml") == load_example(name)
 
 
-def test_17_schema_lists_every_key(capsys):
+def test_schema_lists_every_key(capsys):
     from beveloid.spec import KEY_DOCS
 
     rc, out, _ = run_cli(capsys, ["example", "--schema"])
@@ -450,7 +444,7 @@ def test_17_schema_lists_every_key(capsys):
     (["example", "case1", "--schema"], ["not both"]),
     (["example", "case9"], ["invalid choice", "case9"]),
 ])
-def test_17_example_usage_errors_are_one_line(capsys, argv, words):
+def test_example_usage_errors_are_one_line(capsys, argv, words):
     rc, _, err = run_cli(capsys, argv)
     assert_one_line_exit_2(rc, err, *words)
 
@@ -461,7 +455,7 @@ def test_17_example_usage_errors_are_one_line(capsys, argv, words):
 
 
 @pytest.mark.parametrize("case", ["case1", "case2"])
-def test_7_table_columns_hold_what_the_json_holds(capsys, case):
+def test_table_columns_hold_what_the_json_holds(capsys, case):
     path = REPO / "examples" / f"{case}.toml"
     rc, text, _ = run_cli(capsys, ["design", path])
     assert rc == 0
@@ -497,12 +491,12 @@ def _table_row(text, flank):
     return head, row
 
 
-def test_5_failed_points_are_not_called_off_the_flank():
+def test_failed_points_are_not_called_off_the_flank():
     from beveloid import tca
     from beveloid.cli.tca import format_summary
 
     spec = load_spec(C1)
-    res = tca.analyze(tca.PairGeometry.from_design(design(spec)), positions=5, flanks=("right",))
+    res = tca.analyze(Pair.from_spec(spec).geometry, positions=5, flanks=("right",))
     fr = res.flanks["right"]
     n = len(fr.status)
     fr.status = ["failed"] * n  # as when the solver loses track everywhere
@@ -515,14 +509,14 @@ def test_5_failed_points_are_not_called_off_the_flank():
     assert f"none ({n - 2} outside, 2 failed)" in _table_row(format_summary(res, spec), "right")[1]
 
 
-def test_5_te_from_a_few_positions_carries_a_caveat(capsys):
+def test_te_from_a_few_positions_carries_a_caveat(capsys):
     """Positions where no pair carries a contact (edge contact now covers what the surface
     contact leaves; here some positions are made contact-free as a failed solve leaves them)."""
     from beveloid import tca
     from beveloid.cli.tca import format_summary
 
     spec = load_spec(C1)
-    res = tca.analyze(tca.PairGeometry.from_design(design(spec)), (1.2, 0, 0, 0, 0), positions=30)
+    res = tca.analyze(Pair.from_spec(spec).geometry, (1.2, 0, 0, 0, 0), positions=30)
     fr = res.flanks["right"]
     pairs = len(fr.status) // 30
     gone = np.zeros((pairs, 30), bool)
@@ -547,10 +541,10 @@ def _capture_figures(monkeypatch):
     return figs
 
 
-def test_6_zero_te_is_said_and_drawn_on_a_sensible_scale(monkeypatch):
+def test_zero_te_is_said_and_drawn_on_a_sensible_scale(monkeypatch):
     from beveloid import plots, tca
 
-    geom = tca.PairGeometry.from_design(design(load_spec(C1)))
+    geom = Pair.from_spec(C1).geometry
     res = tca.analyze(geom, positions=12)
     assert 0 < res.flanks["right"].te_peak_to_peak * 1e6 < plots.TE_ZERO_URAD  # round-off, not signal
     figs = _capture_figures(monkeypatch)
@@ -566,7 +560,7 @@ def test_6_zero_te_is_said_and_drawn_on_a_sensible_scale(monkeypatch):
     assert legend and all(re.search(r"mean [+-][\d.]+ urad, peak-to-peak", t) for t in legend), legend
 
 
-def test_6_real_te_is_not_flattened(monkeypatch):
+def test_real_te_is_not_flattened(monkeypatch):
     """A TE above the threshold keeps matplotlib's scale and gets no 'zero' remark."""
     import matplotlib
 

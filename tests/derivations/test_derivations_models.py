@@ -17,7 +17,7 @@ from beveloid.derivations import eq04_07_tooth_surface as surface
 from beveloid.derivations.docs import REGENERATE_HINT, check_derivations_md
 from beveloid.derivations.symbols import a, alpha_n, b, beta, gamma, l, r, s, u
 
-REPO = Path(__file__).resolve().parent.parent
+REPO = Path(__file__).resolve().parents[2]
 
 DEFINITIONS = {8, 10, 11, 15, 21, 28, 29, 36, 37}
 ALL = range(1, 39)

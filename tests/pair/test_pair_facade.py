@@ -11,7 +11,7 @@ from beveloid.geometry import PairGeometry
 from beveloid.pair import Pair
 from beveloid.spec import SpecError, load_spec, spec_to_dict
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 @pytest.mark.parametrize("case", ["case1", "case2"])

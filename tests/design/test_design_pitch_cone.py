@@ -1,4 +1,4 @@
-"""Tests for beveloid.design (direct / indirect pitch-cone design) and beveloid.design_report.
+"""Tests for beveloid.design (direct / indirect pitch-cone design) and beveloid.design.report.
 
 The oracle for the residual identities is an independent plain-numpy transcription of the
 *printed* Eqs 12-27 (as read in /work/shared/paper/equations.md), not the generated kernels.
@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import copy
+import dataclasses
 import json
 import math
 import tomllib
@@ -23,15 +24,15 @@ from hypothesis import strategies as st
 
 from beveloid.cli import design as cli_design
 from beveloid.design import DesignError, DesignResult, MemberDesign, design, indirect_design
-from beveloid.design_report import TABLE1_ROWS, design_json, format_table1
+from beveloid.design import TABLE1_ROWS, design_json, format_table1
 from beveloid.errors import UserError
 from beveloid.generated import design_equations as kernels
 from beveloid.spec import SpecError, load_spec, spec_from_dict, spec_to_dict
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = ROOT / "examples"
 # the paper's printed Table 1, shipped with the package (beveloid/data/) for `beveloid paper`
-TABLE1 = tomllib.loads((Path(__file__).resolve().parents[1] / "beveloid" / "data" / "table1.toml").read_text())
+TABLE1 = tomllib.loads((Path(__file__).resolve().parents[2] / "beveloid" / "data" / "table1.toml").read_text())
 
 deg, rad = math.degrees, math.radians
 sin, cos, tan = math.sin, math.cos, math.tan
@@ -411,8 +412,6 @@ INFEASIBLE = [
     (dict(pair__shaft_angle_deg=1.0, pinion__cone_angle_deg=8.0, gear__cone_angle_deg=8.0),
      "pair.shaft_angle_deg", "increase the shaft angle"),
     (dict(pair__offset_mm=5000.0), "pair.offset_mm", "reduce pair.offset_mm"),
-    (dict(pinion__cone_angle_deg=0.0), "pinion.cone_angle_deg", "increase |pinion.cone_angle_deg|"),
-    (dict(gear__cone_angle_deg=0.0), "gear.cone_angle_deg", "increase |gear.cone_angle_deg|"),
     (dict(pinion__profile_shift=1.5, pinion__teeth=12), "pinion.profile_shift", "reduce pinion.profile_shift"),
     (dict(pair__offset_mm=300.0), "pair.offset_mm", "reduce pair.offset_mm"),  # gear x_t2 ~ 17: pointed
     (dict(pinion__profile_shift=-1.5, pinion__teeth=10), "pinion.profile_shift",
@@ -440,6 +439,20 @@ def test_infeasible_geometry_raises_design_error(changes, key, direction):
     msg = str(err)
     assert key in msg and key in err.keys, msg
     assert direction in msg, msg
+
+
+@pytest.mark.parametrize("member", ["pinion", "gear"])
+def test_zero_cone_angle_is_refused_by_the_spec_and_by_the_design(member):
+    """The spec states the real range (non-zero); a DesignSpec built without the spec's check still
+    gets the design's one-line error naming the key."""
+    with pytest.raises(SpecError, match=rf"^{member}\.cone_angle_deg = 0\.0: must be a non-zero number from -15 to 15"):
+        spec_from_dict(modified(**{f"{member}__cone_angle_deg": 0.0}))
+    spec = spec_from_dict(modified())
+    spec = dataclasses.replace(spec, **{member: dataclasses.replace(getattr(spec, member), cone_angle_deg=0.0)})
+    with pytest.raises(DesignError) as info:
+        design(spec)
+    assert_good_error(info.value)
+    assert f"increase |{member}.cone_angle_deg|" in str(info.value) and f"{member}.cone_angle_deg" in info.value.keys
 
 
 def test_tangency_message_is_the_documented_one():
@@ -496,7 +509,7 @@ def test_steep_end_of_the_tangency_range_is_solved_to_float_resolution(monkeypat
          "gear": {"teeth": 287, "cone_angle_deg": -12.110536505916276, "face_width_mm": 50.0}}
     with pytest.raises(DesignError, match=r"pitch point P .* below the start of the active profile"):
         design(spec_from_dict(d))
-    monkeypatch.setattr("beveloid.design._check_pitch_point", lambda *args: None)
+    monkeypatch.setattr("beveloid.design.checks.check_pitch_point", lambda *args: None)
     r = design(spec_from_dict(d))
     assert any(n.startswith("Eq 17 solved only to |E(alpha_nw) - E| = ") for n in r.notes)
     assert abs(r.offset_residual_mm) < 1e-7
@@ -611,7 +624,7 @@ def test_runtime_does_not_import_sympy(tmp_path):
     import subprocess
     import sys
 
-    code = ("import sys, beveloid.design, beveloid.design_report, beveloid.cli.design;"
+    code = ("import sys, beveloid.design, beveloid.design.report, beveloid.cli.design;"
             "from beveloid.spec import load_spec; beveloid.design.design(load_spec(sys.argv[1]));"
             "print('sympy' in sys.modules)")
     # run outside the checkout: there `python -c` would import the bare beveloid/ folder

@@ -4,8 +4,8 @@ Both members of each case get the double-crowned flanks of the "crowned" tooth-s
 (derivations/crowned_flank.py) with C_alpha = C_beta = C.  For each amount in AMOUNTS_UM the
 right-flank TE is computed aligned and under every error set of the paper's Figs 13-15
 (case 1) and 19-21 (case 2), as in the unmodified study.  The crowning that makes the aligned
-TE peak-to-peak equal to the paper's 7.5 urad (case 1) and 14.3 urad (case 2) is found by a
-secant search, for equal profile and lead crowning and for each alone.  These are findings:
+TE peak-to-peak equal to the paper's 7.5 urad (case 1) and 14.3 urad (case 2) is found by
+scipy.optimize.toms748, for equal profile and lead crowning and for each alone.  These are findings:
 the paper does not say its flanks were crowned.
 """
 from __future__ import annotations
@@ -26,41 +26,56 @@ CASES = ("case1", "case2")
 
 def crowned_geometry(case: str, amount_um: float, keys=KINDS["equal"]):
     """PairGeometry of a paper case with both members crowned by ``amount_um`` on ``keys``."""
-    from . import tca
-    from .design import design
-    from .spec import load_example, spec_from_dict, spec_to_dict
+    from ..pair import Pair
+    from ..spec import load_example, spec_to_dict
 
     data = spec_to_dict(load_example(case))
     for member in ("pinion", "gear"):
         data[member]["tooth_surface"] = "crowned"
         for key in keys:
             data[member][key] = float(amount_um)
-    return tca.PairGeometry.from_design(design(spec_from_dict(data)))
+    return Pair.from_spec(data).geometry
 
 
 def aligned_te_urad(case, amount_um, keys=KINDS["equal"], flank="right", positions=200):
-    from . import tca
+    from .. import tca
 
     fr = tca.mesh_flank(crowned_geometry(case, amount_um, keys), flank, positions=positions)
     return fr.te_peak_to_peak * 1e6
 
 
-def amount_for_te(case, target_urad, keys=KINDS["equal"], flank="right", positions=200, rtol=1e-4):
-    """Crowning (um) whose aligned TE peak-to-peak is ``target_urad`` (secant from 1 and 2 um),
-    and the TE it gives; None when the search leaves 0..200 um."""
-    a0, a1 = 1.0, 2.0
-    f0 = aligned_te_urad(case, a0, keys, flank, positions) - target_urad
-    f1 = aligned_te_urad(case, a1, keys, flank, positions) - target_urad
-    for _ in range(12):
-        if not (np.isfinite(f0) and np.isfinite(f1)) or f1 == f0:
-            return None, None
-        a0, a1 = a1, a1 - f1 * (a1 - a0) / (f1 - f0)
-        if not 0.0 < a1 <= 200.0:
-            return None, None
-        f0, f1 = f1, aligned_te_urad(case, a1, keys, flank, positions) - target_urad
-        if abs(f1) <= rtol * target_urad:
-            return a1, f1 + target_urad
-    return None, None
+#: the crowning searched for the paper's aligned TE lies in (0, MAX_AMOUNT_UM] um
+MAX_AMOUNT_UM = 200.0
+
+
+def amount_for_te(case, target_urad, keys=KINDS["equal"], flank="right", positions=200, rtol=1e-5):
+    """Crowning (um) whose aligned TE peak-to-peak is ``target_urad``, and the TE it gives.
+
+    scipy.optimize.toms748 on (0, MAX_AMOUNT_UM] (the TE grows with the crowning from the
+    uncrowned pair's ~0), to ``rtol`` of the amount; (None, None) when the TE at MAX_AMOUNT_UM is
+    still below the target, the TE is not finite, or the TE jumps across the target instead of
+    reaching it within 1e-4 (with few positions a single position can spoil the peak-to-peak).
+    """
+    from scipy.optimize import toms748
+
+    te = {}  # amount -> TE p-p (urad); every amount is evaluated once
+
+    def excess(amount):
+        if amount not in te:
+            te[amount] = aligned_te_urad(case, amount, keys, flank, positions)
+        return te[amount] - target_urad
+
+    lo, hi = 0.0, MAX_AMOUNT_UM
+    f_lo, f_hi = excess(lo), excess(hi)
+    if not (np.isfinite(f_lo) and np.isfinite(f_hi)) or f_lo >= 0.0 or f_hi < 0.0:
+        return None, None
+    try:
+        amount = float(toms748(excess, lo, hi, xtol=1e-9, rtol=rtol))
+    except (ValueError, RuntimeError):  # a non-finite TE inside the interval
+        return None, None
+    if not abs(excess(amount)) <= 1e-4 * target_urad:  # a jump of the TE across the target, not a root
+        return None, None
+    return amount, te[amount]
 
 
 def _te_shape(fr):
@@ -77,11 +92,11 @@ def _te_shape(fr):
 def run(out_dir, studies, error_vector, write_csv, positions=200, flank="right", progress=print):
     """Compute the study, write its figures and CSV into out_dir; return the report's markdown lines.
 
-    ``studies``: the paper's studies (reproduction.STUDIES: case, TE figure, title, error sets in
+    ``studies``: the paper's studies (beveloid.studies.paper.STUDIES: case, TE figure, title, error sets in
     mm and deg), ``error_vector(errors)`` -> the five errors in mm and rad, ``write_csv(path,
-    study, results)`` writes a figure's curves (passed in: reproduction imports this module).
+    study, results)`` writes a figure's curves (passed in: studies.paper imports this module).
     """
-    from . import plots, tca
+    from .. import plots, tca
 
     out = Path(out_dir)
     rows = []  # (case, amount, figure, label, ptp, mean, tilt, backlash, newton its, other flank's ptp)

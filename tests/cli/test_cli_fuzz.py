@@ -26,7 +26,7 @@ from hypothesis import strategies as st
 from beveloid import cli
 from beveloid.spec import KEY_DOCS
 
-CASE1 = tomllib.loads((Path(__file__).resolve().parent.parent / "examples" / "case1.toml").read_text())
+CASE1 = tomllib.loads((Path(__file__).resolve().parents[2] / "examples" / "case1.toml").read_text())
 SECONDS_PER_EXAMPLE = 30  # a hang guard, not a performance target (an example takes well under 1 s)
 
 # ------------------------------------------------------------------------------------ values

@@ -7,6 +7,7 @@ import json
 import subprocess
 import sys
 import types
+from pathlib import Path
 
 import pytest
 
@@ -14,7 +15,7 @@ from beveloid import cli
 from beveloid.errors import UserError
 from beveloid.spec import SpecError
 
-ALLOWED_STATUS = {"verified", "definition", "differs", "not checked"}
+ALLOWED_STATUS = {"verified", "definition", "differs", "not checked", "not applicable"}
 
 
 @pytest.fixture
@@ -151,3 +152,20 @@ def test_cli_import_does_not_load_sympy(tmp_path):
     code = "import beveloid, beveloid.cli, sys; assert 'sympy' not in sys.modules, 'sympy was imported'"
     proc = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True)
     assert proc.returncode == 0, proc.stderr
+
+
+def test_the_fpd_check_of_crowned_flanks_is_not_applicable_with_its_reason():
+    """The FPD theory assumes a straight-edged rack: the crowned model is not a failure to check."""
+    from beveloid.derivations import fpd_principal_directions, registry
+    from beveloid.derivations.kernels import SURFACE_MODELS
+
+    (result,) = fpd_principal_directions.check(models={"crowned": SURFACE_MODELS["crowned"]})
+    assert result.equation == "FPD-principal-directions:crowned"
+    assert result.status == "not applicable" and result.max_rel_diff is None
+    assert "straight-edged rack" in result.method and "straight-edged" in result.note
+    (row,) = json.loads(registry.results_json([result]))
+    assert row["status"] == "not applicable" and "straight-edged rack" in row["method"]
+    assert "not applicable" in registry.results_table([result])
+    docs = (Path(__file__).resolve().parents[2] / "docs" / "derivations.md").read_text(encoding="utf-8")
+    crowned_row = next(line for line in docs.splitlines() if "('crowned' flanks)" in line)
+    assert "| not applicable |" in crowned_row and "straight-edged rack" in crowned_row

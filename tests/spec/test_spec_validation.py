@@ -23,7 +23,7 @@ from beveloid.spec import (
     spec_to_dict,
 )
 
-EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 BASE = {
     "pair": {
@@ -105,6 +105,7 @@ BAD_CASES = [
     # --- members
     ("cone_high", {"pinion.cone_angle_deg": 15.5}, "pinion.cone_angle_deg", "15.5", "from -15 to 15"),
     ("cone_low", {"gear.cone_angle_deg": -16}, "gear.cone_angle_deg", "-16", "from -15 to 15"),
+    ("cone_zero", {"pinion.cone_angle_deg": 0}, "pinion.cone_angle_deg", "0", "a non-zero number from -15 to 15"),
     ("helix_60", {"pinion.helix_angle_deg": 60.0}, "pinion.helix_angle_deg", "60.0", "< 60"),
     ("helix_minus_60", {"pinion.helix_angle_deg": -60.0}, "pinion.helix_angle_deg", "-60.0", "> -60"),
     ("shift_high", {"pinion.profile_shift": 1.6}, "pinion.profile_shift", "1.6", "from -1.5 to 1.5"),
@@ -317,14 +318,14 @@ def test_ints_become_floats_and_optional_keys_accepted():
                 "pinion.addendum_coefficient": 0.8,
                 "pinion.cutter_addendum_coefficient": 1.4,
                 "pinion.reference_section_offset_mm": -50,
-                "gear.cone_angle_deg": 0,
+                "gear.cone_angle_deg": -1,
                 "misalignment.vertical_deg": -5,
             }
         )
     )
     assert spec.pair.offset_mm == 229.0 and isinstance(spec.pair.offset_mm, float)
     assert spec.pinion.reference_section_offset_mm == -50.0
-    assert spec.gear.cone_angle_deg == 0.0
+    assert spec.gear.cone_angle_deg == -1.0 and isinstance(spec.gear.cone_angle_deg, float)
     assert spec.misalignment.vertical_deg == -5.0
 
 
@@ -398,3 +399,26 @@ def test_key_docs_markdown_has_row_per_key():
     assert len(rows) == 2 + sum(len(d) for d in KEY_DOCS.values())
     assert all(row.startswith("|") and row.endswith("|") for row in rows)
     assert "`pinion.teeth`" in table and "an integer from 6 to 400" in table
+
+
+def test_a_key_without_its_dataclass_field_is_refused(monkeypatch):
+    """Adding a key is a KeyDoc plus a field: the package names the one that is missing."""
+    from beveloid.spec import KeyDoc
+    from beveloid.spec.validate import check_fields_match_keys
+
+    check_fields_match_keys()  # the shipped tables agree
+    monkeypatch.setitem(KEY_DOCS["pair"], "backlash_mm", KeyDoc("test", "mm", lo=0.0, hi=1.0,
+                                                               requirement="optional", default=0.0))
+    with pytest.raises(RuntimeError, match=r"\['backlash_mm'\]"):
+        check_fields_match_keys()
+
+
+def test_a_default_that_differs_from_the_field_is_refused(monkeypatch):
+    import dataclasses
+
+    from beveloid.spec.validate import check_fields_match_keys
+
+    doc = KEY_DOCS["pinion"]["addendum_coefficient"]
+    monkeypatch.setitem(KEY_DOCS["pinion"], "addendum_coefficient", dataclasses.replace(doc, default=1.1))
+    with pytest.raises(RuntimeError, match="addendum_coefficient"):
+        check_fields_match_keys()

@@ -1,0 +1,227 @@
+"""The single table of a spec's keys: ranges, units, defaults and descriptions (:data:`KEY_DOCS`).
+
+The validation (:mod:`beveloid.spec.validate`), its error messages, ``beveloid example --schema``
+and the README's key table (:mod:`beveloid.spec.schema`) all read this table and nothing else.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from .. import assembly_errors
+from ..generated import surface_models
+
+# --------------------------------------------------------------------------
+# The single table of keys, ranges, units, defaults and descriptions
+# --------------------------------------------------------------------------
+
+
+def _num(x: float) -> str:
+    """Compact number for range texts: 6 not 6.0, 0.3 stays 0.3."""
+    if isinstance(x, float) and x.is_integer():
+        return str(int(x))
+    return repr(x)
+
+
+@dataclass(frozen=True)
+class KeyDoc:
+    """Documentation and validation rule of one key.
+
+    ``requirement`` is ``"required"``, ``"optional"`` (then ``default`` applies)
+    or ``"result"`` (computed by the design; giving it is an error).
+    ``bound_key`` names a key of the same section whose value bounds
+    ``|value|`` (used for ``reference_section_offset_mm``).
+    """
+
+    description: str
+    unit: str = ""  # "mm", "deg" or "" (dimensionless)
+    kind: str = "number"  # "number", "integer" or "choice" (one of ``choices``)
+    lo: float | None = None
+    lo_open: bool = False
+    hi: float | None = None
+    hi_open: bool = False
+    requirement: str = "required"
+    default: float | int | str | None = None
+    bound_key: str | None = None
+    choices: tuple[str, ...] = ()
+    #: 0 is not valid (inside the range)
+    nonzero: bool = False
+    #: for a tooth-surface model's own key: the model that takes it
+    model: str | None = None
+
+    @property
+    def default_text(self) -> str:
+        """The default as written in docs ('' when there is none)."""
+        if self.default is None:
+            return ""
+        return f'"{self.default}"' if self.kind == "choice" else _num(float(self.default))
+
+    @property
+    def unit_suffix(self) -> str:
+        return f" ({self.unit})" if self.unit else ""
+
+    @property
+    def valid_text(self) -> str:
+        """What a valid value is, e.g. ``'an integer from 6 to 400'``."""
+        return self.valid_text_in(None)
+
+    def valid_text_in(self, section: str | None) -> str:
+        """:attr:`valid_text` with ``bound_key`` qualified by ``section`` (if given)."""
+        if self.kind == "choice":
+            return "one of " + ", ".join(f'"{c}"' for c in self.choices)
+        noun = "an integer" if self.kind == "integer" else "a number"
+        if self.nonzero:
+            noun = "a non-zero " + noun.split()[-1]
+        if self.bound_key is not None:
+            bound = f"{section}.{self.bound_key}" if section else self.bound_key
+            return f"a finite number with |value| <= {bound}{self.unit_suffix}"
+        if self.lo is not None and self.hi is not None and not self.lo_open and not self.hi_open:
+            return f"{noun} from {_num(self.lo)} to {_num(self.hi)}{self.unit_suffix}"
+        parts = []
+        if self.lo is not None:
+            parts.append(f"{'>' if self.lo_open else '>='} {_num(self.lo)}")
+        if self.hi is not None:
+            parts.append(f"{'<' if self.hi_open else '<='} {_num(self.hi)}")
+        if self.lo is None or self.hi is None:
+            noun = ("a finite " + noun.split()[-1]) if not self.nonzero else ("a finite, " + noun[2:])
+        return f"{noun} {' and '.join(parts)}{self.unit_suffix}".replace("  ", " ")
+
+    def in_range(self, x: float) -> bool:
+        if self.nonzero and x == 0:
+            return False
+        if not math.isfinite(x):
+            return False
+        if self.lo is not None and (x <= self.lo if self.lo_open else x < self.lo):
+            return False
+        if self.hi is not None and (x >= self.hi if self.hi_open else x > self.hi):
+            return False
+        return True
+
+
+_PAIR_DOCS: dict[str, KeyDoc] = {
+    "normal_module_mm": KeyDoc("normal module", "mm", lo=0.0, lo_open=True, hi=100.0),
+    "normal_pressure_angle_deg": KeyDoc(
+        "normal pressure angle of the generating rack", "deg", lo=10.0, hi=35.0
+    ),
+    "shaft_angle_deg": KeyDoc(
+        "crossing angle between the shafts", "deg", lo=0.0, lo_open=True, hi=90.0, hi_open=True
+    ),
+    "offset_mm": KeyDoc("offset between the crossed axes", "mm", lo=0.0, lo_open=True, hi=1e6),
+}
+
+
+def _member_docs(member: str) -> dict[str, KeyDoc]:
+    design_input = "required" if member == "pinion" else "result"
+    mate = "gear" if member == "pinion" else "pinion"
+    return {
+        "teeth": KeyDoc("number of teeth", kind="integer", lo=6, hi=400),
+        "cone_angle_deg": KeyDoc("cone angle (signed; 0 is a cylinder, whose cone apex and mounting distance"
+                                 " are at infinity: not a beveloid)", "deg", lo=-15.0, hi=15.0, nonzero=True),
+        "helix_angle_deg": KeyDoc(
+            "helix angle, signed: + right hand, - left hand",
+            "deg",
+            lo=-60.0,
+            lo_open=True,
+            hi=60.0,
+            hi_open=True,
+            requirement=design_input,
+        ),
+        "profile_shift": KeyDoc(
+            "transverse profile-shift coefficient xt",
+            lo=-1.5,
+            hi=1.5,
+            requirement=design_input,
+        ),
+        "face_width_mm": KeyDoc("face width", "mm", lo=0.0, lo_open=True, hi=1000.0),
+        "addendum_coefficient": KeyDoc(
+            "tip height above the rack pitch line, in units of normal module",
+            lo=0.3,
+            hi=2.0,
+            requirement="optional",
+            default=1.0,
+        ),
+        "cutter_addendum_coefficient": KeyDoc(
+            f"cutter addendum / normal module (the {member}'s dedendum);"
+            f" must exceed {mate}.addendum_coefficient",
+            lo=0.5,
+            hi=2.5,
+            requirement="optional",
+            default=1.25,
+        ),
+        "reference_section_offset_mm": KeyDoc(
+            "distance bc from the working pitch circle to the reference transverse section",
+            "mm",
+            requirement="optional",
+            default=0.0,
+            bound_key="face_width_mm",
+        ),
+        "tooth_surface": KeyDoc(
+            "tooth-surface model (generated/surface_models.py); by default the model whose keys below are"
+            f" non-zero, else {surface_models.DEFAULT_MODEL}",
+            kind="choice",
+            choices=surface_models.MODELS,
+            requirement="optional",
+            default=surface_models.DEFAULT_MODEL,
+        ),
+        **_model_key_docs(),
+    }
+
+
+def _model_key_docs() -> dict[str, KeyDoc]:
+    """The tooth-surface models' own input keys (generated from the derivation registry)."""
+    out: dict[str, KeyDoc] = {}
+    for model, keys in surface_models.MODEL_KEYS.items():
+        for key, (unit, default, lo, hi, doc) in keys.items():
+            if key in out:  # a key shared by several models: with the first, all named
+                continue
+            takers = " or ".join(f'"{m}"' for m, k in surface_models.MODEL_KEYS.items() if key in k)
+            out[key] = KeyDoc(f"{doc} (tooth_surface = {takers})", unit, lo=lo, hi=hi, requirement="optional",
+                              default=default, model=model)
+        for key, (default, choices, doc) in surface_models.MODEL_CHOICES.get(model, {}).items():
+            out[key] = KeyDoc(f"{doc} (tooth_surface = \"{model}\")", kind="choice", choices=tuple(choices),
+                              requirement="optional", default=default, model=model)
+    return out
+
+
+def model_takes(model: str, key: str) -> bool:
+    """Whether a tooth-surface model takes a key (numeric or by name)."""
+    return key in surface_models.MODEL_KEYS[model] or key in surface_models.MODEL_CHOICES.get(model, {})
+
+
+def _mis_doc(description: str, unit: str, limit: float) -> KeyDoc:
+    return KeyDoc(description, unit, lo=-limit, hi=limit, requirement="optional", default=0.0)
+
+
+_MIS_DOCS: dict[str, KeyDoc] = {e.key: _mis_doc(e.description, e.unit, e.limit) for e in assembly_errors.ERRORS}
+
+
+def _material_docs() -> dict[str, KeyDoc]:
+    out: dict[str, KeyDoc] = {}
+    for member in ("pinion", "gear"):
+        out[f"{member}_youngs_modulus_gpa"] = KeyDoc(
+            f"Young's modulus of the {member} (loaded TCA)", "GPa", lo=1.0, hi=1000.0, requirement="optional",
+            default=206.0)
+        out[f"{member}_poisson_ratio"] = KeyDoc(
+            f"Poisson's ratio of the {member} (loaded TCA)", lo=0.0, hi=0.5, hi_open=True, requirement="optional",
+            default=0.3)
+    return out
+
+
+#: section -> key -> KeyDoc.  The single source of truth for validation and docs.
+KEY_DOCS: dict[str, dict[str, KeyDoc]] = {
+    "pair": _PAIR_DOCS,
+    "pinion": _member_docs("pinion"),
+    "gear": _member_docs("gear"),
+    "misalignment": _MIS_DOCS,
+    "material": _material_docs(),
+}
+
+#: Valid top-level sections, in canonical order, with a description.
+SECTIONS: dict[str, str] = {
+    "pair": "data shared by both members",
+    "pinion": "its helix angle and profile shift are design inputs",
+    "gear": "its helix angle and profile shift are results of the direct design",
+    "misalignment": "assembly errors for tooth contact analysis; optional, default 0",
+    "material": "elastic constants of both members for the loaded TCA; optional, default steel",
+}
+REQUIRED_SECTIONS: tuple[str, ...] = ("pair", "pinion", "gear")

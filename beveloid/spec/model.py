@@ -1,0 +1,105 @@
+"""The frozen dataclasses of a design spec and its error type.
+
+A :class:`DesignSpec` holds one dataclass per TOML section; each field is one key of
+:data:`beveloid.spec.keys.KEY_DOCS` (the package checks at import that the two agree, see
+``beveloid/spec/__init__.py`` for how to add a key).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from ..generated import surface_models
+
+#: ``source`` used when a spec does not come from a file; errors get no prefix.
+DEFAULT_SOURCE = "<dict>"
+
+# --------------------------------------------------------------------------
+# Error type
+# --------------------------------------------------------------------------
+
+
+class SpecError(ValueError):
+    """One-line user-facing error: names the key, the value, and what would be valid.
+
+    ``str(err)`` is the full message (prefixed with ``source: `` when the spec
+    came from a file).  Attributes: ``detail`` (message without the source
+    prefix), ``key`` (dotted key such as ``"pinion.teeth"``, or ``None`` for
+    file-level errors) and ``source``.
+    """
+
+    def __init__(self, message: str, *, key: str | None = None, source: str | None = None):
+        detail = one_line(str(message))
+        full = f"{one_line(source)}: {detail}" if source and source != DEFAULT_SOURCE else detail
+        super().__init__(full)
+        self.detail = detail
+        self.key = key
+        self.source = source
+
+
+def one_line(text: str) -> str:
+    """``text`` on one line: line breaks become spaces."""
+    return " ".join(text.splitlines()).strip() if ("\n" in text or "\r" in text) else text
+
+
+# --------------------------------------------------------------------------
+# Dataclasses
+# --------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class PairSpec:
+    normal_module_mm: float
+    normal_pressure_angle_deg: float
+    shaft_angle_deg: float
+    offset_mm: float
+
+
+@dataclass(frozen=True)
+class MemberSpec:
+    teeth: int
+    cone_angle_deg: float
+    face_width_mm: float
+    #: Required for the pinion; for the gear it is a result of the direct design (must be None).
+    helix_angle_deg: float | None = None
+    #: Required for the pinion; for the gear it is a result of the direct design (must be None).
+    profile_shift: float | None = None
+    #: Tip height above the rack pitch line, in units of normal module.
+    addendum_coefficient: float = 1.0
+    #: Cutter addendum a / mn (the member's dedendum).
+    cutter_addendum_coefficient: float = 1.25
+    #: bc: distance from the working pitch circle to the reference transverse section.
+    reference_section_offset_mm: float = 0.0
+    #: Tooth-surface model (generated/surface_models.py MODELS).
+    tooth_surface: str = surface_models.DEFAULT_MODEL
+    #: The model's own input keys and values, as sorted (key, value) pairs.
+    surface_options: tuple = ()
+
+
+@dataclass(frozen=True)
+class MisalignmentSpec:
+    dx_mm: float = 0.0
+    dy_mm: float = 0.0
+    dz_mm: float = 0.0
+    vertical_deg: float = 0.0
+    horizontal_deg: float = 0.0
+
+
+@dataclass(frozen=True)
+class MaterialSpec:
+    """Elastic constants of both members (the loaded TCA, ``beveloid ltca``)."""
+
+    pinion_youngs_modulus_gpa: float = 206.0
+    pinion_poisson_ratio: float = 0.3
+    gear_youngs_modulus_gpa: float = 206.0
+    gear_poisson_ratio: float = 0.3
+
+
+@dataclass(frozen=True)
+class DesignSpec:
+    pair: PairSpec
+    pinion: MemberSpec
+    gear: MemberSpec
+    misalignment: MisalignmentSpec = field(default_factory=MisalignmentSpec)
+    material: MaterialSpec = field(default_factory=MaterialSpec)
+    #: Where the spec came from (file path or "<dict>"); not part of equality.
+    source: str = field(default=DEFAULT_SOURCE, compare=False)

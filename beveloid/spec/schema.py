@@ -1,0 +1,41 @@
+"""The keys of a spec as text: the README's Markdown table and ``beveloid example --schema``."""
+from __future__ import annotations
+
+from .keys import KEY_DOCS, SECTIONS
+
+
+def key_docs_markdown() -> str:
+    """A Markdown table of every key (for the README), generated from :data:`KEY_DOCS`."""
+    lines = [
+        "| key | required | default | valid values | description |",
+        "|---|---|---|---|---|",
+    ]
+    for section, docs in KEY_DOCS.items():
+        for key, d in docs.items():
+            if d.requirement == "result":
+                req, valid = "no (design result)", "must not be given"
+            else:
+                req = "yes" if d.requirement == "required" else "no"
+                valid = d.valid_text
+            default = d.default_text
+            cells = [f"`{section}.{key}`", req, default, valid, d.description]
+            lines.append("| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |")
+    return "\n".join(lines)
+
+
+def key_schema_text() -> str:
+    """Every key of a spec file, one line each: section.key, required or default, valid values, meaning."""
+    lines = ["# Keys of a beveloid spec file (TOML). Sections: "
+             + "; ".join(f"[{s}] {d}" for s, d in SECTIONS.items())]
+    for section, docs in KEY_DOCS.items():
+        lines.append("")
+        lines.append(f"[{section}]")
+        for key, d in docs.items():
+            if d.requirement == "result":
+                need = "do not give: a result of the direct design"
+            elif d.requirement == "required":
+                need = f"required, {d.valid_text_in(section)}"
+            else:
+                need = f"optional (default {d.default_text}), {d.valid_text_in(section)}"
+            lines.append(f"{key}: {need}; {d.description}")
+    return "\n".join(lines)
