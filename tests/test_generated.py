@@ -179,6 +179,11 @@ PHYSICAL = {
     "shaft_angle": _degrees(5, 30),
     "axial_placement_mm": _uniform(-100, 100),
     "tip_height_mm": _uniform(2, 8),  # m_n
+    # micro-geometry model (reliefs below the working depth, end zones below half the narrowest face)
+    "reference_section_offset_mm": _uniform(-10, 10), "tip_relief_um": _uniform(0, 200),
+    "tip_relief_height_mm": _uniform(0.5, 5), "end_relief_um": _uniform(0, 200), "end_relief_length_mm": _uniform(1, 5),
+    "lead_slope_um": _uniform(-200, 200),
+    "tip_relief_shape": lambda rng, n: rng.choice([1.0, 2.0], n), "end_relief_shape": lambda rng, n: rng.choice([1.0, 2.0], n),
     "toe_z_mm": _signed(5, 60), "heel_z_mm": _signed(5, 60),  # either order: the margins take both
 }
 
@@ -614,6 +619,17 @@ def _lambdified_outputs(fn, values, n):
             symbols.append(symbol)
             value = np.asarray(values[a.name])
             args.append(value if index is None else value[(...,) + (index if isinstance(index, tuple) else (index,))])
+    # a staged function's outputs are written over named intermediate values: evaluate those first,
+    # in batches whose symbols are known (lambdify's own CSE inside a batch: they are the base model's jets)
+    todo = list(fn.stages)
+    while todo:
+        batch = [(sym, e) for sym, e in todo if e.free_symbols <= set(symbols)]
+        assert batch, "a stage uses an unknown symbol"
+        f = sp.lambdify(symbols, [e for _, e in batch], modules="numpy", cse=True)
+        for (sym, _), v in zip(batch, f(*args)):
+            symbols.append(sym)
+            args.append(np.broadcast_to(np.asarray(v, dtype=float), (n,)))
+        todo = [t for t in todo if t not in batch]
     outs = []
     for o in fn.outputs:
         entries = list(o.expr) if isinstance(o.expr, sp.MatrixBase) else [o.expr]
