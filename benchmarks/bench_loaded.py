@@ -32,9 +32,9 @@ import time  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from beveloid.loaded.halfspace import reduced_modulus_mpa, tensor_grid, tensor_influence_matrix_mm_per_mpa  # noqa: E402
-from beveloid.loaded.lcp import prepare_compliance, solve_contact  # noqa: E402
-from beveloid.loaded.tooth_compliance import (  # noqa: E402
+from beveloid.ltca.halfspace import reduced_modulus_mpa, tensor_grid, tensor_influence_matrix_mm_per_mpa  # noqa: E402
+from beveloid.ltca.lcp import prepare_compliance, solve_contact  # noqa: E402
+from beveloid.ltca.tooth_compliance import (  # noqa: E402
     face_coupling_per_mm,
     involute_load_points,
     involute_tooth_section,

@@ -9,7 +9,7 @@ import numpy as np
 
 from beveloid import ltca, tca
 from beveloid.design import design
-from beveloid.loaded import hertz
+from beveloid.ltca import hertz
 from beveloid.spec import load_example
 
 g1 = tca.PairGeometry.from_design(design(load_example("case1")))
@@ -19,13 +19,11 @@ from beveloid import curvature
 for case, flank, T in (("case1", "left", 1.0), ("case1", "left", 2.0), ("case1", "left", 5.0), ("case1", "left", 20.0),
                        ("case2", "left", 2.0), ("case1", "right", 1.0), ("case2", "right", 1.0)):
     g = tca.PairGeometry.from_design(design(load_example(case)))
-    nx, ny = 13, 31
-    r = ltca.analyze(g, T, flank, positions=3, pairs=1, grid=ltca.GridOptions(nx, ny))
+    r = ltca.analyze(g, T, flank, positions=3, pairs=1)  # the default grid
+    nx, ny = r.grid.across_cells, r.grid.along_cells
     j, k = 1, 0
     p = r.pressure_mpa[j, k].reshape(nx, ny); h = r.gap.gap_mm[j, k].reshape(nx, ny); inside = r.gap.in_flank[j, k].reshape(nx, ny)
-    xe, ye = ltca._edges(r.across_half_mm, nx), ltca._edges(r.along_half_mm, ny)
-    xc, yc = 0.5*(xe[1:]+xe[:-1]), 0.5*(ye[1:]+ye[:-1])
-    x = xc[:, None] + r.gap.across_shift_mm[j, k][None, :]; y = np.broadcast_to(yc[None, :], x.shape)
+    x, y = r.cell_coordinates_mm(j, k)
     w = p/p.sum(); mx, my = (w*x).sum(), (w*y).sum()
     a_ = math.sqrt(5*(w*(x-mx)**2).sum()); b_ = math.sqrt(5*(w*(y-my)**2).sum())
     fit = inside & (h <= np.percentile(h[inside], 60))
@@ -36,13 +34,7 @@ for case, flank, T in (("case1", "left", 1.0), ("case1", "left", 2.0), ("case1",
     A, B = np.linalg.eigvalsh(rc.H) / 2
     ref = hertz.hertz_point_contact(A, B, float(r.pair_load_n[j, k]), ltca.Material().e_star_mpa)
     print(f"{case} {flank} T={T} F={r.pair_load_n[j,k]:.1f}N R={1/(2*A):.0f}/{1/(2*B):.2f} (fit {1/(2*fA):.0f}/{1/(2*fB):.2f}) b={a_:.4f}/{ref.semi_minor_mm:.4f} ({a_/ref.semi_minor_mm-1:+.2%})  a={b_:.3f}/{ref.semi_major_mm:.3f} ({b_/ref.semi_major_mm-1:+.2%})  p={p.max():.1f}/{ref.max_pressure_mpa:.1f} ({p.max()/ref.max_pressure_mpa-1:+.2%})")
-# (2) convergence
-print("CONVERGENCE")
-for nx, ny in ((7, 15), (9, 21), (13, 31), (19, 45), (25, 61)):
-    r = ltca.analyze(g1, 200.0, "right", positions=5, pairs=3, grid=ltca.GridOptions(nx, ny))
-    j = 2
-    fp = [r.pattern(g1, m).area_fraction for m in ("pinion","gear")]
-    print(f"{nx}x{ny}: loads {np.round(r.pair_load_n[j],1)} pmax {np.round(r.pair_max_pressure_mpa[j],0)} TE {r.loaded_te[j]*1e6:.3f} area {r.contact_area_mm2[j]:.2f} X {r.across_half_mm:.3f} Y {r.along_half_mm:.1f} TE0 {r.loaded_te[0]*1e6:.3f} loads0 {np.round(r.pair_load_n[0],1)} frac {fp[0]:.3f} {fp[1]:.3f}")
+# (2) convergence: benchmarks/ltca_grid_convergence.py
 # (4) stiffness
 print("STIFFNESS")
 for case in ("case1", "case2"):
@@ -65,9 +57,9 @@ for case in ("case1", "case2"):
         j = 4; k = int(np.argmax(r.pair_load_n[j]))
         p = r.pressure_mpa[j, k].reshape(nx, ny) > 0
         cols = np.nonzero(p.any(axis=0))[0]
-        dy = 2 * r.along_half_mm / ny
+        dy = 2 * r.grid.along_half_mm[j, k] / ny
         length = (cols.max() - cols.min() + 1) * dy
-        width = p.sum(axis=0).max() * 2 * r.across_half_mm / nx
+        width = p.sum(axis=0).max() * 2 * r.grid.across_half_mm[j, k] / nx
         inside = r.gap.in_flank[j, k].reshape(nx, ny)
         mres = np.nanmax(np.abs(r.pinion_moment_nmm / (T * 1e3) - 1))
         print(case, T, f"pair {r.tooth_pairs[k]} length {length:.1f} mm width {width:.3f} mm ratio {length/width:.0f}  moment res {mres:.1e}  loads {np.round(r.pair_load_n[j])}")

@@ -7,7 +7,12 @@ docs/loaded_contact.md).  The torque is the pinion torque.  The JSON holds "torq
 "pair_normal_load_n" [N][P], "pair_max_pressure_mpa" [N][P], "pair_patch_semi_axes_mm" [N][P][2]
 (across, along: sqrt(5 <x^2>) of the pressure), "contact_area_mm2" [N],
 "pattern_area_fraction" {"pinion", "gear"}, "status" [N] and "solver" (iterations and residuals);
-a position that did not converge has null numbers.
+a position that did not converge has null numbers.  Since issue 23 also: "pair_surface_max_pressure_mpa"
+and "pair_edge_max_pressure_mpa" [N][P] (the peak away from / at a flank edge; the edge one is
+grid-dependent), "grid_convergence" (per position the change of the surface peak and of the pair
+loads against the once-coarsened grid, with tolerances), "validity" (None per position inside the
+model: linear elastic, small strain), "loaded_transmission_error_peak_to_peak_urad" (null with fewer
+than 3 converged positions), "warnings" (also printed on stderr) and per-pair grid extents.
 """
 from __future__ import annotations
 
@@ -29,53 +34,74 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--pairs", type=int, default=3, metavar="K", help="neighbouring tooth pairs (default 3)")
     p.add_argument("--flank", choices=("left", "right"), default="right", help="flank pair (default right)")
     add_error_flags(p)
-    p.add_argument("--grid", default="13x31", metavar="ACROSSxALONG",
-                   help="contact cells across x along the contact line per tooth pair (default 13x31)")
-    p.add_argument("--plot", metavar="OUT.png", help="write the contact patterns, loaded TE and load sharing here")
+    p.add_argument("--grid", default=None, metavar="ACROSSxALONG",
+                   help="contact cells across x along the contact line per tooth pair (default "
+                        "11x17, each cell a fixed fraction of the pair's Hertz semi-axes)")
+    p.add_argument("--plot", metavar="OUT.png", help="write the contact patterns, loaded TE and load sharing here "
+                                                     "(and the per-position pressure maps beside it)")
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
 
 
-def parse_grid(text: str):
-    m = re.fullmatch(r"\s*(\d+)\s*[xX]\s*(\d+)\s*", text or "")
-    if not m or not (3 <= int(m[1]) <= 201 and 3 <= int(m[2]) <= 201):
-        raise UserError(f"--grid = {text}: must be ACROSSxALONG with two integers from 3 to 201, e.g. 13x31")
-    return int(m[1]), int(m[2])
+def parse_grid(text):
+    """(across, along) from 'AxB', None when not given; the range is ltca.options' (one line if bad)."""
+    from ..ltca.options import check_grid
+
+    if text is None:
+        return None
+    m = re.fullmatch(r"\s*(\d+)\s*[xX]\s*(\d+)\s*", text)
+    try:
+        return check_grid((int(m[1]), int(m[2])) if m else text, key="--grid")
+    except ValueError as exc:
+        raise UserError(str(exc).replace("(11, 17)", text).replace(f"({m[1]}, {m[2]})" if m else text, text)) \
+            from None
 
 
 def run(args: argparse.Namespace) -> int:
     """Loaded tooth contact analysis under a pinion torque (approximate: half-space + tooth beams).
 
     Prints per position the loaded TE, the load of each tooth pair, its peak pressure and the
-    contact area; --json prints the full arrays.
+    contact area; --json prints the full arrays.  Warnings (grid not converged, outside the
+    model's validity, edge peaks) go to stderr, one line each.
     """
-    from .. import ltca, tca
-    from ..design import design
-    from ..spec import load_spec
+    import sys
 
-    t = args.torque_nm
-    if not (math.isfinite(t) and 0 < t <= 1e6):
-        raise UserError(f"--torque-nm = {t}: must be a number > 0 and <= 1000000 (N m)")
-    if args.positions < 3 or args.positions > 400:
-        raise UserError(f"--positions = {args.positions}: must be an integer from 3 to 400")
-    if args.pairs < 1 or args.pairs > 9 or args.pairs % 2 == 0:
-        raise UserError(f"--pairs = {args.pairs}: must be an odd integer from 1 to 9")
-    across, along = parse_grid(args.grid)
+    from .. import ltca
+    from ..pair import Pair
+    from ..solver import Solver
+
+    grid = parse_grid(args.grid)
+    try:
+        ltca.options.check_torque(args.torque_nm, key="--torque-nm")
+        ltca.options.check_positions(args.positions, key="--positions")
+        ltca.options.check_pairs(args.pairs, key="--pairs")
+    except ValueError as exc:
+        raise UserError(str(exc)) from None
     if args.plot is not None:
         check_output_file(args.plot, "--plot", ".png")
+    from ..spec import load_spec
+
     spec = apply_error_flags(load_spec(args.file), args)
-    geom = tca.PairGeometry.from_design(design(spec))
-    result = ltca.analyze(geom, t, flank=args.flank, errors=error_vector(spec), positions=args.positions,
-                          pairs=args.pairs, grid=ltca.GridOptions(across_cells=across, along_cells=along),
-                          material=ltca.Material.from_spec(spec))
+    pair = Pair.from_spec(spec)
+    options = ltca.Options(torque_nm=args.torque_nm, flank=args.flank, positions=args.positions, pairs=args.pairs,
+                           grid=grid, errors=tuple(error_vector(spec)), material=ltca.Material.from_spec(spec))
+    try:
+        options.check_memory()
+    except ValueError as exc:
+        raise UserError(str(exc).replace("grid = ", "--grid = ")) from None
+    result = ltca.analyze(pair, options, Solver())
+    geom = pair.geometry
     if args.plot is not None:
-        from ..plots import ltca_summary
+        from ..ltca.plots import ltca_summary
 
         try:
-            ltca_summary(result, geom, args.plot, title=f"{spec.source}: pinion torque {t:g} N m, {errors_label(spec)}")
+            ltca_summary(result, geom, args.plot, title=f"{spec.source}: pinion torque {args.torque_nm:g} N m, "
+                                                        f"{errors_label(spec)}")
         except OSError as exc:
             raise UserError(f"--plot = {args.plot}: cannot write there ({exc.strerror or exc})") from None
+    for w in result.warnings():
+        print(f"beveloid: warning: {w}", file=sys.stderr)
     if args.json:
-        print(json.dumps(result.to_json_dict(geom), allow_nan=False))
+        print(json.dumps(ltca.to_json_dict(result, geom), allow_nan=False))
     else:
         print(format_summary(result, geom, spec))
     return 0
@@ -92,14 +118,22 @@ def format_summary(result, geom, spec) -> str:
         rows.append([f"{phi * 1e3:.3f}", result.status[j], fmt(result.loaded_te[j] * 1e6, ".3f"),
                      fmt(result.unloaded_te[j] * 1e6, ".3f"), fmt(result.contact_area_mm2[j], ".2f")]
                     + [fmt(v, ".1f") for v in result.pair_load_n[j]]
-                    + [fmt(v, ".0f") for v in result.pair_max_pressure_mpa[j]])
+                    + [fmt(v, ".0f") + ("*" if math.isfinite(e) and e >= v else "")
+                       for v, e in zip(result.pair_max_pressure_mpa[j], result.pair_edge_max_pressure_mpa[j])])
     w = [max(len(r[i]) for r in rows) for i in range(len(head))]
     lines += ["  ".join(c.rjust(wi) for c, wi in zip(r, w)) for r in rows]
     frac = {m: result.pattern(geom, m).area_fraction for m in ("pinion", "gear")}
     lines += ["", "share of each flank that carries pressure somewhere in the cycle: "
               + ", ".join(f"{m} {fmt(f * 100 if f is not None else None, '.1f')}%" for m, f in frac.items()),
-              f"grid per pair: {result.grid.across_cells} x {result.grid.along_cells} cells over "
-              f"+-{result.across_half_mm:.3f} mm across and +-{result.along_half_mm:.2f} mm along the contact line"]
+              f"grid per pair: {result.grid.across_cells} x {result.grid.along_cells} cells, sized from each pair's Hertz "
+              f"semi-axes (up to +-{result.across_half_mm:.3f} mm across and +-{result.along_half_mm:.2f} mm along the"
+              " contact line)"]
+    if any("*" in c for r in rows[1:] for c in r):
+        lines += ["* the peak is at a flank edge: grid-dependent (see pair_edge_max_pressure_mpa and "
+                  "pair_surface_max_pressure_mpa in --json)"]
+    ptp = result.loaded_te_peak_to_peak
+    lines += [f"loaded TE peak-to-peak: {fmt(ptp * 1e6, '.3f')} urad" if math.isfinite(ptp) else
+              "loaded TE peak-to-peak: not available (needs 3 or more converged positions)"]
     lines += [f"note: {n}" for n in result.notes]
     lines += ["approximate: Boussinesq half-space + thin-slice tooth beams, frictionless (docs/loaded_contact.md)"]
     return "\n".join(lines)

@@ -155,6 +155,15 @@ def _member_docs(member: str) -> dict[str, KeyDoc]:
             default=0.0,
             bound_key="face_width_mm",
         ),
+        "bore_diameter_mm": KeyDoc(
+            "diameter of the bore of the exported solid (beveloid export; 0: no bore); must be below the"
+            " member's smallest root diameter",
+            "mm",
+            lo=0.0,
+            hi=10000.0,
+            requirement="optional",
+            default=0.0,
+        ),
         "tooth_surface": KeyDoc(
             "tooth-surface model (generated/surface_models.py); by default the model whose keys below are"
             f" non-zero, else {surface_models.DEFAULT_MODEL}",

@@ -69,6 +69,8 @@ class MemberSpec:
     cutter_addendum_coefficient: float = 1.25
     #: bc: distance from the working pitch circle to the reference transverse section.
     reference_section_offset_mm: float = 0.0
+    #: Bore of the exported solid (``beveloid export``), 0: none.
+    bore_diameter_mm: float = 0.0
     #: Tooth-surface model (generated/surface_models.py MODELS).
     tooth_surface: str = surface_models.DEFAULT_MODEL
     #: The model's own input keys and values, as sorted (key, value) pairs.

@@ -264,7 +264,7 @@ def write_study(out: Path, positions=200, progress=_progress) -> None:
                            progress=progress)
 
     step("Figs 24-25: loaded contact (approximate LTCA)")
-    from ..loaded_study import run_loaded
+    from .loaded import run_loaded
 
     loaded = run_loaded(out, geoms, designs, progress)
     step("micro-geometry study: tip and end relief (beveloid/studies/micro_geometry.py)")

@@ -44,8 +44,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from beveloid.loaded import checks
-from beveloid.loaded.halfspace import STEEL_E_MPA, STEEL_NU
+from . import checks
+from .halfspace import STEEL_E_MPA, STEEL_NU
 
 __all__ = [
     "SHEAR_COEFFICIENT",

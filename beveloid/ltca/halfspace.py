@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from beveloid.loaded import checks
+from . import checks
 
 __all__ = [
     "STEEL_E_MPA",

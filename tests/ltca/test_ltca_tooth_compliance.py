@@ -1,4 +1,4 @@
-"""beveloid.loaded.tooth_compliance: beam closed forms, the face coupling, ISO 6336-1 stiffness."""
+"""beveloid.ltca.tooth_compliance: beam closed forms, the face coupling, ISO 6336-1 stiffness."""
 from __future__ import annotations
 
 import math
@@ -6,10 +6,10 @@ import math
 import numpy as np
 import pytest
 
-from beveloid.loaded.halfspace import reduced_modulus_mpa, tensor_grid, tensor_influence_matrix_mm_per_mpa
-from beveloid.loaded.hertz import hertz_line_contact
-from beveloid.loaded.lcp import solve_contact
-from beveloid.loaded.tooth_compliance import (
+from beveloid.ltca.halfspace import reduced_modulus_mpa, tensor_grid, tensor_influence_matrix_mm_per_mpa
+from beveloid.ltca.hertz import hertz_line_contact
+from beveloid.ltca.lcp import solve_contact
+from beveloid.ltca.tooth_compliance import (
     SHEAR_COEFFICIENT,
     LoadPoints,
     ToothSection,

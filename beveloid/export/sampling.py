@@ -1,0 +1,252 @@
+"""The faces of one tooth and of the gap after it, sampled from the generated surfaces (numpy only).
+
+Every face is sampled on a grid of a profile parameter ``s`` in [0, 1] and the axial position ``z``
+(mm, member frame S_i) from the toe to the heel, so that each face's grid rows at the face ends lie
+in the toe and heel planes and neighbouring faces share their boundary rows point for point:
+
+* ``flank_left``, ``flank_right``: the generated flank (``geometry.surface``) from the form limit
+  (s = 0, where the fillet meets it) to the tip cone (s = 1); l runs linearly in s, u is solved so
+  that the point lies in the section z;
+* ``fillet_left``, ``fillet_right``: the root transition, from the root cone (s = 0) to the form
+  limit (s = 1): :func:`root_transition`, the one place that says where it comes from;
+* ``tip``: the tip cone between the left flank's and the right flank's tip curves of the tooth;
+* ``root``: the root cone between the right fillet of this tooth and the left fillet of the next
+  tooth (turned by one pitch, 2 pi / N, about the axis).
+
+Sampling a face at (s, z) that were not used for a fit gives points of the generated surface there:
+the accuracy tests measure the exported surfaces against them.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import UserError
+
+FLANKS = ("left", "right")
+#: the faces of one tooth and the gap after it, in the order the solid is built from
+FACES = ("flank_left", "flank_right", "fillet_left", "fillet_right", "tip", "root")
+
+_NEWTON_STEPS = 60
+
+
+class ExportGeometryError(UserError):
+    """A member whose tooth the export cannot build (undercut, pointed, a bore through the root): one line."""
+
+
+@dataclass(frozen=True)
+class ToothSampler:
+    """One member of a designed pair, ready to be sampled (mm, rad, member frame S_i)."""
+
+    geometry: object  # beveloid.geometry.PairGeometry
+    member: str
+
+    @property
+    def data(self):
+        return self.geometry.member(self.member)
+
+    @property
+    def teeth(self) -> int:
+        return int(self.data.teeth)
+
+    @property
+    def pitch_angle_rad(self) -> float:
+        return 2 * math.pi / self.teeth
+
+    @property
+    def z_range_mm(self):
+        """(toe, heel) axial positions, toe first (S_i)."""
+        return tuple(float(z) for z in self.data.face_limits)
+
+    def root_radius_mm(self, z):
+        """Root cone radius at z: where the rack's tip line sweeps (the rack's tip plane rolled on the
+        pitch cylinder, tilted by the cone angle): r + (s - a) / cos(gamma) + z tan(gamma)."""
+        m = self.data
+        return (m.pitch_radius_mm + (m.rack_shift_mm - m.cutter_addendum_mm) / math.cos(m.cone_angle)
+                + np.asarray(z, dtype=float) * math.tan(m.cone_angle))
+
+    def tip_radius_mm(self, z):
+        return self.data.tip_radius(z)
+
+    # ------------------------------------------------------------------ flanks
+    def flank_u(self, flank, l, z, u0=None):
+        """u of the flank point with rack parameter l in the section z (Newton on the generated jet)."""
+        l, z = np.broadcast_arrays(np.asarray(l, dtype=float), np.asarray(z, dtype=float))
+        u = np.array(z if u0 is None else np.broadcast_to(u0, z.shape), dtype=float)
+        for _ in range(_NEWTON_STEPS):
+            jet = self.geometry.surface_jet(self.member, flank, l, u)
+            step = (jet.point[..., 2] - z) / jet.point_D_lu[..., 2, 1]
+            u = u - step
+            if np.max(np.abs(step), initial=0.0) < 1e-13 * (1 + np.max(np.abs(z), initial=0.0)):
+                return u
+        raise ExportGeometryError(f"{self.member} {flank} flank: no flank point found in a section (Newton on u)")
+
+    def flank_tip(self, flank, z):
+        """(l, u) where the flank meets the tip cone in the sections z (2-D Newton on the generated jet)."""
+        z = np.asarray(z, dtype=float)
+        target = self.tip_radius_mm(z)
+        l = np.full(z.shape, self.data.tip_height_mm + self.data.cutter_addendum_mm)
+        u = z.copy()
+        for _ in range(_NEWTON_STEPS):
+            jet = self.geometry.surface_jet(self.member, flank, l, u)
+            p, J = jet.point, jet.point_D_lu
+            rad = np.hypot(p[..., 0], p[..., 1])
+            F = np.stack([rad - target, p[..., 2] - z], axis=-1)
+            G = np.empty(z.shape + (2, 2))
+            G[..., 0, :] = (p[..., 0, None] * J[..., 0, :] + p[..., 1, None] * J[..., 1, :]) / rad[..., None]
+            G[..., 1, :] = J[..., 2, :]
+            d = np.linalg.solve(G, -F[..., None])[..., 0]
+            l, u = l + d[..., 0], u + d[..., 1]
+            if np.max(np.abs(d), initial=0.0) < 1e-12 * (1 + float(np.max(target))):
+                return l, u
+        raise ExportGeometryError(f"{self.member} {flank} flank: it does not reach the tip cone")
+
+    def form_l(self, flank) -> float:
+        """The flank's rack parameter at the form limit (where the root transition meets it)."""
+        return float(transition_junction(self.geometry, self.member, flank)["l"])
+
+    def flank_points(self, flank, s, z):
+        """Flank points on the grid s (n_s,) x z (n_z,): shape (n_s, n_z, 3)."""
+        s, z = np.asarray(s, dtype=float), np.asarray(z, dtype=float)
+        l_tip, u_tip = self.flank_tip(flank, z)
+        l0 = self.form_l(flank)
+        l = l0 + s[:, None] * (l_tip[None, :] - l0)
+        u = self.flank_u(flank, l, z[None, :], u0=u_tip[None, :])
+        return self.geometry.surface(self.member, flank, l, u).point
+
+    # ------------------------------------------------------------------ root transition and lands
+    def fillet_points(self, flank, s, z):
+        """Root transition points, s = 0 on the root cone, s = 1 at the form limit: (n_s, n_z, 3)."""
+        return root_transition(self, flank, np.asarray(s, dtype=float), np.asarray(z, dtype=float))
+
+    def tip_points(self, s, z):
+        """The tip cone between the left (s = 0) and right (s = 1) flanks' tip curves of the tooth."""
+        z = np.asarray(z, dtype=float)
+        ends = [self.flank_points(f, np.array([1.0]), z)[0] for f in FLANKS]
+        return _cone_strip(ends[0], ends[1], np.asarray(s, dtype=float))
+
+    def root_points(self, s, z):
+        """The root cone from this tooth's right fillet (s = 0) to the next tooth's left fillet (s = 1)."""
+        z = np.asarray(z, dtype=float)
+        right = self.fillet_points("right", np.array([0.0]), z)[0]
+        left_next = rotate_z(self.fillet_points("left", np.array([0.0]), z)[0], self.pitch_angle_rad)
+        return _cone_strip(right, left_next, np.asarray(s, dtype=float))
+
+    def face_points(self, face, s, z):
+        """Points of one of :data:`FACES` on the grid s x z: shape (n_s, n_z, 3)."""
+        if face.startswith("flank_"):
+            return self.flank_points(face[6:], s, z)
+        if face.startswith("fillet_"):
+            return self.fillet_points(face[7:], s, z)
+        if face == "tip":
+            return self.tip_points(s, z)
+        if face == "root":
+            return self.root_points(s, z)
+        raise ValueError(f"face must be one of {FACES}, got {face!r}")
+
+    # ------------------------------------------------------------------ checks
+    def check_bore(self, bore_mm: float) -> None:
+        """A bore must leave material under the root cone: below the smallest root diameter."""
+        root = 2 * float(np.min(self.root_radius_mm(np.array(self.z_range_mm))))
+        if not bore_mm < root:
+            raise ExportGeometryError(
+                f"{self.member}.bore_diameter_mm = {bore_mm:g}: must be below the smallest root diameter,"
+                f" {root:.3f} mm (0: no bore)")
+
+    def check_buildable(self, z):
+        """Refuse a tooth the export cannot build: pointed within the face, undercut flank, no root land."""
+        z = np.asarray(z, dtype=float)
+        s = np.linspace(0.0, 1.0, 41)
+        tips = [self.flank_points(f, np.array([1.0]), z)[0] for f in FLANKS]
+        width = _signed_angle(tips[0], tips[1]) * self.tip_radius_mm(z)
+        if np.min(width) <= 1e-3:
+            k = int(np.argmin(width))
+            raise ExportGeometryError(
+                f"{self.member}: the tooth is pointed at z = {z[k]:.3f} mm (tip land {width[k]:.4f} mm):"
+                " export needs a tip land over the whole face")
+        for flank in FLANKS:
+            r = np.hypot(*np.moveaxis(self.flank_points(flank, s, z)[..., :2], -1, 0))
+            if np.any(np.diff(r, axis=0) <= 0):
+                k = int(np.nonzero(np.any(np.diff(r, axis=0) <= 0, axis=0))[0][0])
+                raise ExportGeometryError(
+                    f"{self.member}: the {flank} flank is undercut at z = {z[k]:.3f} mm: export of undercut"
+                    " teeth is not supported")
+        root = [self.fillet_points("right", np.array([0.0]), z)[0],
+                rotate_z(self.fillet_points("left", np.array([0.0]), z)[0], self.pitch_angle_rad)]
+        land = _signed_angle(root[0], root[1]) * self.root_radius_mm(z)
+        if np.min(land) <= 1e-3:
+            raise ExportGeometryError(f"{self.member}: the root fillets of neighbouring teeth meet (no root land):"
+                                      " export needs a root land")
+
+
+def transition_junction(geometry, member, flank):
+    """Where the root transition meets the flank: {"l": l (mm)} (form limit of the flank)."""
+    fillet = _generated_fillet()
+    if fillet is None:
+        return {"l": 0.0}
+    return {"l": float(fillet.tip_round(geometry, member).junction_l)}
+
+
+def root_transition(sampler: ToothSampler, flank, s, z):
+    """THE source of the root transition surface, (n_s, n_z, 3): s = 0 on the root cone, 1 at the flank.
+
+    The generated root fillet (``beveloid.tooth.fillet``: the envelope of the rack's tip round, a
+    trochoidal surface for a sharp rack) where it is available; until then a TEMPORARY ruled
+    transition from the flank's form limit straight down to the root cone in the same section.
+    """
+    fillet = _generated_fillet()
+    geometry, member = sampler.geometry, sampler.member
+    z2 = np.broadcast_to(z[None, :], (s.size, z.size))
+    if fillet is not None:
+        tr = fillet.tip_round(geometry, member)
+        psi = np.broadcast_to(s[:, None] * float(tr.junction_psi), z2.shape)
+        u = sampler.flank_u(flank, float(tr.junction_l), z)
+        u = np.broadcast_to(u[None, :], z2.shape).copy()
+        for _ in range(_NEWTON_STEPS):
+            jet = fillet.fillet_jet(geometry, member, flank, psi, u)
+            step = (jet.point[..., 2] - z2) / jet.point_D_pu[..., 2, 1]
+            u = u - step
+            if np.max(np.abs(step), initial=0.0) < 1e-13 * (1 + np.max(np.abs(z), initial=0.0)):
+                return fillet.fillet(geometry, member, flank, psi, u).point
+        raise ExportGeometryError(f"{member} {flank} fillet: no fillet point found in a section (Newton on u)")
+    top = sampler.flank_points(flank, np.array([0.0]), z)[0]  # (n_z, 3)
+    scale = sampler.root_radius_mm(z) / np.hypot(top[:, 0], top[:, 1])
+    bottom = np.stack([top[:, 0] * scale, top[:, 1] * scale, top[:, 2]], axis=-1)
+    return bottom[None] + s[:, None, None] * (top - bottom)[None]
+
+
+def _generated_fillet():
+    """The runtime wrapper of the generated root fillet, or None where this checkout has none."""
+    try:
+        from ..tooth import fillet
+    except ImportError:
+        return None
+    return fillet
+
+
+def rotate_z(points, angle):
+    """Points (..., 3) turned by angle (rad) about the z axis."""
+    c, s = math.cos(angle), math.sin(angle)
+    x, y = points[..., 0], points[..., 1]
+    return np.stack([c * x - s * y, s * x + c * y, points[..., 2]], axis=-1)
+
+
+def _signed_angle(a, b):
+    """Angle (rad) from the points a to the points b about the z axis, in (-pi, pi]."""
+    return np.angle(np.exp(1j * (np.arctan2(b[..., 1], b[..., 0]) - np.arctan2(a[..., 1], a[..., 0]))))
+
+
+def _cone_strip(a, b, s):
+    """Points between the curves a (s = 0) and b (s = 1), (n_z, 3) each, on the surface of revolution
+    through them (angle and radius linear in s): (n_s, n_z, 3).  The end rows are a and b exactly."""
+    ta = np.arctan2(a[:, 1], a[:, 0])
+    dt = _signed_angle(a, b)
+    ra, rb = np.hypot(a[:, 0], a[:, 1]), np.hypot(b[:, 0], b[:, 1])
+    t = ta[None] + s[:, None] * dt[None]
+    r = ra[None] + s[:, None] * (rb - ra)[None]
+    out = np.stack([r * np.cos(t), r * np.sin(t), np.broadcast_to(a[None, :, 2], t.shape)], axis=-1)
+    out[s == 0.0] = a
+    out[s == 1.0] = b
+    return out

@@ -1,0 +1,178 @@
+"""``analyze(pair, options, solver) -> LTCAResult``: the loaded TCA of one flank over one mesh cycle.
+
+1. The rigid-body reference (:class:`cycle.Setup`): each pair's tangency, its principal curvature
+   axes and curvatures.
+2. A first pass on the coarse grid (:meth:`grid.PairGrid.coarsened` counts), each pair's grid
+   sized from Hertz for the pair carrying the whole torque: the load of every pair.
+3. The result pass: each pair's grid sized from Hertz at its first-pass load
+   (:data:`grid.EXTENT_ACROSS`, :data:`grid.EXTENT_ALONG` times the semi-axes); a grid whose
+   interior loaded cells reach its edge grows (:data:`grid.GROWTH`) and its position is solved again.
+4. The convergence indicator: the same extents once coarsened, solved again, compared.
+"""
+from __future__ import annotations
+
+import contextlib
+import math
+
+import numpy as np
+
+from .. import tca
+from . import grid as grids
+from .compliance import member_tooth
+from .cycle import Setup, merge, solve
+from .options import Material, Options
+from .result import (MAX_HALF_WIDTH_TIMES_CURVATURE, MAX_PRESSURE_OVER_E_STAR, Convergence, LTCAResult)
+
+
+def _one_blas_thread():
+    """BLAS limited to one thread: the many small factorisations run 3x slower with OpenBLAS
+    threads on a busy 2-core machine (docs/performance.md)."""
+    try:
+        from threadpoolctl import threadpool_limits
+    except ImportError:  # optional: without it BLAS keeps its own thread count
+        return contextlib.nullcontext()
+    return threadpool_limits(limits=1, user_api="blas")
+
+
+def run(geom, errors, options: Options, material: Material, solver) -> LTCAResult:
+    """The LTCA of ``geom`` (a PairGeometry) with the assembly ``errors``; see the module docstring."""
+    options.check_memory()
+    with _one_blas_thread(), np.errstate(all="ignore"):
+        return _run(geom, errors, options, material, solver)
+
+
+def _run(geom, errors, options, material, solver):
+    T, N, P = options.torque_nm, options.positions, options.pairs
+    e_star = material.e_star_mpa
+    setup = Setup(geom, options.flank, errors, N, P, solver)
+    teeth = (member_tooth(geom, "pinion", material.pinion_e_mpa, material.pinion_nu),
+             member_tooth(geom, "gear", material.gear_e_mpa, material.gear_nu))
+    fine = options.cells
+    coarse = (grids.coarser(fine[0]), grids.coarser(fine[1]))
+    fr = setup.frame
+    line = geom.pinion.face_width_mm / max(math.cos(geom.pinion.helix_angle), 0.3)
+    full = setup.full_load_n(T)
+
+    def sized(cells, load):
+        b, a = grids.hertz_semi_axes(fr.curvature_across, fr.curvature_along, load, e_star, line)
+        fb = np.nanmax(np.where(np.isfinite(b), b, np.nan)) if np.isfinite(b).any() else 0.1 * geom.normal_module_mm
+        fa = np.nanmax(np.where(np.isfinite(a), a, np.nan)) if np.isfinite(a).any() else setup.max_along_mm
+        return grids.sized(cells, b, a, setup.max_along_mm, np.stack(np.broadcast_arrays(fb, fa), -1)
+                           * np.ones((N, P, 1)) * [grids.EXTENT_ACROSS, grids.EXTENT_ALONG])
+
+    every = setup.solved & setup.has_reference[:, None]
+    # 2. first pass: coarse, every pair sized for the whole torque (along: at most the flank's half diagonal)
+    g1 = sized(coarse, full)
+    g1 = g1._replace(along_half_mm=np.minimum(g1.along_half_mm, 0.5 * setup.max_along_mm))
+    first = solve(setup, g1, every, T, e_star, teeth)
+    load1 = np.where(first.converged[:, None], first.pair_load_n(), full)
+    need = every & ~setup.open_pairs(first.rotation_rad) | (load1 > 0) & every
+    # 3. result pass, sized from the first pass's loads; along the line no longer than the first
+    # pass's loaded patch (a patch cut by the flank ends is shorter than Hertz's)
+    g = sized(fine, np.maximum(load1, grids.LOAD_FLOOR * full))
+    reach = grids.loaded_along_mm(first) * grids.PATCH_MARGIN
+    g = g._replace(along_half_mm=np.where(np.isfinite(reach), np.minimum(g.along_half_mm, reach), g.along_half_mm))
+    sol = solve(setup, g, need, T, e_star, teeth)
+    notes = []
+    for attempt in range(grids.MAX_GROWTHS + 1):
+        hit = grids.reaches_edge(sol.pressure_mpa, sol.gap.in_flank, *fine) & sol.converged[:, None, None]
+        hit[..., 1] &= sol.grid.along_half_mm < setup.max_along_mm
+        rows = np.flatnonzero(hit.any(axis=(1, 2)))
+        if rows.size == 0:
+            break
+        if attempt == grids.MAX_GROWTHS:
+            notes.append(f"the loaded patch still reaches the grid edge at {rows.size} positions after "
+                         f"{grids.MAX_GROWTHS} enlargements: pressures near that edge are truncated")
+            break
+        grow = np.where(hit, grids.GROWTH, 1.0)
+        g2 = sol.grid._replace(across_half_mm=sol.grid.across_half_mm * grow[..., 0],
+                               along_half_mm=np.minimum(sol.grid.along_half_mm * grow[..., 1], setup.max_along_mm))
+        sol = merge(sol, solve(setup, g2, need, T, e_star, teeth, positions=rows), rows)
+    # 4. the convergence indicator
+    check = solve(setup, sol.grid.coarsened(), need, T, e_star, teeth)
+    hertz_ref = grids.hertz_peak_mpa(fr.curvature_across, fr.curvature_along, sol.pair_load_n(), e_star, line)
+    return _result(setup, options, sol, check, e_star, notes, hertz_ref)
+
+
+def _peaks(sol):
+    """(surface, edge) peak pressure (N, P): cells away from / at a flank edge; nan where none."""
+    g = sol.grid
+    inner = grids.interior(sol.pressure_mpa, sol.gap.in_flank, g.across_cells, g.along_cells)
+    inner = inner.reshape(sol.pressure_mpa.shape)
+    p = sol.pressure_mpa
+    loaded = p > 0
+    surf = np.where(inner, p, -np.inf).max(axis=-1)
+    edge = np.where(loaded & ~inner, p, -np.inf).max(axis=-1)
+    return np.where(np.isfinite(surf), surf, np.nan), np.where(np.isfinite(edge), edge, np.nan)
+
+
+def _result(setup, options, sol, check, e_star, notes, hertz_ref):
+    N = options.positions
+    ok = sol.converged
+    p = sol.pressure_mpa
+    area = sol.grid.cell_area_mm2()
+    loads = p.sum(axis=-1) * area
+    moment = np.einsum("jkc,jk,jkc->j", p, area, np.where(sol.gap.in_flank, sol.gap.pinion_arm_mm, 0.0))
+    surface, edge = _peaks(sol)
+    surface_c, edge_c = _peaks(check)
+    loads_c = check.pair_load_n()
+    total = loads.sum(axis=-1)
+    # the surface peaks of pairs clear of the flank edges on both grids (an edge peak is grid-dependent)
+    clear = np.isfinite(surface) & np.isfinite(surface_c) & np.isnan(edge) & np.isnan(edge_c)
+    dp = np.where(clear, np.abs(surface_c / surface - 1.0), np.nan)
+    dp = np.array([np.nanmax(r) if np.isfinite(r).any() else np.nan for r in dp])
+    dl = np.where(check.converged & ok, np.abs(loads_c - loads).max(axis=-1) / np.where(total > 0, total, np.nan),
+                  np.nan)
+    # the model's validity: elastic, small strain
+    semi = _semi_minor(sol)
+    validity = []
+    for j in range(N):
+        why = []
+        if ok[j]:
+            # surface peaks only: an edge peak is singular and grid-dependent by nature
+            peak = np.nanmax(np.append(surface[j], 0.0))
+            # and the mean pressure of the whole contact (2/3 of the peak for Hertz), which an edge
+            # contact's grid does not change
+            contact = ((p[j] > 0) * area[j][:, None]).sum()
+            mean = loads[j].sum() / contact if contact > 0 else 0.0
+            if peak > MAX_PRESSURE_OVER_E_STAR * e_star or mean > 2 / 3 * MAX_PRESSURE_OVER_E_STAR * e_star:
+                lim = MAX_PRESSURE_OVER_E_STAR * e_star
+                why.append(f"pressure beyond the elastic range of gear steels (surface peak > {MAX_PRESSURE_OVER_E_STAR:g}"
+                           f" E* = {lim:.0f} MPa or mean > {2 * lim / 3:.0f} MPa)")
+            strain = np.nanmax(np.append(semi[j] * setup.frame.curvature_across[j], 0.0))
+            if strain > MAX_HALF_WIDTH_TIMES_CURVATURE:
+                why.append(f"patch half-width x curvature > {MAX_HALF_WIDTH_TIMES_CURVATURE:g} (not a small strain)")
+        validity.append("; ".join(why) or None)
+    gear_rot = setup.gear_sign * sol.rotation_rad
+    ref = setup.reference
+    te_rigid_ref = (setup.gear_angle - tca.unknowns(ref.x).gear_angle_rad
+                    + setup.n1_over_n2 * (setup.phi1 - ref.pinion_angle))
+    status = tuple("ok" if ok[j] else ("no contact" if sol.no_contact[j] else "not converged") for j in range(N))
+    okc = ok[:, None]
+    return LTCAResult(
+        flank=options.flank, torque_nm=options.torque_nm, pinion_angle=setup.phi1, tooth_pairs=setup.ks,
+        status=status, loaded_te=np.where(ok, te_rigid_ref + gear_rot, np.nan), unloaded_te=setup.unloaded_te,
+        pair_load_n=np.where(okc, loads, np.nan), pair_max_pressure_mpa=np.where(okc, p.max(axis=-1), np.nan),
+        pair_surface_max_pressure_mpa=np.where(okc, surface, np.nan),
+        pair_edge_max_pressure_mpa=np.where(okc, edge, np.nan),
+        pair_hertz_max_pressure_mpa=np.where(okc & (loads > 0), hertz_ref, np.nan),
+        contact_area_mm2=np.where(ok, ((p > 0) * area[..., None]).sum(axis=(1, 2)), np.nan),
+        pinion_moment_nmm=np.where(ok, moment, np.nan), iterations=sol.iterations,
+        complementarity_residual=sol.complementarity_residual, load_residual=sol.load_residual, grid=sol.grid,
+        convergence=Convergence(np.where(ok, dp, np.nan), dl), validity=tuple(validity), pressure_mpa=p,
+        gap=sol.gap, axes=setup.frame.axes, tangency_unknowns=np.where(setup.solved[..., None], setup.x, np.nan),
+        pair_pinion_angle=setup.pair_phi1, notes=tuple(notes))
+
+
+def _semi_minor(sol):
+    """(N, P) the loaded patch's semi-axis across the contact line, sqrt(5 <x^2>) of the pressure."""
+    g = sol.grid
+    nx, ny = g.across_cells, g.along_cells
+    ux = grids.centres(1.0, nx)
+    p = sol.pressure_mpa.reshape(sol.pressure_mpa.shape[:2] + (nx, ny))
+    x = ux[None, None, :, None] * g.across_half_mm[..., None, None] + sol.gap.across_shift_mm[:, :, None, :]
+    w = p.sum(axis=(-1, -2))
+    with np.errstate(all="ignore"):
+        mx = (p * x).sum(axis=(-1, -2)) / w
+        var = (p * (x - mx[..., None, None]) ** 2).sum(axis=(-1, -2)) / w
+    return np.where(w > 0, np.sqrt(5 * var), np.nan)

@@ -1,0 +1,139 @@
+"""The compliance of a beveloid tooth pair: how a cell's pressure moves every cell of its pair.
+
+``BeveloidCompliance`` is the operator the contact solver (:mod:`.lcp`) sees for one mesh
+position: per tooth pair, the Boussinesq/Love half-space matrix of that pair's grid (both bodies,
+through E*) plus the thin-slice bending/shear/root compliance of both members' teeth, each tooth
+taken as the **equivalent spur tooth** of its normal section (normal module and pressure angle,
+z_v = z / cos^3 beta, the reference section's profile shift; the conical change of the shift along
+the face and the helix are not in the beam: docs/loaded_contact.md).  The tooth deflection is
+evaluated on the grid's centre line (the cells on its along-axis) and applied to every cell of the
+same along index: C_tooth[(i,a),(j,b)] = T[a, b] area_(j,b), T = g_pinion K_pinion + g_gear K_gear.
+Only the active columns are ever formed (the solver needs C[S, S] and C[:, S] p_S).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg
+
+from . import halfspace, lcp, tooth_compliance
+from .grid import edges
+
+
+@dataclass(frozen=True)
+class MemberTooth:
+    """The equivalent spur tooth of one member, with its slice compliance tabulated on radii."""
+
+    section: tooth_compliance.ToothSection
+    pitch_radius_mm: float  # of the member (generating pitch cylinder)
+    virtual_pitch_radius_mm: float
+    face_width_mm: float
+    toe_mm: float
+    direction: float
+    coupling_mm: float
+    table_radius_mm: np.ndarray  # equivalent-tooth radii of the tabulated slice compliance
+    table_mm2_per_n: np.ndarray  # g on table_radius_mm x table_radius_mm
+
+
+def member_tooth(geom, which, e_mpa, nu) -> MemberTooth:
+    m = geom.member(which)
+    mn, an = geom.normal_module_mm, geom.normal_pressure_angle
+    zv = int(min(400, max(6, round(m.teeth / math.cos(m.helix_angle) ** 3))))
+    x = float(np.clip(m.rack_shift_mm / mn, -1.0, 1.0))
+    ha, hf = m.tip_height_mm / mn, m.cutter_addendum_mm / mn
+    section = tooth_compliance.involute_tooth_section(mn, zv, an, x, ha, hf)
+    toe, heel = m.face_limits
+    rb = 0.5 * mn * zv * math.cos(an)
+    radii = np.linspace(max(rb * (1 + 1e-9), section.radius_mm[0] * (1 + 1e-6)), section.radius_mm[-1], 96)
+    load = tooth_compliance.involute_load_points(mn, zv, radii, an, x)
+    load = tooth_compliance.LoadPoints(np.clip(load.centreline_radius_mm, section.radius_mm[0] * (1 + 1e-9),
+                                               section.radius_mm[-1]), load.load_angle_rad)
+    table = tooth_compliance.slice_compliance_mm2_per_n(section, load, e_mpa, nu)
+    return MemberTooth(section=section, pitch_radius_mm=m.pitch_radius_mm, virtual_pitch_radius_mm=0.5 * mn * zv,
+                       face_width_mm=m.face_width_mm, toe_mm=toe, direction=1.0 if heel > toe else -1.0,
+                       coupling_mm=tooth_compliance.plate_coupling_length_mm((ha + hf) * mn, nu),
+                       table_radius_mm=radii, table_mm2_per_n=table)
+
+
+def tooth_line_compliance(tooth: MemberTooth, points) -> np.ndarray:
+    """T[a, b] (mm/N): deflection along the normal at point a per unit normal force at point b.
+
+    Points (n, 3) in the member's frame.  The radius maps onto the equivalent spur tooth by its
+    height above the pitch cylinder; the axial position onto the face for the coupling.
+    """
+    r = np.hypot(points[:, 0], points[:, 1])
+    rad = tooth.table_radius_mm
+    rv = np.clip(tooth.virtual_pitch_radius_mm + (r - tooth.pitch_radius_mm), rad[0], rad[-1])
+    rv = np.where(np.isfinite(rv), rv, rad[0])  # cells off the surfaces: never loaded, any finite value
+    pos = np.interp(rv, rad, np.arange(rad.size))  # bilinear in the table (96 radii over the flank)
+    i0 = np.minimum(pos.astype(int), rad.size - 2)
+    f = pos - i0
+    t = tooth.table_mm2_per_n
+    a, b = i0[:, None], i0[None, :]
+    fa, fb = f[:, None], f[None, :]
+    g = ((1 - fa) * (1 - fb) * t[a, b] + fa * (1 - fb) * t[a + 1, b] + (1 - fa) * fb * t[a, b + 1]
+         + fa * fb * t[a + 1, b + 1])
+    w = tooth.face_width_mm
+    hz = 1e-3 * w
+    z = np.clip(np.nan_to_num((points[:, 2] - tooth.toe_mm) * tooth.direction, nan=0.5 * w), hz, w - hz)
+    k = tooth_compliance.face_coupling_per_mm(z, np.full(z.size, hz), w, tooth.coupling_mm)
+    return g * k
+
+
+def pair_tooth_compliance(tooth_p, tooth_g, pinion_points, gear_points) -> np.ndarray:
+    """(ny, ny) tooth compliance (mm/N) of both members along one grid's centre line; symmetrised
+    (Maxwell reciprocity: the beam model is symmetric up to the coupling's cell averaging)."""
+    t = tooth_line_compliance(tooth_p, pinion_points) + tooth_line_compliance(tooth_g, gear_points)
+    return 0.5 * (t + t.T)
+
+
+def halfspace_matrix(across_half_mm, along_half_mm, nx, ny, e_star_mpa):
+    """The Love matrix (mm/MPa) of a uniform nx x ny grid of the given half-extents."""
+    return halfspace.tensor_influence_matrix_mm_per_mpa(edges(across_half_mm, nx), edges(along_half_mm, ny),
+                                                        e_star_mpa)
+
+
+class BeveloidCompliance(lcp.Compliance):
+    """C of every tooth pair at one position: that pair's half-space matrix ``halfspace[k]`` plus
+    its tooth compliance ``tooth[k][line_a, line_b] area_b`` (``line``: a cell's along index;
+    ``area[k]``: pair k's cell area), cells pair-major."""
+
+    def __init__(self, halfspace_blocks, tooth, line, area):
+        n = line.size
+        P = len(halfspace_blocks)
+        object.__setattr__(self, "blocks", ())
+        object.__setattr__(self, "slices", tuple(slice(k * n, (k + 1) * n) for k in range(P)))
+        object.__setattr__(self, "symmetric", (False,) * P)
+        object.__setattr__(self, "halfspace", tuple(halfspace_blocks))
+        object.__setattr__(self, "tooth", tuple(tooth))
+        object.__setattr__(self, "line", line)
+        object.__setattr__(self, "area", tuple(float(a) for a in area))
+
+    def diagonal(self):
+        return np.concatenate([np.diag(c) + t[self.line, self.line] * a
+                               for c, t, a in zip(self.halfspace, self.tooth, self.area)])
+
+    def solve_active(self, active, rhs):
+        out = np.zeros_like(rhs)
+        for c, t, a, sl in zip(self.halfspace, self.tooth, self.area, self.slices):
+            idx = np.flatnonzero(active[sl])
+            if idx.size:
+                li = self.line[idx]
+                block = c[np.ix_(idx, idx)] + t[np.ix_(li, li)] * a
+                try:  # symmetric positive definite (uniform cells, symmetric T)
+                    out[sl.start + idx] = scipy.linalg.cho_solve(scipy.linalg.cho_factor(block, check_finite=False),
+                                                                 rhs[sl][idx], check_finite=False)
+                except np.linalg.LinAlgError:
+                    out[sl.start + idx] = np.linalg.solve(block, rhs[sl][idx])
+        return out
+
+    def matvec_active(self, active, p):
+        out = np.zeros_like(p)
+        for c, t, a, sl in zip(self.halfspace, self.tooth, self.area, self.slices):
+            idx = np.flatnonzero(active[sl])
+            if idx.size:
+                per_line = np.bincount(self.line[idx], weights=p[sl][idx] * a, minlength=t.shape[0])  # N per line
+                out[sl] = c[:, idx] @ p[sl][idx] + (t @ per_line)[self.line]
+        return out

@@ -1,0 +1,135 @@
+"""The contact grid of each (position, tooth pair), sized from the contact itself.
+
+Each pair's grid is a tensor grid of ``across x along`` flat cells in its tangent plane, its axes
+along the principal directions of the relative curvature.  Its half-extents are
+:data:`EXTENT_ACROSS` times the local Hertz semi-minor axis b and :data:`EXTENT_ALONG` times the
+semi-major axis a (capped by the flank diagonal), for the pair's curvature and load, so that a
+cell is a fixed fraction of the Hertz semi-axes (2 EXTENT / cells: 0.27 b across and 0.18 a along
+with the default 11 x 17 cells) whatever the design.  The cell counts are the same for every pair
+and position; their size is not.
+"""
+from __future__ import annotations
+
+import math
+import typing
+
+import numpy as np
+
+from . import hertz
+
+EXTENT_ACROSS = 1.5  #: grid half-extent across the contact line / Hertz semi-minor axis b
+EXTENT_ALONG = 1.5  #: grid half-extent along the contact line / Hertz semi-major axis a
+GROWTH = 1.5  #: a grid whose interior loaded cells reach its edge grows by this factor
+MAX_GROWTHS = 3
+LOAD_FLOOR = 0.02  #: a pair is sized for at least this share of the full load
+PATCH_MARGIN = 1.25  #: the result grid's along extent / the first pass's loaded half-length (plus a cell)
+INTERIOR_REACH = 2  #: loaded cells within this many cells of an off-flank cell are edge contact
+
+
+class PairGrid(typing.NamedTuple):
+    """Cell counts (shared) and half-extents (mm) of the grid of every (position, pair)."""
+
+    across_cells: int
+    along_cells: int
+    across_half_mm: np.ndarray  # (N, P)
+    along_half_mm: np.ndarray  # (N, P)
+
+    @property
+    def cells(self) -> int:
+        return self.across_cells * self.along_cells
+
+    def unit_centres(self):
+        """Cell centres of a grid of half-extent 1 (across (nx,), along (ny,))."""
+        return centres(1.0, self.across_cells), centres(1.0, self.along_cells)
+
+    def cell_area_mm2(self) -> np.ndarray:
+        """(N, P) area of one cell of each grid."""
+        return 4.0 * self.across_half_mm * self.along_half_mm / self.cells
+
+    def coarsened(self) -> "PairGrid":
+        """The same extents with about 1.6 times fewer cells each way (odd counts, at least 5)."""
+        return self._replace(across_cells=coarser(self.across_cells), along_cells=coarser(self.along_cells))
+
+
+def coarser(n: int) -> int:
+    m = max(5, int(round(n / 1.6)))
+    return m + 1 - m % 2 if n % 2 else m
+
+
+def edges(half, n):
+    return np.linspace(-half, half, n + 1)
+
+
+def centres(half, n):
+    e = edges(half, n)
+    return 0.5 * (e[1:] + e[:-1])
+
+
+def hertz_semi_axes(k_across, k_along, load_n, e_star_mpa, line_length_mm):
+    """(b across, a along) Hertz semi-axes (mm) of gaps 1/2 (k_across x^2 + k_along y^2) under
+    ``load_n``, elementwise; a line contact (a beyond ``line_length_mm``, or k_along <= 0) gets the
+    2-D half-width with the load spread over ``line_length_mm`` and a = inf."""
+    k_across, k_along, load = np.broadcast_arrays(np.asarray(k_across, float), np.asarray(k_along, float),
+                                                  np.asarray(load_n, float))
+    b = np.full(k_across.shape, np.nan)
+    a = np.full(k_across.shape, np.nan)
+    for i in np.ndindex(k_across.shape):
+        ka, kl, f = float(k_across[i]), float(k_along[i]), float(load[i])
+        if not (math.isfinite(ka) and ka > 0 and math.isfinite(f) and f > 0):
+            continue
+        if math.isfinite(kl) and kl > 0 and ka / kl < 1e8:
+            h = hertz.hertz_point_contact(kl / 2, ka / 2, f, e_star_mpa)
+            if h.semi_major_mm < line_length_mm:
+                b[i], a[i] = h.semi_minor_mm, h.semi_major_mm
+                continue
+        line = hertz.hertz_line_contact(1.0 / ka, f / line_length_mm, e_star_mpa)
+        b[i], a[i] = line.half_width_mm, math.inf
+    return b, a
+
+
+def hertz_peak_mpa(k_across, k_along, load_n, e_star_mpa, line_length_mm):
+    """The Hertz peak pressure (MPa) of :func:`hertz_semi_axes`' contact: 3F/(2 pi a b), or
+    2 q/(pi b) with q = F / line_length_mm for a line contact; nan where there is no contact."""
+    b, a = hertz_semi_axes(k_across, k_along, load_n, e_star_mpa, line_length_mm)
+    load = np.broadcast_to(np.asarray(load_n, float), b.shape)
+    with np.errstate(all="ignore"):
+        return np.where(np.isfinite(a), 3 * load / (2 * np.pi * a * b), 2 * load / line_length_mm / (np.pi * b))
+
+
+def sized(cells, b, a, max_along_mm, fallback) -> PairGrid:
+    """A grid of ``cells`` (across, along) whose extents are EXTENT times the semi-axes (b, a)
+    (N, P); where they are unknown (no load, no curvature), the extents of ``fallback`` (N, P, 2)."""
+    X = np.where(np.isfinite(b), EXTENT_ACROSS * b, fallback[..., 0])
+    Y = np.minimum(np.where(np.isnan(a), fallback[..., 1], EXTENT_ALONG * a), max_along_mm)
+    return PairGrid(int(cells[0]), int(cells[1]), X, Y)
+
+
+def interior(p, in_flank, nx, ny, reach=INTERIOR_REACH):
+    """Loaded cells (..., nx, ny) farther than ``reach`` cells (8-neighbourhood) from any off-flank
+    cell: cells nearer a blank boundary carry edge contact, which the blank (not the grid) bounds."""
+    q = (p > 0).reshape(p.shape[:-1] + (nx, ny))
+    inner = in_flank.reshape(q.shape).copy()
+    lead = [(0, 0)] * (inner.ndim - 2)
+    for _ in range(reach):
+        pad = np.pad(inner, lead + [(1, 1), (1, 1)], constant_values=True)
+        for di in (-1, 0, 1):
+            for dj in (-1, 0, 1):
+                inner &= pad[..., 1 + di:1 + di + nx, 1 + dj:1 + dj + ny]
+    return q & inner
+
+
+def reaches_edge(p, in_flank, nx, ny):
+    """(N, P, 2): an interior loaded cell in the outermost (across, along) rows of each grid."""
+    q = interior(p, in_flank, nx, ny)
+    return np.stack([q[..., [0, -1], :].any(axis=(-1, -2)), q[..., :, [0, -1]].any(axis=(-1, -2))], axis=-1)
+
+
+def loaded_along_mm(solution):
+    """(N, P) half-length along the line of each pair's loaded cells, plus one cell (nan if unloaded)."""
+    g = solution.grid
+    nx, ny = g.across_cells, g.along_cells
+    q = (solution.pressure_mpa > 0).reshape(solution.pressure_mpa.shape[:2] + (nx, ny)).any(axis=-2)
+    y = np.abs(centres(1.0, ny))[None, None, :] * g.along_half_mm[..., None]
+    with np.errstate(invalid="ignore"):
+        half = np.where(q, y, -np.inf).max(axis=-1) + 2 * g.along_half_mm / ny
+    return np.where(q.any(axis=-1), half, np.nan)

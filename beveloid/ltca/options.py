@@ -1,0 +1,155 @@
+"""What an LTCA request may ask: the one range table that the CLI, the JSON and :func:`analyze` read.
+
+``Options`` is frozen and checks itself on construction: a bad value raises ``ValueError`` with one
+line naming the key, the value and what is valid.  ``Material`` holds the elastic constants.
+"""
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass
+
+from . import halfspace
+
+FLANKS = ("left", "right")
+
+#: (low, high) of every numeric option; pairs must also be odd
+RANGES = {
+    "torque_nm": (0.0, 1e6),  # > low, <= high (N m, pinion torque)
+    "positions": (1, 400),
+    "pairs": (1, 9),
+    "grid_cells": (3, 201),  # cells across / along the contact line per tooth pair
+}
+
+#: default cells (across, along the contact line) per tooth pair; the cell size follows the local
+#: Hertz semi-axes (grid.py: CELL_FRACTION)
+DEFAULT_GRID = (11, 17)
+
+#: bytes per (cell of one pair)^2 of one position: the pair's dense half-space block, the gathered
+#: active block and its factorisation
+_BYTES_PER_CELL_PAIR = 8 * 3
+#: bytes per cell of every (position, pair): gaps, points, pressures of the three grids kept
+_BYTES_PER_CELL = 8 * 40
+
+
+@dataclass(frozen=True)
+class Material:
+    """Elastic constants (MPa) of both members (default steel)."""
+
+    pinion_e_mpa: float = halfspace.STEEL_E_MPA
+    pinion_nu: float = halfspace.STEEL_NU
+    gear_e_mpa: float = halfspace.STEEL_E_MPA
+    gear_nu: float = halfspace.STEEL_NU
+
+    @classmethod
+    def from_spec(cls, spec) -> "Material":
+        m = spec.material
+        return cls(m.pinion_youngs_modulus_gpa * 1e3, m.pinion_poisson_ratio,
+                   m.gear_youngs_modulus_gpa * 1e3, m.gear_poisson_ratio)
+
+    @property
+    def e_star_mpa(self) -> float:
+        return halfspace.reduced_modulus_mpa(self.pinion_e_mpa, self.pinion_nu, self.gear_e_mpa, self.gear_nu)
+
+
+def check_torque(value, key="torque_nm"):
+    lo, hi = RANGES["torque_nm"]
+    t = float(value) if isinstance(value, (int, float)) else math.nan
+    if not (math.isfinite(t) and lo < t <= hi):
+        raise ValueError(f"{key} = {value}: must be a number > 0 and <= {hi:.0f} (N m)")
+    return t
+
+
+def check_positions(value, key="positions"):
+    lo, hi = RANGES["positions"]
+    if not (isinstance(value, int) and not isinstance(value, bool) and lo <= value <= hi):
+        raise ValueError(f"{key} = {value}: must be an integer from {lo} to {hi}")
+    return value
+
+
+def check_pairs(value, key="pairs"):
+    lo, hi = RANGES["pairs"]
+    if not (isinstance(value, int) and not isinstance(value, bool) and lo <= value <= hi and value % 2 == 1):
+        raise ValueError(f"{key} = {value}: must be an odd integer from {lo} to {hi}")
+    return value
+
+
+def check_grid(value, key="grid"):
+    """None (cells from the defaults) or (across, along) integers within RANGES["grid_cells"]."""
+    if value is None:
+        return None
+    lo, hi = RANGES["grid_cells"]
+    try:
+        across, along = value
+    except (TypeError, ValueError):
+        across = along = None
+    if not all(isinstance(v, int) and not isinstance(v, bool) and lo <= v <= hi for v in (across, along)):
+        raise ValueError(f"{key} = {value}: must be ACROSSxALONG with two integers from {lo} to {hi}, e.g. "
+                         f"{DEFAULT_GRID[0]}x{DEFAULT_GRID[1]}")
+    return (across, along)
+
+
+def available_memory_bytes() -> float:
+    """What this process may still allocate: the machine's available memory (Linux), else 4 GB."""
+    try:
+        with open("/proc/meminfo") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    return float(line.split()[1]) * 1024.0
+    except OSError:
+        pass
+    try:
+        return float(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+    except (ValueError, OSError, AttributeError):
+        return 4e9
+
+
+@dataclass(frozen=True)
+class Options:
+    """One LTCA request.  ``grid``: cells (across, along) per tooth pair, None = :data:`DEFAULT_GRID`
+    (their size follows the local Hertz semi-axes in both cases); ``errors``: None = the pair's own
+    misalignment; ``material``: None = the pair's ``[material]`` (steel without a spec)."""
+
+    torque_nm: float
+    flank: str = "right"
+    positions: int = 20
+    pairs: int = 3
+    grid: tuple | None = None
+    errors: tuple | None = None
+    material: Material | None = None
+
+    def __post_init__(self):
+        object.__setattr__(self, "torque_nm", check_torque(self.torque_nm))
+        if self.flank not in FLANKS:
+            raise ValueError(f"flank = {self.flank!r}: must be one of {', '.join(FLANKS)}")
+        check_positions(self.positions)
+        check_pairs(self.pairs)
+        object.__setattr__(self, "grid", check_grid(self.grid))
+        if self.errors is not None:
+            e = tuple(float(v) for v in self.errors)
+            if len(e) != 5 or not all(math.isfinite(v) for v in e):
+                raise ValueError(f"errors = {self.errors}: must be 5 finite numbers (dx, dy, dz mm; vertical, "
+                                 "horizontal rad)")
+            object.__setattr__(self, "errors", e)
+        if self.material is not None and not isinstance(self.material, Material):
+            raise ValueError(f"material = {self.material!r}: must be an ltca.Material")
+
+    @property
+    def cells(self) -> tuple:
+        """(across, along) cells per tooth pair."""
+        return self.grid or DEFAULT_GRID
+
+    def memory_bytes(self) -> float:
+        """An estimate of the peak memory of the request (bytes)."""
+        n = self.cells[0] * self.cells[1]
+        return self.pairs * n * n * _BYTES_PER_CELL_PAIR + self.positions * self.pairs * n * _BYTES_PER_CELL
+
+    def check_memory(self, available: float | None = None):
+        """ValueError (one line) when the request will not fit in the available memory."""
+        need = self.memory_bytes()
+        have = available_memory_bytes() if available is None else available
+        if need > 0.8 * have:
+            raise ValueError(f"grid = {self.cells[0]}x{self.cells[1]}: needs about {need / 1e9:.1f} GB with "
+                             f"{self.pairs} pairs and {self.positions} positions, {have / 1e9:.1f} GB are available;"
+                             f" use fewer cells (the default {DEFAULT_GRID[0]}x{DEFAULT_GRID[1]} is sized from the"
+                             " contact)")

@@ -1,0 +1,140 @@
+"""The loaded contact pattern: the maximum pressure over the mesh cycle on a raster of each
+member's flank, as a measured contact pattern shows it.
+
+Each computed position's pressure field of each pair is interpolated bilinearly at the raster
+nodes (a node's grid coordinates come from the affine map that takes the cells' flank points to
+their grid coordinates, fitted per (position, pair): exact on the pinion, whose cells are defined
+by it; first order on the gear).  Between two computed positions the mesh moves continuously: the
+field of position j is carried towards position j+1 by the displacement of the pair's pressure
+centroid and blended linearly with the field of j+1 carried back (sub-steps of half the smaller
+patch width), so the envelope is a continuous band, not stripes at the computed positions.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..generated import flank_boundaries
+
+RASTER = (64, 128)  #: (l, u) nodes of the flank raster
+MAX_SUBSTEPS = 200
+
+
+@dataclass(frozen=True)
+class FlankPattern:
+    """Max pressure over the cycle on a raster of one member's flank (tooth 0)."""
+
+    member: str
+    points: np.ndarray  # (n, 3) raster nodes on the flank, member frame
+    weight_mm2: np.ndarray  # (n,) area of each node's raster cell
+    max_pressure_mpa: np.ndarray  # (n,) 0 where never loaded
+    area_fraction: float | None
+    raster_points: np.ndarray = None  # (n_l, n_u, 3) every raster node (also off the flank)
+    raster_inside: np.ndarray = None  # (n_l, n_u) on the flank
+    raster_pressure_mpa: np.ndarray = None  # (n_l, n_u) max pressure, 0 off the flank
+
+
+def _flank_raster(geom, flank, member, shape):
+    """(points (n_l, n_u, 3), inside, weight) of a (l, u) raster covering the member's flank
+    between its four boundaries; None if no node lies on it."""
+    m = geom.member(member)
+    mn = geom.normal_module_mm
+    lo_l, hi_l = 0.0, 3.0 * (m.cutter_addendum_mm + m.tip_height_mm) / math.cos(geom.normal_pressure_angle)
+    half_u = 1.5 * m.face_width_mm / max(math.cos(m.helix_angle), 0.3) + 4 * mn
+    box = (lo_l, hi_l, -half_u, half_u)
+    for n_l, n_u in ((40, 80), shape):
+        l = np.linspace(box[0], box[1], n_l)
+        u = np.linspace(box[2], box[3], n_u)
+        L, U = np.meshgrid(l, u, indexing="ij")
+        jet = geom.surface_jet(member, flank, L, U)
+        with np.errstate(invalid="ignore"):
+            margin = flank_boundaries.flank_margins(jet.point, L, m.blank()).margins.min(axis=-1)
+        inside = margin >= 0
+        if not inside.any():
+            return None
+        il, iu = np.nonzero(inside)
+        dl, du = l[1] - l[0], u[1] - u[0]
+        box = (max(lo_l, l[il.min()] - dl), l[il.max()] + dl, u[iu.min()] - du, u[iu.max()] + du)
+    cell = (l[1] - l[0]) * (u[1] - u[0])
+    weight = np.linalg.norm(np.cross(jet.point_D_lu[..., 0], jet.point_D_lu[..., 1]), axis=-1) * cell
+    return jet.point, inside, weight
+
+
+class _Field:
+    """The pressure of one (position, pair) as a function of member-frame points near its flank."""
+
+    def __init__(self, result, points, j, k):
+        g = result.grid
+        self.nx, self.ny = g.across_cells, g.along_cells
+        self.X, self.Y = float(g.across_half_mm[j, k]), float(g.along_half_mm[j, k])
+        self.p = result.pressure_mpa[j, k].reshape(self.nx, self.ny)
+        self.shift = result.gap.across_shift_mm[j, k]
+        x, y = result.cell_coordinates_mm(j, k)
+        pts = points[j, k].reshape(self.nx, self.ny, 3)
+        ok = np.isfinite(pts).all(axis=-1) & result.gap.in_flank[j, k].reshape(self.nx, self.ny)
+        P, c = pts[ok], np.stack([x[ok], y[ok]], axis=-1)
+        self.centre = P.mean(axis=0)
+        self.c0 = c.mean(axis=0)
+        # the affine map member frame -> grid coordinates, least squares over the cells on the flanks
+        self.map = np.linalg.lstsq(P - self.centre, c - self.c0, rcond=None)[0]  # (3, 2)
+        w = self.p[ok]
+        self.centroid = (P * w[:, None]).sum(axis=0) / w.sum() if w.sum() > 0 else self.centre
+        self.half_width = 2.0 * max(self.X, 1e-6)
+
+    def __call__(self, q):
+        c = (q - self.centre) @ self.map + self.c0
+        yc = np.linspace(-self.Y, self.Y, self.ny + 1)
+        yc = 0.5 * (yc[1:] + yc[:-1])
+        xu = c[:, 0] - np.interp(c[:, 1], yc, self.shift)
+        fi = (xu / self.X + 1.0) * self.nx / 2 - 0.5
+        fj = (c[:, 1] / self.Y + 1.0) * self.ny / 2 - 0.5
+        padded = np.pad(self.p, 1)
+        i0, j0 = np.floor(fi).astype(int), np.floor(fj).astype(int)
+        a, b = fi - i0, fj - j0
+        i0, j0 = np.clip(i0 + 1, 0, self.nx), np.clip(j0 + 1, 0, self.ny)
+        out = ((1 - a) * (1 - b) * padded[i0, j0] + a * (1 - b) * padded[i0 + 1, j0]
+               + (1 - a) * b * padded[i0, j0 + 1] + a * b * padded[i0 + 1, j0 + 1])
+        inside = (fi > -1) & (fi < self.nx) & (fj > -1) & (fj < self.ny)
+        return np.where(inside, out, 0.0)
+
+
+def flank_pattern(result, geom, member, raster=RASTER) -> FlankPattern:
+    """The maximum pressure over the cycle on a raster of one member's flank (see the module docstring)."""
+    r = _flank_raster(geom, result.flank, member, raster)
+    if r is None:
+        return FlankPattern(member, np.zeros((0, 3)), np.zeros(0), np.zeros(0), None)
+    grid_points, inside, weight = r
+    nodes = grid_points[inside]
+    pts = result.gap.pinion_point if member == "pinion" else result.gap.gear_point  # (N, P, cells, 3)
+    ok = result.converged
+    N, P = result.pressure_mpa.shape[:2]
+    pmax = np.zeros(len(nodes))
+    fields = {}
+    for j in range(N):
+        for k in range(P):
+            if ok[j] and result.pressure_mpa[j, k].max() > 0:
+                fields[j, k] = _Field(result, pts, j, k)
+                pmax = np.maximum(pmax, fields[j, k](nodes))
+    for (j, k), f in fields.items():
+        g = fields.get((j + 1, k))
+        if g is None:
+            continue
+        delta = g.centroid - f.centroid
+        dist = float(np.linalg.norm(delta))
+        reach = dist + 2 * max(f.Y, g.Y)
+        near = np.linalg.norm(nodes - 0.5 * (f.centroid + g.centroid), axis=-1) < reach
+        if not near.any() or dist == 0:
+            continue
+        q = nodes[near]
+        steps = int(min(MAX_SUBSTEPS, math.ceil(dist / (0.5 * min(f.X, g.X)))))
+        best = pmax[near]
+        for s in range(1, steps):
+            t = s / steps
+            best = np.maximum(best, (1 - t) * f(q - t * delta) + t * g(q + (1 - t) * delta))
+        pmax[near] = best
+    frac = float(weight[inside][pmax > 0].sum() / weight[inside].sum())
+    full = np.zeros(inside.shape)
+    full[inside] = pmax
+    return FlankPattern(member, nodes, weight[inside], pmax, frac, grid_points, inside, full)

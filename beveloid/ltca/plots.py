@@ -1,0 +1,148 @@
+"""Figures of the LTCA: the loaded contact pattern (the max pressure over the cycle on each flank,
+like a measured pattern), the loaded TE and load sharing, and the pressure map of every position."""
+from __future__ import annotations
+
+import numpy as np
+
+PRESSURE_LABEL = "max pressure over the cycle (MPa)"
+
+
+def _plt():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _save(fig, out_png, title=""):
+    plt = _plt()
+    if title:
+        fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    fig.savefig(out_png, dpi=110)
+    plt.close(fig)
+
+
+def ltca_pattern(ax, result, geom, member, vmax=None):
+    """The max pressure over the cycle on one member's flank raster, in (axial position z, radius)."""
+    from ..plots import flank_outline
+
+    pat = result.pattern(geom, member)
+    zb, rb = flank_outline(geom, member, result.flank)
+    ax.plot(zb, rb, color="0.3", lw=1.0)
+    ax.set_xlabel("axial position z (mm), toe -> heel", fontsize=8)
+    ax.set_ylabel("radius (mm)", fontsize=8)
+    if not pat.points.size:
+        return None
+    pts = pat.raster_points
+    z, rad = pts[..., 2], np.hypot(pts[..., 0], pts[..., 1])
+    shown = np.ma.masked_where(~pat.raster_inside, pat.raster_pressure_mpa)
+    loaded = np.ma.masked_where(~pat.raster_inside | (pat.raster_pressure_mpa <= 0), shown)
+    ax.pcolormesh(z, rad, np.ma.masked_where(~pat.raster_inside, np.zeros(z.shape)), cmap="Greys", vmin=-1,
+                  vmax=12, shading="nearest")  # the flank, light grey
+    sc = ax.pcolormesh(z, rad, loaded, cmap="inferno_r", vmin=0, vmax=vmax, shading="nearest")
+    frac = "-" if pat.area_fraction is None else f"{pat.area_fraction * 100:.0f}%"
+    ax.set_title(f"{member}: {frac} of the flank loaded", fontsize=9)
+    return sc
+
+
+def ltca_summary(result, geom, out_png, title=""):
+    """Contact patterns of both members, loaded TE and load sharing; the per-position pressure maps
+    go to ``<out>_positions.png`` beside it."""
+    plt = _plt()
+    fig, axes = plt.subplots(2, 2, figsize=(11, 7.5))
+    for ax, member in ((axes[0, 0], "pinion"), (axes[0, 1], "gear")):
+        sc = ltca_pattern(ax, result, geom, member)
+        if sc is not None:
+            fig.colorbar(sc, ax=ax, label=PRESSURE_LABEL)
+    phi = result.pinion_angle * 1e3
+    ax = axes[1, 0]
+    ax.plot(phi, result.unloaded_te * 1e6, "--", color="0.5", label="unloaded (rigid) TE")
+    ax.plot(phi, result.loaded_te * 1e6, "o-", ms=3, label=f"loaded TE, {result.torque_nm:g} N m")
+    ax.set_xlabel("pinion angle (mrad)")
+    ax.set_ylabel("TE (urad)")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    ax = axes[1, 1]
+    for k, pair in enumerate(result.tooth_pairs):
+        ax.plot(phi, result.pair_load_n[:, k], "o-", ms=3, label=f"tooth pair {pair}")
+    ax.set_xlabel("pinion angle (mrad)")
+    ax.set_ylabel("normal load (N)")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    _save(fig, out_png, title)
+    out = str(out_png)
+    position_maps(result, geom, (out[:-4] if out.endswith(".png") else out) + "_positions.png", title)
+
+
+def position_maps(result, geom, out_png, title="", member="pinion"):
+    """The pressure of every pair at each position on one member's flank (one panel a position)."""
+    from ..plots import flank_outline
+
+    plt = _plt()
+    N = len(result.status)
+    cols = min(N, 5)
+    rows = -(-N // cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(3.0 * cols, 2.6 * rows + 0.6), squeeze=False)
+    zb, rb = flank_outline(geom, member, result.flank)
+    pts = result.gap.pinion_point if member == "pinion" else result.gap.gear_point
+    vmax = float(np.nanmax(np.where(result.converged[:, None, None], result.pressure_mpa, 0.0))) or 1.0
+    sc = None
+    for j, ax in enumerate(axes.ravel()):
+        if j >= N:
+            ax.axis("off")
+            continue
+        ax.plot(zb, rb, color="0.3", lw=0.8)
+        p = result.pressure_mpa[j]
+        on = (p > 0) & result.converged[j]
+        q = pts[j][on]
+        sc = ax.scatter(q[:, 2], np.hypot(q[:, 0], q[:, 1]), s=3, c=p[on], cmap="inferno_r", vmin=0, vmax=vmax, lw=0)
+        ax.set_title(f"{result.pinion_angle[j] * 1e3:.2f} mrad: {result.status[j]}", fontsize=8)
+        ax.tick_params(labelsize=6)
+        if j % cols == 0:
+            ax.set_ylabel("radius (mm)", fontsize=7)
+        if j // cols == rows - 1:
+            ax.set_xlabel("axial position z (mm)", fontsize=7)
+    if sc is not None:
+        fig.colorbar(sc, ax=axes.ravel().tolist(), label="pressure (MPa)", shrink=0.8)
+    if title:
+        fig.suptitle(f"{title}: {member} pressure at each position", fontsize=9)
+    fig.savefig(out_png, dpi=100)
+    plt.close(fig)
+
+
+def ltca_torques(results, geom, out_png, title=""):
+    """Figs 24-25 style: patterns on both flanks at each torque (columns), loaded TE and load sharing."""
+    plt = _plt()
+    n = len(results)
+    fig, axes = plt.subplots(4, n, figsize=(3.4 * n, 12), squeeze=False)
+    for c, res in enumerate(results):
+        for r, member in enumerate(("pinion", "gear")):
+            ax = axes[r, c]
+            sc = ltca_pattern(ax, res, geom, member)
+            ax.set_title(f"T1 = {res.torque_nm:g} N m, " + ax.get_title(), fontsize=8)
+            ax.tick_params(labelsize=7)
+            if sc is not None:
+                cb = fig.colorbar(sc, ax=ax, fraction=0.05)
+                cb.set_label(PRESSURE_LABEL, fontsize=6)
+                cb.ax.tick_params(labelsize=6)
+        phi = res.pinion_angle * 1e3
+        ax = axes[2, c]
+        ax.plot(phi, res.unloaded_te * 1e6, "--", color="0.5", lw=1)
+        ax.plot(phi, res.loaded_te * 1e6, "o-", ms=2)
+        ax.set_title("loaded TE", fontsize=8)
+        ax.set_ylabel("TE (urad)", fontsize=7)
+        ax.tick_params(labelsize=7)
+        ax.grid(alpha=0.3)
+        ax = axes[3, c]
+        for k, pair in enumerate(res.tooth_pairs):
+            ax.plot(phi, res.pair_load_n[:, k], "o-", ms=2, label=f"pair {pair}")
+        ax.set_title("pair normal load", fontsize=8)
+        ax.set_ylabel("normal load (N)", fontsize=7)
+        ax.set_xlabel("pinion angle (mrad)", fontsize=8)
+        ax.tick_params(labelsize=7)
+        ax.grid(alpha=0.3)
+    axes[3, 0].legend(fontsize=7)
+    _save(fig, out_png, title)

@@ -1,0 +1,200 @@
+"""The LTCA's result (immutable data) and its JSON writer."""
+from __future__ import annotations
+
+import math
+import typing
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .gaps import PairGap
+from .grid import PairGrid, centres
+
+#: tolerances of the grid-convergence indicator (change against the once-coarsened grid)
+PRESSURE_CHANGE_TOL = 0.05  #: of a pair's surface peak pressure
+LOAD_CHANGE_TOL = 0.01  #: of the total normal load, for any pair
+#: the model's validity: linear elasticity and small strain
+MAX_PRESSURE_OVER_E_STAR = 0.025  #: peak pressure / E* (2830 MPa for steel: beyond it gear steels yield)
+MAX_HALF_WIDTH_TIMES_CURVATURE = 0.1  #: patch semi-axis across x relative curvature across (small strain)
+
+
+class Convergence(typing.NamedTuple):
+    """Per position: the largest relative change of a pair's surface peak pressure and of a pair's
+    load (share of the total) when the grid is once coarsened; nan where not computed."""
+
+    pressure_change: np.ndarray  # (N,)
+    load_change: np.ndarray  # (N,)
+
+    def converged(self) -> np.ndarray:
+        with np.errstate(invalid="ignore"):
+            return ~((self.pressure_change > PRESSURE_CHANGE_TOL) | (self.load_change > LOAD_CHANGE_TOL))
+
+
+@dataclass(frozen=True)
+class LTCAResult:
+    """Loaded TCA of one flank over a mesh cycle (positions N, tooth pairs P)."""
+
+    flank: str
+    torque_nm: float
+    pinion_angle: np.ndarray  # (N,) rad
+    tooth_pairs: np.ndarray  # (P,)
+    status: tuple  # (N,) "ok" | "not converged" | "no contact"
+    loaded_te: np.ndarray  # (N,) rad, nan where not ok
+    unloaded_te: np.ndarray  # (N,) rad: the rigid TE envelope
+    pair_load_n: np.ndarray  # (N, P) normal force of each pair, nan where not ok
+    pair_max_pressure_mpa: np.ndarray  # (N, P) the largest cell pressure (surface or edge)
+    pair_surface_max_pressure_mpa: np.ndarray  # (N, P) over the cells away from the flank edges; nan if none
+    pair_edge_max_pressure_mpa: np.ndarray  # (N, P) over the cells at a flank edge (grid-dependent); nan if none
+    pair_hertz_max_pressure_mpa: np.ndarray  # (N, P) Hertz for the pair's load and its tangency's curvature
+    contact_area_mm2: np.ndarray  # (N,)
+    pinion_moment_nmm: np.ndarray  # (N,) moment of the contact forces about the pinion axis
+    iterations: np.ndarray  # (N,)
+    complementarity_residual: np.ndarray  # (N,)
+    load_residual: np.ndarray  # (N,)
+    grid: PairGrid  # cell counts and each (position, pair)'s half-extents
+    convergence: Convergence
+    validity: tuple  # (N,) None within the model's validity, else why not
+    pressure_mpa: np.ndarray  # (N, P, cells)
+    gap: PairGap
+    axes: np.ndarray  # (N, P, 2, 3) across/along in S_1
+    tangency_unknowns: np.ndarray  # (N, P, 5) each pair's rigid-body tangency (tca_kernels.UNKNOWNS)
+    pair_pinion_angle: np.ndarray  # (N, P) the pinion angle of each pair's tangency (pair 0 frame)
+    notes: tuple = ()
+    _patterns: dict = field(default_factory=dict, repr=False, compare=False)
+
+    @property
+    def converged(self) -> np.ndarray:
+        return np.asarray([s == "ok" for s in self.status])
+
+    @property
+    def cell_area_mm2(self) -> np.ndarray:
+        """(N, P) the area of one cell of each pair's grid."""
+        return self.grid.cell_area_mm2()
+
+    @property
+    def across_half_mm(self) -> float:
+        """The largest grid half-extent across the contact line (mm)."""
+        return float(np.max(self.grid.across_half_mm))
+
+    @property
+    def along_half_mm(self) -> float:
+        return float(np.max(self.grid.along_half_mm))
+
+    @property
+    def loaded_te_peak_to_peak(self) -> float:
+        """rad; nan with fewer than 3 converged positions (a peak-to-peak needs a cycle)."""
+        te = self.loaded_te[self.converged]
+        return float(te.max() - te.min()) if te.size >= 3 else math.nan
+
+    def cell_coordinates_mm(self, j, k):
+        """(across, along) centres (nx, ny) of pair k's cells at position j in its tangent plane."""
+        g = self.grid
+        x = centres(g.across_half_mm[j, k], g.across_cells)[:, None] + self.gap.across_shift_mm[j, k][None, :]
+        return x, np.broadcast_to(centres(g.along_half_mm[j, k], g.along_cells)[None, :], x.shape)
+
+    def patch_semi_axes_mm(self):
+        """(N, P, 2): each pair's loaded patch, (across, along) semi-axes sqrt(5 <x^2>) from the
+        pressure's second moments about its centroid (exact for a Hertz ellipse aligned with the
+        grid); nan for an unloaded pair or a position that did not converge."""
+        N, P = self.pair_load_n.shape
+        out = np.full((N, P, 2), np.nan)
+        nx, ny = self.grid.across_cells, self.grid.along_cells
+        for j in range(N):
+            for k in range(P):
+                p = self.pressure_mpa[j, k].reshape(nx, ny)
+                if not self.converged[j] or p.sum() <= 0:
+                    continue
+                x, y = self.cell_coordinates_mm(j, k)
+                w = p / p.sum()
+                out[j, k] = [math.sqrt(5 * (w * (x - (w * x).sum()) ** 2).sum()),
+                             math.sqrt(5 * (w * (y - (w * y).sum()) ** 2).sum())]
+        return out
+
+    def pattern(self, geom, member, raster=None):
+        """:func:`beveloid.ltca.pattern.flank_pattern` of one member (cached)."""
+        from .pattern import RASTER, flank_pattern
+
+        raster = raster or RASTER
+        if (member, raster) not in self._patterns:
+            with np.errstate(all="ignore"):
+                self._patterns[member, raster] = flank_pattern(self, geom, member, raster)
+        return self._patterns[member, raster]
+
+    def warnings(self) -> list:
+        """One line per problem a reader must know: grid not converged, outside the model's validity."""
+        out = []
+        conv = self.convergence.converged() | ~self.converged
+        if not conv.all():
+            bad = np.flatnonzero(~conv)
+            top = lambda a: "-" if not np.isfinite(a[bad]).any() else f"{np.nanmax(a[bad]) * 100:.1f}"  # noqa: E731
+            out.append(f"grid not converged at {bad.size} of {len(self.status)} positions (peak pressure change up"
+                       f" to {top(self.convergence.pressure_change)} %, pair load change up to"
+                       f" {top(self.convergence.load_change)} % against a once-coarsened grid;"
+                       f" tolerances {PRESSURE_CHANGE_TOL * 100:g} % and {LOAD_CHANGE_TOL * 100:g} %): use a finer"
+                       " --grid")
+        reasons = sorted({v for v in self.validity if v})
+        if reasons:
+            n = sum(1 for v in self.validity if v)
+            out.append(f"{n} of {len(self.status)} positions leave the model's validity (linear elastic, small "
+                       f"strain): {'; '.join(reasons)}")
+        if np.isfinite(self.pair_edge_max_pressure_mpa).any():
+            out.append("edge contact: the edge peak pressure is grid-dependent (a sharp flank edge is singular); "
+                       "loads and TE converge")
+        return out
+
+
+def to_json_dict(result: LTCAResult, geom) -> dict:
+    """The JSON of ``beveloid ltca`` (the contract: README and cli/ltca.py)."""
+    r = result
+    ok = r.converged
+    num = lambda v, ok_=True: float(v) if ok_ and v is not None and np.isfinite(v) else None  # noqa: E731
+    rows = lambda a: [[num(v, o) for v in row] for row, o in zip(a, ok)]  # noqa: E731
+    fractions = {m: r.pattern(geom, m).area_fraction for m in ("pinion", "gear")}
+    ptp = r.loaded_te_peak_to_peak
+    return {
+        "flank": r.flank,
+        "torque_nm": r.torque_nm,
+        "torque_note": "pinion torque; the moment of the contact forces about the pinion axis equals it",
+        "pinion_angle_rad": [float(v) for v in r.pinion_angle],
+        "status": list(r.status),
+        "loaded_transmission_error_urad": [num(v * 1e6, o) for v, o in zip(r.loaded_te, ok)],
+        "unloaded_transmission_error_urad": [num(v * 1e6) for v in r.unloaded_te],
+        "loaded_transmission_error_peak_to_peak_urad": num(ptp * 1e6),
+        "statistics_note": None if np.isfinite(ptp) else "not available: a peak-to-peak needs 3 or more converged "
+                                                          "positions",
+        "tooth_pairs": [int(k) for k in r.tooth_pairs],
+        "pair_normal_load_n": rows(r.pair_load_n),
+        "pair_max_pressure_mpa": rows(r.pair_max_pressure_mpa),
+        "pair_surface_max_pressure_mpa": rows(r.pair_surface_max_pressure_mpa),
+        "pair_edge_max_pressure_mpa": rows(r.pair_edge_max_pressure_mpa),
+        "pair_hertz_max_pressure_mpa": rows(r.pair_hertz_max_pressure_mpa),
+        "hertz_note": "Hertz (half-space only) for each pair's load and the relative curvature at its rigid "
+                      "tangency; the LTCA's surface peak departs from it near the flank edges and where the "
+                      "tooth beams bend under a patch as long as the tooth is high (docs/loaded_contact.md)",
+        "edge_pressure_note": "at a flank edge (tip, form limit, toe, heel): grid-dependent, grows with refinement",
+        "contact_area_mm2": [num(v, o) for v, o in zip(r.contact_area_mm2, ok)],
+        "pair_patch_semi_axes_mm": [[None if not np.all(np.isfinite(ab)) else [float(ab[0]), float(ab[1])]
+                                     for ab in row] for row in r.patch_semi_axes_mm()],
+        "pattern_area_fraction": {m: (None if f is None else float(f)) for m, f in fractions.items()},
+        "grid": {"across_cells": r.grid.across_cells, "along_cells": r.grid.along_cells,
+                 "across_half_extent_mm": r.across_half_mm, "along_half_extent_mm": r.along_half_mm,
+                 "pair_across_half_extent_mm": [[float(v) for v in row] for row in r.grid.across_half_mm],
+                 "pair_along_half_extent_mm": [[float(v) for v in row] for row in r.grid.along_half_mm],
+                 "rule": "cells sized from each pair's Hertz semi-axes at its load (docs/loaded_contact.md)"},
+        "grid_convergence": {
+            "pressure_change": [num(v, o) for v, o in zip(r.convergence.pressure_change, ok)],
+            "load_change": [num(v, o) for v, o in zip(r.convergence.load_change, ok)],
+            "converged": [bool(c) if o else None for c, o in zip(r.convergence.converged(), ok)],
+            "pressure_tolerance": PRESSURE_CHANGE_TOL, "load_tolerance": LOAD_CHANGE_TOL,
+            "note": "largest change of a pair's surface peak pressure and of a pair's load share against the "
+                    "same grids once coarsened"},
+        "validity": {"within": not any(r.validity), "positions": list(r.validity),
+                     "model": "linear elastic, small strain, frictionless, static"},
+        "solver": {"iterations": [int(v) for v in r.iterations],
+                   "complementarity_residual": [num(v) for v in r.complementarity_residual],
+                   "load_residual": [num(v) for v in r.load_residual],
+                   "moment_residual": [num(abs(m / (r.torque_nm * 1e3) - 1.0), o)
+                                       for m, o in zip(r.pinion_moment_nmm, ok)]},
+        "warnings": r.warnings(),
+        "notes": list(r.notes),
+    }

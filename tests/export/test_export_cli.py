@@ -1,0 +1,81 @@
+"""``beveloid export``: files named as documented, one line per file, one-line refusals (exit 2)."""
+from __future__ import annotations
+
+import sys
+
+import pytest
+import trimesh
+
+from beveloid.cli import main
+
+SMALL = """
+[pair]
+normal_module_mm = 2.0
+normal_pressure_angle_deg = 20.0
+shaft_angle_deg = 13.0
+offset_mm = 36.0
+
+[pinion]
+teeth = 15
+cone_angle_deg = 2.0
+helix_angle_deg = 23.0
+profile_shift = 0.3
+face_width_mm = 8.0
+bore_diameter_mm = {bore}
+
+[gear]
+teeth = 19
+cone_angle_deg = 0.8
+face_width_mm = 10.0
+"""
+
+
+def _spec(tmp_path, bore=12.0):
+    path = tmp_path / "small.toml"
+    path.write_text(SMALL.format(bore=bore), encoding="utf-8")
+    return path
+
+
+def test_export_writes_one_file_per_member_and_reports_it(tmp_path, capsys):
+    out = tmp_path / "out"
+    assert main(["export", str(_spec(tmp_path)), "--format", "stl", "--member", "gear", "--out", str(out)]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert [p.name for p in out.iterdir()] == ["small_gear.stl"]
+    assert len(lines) == 1 and lines[0].startswith(f"{out / 'small_gear.stl'}: gear (19 teeth), volume ")
+    assert trimesh.load(out / "small_gear.stl", file_type="stl").is_watertight
+
+
+def test_a_bore_through_the_root_exits_2_with_one_line(tmp_path, capsys):
+    assert main(["export", str(_spec(tmp_path, bore=40.0)), "--member", "pinion", "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1
+    assert err.startswith("beveloid: error: pinion.bore_diameter_mm = 40: must be below the smallest root diameter")
+
+
+def test_without_the_cad_extra_it_says_what_to_install(tmp_path, capsys, monkeypatch):
+    monkeypatch.setitem(sys.modules, "OCP", None)  # `import OCP...` now raises ImportError
+    assert main(["export", str(_spec(tmp_path)), "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert err == 'beveloid: error: beveloid export needs OpenCASCADE and trimesh: pip install "beveloid[cad]"\n'
+    assert not list(tmp_path.glob("*.st*"))
+
+
+@pytest.mark.parametrize("args", [["--format", "iges"], ["--member", "rack"]])
+def test_bad_flags_are_usage_errors(tmp_path, capsys, args):
+    assert main(["export", str(_spec(tmp_path)), *args]) == 2
+    assert capsys.readouterr().err.count("\n") == 1
+
+
+def test_out_targets_are_refused_before_exporting(tmp_path, capsys, monkeypatch):
+    """--out is checked like every output target (beveloid.cli.paths) before anything is built."""
+    def boom(*_args, **_kwargs):
+        raise AssertionError("exported despite a bad --out")
+
+    monkeypatch.setattr("beveloid.export.export", boom)
+    a_file = tmp_path / "a_file"
+    a_file.write_text("x", encoding="utf-8")
+    for target, words in (("", "an empty name"), (str(a_file), "exists and is not a folder"),
+                          (str(tmp_path / ("d" * 256)), "more than the 255")):
+        assert main(["export", str(_spec(tmp_path)), "--out", target]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and err.startswith("beveloid: error: --out = ") and words in err, err

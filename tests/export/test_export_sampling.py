@@ -1,0 +1,49 @@
+"""The faces of a tooth as the export samples them: sections exact, neighbours sharing their rows.
+
+These hold for any source of the root transition (the swap point, sampling.root_transition), so that
+fitted faces and mesh rows join without gaps."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from beveloid.export.sampling import ExportGeometryError, ToothSampler, rotate_z
+
+S = np.linspace(0.0, 1.0, 7)
+
+
+@pytest.mark.parametrize("member", ["pinion", "gear"])
+def test_faces_lie_in_their_sections_and_share_their_boundary_rows(pair1, member):
+    sampler = ToothSampler(pair1.geometry, member)
+    z = np.linspace(*sorted(sampler.z_range_mm), 5)
+    face = {name: sampler.face_points(name, S, z) for name in
+            ("flank_left", "flank_right", "fillet_left", "fillet_right", "tip", "root")}
+    for name, pts in face.items():
+        assert np.allclose(pts[..., 2], z[None, :], rtol=0, atol=1e-9), name
+    tol = 1e-9
+    assert np.allclose(face["fillet_left"][-1], face["flank_left"][0], atol=tol)
+    assert np.allclose(face["fillet_right"][-1], face["flank_right"][0], atol=tol)
+    assert np.allclose(face["tip"][0], face["flank_left"][-1], atol=tol)
+    assert np.allclose(face["tip"][-1], face["flank_right"][-1], atol=tol)
+    assert np.allclose(face["root"][0], face["fillet_right"][0], atol=tol)
+    assert np.allclose(face["root"][-1], rotate_z(face["fillet_left"][0], sampler.pitch_angle_rad), atol=tol)
+    radius = {name: np.hypot(pts[..., 0], pts[..., 1]) for name, pts in face.items()}
+    assert np.allclose(radius["tip"], sampler.tip_radius_mm(z)[None, :], atol=tol)
+    assert np.allclose(radius["root"], sampler.root_radius_mm(z)[None, :], atol=tol)
+    for flank in ("left", "right"):  # the flank runs up from the form limit, inside the blank
+        r = radius[f"flank_{flank}"]
+        assert np.all(np.diff(r, axis=0) > 0) and np.all(r[0] > sampler.root_radius_mm(z))
+
+
+def test_an_undercut_tooth_is_refused_in_one_line():
+    from beveloid.pair import Pair
+    from beveloid.spec import load_example, spec_to_dict
+
+    data = spec_to_dict(load_example("case1"))
+    data["pair"].update(normal_module_mm=2.0, offset_mm=29.5)
+    data["pinion"].update(teeth=11, face_width_mm=8.0)
+    data["gear"].update(teeth=17, face_width_mm=10.0)
+    sampler = ToothSampler(Pair.from_spec(data).geometry, "pinion")
+    with pytest.raises(ExportGeometryError, match=r"^pinion: the left flank is undercut at z = -?\d+\.\d{3} mm: "
+                                                 r"export of undercut teeth is not supported$"):
+        sampler.check_buildable(np.linspace(*sorted(sampler.z_range_mm), 5))
