@@ -3,6 +3,7 @@
     python benchmarks/bench_tca.py            # table
     python benchmarks/bench_tca.py --json     # {"W1": {...}, "W2": {...}, "W3": {...}, "import": {...}}
     python benchmarks/bench_tca.py --only sweeps  # W2 and W3 only
+    python benchmarks/bench_tca.py --only micro   # W3 and W4 only
     python benchmarks/bench_tca.py --only mesh    # W1 only
 
 Not a test.  Workloads:
@@ -12,6 +13,7 @@ Not a test.  Workloads:
       also loads numba's compiled cache).
   W2  10,000 random error sets x 50 positions, one flank (the sweep), on one core.
   W3  W2 on crowned flanks: case 1 with C_alpha = C_beta = 20 um on both members (issue 10).
+  W4  W3 plus tip relief (30 um over 0.4 m_n) and end relief (40 um over 0.2 W) on both members (issue 20).
 Baseline (same process, >= 200 points): scipy.optimize.fsolve per point on the same five
 equations, built with sympy.lambdify(cse=False) from the derivations, Jacobian by fsolve's own
 differences, each point warm-started from the previous one.
@@ -64,7 +66,7 @@ def baseline(geom, flank, errors_list, phi_grid, x_start):
     return (time.perf_counter() - t0) / n * 1e6, n, conv
 
 
-def sweep_workload(geom, K=10_000, N=50):
+def sweep_workload(geom, K=10_000, N=50, with_baseline=True):
     """W2/W3: K random error sets x N positions, right flank, one core, the whole sweep call timed;
     the fsolve baseline on 5 of the error sets, from the same solutions' first points."""
     from beveloid import sweep, tca
@@ -83,8 +85,11 @@ def sweep_workload(geom, K=10_000, N=50):
     errs = sweep.draw_errors(5, seed=0)
     grid = r.pinion_angles
     # the baseline marches each path from its first grid point: start it from the nearest solution
-    Xs = tca.solve_grid(geom, "right", errs, grid[:1], "numpy").x
-    b_us, b_n, b_conv = baseline(geom, "right", errs, grid, Xs[:, 0])
+    if with_baseline:
+        Xs = tca.solve_grid(geom, "right", errs, grid[:1], "numpy").x
+        b_us, b_n, b_conv = baseline(geom, "right", errs, grid, Xs[:, 0])
+    else:  # (W4: the explicit micro-geometry normal is too large a tree for the lambdify baseline)
+        b_us, b_n, b_conv = float("nan"), 0, 0
     out = {"samples": K, "positions": N, "points": r.contact_points_solved, "seconds": wall,
            "solve_seconds": r.seconds, "solve_us_per_point": r.seconds / r.contact_points_solved * 1e6,
            "backend": backend, "threads": 1, "us_per_point": us,
@@ -111,7 +116,26 @@ def crowned_case1(amount_um=20.0):
     return crowned_geometry("case1", amount_um)
 
 
+def micro_case1():
+    """W4's pair: W3's crowning (20/20 um) plus the micro-geometry study's tip relief (30 um over
+    0.4 m_n) and end relief (40 um over 0.2 of the face) on both members (issue 20)."""
+    import dataclasses
+
+    from beveloid.studies.micro_geometry import modified
+
+    geom = modified(crowned_case1())
+    def crowned(m):
+        return dataclasses.replace(m, surface_options=tuple(sorted(
+            {**dict(m.surface_options), "profile_crowning_um": 20.0, "lead_crowning_um": 20.0}.items())))
+    return dataclasses.replace(geom, pinion=crowned(geom.pinion), gear=crowned(geom.gear))
+
+
 def run(repeats=5, only=None):
+    if only == "micro":  # W3 and W4 in one run (issue 20: W4 <= 1.5 x W3 per point)
+        return {"W3": dict(sweep_workload(crowned_case1()), target_us_per_point=3.0, target_speedup=1000,
+                           crowning_um=20.0),
+                "W4": dict(sweep_workload(micro_case1(), with_baseline=False), crowning_um=20.0, tip_relief_um=30.0,
+                           end_relief_um=40.0)}
     if only == "sweeps":  # W2 and W3 only, in one run (their ratio is what a noisy machine keeps)
         from beveloid import tca
         from beveloid.design import design
@@ -197,6 +221,14 @@ def _sweep_extra(name, w):
 
 def table(o):
     head = ("workload", "us/point", "Newton it.", "baseline us/point", "speedup", "target", "met")
+    if set(o) == {"W3", "W4"}:
+        ratio = o["W4"]["us_per_point"] / o["W3"]["us_per_point"]
+        rows = [head, _sweep_row("W3 crowned sweep, 1 core", o["W3"], 1000),
+                ("W4 crowned + relieved sweep, 1 core", f"{o['W4']['us_per_point']:.2f}",
+                 f"{o['W4']['newton_iterations_mean']:.2f}", "-", "-", "<= 1.5 x W3", "yes" if ratio <= 1.5 else "no")]
+        w = [max(len(r[i]) for r in rows) for i in range(len(head))]
+        return "\n".join(["  ".join(c.ljust(wi) for c, wi in zip(r, w)) for r in rows] + [""]
+                         + _sweep_extra("W3", o["W3"]) + _sweep_extra("W4", o["W4"]) + [f"W4 / W3 per point: {ratio:.2f}"])
     if set(o) == {"W2", "W3"}:
         rows = [head, _sweep_row("W2 sweep, 1 core", o["W2"], 300), _sweep_row("W3 crowned sweep, 1 core", o["W3"], 1000)]
         w = [max(len(r[i]) for r in rows) for i in range(len(head))]
@@ -234,7 +266,8 @@ def table(o):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--json", action="store_true")
-    ap.add_argument("--only", choices=("sweeps", "mesh"), help="sweeps: run only W2 and W3; mesh: only W1")
+    ap.add_argument("--only", choices=("sweeps", "mesh", "micro"),
+                    help="sweeps: run only W2 and W3; mesh: only W1; micro: W3 and W4")
     a = ap.parse_args()
     o = run(only=a.only)
     print(json.dumps(o, indent=2) if a.json else table(o))

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .generated import flank_boundaries, layouts, tca_kernels
+from .generated import flank_boundaries, layouts, surface_models, tca_kernels
 
 BOUNDARIES = flank_boundaries.BOUNDARIES
 
@@ -110,8 +110,11 @@ class PairGeometry:
                       cone_angle=m.cone_angle, cutter_addendum_mm=m.cutter_addendum_mm,
                       half_thickness_mm=self.half_thickness_mm, rack_shift_mm=m.rack_shift_mm,
                       pitch_radius_mm=m.pitch_radius_mm, face_width_mm=m.face_width_mm,
-                      normal_module_mm=self.normal_module_mm)
-        values.update(dict(m.surface_options))
+                      normal_module_mm=self.normal_module_mm, tip_height_mm=m.tip_height_mm,
+                      reference_section_offset_mm=m.reference_section_offset_mm)
+        choices = surface_models.MODEL_CHOICES.get(m.tooth_surface, {})  # keys given by name -> kernel values
+        values.update({k: names[default] for k, (default, names, _) in choices.items()})
+        values.update({k: choices[k][1][v] if k in choices else v for k, v in m.surface_options})
         return values
 
     def surface_params(self, which: str) -> np.ndarray:

@@ -77,6 +77,11 @@ class Function:
     doc: str
     inputs: list[Arg]
     outputs: list[Output]
+    #: named intermediate values ((Symbol, expr), ... in order; an expr may use earlier ones) that
+    #: the outputs are written over: computed first, with their own common-subexpression pass, so
+    #: that a model composed on another's jets never becomes one expression tree (only those the
+    #: outputs need are emitted)
+    stages: tuple = ()
 
     @property
     def outputs_class(self):
@@ -139,6 +144,7 @@ def render_function(fn: Function, cse=True, scalar=False):
     for o in fn.outputs:
         ents, shape = _entries(o.expr)
         free = set().union(*[sp.sympify(e).free_symbols for e in ents]) - allowed
+        free -= {sym for sym, _ in fn.stages}
         if free:
             raise GenerationError(f"{fn.name}: output {o.name} has free symbols {sorted(map(str, free))} "
                                   f"missing from its arguments")
@@ -156,14 +162,29 @@ def render_function(fn: Function, cse=True, scalar=False):
     # derived layout entries (with_trig) replace the expressions they hold
     derived = {f.derived: f.symbol for a in fn.inputs if isinstance(a.symbol, Layout) for f in a.symbol.derived_fields()}
     all_exprs = [sp.sympify(e).xreplace(derived).xreplace(rename) for ents in flat for e in ents]
+    stages = _needed_stages(fn, all_exprs, allowed)
+    stage_exprs = [sp.sympify(e).xreplace(derived).xreplace(rename) for _, e in stages]
     printer = _ScalarPrinter() if scalar else _Printer()
     body = []
+    stage_lines = []
+    stage_ops = 0
+    for level, group in enumerate(_stage_levels(stages, stage_exprs)):
+        # the intermediate values first, level by level (a level uses only earlier ones), each level
+        # with its own CSE (symbols _y, _y1_, ...)
+        exprs = [e for _, e in group]
+        prefix = "_y" if level == 0 else f"_y{level}_"
+        srepl, sreduced = (sp.cse(exprs, symbols=sp.numbered_symbols(prefix), order="canonical") if cse
+                           else ([], exprs))
+        stage_lines += [f"{s_} = {printer.doprint(v)}" for s_, v in srepl]
+        stage_lines += [f"{sym} = {printer.doprint(v)}" for (sym, _), v in zip(group, sreduced)]
+        stage_ops += sum(sp.count_ops(v) for _, v in srepl) + sum(sp.count_ops(e) for e in sreduced)
     if cse:
         syms = sp.numbered_symbols("_x")
         repl, reduced = sp.cse(all_exprs, symbols=syms, order="canonical")
     else:
         repl, reduced = [], all_exprs
     ops = sum(sp.count_ops(v) for _, v in repl) + sum(sp.count_ops(e) for e in reduced)
+    ops += stage_ops
     if not scalar:
         # every output carries the broadcast shape of all inputs, used or not
         def batch(a):
@@ -174,6 +195,7 @@ def render_function(fn: Function, cse=True, scalar=False):
         line = _unpack_line(a, local, idx, scalar)
         if line:
             body.append(line)
+    body.extend(stage_lines)
     for s_, v in repl:
         body.append(f"{s_} = {printer.doprint(v)}")
     k = 0
@@ -207,6 +229,36 @@ def render_function(fn: Function, cse=True, scalar=False):
                 out_names=[f"out_{o.name}" for o in fn.outputs], outputs_class=fn.outputs_class,
                 inputs=[arg_doc(a) for a in fn.inputs],
                 outputs=outs, ops=ops, body=body, returns=", ".join(returns))
+
+
+def _needed_stages(fn, exprs, allowed):
+    """The stages (fn.stages, in order) that the expressions need, directly or through other stages."""
+    if not fn.stages:
+        return []
+    names = {sym for sym, _ in fn.stages}
+    need = set().union(*[e.free_symbols for e in exprs]) & names
+    out = []
+    for sym, expr in reversed(fn.stages):
+        if sym in need:
+            free = sp.sympify(expr).free_symbols
+            if free - allowed - names:
+                raise GenerationError(f"{fn.name}: stage {sym} has free symbols {sorted(map(str, free - allowed - names))}")
+            need |= free & names
+            out.append((sym, expr))
+    return out[::-1]
+
+
+def _stage_levels(stages, exprs):
+    """[[(symbol, expr), ...] per level]: level 0 uses no other stage, level k only levels < k."""
+    names = {sym for sym, _ in stages}
+    level = {}
+    for (sym, _), e in zip(stages, exprs):
+        deps = e.free_symbols & names
+        level[sym] = 1 + max((level[d] for d in deps), default=-1)
+    groups = [[] for _ in range(1 + max(level.values(), default=-1))]
+    for (sym, _), e in zip(stages, exprs):
+        groups[level[sym]].append((sym, e))
+    return groups
 
 
 def _indices(shape):

@@ -24,12 +24,17 @@ A new tooth-surface model: write a derivation module with ``tooth_surface(sigma)
   member quantity the runtime knows (``face_width_mm``, ``normal_module_mm``) is filled from
   the design; every other field is an input key of the member's TOML section;
 * ``KEYS``: {field name: (default, lowest, highest)} of those input keys;
+* ``CHOICE_KEYS``: {field name: (default choice, {choice: value})} of input keys given by name
+  (the spec checks the name, the kernels take the value);
 * ``SELECTED_BY``: input keys whose non-zero value selects the model when the TOML does not
   name one;
 * ``tooth_surface_late(sigma)``: (point, normal, roll angle, substitute), the surface over
   abstract functions of (l, u) and the function that makes an expression explicit; the
   generator then differentiates the abstract forms and substitutes after (smaller trees,
   faster derivation, better CSE),
+* or ``tooth_surface_staged(sigma)``: the same plus ``stages``, named intermediate values
+  ((Symbol, explicit expr), ...) that ``substitute`` writes its results over (a model composed
+  on another model's jets: codegen.Function.stages),
 
 add it to ``SURFACE_MODELS`` below and run ``beveloid derive``.  The runtime picks it up by
 name (``tooth_surface = "<model>"`` in a member's TOML section); nothing in ``beveloid/``
@@ -41,7 +46,7 @@ import sympy as sp
 
 from . import (
     codegen, crowned_flank, design_chain, edge_contact, eq04_07_tooth_surface, eq28_38_meshing_model, flank_boundaries,
-    patch_clearance,
+    flank_micro_geometry, patch_clearance,
 )
 from .codegen import Arg, Function, ModuleSpec, Output
 from .interface import Field, Layout, with_trig
@@ -55,6 +60,7 @@ from .symbols import (
 SURFACE_MODELS = {
     "involute": eq04_07_tooth_surface,
     "crowned": crowned_flank,
+    "micro_geometry": flank_micro_geometry,
 }
 
 FLANKS = (("left", LEFT), ("right", RIGHT))
@@ -127,7 +133,10 @@ def surface_module(model_name, model):
     params = Arg("params", lay, "", "surface parameters")
     fns = []
     for name, sigma in FLANKS:
-        if hasattr(model, "tooth_surface_late"):  # differentiate abstract forms, substitute after
+        stages = ()
+        if hasattr(model, "tooth_surface_staged"):  # written over named intermediate values (the base jets)
+            p, n, ph, late, stages = model.tooth_surface_staged(sigma)
+        elif hasattr(model, "tooth_surface_late"):  # differentiate abstract forms, substitute after
             p, n, ph, late = model.tooth_surface_late(sigma)
         else:
             (p, n, ph), late = model.tooth_surface(sigma), None
@@ -140,17 +149,17 @@ def surface_module(model_name, model):
             f"surface_{name}", f"Tooth surface of the {name} flank in the member frame S_i.", _LU + [params],
             [Output("point", p, "mm", "surface point [x, y, z]"),
              Output("normal", n, "1", "unit normal, outward from the tooth"),
-             Output("roll_angle", ph, "rad", "generating roll angle phi(l, u) of Eq 7")]))
+             Output("roll_angle", ph, "rad", "generating roll angle phi(l, u) of Eq 7")], stages))
         fns.append(Function(
             f"surface_jet_{name}", f"Point, unit normal and their first derivatives, {name} flank.", _LU + [params],
             [Output("point", p, "mm", "surface point [x, y, z]"),
              Output("normal", n, "1", "unit normal, outward from the tooth"),
              Output("point_D_lu", jac, "mm/mm", "[dR/dl, dR/du] as columns"),
-             Output("normal_D_lu", njac, "1/mm", "[dn/dl, dn/du] as columns")]))
+             Output("normal_D_lu", njac, "1/mm", "[dn/dl, dn/du] as columns")], stages))
         fns.append(Function(
             f"surface_second_derivatives_{name}", f"Second derivatives of the {name} flank point in (l, u).",
             _LU + [params],
-            [Output("point_D2_lu", hess, "mm/mm^2", "[d2R/dl2, d2R/dldu, d2R/du2] as columns")]))
+            [Output("point_D2_lu", hess, "mm/mm^2", "[d2R/dl2, d2R/dldu, d2R/du2] as columns")], stages))
         first, second = fundamental_forms(jac, hess, n)
         fns.append(Function(
             f"surface_fundamental_forms_{name}",
@@ -161,7 +170,7 @@ def surface_module(model_name, model):
              Output("first_form", first, "mm^2", "[[E, F], [F, G]]: E = R_l.R_l, F = R_l.R_u, G = R_u.R_u"),
              Output("second_form", second, "mm",
                     "[[L, M], [M, N]] about the outward normal n: L = R_ll.n, M = R_lu.n, N = R_uu.n "
-                    "(negative on a convex tooth)")]))
+                    "(negative on a convex tooth)")], stages))
     source = model.__name__.rsplit(".", 1)[-1] + ".py"
     return ModuleSpec(f"surface_{model_name}", source,
                       f"Tooth surfaces of the '{model_name}' model and their derivatives in (l, u).", fns,
@@ -391,6 +400,8 @@ def glue_files(models=None):
         m["input_keys"] = [dict(name=k, unit=fields[k].unit, doc=fields[k].doc, default=float(d), lo=float(lo), hi=float(hi))
                      for k, (d, lo, hi) in getattr(model, "KEYS", {}).items()]
         m["selected_by"] = list(getattr(model, "SELECTED_BY", ()))
+        m["choice_keys"] = [dict(name=k, doc=fields[k].doc, default=d, choices=[dict(name=c, value=float(v)) for c, v in ch.items()])
+                            for k, (d, ch) in getattr(model, "CHOICE_KEYS", {}).items()]
     return {"tca_kernels.py": codegen.render_template("tca_kernels.py.jinja", **ctx),
             "tca_kernels_scalar.py": codegen.render_template("tca_kernels_scalar.py.jinja", **ctx),
             "surface_models.py": codegen.render_template("surface_models.py.jinja", **ctx)}

@@ -4,6 +4,7 @@
 MODULES = (
     'surface_involute',
     'surface_crowned',
+    'surface_micro_geometry',
     'placement',
     'contact_system',
     'flank_boundaries',
@@ -14,6 +15,7 @@ MODULES = (
 SCALAR_MODULES = (
     'surface_involute_scalar',
     'surface_crowned_scalar',
+    'surface_micro_geometry_scalar',
     'contact_system_scalar',
     'flank_boundaries_scalar',
     'edge_contact_scalar',

@@ -4,11 +4,12 @@
 
 A member section of the TOML chooses a model with ``tooth_surface = "<model>"`` (default
 DEFAULT_MODEL).  MODEL_KEYS lists each model's own keys as (unit, default, lowest, highest,
-description); SELECTED_BY names the keys whose non-zero value selects a model when
+description); MODEL_CHOICES lists the keys given by name as (default, {name: value in the
+kernels}, description); SELECTED_BY names the keys whose non-zero value selects a model when
 ``tooth_surface`` is not given.
 """
 
-MODELS = ("involute", "crowned", )
+MODELS = ("involute", "crowned", "micro_geometry", )
 DEFAULT_MODEL = "involute"
 MODEL_KEYS = {
     "involute": {
@@ -17,8 +18,28 @@ MODEL_KEYS = {
         "profile_crowning_um": ("um", 0.0, 0.0, 200.0, "profile crowning C_alpha: rack removal at (l - l_p) = +-m_n from the pitch line"),
         "lead_crowning_um": ("um", 0.0, 0.0, 200.0, "lead crowning C_beta: rack removal at the face ends u = +-W/2"),
     },
+    "micro_geometry": {
+        "profile_crowning_um": ("um", 0.0, 0.0, 200.0, "profile crowning C_alpha: rack removal at (l - l_p) = +-m_n from the pitch line"),
+        "lead_crowning_um": ("um", 0.0, 0.0, 200.0, "lead crowning C_beta: rack removal at the face ends u = +-W/2"),
+        "tip_relief_um": ("um", 0.0, 0.0, 200.0, "tip relief C_a: removal at the tip, along the normal"),
+        "tip_relief_height_mm": ("mm", 1.0, 0.001, 100.0, "tip relief height h_a: radial height of the relieved band below the tip"),
+        "end_relief_um": ("um", 0.0, 0.0, 200.0, "end relief C_e: removal at each face end (toe and heel)"),
+        "end_relief_length_mm": ("mm", 1.0, 0.001, 1000.0, "end relief length L_e: axial length of each relieved end zone"),
+        "lead_slope_um": ("um", 0.0, -200.0, 200.0, "lead slope f_b: removal at z = +W/2 from the face centre (negative: at z = -W/2)"),
+    },
+}
+MODEL_CHOICES = {
+    "involute": {
+    },
+    "crowned": {
+    },
+    "micro_geometry": {
+        "tip_relief_shape": ("parabolic", { "linear": 1.0, "parabolic": 2.0, }, "tip relief shape: \"linear\" (exponent 1) or \"parabolic\" (2)"),
+        "end_relief_shape": ("parabolic", { "linear": 1.0, "parabolic": 2.0, }, "end relief shape: \"linear\" (exponent 1) or \"parabolic\" (2)"),
+    },
 }
 SELECTED_BY = {
     "involute": (),
     "crowned": ("profile_crowning_um", "lead_crowning_um", ),
+    "micro_geometry": ("tip_relief_um", "end_relief_um", "lead_slope_um", ),
 }

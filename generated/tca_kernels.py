@@ -17,6 +17,7 @@ from . import layouts
 from .surface_models import MODELS
 from . import surface_involute as _involute
 from . import surface_crowned as _crowned
+from . import surface_micro_geometry as _micro_geometry
 
 FLANKS = ("left", "right", )
 UNKNOWNS = ("pinion_l_mm", "pinion_u_mm", "gear_l_mm", "gear_u_mm", "gear_angle_rad", )
@@ -25,14 +26,17 @@ CONTACT_BOUNDARIES = ("pinion form limit", "pinion tip", "pinion toe", "pinion h
 SURFACE_LAYOUTS = {
     "involute": layouts.InvoluteSurfaceParams,
     "crowned": layouts.CrownedSurfaceParams,
+    "micro_geometry": layouts.MicroGeometrySurfaceParams,
 }
-PARAMETER_COUNT = 20
+PARAMETER_COUNT = 29
 
 _SURFACE = {
     ("involute", "left"): (_involute.surface_left, _involute.surface_jet_left, _involute.surface_second_derivatives_left, _involute.surface_fundamental_forms_left),
     ("involute", "right"): (_involute.surface_right, _involute.surface_jet_right, _involute.surface_second_derivatives_right, _involute.surface_fundamental_forms_right),
     ("crowned", "left"): (_crowned.surface_left, _crowned.surface_jet_left, _crowned.surface_second_derivatives_left, _crowned.surface_fundamental_forms_left),
     ("crowned", "right"): (_crowned.surface_right, _crowned.surface_jet_right, _crowned.surface_second_derivatives_right, _crowned.surface_fundamental_forms_right),
+    ("micro_geometry", "left"): (_micro_geometry.surface_left, _micro_geometry.surface_jet_left, _micro_geometry.surface_second_derivatives_left, _micro_geometry.surface_fundamental_forms_left),
+    ("micro_geometry", "right"): (_micro_geometry.surface_right, _micro_geometry.surface_jet_right, _micro_geometry.surface_second_derivatives_right, _micro_geometry.surface_fundamental_forms_right),
 }
 
 

@@ -17,14 +17,20 @@ from .surface_involute_scalar import surface_left_point as _involute_surface_lef
 from .surface_involute_scalar import surface_right_point as _involute_surface_right
 from .surface_crowned_scalar import surface_left_point as _crowned_surface_left
 from .surface_crowned_scalar import surface_right_point as _crowned_surface_right
+from .surface_micro_geometry_scalar import surface_left_point as _micro_geometry_surface_left
+from .surface_micro_geometry_scalar import surface_right_point as _micro_geometry_surface_right
 from .surface_involute_scalar import surface_jet_left_point as _involute_jet_left
 from .surface_involute_scalar import surface_jet_right_point as _involute_jet_right
 from .surface_crowned_scalar import surface_jet_left_point as _crowned_jet_left
 from .surface_crowned_scalar import surface_jet_right_point as _crowned_jet_right
+from .surface_micro_geometry_scalar import surface_jet_left_point as _micro_geometry_jet_left
+from .surface_micro_geometry_scalar import surface_jet_right_point as _micro_geometry_jet_right
 from .surface_involute_scalar import surface_second_derivatives_left_point as _involute_d2_left
 from .surface_involute_scalar import surface_second_derivatives_right_point as _involute_d2_right
 from .surface_crowned_scalar import surface_second_derivatives_left_point as _crowned_d2_left
 from .surface_crowned_scalar import surface_second_derivatives_right_point as _crowned_d2_right
+from .surface_micro_geometry_scalar import surface_second_derivatives_left_point as _micro_geometry_d2_left
+from .surface_micro_geometry_scalar import surface_second_derivatives_right_point as _micro_geometry_d2_right
 
 N_UNKNOWNS = 5
 #: index of each unknown in x (tca_kernels.UNKNOWNS, layouts.ContactUnknowns): the glue reads x by name
@@ -59,6 +65,11 @@ def surface_point(model, flank, l, u, params, out_point, out_normal, out_roll_an
             _crowned_surface_left(l, u, params, out_point, out_normal, out_roll_angle)
         elif flank == 1:
             _crowned_surface_right(l, u, params, out_point, out_normal, out_roll_angle)
+    elif model == 2:
+        if flank == 0:
+            _micro_geometry_surface_left(l, u, params, out_point, out_normal, out_roll_angle)
+        elif flank == 1:
+            _micro_geometry_surface_right(l, u, params, out_point, out_normal, out_roll_angle)
 
 
 def surface_jet_point(model, flank, l, u, params, out_point, out_normal, out_point_D_lu, out_normal_D_lu):
@@ -73,6 +84,11 @@ def surface_jet_point(model, flank, l, u, params, out_point, out_normal, out_poi
             _crowned_jet_left(l, u, params, out_point, out_normal, out_point_D_lu, out_normal_D_lu)
         elif flank == 1:
             _crowned_jet_right(l, u, params, out_point, out_normal, out_point_D_lu, out_normal_D_lu)
+    elif model == 2:
+        if flank == 0:
+            _micro_geometry_jet_left(l, u, params, out_point, out_normal, out_point_D_lu, out_normal_D_lu)
+        elif flank == 1:
+            _micro_geometry_jet_right(l, u, params, out_point, out_normal, out_point_D_lu, out_normal_D_lu)
 
 
 def surface_second_derivatives_point(model, flank, l, u, params, out_point_D2_lu):
@@ -87,6 +103,11 @@ def surface_second_derivatives_point(model, flank, l, u, params, out_point_D2_lu
             _crowned_d2_left(l, u, params, out_point_D2_lu)
         elif flank == 1:
             _crowned_d2_right(l, u, params, out_point_D2_lu)
+    elif model == 2:
+        if flank == 0:
+            _micro_geometry_d2_left(l, u, params, out_point_D2_lu)
+        elif flank == 1:
+            _micro_geometry_d2_right(l, u, params, out_point_D2_lu)
 
 
 def contact_system_point(pinion_model, gear_model, flank, x, pinion_angle, errors, pinion_params, gear_params,

@@ -181,9 +181,20 @@ def _model_key_docs() -> dict[str, KeyDoc]:
     out: dict[str, KeyDoc] = {}
     for model, keys in surface_models.MODEL_KEYS.items():
         for key, (unit, default, lo, hi, doc) in keys.items():
-            out[key] = KeyDoc(f"{doc} (tooth_surface = \"{model}\")", unit, lo=lo, hi=hi, requirement="optional",
+            if key in out:  # a key shared by several models: with the first, all named
+                continue
+            takers = " or ".join(f'"{m}"' for m, k in surface_models.MODEL_KEYS.items() if key in k)
+            out[key] = KeyDoc(f"{doc} (tooth_surface = {takers})", unit, lo=lo, hi=hi, requirement="optional",
                               default=default, model=model)
+        for key, (default, choices, doc) in surface_models.MODEL_CHOICES.get(model, {}).items():
+            out[key] = KeyDoc(f"{doc} (tooth_surface = \"{model}\")", kind="choice", choices=tuple(choices),
+                              requirement="optional", default=default, model=model)
     return out
+
+
+def model_takes(model: str, key: str) -> bool:
+    """Whether a tooth-surface model takes a key (numeric or by name)."""
+    return key in surface_models.MODEL_KEYS[model] or key in surface_models.MODEL_CHOICES.get(model, {})
 
 
 def _mis_doc(description: str, unit: str, limit: float) -> KeyDoc:

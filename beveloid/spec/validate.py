@@ -11,7 +11,7 @@ from collections.abc import Callable, Mapping
 from typing import Any
 
 from ..generated import surface_models
-from .keys import KEY_DOCS, REQUIRED_SECTIONS, SECTIONS, KeyDoc
+from .keys import KEY_DOCS, REQUIRED_SECTIONS, SECTIONS, KeyDoc, model_takes
 from .model import (DEFAULT_SOURCE, DesignSpec, MaterialSpec, MemberSpec, MisalignmentSpec, PairSpec,
                     SpecError)
 from .text import closest, fmt_value, hint, name_text
@@ -112,15 +112,18 @@ def _resolve_surface_model(name: str, raw: Mapping, out: dict[str, Any], docs: d
         model = out["tooth_surface"]
     else:
         chosen = [m for m, keys in surface_models.SELECTED_BY.items() if any(out.get(k) for k in keys)]
+        # the first selected model that takes every key given away from its default
+        moved = [k for k in given if out[k] != docs[k].default]
+        chosen = [m for m in chosen if all(model_takes(m, k) for k in moved)] or chosen
         model = chosen[0] if chosen else surface_models.DEFAULT_MODEL
         out["tooth_surface"] = model
     for key in sorted(given):
-        if docs[key].model != model and out[key] != docs[key].default:  # another model's key at its default is moot
+        if not model_takes(model, key) and out[key] != docs[key].default:  # another model's key at its default is moot
             raise SpecError(
                 f"{name}.{key} = {fmt_value(raw[key])}: the tooth surface \"{model}\" takes no such key; set"
                 f" {name}.tooth_surface = \"{docs[key].model}\" or remove {name}.{key}", key=f"{name}.{key}")
     opts = {k: out.pop(k) for k in list(out) if k in docs and docs[k].model}
-    out["surface_options"] = tuple(sorted((k, v) for k, v in opts.items() if docs[k].model == model))
+    out["surface_options"] = tuple(sorted((k, v) for k, v in opts.items() if model_takes(model, k)))
 
 
 def check_clearance(values: dict[str, dict[str, Any]]) -> None:
@@ -144,7 +147,21 @@ NESTED_TOO_DEEP = ("arrays or tables nested too deeply: a spec holds sections of
 
 #: Rules between keys, run in this order on the checked values (section -> key -> value)
 #: after every key passed its own range check; each raises :class:`SpecError`.
-CROSS_CHECKS: tuple[Callable[[dict[str, dict[str, Any]]], None], ...] = (check_clearance,)
+def check_relief_extent(values: dict[str, dict[str, Any]]) -> None:
+    """A tip relief's height below the working depth, an end relief's length below half the face."""
+    depth = (values["pinion"]["addendum_coefficient"] + values["gear"]["addendum_coefficient"]) * \
+        values["pair"]["normal_module_mm"]
+    for member in ("pinion", "gear"):
+        opts = dict(values[member].get("surface_options", ()))
+        for amount, key, limit, what in (("tip_relief_um", "tip_relief_height_mm", depth, "the working depth"),
+                                         ("end_relief_um", "end_relief_length_mm",
+                                          values[member]["face_width_mm"] / 2, f"half of {member}.face_width_mm")):
+            if opts.get(amount) and not opts[key] < limit:
+                raise SpecError(f"{member}.{key} = {fmt_value(opts[key])}: must be below {what} = "
+                                f"{fmt_value(limit)} (mm)", key=f"{member}.{key}")
+
+
+CROSS_CHECKS: tuple[Callable[[dict[str, dict[str, Any]]], None], ...] = (check_clearance, check_relief_extent)
 
 #: section -> the dataclass holding its keys
 SECTION_TYPES: dict[str, type] = {

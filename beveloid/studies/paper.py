@@ -200,7 +200,7 @@ def write_study(out: Path, positions=200, progress=_progress) -> None:
     from . import crowning
 
     t0 = time.perf_counter()
-    steps = 1 + len(STUDIES) + 6  # Table 1, the error studies, Fig 22, sensitivity, onset, crowning, LTCA, report
+    steps = 1 + len(STUDIES) + 7  # Table 1, the error studies, Fig 22, sensitivity, onset, crowning, LTCA, micro, report
     k = 0
 
     def step(msg):
@@ -265,6 +265,10 @@ def write_study(out: Path, positions=200, progress=_progress) -> None:
     from .loaded import run_loaded
 
     loaded = run_loaded(out, geoms, designs, progress)
+    step("micro-geometry study: tip and end relief (beveloid/studies/micro_geometry.py)")
+    from . import micro_geometry
+
+    loaded += micro_geometry.run(out, geoms, progress)
 
     step("report.md")
     report = _report(designs, comparison, summary, sens, onset, aligned, time.perf_counter() - t0, positions)

@@ -156,6 +156,11 @@ PHYSICAL = {
     "shaft_angle": degrees(5, 30),
     "axial_placement_mm": uniform(-100, 100),
     "tip_height_mm": uniform(2, 8),  # m_n
+    # micro-geometry model (reliefs below the working depth, end zones below half the narrowest face)
+    "reference_section_offset_mm": uniform(-10, 10), "tip_relief_um": uniform(0, 200),
+    "tip_relief_height_mm": uniform(0.5, 5), "end_relief_um": uniform(0, 200), "end_relief_length_mm": uniform(1, 5),
+    "lead_slope_um": uniform(-200, 200),
+    "tip_relief_shape": lambda rng, n: rng.choice([1.0, 2.0], n), "end_relief_shape": lambda rng, n: rng.choice([1.0, 2.0], n),
     "toe_z_mm": signed(5, 60), "heel_z_mm": signed(5, 60),  # either order: the margins take both
 }
 

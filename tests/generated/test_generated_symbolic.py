@@ -40,6 +40,17 @@ def _lambdified_outputs(fn, values, n):
             symbols.append(symbol)
             value = np.asarray(values[a.name])
             args.append(value if index is None else value[(...,) + (index if isinstance(index, tuple) else (index,))])
+    # a staged function's outputs are written over named intermediate values: evaluate those first,
+    # in batches whose symbols are known (lambdify's own CSE inside a batch: they are the base model's jets)
+    todo = list(fn.stages)
+    while todo:
+        batch = [(sym, e) for sym, e in todo if e.free_symbols <= set(symbols)]
+        assert batch, "a stage uses an unknown symbol"
+        f = sp.lambdify(symbols, [e for _, e in batch], modules="numpy", cse=True)
+        for (sym, _), v in zip(batch, f(*args)):
+            symbols.append(sym)
+            args.append(np.broadcast_to(np.asarray(v, dtype=float), (n,)))
+        todo = [t for t in todo if t not in batch]
     outs = []
     for o in fn.outputs:
         entries = list(o.expr) if isinstance(o.expr, sp.MatrixBase) else [o.expr]
