@@ -31,6 +31,8 @@ from .cli_ltca import configure as _ltca_configure
 from .cli_ltca import run as _ltca_run
 from .cli_tca import configure as _tca_configure
 from .cli_tca import run as _tca_run
+from .explore.command import configure as _explore_configure
+from .explore.command import run as _explore_run
 from .spec import SpecError
 
 PROG = "beveloid"
@@ -160,6 +162,7 @@ COMMANDS: dict[str, tuple[Configure, Run]] = {
     "paper": (_configure_paper, _run_paper),
     "sweep": (_sweep_configure, _sweep_run),
     "example": (_example_configure, _example_run),
+    "explore": (_explore_configure, _explore_run),
 }
 
 
