@@ -179,3 +179,49 @@ def executor(workers: int | None = None, scheduler: str | None = None):
     if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= 1024:
         raise UserError(f"--workers = {workers}: must be an integer from 1 to 1024")
     return _Serial() if n == 1 else _Local(n)
+
+
+# ---------------------------------------------------------------------------
+# beveloid sweep --workers / --scheduler: chunks of error sets
+# ---------------------------------------------------------------------------
+
+
+def draw_errors_chunk(start: int, stop: int, ranges, seed: int, nominal) -> "np.ndarray":
+    """Error sets start..stop-1 of ``sweep.draw_errors(samples, ranges, seed, nominal)``, drawn on their own:
+    the chunk's generator is the seed's PCG64 stream advanced past the 5 * start draws before it."""
+    import numpy as np
+
+    from . import assembly_errors
+    from .sweep import DEFAULT_RANGES
+
+    half = assembly_errors.to_layout(dict(DEFAULT_RANGES, **(ranges or {})))
+    centre = assembly_errors.to_layout(dict(nominal or {}))
+    bits = np.random.PCG64(seed)
+    bits.advance(len(half) * start)
+    return centre + np.random.Generator(bits).uniform(-1.0, 1.0, (stop - start, len(half))) * half
+
+
+def sweep_chunk(task: tuple):
+    """One chunk of a sweep: (errors, x, status codes, Newton iterations) of its error sets."""
+    from . import tca
+
+    geom, flank, start, stop, ranges, seed, nominal, grid, backend, options = task
+    single_threaded()
+    errors = draw_errors_chunk(start, stop, ranges, seed, nominal)
+    sol = tca.solve_grid(geom, flank, errors, grid, backend, options)
+    return errors, sol.x, sol.status, sol.iterations
+
+
+def sweep_chunks(ex, geom, flank, samples, chunk, ranges, seed, nominal, grid, backend, options, out, progress=None,
+                 t0=0.0):
+    """Solve every chunk of a sweep on the executor ``ex`` into out = (errors, X, C, IT) arrays."""
+    starts = list(range(0, samples, chunk))
+    tasks = [(geom, flank, s, min(samples, s + chunk), ranges, seed, nominal, grid, backend, options) for s in starts]
+    done = 0
+    for k, parts in ex.map_unordered(sweep_chunk, tasks):
+        sl = slice(starts[k], min(samples, starts[k] + chunk))
+        for dst, src in zip(out, parts):
+            dst[sl] = src
+        done += sl.stop - sl.start
+        if progress:
+            progress(done, samples, t0)

@@ -138,8 +138,12 @@ def _progress_bar(done, total, t0, stream=sys.stderr, width=30):
 
 
 def sweep(geom, flank="right", samples=1000, positions=50, seed=0, ranges=None, backend="auto",
-          options=tca.DEFAULT_OPTIONS, progress=None, chunk=2000, nominal=None):
+          options=tca.DEFAULT_OPTIONS, progress=None, chunk=2000, nominal=None, executor=None):
     """Run the sweep; ``progress`` is a callable(done, total, t0) or None.
+
+    ``executor`` (beveloid.parallel.executor(workers, scheduler)) solves the chunks of ``chunk``
+    error sets on local processes or a Dask cluster, each chunk drawing its own sets (the same as
+    without it: parallel.draw_errors_chunk).
 
     Error sets are drawn uniformly within ``ranges`` (half-widths) about ``nominal`` (mm / deg dicts).
     """
@@ -158,7 +162,12 @@ def sweep(geom, flank="right", samples=1000, positions=50, seed=0, ranges=None, 
     X = np.empty((samples, positions, 5))
     C = np.empty((samples, positions), dtype=np.int64)
     IT = np.empty((samples, positions), dtype=np.int64)
-    for start in range(0, samples, chunk):
+    if executor is not None:
+        from .parallel import sweep_chunks
+
+        sweep_chunks(executor, geom, flank, samples, chunk, ranges, seed, nominal, grid, backend, options,
+                     (errors, X, C, IT), progress, t0)
+    for start in range(0, samples if executor is None else 0, chunk):
         sl = slice(start, min(samples, start + chunk))
         X[sl], C[sl], IT[sl] = tca.solve_grid(geom, flank, errors[sl], grid, backend, options)
         if progress:
