@@ -42,6 +42,8 @@ def configure(p: argparse.ArgumentParser) -> None:
                        help="run on an existing Dask distributed cluster (e.g. tcp://10.0.0.1:8786)")
     p.add_argument("--out", default="explore_out", metavar="DIR", help="output folder (default explore_out)")
     p.add_argument("--resume", metavar="DIR", help="continue the run in DIR without redoing finished designs")
+    p.add_argument("--chunk", type=int, default=256, metavar="N",
+                   help="designs per chunk of work (default 256): the unit of resume; the rows do not depend on it")
     p.add_argument("--backend", choices=BACKENDS, default="auto", help="solver backend (default auto)")
     p.add_argument("--json", action="store_true", help="print the summary and every row as JSON on stdout")
 
@@ -90,6 +92,8 @@ def _request(args):
         raise UserError(f"--mc = {args.mc}: must be an integer from 0 (no Monte Carlo) to 100000")
     if not 2 <= args.mc_positions <= 1000:
         raise UserError(f"--mc-positions = {args.mc_positions}: must be an integer from 2 to 1000")
+    if not 1 <= args.chunk <= 100_000:
+        raise UserError(f"--chunk = {args.chunk}: must be an integer from 1 to 100000")
     spec = load_spec(args.file)
     plan = Plan(spec_to_dict(spec), varies, args.samples, args.seed)
     plan.check()
@@ -101,7 +105,7 @@ def _request(args):
         if args.mc and centre + half > assembly_errors.BY_KEY[key].limit:
             raise UserError(f"--tolerances {key}: {half:g} about misalignment.{key} = {centre:g} reaches"
                             f" {centre + half:g}; |nominal| + half-width must be <= {assembly_errors.BY_KEY[key].limit:g}")
-    return Request(plan, tolerances, args.mc, args.mc_positions, args.mc_flank, backend=args.backend,
+    return Request(plan, tolerances, args.mc, args.mc_positions, args.mc_flank, chunk=args.chunk, backend=args.backend,
                    source=str(args.file))
 
 

@@ -100,6 +100,15 @@ def compute(plan, start: int, stop: int, tolerances: dict, backend: str = "auto"
     return cols
 
 
+def _box_max(D, tol):
+    """max over the box |e_i| <= tol_i of |sum_i D_i e_i| = sum_i |D_i| tol_i, summed in a fixed order
+    (the same bits whatever the number of rows)."""
+    out = np.zeros(D.shape[0])
+    for e in range(D.shape[1]):
+        out = out + np.abs(D[:, e]) * tol[e]
+    return out
+
+
 def _sensitivities(cols, plan, values, q, status, tolerances, backend):
     n = status.size
     tol = np.abs(assembly_errors.to_layout(tolerances))
@@ -122,11 +131,11 @@ def _sensitivities(cols, plan, values, q, status, tolerances, backend):
                 for a, axis in enumerate(AXES):
                     for e, err in enumerate(tca.ERROR_NAMES):
                         cols[f"{fl}_{m}_contact_{axis}_mm_per_{err}"][k] = D[:, a, e]
-                cols[f"{fl}_worst_{m}_path_shift_mm"][k] = np.abs(D[:, AXES.index("z"), :]) @ tol
+                cols[f"{fl}_worst_{m}_path_shift_mm"][k] = _box_max(D[:, AXES.index("z"), :], tol)
             G = s["gear_angle_D_errors"][good]
             for e, err in enumerate(tca.ERROR_NAMES):
                 cols[f"{fl}_gear_angle_rad_per_{err}"][k] = G[:, e]
-            cols[f"{fl}_worst_gear_angle_urad"][k] = (np.abs(G) @ tol) * 1e6
+            cols[f"{fl}_worst_gear_angle_urad"][k] = _box_max(G, tol) * 1e6
     for fl in tca.FLANKS:
         cols[f"{fl}_contact_status"] = flank_status[fl]
     shifts = [cols[f"{fl}_worst_{m}_path_shift_mm"] for fl in tca.FLANKS for m in ("pinion", "gear")]
