@@ -115,7 +115,13 @@ class _Local:
                 fut.cancel()
 
 
-class WarmUp:
+try:  # Dask is optional (the cluster extra): without it there is no --scheduler
+    from distributed import WorkerPlugin as _PluginBase
+except ImportError:  # pragma: no cover - tested with the test extra, which has it
+    _PluginBase = object
+
+
+class WarmUp(_PluginBase):
     """Dask worker plugin: load the compiled solver once per worker process."""
 
     name = "beveloid-warm-up"
@@ -141,8 +147,13 @@ class _Dask:
         except (OSError, TimeoutError) as exc:
             raise UserError(f"--scheduler = {self.address}: no Dask scheduler answers there ({exc}); start one with"
                             f" `dask scheduler` and workers with `dask worker ADDRESS`") from None
-        self._client.register_plugin(WarmUp(), name=WarmUp.name)
-        self.description = f"Dask cluster at {self.address} ({len(self._client.scheduler_info()['workers'])} workers)"
+        try:
+            self._client.register_plugin(WarmUp(), name=WarmUp.name)
+            workers = len(self._client.scheduler_info()["workers"])
+        except BaseException:
+            self._client.close()
+            raise
+        self.description = f"Dask cluster at {self.address} ({workers} workers)"
         return self
 
     def __exit__(self, *exc):
