@@ -12,6 +12,7 @@ import csv
 import json
 import math
 import os
+import textwrap
 
 import numpy as np
 
@@ -121,22 +122,25 @@ def _grid2(req, table, column):
     return v[0].values(), v[1].values(), Z
 
 
-def heatmap(path, req, table, column, label, base_row):
+def heatmap(path, req, table, column, label, base_row, log=False):
     plt = _plt()
+    from matplotlib.colors import LogNorm
+
+    norm = LogNorm() if log else None
     g = _grid2(req, table, column)
     fig, ax = plt.subplots(figsize=(6.0, 4.4))
     if g is None:  # a sample: scatter over the first two keys (or one key against the value)
         k1 = req.plan.keys[0]
         ok = table["status"] == "ok"
         y = table[req.plan.keys[1]] if len(req.plan.keys) > 1 else table[column]
-        sc = ax.scatter(table[k1][ok], y[ok], c=table[column][ok], s=12, cmap="viridis")
+        sc = ax.scatter(table[k1][ok], y[ok], c=table[column][ok], s=12, cmap="viridis", norm=norm)
         ax.scatter(table[k1][~ok], y[~ok], c="0.8", s=8, marker="x", label="no design")
         ax.set_ylabel(req.plan.keys[1] if len(req.plan.keys) > 1 else label)
     else:
         x1, x2, Z = g
         masked = np.ma.masked_invalid(Z.T)
         ax.set_facecolor("0.85")
-        sc = ax.pcolormesh(x1, x2, masked, shading="nearest", cmap="viridis")
+        sc = ax.pcolormesh(x1, x2, masked, shading="nearest", cmap="viridis", norm=norm)
         ax.set_ylabel(req.plan.keys[1])
     ax.set_xlabel(req.plan.keys[0])
     k = req.plan.keys
@@ -170,6 +174,7 @@ def pareto_scatter(path, req, table, base_row):
                 label="base design")
     ax.set_xlabel("largest FPD angle max(|xi_L|, |xi_R|) (deg)")
     ax.set_ylabel("worst first-order path shift in the tolerance box (mm)")
+    ax.set_yscale("log")
     ax.legend(loc="best", fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=90)
@@ -182,16 +187,19 @@ def pareto_table(path, req, table, limit=20):
     front = front[np.argsort(table["max_fpd_angle_deg"][front])][:limit]
     cols = list(req.plan.keys) + [c for c in TABLE if c in table and (req.mc or not c.startswith("mc_"))]
     cells = [[f"{float(table[c][i]):.4g}" for c in cols] for i in front]
-    fig, ax = plt.subplots(figsize=(1.5 + 1.25 * len(cols), 0.6 + 0.25 * max(1, len(cells))))
+    labels = ["\n".join(textwrap.wrap(c.replace(".", " ").replace("_", " ").replace(" deg", " (deg)")
+                                       .replace(" mm", " (mm)"), 13)) for c in cols]
+    fig = plt.figure(figsize=(1.0 + 1.05 * len(cols), 0.9 + 0.2 * max(1, len(cells))))
+    ax = fig.add_axes([0.01, 0.01, 0.98, 0.86])
     ax.axis("off")
     if cells:
-        t = ax.table(cellText=cells, colLabels=[c.replace("_", "\n", 2) for c in cols], loc="center")
+        t = ax.table(cellText=cells, colLabels=labels, bbox=[0, 0, 1, 1])
         t.auto_set_font_size(False)
         t.set_fontsize(7)
-        t.scale(1, 1.6)
-    ax.set_title(f"Pareto designs ({np.count_nonzero(table['pareto'])}, first {len(cells)} by FPD angle)",
-                 fontsize=9)
-    fig.tight_layout()
+        for (r, _), cell in t.get_celld().items():
+            cell.set_height(3.0 if r == 0 else 1.0)
+    ax.set_title(f"Pareto designs ({np.count_nonzero(table['pareto'])}; the first {len(cells)} by FPD angle)",
+                 fontsize=9, pad=4)
     fig.savefig(path, dpi=90)
     plt.close(fig)
 
@@ -207,7 +215,8 @@ def write(out_dir: str, req, table: dict, summ: dict) -> list[str]:
     base = summ.get("base_design") or {}
     figs = [os.path.join(out_dir, name) for name in FIGURES]
     heatmap(figs[0], req, table, "max_fpd_angle_deg", "largest FPD angle (deg)", base)
-    heatmap(figs[1], req, table, "worst_path_shift_mm", "worst path shift in the tolerance box (mm)", base)
+    heatmap(figs[1], req, table, "worst_path_shift_mm", "worst path shift in the tolerance box (mm)", base,
+            log=True)
     pareto_scatter(figs[2], req, table, base)
     pareto_table(figs[3], req, table)
     return paths + figs

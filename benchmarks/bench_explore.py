@@ -1,0 +1,104 @@
+"""Designs per second of `beveloid explore`: the batched path against one design at a time, and
+one local worker against two.
+
+    python benchmarks/bench_explore.py [--designs 2048] [--single 64] [--no-workers]
+
+Rows (status, working data, FPD angles, both flanks' sensitivities and worst path shifts) of
+case 1 with the pinion cone angle and helix angle varied over a grid that includes infeasible
+designs.  The batched path is beveloid.explore.rows.compute over chunks of 256 designs in this
+process; the one-design-at-a-time path is what a script does today: design(spec), the pair's
+geometry and tca.sensitivity on both flanks, for the first --single designs of the same grid
+(infeasible ones cost their refused design).  Both after a warm-up (numba's cache loaded).  The
+workers part runs the whole exploration (chunks, files) on 1 and on 2 local worker processes,
+timed after the pools have started and loaded the compiled solver.
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+from beveloid import parallel, tca
+from beveloid.design import DesignError, design
+from beveloid.explore import rows
+from beveloid.explore import run as runner
+from beveloid.explore.grid import Plan, Vary
+from beveloid.pair import Pair
+from beveloid.spec import load_example, spec_to_dict
+from beveloid.sweep import DEFAULT_RANGES
+
+
+def _plan(n):
+    side = int(round(n ** 0.5))
+    return Plan(spec_to_dict(load_example("case1")), (Vary("pinion.cone_angle_deg", 0.25, 4.5, side),
+                                                      Vary("pinion.helix_angle_deg", 12.0, 34.0, side)))
+
+
+def batched(plan, chunk=256):
+    rows.compute(plan, 0, min(chunk, plan.count), DEFAULT_RANGES)  # warm-up
+    t = time.perf_counter()
+    ok = 0
+    for s in range(0, plan.count, chunk):
+        ok += int((rows.compute(plan, s, min(plan.count, s + chunk), DEFAULT_RANGES)["status"] == "ok").sum())
+    return plan.count / (time.perf_counter() - t), ok
+
+
+def one_at_a_time(plan, count):
+    values = {k: np.full(plan.count, v) for k, v in plan.base_values().items()}
+    values.update(plan.values(0, plan.count))
+    specs = [rows.design_spec(plan, values, j) for j in range(count)]
+    t = time.perf_counter()
+    for spec in specs:
+        try:
+            result = design(spec)
+        except DesignError:
+            continue
+        geom = Pair.from_spec(result.spec).geometry
+        for flank in tca.FLANKS:
+            tca.sensitivity(geom, flank)
+    return count / (time.perf_counter() - t)
+
+
+def _nap(seconds):
+    time.sleep(seconds)
+    return seconds
+
+
+def workers(plan, n):
+    req = runner.Request(plan, dict(DEFAULT_RANGES), chunk=128)
+    with parallel.executor(workers=n) as ex:
+        list(ex.map_unordered(_nap, [1.0] * n))  # the pool's processes started and warmed up
+        with tempfile.TemporaryDirectory() as out:
+            runner.prepare(out, req, resume=False)
+            t = time.perf_counter()
+            complete, _ = runner.execute(out, req, ex)
+            assert complete
+            return plan.count / (time.perf_counter() - t)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--designs", type=int, default=2048)
+    ap.add_argument("--single", type=int, default=64)
+    ap.add_argument("--no-workers", action="store_true")
+    a = ap.parse_args(argv)
+    plan = _plan(a.designs)
+    rate, ok = batched(plan)
+    single = one_at_a_time(plan, a.single)
+    print(f"grid: {plan.count} designs of case 1 ({ok} ok), pinion cone x helix angle")
+    print(f"batched (rows.compute, chunks of 256, 1 core):  {rate:8.0f} designs/s")
+    print(f"one at a time (design + Pair + 2 x tca.sensitivity, first {a.single}): {single:8.0f} designs/s")
+    print(f"speed-up of the batched path: {rate / single:.1f}x")
+    if not a.no_workers:
+        w1 = workers(plan, 1)
+        w2 = workers(plan, 2)
+        print(f"explore on 1 local worker:  {w1:8.0f} designs/s")
+        print(f"explore on 2 local workers: {w2:8.0f} designs/s  ({w2 / w1:.2f}x one worker)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
