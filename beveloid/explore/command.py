@@ -138,7 +138,11 @@ def run(args: argparse.Namespace) -> int:
         complete, why = runner.execute(out, req, ex, progress)
         where = ex.description
     table = runner.load_table(out, req)
-    base_cols = rows.compute(Plan(req.plan.base, ()), 0, 1, req.tolerances, req.backend)
+    base_plan = Plan(req.plan.base, (), seed=req.plan.seed)
+    base_cols = rows.compute(base_plan, 0, 1, req.tolerances, req.backend)
+    if req.mc:
+        rows.monte_carlo(base_cols, base_plan, 0, 1, req.tolerances, req.mc, req.mc_positions, req.mc_flank,
+                         req.plan.seed, req.backend)
     base_row = report.records(base_cols)[0]
     values = Plan(req.plan.base, ()).base_values()
     base_row.update({k: values[k] for k in req.plan.keys})

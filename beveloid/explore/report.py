@@ -168,7 +168,9 @@ def pareto_scatter(path, req, table, base_row):
         ax.scatter(x[ok], y[ok], c="0.6", s=10, label="designs")
     front = np.nonzero(table["pareto"])[0]
     front = front[np.argsort(x[front])]
-    ax.plot(x[front], y[front], "o-", color="tab:blue", ms=5, lw=1, label=f"Pareto front ({front.size})")
+    # with a third objective (the MC edge fraction) the front is not a curve in this plane: points only
+    ax.plot(x[front], y[front], "o" if req.mc else "o-", color="tab:blue", ms=5, lw=1, mfc="none" if req.mc else None,
+            mew=1.5, label=f"Pareto front ({front.size})")
     if base_row and base_row.get("status") == "ok":
         ax.plot([base_row["max_fpd_angle_deg"]], [base_row["worst_path_shift_mm"]], "*", color="red", ms=14,
                 label="base design")
