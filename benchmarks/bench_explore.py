@@ -62,6 +62,16 @@ def one_at_a_time(plan, count):
     return count / (time.perf_counter() - t)
 
 
+def monte_carlo(plan, count, sets=40, positions=20):
+    """ms per design of the --mc sweep (sets x positions on the right flank)."""
+    cols = rows.compute(plan, 0, count, DEFAULT_RANGES)
+    rows.monte_carlo(cols, plan, 0, 1, DEFAULT_RANGES, sets, positions, "right", 0)  # warm-up
+    t = time.perf_counter()
+    rows.monte_carlo(cols, plan, 0, count, DEFAULT_RANGES, sets, positions, "right", 0)
+    done = int((cols["mc_status"] == "ok").sum())
+    return (time.perf_counter() - t) / max(done, 1) * 1e3, done
+
+
 def _nap(seconds):
     time.sleep(seconds)
     return seconds
@@ -92,6 +102,8 @@ def main(argv=None):
     print(f"batched (rows.compute, chunks of 256, 1 core):  {rate:8.0f} designs/s")
     print(f"one at a time (design + Pair + 2 x tca.sensitivity, first {a.single}): {single:8.0f} designs/s")
     print(f"speed-up of the batched path: {rate / single:.1f}x")
+    ms, done = monte_carlo(plan, 16)
+    print(f"--mc 40 --mc-positions 20: {ms:.0f} ms per design ({done} designs)")
     if not a.no_workers:
         w1 = workers(plan, 1)
         w2 = workers(plan, 2)
