@@ -1,7 +1,7 @@
 """``beveloid explore FILE --vary KEY=START:STOP:COUNT [...]``: map the design space.
 
-``configure(parser)`` adds the arguments, ``run(args) -> int`` runs the exploration (see
-beveloid/explore/run.py for chunks and resume, report.py for the files).  Exit status: 0 when every
+``configure(parser)`` adds the arguments, ``run(args) -> int`` runs the exploration (the work is
+the package beveloid/explore/; see its run.py for chunks and resume, report.py for the files).  Exit status: 0 when every
 design is done, 1 when the run stopped early (Ctrl-C: 130) with the finished designs written and
 ``--resume DIR`` to continue, 2 for bad input (one line).
 """
@@ -73,8 +73,8 @@ def parse_tolerances(text: str) -> dict:
 
 def _request(args):
     from ..spec import load_spec, spec_to_dict
-    from .grid import Plan, parse_vary
-    from .run import Request
+    from ..explore.grid import Plan, parse_vary
+    from ..explore.run import Request
 
     if not args.file:
         raise UserError("FILE is missing: give the base design's TOML spec (or --resume DIR)")
@@ -115,10 +115,10 @@ def run(args: argparse.Namespace) -> int:
     Writes DIR/explore.csv, pareto.csv, summary.json and figures (heat maps, Pareto scatter and table).
     """
     from .. import parallel
-    from ..cli_paths import check_output_dir
-    from . import report, rows
-    from . import run as runner
-    from .grid import Plan
+    from .paths import check_output_dir
+    from ..explore import report, rows
+    from ..explore import run as runner
+    from ..explore.grid import Plan
 
     out = args.resume or args.out
     if args.resume:

@@ -23,9 +23,9 @@ def run(args: argparse.Namespace) -> int:
 
     Prints a table laid out like the paper's Table 1 (angles in degrees), or JSON with --json.
     """
-    from .design import design
-    from .design_report import design_json, format_table1
-    from .spec import load_spec
+    from ..design import design
+    from ..design_report import design_json, format_table1
+    from ..spec import load_spec
 
     result = design(load_spec(args.file))
     if args.json:
