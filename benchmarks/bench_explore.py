@@ -6,8 +6,8 @@ one local worker against two.
 Rows (status, working data, FPD angles, both flanks' sensitivities and worst path shifts) of
 case 1 with the pinion cone angle and helix angle varied over a grid that includes infeasible
 designs.  The batched path is beveloid.explore.rows.compute over chunks of 256 designs in this
-process; the one-design-at-a-time path is what a script does today: design(spec), the pair's
-geometry and tca.sensitivity on both flanks, for the first --single designs of the same grid
+process; the one-design-at-a-time path is what a script does today: Pair.from_spec(spec) (design() and the
+geometry) and tca.sensitivity on both flanks, for the first --single designs of the same grid
 (infeasible ones cost their refused design).  Both after a warm-up (numba's cache loaded).  The
 workers part runs the whole exploration (chunks, files) on 1 and on 2 local worker processes,
 timed after the pools have started and loaded the compiled solver.
@@ -22,7 +22,7 @@ import time
 import numpy as np
 
 from beveloid import parallel, tca
-from beveloid.design import DesignError, design
+from beveloid.design import DesignError
 from beveloid.explore import rows
 from beveloid.explore import run as runner
 from beveloid.explore.grid import Plan, Vary
@@ -39,27 +39,26 @@ def _plan(n):
 
 def batched(plan, chunk=256):
     rows.compute(plan, 0, min(chunk, plan.count), DEFAULT_RANGES)  # warm-up
-    t = time.perf_counter()
+    t, c = time.perf_counter(), time.process_time()
     ok = 0
     for s in range(0, plan.count, chunk):
         ok += int((rows.compute(plan, s, min(plan.count, s + chunk), DEFAULT_RANGES)["status"] == "ok").sum())
-    return plan.count / (time.perf_counter() - t), ok
+    return plan.count / (time.perf_counter() - t), plan.count / (time.process_time() - c), ok
 
 
 def one_at_a_time(plan, count):
     values = {k: np.full(plan.count, v) for k, v in plan.base_values().items()}
     values.update(plan.values(0, plan.count))
     specs = [rows.design_spec(plan, values, j) for j in range(count)]
-    t = time.perf_counter()
+    t, c = time.perf_counter(), time.process_time()
     for spec in specs:
         try:
-            result = design(spec)
+            geom = Pair.from_spec(spec).geometry  # design() and the geometry, once
         except DesignError:
             continue
-        geom = Pair.from_spec(result.spec).geometry
         for flank in tca.FLANKS:
             tca.sensitivity(geom, flank)
-    return count / (time.perf_counter() - t)
+    return count / (time.perf_counter() - t), count / (time.process_time() - c)
 
 
 def monte_carlo(plan, count, sets=40, positions=20):
@@ -96,12 +95,16 @@ def main(argv=None):
     ap.add_argument("--no-workers", action="store_true")
     a = ap.parse_args(argv)
     plan = _plan(a.designs)
-    rate, ok = batched(plan)
-    single = one_at_a_time(plan, a.single)
+    import os
+
+    print(f"load average before: {os.getloadavg()[0]:.1f} (2 cores)")
+    rate, cpu_rate, ok = batched(plan)
+    single, cpu_single = one_at_a_time(plan, a.single)
     print(f"grid: {plan.count} designs of case 1 ({ok} ok), pinion cone x helix angle")
-    print(f"batched (rows.compute, chunks of 256, 1 core):  {rate:8.0f} designs/s")
-    print(f"one at a time (design + Pair + 2 x tca.sensitivity, first {a.single}): {single:8.0f} designs/s")
-    print(f"speed-up of the batched path: {rate / single:.1f}x")
+    print(f"batched (rows.compute, chunks of 256, 1 process):  {rate:8.0f} designs/s wall, {cpu_rate:8.0f} per CPU second")
+    print(f"one at a time (Pair.from_spec + 2 x tca.sensitivity, first {a.single}): {single:8.0f} designs/s wall,"
+          f" {cpu_single:8.0f} per CPU second")
+    print(f"speed-up of the batched path: {rate / single:.1f}x wall, {cpu_rate / cpu_single:.1f}x CPU")
     ms, done = monte_carlo(plan, 16)
     print(f"--mc 40 --mc-positions 20: {ms:.0f} ms per design ({done} designs)")
     if not a.no_workers:
@@ -109,6 +112,7 @@ def main(argv=None):
         w2 = workers(plan, 2)
         print(f"explore on 1 local worker:  {w1:8.0f} designs/s")
         print(f"explore on 2 local workers: {w2:8.0f} designs/s  ({w2 / w1:.2f}x one worker)")
+        print(f"load average after: {os.getloadavg()[0]:.1f}")
     return 0
 
 

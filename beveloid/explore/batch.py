@@ -24,9 +24,11 @@ STATUSES = ("ok", "zero_cone_angle", "no_working_pressure_angle", "gear_helix_an
             "transverse_pressure_angle_not_positive", "non_finite_design", "non_physical_pitch_radius",
             "tip_inside_base_circle", "pointed_teeth", "pitch_point_off_active_profile")
 _EPS = np.finfo(float).eps
-_POINTS = _design._GRID_POINTS
-_SECTIONS = _design._SECTIONS
-_PASSES = _design._SECTION_PASSES
+#: design()'s alpha_nw grid and its multisection (pieces per pass, passes): the same numbers as
+#: beveloid/design.py, which keeps them private; the batch must scan exactly as design() does
+_POINTS = 1201
+_SECTIONS = 64
+_PASSES = 10
 #: designs per block of the alpha_nw scan (keeps the (designs x 1200) temporaries in cache)
 SCAN_BLOCK = 4
 
