@@ -102,3 +102,26 @@ def test_refusal_class_names_every_check():
     assert batch.refusal_class(DesignError("pinion.cone_angle_deg = 0.0: a beveloid member needs a non-zero cone"
                                            " angle")) == "zero_cone_angle"
     assert batch.refusal_class(DesignError("something new")) == "design_refused"
+
+
+def test_flank_modification_keys_choose_the_surface_model():
+    """Varying a crowning key from 0 gives involute designs at 0 and crowned ones elsewhere (the spec's
+    rule when the file does not name tooth_surface), each equal to tca.sensitivity of its own spec."""
+    base = spec_to_dict(load_example("case1"))
+    for member in ("pinion", "gear"):
+        base[member].pop("tooth_surface", None)
+    plan = Plan(base, (parse_vary("gear.lead_crowning_um=0:20:2"),))
+    cols = rows.compute(plan, 0, 2, DEFAULT_RANGES)
+    values = {k: np.full(2, v) for k, v in plan.base_values().items()}
+    values.update(plan.values(0, 2))
+    assert [m for _, m in rows.models(plan.base, values)] == ["involute", "crowned"]
+    first = []
+    for j in range(2):
+        spec = rows.design_spec(plan, values, j)
+        assert spec.gear.tooth_surface == ("involute", "crowned")[j]
+        s = tca.sensitivity(Pair.from_spec(spec).geometry, "right")
+        D = s["pinion_contact_D_errors"]
+        got = np.array([[cols[f"right_pinion_contact_{a}_mm_per_{e}"][j] for e in tca.ERROR_NAMES] for a in rows.AXES])
+        np.testing.assert_allclose(got, D, rtol=0, atol=RTOL * np.abs(D).max())
+        first.append(got[2, 0])
+    assert abs(first[0] - first[1]) > 1.0  # the crowning changes the path's sensitivity (18.7 -> 6.9 mm/mm)
