@@ -76,7 +76,17 @@ def _nap(seconds):
     return seconds
 
 
+def _timed_chunk(task):
+    """runner.compute_chunk, and the CPU seconds it took in which worker process."""
+    import os
+
+    c = time.process_time()
+    cols = runner.compute_chunk(task)
+    return os.getpid(), time.process_time() - c, len(cols["design"])
+
+
 def workers(plan, n):
+    """(designs/s wall of the whole exploration, CPU seconds per worker process of the same chunks)."""
     req = runner.Request(plan, dict(DEFAULT_RANGES), chunk=128)
     with parallel.executor(workers=n) as ex:
         list(ex.map_unordered(_nap, [1.0] * n))  # the pool's processes started and warmed up
@@ -85,7 +95,11 @@ def workers(plan, n):
             t = time.perf_counter()
             complete, _ = runner.execute(out, req, ex)
             assert complete
-            return plan.count / (time.perf_counter() - t)
+            rate = plan.count / (time.perf_counter() - t)
+        cpu = {}
+        for _, (pid, seconds, _) in ex.map_unordered(_timed_chunk, [(req.to_json(), i) for i in range(req.chunks)]):
+            cpu[pid] = cpu.get(pid, 0.0) + seconds
+    return rate, cpu
 
 
 def main(argv=None):
@@ -108,10 +122,15 @@ def main(argv=None):
     ms, done = monte_carlo(plan, 16)
     print(f"--mc 40 --mc-positions 20: {ms:.0f} ms per design ({done} designs)")
     if not a.no_workers:
-        w1 = workers(plan, 1)
-        w2 = workers(plan, 2)
-        print(f"explore on 1 local worker:  {w1:8.0f} designs/s")
-        print(f"explore on 2 local workers: {w2:8.0f} designs/s  ({w2 / w1:.2f}x one worker)")
+        w1, cpu1 = workers(plan, 1)
+        w2, cpu2 = workers(plan, 2)
+        print(f"explore on 1 local worker:  {w1:8.0f} designs/s wall")
+        print(f"explore on 2 local workers: {w2:8.0f} designs/s wall ({w2 / w1:.2f}x one worker)")
+        # CPU seconds of the same chunks: their sum shows the parallel overhead, the busiest worker the
+        # wall time two free cores would need
+        one, two = sum(cpu1.values()), sum(cpu2.values())
+        print(f"CPU seconds of the chunks: 1 worker {one:.2f}; 2 workers {two:.2f} in all"
+              f" ({', '.join(f'{v:.2f}' for v in cpu2.values())}): {one / max(cpu2.values()):.2f}x on two free cores")
         print(f"load average after: {os.getloadavg()[0]:.1f}")
     return 0
 
