@@ -140,3 +140,32 @@ def test_interrupted_run_keeps_finished_chunks(case1, tmp_path):
     assert runner.finished(out, req) == [0]
     table = runner.load_table(out, req)
     assert table["design"].tolist() == [0]
+
+
+class _Terminal:
+    def __init__(self):
+        self.text = ""
+
+    def isatty(self):
+        return True
+
+    def write(self, s):
+        self.text += s
+
+    def flush(self):
+        pass
+
+
+def test_progress_shows_done_rate_and_time_left():
+    term = _Terminal()
+    p = runner.Progress(total=1000, done=200, stream=term)
+    p.t0 -= 2.0  # as if 2 s had passed
+    p.last -= 1.0
+    p.update(300)
+    line = term.text.strip()
+    assert "500/1000 designs (50.0 %)" in line
+    rate = float(line.split(",")[1].split()[0])
+    assert 140 <= rate <= 150  # 300 designs in ~2 s
+    assert "s left" in line
+    quiet = runner.Progress(total=10, done=0, stream=open(os.devnull, "w"))
+    quiet.update(10)  # not a terminal: nothing written, nothing raised
