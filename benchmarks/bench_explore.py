@@ -88,7 +88,7 @@ def _timed_chunk(task):
 def workers(plan, n):
     """(designs/s wall of the whole exploration, CPU seconds per worker process of the same chunks)."""
     req = runner.Request(plan, dict(DEFAULT_RANGES), chunk=128)
-    with parallel.executor(workers=n) as ex:
+    with parallel.executor(workers=n, initializer=runner.warm_up) as ex:
         list(ex.map_unordered(_nap, [1.0] * n))  # the pool's processes started and warmed up
         with tempfile.TemporaryDirectory() as out:
             runner.prepare(out, req, resume=False)

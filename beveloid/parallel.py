@@ -11,9 +11,9 @@ workers, so one worker, N local workers and a cluster give the same results bit 
 
 * ``workers=1``: in this process, in order.
 * ``workers=N``: a ``concurrent.futures.ProcessPoolExecutor`` of N spawned processes.  Each loads
-  the compiled solver once, in its initializer (:func:`warm_up`: numba's on-disk cache, written by
-  the first process that compiled it), and runs numba single-threaded (the processes are the
-  parallelism).
+  the compiled solver once, in its initializer (:func:`warm_up` with the caller's ``initializer``:
+  numba's on-disk cache, written by the first process that compiled it), and runs numba
+  single-threaded (the processes are the parallelism).
 * ``scheduler=ADDRESS``: an existing Dask distributed cluster (``dask scheduler`` /
   ``dask worker ADDRESS``), through ``distributed.Client``; Dask's own scheduler places the chunks
   and re-runs those of a lost worker.  A worker plugin (:class:`WarmUp`) loads the compiled solver
@@ -39,18 +39,19 @@ class WorkLost(RuntimeError):
     """A worker died or the cluster gave up on a chunk: the finished chunks are kept."""
 
 
-def warm_up() -> None:
-    """Load the compiled solver (numba's cache) once in this process, single-threaded."""
+def load_solver() -> None:
+    """The default warm-up of a worker: the compiled solver's functions (numba's cache) in this process."""
     from .solver import backends
 
-    if not backends.AVAILABLE:
-        return
-    import numba
+    if backends.AVAILABLE:
+        backends.namespace("compiled")
 
-    numba.set_num_threads(1)
-    from .explore import run
 
-    run.warm_up()
+def warm_up(initializer=None) -> None:
+    """A worker's start: numba single-threaded, then ``initializer`` (a module-level function that runs
+    the work once, so that every compiled function it needs is loaded) or :func:`load_solver`."""
+    single_threaded()
+    (initializer or load_solver)()
 
 
 def single_threaded() -> None:
@@ -87,14 +88,16 @@ class _Serial:
 
 
 class _Local:
-    def __init__(self, workers: int):
+    def __init__(self, workers: int, initializer=None):
         self.workers = workers
+        self.initializer = initializer
         self.description = f"{workers} local worker processes"
         self._pool = None
 
     def __enter__(self):
         ctx = multiprocessing.get_context("spawn")
-        self._pool = cf.ProcessPoolExecutor(self.workers, mp_context=ctx, initializer=warm_up)
+        self._pool = cf.ProcessPoolExecutor(self.workers, mp_context=ctx, initializer=warm_up,
+                                            initargs=(self.initializer,))
         return self
 
     def __exit__(self, *exc):
@@ -126,13 +129,17 @@ class WarmUp(_PluginBase):
 
     name = "beveloid-warm-up"
 
+    def __init__(self, initializer=None):
+        self.initializer = initializer
+
     def setup(self, worker):
-        warm_up()
+        warm_up(self.initializer)
 
 
 class _Dask:
-    def __init__(self, address: str):
+    def __init__(self, address: str, initializer=None):
         self.address = address
+        self.initializer = initializer
         self.description = f"Dask cluster at {address}"
         self._client = None
 
@@ -148,7 +155,7 @@ class _Dask:
             raise UserError(f"--scheduler = {self.address}: no Dask scheduler answers there ({exc}); start one with"
                             f" `dask scheduler` and workers with `dask worker ADDRESS`") from None
         try:
-            self._client.register_plugin(WarmUp(), name=WarmUp.name)
+            self._client.register_plugin(WarmUp(self.initializer), name=WarmUp.name)
             workers = len(self._client.scheduler_info()["workers"])
         except BaseException:
             self._client.close()
@@ -179,17 +186,18 @@ class _Dask:
             self._client.cancel([f for f in futures if not f.done()])
 
 
-def executor(workers: int | None = None, scheduler: str | None = None):
-    """An executor context: ``scheduler`` (a Dask address) or ``workers`` local processes (default: the cores)."""
+def executor(workers: int | None = None, scheduler: str | None = None, initializer=None):
+    """An executor context: ``scheduler`` (a Dask address) or ``workers`` local processes (default: the
+    cores); each worker process runs :func:`warm_up` (``initializer``) once when it starts."""
     if scheduler is not None and workers is not None:
         raise UserError(f"--workers = {workers} with --scheduler = {scheduler}: give one of them (the cluster's"
                         f" workers are set where they are started)")
     if scheduler is not None:
-        return _Dask(scheduler)
+        return _Dask(scheduler, initializer)
     n = default_workers() if workers is None else workers
     if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= 1024:
         raise UserError(f"--workers = {workers}: must be an integer from 1 to 1024")
-    return _Serial() if n == 1 else _Local(n)
+    return _Serial() if n == 1 else _Local(n, initializer)
 
 
 # ---------------------------------------------------------------------------
@@ -197,15 +205,15 @@ def executor(workers: int | None = None, scheduler: str | None = None):
 # ---------------------------------------------------------------------------
 
 
-def draw_errors_chunk(start: int, stop: int, ranges, seed: int, nominal) -> "np.ndarray":
+def draw_errors_chunk(start: int, stop: int, ranges: dict, seed: int, nominal) -> "np.ndarray":
     """Error sets start..stop-1 of ``sweep.draw_errors(samples, ranges, seed, nominal)``, drawn on their own:
-    the chunk's generator is the seed's PCG64 stream advanced past the 5 * start draws before it."""
+    the chunk's generator is the seed's PCG64 stream advanced past the 5 * start draws before it.
+    ``ranges``: every half-width (sweep.DEFAULT_RANGES with the caller's overrides)."""
     import numpy as np
 
     from . import assembly_errors
-    from .sweep import DEFAULT_RANGES
 
-    half = assembly_errors.to_layout(dict(DEFAULT_RANGES, **(ranges or {})))
+    half = assembly_errors.to_layout(ranges)
     centre = assembly_errors.to_layout(dict(nominal or {}))
     bits = np.random.PCG64(seed)
     bits.advance(len(half) * start)

@@ -165,8 +165,8 @@ def sweep(geom, flank="right", samples=1000, positions=50, seed=0, ranges=None, 
     if executor is not None:
         from .parallel import sweep_chunks
 
-        sweep_chunks(executor, geom, flank, samples, chunk, ranges, seed, nominal, grid, backend, options,
-                     (errors, X, C, IT), progress, t0)
+        sweep_chunks(executor, geom, flank, samples, chunk, dict(DEFAULT_RANGES, **(ranges or {})), seed, nominal,
+                     grid, backend, options, (errors, X, C, IT), progress, t0)
     for start in range(0, samples if executor is None else 0, chunk):
         sl = slice(start, min(samples, start + chunk))
         X[sl], C[sl], IT[sl] = tca.solve_grid(geom, flank, errors[sl], grid, backend, options)

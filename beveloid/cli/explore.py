@@ -145,7 +145,7 @@ def run(args: argparse.Namespace) -> int:
         check_output_dir(out, "--out")
         req = runner.prepare(out, req, resume=False)
     t0 = time.perf_counter()
-    ex = parallel.executor(args.workers, args.scheduler)
+    ex = parallel.executor(args.workers, args.scheduler, initializer=runner.warm_up)
     done = sum(min(req.chunk, req.plan.count - i * req.chunk) for i in runner.finished(out, req))
     progress = runner.Progress(req.plan.count, done)
     with ex:

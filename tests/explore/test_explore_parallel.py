@@ -15,7 +15,7 @@ import pytest
 from beveloid import parallel
 from beveloid.cli import main
 from beveloid.spec import example_text
-from beveloid.sweep import draw_errors
+from beveloid.sweep import DEFAULT_RANGES, draw_errors
 
 GRID = ["--vary", "pinion.cone_angle_deg=1:3:3", "--vary", "pinion.helix_angle_deg=18:28:2", "--chunk", "2"]
 #: the sweep's numbers that do not depend on where it ran (its timings do)
@@ -45,7 +45,8 @@ def test_error_chunks_are_the_sweeps_stream():
     ranges, nominal = {"dx_mm": 0.3, "vertical_deg": 0.1}, {"dz_mm": 0.2}
     whole = draw_errors(1000, ranges, 11, nominal)
     for start, stop in ((0, 1), (0, 300), (300, 1000), (999, 1000)):
-        np.testing.assert_array_equal(parallel.draw_errors_chunk(start, stop, ranges, 11, nominal), whole[start:stop])
+        np.testing.assert_array_equal(parallel.draw_errors_chunk(start, stop, dict(DEFAULT_RANGES, **ranges), 11, nominal),
+                                      whole[start:stop])
 
 
 def test_executor_input_checks():
