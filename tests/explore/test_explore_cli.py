@@ -169,3 +169,18 @@ def test_progress_shows_done_rate_and_time_left():
     assert "s left" in line
     quiet = runner.Progress(total=10, done=0, stream=open(os.devnull, "w"))
     quiet.update(10)  # not a terminal: nothing written, nothing raised
+
+
+def test_out_targets_are_refused_before_computing(case1, tmp_path, capsys, monkeypatch):
+    a_file = tmp_path / "a_file"
+    a_file.write_text("x")
+
+    def boom(*a, **k):
+        raise AssertionError("computed before checking --out")
+
+    monkeypatch.setattr(runner, "execute", boom)
+    for target, words in (("", "an empty name"), (str(a_file), "exists and is not a folder"),
+                          (str(tmp_path / ("d" * 256)), "more than the 255")):
+        assert main(["explore", case1, *GRID, "--out", target]) == 2
+        err = capsys.readouterr().err.strip()
+        assert "\n" not in err and "--out = " in err and words in err, err
