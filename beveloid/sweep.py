@@ -165,7 +165,7 @@ def mesh_te_peak_to_peak(te, m, first, sign):
 
 
 def sweep(geom, flank="right", samples=1000, positions=50, seed=0, ranges=None, backend="auto",
-          options=None, progress=None, chunk=2000, nominal=None):
+          options=None, progress=None, chunk=2000, nominal=None, executor=None):
     """Run the sweep; ``progress`` is a callable(done, total, t0) or None (beveloid.progress).
 
     ``geom``: a :class:`beveloid.pair.Pair` or its PairGeometry; ``backend``: a
@@ -173,6 +173,10 @@ def sweep(geom, flank="right", samples=1000, positions=50, seed=0, ranges=None, 
     The positions lie on a lattice of whole fractions of a pinion pitch over the aligned
     engagement (:func:`position_lattice`), so that the TE peak-to-peak is the mesh TE envelope's
     (as tca's), the neighbouring pairs being the same path a pitch earlier or later.
+
+    ``executor`` (beveloid.parallel.executor(workers, scheduler)) solves the chunks of ``chunk``
+    error sets on local processes or a Dask cluster, each chunk drawing its own sets (the same as
+    without it: parallel.draw_errors_chunk).
 
     Error sets are drawn uniformly within ``ranges`` (half-widths) about ``nominal`` (mm / deg dicts).
     """
@@ -191,7 +195,12 @@ def sweep(geom, flank="right", samples=1000, positions=50, seed=0, ranges=None, 
     X = np.empty((samples, positions, 5))
     C = np.empty((samples, positions), dtype=np.int64)
     IT = np.empty((samples, positions), dtype=np.int64)
-    for start in range(0, samples, chunk):
+    if executor is not None:
+        from .parallel import sweep_chunks
+
+        sweep_chunks(executor, geom, flank, samples, chunk, dict(DEFAULT_RANGES, **(ranges or {})), seed, nominal,
+                     grid, solver, None, (errors, X, C, IT), progress, t0)
+    for start in range(0, samples if executor is None else 0, chunk):
         sl = slice(start, min(samples, start + chunk))
         X[sl], C[sl], IT[sl] = tca.solve_grid(geom, flank, errors[sl], grid, solver)
         if progress:

@@ -39,6 +39,9 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--backend", choices=BACKENDS, default="auto",
                    help="solver backend: compiled (numba) when installed, else numpy (default auto)")
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
+    where = p.add_mutually_exclusive_group()  # beveloid.parallel: the same numbers on any of them
+    where.add_argument("--workers", type=int, metavar="N", help="solve chunks of error sets on N local processes")
+    where.add_argument("--scheduler", metavar="ADDRESS", help="solve them on an existing Dask distributed cluster")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -85,9 +88,15 @@ def run(args: argparse.Namespace) -> int:
                 f" {LIMITS[key]:g} {unit}")
     pair = Pair.from_spec(spec)
     progress = for_terminal(sys.stderr)
+    from contextlib import nullcontext
+
+    from ..parallel import executor
+
+    parallel = args.workers is not None or args.scheduler is not None
     try:
-        res = sweep(pair, args.flank, args.samples, args.positions, args.seed, ranges, solver,
-                    progress=progress, nominal=nominal)
+        with (executor(args.workers, args.scheduler) if parallel else nullcontext()) as ex:
+            res = sweep(pair, args.flank, args.samples, args.positions, args.seed, ranges, solver,
+                        progress=progress, nominal=nominal, executor=ex)
     except tca.NoContactError as exc:
         # the aligned pair has no contact on this flank: the sweep has no engagement to sample
         raise UserError(f"{args.file}: cannot sweep the {args.flank} flank: {exc} (the aligned pair does not"

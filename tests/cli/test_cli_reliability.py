@@ -299,7 +299,8 @@ def test_every_output_flag_of_every_command_is_checked():
     sub = next(a for a in parser._actions if a.dest == "command")
     outputs = {(name, opt) for name, p in sub.choices.items() for a in p._actions for opt in a.option_strings
                if opt in ("--plot", "--out", "--output", "-o", "--png", "--csv")}
-    assert outputs == {("tca", "--plot"), ("ltca", "--plot"), ("paper", "--out"), ("export", "--out")}  # export: tests/export
+    assert outputs == {("tca", "--plot"), ("ltca", "--plot"), ("paper", "--out"), ("export", "--out"),
+                       ("explore", "--out")}  # export: tests/export, explore: tests/explore
 
 
 # ---------------------------------------------------------------------------------------------

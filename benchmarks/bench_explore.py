@@ -1,0 +1,139 @@
+"""Designs per second of `beveloid explore`: the batched path against one design at a time, and
+one local worker against two.
+
+    python benchmarks/bench_explore.py [--designs 2048] [--single 64] [--no-workers]
+
+Rows (status, working data, FPD angles, both flanks' sensitivities and worst path shifts) of
+case 1 with the pinion cone angle and helix angle varied over a grid that includes infeasible
+designs.  The batched path is beveloid.explore.rows.compute over chunks of 256 designs in this
+process; the one-design-at-a-time path is what a script does today: Pair.from_spec(spec) (design() and the
+geometry) and tca.sensitivity on both flanks, for the first --single designs of the same grid
+(infeasible ones cost their refused design).  Both after a warm-up (numba's cache loaded).  The
+workers part runs the whole exploration (chunks, files) on 1 and on 2 local worker processes,
+timed after the pools have started and loaded the compiled solver.
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+from beveloid import parallel, tca
+from beveloid.design import DesignError
+from beveloid.explore import rows
+from beveloid.explore import run as runner
+from beveloid.explore.grid import Plan, Vary
+from beveloid.pair import Pair
+from beveloid.spec import load_example, spec_to_dict
+from beveloid.sweep import DEFAULT_RANGES
+
+
+def _plan(n):
+    side = int(round(n ** 0.5))
+    return Plan(spec_to_dict(load_example("case1")), (Vary("pinion.cone_angle_deg", 0.25, 4.5, side),
+                                                      Vary("pinion.helix_angle_deg", 12.0, 34.0, side)))
+
+
+def batched(plan, chunk=256):
+    rows.compute(plan, 0, min(chunk, plan.count), DEFAULT_RANGES)  # warm-up
+    t, c = time.perf_counter(), time.process_time()
+    ok = 0
+    for s in range(0, plan.count, chunk):
+        ok += int((rows.compute(plan, s, min(plan.count, s + chunk), DEFAULT_RANGES)["status"] == "ok").sum())
+    return plan.count / (time.perf_counter() - t), plan.count / (time.process_time() - c), ok
+
+
+def one_at_a_time(plan, count):
+    values = {k: np.full(plan.count, v) for k, v in plan.base_values().items()}
+    values.update(plan.values(0, plan.count))
+    specs = [rows.design_spec(plan, values, j) for j in range(count)]
+    t, c = time.perf_counter(), time.process_time()
+    for spec in specs:
+        try:
+            geom = Pair.from_spec(spec).geometry  # design() and the geometry, once
+        except DesignError:
+            continue
+        for flank in tca.FLANKS:
+            tca.sensitivity(geom, flank)
+    return count / (time.perf_counter() - t), count / (time.process_time() - c)
+
+
+def monte_carlo(plan, count, sets=40, positions=20):
+    """ms per design of the --mc sweep (sets x positions on the right flank)."""
+    cols = rows.compute(plan, 0, count, DEFAULT_RANGES)
+    rows.monte_carlo(cols, plan, 0, 1, DEFAULT_RANGES, sets, positions, "right", 0)  # warm-up
+    t = time.perf_counter()
+    rows.monte_carlo(cols, plan, 0, count, DEFAULT_RANGES, sets, positions, "right", 0)
+    done = int((cols["mc_status"] == "ok").sum())
+    return (time.perf_counter() - t) / max(done, 1) * 1e3, done
+
+
+def _nap(seconds):
+    time.sleep(seconds)
+    return seconds
+
+
+def _timed_chunk(task):
+    """runner.compute_chunk, and the CPU seconds it took in which worker process."""
+    import os
+
+    c = time.process_time()
+    cols = runner.compute_chunk(task)
+    return os.getpid(), time.process_time() - c, len(cols["design"])
+
+
+def workers(plan, n):
+    """(designs/s wall of the whole exploration, CPU seconds per worker process of the same chunks)."""
+    req = runner.Request(plan, dict(DEFAULT_RANGES), chunk=128)
+    with parallel.executor(workers=n, initializer=runner.warm_up) as ex:
+        list(ex.map_unordered(_nap, [1.0] * n))  # the pool's processes started and warmed up
+        with tempfile.TemporaryDirectory() as out:
+            runner.prepare(out, req, resume=False)
+            t = time.perf_counter()
+            complete, _ = runner.execute(out, req, ex)
+            assert complete
+            rate = plan.count / (time.perf_counter() - t)
+        cpu = {}
+        for _, (pid, seconds, _) in ex.map_unordered(_timed_chunk, [(req.to_json(), i) for i in range(req.chunks)]):
+            cpu[pid] = cpu.get(pid, 0.0) + seconds
+    return rate, cpu
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--designs", type=int, default=2048)
+    ap.add_argument("--single", type=int, default=64)
+    ap.add_argument("--no-workers", action="store_true")
+    a = ap.parse_args(argv)
+    plan = _plan(a.designs)
+    import os
+
+    print(f"load average before: {os.getloadavg()[0]:.1f} (2 cores)")
+    rate, cpu_rate, ok = batched(plan)
+    single, cpu_single = one_at_a_time(plan, a.single)
+    print(f"grid: {plan.count} designs of case 1 ({ok} ok), pinion cone x helix angle")
+    print(f"batched (rows.compute, chunks of 256, 1 process):  {rate:8.0f} designs/s wall, {cpu_rate:8.0f} per CPU second")
+    print(f"one at a time (Pair.from_spec + 2 x tca.sensitivity, first {a.single}): {single:8.0f} designs/s wall,"
+          f" {cpu_single:8.0f} per CPU second")
+    print(f"speed-up of the batched path: {rate / single:.1f}x wall, {cpu_rate / cpu_single:.1f}x CPU")
+    ms, done = monte_carlo(plan, 16)
+    print(f"--mc 40 --mc-positions 20: {ms:.0f} ms per design ({done} designs)")
+    if not a.no_workers:
+        w1, cpu1 = workers(plan, 1)
+        w2, cpu2 = workers(plan, 2)
+        print(f"explore on 1 local worker:  {w1:8.0f} designs/s wall")
+        print(f"explore on 2 local workers: {w2:8.0f} designs/s wall ({w2 / w1:.2f}x one worker)")
+        # CPU seconds of the same chunks: their sum shows the parallel overhead, the busiest worker the
+        # wall time two free cores would need
+        one, two = sum(cpu1.values()), sum(cpu2.values())
+        print(f"CPU seconds of the chunks: 1 worker {one:.2f}; 2 workers {two:.2f} in all"
+              f" ({', '.join(f'{v:.2f}' for v in cpu2.values())}): {one / max(cpu2.values()):.2f}x on two free cores")
+        print(f"load average after: {os.getloadavg()[0]:.1f}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,194 @@
+"""``beveloid explore FILE --vary KEY=START:STOP:COUNT [...]``: map the design space.
+
+``configure(parser)`` adds the arguments, ``run(args) -> int`` runs the exploration (the work is
+the package beveloid/explore/; see its run.py for chunks and resume, report.py for the files).  Exit status: 0 when every
+design is done, 1 when the run stopped early (Ctrl-C: 130) with the finished designs written and
+``--resume DIR`` to continue, 2 for bad input (one line).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+
+from ..errors import UserError
+
+TOLERANCE_NAMES = {"dx": "dx_mm", "dy": "dy_mm", "dz": "dz_mm", "vertical": "vertical_deg",
+                   "horizontal": "horizontal_deg"}
+
+
+def configure(p: argparse.ArgumentParser) -> None:
+    from ..solver.backends import BACKENDS
+    from ..sweep import DEFAULT_RANGES
+
+    p.add_argument("file", metavar="FILE", nargs="?", help="TOML design spec: the base design (not with --resume)")
+    p.add_argument("--vary", action="append", default=[], metavar="KEY=START:STOP:COUNT",
+                   help="replace a numeric spec key (dotted, as in `beveloid example --schema`) by COUNT values from"
+                        " START to STOP; repeat for a grid (the first key varies slowest)")
+    p.add_argument("--samples", type=int, metavar="N",
+                   help="N designs from a Latin hypercube sample over the --vary ranges instead of the grid")
+    p.add_argument("--seed", type=int, default=0, metavar="S", help="seed of the sample and the Monte Carlo (default 0)")
+    default = ",".join(f"{k}={DEFAULT_RANGES[v]:g}" for k, v in TOLERANCE_NAMES.items())
+    p.add_argument("--tolerances", default=default, metavar="dx=MM,dy=MM,dz=MM,vertical=DEG,horizontal=DEG",
+                   help=f"half-widths of the assembly-error box (default {default})")
+    p.add_argument("--mc", type=int, default=0, metavar="K",
+                   help="also a Monte Carlo sweep of K error sets in the box per design (edge-contact fraction, TE)")
+    p.add_argument("--mc-positions", type=int, default=20, metavar="N", help="contact positions per MC set (default 20)")
+    p.add_argument("--mc-flank", choices=("left", "right"), default="right", help="flank of the MC sweep (default right)")
+    where = p.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=int, metavar="N", help="local worker processes (default: the cores)")
+    where.add_argument("--scheduler", metavar="ADDRESS",
+                       help="run on an existing Dask distributed cluster (e.g. tcp://10.0.0.1:8786)")
+    p.add_argument("--out", default="explore_out", metavar="DIR", help="output folder (default explore_out)")
+    p.add_argument("--resume", metavar="DIR", help="continue the run in DIR without redoing finished designs")
+    p.add_argument("--chunk", type=int, default=256, metavar="N",
+                   help="designs per chunk of work (default 256): the unit of resume; the rows do not depend on it")
+    p.add_argument("--backend", choices=BACKENDS, default="auto", help="solver backend (default auto)")
+    p.add_argument("--json", action="store_true", help="print the summary and every row as JSON on stdout")
+
+
+def parse_tolerances(text: str) -> dict:
+    """``dx=0.5,vertical=0.2`` -> {dx_mm: 0.5, ..., vertical_deg: 0.2} (unnamed ones: the sweep's defaults)."""
+    from .. import assembly_errors
+    from ..sweep import DEFAULT_RANGES
+
+    out = dict(DEFAULT_RANGES)
+    for part in filter(None, (s.strip() for s in text.split(","))):
+        name, _, value = part.partition("=")
+        if name not in TOLERANCE_NAMES:
+            raise UserError(f"--tolerances {part}: unknown error {name!r}; valid: {', '.join(TOLERANCE_NAMES)}")
+        key = TOLERANCE_NAMES[name]
+        limit = assembly_errors.BY_KEY[key].limit
+        try:
+            x = float(value)
+        except ValueError:
+            x = float("nan")
+        if not 0 <= x <= limit:
+            unit = assembly_errors.BY_KEY[key].unit
+            raise UserError(f"--tolerances {name}={value}: must be a number from 0 to {limit:g} ({unit})")
+        out[key] = x
+    return out
+
+
+def _raw(path, spec) -> dict:
+    """The file's tables as it gives them (so that a key it leaves out, e.g. tooth_surface, is chosen
+    per design by the spec's own rule); the validated spec's keys if the file cannot be read again."""
+    import tomllib
+
+    from ..spec import spec_to_dict
+
+    try:
+        with open(path, "rb") as f:
+            return tomllib.load(f)
+    except (OSError, ValueError):
+        return spec_to_dict(spec)
+
+
+def _request(args):
+    from ..spec import load_spec
+    from ..explore.grid import Plan, parse_vary
+    from ..explore.run import Request
+
+    if not args.file:
+        raise UserError("FILE is missing: give the base design's TOML spec (or --resume DIR)")
+    if not args.vary:
+        raise UserError("--vary is missing: give at least one KEY=START:STOP:COUNT (see `beveloid example --schema`)")
+    varies = tuple(parse_vary(t) for t in args.vary)
+    keys = [v.key for v in varies]
+    if len(set(keys)) != len(keys):
+        raise UserError(f"--vary {next(k for k in keys if keys.count(k) > 1)}: given twice; vary each key once")
+    if args.samples is not None and not 1 <= args.samples <= 10_000_000:
+        raise UserError(f"--samples = {args.samples}: must be an integer from 1 to 10000000")
+    if not 0 <= args.seed < 2 ** 63:
+        raise UserError(f"--seed = {args.seed}: must be an integer from 0 to 2**63 - 1")
+    if not 0 <= args.mc <= 100_000:
+        raise UserError(f"--mc = {args.mc}: must be an integer from 0 (no Monte Carlo) to 100000")
+    if not 2 <= args.mc_positions <= 1000:
+        raise UserError(f"--mc-positions = {args.mc_positions}: must be an integer from 2 to 1000")
+    if not 1 <= args.chunk <= 100_000:
+        raise UserError(f"--chunk = {args.chunk}: must be an integer from 1 to 100000")
+    spec = load_spec(args.file)
+    plan = Plan(_raw(args.file, spec), varies, args.samples, args.seed)
+    plan.check()
+    tolerances = parse_tolerances(args.tolerances)
+    for key, half in tolerances.items():  # the MC draws about the file's misalignment
+        from .. import assembly_errors
+
+        centre = abs(float(getattr(spec.misalignment, key)))
+        if args.mc and centre + half > assembly_errors.BY_KEY[key].limit:
+            raise UserError(f"--tolerances {key}: {half:g} about misalignment.{key} = {centre:g} reaches"
+                            f" {centre + half:g}; |nominal| + half-width must be <= {assembly_errors.BY_KEY[key].limit:g}")
+    return Request(plan, tolerances, args.mc, args.mc_positions, args.mc_flank, chunk=args.chunk, backend=args.backend,
+                   source=str(args.file))
+
+
+def run(args: argparse.Namespace) -> int:
+    """Map a design space: status, working data, FPD angles and sensitivities per design; Pareto front.
+
+    Writes DIR/explore.csv, pareto.csv, summary.json and figures (heat maps, Pareto scatter and table).
+    """
+    from .. import parallel
+    from .paths import check_output_dir
+    from ..explore import report, rows
+    from ..explore import run as runner
+    from ..explore.grid import Plan
+
+    out = args.resume or args.out
+    if args.resume:
+        if args.file or args.vary:
+            raise UserError(f"--resume {args.resume}: the run's FILE and --vary are in {args.resume}/request.json;"
+                            f" give --resume DIR alone (with --workers or --scheduler)")
+        req = runner.prepare(out, None, resume=True)
+    else:
+        req = _request(args)
+        check_output_dir(out, "--out")
+        req = runner.prepare(out, req, resume=False)
+    t0 = time.perf_counter()
+    ex = parallel.executor(args.workers, args.scheduler, initializer=runner.warm_up)
+    done = sum(min(req.chunk, req.plan.count - i * req.chunk) for i in runner.finished(out, req))
+    progress = runner.Progress(req.plan.count, done)
+    with ex:
+        complete, why = runner.execute(out, req, ex, progress)
+        where = ex.description
+    table = runner.load_table(out, req)
+    base_plan = Plan(req.plan.base, (), seed=req.plan.seed)
+    base_cols = rows.compute(base_plan, 0, 1, req.tolerances, req.backend)
+    if req.mc:
+        rows.monte_carlo(base_cols, base_plan, 0, 1, req.tolerances, req.mc, req.mc_positions, req.mc_flank,
+                         req.plan.seed, req.backend)
+    base_row = report.records(base_cols)[0]
+    values = Plan(req.plan.base, ()).base_values()
+    base_row.update({k: values[k] for k in req.plan.keys})
+    if table:
+        report.mark_pareto(table, bool(req.mc))
+    summ = report.summary(req, table, base_row, complete, why, time.perf_counter() - t0, where)
+    if table:
+        report.write(out, req, table, summ)
+    if args.json:
+        print(json.dumps(dict(summ, rows=report.records(table)), allow_nan=False))
+    else:
+        _print(summ, out)
+    if not complete:
+        print(f"beveloid explore: stopped ({why}); {summ['designs_done']} of {summ['designs']} designs kept in {out};"
+              f" continue with `beveloid explore --resume {out}`", file=sys.stderr)
+        return 130 if "Ctrl-C" in why else 1
+    return 0
+
+
+def _print(summ, out):
+    counts = ", ".join(f"{v} {k}" for k, v in sorted(summ["status_counts"].items(), key=lambda kv: -kv[1]))
+    lines = [f"Explored {summ['designs_done']} of {summ['designs']} designs of {summ['file']} in {summ['seconds']:.1f} s"
+             f" ({summ['executor']}): {counts}",
+             f"Pareto front on ({', '.join(summ['objectives'])}): {len(summ['pareto_designs'])} designs"]
+    keys = [v["key"] for v in summ["varied"]]
+    for row in summ["pareto_designs"][:10]:
+        lines.append("  " + ", ".join(f"{k} {row[k]:.4g}" for k in keys)
+                     + f": max FPD {row['max_fpd_angle_deg']:.3f} deg, worst path shift {row['worst_path_shift_mm']:.3f} mm")
+    b = summ["base_design"]
+    if b.get("status") == "ok":
+        lines.append(f"Base design: max FPD {b['max_fpd_angle_deg']:.3f} deg, worst path shift"
+                     f" {b['worst_path_shift_mm']:.3f} mm")
+    lines.append(f"Files in {out}: explore.csv, pareto.csv, summary.json, heatmap_fpd.png, heatmap_sensitivity.png,"
+                 f" pareto.png, pareto_table.png")
+    print("\n".join(lines))

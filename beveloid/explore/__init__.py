@@ -1,0 +1,11 @@
+"""Design exploration (``beveloid explore``, docs/explore.md): map the pitch-cone design space.
+
+grid.py     the designs: --vary grids and Latin hypercube samples (Plan)
+batch.py    design() over arrays of designs (the generated design equations broadcast)
+contact.py  the aligned contact at P and tca.sensitivity's derivatives for arrays of designs
+rows.py     one row per design: status, working data, FPD angles, sensitivities, Monte Carlo
+pareto.py   the Pareto front
+run.py      fixed chunks on any executor (beveloid.parallel), kept on disk, resume
+report.py   explore.csv, pareto.csv, summary.json, figures
+The command itself is beveloid/cli/explore.py.
+"""

@@ -1,0 +1,193 @@
+"""Batched reference contact and exact first-order sensitivities of many designs (tca.sensitivity).
+
+For the designs that :func:`beveloid.explore.batch.design_batch` found ``ok`` this builds the
+solver's parameter vectors by layout field name (as ``beveloid.geometry.PairGeometry`` does, as
+arrays), finds the pitch point on both members (tca._point_at_radius, one 2x2 Newton over all
+designs at once), solves the aligned contact at P and classifies it with the compiled core (one
+compiled loop over the designs calling the core's own ``solve_point`` and ``solve_paths_serial``,
+exactly what ``tca.sensitivity`` calls for one design), then takes the implicit-function
+derivatives with the generated numpy contact system over all designs at once.
+
+A design whose aligned contact at P is not a surface contact (edge, outside, failed) needs the
+first-touch search and its patch cover: it is handed back (``fallback``) and the caller runs
+``tca.sensitivity`` on it.
+"""
+from __future__ import annotations
+
+import functools
+import math
+import types
+
+import numpy as np
+
+from .. import tca
+from ..generated import layouts, surface_models, tca_kernels
+from ..solver import backends
+from ..solver.options import DEFAULT_OPTIONS
+from ..status import Status
+
+MEMBERS = ((1, "pinion"), (2, "gear"))
+_OK = int(Status.OK)
+
+
+def _pack(layout, values):
+    """A layout's fields by name as an (n, fields) array."""
+    return np.ascontiguousarray(np.stack(np.broadcast_arrays(*layout.pack(values)), axis=-1), dtype=float)
+
+
+def members(values: dict, q: dict, idx: np.ndarray, models: dict) -> dict:
+    """Per member: the geometry.Member quantities of designs idx, by name (arrays)."""
+    m_n = values["pair.normal_module_mm"][idx]
+    out = {}
+    for i, name in MEMBERS:
+        beta, gamma = q[f"beta{i}"][idx], q[f"gamma{i}"][idx]
+        x_t = values["pinion.profile_shift"][idx] if i == 1 else q["x_t2"][idx]
+        b_c = values[f"{name}.reference_section_offset_mm"][idx]
+        w = values[f"{name}.face_width_mm"][idx] / 2
+        toe = np.where(gamma >= 0, b_c - w, b_c + w)
+        heel = np.where(gamma >= 0, b_c + w, b_c - w)
+        out[name] = dict(
+            helix_angle=beta, cone_angle=gamma, normal_pressure_angle=np.radians(values["pair.normal_pressure_angle_deg"][idx]),
+            cutter_addendum_mm=values[f"{name}.cutter_addendum_coefficient"][idx] * m_n,
+            rack_shift_mm=x_t * m_n * np.cos(gamma) / np.cos(beta), pitch_radius_mm=q[f"r{i}"][idx],
+            working_pitch_radius_mm=q[f"r_w{i}"][idx], axial_placement_mm=q[f"d_w{i}"][idx] - b_c,
+            reference_section_offset_mm=b_c, face_width_mm=values[f"{name}.face_width_mm"][idx],
+            tip_height_mm=values[f"{name}.addendum_coefficient"][idx] * m_n, half_thickness_mm=math.pi * m_n / 4,
+            normal_module_mm=m_n, toe_z_mm=toe, heel_z_mm=heel,
+            pitch_point_angle=np.array([math.atan2(s, c) for s, c in zip(q[f"sin_theta{i}"][idx], q[f"cos_theta{i}"][idx])]),
+            model=models[name])
+        for key in surface_models.MODEL_KEYS[models[name]]:  # the model's own inputs (crowning)
+            out[name][key] = values[f"{name}.{key}"][idx]
+    return out
+
+
+def _params(member):
+    layout = tca_kernels.SURFACE_LAYOUTS[member["model"]]
+    fields = _pack(layout, member)
+    out = np.zeros((fields.shape[0], tca_kernels.PARAMETER_COUNT))
+    out[:, :fields.shape[1]] = fields
+    return out
+
+
+def _point_at_radius(model, flank, params, l0, radius, z):
+    """tca._point_at_radius for every design at once: (l, u, polar angle)."""
+    l, u = l0.copy(), np.zeros_like(l0)
+    active = np.ones(l.size, dtype=bool)
+    for _ in range(30):
+        k = np.nonzero(active)[0]
+        if k.size == 0:
+            break
+        jet = tca_kernels.surface_jet(model, flank, l[k], u[k], params[k])
+        p, J = jet.point, jet.point_D_lu
+        rad = np.array([math.hypot(a, b) for a, b in zip(p[:, 0], p[:, 1])])
+        F = np.stack([rad - radius[k], p[:, 2] - z[k]], axis=-1)
+        G = np.empty((k.size, 2, 2))
+        G[:, 0, 0] = (p[:, 0] * J[:, 0, 0] + p[:, 1] * J[:, 1, 0]) / rad
+        G[:, 0, 1] = (p[:, 0] * J[:, 0, 1] + p[:, 1] * J[:, 1, 1]) / rad
+        G[:, 1, 0] = J[:, 2, 0]
+        G[:, 1, 1] = J[:, 2, 1]
+        d = np.linalg.solve(G, -F[..., None])[..., 0]
+        l[k] = l[k] + d[:, 0]
+        u[k] = u[k] + d[:, 1]
+        active[k[np.abs(d).max(axis=1) < 1e-12 * np.maximum(1.0, radius[k])]] = False
+    p = tca_kernels.surface(model, flank, l, u, params).point
+    return l, u, np.array([math.atan2(b, a) for a, b in zip(p[:, 0], p[:, 1])])
+
+
+def _aligned_contacts(pm, gm, flank, pp, gp, pair, pb, gb, x0, phi, scale, tol, max_iter, steps, patch_tol, x_out,
+                      code_out):
+    """Per design: the aligned contact at P (solve_point) and its status at P (solve_paths_serial)."""
+    cover = np.zeros((0, 8))
+    zeros = np.zeros(5)
+    errors = np.zeros((1, 5))
+    grid = np.zeros(1)
+    xo = np.empty((1, 1, 5))
+    co = np.empty((1, 1), dtype=np.int64)
+    io = np.empty((1, 1), dtype=np.int64)
+    bo = np.empty((1, 1), dtype=np.int64)
+    ao = np.empty((1, 1, 2), dtype=np.int64)
+    for i in range(x0.shape[0]):
+        problem = (pm, gm, flank, pp[i], gp[i], pair[i])
+        x, conv, _, _ = solve_point(problem, x0[i], phi[i], zeros, scale[i], tol[i], max_iter)  # noqa: F821
+        if not conv:
+            code_out[i] = -1
+            continue
+        grid[0] = phi[i]
+        solve_paths_serial(problem, pb[i], gb[i], cover, x, phi[i], errors, grid, scale[i], tol[i],  # noqa: F821
+                           max_iter, steps, patch_tol, 1.0, xo, co, io, bo, ao)
+        code_out[i] = co[0, 0]
+        x_out[i, :] = xo[0, 0, :]
+
+
+@functools.lru_cache(maxsize=None)
+def _kernel(backend: str):
+    """_aligned_contacts bound to the solver core of a backend (compiled: numba, cached on disk)."""
+    ns = backends.namespace(backend)
+    glob = dict(globals(), solve_point=ns.solve_point, solve_paths_serial=ns.solve_paths_serial)
+    fn = types.FunctionType(_aligned_contacts.__code__, glob, "_aligned_contacts")
+    fn.__module__ = __name__
+    fn.__qualname__ = "_aligned_contacts"
+    if not ns.compiled:
+        return fn
+    import numba
+
+    return numba.njit(cache=True, nogil=True)(fn)
+
+
+def sensitivities(values: dict, q: dict, idx: np.ndarray, models: dict, backend: str = "auto") -> dict:
+    """tca.sensitivity(geom, flank) at the aligned pitch point for the designs idx, both flanks.
+
+    Returns per flank a dict: ``status`` (codes, -1: no reference contact), and for the designs
+    whose status is OK: ``pinion_contact_D_errors`` (n, 3, 5), ``gear_contact_D_errors`` (n, 3, 5),
+    ``gear_angle_D_errors`` (n, 5), ``unknowns_D_errors`` (n, 5, 5); nan elsewhere.
+    """
+    backend = backends.resolve(backend)
+    mem = members(values, q, idx, models)
+    p, g = mem["pinion"], mem["gear"]
+    pp, gp = _params(p), _params(g)
+    pair = _pack(layouts.PairPlacement, dict(
+        offset_mm=values["pair.offset_mm"][idx], shaft_angle=np.radians(values["pair.shaft_angle_deg"][idx]),
+        pinion_axial_placement_mm=p["axial_placement_mm"], gear_axial_placement_mm=g["axial_placement_mm"]))
+    pb, gb = _pack(layouts.FlankBlank, p), _pack(layouts.FlankBlank, g)
+    alpha_n = p["normal_pressure_angle"]
+    eps = np.finfo(float).eps
+    tol = np.maximum(DEFAULT_OPTIONS.tol_mm, 64 * eps * (np.abs(g["axial_placement_mm"]) + values["pair.offset_mm"][idx]
+                                                          + g["working_pitch_radius_mm"]))
+    scale = g["working_pitch_radius_mm"]
+    n = idx.size
+    out = {}
+    for flank in tca.FLANKS:
+        pm, gm = p["model"], g["model"]
+        ends = {}
+        for name, m, params in (("pinion", p, pp), ("gear", g, gp)):
+            l0 = np.array([a / math.cos(b) for a, b in zip(m["cutter_addendum_mm"], alpha_n)])
+            ends[name] = _point_at_radius(m["model"], flank, params, l0, m["working_pitch_radius_mm"],
+                                          m["reference_section_offset_mm"])
+        l1, u1, psi1 = ends["pinion"]
+        l2, u2, psi2 = ends["gear"]
+        phi1 = p["pitch_point_angle"] - psi1
+        x0 = np.ascontiguousarray(np.stack(layouts.ContactUnknowns(
+            pinion_l_mm=l1, pinion_u_mm=u1, gear_l_mm=l2, gear_u_mm=u2, gear_angle_rad=g["pitch_point_angle"] - psi2),
+            axis=-1))
+        x = np.full((n, 5), np.nan)
+        code = np.empty(n, dtype=np.int64)
+        _kernel(backend)(tca_kernels.model_id(pm), tca_kernels.model_id(gm), tca_kernels.flank_id(flank), pp, gp, pair,
+                         pb, gb, x0, phi1, scale, tol, DEFAULT_OPTIONS.max_iter, DEFAULT_OPTIONS.homotopy_steps,
+                         DEFAULT_OPTIONS.patch_tol_mm, x, code)
+        res = {"status": code, "pinion_contact_D_errors": np.full((n, 3, 5), np.nan),
+               "gear_contact_D_errors": np.full((n, 3, 5), np.nan), "gear_angle_D_errors": np.full((n, 5), np.nan),
+               "unknowns_D_errors": np.full((n, 5, 5), np.nan)}
+        k = np.nonzero(code == _OK)[0]
+        if k.size:
+            s = tca_kernels.contact_system(pm, gm, flank, x[k], phi1[k], np.zeros((k.size, 5)), pp[k], gp[k], pair[k])
+            derr = -np.linalg.solve(s.residual_D_unknowns, s.residual_D_errors)
+            u = tca.unknowns(x[k])
+            J1 = tca_kernels.surface_jet(pm, flank, u.pinion_l_mm, u.pinion_u_mm, pp[k]).point_D_lu
+            J2 = tca_kernels.surface_jet(gm, flank, u.gear_l_mm, u.gear_u_mm, gp[k]).point_D_lu
+            res["unknowns_D_errors"][k] = derr
+            d = tca.unknowns(np.swapaxes(derr, -1, -2))  # rows of d(unknowns)/d(errors), by name
+            res["pinion_contact_D_errors"][k] = J1 @ np.stack([d.pinion_l_mm, d.pinion_u_mm], axis=-2)
+            res["gear_contact_D_errors"][k] = J2 @ np.stack([d.gear_l_mm, d.gear_u_mm], axis=-2)
+            res["gear_angle_D_errors"][k] = d.gear_angle_rad
+        out[flank] = res
+    return out

@@ -1,0 +1,207 @@
+"""One row per design: status, working data, FPD angles, sensitivities, worst path shift, Monte Carlo.
+
+Column names follow ``beveloid design --json`` (pair values by their names, member values with a
+``pinion_`` / ``gear_`` prefix) and carry their unit.  Sensitivities are those of
+``tca.sensitivity`` at the aligned pitch point, in its units (mm and rad per mm or per rad of the
+generated error layout): ``<flank>_pinion_contact_<x|y|z>_mm_per_<error>``,
+``<flank>_gear_contact_<x|y|z>_mm_per_<error>`` and ``<flank>_gear_angle_rad_per_<error>`` with
+<error> one of dx_mm, dy_mm, dz_mm, vertical_rad, horizontal_rad.  The worst first-order path
+shift inside the tolerance box (half-widths t_i) is sum_i |dz/de_i| t_i, the axial (z, along the
+face width) shift of the contact point on each member; ``worst_path_shift_mm`` is the largest over
+both members and flanks.  A design that is not ``ok``, or a flank whose aligned contact at P is not
+a surface contact, carries its status and no number (NaN in the arrays, empty in the CSV).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .. import assembly_errors, tca
+from ..generated import surface_models
+from ..status import Status
+from . import batch, contact
+
+AXES = ("x", "y", "z")
+#: the design's working data: (column, q key or a function of (q, values), degrees?)
+MEMBER_COLUMNS = (
+    ("helix_angle_deg", "beta{i}", True), ("cone_angle_deg", "gamma{i}", True),
+    ("transverse_angular_factor", "xi_t{i}", False), ("mounting_distance_mm", "d{i}", False),
+    ("working_mounting_distance_mm", "d_w{i}", False), ("working_cone_angle_deg", "gamma_w{i}", True),
+    ("working_helix_angle_deg", "beta_w{i}", True), ("working_pitch_radius_mm", "r_w{i}", False),
+    ("reference_pitch_radius_mm", "r{i}", False), ("transverse_pressure_angle_left_deg", "alpha_PL{i}", True),
+    ("transverse_pressure_angle_right_deg", "alpha_PR{i}", True),
+    ("working_transverse_pressure_angle_left_deg", "alpha_PwL{i}", True),
+    ("working_transverse_pressure_angle_right_deg", "alpha_PwR{i}", True),
+    ("fpd_angle_left_deg", "xi_L{i}", True), ("fpd_angle_right_deg", "xi_R{i}", True),
+)
+MC_COLUMNS = ("mc_sets", "mc_edge_fraction", "mc_off_flank_fraction", "mc_te_peak_to_peak_urad_mean",
+              "mc_te_peak_to_peak_urad_p95", "mc_te_peak_to_peak_urad_max")
+
+
+def sensitivity_columns(flank: str) -> list[str]:
+    cols = []
+    for member in ("pinion", "gear"):
+        cols += [f"{flank}_{member}_contact_{a}_mm_per_{e}" for a in AXES for e in tca.ERROR_NAMES]
+    cols += [f"{flank}_gear_angle_rad_per_{e}" for e in tca.ERROR_NAMES]
+    return cols + [f"{flank}_worst_pinion_path_shift_mm", f"{flank}_worst_gear_path_shift_mm",
+                   f"{flank}_worst_gear_angle_urad"]
+
+
+def models(base: dict, values: dict) -> list[tuple[str, str]]:
+    """Each design's (pinion, gear) tooth-surface model, by the spec's rule (explicit, else selected
+    by a non-zero model key, else the default)."""
+    n = next(iter(values.values())).size
+    out = []
+    for member in ("pinion", "gear"):
+        given = base.get(member, {}).get("tooth_surface")
+        if given:
+            out.append(np.full(n, given, dtype=object))
+            continue
+        chosen = np.full(n, surface_models.DEFAULT_MODEL, dtype=object)
+        for model, keys in reversed(list(surface_models.SELECTED_BY.items())):
+            hit = np.zeros(n, dtype=bool)
+            for k in keys:
+                hit |= values[f"{member}.{k}"] != 0
+            chosen[hit] = model
+        out.append(chosen)
+    return list(zip(out[0], out[1]))
+
+
+def compute(plan, start: int, stop: int, tolerances: dict, backend: str = "auto") -> dict:
+    """The rows of designs start..stop-1 of a :class:`beveloid.explore.grid.Plan` (columns by name)."""
+    varied = plan.values(start, stop)
+    n = stop - start
+    values = {k: np.full(n, v) for k, v in plan.base_values().items()}
+    values.update({k: np.asarray(v, dtype=float) for k, v in varied.items()})
+    status, alpha, q = batch.design_batch(values)
+    ok = status == 0
+    cols: dict = {"design": np.arange(start, stop)}
+    cols.update(varied)
+    cols["status"] = np.array(batch.STATUSES, dtype=object)[status]
+    deg = np.degrees
+    cols["working_normal_pressure_angle_deg"] = deg(alpha)
+    cols["fpd_angle_left_deg"] = deg(q["xi_L"])
+    cols["fpd_angle_right_deg"] = deg(q["xi_R"])
+    cols["max_fpd_angle_deg"] = np.maximum(np.abs(cols["fpd_angle_left_deg"]), np.abs(cols["fpd_angle_right_deg"]))
+    cols["normal_angular_factor"] = q["xi_n"]
+    cols["offset_residual_mm"] = q["offset_residual_mm"]
+    for i, name in contact.MEMBERS:
+        for col, key, is_deg in MEMBER_COLUMNS:
+            x = q[key.format(i=i)]
+            cols[f"{name}_{col}"] = deg(x) if is_deg else x
+        cols[f"{name}_profile_shift"] = np.where(ok, values["pinion.profile_shift"], np.nan) if i == 1 else q["x_t2"]
+        ppa = np.full(n, np.nan)
+        ppa[ok] = [math.degrees(math.atan2(s, c)) for s, c in zip(q[f"sin_theta{i}"][ok], q[f"cos_theta{i}"][ok])]
+        cols[f"{name}_pitch_point_angle_deg"] = ppa
+        cols[f"{name}_rack_shift_mm"] = (cols[f"{name}_profile_shift"] * values["pair.normal_module_mm"]
+                                         * np.cos(q[f"gamma{i}"]) / np.cos(q[f"beta{i}"]))
+    _sensitivities(cols, plan, values, q, status, tolerances, backend)
+    return cols
+
+
+def _box_max(D, tol):
+    """max over the box |e_i| <= tol_i of |sum_i D_i e_i| = sum_i |D_i| tol_i, summed in a fixed order
+    (the same bits whatever the number of rows)."""
+    out = np.zeros(D.shape[0])
+    for e in range(D.shape[1]):
+        out = out + np.abs(D[:, e]) * tol[e]
+    return out
+
+
+def _sensitivities(cols, plan, values, q, status, tolerances, backend):
+    n = status.size
+    tol = np.abs(assembly_errors.to_layout(tolerances))
+    flank_status = {fl: np.full(n, "", dtype=object) for fl in tca.FLANKS}
+    for fl in tca.FLANKS:
+        for c in sensitivity_columns(fl):
+            cols[c] = np.full(n, np.nan)
+    per_design = models(plan.base, values)
+    for pair_models in sorted(set(per_design[i] for i in np.nonzero(status == 0)[0])):
+        idx = np.array([i for i in np.nonzero(status == 0)[0] if per_design[i] == pair_models], dtype=np.int64)
+        sens = contact.sensitivities(values, q, idx, dict(zip(("pinion", "gear"), pair_models)), backend)
+        for fl, s in sens.items():
+            good = s["status"] == int(Status.OK)
+            flank_status[fl][idx[good]] = Status.OK.label
+            for j in idx[~good]:  # the first-touch search decides what it is: the one-design path
+                flank_status[fl][j] = _scalar_status(plan, values, j, fl)
+            k = idx[good]
+            for m in ("pinion", "gear"):
+                D = s[f"{m}_contact_D_errors"][good]
+                for a, axis in enumerate(AXES):
+                    for e, err in enumerate(tca.ERROR_NAMES):
+                        cols[f"{fl}_{m}_contact_{axis}_mm_per_{err}"][k] = D[:, a, e]
+                cols[f"{fl}_worst_{m}_path_shift_mm"][k] = _box_max(D[:, AXES.index("z"), :], tol)
+            G = s["gear_angle_D_errors"][good]
+            for e, err in enumerate(tca.ERROR_NAMES):
+                cols[f"{fl}_gear_angle_rad_per_{err}"][k] = G[:, e]
+            cols[f"{fl}_worst_gear_angle_urad"][k] = _box_max(G, tol) * 1e6
+    for fl in tca.FLANKS:
+        cols[f"{fl}_contact_status"] = flank_status[fl]
+    shifts = [cols[f"{fl}_worst_{m}_path_shift_mm"] for fl in tca.FLANKS for m in ("pinion", "gear")]
+    cols["worst_path_shift_mm"] = np.max(shifts, axis=0)  # nan unless every flank has its numbers
+
+
+def design_spec(plan, values: dict, j: int):
+    """The DesignSpec of design j of a chunk (values: every numeric key, by dotted key)."""
+    from ..spec import spec_from_dict
+
+    from .grid import numeric_keys
+
+    data = {s: dict(d) for s, d in plan.base.items()}
+    for key in plan.keys:
+        section, name = key.split(".")
+        x = float(values[key][j])
+        data.setdefault(section, {})[name] = int(round(x)) if numeric_keys()[key].kind == "integer" else x
+    return spec_from_dict(data)
+
+
+def _scalar_status(plan, values, j, flank) -> str:
+    from ..pair import Pair
+
+    try:
+        return tca.sensitivity(Pair.from_spec(design_spec(plan, values, j)).geometry, flank)["status"]
+    except RuntimeError:  # no contact at the pitch point
+        return Status.FAILED.label
+
+
+def monte_carlo(cols: dict, plan, start: int, stop: int, tolerances: dict, samples: int, positions: int, flank: str,
+                seed: int, backend: str = "auto") -> None:
+    """The sweep of ``samples`` error sets inside the tolerance box, per ok design (columns MC_COLUMNS).
+
+    Error sets are uniform within the tolerance half-widths about the design's [misalignment]; the
+    seed of design i is derived from (seed, i) alone, so a design's sets do not depend on its chunk.
+    """
+    from ..pair import Pair
+    from ..sweep import sweep
+
+    n = stop - start
+    for c in MC_COLUMNS:
+        cols[c] = np.full(n, np.nan)
+    cols["mc_status"] = np.full(n, "", dtype=object)
+    values = {k: np.full(n, v) for k, v in plan.base_values().items()}
+    values.update(plan.values(start, stop))
+    for j in range(n):
+        if cols["status"][j] != "ok":
+            continue
+        if cols[f"{flank}_contact_status"][j] != Status.OK.label:
+            cols["mc_status"][j] = "no_aligned_contact"
+            continue
+        spec = design_spec(plan, values, j)
+        nominal = {k: float(getattr(spec.misalignment, k)) for k in assembly_errors.KEYS}
+        design_seed = int(np.random.SeedSequence([seed, start + j]).generate_state(1, np.uint64)[0] >> 1)
+        try:
+            res = sweep(Pair.from_spec(spec).geometry, flank, samples, positions, design_seed, dict(tolerances),
+                        backend, nominal=nominal).to_json_dict()
+        except RuntimeError:  # the aligned flank has no engagement to sample
+            cols["mc_status"][j] = "no_aligned_contact"
+            continue
+        te = res["te_peak_to_peak_urad"]
+        cols["mc_status"][j] = Status.OK.label
+        cols["mc_sets"][j] = samples
+        cols["mc_edge_fraction"][j] = res["fraction_sets_with_edge_contact"]
+        cols["mc_off_flank_fraction"][j] = res["fraction_sets_with_contact_off_flank"]
+        if te.get("count"):
+            cols["mc_te_peak_to_peak_urad_mean"][j] = te["mean"]
+            cols["mc_te_peak_to_peak_urad_p95"][j] = te["p95"]
+            cols["mc_te_peak_to_peak_urad_max"][j] = te["max"]

@@ -1,0 +1,246 @@
+"""Where chunks of independent work run: this process, local worker processes, or a Dask cluster.
+
+    with executor(workers=4) as ex:                 # or executor(scheduler="tcp://host:8786")
+        for index, result in ex.map_unordered(fn, items):
+            ...                                     # results as they finish, with their item's index
+
+``fn`` must be a module-level function (it is pickled to the workers) and ``fn(item)`` must not
+depend on where it runs: the callers (``beveloid explore``, ``beveloid sweep --workers``) cut the
+work into chunks whose contents and seeds depend only on the inputs, never on the number of
+workers, so one worker, N local workers and a cluster give the same results bit for bit.
+
+* ``workers=1``: in this process, in order.
+* ``workers=N``: a ``concurrent.futures.ProcessPoolExecutor`` of N spawned processes.  Each loads
+  the compiled solver once, in its initializer (:func:`warm_up` with the caller's ``initializer``:
+  numba's on-disk cache, written by the first process that compiled it), and runs numba
+  single-threaded (the processes are the parallelism).
+* ``scheduler=ADDRESS``: an existing Dask distributed cluster (``dask scheduler`` /
+  ``dask worker ADDRESS``), through ``distributed.Client``; Dask's own scheduler places the chunks
+  and re-runs those of a lost worker.  A worker plugin (:class:`WarmUp`) loads the compiled solver
+  once per worker process when the client registers it; a worker on a machine without numba's
+  cache compiles it there once.
+
+A lost local worker or a cluster that gives up on a chunk ends the iteration with
+:class:`WorkLost` after every finished result was yielded; Ctrl-C (KeyboardInterrupt) passes
+through the same way.  The callers keep what finished.
+"""
+from __future__ import annotations
+
+import concurrent.futures as cf
+import multiprocessing
+import os
+from collections.abc import Callable, Iterable, Iterator
+from typing import Any
+
+from .errors import UserError
+
+
+class WorkLost(RuntimeError):
+    """A worker died or the cluster gave up on a chunk: the finished chunks are kept."""
+
+
+def load_solver() -> None:
+    """The default warm-up of a worker: the compiled solver's functions (numba's cache) in this process."""
+    from .solver import backends
+
+    if backends.AVAILABLE:
+        backends.namespace("compiled")
+
+
+def warm_up(initializer=None) -> None:
+    """A worker's start: numba single-threaded, then ``initializer`` (a module-level function that runs
+    the work once, so that every compiled function it needs is loaded) or :func:`load_solver`."""
+    single_threaded()
+    (initializer or load_solver)()
+
+
+def single_threaded() -> None:
+    """numba's thread count is per calling thread: a task on a Dask worker thread sets it itself."""
+    from .solver import backends
+
+    if backends.AVAILABLE:
+        import numba
+
+        numba.set_num_threads(1)
+
+
+def default_workers() -> int:
+    """The cores this process may use."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # not Linux
+        return max(1, os.cpu_count() or 1)
+
+
+class _Serial:
+    def __init__(self):
+        self.description = "1 worker (this process)"
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        return False
+
+    def map_unordered(self, fn: Callable, items: Iterable) -> Iterator[tuple[int, Any]]:
+        for i, item in enumerate(items):
+            yield i, fn(item)
+
+
+class _Local:
+    def __init__(self, workers: int, initializer=None):
+        self.workers = workers
+        self.initializer = initializer
+        self.description = f"{workers} local worker processes"
+        self._pool = None
+
+    def __enter__(self):
+        ctx = multiprocessing.get_context("spawn")
+        self._pool = cf.ProcessPoolExecutor(self.workers, mp_context=ctx, initializer=warm_up,
+                                            initargs=(self.initializer,))
+        return self
+
+    def __exit__(self, *exc):
+        self._pool.shutdown(wait=exc[0] is None, cancel_futures=True)
+        return False
+
+    def map_unordered(self, fn, items):
+        futures = {self._pool.submit(fn, item): i for i, item in enumerate(items)}
+        try:
+            for fut in cf.as_completed(futures):
+                try:
+                    result = fut.result()
+                except cf.process.BrokenProcessPool as exc:
+                    raise WorkLost(f"a local worker process died ({exc})") from None
+                yield futures[fut], result
+        finally:
+            for fut in futures:
+                fut.cancel()
+
+
+try:  # Dask is optional (the cluster extra): without it there is no --scheduler
+    from distributed import WorkerPlugin as _PluginBase
+except ImportError:  # pragma: no cover - tested with the test extra, which has it
+    _PluginBase = object
+
+
+class WarmUp(_PluginBase):
+    """Dask worker plugin: load the compiled solver once per worker process."""
+
+    name = "beveloid-warm-up"
+
+    def __init__(self, initializer=None):
+        self.initializer = initializer
+
+    def setup(self, worker):
+        warm_up(self.initializer)
+
+
+class _Dask:
+    def __init__(self, address: str, initializer=None):
+        self.address = address
+        self.initializer = initializer
+        self.description = f"Dask cluster at {address}"
+        self._client = None
+
+    def __enter__(self):
+        try:
+            from distributed import Client
+        except ImportError:
+            raise UserError(f"--scheduler = {self.address}: needs Dask distributed; pip install"
+                            f" 'dask[distributed]'") from None
+        try:
+            self._client = Client(self.address, timeout="20s")
+        except (OSError, TimeoutError) as exc:
+            raise UserError(f"--scheduler = {self.address}: no Dask scheduler answers there ({exc}); start one with"
+                            f" `dask scheduler` and workers with `dask worker ADDRESS`") from None
+        try:
+            self._client.register_plugin(WarmUp(self.initializer), name=WarmUp.name)
+            workers = len(self._client.scheduler_info()["workers"])
+        except BaseException:
+            self._client.close()
+            raise
+        self.description = f"Dask cluster at {self.address} ({workers} workers)"
+        return self
+
+    def __exit__(self, *exc):
+        self._client.close()
+        return False
+
+    def map_unordered(self, fn, items):
+        from distributed import as_completed
+
+        items = list(items)
+        futures = self._client.map(fn, items, pure=False)
+        index = {f.key: i for i, f in enumerate(futures)}
+        try:
+            for fut in as_completed(futures):
+                try:
+                    result = fut.result()
+                except Exception as exc:  # KilledWorker, a lost connection: keep what finished
+                    if type(exc).__name__ in ("KilledWorker", "CommClosedError", "CancelledError", "FutureCancelledError"):
+                        raise WorkLost(f"the Dask cluster lost a chunk ({type(exc).__name__}: {exc})") from None
+                    raise
+                yield index[fut.key], result
+        finally:
+            self._client.cancel([f for f in futures if not f.done()])
+
+
+def executor(workers: int | None = None, scheduler: str | None = None, initializer=None):
+    """An executor context: ``scheduler`` (a Dask address) or ``workers`` local processes (default: the
+    cores); each worker process runs :func:`warm_up` (``initializer``) once when it starts."""
+    if scheduler is not None and workers is not None:
+        raise UserError(f"--workers = {workers} with --scheduler = {scheduler}: give one of them (the cluster's"
+                        f" workers are set where they are started)")
+    if scheduler is not None:
+        return _Dask(scheduler, initializer)
+    n = default_workers() if workers is None else workers
+    if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= 1024:
+        raise UserError(f"--workers = {workers}: must be an integer from 1 to 1024")
+    return _Serial() if n == 1 else _Local(n, initializer)
+
+
+# ---------------------------------------------------------------------------
+# beveloid sweep --workers / --scheduler: chunks of error sets
+# ---------------------------------------------------------------------------
+
+
+def draw_errors_chunk(start: int, stop: int, ranges: dict, seed: int, nominal) -> "np.ndarray":
+    """Error sets start..stop-1 of ``sweep.draw_errors(samples, ranges, seed, nominal)``, drawn on their own:
+    the chunk's generator is the seed's PCG64 stream advanced past the 5 * start draws before it.
+    ``ranges``: every half-width (sweep.DEFAULT_RANGES with the caller's overrides)."""
+    import numpy as np
+
+    from . import assembly_errors
+
+    half = assembly_errors.to_layout(ranges)
+    centre = assembly_errors.to_layout(dict(nominal or {}))
+    bits = np.random.PCG64(seed)
+    bits.advance(len(half) * start)
+    return centre + np.random.Generator(bits).uniform(-1.0, 1.0, (stop - start, len(half))) * half
+
+
+def sweep_chunk(task: tuple):
+    """One chunk of a sweep: (errors, x, status codes, Newton iterations) of its error sets."""
+    from . import tca
+
+    geom, flank, start, stop, ranges, seed, nominal, grid, backend, options = task
+    single_threaded()
+    errors = draw_errors_chunk(start, stop, ranges, seed, nominal)
+    sol = tca.solve_grid(geom, flank, errors, grid, backend, options)
+    return errors, sol.x, sol.status, sol.iterations
+
+
+def sweep_chunks(ex, geom, flank, samples, chunk, ranges, seed, nominal, grid, backend, options, out, progress=None,
+                 t0=0.0):
+    """Solve every chunk of a sweep on the executor ``ex`` into out = (errors, X, C, IT) arrays."""
+    starts = list(range(0, samples, chunk))
+    tasks = [(geom, flank, s, min(samples, s + chunk), ranges, seed, nominal, grid, backend, options) for s in starts]
+    done = 0
+    for k, parts in ex.map_unordered(sweep_chunk, tasks):
+        sl = slice(starts[k], min(samples, starts[k] + chunk))
+        for dst, src in zip(out, parts):
+            dst[sl] = src
+        done += sl.stop - sl.start
+        if progress:
+            progress(done, samples, t0)

@@ -1,0 +1,127 @@
+"""The batched design and sensitivities equal design() and tca.sensitivity, design by design."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from beveloid import assembly_errors, tca
+from beveloid.design import DesignError, design
+from beveloid.design_report import design_json
+from beveloid.explore import batch, rows
+from beveloid.explore.grid import Plan, parse_vary
+from beveloid.pair import Pair
+from beveloid.spec import load_example, spec_to_dict
+from beveloid.sweep import DEFAULT_RANGES
+
+RTOL = 1e-12
+
+
+@pytest.fixture(scope="module")
+def explored():
+    """A grid over cone angle, helix angle and offset of case 1 that holds feasible designs and
+    several kinds of refusal (zero cone angle, pointed teeth, pitch point off the profile, ...)."""
+    plan = Plan(spec_to_dict(load_example("case1")), (parse_vary("pinion.cone_angle_deg=-4:6:6"),
+                                                      parse_vary("pinion.helix_angle_deg=5:45:4"),
+                                                      parse_vary("pair.offset_mm=120:229:2")))
+    cols = rows.compute(plan, 0, plan.count, DEFAULT_RANGES)
+    values = {k: np.full(plan.count, v) for k, v in plan.base_values().items()}
+    values.update(plan.values(0, plan.count))
+    return plan, cols, values
+
+
+def _close(a, b, scale=None):
+    scale = max(1.0, abs(b)) if scale is None else scale
+    return abs(a - b) <= RTOL * scale
+
+
+def test_statuses_and_working_data_equal_design(explored):
+    plan, cols, values = explored
+    seen = set()
+    for j in range(plan.count):
+        spec = rows.design_spec(plan, values, j)
+        try:
+            result = design(spec)
+        except DesignError as err:
+            seen.add(batch.refusal_class(err))
+            assert cols["status"][j] == batch.refusal_class(err) != "design_refused", str(err)
+            assert np.isnan(cols["working_normal_pressure_angle_deg"][j])
+            assert np.isnan(cols["left_pinion_contact_z_mm_per_dx_mm"][j])
+            continue
+        seen.add("ok")
+        assert cols["status"][j] == "ok"
+        out = design_json(result)
+        for key in ("working_normal_pressure_angle_deg", "fpd_angle_left_deg", "fpd_angle_right_deg",
+                    "normal_angular_factor", "offset_residual_mm"):
+            assert _close(cols[key][j], out[key], 1.0), key
+        for member in ("pinion", "gear"):
+            for key, value in out[member].items():
+                if f"{member}_{key}" in cols:
+                    assert _close(cols[f"{member}_{key}"][j], value), (member, key)
+        assert cols["max_fpd_angle_deg"][j] == max(abs(out["fpd_angle_left_deg"]), abs(out["fpd_angle_right_deg"]))
+    # the grid reaches the refusals the issue names, and others
+    assert {"ok", "zero_cone_angle", "pitch_point_off_active_profile", "pointed_teeth"} <= seen
+
+
+def test_sensitivities_equal_tca_sensitivity(explored):
+    plan, cols, values = explored
+    ok = np.nonzero(cols["status"] == "ok")[0]
+    assert ok.size >= 8
+    tol = np.abs(assembly_errors.to_layout(DEFAULT_RANGES))
+    for j in ok[:: max(1, ok.size // 8)]:
+        geom = Pair.from_spec(rows.design_spec(plan, values, j)).geometry
+        for flank in tca.FLANKS:
+            s = tca.sensitivity(geom, flank)
+            assert cols[f"{flank}_contact_status"][j] == s["status"]
+            for member in ("pinion", "gear"):
+                D = s[f"{member}_contact_D_errors"]
+                scale = np.abs(D).max()
+                for a, axis in enumerate(rows.AXES):
+                    for e, err in enumerate(tca.ERROR_NAMES):
+                        assert _close(cols[f"{flank}_{member}_contact_{axis}_mm_per_{err}"][j], D[a, e], scale)
+                worst = np.abs(D[2]) @ tol
+                assert _close(cols[f"{flank}_worst_{member}_path_shift_mm"][j], worst, worst)
+            G = s["gear_angle_D_errors"]
+            for e, err in enumerate(tca.ERROR_NAMES):
+                assert _close(cols[f"{flank}_gear_angle_rad_per_{err}"][j], G[e], np.abs(G).max())
+
+
+def test_batch_does_not_depend_on_its_neighbours(explored):
+    """A design's row is the same computed alone or in a chunk (what makes any chunking give the same rows)."""
+    plan, cols, _ = explored
+    for j in (0, 7, plan.count - 1):
+        alone = rows.compute(plan, j, j + 1, DEFAULT_RANGES)
+        for key, v in alone.items():
+            if np.asarray(v).dtype.kind == "f":
+                np.testing.assert_array_equal(v[0], cols[key][j], err_msg=key)  # bit for bit
+            else:
+                assert v[0] == cols[key][j], key
+
+
+def test_refusal_class_names_every_check():
+    """Each refusal class the batch reports is one design() raises (by its message)."""
+    assert batch.refusal_class(DesignError("pinion.cone_angle_deg = 0.0: a beveloid member needs a non-zero cone"
+                                           " angle")) == "zero_cone_angle"
+    assert batch.refusal_class(DesignError("something new")) == "design_refused"
+
+
+def test_flank_modification_keys_choose_the_surface_model():
+    """Varying a crowning key from 0 gives involute designs at 0 and crowned ones elsewhere (the spec's
+    rule when the file does not name tooth_surface), each equal to tca.sensitivity of its own spec."""
+    base = spec_to_dict(load_example("case1"))
+    for member in ("pinion", "gear"):
+        base[member].pop("tooth_surface", None)
+    plan = Plan(base, (parse_vary("gear.lead_crowning_um=0:20:2"),))
+    cols = rows.compute(plan, 0, 2, DEFAULT_RANGES)
+    values = {k: np.full(2, v) for k, v in plan.base_values().items()}
+    values.update(plan.values(0, 2))
+    assert [m for _, m in rows.models(plan.base, values)] == ["involute", "crowned"]
+    first = []
+    for j in range(2):
+        spec = rows.design_spec(plan, values, j)
+        assert spec.gear.tooth_surface == ("involute", "crowned")[j]
+        s = tca.sensitivity(Pair.from_spec(spec).geometry, "right")
+        D = s["pinion_contact_D_errors"]
+        got = np.array([[cols[f"right_pinion_contact_{a}_mm_per_{e}"][j] for e in tca.ERROR_NAMES] for a in rows.AXES])
+        np.testing.assert_allclose(got, D, rtol=0, atol=RTOL * np.abs(D).max())
+        first.append(got[2, 0])
+    assert abs(first[0] - first[1]) > 1.0  # the crowning changes the path's sensitivity (18.7 -> 6.9 mm/mm)

@@ -1,0 +1,186 @@
+"""beveloid explore on the command line: bad input, outputs, --json, resume, an interrupted run."""
+from __future__ import annotations
+
+import csv
+import json
+import os
+
+import numpy as np
+import pytest
+
+from beveloid.cli import main
+from beveloid.explore import run as runner
+from beveloid.explore.grid import Plan, parse_vary
+from beveloid.errors import UserError
+from beveloid.spec import example_text, load_example, spec_to_dict
+
+GRID = ["--vary", "pinion.cone_angle_deg=1:3:3", "--vary", "pinion.helix_angle_deg=18:28:3"]
+
+
+@pytest.fixture(scope="module")
+def case1(tmp_path_factory):
+    path = tmp_path_factory.mktemp("spec") / "case1.toml"
+    path.write_text(example_text("case1"))
+    return str(path)
+
+
+@pytest.mark.parametrize("vary, words", [
+    ("pinion.cone_angel_deg=1:2:3", ["pinion.cone_angel_deg", "valid keys", "pinion.cone_angle_deg"]),
+    ("gear.helix_angle_deg=1:2:3", ["gear.helix_angle_deg", "not a numeric spec key"]),
+    ("pinion.cone_angle_deg=1:20:3", ["pinion.cone_angle_deg", "STOP = 20", "from -15 to 15"]),
+    ("pinion.teeth=20:30:4", ["pinion.teeth", "integers"]),
+    ("pinion.cone_angle_deg=1:2", ["START:STOP:COUNT"]),
+    ("pinion.cone_angle_deg=1:2:0", ["COUNT = 0", "from 1 to 100000"]),
+    ("pinion.cutter_addendum_coefficient=0.6:1.5:3", ["pinion.cutter_addendum_coefficient = 0.6",
+                                                       "must exceed gear.addendum_coefficient"]),
+])
+def test_bad_vary_is_one_line_exit_2(case1, tmp_path, capsys, vary, words):
+    assert main(["explore", case1, "--vary", vary, "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "Traceback" not in err
+    for w in words:
+        assert w in err, err
+
+
+def test_bad_tolerances_and_workers(case1, tmp_path, capsys):
+    assert main(["explore", case1, *GRID, "--tolerances", "dx=0.5,tilt=1", "--out", str(tmp_path / "o")]) == 2
+    assert "tilt" in capsys.readouterr().err
+    assert main(["explore", case1, *GRID, "--workers", "0", "--out", str(tmp_path / "o")]) == 2
+    assert "--workers = 0" in capsys.readouterr().err
+
+
+def test_plan_grid_and_sample():
+    plan = Plan(spec_to_dict(load_example("case1")), (parse_vary("pinion.cone_angle_deg=1:3:3"),
+                                                      parse_vary("pinion.teeth=20:24:3")))
+    v = plan.values(0, plan.count)
+    assert plan.count == 9
+    assert v["pinion.cone_angle_deg"].tolist() == [1, 1, 1, 2, 2, 2, 3, 3, 3]  # the first key slowest
+    assert v["pinion.teeth"].tolist() == [20, 22, 24] * 3
+    sample = Plan(plan.base, plan.varies, samples=50, seed=3)
+    s = sample.values(0, 50)
+    assert (s["pinion.cone_angle_deg"] >= 1).all() and (s["pinion.cone_angle_deg"] <= 3).all()
+    assert set(s["pinion.teeth"]) <= set(range(20, 25))
+    # Latin hypercube: one sample in each of the 50 strata of every key
+    assert sorted(np.floor((s["pinion.cone_angle_deg"] - 1) / 2 * 50).astype(int)) == list(range(50))
+    np.testing.assert_array_equal(Plan(plan.base, plan.varies, 50, 3).values(10, 20)["pinion.cone_angle_deg"],
+                                  s["pinion.cone_angle_deg"][10:20])
+    with pytest.raises(UserError, match="pinion.cone_angle_deg"):
+        parse_vary("pinion.cone_angle_deg=a:2:3")
+
+
+def _csv(path):
+    with open(path) as f:
+        return list(csv.reader(f))
+
+
+def test_explore_writes_rows_json_and_figures(case1, tmp_path, capsys):
+    out = tmp_path / "run"
+    assert main(["explore", case1, *GRID, "--workers", "1", "--out", str(out), "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    table = _csv(out / "explore.csv")
+    header, body = table[0], table[1:]
+    assert len(body) == 9 == summary["designs"] == summary["designs_done"] and summary["complete"]
+    for name in ("pinion.cone_angle_deg", "status", "working_normal_pressure_angle_deg", "fpd_angle_left_deg",
+                 "gear_working_helix_angle_deg", "right_gear_angle_rad_per_vertical_rad", "worst_path_shift_mm",
+                 "pareto"):
+        assert name in header
+    rows = summary["rows"]
+    assert [r["design"] for r in rows] == list(range(9))
+    front = [r for r in rows if r["pareto"]]
+    assert front and len(front) == len(summary["pareto_designs"])
+    ok = [r for r in rows if r["status"] == "ok"]
+    for r in ok:  # nothing on the front is beaten on both objectives
+        for f in front:
+            assert not (r["max_fpd_angle_deg"] < f["max_fpd_angle_deg"] and r["worst_path_shift_mm"] < f["worst_path_shift_mm"])
+    base = summary["base_design"]
+    assert base["status"] == "ok" and abs(base["pinion_helix_angle_deg"] - 23.0) < 1e-12
+    for name in ("heatmap_fpd.png", "heatmap_sensitivity.png", "pareto.png", "pareto_table.png", "pareto.csv",
+                 "summary.json"):
+        assert (out / name).stat().st_size > 0
+    # the CSV holds the JSON rows' numbers, to the last digit
+    i = header.index("worst_path_shift_mm")
+    assert [float(b[i]) if b[i] else None for b in body] == [r["worst_path_shift_mm"] for r in rows]
+
+
+def test_resume_computes_only_missing_chunks(case1, tmp_path, capsys):
+    out = tmp_path / "run"
+    assert main(["explore", case1, *GRID, "--workers", "1", "--chunk", "4", "--out", str(out)]) == 0
+    full = _csv(out / "explore.csv")
+    chunks = sorted(os.listdir(out / "chunks"))
+    assert len(chunks) == 3
+    kept = out / "chunks" / chunks[0]
+    stamp = kept.stat().st_mtime_ns
+    os.remove(out / "chunks" / chunks[1])
+    assert main(["explore", "--resume", str(out), "--workers", "1"]) == 0
+    assert kept.stat().st_mtime_ns == stamp  # not redone
+    assert sorted(os.listdir(out / "chunks")) == chunks
+    assert _csv(out / "explore.csv") == full
+    # a different run into the same folder is refused
+    assert main(["explore", case1, "--vary", "pinion.cone_angle_deg=1:2:2", "--out", str(out)]) == 2
+    assert "--resume" in capsys.readouterr().err
+
+
+class _Interrupted:
+    """An executor that finishes the first chunk and then sees Ctrl-C."""
+
+    description = "test"
+
+    def map_unordered(self, fn, items):
+        items = list(items)
+        yield 0, fn(items[0])
+        raise KeyboardInterrupt
+
+
+def test_interrupted_run_keeps_finished_chunks(case1, tmp_path):
+    out = str(tmp_path / "run")
+    plan = Plan(spec_to_dict(load_example("case1")), (parse_vary("pinion.cone_angle_deg=1:3:3"),))
+    req = runner.prepare(out, runner.Request(plan, {"dx_mm": 0.5}, chunk=1), resume=False)
+    complete, why = runner.execute(out, req, _Interrupted())
+    assert not complete and "Ctrl-C" in why
+    assert runner.finished(out, req) == [0]
+    table = runner.load_table(out, req)
+    assert table["design"].tolist() == [0]
+
+
+class _Terminal:
+    def __init__(self):
+        self.text = ""
+
+    def isatty(self):
+        return True
+
+    def write(self, s):
+        self.text += s
+
+    def flush(self):
+        pass
+
+
+def test_progress_shows_done_rate_and_time_left():
+    term = _Terminal()
+    p = runner.Progress(total=1000, done=200, stream=term)
+    p.t0 -= 2.0  # as if 2 s had passed
+    p.last -= 1.0
+    p.update(300)
+    line = term.text.strip()
+    assert "500/1000 designs (50.0 %)" in line
+    rate = float(line.split(",")[1].split()[0])
+    assert 140 <= rate <= 150  # 300 designs in ~2 s
+    assert "s left" in line
+    quiet = runner.Progress(total=10, done=0, stream=open(os.devnull, "w"))
+    quiet.update(10)  # not a terminal: nothing written, nothing raised
+
+
+def test_out_targets_are_refused_before_computing(case1, tmp_path, capsys, monkeypatch):
+    a_file = tmp_path / "a_file"
+    a_file.write_text("x")
+
+    def boom(*a, **k):
+        raise AssertionError("computed before checking --out")
+
+    monkeypatch.setattr(runner, "execute", boom)
+    for target, words in (("", "an empty name"), (str(a_file), "exists and is not a folder"),
+                          (str(tmp_path / ("d" * 256)), "more than the 255")):
+        assert main(["explore", case1, *GRID, "--out", target]) == 2
+        err = capsys.readouterr().err.strip()
+        assert "\n" not in err and "--out = " in err and words in err, err

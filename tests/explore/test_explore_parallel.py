@@ -1,0 +1,163 @@
+"""Same answers anywhere: one worker, local worker processes and a real Dask cluster give the same
+rows (explore) and statistics (sweep) to the last digit."""
+from __future__ import annotations
+
+import json
+import os
+import socket
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+from beveloid import parallel
+from beveloid.cli import main
+from beveloid.spec import example_text
+from beveloid.sweep import DEFAULT_RANGES, draw_errors
+
+GRID = ["--vary", "pinion.cone_angle_deg=1:3:3", "--vary", "pinion.helix_angle_deg=18:28:2", "--chunk", "2"]
+#: the sweep's numbers that do not depend on where it ran (its timings do)
+TIMING = ("seconds", "seconds_total", "us_per_point", "us_per_point_total")
+
+
+@pytest.fixture(scope="module")
+def case1(tmp_path_factory):
+    path = tmp_path_factory.mktemp("spec") / "case1.toml"
+    path.write_text(example_text("case1"))
+    return str(path)
+
+
+def _explore(case1, out, capsys, *where):
+    assert main(["explore", case1, *GRID, "--mc", "4", "--mc-positions", "6", "--out", str(out), *where]) == 0
+    capsys.readouterr()
+    return (out / "explore.csv").read_text()
+
+
+def _sweep(case1, capsys, *where):
+    assert main(["sweep", case1, "--samples", "70", "--positions", "8", "--seed", "5", "--json", *where]) == 0
+    out = json.loads(capsys.readouterr().out)
+    return {k: v for k, v in out.items() if k not in TIMING}
+
+
+def test_error_chunks_are_the_sweeps_stream():
+    ranges, nominal = {"dx_mm": 0.3, "vertical_deg": 0.1}, {"dz_mm": 0.2}
+    whole = draw_errors(1000, ranges, 11, nominal)
+    for start, stop in ((0, 1), (0, 300), (300, 1000), (999, 1000)):
+        np.testing.assert_array_equal(parallel.draw_errors_chunk(start, stop, dict(DEFAULT_RANGES, **ranges), 11, nominal),
+                                      whole[start:stop])
+
+
+def test_executor_input_checks():
+    from beveloid.errors import UserError
+
+    with pytest.raises(UserError, match="give one of them"):
+        parallel.executor(2, "tcp://127.0.0.1:1")
+    with pytest.raises(UserError, match="--workers = 0"):
+        parallel.executor(0)
+
+
+@pytest.mark.long_running
+def test_local_workers_equal_one_worker(case1, tmp_path, capsys):
+    one = _explore(case1, tmp_path / "one", capsys, "--workers", "1")
+    two = _explore(case1, tmp_path / "two", capsys, "--workers", "2")
+    assert one == two
+    assert "mc_edge_fraction" in one.splitlines()[0]
+    assert _sweep(case1, capsys, "--workers", "2") == _sweep(case1, capsys) == _sweep(case1, capsys, "--workers", "1")
+
+
+def _free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.fixture
+def cluster(tmp_path):
+    """A real Dask cluster on 127.0.0.1: `dask scheduler` and two `dask worker` processes, torn down after."""
+    pytest.importorskip("distributed")  # in the test extra: never skipped where the extras are installed
+    from distributed import Client
+
+    port = _free_port()
+    address = f"tcp://127.0.0.1:{port}"
+    dask = [sys.executable, "-m", "distributed.cli.dask_scheduler"]
+    worker = [sys.executable, "-m", "distributed.cli.dask_worker"]
+    env = dict(os.environ, PYTHONUNBUFFERED="1")
+    logs = open(tmp_path / "cluster.log", "w")
+    procs = [subprocess.Popen(dask + ["--host", "127.0.0.1", "--port", str(port), "--dashboard-address", ":0"],
+                              stdout=logs, stderr=logs, env=env)]
+    try:
+        for _ in range(2):
+            procs.append(subprocess.Popen(worker + [address, "--nthreads", "1", "--no-nanny",
+                                                    "--dashboard-address", ":0", "--local-directory", str(tmp_path)],
+                                          stdout=logs, stderr=logs, env=env))
+        deadline = time.monotonic() + 90
+        while True:
+            try:
+                with Client(address, timeout="5s") as client:
+                    client.wait_for_workers(2, timeout=max(1.0, deadline - time.monotonic()))
+                break
+            except (OSError, TimeoutError):
+                if time.monotonic() > deadline:
+                    raise
+                time.sleep(0.5)
+        yield address
+    finally:
+        for p in procs[::-1]:
+            p.terminate()
+        for p in procs[::-1]:
+            try:
+                p.wait(timeout=3)
+            except subprocess.TimeoutExpired:
+                p.kill()
+        logs.close()
+
+
+@pytest.mark.long_running
+def test_dask_cluster_equals_local(case1, tmp_path, capsys, cluster):
+    local = _explore(case1, tmp_path / "local", capsys, "--workers", "1")
+    remote = _explore(case1, tmp_path / "dask", capsys, "--scheduler", cluster)
+    assert remote == local
+    summary = json.loads((tmp_path / "dask" / "summary.json").read_text())
+    assert "Dask cluster" in summary["executor"] and "2 workers" in summary["executor"]
+    assert _sweep(case1, capsys, "--scheduler", cluster) == _sweep(case1, capsys)
+
+
+def _dies_on_two(item):
+    """A chunk whose worker process dies (as a killed or crashed worker does)."""
+    if item == 2:
+        os._exit(3)
+    return item * 10
+
+
+@pytest.mark.long_running
+def test_lost_local_worker_keeps_what_finished():
+    got = []
+    with pytest.raises(parallel.WorkLost, match="died"):
+        with parallel.executor(workers=2) as ex:
+            for index, result in ex.map_unordered(_dies_on_two, [0, 1, 2, 3]):
+                got.append((index, result))
+    assert set(got) <= {(0, 0), (1, 10), (3, 30)}
+
+
+class _LosesWorker:
+    description = "test"
+
+    def map_unordered(self, fn, items):
+        items = list(items)
+        yield 0, fn(items[0])
+        raise parallel.WorkLost("the Dask cluster lost a chunk (KilledWorker)")
+
+
+def test_run_that_loses_a_worker_keeps_its_chunks(tmp_path):
+    from beveloid.explore import run as runner
+    from beveloid.explore.grid import Plan, parse_vary
+    from beveloid.spec import load_example, spec_to_dict
+
+    plan = Plan(spec_to_dict(load_example("case1")), (parse_vary("pinion.cone_angle_deg=1:3:3"),))
+    out = str(tmp_path / "run")
+    req = runner.prepare(out, runner.Request(plan, {"dx_mm": 0.5}, chunk=2), resume=False)
+    complete, why = runner.execute(out, req, _LosesWorker())
+    assert not complete and "KilledWorker" in why
+    assert runner.finished(out, req) == [0]
