@@ -126,7 +126,7 @@ def _kernel(backend: str):
     glob = dict(globals(), solve_point=ns.solve_point, solve_paths_serial=ns.solve_paths_serial)
     fn = types.FunctionType(_aligned_contacts.__code__, glob, "_aligned_contacts")
     fn.__module__ = __name__
-    fn.__qualname__ = "_aligned_contacts"
+    fn.__qualname__ = f"_aligned_contacts__{backends.core_stamp()}"  # cached per version of the core it calls
     if not ns.compiled:
         return fn
     import numba

@@ -16,6 +16,7 @@ same statuses and the same numbers.
 from __future__ import annotations
 
 import functools
+import hashlib
 import importlib
 import importlib.util
 import os
@@ -150,6 +151,28 @@ def _jit(fn, parallel, inline="never", nrt=True):
     return numba.njit(cache=False, **opts)(fn)
 
 
+def sources_stamp(modules) -> str:
+    """A digest of the sources of every module compiled together.
+
+    numba's on-disk cache checks only the source file of the function it caches, while these
+    functions call (and inline) functions of the other modules: after ``beveloid derive`` changes a
+    generated kernel or the glue (a new surface model), a cached core function would run the old
+    kernels.  Each function's cache entry is therefore named after the digest of all the sources
+    (its qualified name carries it), so changed sources compile afresh and unchanged ones load."""
+    digest = hashlib.sha1()
+    for mod in modules:
+        with open(mod.__file__, "rb") as fh:
+            digest.update(fh.read())
+    return digest.hexdigest()[:12]
+
+
+@functools.lru_cache(maxsize=None)
+def core_stamp() -> str:
+    """:func:`sources_stamp` of the core and the generated kernels it compiles with (for other
+    compiled callers of the core, e.g. beveloid.explore, to name their cache entries by)."""
+    return sources_stamp(_modules())
+
+
 def _compile(modules):
     """Copies of every function of ``modules`` bound to globals in which each such function is
     replaced by its numba dispatcher (numba resolves globals when it compiles, lazily)."""
@@ -162,9 +185,10 @@ def _compile(modules):
                 originals[fn] = mod
     glob = {mod: dict(vars(mod)) for mod in modules}
     jitted = {}
+    stamp = sources_stamp(modules)
     for fn, mod in originals.items():
         copy = types.FunctionType(fn.__code__, glob[mod], fn.__name__, fn.__defaults__, fn.__closure__)
-        copy.__qualname__ = fn.__qualname__
+        copy.__qualname__ = f"{fn.__qualname__}__{stamp}"  # its cache entry belongs to these sources
         copy.__module__ = fn.__module__
         # the generated kernels are not inlined: inlining them (numba inline="always") made an
         # evaluation ~20 % faster but the first compilation 157 s instead of 47 s; the glue that
@@ -184,7 +208,7 @@ def _compile(modules):
     for name in core.PARALLEL:
         fn = vars(core)[name]
         copy = types.FunctionType(fn.__code__, glob[originals[fn]], fn.__name__, fn.__defaults__, fn.__closure__)
-        copy.__qualname__ = fn.__qualname__ + "_serial"  # its own entry in numba's cache (not the parallel one)
+        copy.__qualname__ = f"{fn.__qualname__}_serial__{stamp}"  # its own cache entry (not the parallel one's)
         copy.__module__ = fn.__module__
         funcs[name + "_serial"] = _jit(copy, parallel=False)
     return types.SimpleNamespace(**funcs, compiled=True)
