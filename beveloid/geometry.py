@@ -36,6 +36,7 @@ class Member:
     pitch_point_angle: float  # theta_i of the pitch point on the working pitch cone
     tooth_surface: str = "involute"  # a model of tca_kernels.MODELS
     surface_options: tuple = ()  # (name, value) pairs: the model's own parameters, by layout field name
+    cutter_tip_radius_mm: float = 0.0  # the rack's tip round rho_a0 (root fillet, beveloid.tooth.fillet)
 
     @property
     def axial_placement_mm(self) -> float:
@@ -92,7 +93,8 @@ class PairGeometry:
                 reference_section_offset_mm=m.reference_section_offset_mm, face_width_mm=m.face_width_mm,
                 tip_height_mm=m.addendum_coefficient * mn, pitch_point_angle=m.pitch_point_angle,
                 tooth_surface=getattr(spec_member, "tooth_surface", "involute"),
-                surface_options=tuple(sorted(dict(getattr(spec_member, "surface_options", ()) or ()).items())))
+                surface_options=tuple(sorted(dict(getattr(spec_member, "surface_options", ()) or ()).items())),
+                cutter_tip_radius_mm=getattr(spec_member, "cutter_tip_radius_coefficient", 0.0) * mn)
 
         spec = result.spec
         return cls(mn, result.normal_pressure_angle, result.offset_mm, result.shaft_angle,

@@ -30,8 +30,10 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+import numpy as np
+
 from . import assembly_errors
-from .generated import surface_models
+from .generated import layouts, root_fillet, surface_models
 
 __all__ = [
     "SpecError",
@@ -122,6 +124,8 @@ class MemberSpec:
     addendum_coefficient: float = 1.0
     #: Cutter addendum a / mn (the member's dedendum).
     cutter_addendum_coefficient: float = 1.25
+    #: Radius of the rack's tip round / mn (0: the paper's sharp rack); issue 22.
+    cutter_tip_radius_coefficient: float = 0.0
     #: bc: distance from the working pitch circle to the reference transverse section.
     reference_section_offset_mm: float = 0.0
     #: Tooth-surface model (generated/surface_models.py MODELS).
@@ -289,6 +293,14 @@ def _member_docs(member: str) -> dict[str, KeyDoc]:
             hi=2.5,
             requirement="optional",
             default=1.25,
+        ),
+        "cutter_tip_radius_coefficient": KeyDoc(
+            "radius of the rack's tip round / normal module (0: sharp rack; ISO 53 profile A: 0.38);"
+            " at most the largest round that fits the rack tooth",
+            lo=0.0,
+            hi=1.0,
+            requirement="optional",
+            default=0.0,
         ),
         "reference_section_offset_mm": KeyDoc(
             "distance bc from the working pitch circle to the reference transverse section",
@@ -558,6 +570,25 @@ def _check_clearance(members: dict[str, dict[str, Any]]) -> None:
             )
 
 
+def _check_tip_round(values: dict[str, dict[str, Any]]) -> None:
+    """The rack's tip round must fit its tooth (generated root_fillet.tip_round: max_radius)."""
+    alpha = math.radians(values["pair"]["normal_pressure_angle_deg"])
+    for member in ("pinion", "gear"):
+        rho = values[member]["cutter_tip_radius_coefficient"]
+        cutter = values[member]["cutter_addendum_coefficient"]
+        top = root_fillet.tip_round(np.asarray(layouts.FilletParams.pack(dict(
+            normal_pressure_angle=alpha, helix_angle=0.0, cone_angle=0.0, cutter_addendum_mm=cutter,
+            half_thickness_mm=math.pi / 4, rack_shift_mm=0.0, pitch_radius_mm=1.0, cutter_tip_radius_mm=rho,
+            normal_module_mm=1.0, profile_crowning_um=0.0, lead_crowning_um=0.0, face_width_mm=1.0)), dtype=float)).max_radius
+        if rho > top:
+            dotted = f"{member}.cutter_tip_radius_coefficient"
+            raise SpecError(
+                f"{dotted} = {_fmt(rho)}: must be at most {float(top):.4g}, the largest round that fits the rack"
+                f" tooth with {member}.cutter_addendum_coefficient = {_fmt(cutter)} and"
+                f" pair.normal_pressure_angle_deg = {_fmt(values['pair']['normal_pressure_angle_deg'])}",
+                key=dotted)
+
+
 def _build(data: Any) -> DesignSpec:
     if not isinstance(data, Mapping):
         raise SpecError(
@@ -584,6 +615,7 @@ def _build(data: Any) -> DesignSpec:
             )
     values = {name: _check_section(name, data.get(name, {})) for name in SECTIONS}
     _check_clearance(values)
+    _check_tip_round(values)
     return DesignSpec(
         pair=PairSpec(**values["pair"]),
         pinion=MemberSpec(**values["pinion"]),

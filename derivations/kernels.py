@@ -41,7 +41,7 @@ import sympy as sp
 
 from . import (
     codegen, crowned_flank, design_chain, edge_contact, eq04_07_tooth_surface, eq28_38_meshing_model, flank_boundaries,
-    patch_clearance,
+    patch_clearance, root_fillet,
 )
 from .codegen import Arg, Field, Function, Layout, ModuleSpec, Output, with_trig
 from .eq01_03_rack_cutter import LEFT, RIGHT
@@ -291,6 +291,39 @@ def edge_contact_module():
                       scalar_twin=True)
 
 
+FILLET = Layout("FilletParams", "Parameters of the root fillet (root_fillet.py): the rack, its tip round and crowning.",
+                with_trig(RACK_FIELDS + root_fillet.PARAMETERS, RACK_ANGLES))
+_PSI_U = [Arg("psi", root_fillet.psi, "rad", "fillet profile parameter: 0 at the root, junction_psi at the flank"),
+          Arg("u", u, "mm", "parameter along the tooth")]
+
+
+def fillet_module():
+    """The root fillet (envelope of the rack's tip round) per flank, and the round's constants."""
+    rf = root_fillet
+    params = Arg("params", FILLET, "", "fillet parameters")
+    fns = [Function("tip_round", "The rack's tip round: where it meets the straight edge, and the largest that fits.",
+                    [params],
+                    [Output("junction_l", rf.junction_l(), "mm", "l_t: the straight edge (flank) starts there"),
+                     Output("junction_psi", rf.junction_psi(), "rad", "psi_J: the fillet meets the flank there"),
+                     Output("max_radius", rf.max_radius(), "mm", "largest rho_a0 that fits the rack tooth")])]
+    for name, sigma in FLANKS:
+        p, n, ph = rf.fillet_surface(sigma)
+        fns.append(Function(f"fillet_{name}", f"Root fillet of the {name} flank in the member frame S_i.",
+                            _PSI_U + [params],
+                            [Output("point", p, "mm", "fillet point [x, y, z]"),
+                             Output("normal", n, "1", "unit normal, outward from the tooth"),
+                             Output("roll_angle", ph, "rad", "generating roll angle phi(psi, u) of Eq 7")]))
+        fns.append(Function(f"fillet_jet_{name}", f"Fillet point, unit normal and their first derivatives, {name} flank.",
+                            _PSI_U + [params],
+                            [Output("point", p, "mm", "fillet point [x, y, z]"),
+                             Output("normal", n, "1", "unit normal, outward from the tooth"),
+                             Output("point_D_pu", p.jacobian([rf.psi, u]), "mm/(rad, mm)", "[dR/dpsi, dR/du] as columns"),
+                             Output("normal_D_pu", n.jacobian([rf.psi, u]), "1/(rad, mm)",
+                                    "[dn/dpsi, dn/du] as columns")]))
+    return ModuleSpec("root_fillet", "root_fillet.py",
+                      "Root fillet: envelope of the rack's tip round (Eq 7), per flank, in (psi, u).", fns)
+
+
 def patch_clearance_module():
     """The rigid map S_1 -> S_2 at phi'_2 = 0 of the patch-clearance pre-check (patch_clearance.py)."""
     pc = patch_clearance
@@ -399,7 +432,7 @@ def module_specs(models=None):
     models = models or SURFACE_MODELS
     return ([surface_module(k, m) for k, m in models.items()]
             + [placement_module(), contact_system_module(), flank_boundaries_module(), edge_contact_module(),
-               patch_clearance_module(), design_module()])
+               patch_clearance_module(), design_module(), fillet_module()])
 
 
 def composed_residual(pinion_model="involute", gear_model="involute", flank="right"):

@@ -10,6 +10,7 @@ MODULES = (
     'edge_contact',
     'patch_clearance',
     'design_equations',
+    'root_fillet',
 )
 SCALAR_MODULES = (
     'surface_involute_scalar',

@@ -180,6 +180,7 @@ PHYSICAL = {
     "axial_placement_mm": _uniform(-100, 100),
     "tip_height_mm": _uniform(2, 8),  # m_n
     "toe_z_mm": _signed(5, 60), "heel_z_mm": _signed(5, 60),  # either order: the margins take both
+    "cutter_tip_radius_mm": _uniform(0, 3), "psi": _uniform(0, 1.3),  # root fillet: rho_a0 <= 0.47 m_n
 }
 
 # Design equations: case 1 of the paper, perturbed (the asin/acos arguments stay real).
