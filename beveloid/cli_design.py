@@ -16,6 +16,8 @@ def configure(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("file", metavar="FILE", help="TOML design spec (`beveloid example case1` prints one)")
     parser.add_argument("--json", action="store_true",
                         help="print the design as JSON on stdout (nothing else on stdout)")
+    parser.add_argument("--plot", metavar="OUT.png",
+                        help="draw transverse sections of both members at toe, middle and heel (beveloid.tooth)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -23,13 +25,19 @@ def run(args: argparse.Namespace) -> int:
 
     Prints a table laid out like the paper's Table 1 (angles in degrees), or JSON with --json.
     """
-    from .design import design
     from .design_report import design_json, format_table1
-    from .spec import load_spec
+    from .pair import Pair
+    from .tooth import report
 
-    result = design(load_spec(args.file))
+    pair = Pair.from_spec(args.file)
+    result = pair.design
+    tooth = report.analyze(pair)  # whole-tooth checks: statuses, not refusals
+    if args.plot:
+        from .tooth import plot
+
+        plot.plot_sections(pair, tooth, args.plot)
     if args.json:
-        print(json.dumps(design_json(result), indent=2, allow_nan=False))
+        print(json.dumps(tooth.add_to(design_json(result)), indent=2, allow_nan=False))
     else:
-        print(format_table1(result))
+        print(format_table1(result) + "\n" + tooth.table())
     return 0

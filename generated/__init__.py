@@ -11,6 +11,7 @@ MODULES = (
     'patch_clearance',
     'design_equations',
     'root_fillet',
+    'tooth_sections',
 )
 SCALAR_MODULES = (
     'surface_involute_scalar',
