@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import fillet as fillet_kernels
 from . import profile, sections
 
 _COLOURS = {"left": "tab:blue", "right": "tab:orange"}
@@ -22,13 +21,12 @@ def _polar(points):
 def _flank_curves(geometry, member, z, tip_radius):
     """{flank: (flank points, fillet points)} of the section z (S_i)."""
     out = {}
-    jl = float(fillet_kernels.tip_round(geometry, member).junction_l)
-    jpsi = float(fillet_kernels.tip_round(geometry, member).junction_psi)
     for fl in sections.FLANKS:
+        form = profile.form_limit(geometry, member, fl, z)  # the junction, or the top of the undercut
         _, l_tip, _ = profile.flank_at_radius(geometry, member, fl, z, tip_radius)
-        flank_pts, _ = profile.flank_in_section(geometry, member, fl, z, np.linspace(jl, l_tip, 80))
-        fillet_pts, _ = profile.fillet_in_section(geometry, member, fl, z, np.linspace(0.0, jpsi, 60))
-        out[fl] = (flank_pts, fillet_pts)
+        flank_pts, _ = profile.flank_in_section(geometry, member, fl, z, np.linspace(form.l_mm, l_tip, 80))
+        fillet_pts, _ = profile.fillet_in_section(geometry, member, fl, z, np.linspace(0.0, form.psi, 60))
+        out[fl] = (flank_pts, fillet_pts, form)
     return out
 
 
@@ -52,7 +50,7 @@ def _panel(ax, geometry, member, label, z_face, tooth):
         return rr * np.sin(centre - th), rr * np.cos(centre - th)
 
     for fl in sections.FLANKS:
-        fpts, rpts = curves[fl]
+        fpts, rpts, _ = curves[fl]
         ax.plot(*local(fpts), color=_COLOURS[fl], lw=1.4, label=f"{fl} flank" if label == "toe" else None)
         ax.plot(*local(rpts), color=_COLOURS[fl], lw=1.0, ls="--", label=f"{fl} fillet" if label == "toe" else None)
     _arc(ax, r_tip, centre, half, color="k", lw=0.8, label="tip" if label == "toe" else None)
@@ -61,23 +59,25 @@ def _panel(ax, geometry, member, label, z_face, tooth):
         _arc(ax, float(getattr(s, f"base_radius_{fl}")), centre, half, color=_COLOURS[fl], lw=0.6, ls=":",
              label=f"base ({fl})" if label == "toe" else None)
         cut = float(getattr(s, f"undercut_depth_{fl}"))
-        if cut <= 0:
-            _arc(ax, float(getattr(s, f"form_radius_{fl}")), centre, half, color=_COLOURS[fl], lw=0.6, ls="-.",
-                 label=f"form limit ({fl})" if label == "toe" else None)
-        else:
+        _arc(ax, curves[fl][2].radius_mm, centre, half, color=_COLOURS[fl], lw=0.6, ls="-.",
+             label=f"form limit ({fl})" if label == "toe" else None)
+        if cut > 0:
             x, y = local(curves[fl][0][:1])
+            ax.plot(x, y, marker="o", ms=4, color="red")
             ax.annotate(f"undercut {fl}\n{cut:.3f} mm", (x[0], y[0]), color="red", fontsize=7,
-                        xytext=(0, -22), textcoords="offset points", ha="center")
+                        xytext=(-30 if fl == "right" else 30, -8), textcoords="offset points", ha="center")
     title = f"{member} {label} (z = {z_face:+.2f} mm)"
     thick = float(s.tip_arc_thickness)
     if thick <= 0:
         title += ": POINTED"
-        radius = sections.thickness_at_radius  # noqa: F841  (the crossing is where the flanks meet)
         ax.plot([0.0], [r_tip], marker="x", color="red")
     else:
         title += f", tip {thick:.3f} mm"
     ax.set_title(title, fontsize=8, color="red" if thick <= 0 else "k")
-    ax.set_aspect("equal")
+    width = max(abs(local(curves[fl][0])[0]).max() for fl in sections.FLANKS) * 1.6
+    ax.set_xlim(-width, width)
+    ax.set_ylim(float(s.root_radius) - 1.0, r_tip + 1.0)
+    ax.set_aspect("equal", adjustable="box")
     ax.tick_params(labelsize=6)
 
 

@@ -8,6 +8,8 @@ section; ``undercut_top(...)``: where the fillet cuts the flank in a section (th
 """
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from . import fillet as fillet_kernels
@@ -96,8 +98,14 @@ def _crossing(a, b):
     return None
 
 
-def form_limit(geometry, member, flank, z, samples=400):
-    """(l, radius) where the flank's usable involute starts in the section z of S_i.
+class FormLimit(NamedTuple):
+    l_mm: float  # the flank's rack parameter there
+    radius_mm: float
+    psi: float  # the fillet's parameter there (the junction psi_J without undercut)
+
+
+def form_limit(geometry, member, flank, z, samples=400) -> FormLimit:
+    """(l, radius, psi) where the flank's usable involute starts in the section z of S_i.
 
     Without undercut it is the junction with the fillet (l = l_t of the tip round).  Where the
     section is undercut the fillet cuts the flank: the form limit is the top of the undercut,
@@ -109,7 +117,7 @@ def form_limit(geometry, member, flank, z, samples=400):
     l_t, psi_j = float(tr.junction_l), float(tr.junction_psi)
     s = sections.section(geometry, member, sections.face_z(geometry, member, z))
     if float(getattr(s, f"undercut_depth_{flank}")) <= 0:
-        return l_t, float(getattr(s, f"form_radius_{flank}"))
+        return FormLimit(l_t, float(getattr(s, f"form_radius_{flank}")), psi_j)
     _, l_tip, _ = flank_at_radius(geometry, member, flank, z, float(s.tip_radius))
     t = np.linspace(0.0, 1.0, samples)
     ls = l_t + (l_tip - l_t) * t ** 3  # dense near the junction: a mild undercut is a small loop there
@@ -122,5 +130,5 @@ def form_limit(geometry, member, flank, z, samples=400):
         raise NoSolution(f"the {member} {flank} fillet does not cross the flank in the section z = {z} mm")
     i, j = hit
     k = len(ls) - 1 - i
-    point, _, l = undercut_top(geometry, member, flank, z, psis[j], ls[k], ui[j], ul[k])
-    return l, float(np.hypot(point[0], point[1]))
+    point, psi, l = undercut_top(geometry, member, flank, z, psis[j], ls[k], ui[j], ul[k])
+    return FormLimit(l, float(np.hypot(point[0], point[1])), psi)

@@ -109,7 +109,7 @@ def test_undercut_range_ends_where_the_form_point_meets_the_interference_point(s
         pt, _ = profile.flank_in_section(g, "pinion", flank, z_end, 0.0)
         assert math.hypot(pt[0], pt[1]) == pytest.approx(float(getattr(s, f"base_radius_{flank}")), abs=1e-6)
         inside = float(sections.member_z(g, "pinion", 0.5 * (cut.from_mm + cut.to_mm)))
-        l_form, r_form = profile.form_limit(g, "pinion", flank, inside)
+        l_form, r_form, _ = profile.form_limit(g, "pinion", flank, inside)
         s_in = sections.section(g, "pinion", 0.5 * (cut.from_mm + cut.to_mm))
         assert l_form > 0 and r_form > float(getattr(s_in, f"base_radius_{flank}"))
         outside = float(sections.member_z(g, "pinion", 0.5 * (cut.to_mm + w)))
