@@ -6,6 +6,7 @@ import dataclasses
 import json
 import subprocess
 import sys
+import types
 
 import pytest
 
@@ -95,7 +96,8 @@ def test_verify_exit_1_when_an_equation_differs(fake_verify, capsys):
 # ---------------------------------------------------------------------------------------
 
 
-def _raising_command(exc):
+def _register_raising_command(monkeypatch, exc):
+    """A command module ``beveloid.cli.boom`` whose run raises ``exc``, registered as "boom"."""
     def configure(p: argparse.ArgumentParser) -> None:
         pass
 
@@ -103,7 +105,10 @@ def _raising_command(exc):
         """Raise for the test."""
         raise exc
 
-    return configure, run
+    module = types.ModuleType("beveloid.cli.boom")
+    module.configure, module.run = configure, run
+    monkeypatch.setitem(sys.modules, "beveloid.cli.boom", module)
+    monkeypatch.setattr(cli, "COMMANDS", cli.COMMANDS + ("boom",))
 
 
 @pytest.mark.parametrize("exc, message", [
@@ -112,7 +117,7 @@ def _raising_command(exc):
     (UserError("no such file:\n  design.toml"), "no such file: design.toml"),
 ])
 def test_user_errors_are_one_line_exit_2(monkeypatch, capsys, exc, message):
-    monkeypatch.setitem(cli.COMMANDS, "boom", _raising_command(exc))
+    _register_raising_command(monkeypatch, exc)
     assert cli.main(["boom"]) == 2
     out, err = capsys.readouterr()
     assert out == ""
@@ -120,7 +125,7 @@ def test_user_errors_are_one_line_exit_2(monkeypatch, capsys, exc, message):
 
 
 def test_bugs_are_not_swallowed(monkeypatch):
-    monkeypatch.setitem(cli.COMMANDS, "boom", _raising_command(ZeroDivisionError("bug")))
+    _register_raising_command(monkeypatch, ZeroDivisionError("bug"))
     with pytest.raises(ZeroDivisionError):
         cli.main(["boom"])
 

@@ -21,7 +21,7 @@ import pytest
 from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 
-from beveloid import cli_design
+from beveloid.cli import design as cli_design
 from beveloid.design import DesignError, DesignResult, MemberDesign, design, indirect_design
 from beveloid.design_report import TABLE1_ROWS, design_json, format_table1
 from beveloid.errors import UserError
@@ -611,7 +611,7 @@ def test_runtime_does_not_import_sympy(tmp_path):
     import subprocess
     import sys
 
-    code = ("import sys, beveloid.design, beveloid.design_report, beveloid.cli_design;"
+    code = ("import sys, beveloid.design, beveloid.design_report, beveloid.cli.design;"
             "from beveloid.spec import load_spec; beveloid.design.design(load_spec(sys.argv[1]));"
             "print('sympy' in sys.modules)")
     # run outside the checkout: there `python -c` would import the bare beveloid/ folder

@@ -499,7 +499,7 @@ def _table_row(text, flank):
 
 def test_5_failed_points_are_not_called_off_the_flank():
     from beveloid import tca
-    from beveloid.cli_tca import format_summary
+    from beveloid.cli.tca import format_summary
 
     spec = load_spec(C1)
     res = tca.analyze(tca.PairGeometry.from_design(design(spec)), positions=5, flanks=("right",))
@@ -519,7 +519,7 @@ def test_5_te_from_a_few_positions_carries_a_caveat(capsys):
     """Positions where no pair carries a contact (edge contact now covers what the surface
     contact leaves; here some positions are made contact-free as a failed solve leaves them)."""
     from beveloid import tca
-    from beveloid.cli_tca import format_summary
+    from beveloid.cli.tca import format_summary
 
     spec = load_spec(C1)
     res = tca.analyze(tca.PairGeometry.from_design(design(spec)), (1.2, 0, 0, 0, 0), positions=30)

@@ -10,10 +10,10 @@ import argparse
 import json
 import sys
 
-from . import assembly_errors
-from .errors import UserError
-from .solver.backends import BACKENDS
-from .sweep import DEFAULT_RANGES, MAX_CONTACT_POINTS
+from .. import assembly_errors
+from ..errors import UserError
+from ..solver.backends import BACKENDS
+from ..sweep import DEFAULT_RANGES, MAX_CONTACT_POINTS
 
 LIMITS = {e.key: e.limit for e in assembly_errors.ERRORS}
 
@@ -49,10 +49,10 @@ def run(args: argparse.Namespace) -> int:
     distribution, the fraction of error sets with edge contact or contact off the flank, TE
     peak-to-peak statistics (each with the number of sets behind it) and first-order sensitivities.
     """
-    from . import tca
-    from .design import design
-    from .spec import load_spec
-    from .sweep import _progress_bar, sweep
+    from .. import tca
+    from ..design import design
+    from ..spec import load_spec
+    from ..sweep import _progress_bar, sweep
 
     if not 1 <= args.samples <= 10_000_000:
         raise UserError(f"--samples = {args.samples}: must be an integer from 1 to 10000000")

@@ -16,9 +16,9 @@ import json
 import math
 import re
 
-from .cli_paths import check_output_file
-from .cli_tca import _errors_label, add_error_flags, apply_error_flags, error_vector
-from .errors import UserError
+from .paths import check_output_file
+from .common import add_error_flags, apply_error_flags, error_vector, errors_label
+from ..errors import UserError
 
 
 def configure(p: argparse.ArgumentParser) -> None:
@@ -48,9 +48,9 @@ def run(args: argparse.Namespace) -> int:
     Prints per position the loaded TE, the load of each tooth pair, its peak pressure and the
     contact area; --json prints the full arrays.
     """
-    from . import ltca, tca
-    from .design import design
-    from .spec import load_spec
+    from .. import ltca, tca
+    from ..design import design
+    from ..spec import load_spec
 
     t = args.torque_nm
     if not (math.isfinite(t) and 0 < t <= 1e6):
@@ -68,10 +68,10 @@ def run(args: argparse.Namespace) -> int:
                           pairs=args.pairs, grid=ltca.GridOptions(across_cells=across, along_cells=along),
                           material=ltca.Material.from_spec(spec))
     if args.plot is not None:
-        from .plots import ltca_summary
+        from ..plots import ltca_summary
 
         try:
-            ltca_summary(result, geom, args.plot, title=f"{spec.source}: pinion torque {t:g} N m, {_errors_label(spec)}")
+            ltca_summary(result, geom, args.plot, title=f"{spec.source}: pinion torque {t:g} N m, {errors_label(spec)}")
         except OSError as exc:
             raise UserError(f"--plot = {args.plot}: cannot write there ({exc.strerror or exc})") from None
     if args.json:
@@ -84,7 +84,7 @@ def run(args: argparse.Namespace) -> int:
 def format_summary(result, geom, spec) -> str:
     fmt = lambda v, f: "-" if v is None or not math.isfinite(v) else format(v, f)  # noqa: E731
     lines = [f"Loaded TCA of {spec.source}, {result.flank} flank, pinion torque {result.torque_nm:g} N m,"
-             f" {_errors_label(spec)}", ""]
+             f" {errors_label(spec)}", ""]
     head = ["phi1 (mrad)", "status", "TE loaded (urad)", "TE unloaded (urad)", "area (mm2)"]
     head += [f"F pair {k} (N)" for k in result.tooth_pairs] + [f"p_max pair {k} (MPa)" for k in result.tooth_pairs]
     rows = [head]

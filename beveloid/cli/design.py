@@ -1,8 +1,10 @@
-"""``beveloid design FILE [--json]``: direct pitch-cone design from a TOML spec.
+"""``beveloid design FILE [--json] [--plot OUT.png]``: direct pitch-cone design from a TOML spec.
 
 ``configure(parser)`` adds the arguments; ``run(args) -> int`` prints the Table 1 layout
-(:func:`beveloid.design_report.format_table1`) or, with ``--json``, the JSON of
-:func:`beveloid.design_report.design_json` on stdout and returns 0.  Invalid input and
+(:func:`beveloid.design_report.format_table1`) and the whole-tooth checks
+(:mod:`beveloid.tooth.report`) or, with ``--json``, the JSON of
+:func:`beveloid.design_report.design_json` with the whole-tooth fields on stdout and returns 0;
+``--plot`` draws the transverse sections (:mod:`beveloid.tooth.plot`).  Invalid input and
 infeasible designs raise :class:`beveloid.spec.SpecError` / :class:`beveloid.design.DesignError`;
 the main CLI turns them into a one-line message and exit status 2.
 """
@@ -25,15 +27,15 @@ def run(args: argparse.Namespace) -> int:
 
     Prints a table laid out like the paper's Table 1 (angles in degrees), or JSON with --json.
     """
-    from .design_report import design_json, format_table1
-    from .pair import Pair
-    from .tooth import report
+    from ..design_report import design_json, format_table1
+    from ..pair import Pair
+    from ..tooth import report
 
     pair = Pair.from_spec(args.file)
     result = pair.design
     tooth = report.analyze(pair)  # whole-tooth checks: statuses, not refusals
     if args.plot:
-        from .tooth import plot
+        from ..tooth import plot
 
         plot.plot_sections(pair, tooth, args.plot)
     if args.json:

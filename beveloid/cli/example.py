@@ -9,7 +9,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from .spec import EXAMPLES
+from ..spec import EXAMPLES
 
 
 def configure(p: argparse.ArgumentParser) -> None:
@@ -24,8 +24,8 @@ def run(args: argparse.Namespace) -> int:
 
     Start a design with `beveloid example case1 > my.toml`, then edit my.toml.
     """
-    from .errors import UserError
-    from .spec import example_text, key_schema_text
+    from ..errors import UserError
+    from ..spec import example_text, key_schema_text
 
     if args.schema:
         if args.name is not None:

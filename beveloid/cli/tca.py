@@ -18,9 +18,9 @@ import json
 
 import numpy as np
 
-from . import assembly_errors
-from .cli_paths import check_output_file
-from .errors import UserError
+from .common import add_error_flags, apply_error_flags, error_vector, errors_label
+from .paths import check_output_file
+from ..errors import UserError
 
 
 def configure(p: argparse.ArgumentParser) -> None:
@@ -36,49 +36,21 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
 
 
-FLAG_OF_KEY = {e.key: e.flag for e in assembly_errors.ERRORS}
-
-
-def add_error_flags(p: argparse.ArgumentParser) -> None:
-    """--dx ... --horizontal: the five assembly errors, overriding the file's [misalignment]."""
-    for e in assembly_errors.ERRORS:
-        p.add_argument(e.flag, dest=e.key, type=float, metavar=e.unit.upper(),
-                       help=f"{e.description} ({e.unit}); overrides [misalignment]")
-
-
-def apply_error_flags(spec, args: argparse.Namespace):
-    """The spec with the error flags given on the command line; errors name the flag."""
-    from .spec import SpecError, misalignment_with
-
-    try:
-        return misalignment_with(spec, **{k: getattr(args, k) for k in assembly_errors.KEYS})
-    except SpecError as exc:  # name the flag the user typed, not the TOML key
-        msg = str(exc)
-        for key, flag in FLAG_OF_KEY.items():
-            msg = msg.replace(f"misalignment.{key}", flag)
-        raise UserError(msg) from None
-
-
-def error_vector(spec) -> np.ndarray:
-    """The spec's [misalignment] as the kernels' (5,) error vector (mm, rad)."""
-    return assembly_errors.to_layout(spec.misalignment)
-
-
 def run(args: argparse.Namespace) -> int:
     """Tooth contact analysis under the five assembly errors (Eqs 28-38).
 
     Prints per flank the contact statuses, the path's place on the flanks, the TE
     peak-to-peak and the backlash; --json prints the full arrays.
     """
-    from . import tca
-    from .design import design
-    from .spec import load_spec
+    from .. import tca
+    from ..design import design
+    from ..spec import load_spec
 
     if args.positions < 3 or args.positions > 100000:
         raise UserError(f"--positions = {args.positions}: must be an integer from 3 to 100000")
     if args.pairs < 1 or args.pairs > 9 or args.pairs % 2 == 0:
         raise UserError(f"--pairs = {args.pairs}: must be an odd integer from 1 to 9")
-    from .contact_ellipse import attach, check_approach
+    from ..contact_ellipse import attach, check_approach
 
     try:
         approach_mm = check_approach(args.approach_um * 1e-3)
@@ -92,10 +64,10 @@ def run(args: argparse.Namespace) -> int:
     result = attach(tca.analyze(geom, error_vector(spec), flanks=flanks, positions=args.positions, pairs=args.pairs),
                     approach_mm)
     if args.plot is not None:
-        from .plots import tca_summary
+        from ..plots import tca_summary
 
         try:
-            tca_summary(result, geom, args.plot, title=f"{spec.source}: {_errors_label(spec)}")
+            tca_summary(result, geom, args.plot, title=f"{spec.source}: {errors_label(spec)}")
         except OSError as exc:  # checked before; the target changed during the computation
             raise UserError(f"--plot = {args.plot}: cannot write there ({exc.strerror or exc})") from None
     if args.json:
@@ -103,10 +75,6 @@ def run(args: argparse.Namespace) -> int:
     else:
         print(format_summary(result, spec))
     return 0
-
-
-def _errors_label(spec) -> str:
-    return assembly_errors.label(spec.misalignment)
 
 
 def _z_range(P, status):
@@ -129,7 +97,7 @@ def _play_range(bl) -> str:
 
 
 def format_summary(result, spec) -> str:
-    lines = [f"TCA of {spec.source} with {_errors_label(spec)}", ""]
+    lines = [f"TCA of {spec.source} with {errors_label(spec)}", ""]
     head = ("flank", "ok", "edge", "outside", "failed", "pinion z range (mm)", "gear z range (mm)",
             "TE mean (urad)", "TE p-p (urad)", "Newton its (mean)", "TE points")
     rows = [head]

@@ -13,8 +13,8 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from .errors import UserError
-from .spec import printable
+from ..errors import UserError
+from ..spec import printable
 
 __all__ = ["check_output_file", "check_output_dir"]
 

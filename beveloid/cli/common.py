@@ -1,0 +1,42 @@
+"""What several commands share: the five assembly-error flags (``--dx`` ... ``--horizontal``,
+overriding the spec's ``[misalignment]``) and the one-line label of a spec's errors."""
+from __future__ import annotations
+
+import argparse
+
+import numpy as np
+
+from .. import assembly_errors
+from ..errors import UserError
+
+FLAG_OF_KEY = {e.key: e.flag for e in assembly_errors.ERRORS}
+
+
+def add_error_flags(p: argparse.ArgumentParser) -> None:
+    """--dx ... --horizontal: the five assembly errors, overriding the file's [misalignment]."""
+    for e in assembly_errors.ERRORS:
+        p.add_argument(e.flag, dest=e.key, type=float, metavar=e.unit.upper(),
+                       help=f"{e.description} ({e.unit}); overrides [misalignment]")
+
+
+def apply_error_flags(spec, args: argparse.Namespace):
+    """The spec with the error flags given on the command line; errors name the flag."""
+    from ..spec import SpecError, misalignment_with
+
+    try:
+        return misalignment_with(spec, **{k: getattr(args, k) for k in assembly_errors.KEYS})
+    except SpecError as exc:  # name the flag the user typed, not the TOML key
+        msg = str(exc)
+        for key, flag in FLAG_OF_KEY.items():
+            msg = msg.replace(f"misalignment.{key}", flag)
+        raise UserError(msg) from None
+
+
+def error_vector(spec) -> np.ndarray:
+    """The spec's [misalignment] as the kernels' (5,) error vector (mm, rad)."""
+    return assembly_errors.to_layout(spec.misalignment)
+
+
+def errors_label(spec) -> str:
+    """The spec's assembly errors in one line (titles and summaries)."""
+    return assembly_errors.label(spec.misalignment)

@@ -1,0 +1,27 @@
+"""``beveloid paper [--out DIR] [--positions N]``: Table 1 and the studies of Figs 10-22 into DIR."""
+from __future__ import annotations
+
+import argparse
+
+from ..errors import UserError
+
+
+def configure(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--out", default="paper_out", metavar="DIR", help="output folder (default paper_out)")
+    p.add_argument("--positions", type=int, default=200, metavar="N",
+                   help="pinion positions per error set (default 200)")
+
+
+def run(args: argparse.Namespace) -> int:
+    """Reproduce Table 1 and the studies of Figs 10-22 into DIR (PNG, CSV, report.md)."""
+    from ..reproduction import run as reproduce
+    from .paths import check_output_dir
+
+    if not 10 <= args.positions <= 5000:
+        raise UserError(f"--positions = {args.positions}: must be an integer from 10 to 5000")
+    check_output_dir(args.out, "--out")
+    try:
+        reproduce(args.out, positions=args.positions)
+    except OSError as exc:
+        raise UserError(f"--out = {args.out}: cannot write there ({exc.strerror})") from None
+    return 0
