@@ -313,6 +313,7 @@ class FlankBlank(typing.NamedTuple):
     cone_angle: float  # [rad] cone angle gamma
     toe_z_mm: float  # [mm] axial position of the toe (small end) in S_i
     heel_z_mm: float  # [mm] axial position of the heel (large end) in S_i
+    form_limit_l_mm: float  # [mm] l where the straight edge starts: the tip round's junction l_t (0: sharp rack)
     sin_cone_angle: float  # [1] sin(cone_angle), computed by pack
     cos_cone_angle: float  # [1] cos(cone_angle), computed by pack
     tan_cone_angle: float  # [1] tan(cone_angle), computed by pack
@@ -324,6 +325,7 @@ class FlankBlank(typing.NamedTuple):
         "cone_angle": "rad",
         "toe_z_mm": "mm",
         "heel_z_mm": "mm",
+        "form_limit_l_mm": "mm",
         "sin_cone_angle": "1",
         "cos_cone_angle": "1",
         "tan_cone_angle": "1",
@@ -335,6 +337,7 @@ class FlankBlank(typing.NamedTuple):
         "cone_angle": "cone angle gamma",
         "toe_z_mm": "axial position of the toe (small end) in S_i",
         "heel_z_mm": "axial position of the heel (large end) in S_i",
+        "form_limit_l_mm": "l where the straight edge starts: the tip round\u0027s junction l_t (0: sharp rack)",
         "sin_cone_angle": "sin(cone_angle), computed by pack",
         "cos_cone_angle": "cos(cone_angle), computed by pack",
         "tan_cone_angle": "tan(cone_angle), computed by pack",
@@ -353,6 +356,7 @@ class FlankBlank(typing.NamedTuple):
         cone_angle = _value(values["cone_angle"])
         toe_z_mm = _value(values["toe_z_mm"])
         heel_z_mm = _value(values["heel_z_mm"])
+        form_limit_l_mm = _value(values["form_limit_l_mm"])
         return cls(
             pitch_radius_mm,
             tip_height_mm,
@@ -360,6 +364,7 @@ class FlankBlank(typing.NamedTuple):
             cone_angle,
             toe_z_mm,
             heel_z_mm,
+            form_limit_l_mm,
             numpy.sin(cone_angle),
             numpy.cos(cone_angle),
             numpy.tan(cone_angle),

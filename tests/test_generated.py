@@ -181,6 +181,9 @@ PHYSICAL = {
     "tip_height_mm": _uniform(2, 8),  # m_n
     "toe_z_mm": _signed(5, 60), "heel_z_mm": _signed(5, 60),  # either order: the margins take both
     "cutter_tip_radius_mm": _uniform(0, 3), "psi": _uniform(0, 1.3),  # root fillet: rho_a0 <= 0.47 m_n
+    "form_limit_l_mm": _uniform(0, 1.5),
+    "z": _uniform(-40, 40),  # tooth_sections: a transverse section
+    "radius": _uniform(400, 600),  # tooth_sections: above every base radius (pitch radius <= 400)  # the blank's form limit: l_t = rho_a0 (1 - sin alpha_n) / cos alpha_n
 }
 
 # Design equations: case 1 of the paper, perturbed (the asin/acos arguments stay real).

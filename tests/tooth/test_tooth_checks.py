@@ -158,16 +158,21 @@ def test_contact_ratio_is_the_tca_envelope_share(pair1, flank):
 
 @pytest.mark.long_running
 def test_interference_when_the_mating_tip_reaches_the_fillet():
-    """A deep gear addendum against a pinion flank shortened by a full tip round: the gear's tip runs
-    below the pinion's form limit; with the paper's sharp rack the same pair does not interfere."""
+    """A deep gear addendum against a pinion flank shortened by a full tip round: the conjugate contact
+    runs into the pinion's form limit (the TCA blank starts the flank at the round's junction l_t) before
+    the gear's tip is reached; with the paper's sharp rack the same pair does not interfere and its
+    contact lasts longer (to the gear's tip)."""
     res = report.analyze(Pair.from_spec(DEEP))
     assert [s for s, _ in res.statuses] == ["interference", "interference"]
-    for c in res.contact.values():
-        assert c.interference == ("pinion form limit",) and c.form_margin_mm["pinion"] < 0
-    sharp = _spec(gear=dict(addendum_coefficient=1.2))
-    for flank in FLANKS:
-        c = contact.flank_contact(Pair.from_spec(sharp).geometry, flank)
-        assert c.interference == () and c.form_margin_mm["pinion"] > 0
+    sharp = Pair.from_spec(_spec(gear=dict(addendum_coefficient=1.2))).geometry
+    for flank, c in res.contact.items():
+        assert c.interference == ("pinion form limit",)
+        assert "pinion form limit" in (c.start_boundary, c.end_boundary)
+        assert c.form_margin_mm["pinion"] > -1e-6  # the TCA keeps to the true form limit
+        s = contact.flank_contact(sharp, flank)
+        assert s.interference == () and s.form_margin_mm["pinion"] > 0
+        assert {s.start_boundary, s.end_boundary} == {"pinion tip", "gear tip"}
+        assert s.contact_ratio > c.contact_ratio + 0.01
 
 
 @pytest.mark.long_running

@@ -195,3 +195,21 @@ def test_tip_round_key_is_checked_against_the_largest_round():
     assert "\n" not in msg and "gear.cutter_tip_radius_coefficient" in msg and "at most 0.4719" in msg
     with pytest.raises(SpecError, match="pinion.cutter_tip_radius_coefficient"):
         spec_from_dict(_spec(pinion=dict(cutter_tip_radius_coefficient=-0.1)))
+
+
+def test_blank_starts_the_flank_at_the_rounds_junction(rounded, pair1):
+    """The TCA blank's form-limit margin is l - l_t (generated flank_boundaries); 0 on the sharp rack."""
+    from beveloid.generated import flank_boundaries
+
+    for member in ("pinion", "gear"):
+        g = rounded.geometry
+        l_t = float(F.tip_round(g, member).junction_l)
+        assert g.member(member).form_limit_l_mm == l_t > 0
+        assert pair1.geometry.member(member).form_limit_l_mm == 0.0
+        l = np.linspace(0.0, 3.0, 7)
+        point = np.array([g.member(member).pitch_radius_mm, 0.0, 0.0])
+        form = flank_boundaries.BOUNDARIES.index("form limit")
+        margins = flank_boundaries.flank_margins(point, l, g.member(member).blank()).margins[..., form]
+        np.testing.assert_array_equal(margins, l - l_t)
+        sharp = flank_boundaries.flank_margins(point, l, pair1.geometry.member(member).blank()).margins[..., form]
+        np.testing.assert_array_equal(sharp, l)
