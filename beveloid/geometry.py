@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .generated import flank_boundaries, layouts, surface_models, tca_kernels
+from .generated import flank_boundaries, layouts, root_fillet, surface_models, tca_kernels
 
 BOUNDARIES = flank_boundaries.BOUNDARIES
 
@@ -36,6 +36,8 @@ class Member:
     pitch_point_angle: float  # theta_i of the pitch point on the working pitch cone
     tooth_surface: str = "involute"  # a model of tca_kernels.MODELS
     surface_options: tuple = ()  # (name, value) pairs: the model's own parameters, by layout field name
+    cutter_tip_radius_mm: float = 0.0  # the rack's tip round rho_a0 (root fillet, beveloid.tooth.fillet)
+    form_limit_l_mm: float = 0.0  # l where the flank starts: the tip round's junction l_t (0: sharp rack)
 
     @property
     def axial_placement_mm(self) -> float:
@@ -60,7 +62,16 @@ class Member:
         toe, heel = self.face_limits
         return np.asarray(layouts.FlankBlank.pack(dict(
             pitch_radius_mm=self.pitch_radius_mm, tip_height_mm=self.tip_height_mm, rack_shift_mm=self.rack_shift_mm,
-            cone_angle=self.cone_angle, toe_z_mm=toe, heel_z_mm=heel)), dtype=float)
+            cone_angle=self.cone_angle, toe_z_mm=toe, heel_z_mm=heel, form_limit_l_mm=self.form_limit_l_mm)),
+            dtype=float)
+
+
+def _junction_l(normal_pressure_angle, tip_radius_mm, normal_module_mm):
+    """l_t of the rack's tip round (generated root_fillet.tip_round; the other fields do not enter it)."""
+    values = dict(normal_pressure_angle=normal_pressure_angle, helix_angle=0.0, cone_angle=0.0, cutter_addendum_mm=0.0,
+                  half_thickness_mm=0.0, rack_shift_mm=0.0, pitch_radius_mm=1.0, cutter_tip_radius_mm=tip_radius_mm,
+                  normal_module_mm=normal_module_mm, profile_crowning_um=0.0, lead_crowning_um=0.0, face_width_mm=1.0)
+    return float(root_fillet.tip_round(np.asarray(layouts.FilletParams.pack(values), dtype=float)).junction_l)
 
 
 @dataclass(frozen=True)
@@ -84,6 +95,7 @@ class PairGeometry:
         mn = result.normal_module_mm
 
         def member(m, spec_member):
+            rho = getattr(spec_member, "cutter_tip_radius_coefficient", 0.0) * mn
             return Member(
                 teeth=int(m.teeth), helix_angle=m.helix_angle, cone_angle=m.cone_angle,
                 cutter_addendum_mm=m.cutter_addendum_mm, rack_shift_mm=m.rack_shift_mm,
@@ -92,7 +104,8 @@ class PairGeometry:
                 reference_section_offset_mm=m.reference_section_offset_mm, face_width_mm=m.face_width_mm,
                 tip_height_mm=m.addendum_coefficient * mn, pitch_point_angle=m.pitch_point_angle,
                 tooth_surface=getattr(spec_member, "tooth_surface", "involute"),
-                surface_options=tuple(sorted(dict(getattr(spec_member, "surface_options", ()) or ()).items())))
+                surface_options=tuple(sorted(dict(getattr(spec_member, "surface_options", ()) or ()).items())),
+                cutter_tip_radius_mm=rho, form_limit_l_mm=_junction_l(result.normal_pressure_angle, rho, mn))
 
         spec = result.spec
         return cls(mn, result.normal_pressure_angle, result.offset_mm, result.shaft_angle,

@@ -3,7 +3,9 @@
 A flank point R = (x, y, z) in the member frame S_i with rack parameter l is on the active
 flank when all four signed margins (mm) are >= 0:
 
-    form limit  l                                   (start of the rack's straight edge; no fillet)
+    form limit  l - l_f                             (start of the rack's straight edge, l_f: the junction
+                                                     with the rack's tip round, root_fillet.junction_l;
+                                                     0 on the paper's sharp rack)
     tip         r_tip(z) - sqrt(x^2 + y^2)           (tip cone parallel to the rack's pitch plane)
     toe, heel   the axial distance inside the face   (face centred on the working pitch circle)
 
@@ -21,6 +23,7 @@ from .symbols import gamma, l, r, s
 x, y, z = sp.symbols("x y z", real=True)
 tip_height = sp.Symbol("h_a", positive=True)
 toe_z, heel_z = sp.symbols("z_toe z_heel", real=True)
+form_l = sp.Symbol("l_f", nonnegative=True)
 
 BOUNDARIES = ("form limit", "tip", "toe", "heel")
 #: The boundary on the far side of the patch: the two never meet (no corner between them).
@@ -33,6 +36,7 @@ BLANK = Layout("FlankBlank", "Where one member's flank ends (the blank), in its 
     Field("cone_angle", gamma, "rad", "cone angle gamma"),
     Field("toe_z_mm", toe_z, "mm", "axial position of the toe (small end) in S_i"),
     Field("heel_z_mm", heel_z, "mm", "axial position of the heel (large end) in S_i"),
+    Field("form_limit_l_mm", form_l, "mm", "l where the straight edge starts: the tip round's junction l_t (0: sharp rack)"),
 ), ("cone_angle",)))
 
 
@@ -43,7 +47,7 @@ def tip_radius(zz=z):
 def margins():
     """The four signed margins (mm), positive inside: form limit, tip, toe, heel."""
     direction = (heel_z - toe_z) / sp.Abs(heel_z - toe_z)
-    return sp.Matrix([l, tip_radius() - sp.sqrt(x ** 2 + y ** 2), (z - toe_z) * direction,
+    return sp.Matrix([l - form_l, tip_radius() - sp.sqrt(x ** 2 + y ** 2), (z - toe_z) * direction,
                       (heel_z - z) * direction])
 
 

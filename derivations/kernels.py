@@ -46,7 +46,7 @@ import sympy as sp
 
 from . import (
     codegen, crowned_flank, design_chain, edge_contact, eq04_07_tooth_surface, eq28_38_meshing_model, flank_boundaries,
-    flank_micro_geometry, patch_clearance,
+    flank_micro_geometry, patch_clearance, root_fillet, tooth_sections,
 )
 from .codegen import Arg, Function, ModuleSpec, Output
 from .interface import Field, Layout, with_trig
@@ -301,6 +301,75 @@ def edge_contact_module():
                       scalar_twin=True)
 
 
+FILLET = Layout("FilletParams", "Parameters of the root fillet (root_fillet.py): the rack, its tip round and crowning.",
+                with_trig(RACK_FIELDS + root_fillet.PARAMETERS, RACK_ANGLES))
+_PSI_U = [Arg("psi", root_fillet.psi, "rad", "fillet profile parameter: 0 at the root, junction_psi at the flank"),
+          Arg("u", u, "mm", "parameter along the tooth")]
+
+
+def fillet_module():
+    """The root fillet (envelope of the rack's tip round) per flank, and the round's constants."""
+    rf = root_fillet
+    params = Arg("params", FILLET, "", "fillet parameters")
+    fns = [Function("tip_round", "The rack's tip round: where it meets the straight edge, and the largest that fits.",
+                    [params],
+                    [Output("junction_l", rf.junction_l(), "mm", "l_t: the straight edge (flank) starts there"),
+                     Output("junction_psi", rf.junction_psi(), "rad", "psi_J: the fillet meets the flank there"),
+                     Output("max_radius", rf.max_radius(), "mm", "largest rho_a0 that fits the rack tooth")])]
+    for name, sigma in FLANKS:
+        p, n, ph = rf.fillet_surface(sigma)
+        fns.append(Function(f"fillet_{name}", f"Root fillet of the {name} flank in the member frame S_i.",
+                            _PSI_U + [params],
+                            [Output("point", p, "mm", "fillet point [x, y, z]"),
+                             Output("normal", n, "1", "unit normal, outward from the tooth"),
+                             Output("roll_angle", ph, "rad", "generating roll angle phi(psi, u) of Eq 7")]))
+        fns.append(Function(f"fillet_jet_{name}", f"Fillet point, unit normal and their first derivatives, {name} flank.",
+                            _PSI_U + [params],
+                            [Output("point", p, "mm", "fillet point [x, y, z]"),
+                             Output("normal", n, "1", "unit normal, outward from the tooth"),
+                             Output("point_D_pu", p.jacobian([rf.psi, u]), "mm/(rad, mm)", "[dR/dpsi, dR/du] as columns"),
+                             Output("normal_D_pu", n.jacobian([rf.psi, u]), "1/(rad, mm)",
+                                    "[dn/dpsi, dn/du] as columns")]))
+    return ModuleSpec("root_fillet", "root_fillet.py",
+                      "Root fillet: envelope of the rack's tip round (Eq 7), per flank, in (psi, u).", fns)
+
+
+SECTION = Layout("ToothSectionParams", "A member's rack and tip for its transverse sections (tooth_sections.py).",
+                 with_trig(RACK_FIELDS + tooth_sections.PARAMETERS, RACK_ANGLES))
+
+
+def tooth_sections_module():
+    """Transverse sections: tip and root cones, involute data, undercut and thickness per section z."""
+    ts = tooth_sections
+    zarg = Arg("z", ts.z, "mm", "the section's axial position in the member frame S_i")
+    params = Arg("params", SECTION, "", "the member's rack and tip")
+    r_tip = ts.tip_radius()
+    theta_tip = ts.thickness_angle(r_tip)
+    outs = [Output("tip_radius", r_tip, "mm", "tip-cone radius"),
+            Output("root_radius", ts.root_radius(), "mm", "root-cone radius (the rack's tip line)"),
+            Output("tip_thickness_angle", theta_tip, "rad", "angular tooth thickness at the tip-cone radius"),
+            Output("tip_arc_thickness", r_tip * theta_tip, "mm",
+                   "arc tooth thickness at the tip-cone radius (negative: the flanks cross below it)")]
+    for name, sigma in ts.FLANK_SIGNS:
+        outs += [Output(f"pressure_angle_{name}", ts.pressure_angle(sigma), "rad", f"transverse pressure angle, {name}"),
+                 Output(f"base_radius_{name}", ts.base_radius(sigma), "mm", f"base radius, {name}"),
+                 Output(f"undercut_depth_{name}", ts.undercut_depth(sigma), "mm",
+                        f"rack form point below the interference point T, {name} (> 0: undercut)"),
+                 Output(f"form_radius_{name}", ts.form_radius(sigma), "mm",
+                        f"start of the involute, {name} (valid where undercut_depth <= 0)")]
+    theta = ts.thickness_angle()
+    return ModuleSpec("tooth_sections", "tooth_sections.py",
+                      "Transverse sections of a member's tooth: cones, involutes, undercut and thickness.", [
+        Function("transverse_section", "The section z: tip and root cones, involute data per flank, tip thickness.",
+                 [zarg, params], outs),
+        Function("thickness_at_radius", "Angular and arc tooth thickness at a radius of the section z.",
+                 [zarg, Arg("radius", ts.R, "mm", "radius in the section"), params],
+                 [Output("thickness_angle", theta, "rad", "angular tooth thickness"),
+                  Output("arc_thickness", ts.R * theta, "mm", "arc tooth thickness"),
+                  Output("thickness_angle_D_radius", theta.diff(ts.R), "rad/mm", "d thickness_angle / d radius")]),
+    ])
+
+
 def patch_clearance_module():
     """The rigid map S_1 -> S_2 at phi'_2 = 0 of the patch-clearance pre-check (patch_clearance.py)."""
     pc = patch_clearance
@@ -411,7 +480,8 @@ def module_specs(models=None):
     models = models or SURFACE_MODELS
     return ([surface_module(k, m) for k, m in models.items()]
             + [placement_module(), contact_system_module(), flank_boundaries_module(), edge_contact_module(),
-               patch_clearance_module(), design_module()])
+               patch_clearance_module(), design_module(), fillet_module(),
+               tooth_sections_module()])
 
 
 def composed_residual(pinion_model="involute", gear_model="involute", flank="right"):

@@ -11,6 +11,8 @@ MODULES = (
     'edge_contact',
     'patch_clearance',
     'design_equations',
+    'root_fillet',
+    'tooth_sections',
 )
 SCALAR_MODULES = (
     'surface_involute_scalar',

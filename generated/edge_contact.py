@@ -22,13 +22,13 @@ def boundary_jet(point, point_D_lu, point_D2_lu, l, blank):
         point_D_lu: [dR/dl, dR/du] [mm/mm], shape (..., 3, 2)
         point_D2_lu: [d2R/dl2, d2R/dldu, d2R/du2] [mm/mm^2], shape (..., 3, 3)
         l: the point's rack parameter l [mm]
-        blank: the member's blank (layouts.FlankBlank) [see layout], shape (..., 9)
+        blank: the member's blank (layouts.FlankBlank) [see layout], shape (..., 10)
     Returns BoundaryJet:
         margins: [form limit, tip, toe, heel], positive inside [mm], shape (..., 4)
         margins_D_lu: d margins / d(l, u) [mm/mm], shape (..., 4, 2)
         margins_D2_lu: [d2/dl2, d2/dldu, d2/du2] of the margins [mm/mm^2], shape (..., 4, 3)
     """
-    # ops: 96
+    # ops: 97
     _shape = numpy.broadcast_shapes(numpy.shape(point)[:-1], numpy.shape(point_D_lu)[:-2], numpy.shape(point_D2_lu)[:-2], numpy.shape(l), numpy.shape(blank)[:-1])
     point_0 = point[..., 0]
     point_1 = point[..., 1]
@@ -54,9 +54,10 @@ def boundary_jet(point, point_D_lu, point_D2_lu, l, blank):
     cone_angle = blank[..., 3]
     toe_z_mm = blank[..., 4]
     heel_z_mm = blank[..., 5]
-    sin_cone_angle = blank[..., 6]
-    cos_cone_angle = blank[..., 7]
-    tan_cone_angle = blank[..., 8]
+    form_limit_l_mm = blank[..., 6]
+    sin_cone_angle = blank[..., 7]
+    cos_cone_angle = blank[..., 8]
+    tan_cone_angle = blank[..., 9]
     _x0 = point_0**2
     _x1 = point_1**2
     _x2 = _x0 + _x1
@@ -82,7 +83,7 @@ def boundary_jet(point, point_D_lu, point_D2_lu, l, blank):
     _x22 = _x6*point_D2_lu_20
     _x23 = _x6*point_D2_lu_21
     _x24 = _x6*point_D2_lu_22
-    margins = _stack([l, -_x3 + pitch_radius_mm + point_2*tan_cone_angle + (rack_shift_mm + tip_height_mm)/cos_cone_angle, _x6*(_x4 + point_2), _x6*(heel_z_mm - point_2)], (4,), _shape)
+    margins = _stack([-form_limit_l_mm + l, -_x3 + pitch_radius_mm + point_2*tan_cone_angle + (rack_shift_mm + tip_height_mm)/cos_cone_angle, _x6*(_x4 + point_2), _x6*(heel_z_mm - point_2)], (4,), _shape)
     margins_D_lu = _stack([1, 0, -_x8*point_0 - _x9*point_1 + point_D_lu_20*tan_cone_angle, -_x10*point_0 - _x11*point_1 + point_D_lu_21*tan_cone_angle, _x12, _x13, -_x12, -_x13], (4, 2), _shape)
     margins_D2_lu = _stack([0, 0, 0, -_x14*point_D2_lu_00 - _x15*point_D2_lu_10 + _x19*point_D_lu_00 + _x21*point_D_lu_10 + point_D2_lu_20*tan_cone_angle, -_x14*point_D2_lu_01 - _x15*point_D2_lu_11 + _x19*point_D_lu_01 + _x21*point_D_lu_11 + point_D2_lu_21*tan_cone_angle, -_x14*point_D2_lu_02 - _x15*point_D2_lu_12 + point_D2_lu_22*tan_cone_angle + point_D_lu_01*(-_x10 + _x17*point_D_lu_11 + _x18*point_D_lu_01) + point_D_lu_11*(-_x11 + _x17*point_D_lu_01 + _x20*point_D_lu_11), _x22, _x23, _x24, -_x22, -_x23, -_x24], (4, 3), _shape)
     return BoundaryJet(margins, margins_D_lu, margins_D2_lu)

@@ -14,7 +14,7 @@ def boundary_jet_point(
         point, point_D_lu, point_D2_lu, l, blank, out_margins, out_margins_D_lu, out_margins_D2_lu,
 ):
     """Margins of a flank point to its blank and their derivatives in (l, u). (one point; writes out_margins, out_margins_D_lu, out_margins_D2_lu)"""
-    # ops: 96
+    # ops: 97
     point_0 = point[0]
     point_1 = point[1]
     point_2 = point[2]
@@ -39,9 +39,10 @@ def boundary_jet_point(
     cone_angle = blank[3]
     toe_z_mm = blank[4]
     heel_z_mm = blank[5]
-    sin_cone_angle = blank[6]
-    cos_cone_angle = blank[7]
-    tan_cone_angle = blank[8]
+    form_limit_l_mm = blank[6]
+    sin_cone_angle = blank[7]
+    cos_cone_angle = blank[8]
+    tan_cone_angle = blank[9]
     _x0 = point_0**2
     _x1 = point_1**2
     _x2 = _x0 + _x1
@@ -67,7 +68,7 @@ def boundary_jet_point(
     _x22 = _x6*point_D2_lu_20
     _x23 = _x6*point_D2_lu_21
     _x24 = _x6*point_D2_lu_22
-    out_margins[0] = l
+    out_margins[0] = -form_limit_l_mm + l
     out_margins[1] = -_x3 + pitch_radius_mm + point_2*tan_cone_angle + (rack_shift_mm + tip_height_mm)/cos_cone_angle
     out_margins[2] = _x6*(_x4 + point_2)
     out_margins[3] = _x6*(heel_z_mm - point_2)

@@ -22,13 +22,13 @@ def flank_margins(point, l, blank):
     Inputs (numpy arrays or scalars; all broadcast together over their leading axes):
         point: flank point in the member frame S_i [mm], shape (..., 3)
         l: the point's rack parameter l [mm]
-        blank: the member's blank (layouts.FlankBlank) [see layout], shape (..., 9)
+        blank: the member's blank (layouts.FlankBlank) [see layout], shape (..., 10)
     Returns FlankMargins:
         margins: [form limit, tip, toe, heel] [mm], shape (..., 4)
         margins_D_point: d margins / d point [mm/mm], shape (..., 4, 3)
         margins_D_l: d margins / d l [mm/mm], shape (..., 4)
     """
-    # ops: 25
+    # ops: 26
     _shape = numpy.broadcast_shapes(numpy.shape(point)[:-1], numpy.shape(l), numpy.shape(blank)[:-1])
     point_0 = point[..., 0]
     point_1 = point[..., 1]
@@ -39,15 +39,16 @@ def flank_margins(point, l, blank):
     cone_angle = blank[..., 3]
     toe_z_mm = blank[..., 4]
     heel_z_mm = blank[..., 5]
-    sin_cone_angle = blank[..., 6]
-    cos_cone_angle = blank[..., 7]
-    tan_cone_angle = blank[..., 8]
+    form_limit_l_mm = blank[..., 6]
+    sin_cone_angle = blank[..., 7]
+    cos_cone_angle = blank[..., 8]
+    tan_cone_angle = blank[..., 9]
     _x0 = numpy.sqrt(point_0**2 + point_1**2)
     _x1 = -toe_z_mm
     _x2 = _x1 + heel_z_mm
     _x3 = _x2/abs(_x2)
     _x4 = _x0**(-1.0)
-    margins = _stack([l, -_x0 + pitch_radius_mm + point_2*tan_cone_angle + (rack_shift_mm + tip_height_mm)/cos_cone_angle, _x3*(_x1 + point_2), _x3*(heel_z_mm - point_2)], (4,), _shape)
+    margins = _stack([-form_limit_l_mm + l, -_x0 + pitch_radius_mm + point_2*tan_cone_angle + (rack_shift_mm + tip_height_mm)/cos_cone_angle, _x3*(_x1 + point_2), _x3*(heel_z_mm - point_2)], (4,), _shape)
     margins_D_point = _stack([0, 0, 0, -_x4*point_0, -_x4*point_1, tan_cone_angle, 0, 0, _x3, 0, 0, -_x3], (4, 3), _shape)
     margins_D_l = _stack([1, 0, 0, 0], (4,), _shape)
     return FlankMargins(margins, margins_D_point, margins_D_l)

@@ -12,7 +12,7 @@ import math
 
 def flank_margins_point(point, l, blank, out_margins, out_margins_D_point, out_margins_D_l):
     """Margins to the form limit, tip, toe and heel, and their derivatives. (one point; writes out_margins, out_margins_D_point, out_margins_D_l)"""
-    # ops: 25
+    # ops: 26
     point_0 = point[0]
     point_1 = point[1]
     point_2 = point[2]
@@ -22,15 +22,16 @@ def flank_margins_point(point, l, blank, out_margins, out_margins_D_point, out_m
     cone_angle = blank[3]
     toe_z_mm = blank[4]
     heel_z_mm = blank[5]
-    sin_cone_angle = blank[6]
-    cos_cone_angle = blank[7]
-    tan_cone_angle = blank[8]
+    form_limit_l_mm = blank[6]
+    sin_cone_angle = blank[7]
+    cos_cone_angle = blank[8]
+    tan_cone_angle = blank[9]
     _x0 = math.sqrt(point_0**2 + point_1**2)
     _x1 = -toe_z_mm
     _x2 = _x1 + heel_z_mm
     _x3 = _x2/abs(_x2)
     _x4 = 1/_x0
-    out_margins[0] = l
+    out_margins[0] = -form_limit_l_mm + l
     out_margins[1] = -_x0 + pitch_radius_mm + point_2*tan_cone_angle + (rack_shift_mm + tip_height_mm)/cos_cone_angle
     out_margins[2] = _x3*(_x1 + point_2)
     out_margins[3] = _x3*(heel_z_mm - point_2)

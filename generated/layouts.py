@@ -188,6 +188,122 @@ class CrownedSurfaceParams(typing.NamedTuple):
         )
 
 
+class FilletParams(typing.NamedTuple):
+    """Parameters of the root fillet (root_fillet.py): the rack, its tip round and crowning."""
+
+    normal_pressure_angle: float  # [rad] normal pressure angle of the rack, alpha_n
+    helix_angle: float  # [rad] helix angle beta (signed, right hand +)
+    cone_angle: float  # [rad] cone angle gamma
+    cutter_addendum_mm: float  # [mm] cutter addendum a below the rack pitch line
+    half_thickness_mm: float  # [mm] half tooth thickness on the rack pitch line, b
+    rack_shift_mm: float  # [mm] rack shift along its depth axis, x_t m_n cos(gamma)/cos(beta)
+    pitch_radius_mm: float  # [mm] generating (reference) pitch radius r
+    cutter_tip_radius_mm: float  # [mm] radius rho_a0 of the rack's tip round (0: sharp rack)
+    normal_module_mm: float  # [mm] normal module m_n
+    profile_crowning_um: float  # [um] profile crowning C_alpha: rack removal at (l - l_p) = +-m_n from the pitch line
+    lead_crowning_um: float  # [um] lead crowning C_beta: rack removal at the face ends u = +-W/2
+    face_width_mm: float  # [mm] the member's face width W (filled from the design)
+    sin_normal_pressure_angle: float  # [1] sin(normal_pressure_angle), computed by pack
+    cos_normal_pressure_angle: float  # [1] cos(normal_pressure_angle), computed by pack
+    tan_normal_pressure_angle: float  # [1] tan(normal_pressure_angle), computed by pack
+    sin_helix_angle: float  # [1] sin(helix_angle), computed by pack
+    cos_helix_angle: float  # [1] cos(helix_angle), computed by pack
+    tan_helix_angle: float  # [1] tan(helix_angle), computed by pack
+    sin_cone_angle: float  # [1] sin(cone_angle), computed by pack
+    cos_cone_angle: float  # [1] cos(cone_angle), computed by pack
+    tan_cone_angle: float  # [1] tan(cone_angle), computed by pack
+
+    UNITS = {
+        "normal_pressure_angle": "rad",
+        "helix_angle": "rad",
+        "cone_angle": "rad",
+        "cutter_addendum_mm": "mm",
+        "half_thickness_mm": "mm",
+        "rack_shift_mm": "mm",
+        "pitch_radius_mm": "mm",
+        "cutter_tip_radius_mm": "mm",
+        "normal_module_mm": "mm",
+        "profile_crowning_um": "um",
+        "lead_crowning_um": "um",
+        "face_width_mm": "mm",
+        "sin_normal_pressure_angle": "1",
+        "cos_normal_pressure_angle": "1",
+        "tan_normal_pressure_angle": "1",
+        "sin_helix_angle": "1",
+        "cos_helix_angle": "1",
+        "tan_helix_angle": "1",
+        "sin_cone_angle": "1",
+        "cos_cone_angle": "1",
+        "tan_cone_angle": "1",
+    }
+    DOCS = {
+        "normal_pressure_angle": "normal pressure angle of the rack, alpha_n",
+        "helix_angle": "helix angle beta (signed, right hand +)",
+        "cone_angle": "cone angle gamma",
+        "cutter_addendum_mm": "cutter addendum a below the rack pitch line",
+        "half_thickness_mm": "half tooth thickness on the rack pitch line, b",
+        "rack_shift_mm": "rack shift along its depth axis, x_t m_n cos(gamma)/cos(beta)",
+        "pitch_radius_mm": "generating (reference) pitch radius r",
+        "cutter_tip_radius_mm": "radius rho_a0 of the rack\u0027s tip round (0: sharp rack)",
+        "normal_module_mm": "normal module m_n",
+        "profile_crowning_um": "profile crowning C_alpha: rack removal at (l - l_p) = +-m_n from the pitch line",
+        "lead_crowning_um": "lead crowning C_beta: rack removal at the face ends u = +-W/2",
+        "face_width_mm": "the member\u0027s face width W (filled from the design)",
+        "sin_normal_pressure_angle": "sin(normal_pressure_angle), computed by pack",
+        "cos_normal_pressure_angle": "cos(normal_pressure_angle), computed by pack",
+        "tan_normal_pressure_angle": "tan(normal_pressure_angle), computed by pack",
+        "sin_helix_angle": "sin(helix_angle), computed by pack",
+        "cos_helix_angle": "cos(helix_angle), computed by pack",
+        "tan_helix_angle": "tan(helix_angle), computed by pack",
+        "sin_cone_angle": "sin(cone_angle), computed by pack",
+        "cos_cone_angle": "cos(cone_angle), computed by pack",
+        "tan_cone_angle": "tan(cone_angle), computed by pack",
+    }
+
+    #: the entries pack computes from the others (the kernels read them instead of evaluating them)
+    DERIVED = ("sin_normal_pressure_angle", "cos_normal_pressure_angle", "tan_normal_pressure_angle", "sin_helix_angle", "cos_helix_angle", "tan_helix_angle", "sin_cone_angle", "cos_cone_angle", "tan_cone_angle", )
+
+    @classmethod
+    def pack(cls, values):
+        """The fields taken by name from a mapping (extra keys are ignored); the DERIVED ones
+        computed from them (any values given for those are ignored).  Floats or arrays."""
+        normal_pressure_angle = _value(values["normal_pressure_angle"])
+        helix_angle = _value(values["helix_angle"])
+        cone_angle = _value(values["cone_angle"])
+        cutter_addendum_mm = _value(values["cutter_addendum_mm"])
+        half_thickness_mm = _value(values["half_thickness_mm"])
+        rack_shift_mm = _value(values["rack_shift_mm"])
+        pitch_radius_mm = _value(values["pitch_radius_mm"])
+        cutter_tip_radius_mm = _value(values["cutter_tip_radius_mm"])
+        normal_module_mm = _value(values["normal_module_mm"])
+        profile_crowning_um = _value(values["profile_crowning_um"])
+        lead_crowning_um = _value(values["lead_crowning_um"])
+        face_width_mm = _value(values["face_width_mm"])
+        return cls(
+            normal_pressure_angle,
+            helix_angle,
+            cone_angle,
+            cutter_addendum_mm,
+            half_thickness_mm,
+            rack_shift_mm,
+            pitch_radius_mm,
+            cutter_tip_radius_mm,
+            normal_module_mm,
+            profile_crowning_um,
+            lead_crowning_um,
+            face_width_mm,
+            numpy.sin(normal_pressure_angle),
+            numpy.cos(normal_pressure_angle),
+            numpy.tan(normal_pressure_angle),
+            numpy.sin(helix_angle),
+            numpy.cos(helix_angle),
+            numpy.tan(helix_angle),
+            numpy.sin(cone_angle),
+            numpy.cos(cone_angle),
+            numpy.tan(cone_angle),
+        )
+
+
 class FlankBlank(typing.NamedTuple):
     """Where one member's flank ends (the blank), in its frame S_i."""
 
@@ -197,6 +313,7 @@ class FlankBlank(typing.NamedTuple):
     cone_angle: float  # [rad] cone angle gamma
     toe_z_mm: float  # [mm] axial position of the toe (small end) in S_i
     heel_z_mm: float  # [mm] axial position of the heel (large end) in S_i
+    form_limit_l_mm: float  # [mm] l where the straight edge starts: the tip round's junction l_t (0: sharp rack)
     sin_cone_angle: float  # [1] sin(cone_angle), computed by pack
     cos_cone_angle: float  # [1] cos(cone_angle), computed by pack
     tan_cone_angle: float  # [1] tan(cone_angle), computed by pack
@@ -208,6 +325,7 @@ class FlankBlank(typing.NamedTuple):
         "cone_angle": "rad",
         "toe_z_mm": "mm",
         "heel_z_mm": "mm",
+        "form_limit_l_mm": "mm",
         "sin_cone_angle": "1",
         "cos_cone_angle": "1",
         "tan_cone_angle": "1",
@@ -219,6 +337,7 @@ class FlankBlank(typing.NamedTuple):
         "cone_angle": "cone angle gamma",
         "toe_z_mm": "axial position of the toe (small end) in S_i",
         "heel_z_mm": "axial position of the heel (large end) in S_i",
+        "form_limit_l_mm": "l where the straight edge starts: the tip round\u0027s junction l_t (0: sharp rack)",
         "sin_cone_angle": "sin(cone_angle), computed by pack",
         "cos_cone_angle": "cos(cone_angle), computed by pack",
         "tan_cone_angle": "tan(cone_angle), computed by pack",
@@ -237,6 +356,7 @@ class FlankBlank(typing.NamedTuple):
         cone_angle = _value(values["cone_angle"])
         toe_z_mm = _value(values["toe_z_mm"])
         heel_z_mm = _value(values["heel_z_mm"])
+        form_limit_l_mm = _value(values["form_limit_l_mm"])
         return cls(
             pitch_radius_mm,
             tip_height_mm,
@@ -244,6 +364,7 @@ class FlankBlank(typing.NamedTuple):
             cone_angle,
             toe_z_mm,
             heel_z_mm,
+            form_limit_l_mm,
             numpy.sin(cone_angle),
             numpy.cos(cone_angle),
             numpy.tan(cone_angle),
@@ -546,6 +667,107 @@ class PairPlacement(typing.NamedTuple):
             numpy.sin(shaft_angle),
             numpy.cos(shaft_angle),
             numpy.tan(shaft_angle),
+        )
+
+
+class ToothSectionParams(typing.NamedTuple):
+    """A member's rack and tip for its transverse sections (tooth_sections.py)."""
+
+    normal_pressure_angle: float  # [rad] normal pressure angle of the rack, alpha_n
+    helix_angle: float  # [rad] helix angle beta (signed, right hand +)
+    cone_angle: float  # [rad] cone angle gamma
+    cutter_addendum_mm: float  # [mm] cutter addendum a below the rack pitch line
+    half_thickness_mm: float  # [mm] half tooth thickness on the rack pitch line, b
+    rack_shift_mm: float  # [mm] rack shift along its depth axis, x_t m_n cos(gamma)/cos(beta)
+    pitch_radius_mm: float  # [mm] generating (reference) pitch radius r
+    tip_height_mm: float  # [mm] tip above the rack pitch plane, along the rack depth axis
+    cutter_tip_radius_mm: float  # [mm] radius rho_a0 of the rack's tip round (0: sharp rack)
+    sin_normal_pressure_angle: float  # [1] sin(normal_pressure_angle), computed by pack
+    cos_normal_pressure_angle: float  # [1] cos(normal_pressure_angle), computed by pack
+    tan_normal_pressure_angle: float  # [1] tan(normal_pressure_angle), computed by pack
+    sin_helix_angle: float  # [1] sin(helix_angle), computed by pack
+    cos_helix_angle: float  # [1] cos(helix_angle), computed by pack
+    tan_helix_angle: float  # [1] tan(helix_angle), computed by pack
+    sin_cone_angle: float  # [1] sin(cone_angle), computed by pack
+    cos_cone_angle: float  # [1] cos(cone_angle), computed by pack
+    tan_cone_angle: float  # [1] tan(cone_angle), computed by pack
+
+    UNITS = {
+        "normal_pressure_angle": "rad",
+        "helix_angle": "rad",
+        "cone_angle": "rad",
+        "cutter_addendum_mm": "mm",
+        "half_thickness_mm": "mm",
+        "rack_shift_mm": "mm",
+        "pitch_radius_mm": "mm",
+        "tip_height_mm": "mm",
+        "cutter_tip_radius_mm": "mm",
+        "sin_normal_pressure_angle": "1",
+        "cos_normal_pressure_angle": "1",
+        "tan_normal_pressure_angle": "1",
+        "sin_helix_angle": "1",
+        "cos_helix_angle": "1",
+        "tan_helix_angle": "1",
+        "sin_cone_angle": "1",
+        "cos_cone_angle": "1",
+        "tan_cone_angle": "1",
+    }
+    DOCS = {
+        "normal_pressure_angle": "normal pressure angle of the rack, alpha_n",
+        "helix_angle": "helix angle beta (signed, right hand +)",
+        "cone_angle": "cone angle gamma",
+        "cutter_addendum_mm": "cutter addendum a below the rack pitch line",
+        "half_thickness_mm": "half tooth thickness on the rack pitch line, b",
+        "rack_shift_mm": "rack shift along its depth axis, x_t m_n cos(gamma)/cos(beta)",
+        "pitch_radius_mm": "generating (reference) pitch radius r",
+        "tip_height_mm": "tip above the rack pitch plane, along the rack depth axis",
+        "cutter_tip_radius_mm": "radius rho_a0 of the rack\u0027s tip round (0: sharp rack)",
+        "sin_normal_pressure_angle": "sin(normal_pressure_angle), computed by pack",
+        "cos_normal_pressure_angle": "cos(normal_pressure_angle), computed by pack",
+        "tan_normal_pressure_angle": "tan(normal_pressure_angle), computed by pack",
+        "sin_helix_angle": "sin(helix_angle), computed by pack",
+        "cos_helix_angle": "cos(helix_angle), computed by pack",
+        "tan_helix_angle": "tan(helix_angle), computed by pack",
+        "sin_cone_angle": "sin(cone_angle), computed by pack",
+        "cos_cone_angle": "cos(cone_angle), computed by pack",
+        "tan_cone_angle": "tan(cone_angle), computed by pack",
+    }
+
+    #: the entries pack computes from the others (the kernels read them instead of evaluating them)
+    DERIVED = ("sin_normal_pressure_angle", "cos_normal_pressure_angle", "tan_normal_pressure_angle", "sin_helix_angle", "cos_helix_angle", "tan_helix_angle", "sin_cone_angle", "cos_cone_angle", "tan_cone_angle", )
+
+    @classmethod
+    def pack(cls, values):
+        """The fields taken by name from a mapping (extra keys are ignored); the DERIVED ones
+        computed from them (any values given for those are ignored).  Floats or arrays."""
+        normal_pressure_angle = _value(values["normal_pressure_angle"])
+        helix_angle = _value(values["helix_angle"])
+        cone_angle = _value(values["cone_angle"])
+        cutter_addendum_mm = _value(values["cutter_addendum_mm"])
+        half_thickness_mm = _value(values["half_thickness_mm"])
+        rack_shift_mm = _value(values["rack_shift_mm"])
+        pitch_radius_mm = _value(values["pitch_radius_mm"])
+        tip_height_mm = _value(values["tip_height_mm"])
+        cutter_tip_radius_mm = _value(values["cutter_tip_radius_mm"])
+        return cls(
+            normal_pressure_angle,
+            helix_angle,
+            cone_angle,
+            cutter_addendum_mm,
+            half_thickness_mm,
+            rack_shift_mm,
+            pitch_radius_mm,
+            tip_height_mm,
+            cutter_tip_radius_mm,
+            numpy.sin(normal_pressure_angle),
+            numpy.cos(normal_pressure_angle),
+            numpy.tan(normal_pressure_angle),
+            numpy.sin(helix_angle),
+            numpy.cos(helix_angle),
+            numpy.tan(helix_angle),
+            numpy.sin(cone_angle),
+            numpy.cos(cone_angle),
+            numpy.tan(cone_angle),
         )
 
 

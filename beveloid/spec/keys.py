@@ -148,6 +148,14 @@ def _member_docs(member: str) -> dict[str, KeyDoc]:
             requirement="optional",
             default=1.25,
         ),
+        "cutter_tip_radius_coefficient": KeyDoc(
+            "radius of the rack's tip round / normal module (0: sharp rack; ISO 53 profile A: 0.38);"
+            " at most the largest round that fits the rack tooth",
+            lo=0.0,
+            hi=1.0,
+            requirement="optional",
+            default=0.0,
+        ),
         "reference_section_offset_mm": KeyDoc(
             "distance bc from the working pitch circle to the reference transverse section",
             "mm",

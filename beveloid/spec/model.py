@@ -67,6 +67,8 @@ class MemberSpec:
     addendum_coefficient: float = 1.0
     #: Cutter addendum a / mn (the member's dedendum).
     cutter_addendum_coefficient: float = 1.25
+    #: Radius of the rack's tip round / mn (0: the paper's sharp rack).
+    cutter_tip_radius_coefficient: float = 0.0
     #: bc: distance from the working pitch circle to the reference transverse section.
     reference_section_offset_mm: float = 0.0
     #: Bore of the exported solid (``beveloid export``), 0: none.

@@ -7,10 +7,13 @@ what would be valid, all read from :data:`beveloid.spec.keys.KEY_DOCS`.  Rules b
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Callable, Mapping
 from typing import Any
 
-from ..generated import surface_models
+import numpy as np
+
+from ..generated import layouts, root_fillet, surface_models
 from .keys import KEY_DOCS, REQUIRED_SECTIONS, SECTIONS, KeyDoc, model_takes
 from .model import (DEFAULT_SOURCE, DesignSpec, MaterialSpec, MemberSpec, MisalignmentSpec, PairSpec,
                     SpecError)
@@ -161,7 +164,28 @@ def check_relief_extent(values: dict[str, dict[str, Any]]) -> None:
                                 f"{fmt_value(limit)} (mm)", key=f"{member}.{key}")
 
 
-CROSS_CHECKS: tuple[Callable[[dict[str, dict[str, Any]]], None], ...] = (check_clearance, check_relief_extent)
+def check_tip_round(values: dict[str, dict[str, Any]]) -> None:
+    """The rack's tip round must fit its tooth (generated root_fillet.tip_round: max_radius)."""
+    alpha = math.radians(values["pair"]["normal_pressure_angle_deg"])
+    for member in ("pinion", "gear"):
+        rho = values[member]["cutter_tip_radius_coefficient"]
+        cutter = values[member]["cutter_addendum_coefficient"]
+        top = root_fillet.tip_round(np.asarray(layouts.FilletParams.pack(dict(
+            normal_pressure_angle=alpha, helix_angle=0.0, cone_angle=0.0, cutter_addendum_mm=cutter,
+            half_thickness_mm=math.pi / 4, rack_shift_mm=0.0, pitch_radius_mm=1.0, cutter_tip_radius_mm=rho,
+            normal_module_mm=1.0, profile_crowning_um=0.0, lead_crowning_um=0.0, face_width_mm=1.0)),
+            dtype=float)).max_radius
+        if rho > top:
+            dotted = f"{member}.cutter_tip_radius_coefficient"
+            raise SpecError(
+                f"{dotted} = {fmt_value(rho)}: must be at most {float(top):.4g}, the largest round that fits the"
+                f" rack tooth with {member}.cutter_addendum_coefficient = {fmt_value(cutter)} and"
+                f" pair.normal_pressure_angle_deg = {fmt_value(values['pair']['normal_pressure_angle_deg'])}",
+                key=dotted)
+
+
+CROSS_CHECKS: tuple[Callable[[dict[str, dict[str, Any]]], None], ...] = (check_clearance, check_relief_extent,
+                                                                          check_tip_round)
 
 #: section -> the dataclass holding its keys
 SECTION_TYPES: dict[str, type] = {

@@ -156,6 +156,10 @@ PHYSICAL = {
     "shaft_angle": degrees(5, 30),
     "axial_placement_mm": uniform(-100, 100),
     "tip_height_mm": uniform(2, 8),  # m_n
+    "cutter_tip_radius_mm": uniform(0, 3), "psi": uniform(0, 1.3),  # root fillet: rho_a0 <= 0.47 m_n
+    "form_limit_l_mm": uniform(0, 1.5),  # the blank's form limit: l_t = rho_a0 (1 - sin alpha_n) / cos alpha_n
+    "z": uniform(-40, 40),  # tooth_sections: a transverse section
+    "radius": uniform(400, 600),  # tooth_sections: above every base radius (pitch radius <= 400)
     # micro-geometry model (reliefs below the working depth, end zones below half the narrowest face)
     "reference_section_offset_mm": uniform(-10, 10), "tip_relief_um": uniform(0, 200),
     "tip_relief_height_mm": uniform(0.5, 5), "end_relief_um": uniform(0, 200), "end_relief_length_mm": uniform(1, 5),

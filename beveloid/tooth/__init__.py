@@ -1,0 +1,4 @@
+"""The whole tooth (issue 22): root fillet, undercut, tip thickness, interference, contact ratio.
+
+One module per check; ``fillet`` evaluates the generated root fillet.
+"""

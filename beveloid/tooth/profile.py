@@ -1,0 +1,134 @@
+"""Points of the generated tooth in a transverse section: the flank (generated surface kernels) and
+the root fillet (generated root-fillet kernels), found by Newton on their jets.
+
+``flank_in_section(geometry, member, flank, z, l)``: the flank points of rack parameters l in the
+section z (S_i); ``fillet_in_section(geometry, member, flank, z, psi)`` likewise for the fillet;
+``flank_at_radius(geometry, member, flank, z, radius)``: the flank point at a radius of the
+section; ``undercut_top(...)``: where the fillet cuts the flank in a section (the top of an undercut).
+"""
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from . import fillet as fillet_kernels
+
+_TOL = 1e-12  # mm
+_MAX_ITER = 40
+
+
+class NoSolution(RuntimeError):
+    """Newton did not converge."""
+
+
+def _solve_u(jet, p, z, u0):
+    """Solve point_z(p, u) = z for u, elementwise (jet(p, u) -> point, point_D)."""
+    u = np.broadcast_to(np.asarray(u0, dtype=float), np.broadcast(p, z).shape).copy()
+    for _ in range(_MAX_ITER):
+        j = jet(p, u)
+        f = j[0][..., 2] - z
+        u = u - f / j[2][..., 2, 1]
+        if np.all(np.abs(f) < _TOL):
+            return u
+    raise NoSolution("no point of the surface in this section")
+
+
+def flank_in_section(geometry, member, flank, z, l):
+    """(points (..., 3), u) of the flank at rack parameters l in the section z of S_i."""
+    jet = lambda ll, uu: geometry.surface_jet(member, flank, ll, uu)  # noqa: E731
+    u = _solve_u(jet, np.asarray(l, dtype=float), z, 0.0)
+    return geometry.surface(member, flank, l, u).point, u
+
+
+def fillet_in_section(geometry, member, flank, z, psi):
+    """(points (..., 3), u) of the root fillet at parameters psi in the section z of S_i."""
+    jet = lambda pp, uu: fillet_kernels.fillet_jet(geometry, member, flank, pp, uu)  # noqa: E731
+    u = _solve_u(jet, np.asarray(psi, dtype=float), z, 0.0)
+    return fillet_kernels.fillet(geometry, member, flank, psi, u).point, u
+
+
+def flank_at_radius(geometry, member, flank, z, radius, l0=None):
+    """(point, l, u) of the flank at a radius in the section z (scalar), by Newton in (l, u)."""
+    m = geometry.member(member)
+    l, u = (m.cutter_addendum_mm / np.cos(geometry.normal_pressure_angle) if l0 is None else l0), 0.0
+    for _ in range(_MAX_ITER):
+        j = geometry.surface_jet(member, flank, l, u)
+        x, y, zz = j.point
+        rr = np.hypot(x, y)
+        f = np.array([rr - radius, zz - z])
+        d = j.point_D_lu
+        jac = np.array([(x * d[0] + y * d[1]) / rr, d[2]])
+        l, u = np.array([l, u]) - np.linalg.solve(jac, f)
+        if np.max(np.abs(f)) < _TOL:
+            return geometry.surface(member, flank, l, u).point, float(l), float(u)
+    raise NoSolution(f"no {member} {flank} flank point at radius {radius} mm in the section z = {z} mm")
+
+
+def undercut_top(geometry, member, flank, z, psi0, l0, uf0=0.0, us0=0.0):
+    """(point, psi, l) where the fillet crosses the flank in the section z (the top of an undercut):
+    fillet(psi, u_f) = flank(l, u_s) with both in the section, by Newton from (psi0, l0, uf0, us0)."""
+    psi, l, uf, us = float(psi0), float(l0), float(uf0), float(us0)
+    for _ in range(_MAX_ITER):
+        jf = fillet_kernels.fillet_jet(geometry, member, flank, psi, uf)
+        js = geometry.surface_jet(member, flank, l, us)
+        f = np.concatenate([jf.point - js.point, [jf.point[2] - z]])
+        jac = np.zeros((4, 4))
+        jac[:3, 0], jac[:3, 1] = jf.point_D_pu[:, 0], jf.point_D_pu[:, 1]
+        jac[:3, 2], jac[:3, 3] = -js.point_D_lu[:, 0], -js.point_D_lu[:, 1]
+        jac[3, 0], jac[3, 1] = jf.point_D_pu[2, 0], jf.point_D_pu[2, 1]
+        psi, uf, l, us = np.array([psi, uf, l, us]) - np.linalg.solve(jac, f)
+        if np.max(np.abs(f)) < _TOL:
+            return js.point, float(psi), float(l)
+    raise NoSolution(f"the {member} {flank} fillet does not cross the flank in the section z = {z} mm")
+
+
+def _crossing(a, b):
+    """(i, j) of the first segments of polylines a (n, 2) and b (m, 2) that cross, or None."""
+    for i in range(len(a) - 1):
+        p, r = a[i], a[i + 1] - a[i]
+        q, s = b[:-1], b[1:] - b[:-1]
+        den = r[0] * s[:, 1] - r[1] * s[:, 0]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = ((q[:, 0] - p[0]) * s[:, 1] - (q[:, 1] - p[1]) * s[:, 0]) / den
+            v = ((q[:, 0] - p[0]) * r[1] - (q[:, 1] - p[1]) * r[0]) / den
+        hit = np.nonzero((t >= 0) & (t <= 1) & (v >= 0) & (v <= 1))[0]
+        if hit.size:
+            return i, int(hit[0])
+    return None
+
+
+class FormLimit(NamedTuple):
+    l_mm: float  # the flank's rack parameter there
+    radius_mm: float
+    psi: float  # the fillet's parameter there (the junction psi_J without undercut)
+
+
+def form_limit(geometry, member, flank, z, samples=400) -> FormLimit:
+    """(l, radius, psi) where the flank's usable involute starts in the section z of S_i.
+
+    Without undercut it is the junction with the fillet (l = l_t of the tip round).  Where the
+    section is undercut the fillet cuts the flank: the form limit is the top of the undercut,
+    the crossing of fillet and flank in the section (found on sampled curves, then by Newton).
+    """
+    from . import sections
+
+    tr = fillet_kernels.tip_round(geometry, member)
+    l_t, psi_j = float(tr.junction_l), float(tr.junction_psi)
+    s = sections.section(geometry, member, sections.face_z(geometry, member, z))
+    if float(getattr(s, f"undercut_depth_{flank}")) <= 0:
+        return FormLimit(l_t, float(getattr(s, f"form_radius_{flank}")), psi_j)
+    _, l_tip, _ = flank_at_radius(geometry, member, flank, z, float(s.tip_radius))
+    t = np.linspace(0.0, 1.0, samples)
+    ls = l_t + (l_tip - l_t) * t ** 3  # dense near the junction: a mild undercut is a small loop there
+    psis = psi_j * (1 - (1 - t) ** 3)
+    fl, ul = flank_in_section(geometry, member, flank, z, ls)
+    fi, ui = fillet_in_section(geometry, member, flank, z, psis)
+    # the top of the undercut: the crossing farthest up the flank
+    hit = _crossing(fl[::-1, :2], fi[:, :2])
+    if hit is None:
+        raise NoSolution(f"the {member} {flank} fillet does not cross the flank in the section z = {z} mm")
+    i, j = hit
+    k = len(ls) - 1 - i
+    point, psi, l = undercut_top(geometry, member, flank, z, psis[j], ls[k], ui[j], ul[k])
+    return FormLimit(l, float(np.hypot(point[0], point[1])), psi)

@@ -1,0 +1,98 @@
+"""The whole-tooth checks of a designed pair: ``analyze(pair) -> ToothResult``, its JSON fields and
+its table.
+
+Statuses (not refusals: the design stands, the designer decides): ``undercut`` (a flank is
+undercut somewhere in the face), ``pointed`` (the tip thickness reaches zero inside the face),
+``interference`` (the mating tip reaches a fillet on the aligned pair's path of contact), and
+``no contact`` (the contact ratio could not be measured: it is then null).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from . import contact, sections, tip, undercut
+
+STATUSES = ("undercut", "pointed", "interference", "no contact")
+
+
+@dataclass(frozen=True)
+class ToothOptions:
+    """What the checks sample: the contact ratio's grid (angles per pinion pitch) and solver backend."""
+    contact_per_pitch: int = 24
+    backend: str = "numpy"
+
+    def __post_init__(self):
+        if not (isinstance(self.contact_per_pitch, int) and 8 <= self.contact_per_pitch <= 1000):
+            raise ValueError(f"ToothOptions.contact_per_pitch = {self.contact_per_pitch!r}: must be an integer"
+                             " from 8 to 1000")
+        if self.backend not in ("auto", "compiled", "numpy"):
+            raise ValueError(f"ToothOptions.backend = {self.backend!r}: must be one of auto, compiled, numpy")
+
+
+@dataclass(frozen=True)
+class ToothResult:
+    undercut: dict  # {member: {flank: undercut.Undercut or None}}
+    tip: dict  # {member: tip.TipThickness}
+    contact: dict  # {flank: contact.FlankContact or None}
+    statuses: list = field(default_factory=list)  # [(status, message)]
+
+    def member_json(self, member: str) -> dict:
+        return {"tip_transverse_thickness_mm": self.tip[member].to_json_dict(),
+                "undercut": {fl: (u.to_json_dict() if u is not None else None)
+                             for fl, u in self.undercut[member].items()}}
+
+    def pair_json(self) -> dict:
+        return {"contact_ratio": {fl: (c.contact_ratio if c is not None else None) for fl, c in self.contact.items()},
+                "tooth_status": [{"status": s, "message": m} for s, m in self.statuses]}
+
+    def add_to(self, design: dict) -> dict:
+        """The design JSON (beveloid design --json) with the whole-tooth fields added."""
+        for member in sections.MEMBERS:
+            design[member].update(self.member_json(member))
+        design.update(self.pair_json())
+        return design
+
+    def table(self) -> str:
+        lines = ["", "Whole tooth (face coordinate z from the face centre, toe at -W/2; mm):",
+                 "member | flank | tip thickness toe / middle / heel (transverse arc) | undercut z range (depth)"]
+        for member in sections.MEMBERS:
+            t = self.tip[member]
+            for fl in sections.FLANKS:
+                u = self.undercut[member][fl]
+                cut = "none" if u is None else f"{u.from_mm:.3f} .. {u.to_mm:.3f} ({u.depth_mm:.4f})"
+                thick = f"{t.toe_mm:.4f} / {t.middle_mm:.4f} / {t.heel_mm:.4f}" if fl == "left" else ""
+                lines.append(f"{member} | {fl} | {thick} | {cut}")
+        ratio = " | ".join(f"{fl} {c.contact_ratio:.4f}" if c is not None else f"{fl} none"
+                           for fl, c in self.contact.items())
+        lines.append(f"contact ratio (aligned TCA, per pinion pitch): {ratio}")
+        lines += [f"status {s}: {m}" for s, m in self.statuses]
+        return "\n".join(lines)
+
+
+def analyze(pair, options: ToothOptions = ToothOptions()) -> ToothResult:
+    """Every whole-tooth check of a :class:`beveloid.pair.Pair` (or a PairGeometry)."""
+    geom = getattr(pair, "geometry", pair)
+    cut = undercut.undercut(geom)
+    tips = tip.tip_thicknesses(geom)
+    statuses = []
+    for member in sections.MEMBERS:
+        statuses += [("undercut", u.message()) for u in cut[member].values() if u is not None]
+        if tips[member].pointed:
+            statuses.append(("pointed", tips[member].message()))
+    flanks = {}
+    for fl in sections.FLANKS:
+        try:
+            flanks[fl] = contact.flank_contact(geom, fl, per_pitch=options.contact_per_pitch, backend=options.backend)
+        except RuntimeError as err:
+            flanks[fl] = None
+            statuses.append(("no contact", f"contact ratio, {fl} flank: {err}"))
+            continue
+        for boundary in flanks[fl].interference:
+            owner = boundary.split()[0]
+            mate = "gear" if owner == "pinion" else "pinion"
+            below = -flanks[fl].form_margin_mm[owner]
+            depth = f" by {below:.4f} mm along the rack edge" if below > 0 else ""
+            statuses.append(("interference", f"interference: {fl} flank, the {mate}'s tip reaches below the"
+                                             f" {owner}'s form limit{depth} (into its fillet) on the aligned"
+                                             " pair's path of contact"))
+    return ToothResult(cut, tips, flanks, statuses)
