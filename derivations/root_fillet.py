@@ -54,7 +54,7 @@ import sympy as sp
 
 from . import crowned_flank as cf
 from . import eq04_07_tooth_surface as involute
-from .codegen import Field
+from .interface import Field
 from .eq01_03_rack_cutter import rack_rotation
 from .symbols import a, alpha_n, b, l, m_n, phi, s, u
 

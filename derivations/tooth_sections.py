@@ -32,7 +32,7 @@ import sympy as sp
 
 from . import flank_boundaries as fb
 from . import root_fillet as rf
-from .codegen import Field
+from .interface import Field
 from .eq01_03_rack_cutter import LEFT, RIGHT, rack_normal, rack_point
 from .symbols import a, gamma, l, r, s, u
 

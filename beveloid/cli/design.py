@@ -30,11 +30,14 @@ def run(args: argparse.Namespace) -> int:
     from ..design import design_json, format_table1
     from ..pair import Pair
     from ..tooth import report
+    from .paths import check_output_file
 
+    if args.plot is not None:
+        check_output_file(args.plot, "--plot", ".png")  # before anything is computed
     pair = Pair.from_spec(args.file)
     result = pair.design
     tooth = report.analyze(pair)  # whole-tooth checks: statuses, not refusals
-    if args.plot:
+    if args.plot is not None:
         from ..tooth import plot
 
         plot.plot_sections(pair, tooth, args.plot)
