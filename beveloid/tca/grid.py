@@ -9,7 +9,7 @@ from ..generated import tca_kernels
 from ..solver import Solver, patch_cover
 from ..solver.options import SolverOptions
 from ..status import Status, carries_numbers
-from .contact import as_solver, contact_points, errors_array, newton_tolerance
+from .contact import as_solver, contact_points, errors_array, newton_tolerance, unknowns
 from .reference import first_touch_sign, reference_contact
 
 
@@ -31,6 +31,7 @@ class GridSolution:
 
 #: solve_grid runs up to this many error sets in one thread (a mesh study, a backlash: one set)
 SERIAL_MAX_SETS = 32
+GEAR_ANGLE_INDEX = tca_kernels.UNKNOWNS.index("gear_angle_rad")
 _FIELDS = ("x", "status", "iterations", "boundary", "active")
 
 
@@ -76,11 +77,31 @@ def _solve_once(geom, flank, errors, phi_grid, solver, homotopy_steps):
                 newton_tolerance(geom, options.tol_mm), options.max_iter, homotopy_steps, options.patch_tol_mm,
                 first_touch_sign(geom, flank), out["x"], out["status"], out["iterations"], out["boundary"],
                 out["active"])
+    off_branch(geom, ref, grid, out)
     if np.array_equal(order, np.arange(N)):  # an ascending grid (the sweep's): no copies back
         return GridSolution(**out)
     inv = np.empty_like(order)
     inv[order] = np.arange(N)
     return GridSolution(**{k: v[:, inv] for k, v in out.items()})
+
+
+#: a contact of pair 0 is that pair's only while its gear angle lies within this many gear pitches
+#: of the kinematic one, phi'_2,ref - (N1/N2)(phi'_1 - phi'_1,ref) (its |TE| below half a pitch)
+BRANCH_PITCHES = 0.5
+
+
+def off_branch(geom, ref, grid, out):
+    """Mark FAILED (in place, no numbers) every solved point whose gear angle is off pair 0's
+    branch: |TE| >= BRANCH_PITCHES gear pitches is another tooth's contact, or a search that
+    wandered (e.g. a diverged edge Newton, whole turns or pitches away), never pair 0's."""
+    x, code = out["x"], out["status"]
+    kinematic = unknowns(ref.x).gear_angle_rad - geom.pinion.teeth / geom.gear.teeth * (grid - ref.pinion_angle)
+    with np.errstate(invalid="ignore"):
+        far = ~(np.abs(x[..., GEAR_ANGLE_INDEX] - kinematic[None, :]) < BRANCH_PITCHES * geom.pitch_angles[1])
+    bad = far & carries_numbers(code)
+    code[bad] = Status.FAILED
+    out["boundary"][bad] = -1
+    out["active"][bad] = -1
 
 
 def solved_contact_points(geom, flank, x, status, backend: "Solver | str" = "auto"):
