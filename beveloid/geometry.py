@@ -66,12 +66,15 @@ class Member:
             dtype=float)
 
 
-def _junction_l(normal_pressure_angle, tip_radius_mm, normal_module_mm):
-    """l_t of the rack's tip round (generated root_fillet.tip_round; the other fields do not enter it)."""
+def junction_l(normal_pressure_angle, tip_radius_mm, normal_module_mm):
+    """l_t of the rack's tip round: where the flank's straight part starts, the form limit of the
+    blank (generated root_fillet.tip_round; the other fields do not enter it); float or array."""
     values = dict(normal_pressure_angle=normal_pressure_angle, helix_angle=0.0, cone_angle=0.0, cutter_addendum_mm=0.0,
                   half_thickness_mm=0.0, rack_shift_mm=0.0, pitch_radius_mm=1.0, cutter_tip_radius_mm=tip_radius_mm,
                   normal_module_mm=normal_module_mm, profile_crowning_um=0.0, lead_crowning_um=0.0, face_width_mm=1.0)
-    return float(root_fillet.tip_round(np.asarray(layouts.FilletParams.pack(values), dtype=float)).junction_l)
+    shaped = dict(zip(values, np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in values.values()))))
+    params = np.moveaxis(np.asarray(layouts.FilletParams.pack(shaped), dtype=float), 0, -1)
+    return root_fillet.tip_round(params).junction_l
 
 
 @dataclass(frozen=True)
@@ -105,7 +108,7 @@ class PairGeometry:
                 tip_height_mm=m.addendum_coefficient * mn, pitch_point_angle=m.pitch_point_angle,
                 tooth_surface=getattr(spec_member, "tooth_surface", "involute"),
                 surface_options=tuple(sorted(dict(getattr(spec_member, "surface_options", ()) or ()).items())),
-                cutter_tip_radius_mm=rho, form_limit_l_mm=_junction_l(result.normal_pressure_angle, rho, mn))
+                cutter_tip_radius_mm=rho, form_limit_l_mm=float(junction_l(result.normal_pressure_angle, rho, mn)))
 
         spec = result.spec
         return cls(mn, result.normal_pressure_angle, result.offset_mm, result.shaft_angle,

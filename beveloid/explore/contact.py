@@ -24,6 +24,7 @@ from .. import tca
 from ..generated import layouts, surface_models, tca_kernels
 from ..solver import backends
 from ..solver.options import DEFAULT_OPTIONS
+from ..geometry import junction_l
 from ..status import Status
 
 MEMBERS = ((1, "pinion"), (2, "gear"))
@@ -54,6 +55,9 @@ def members(values: dict, q: dict, idx: np.ndarray, models: dict) -> dict:
             reference_section_offset_mm=b_c, face_width_mm=values[f"{name}.face_width_mm"][idx],
             tip_height_mm=values[f"{name}.addendum_coefficient"][idx] * m_n, half_thickness_mm=math.pi * m_n / 4,
             normal_module_mm=m_n, toe_z_mm=toe, heel_z_mm=heel,
+            form_limit_l_mm=np.broadcast_to(junction_l(
+                np.radians(values["pair.normal_pressure_angle_deg"][idx]),
+                values[f"{name}.cutter_tip_radius_coefficient"][idx] * m_n, m_n), m_n.shape),
             pitch_point_angle=np.array([math.atan2(s, c) for s, c in zip(q[f"sin_theta{i}"][idx], q[f"cos_theta{i}"][idx])]),
             model=models[name])
         for key in surface_models.MODEL_KEYS[models[name]]:  # the model's own inputs (crowning)

@@ -183,9 +183,8 @@ class ToothSampler:
 
 def transition_junction(geometry, member, flank):
     """Where the root transition meets the flank: {"l": l (mm)} (form limit of the flank)."""
-    fillet = _generated_fillet()
-    if fillet is None:
-        return {"l": 0.0}
+    from ..tooth import fillet
+
     return {"l": float(fillet.tip_round(geometry, member).junction_l)}
 
 
@@ -193,37 +192,23 @@ def root_transition(sampler: ToothSampler, flank, s, z):
     """THE source of the root transition surface, (n_s, n_z, 3): s = 0 on the root cone, 1 at the flank.
 
     The generated root fillet (``beveloid.tooth.fillet``: the envelope of the rack's tip round, a
-    trochoidal surface for a sharp rack) where it is available; until then a TEMPORARY ruled
-    transition from the flank's form limit straight down to the root cone in the same section.
+    trochoidal surface for a sharp rack), sampled in the transverse sections z.
     """
-    fillet = _generated_fillet()
+    from ..tooth import fillet
+
     geometry, member = sampler.geometry, sampler.member
     z2 = np.broadcast_to(z[None, :], (s.size, z.size))
-    if fillet is not None:
-        tr = fillet.tip_round(geometry, member)
-        psi = np.broadcast_to(s[:, None] * float(tr.junction_psi), z2.shape)
-        u = sampler.flank_u(flank, float(tr.junction_l), z)
-        u = np.broadcast_to(u[None, :], z2.shape).copy()
-        for _ in range(_NEWTON_STEPS):
-            jet = fillet.fillet_jet(geometry, member, flank, psi, u)
-            step = (jet.point[..., 2] - z2) / jet.point_D_pu[..., 2, 1]
-            u = u - step
-            if np.max(np.abs(step), initial=0.0) < 1e-13 * (1 + np.max(np.abs(z), initial=0.0)):
-                return fillet.fillet(geometry, member, flank, psi, u).point
-        raise ExportGeometryError(f"{member} {flank} fillet: no fillet point found in a section (Newton on u)")
-    top = sampler.flank_points(flank, np.array([0.0]), z)[0]  # (n_z, 3)
-    scale = sampler.root_radius_mm(z) / np.hypot(top[:, 0], top[:, 1])
-    bottom = np.stack([top[:, 0] * scale, top[:, 1] * scale, top[:, 2]], axis=-1)
-    return bottom[None] + s[:, None, None] * (top - bottom)[None]
-
-
-def _generated_fillet():
-    """The runtime wrapper of the generated root fillet, or None where this checkout has none."""
-    try:
-        from ..tooth import fillet
-    except ImportError:
-        return None
-    return fillet
+    tr = fillet.tip_round(geometry, member)
+    psi = np.broadcast_to(s[:, None] * float(tr.junction_psi), z2.shape)
+    u = sampler.flank_u(flank, float(tr.junction_l), z)
+    u = np.broadcast_to(u[None, :], z2.shape).copy()
+    for _ in range(_NEWTON_STEPS):
+        jet = fillet.fillet_jet(geometry, member, flank, psi, u)
+        step = (jet.point[..., 2] - z2) / jet.point_D_pu[..., 2, 1]
+        u = u - step
+        if np.max(np.abs(step), initial=0.0) < 1e-13 * (1 + np.max(np.abs(z), initial=0.0)):
+            return fillet.fillet(geometry, member, flank, psi, u).point
+    raise ExportGeometryError(f"{member} {flank} fillet: no fillet point found in a section (Newton on u)")
 
 
 def rotate_z(points, angle):

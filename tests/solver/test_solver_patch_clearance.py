@@ -36,7 +36,8 @@ def test_margin_slopes_are_constant():
     # and the generated kernel gives it at random points
     rng = np.random.default_rng(3)
     blank = np.asarray(layouts.FlankBlank.pack(dict(pitch_radius_mm=100.0, tip_height_mm=6.0, rack_shift_mm=1.0,
-                                                    cone_angle=math.radians(7.0), toe_z_mm=-20.0, heel_z_mm=30.0, form_limit_l_mm=0.0)))
+                                                    cone_angle=math.radians(7.0), toe_z_mm=-20.0, heel_z_mm=30.0,
+                                                    form_limit_l_mm=0.0)))
     p = rng.uniform(-150, 150, (50, 3))
     slopes = np.linalg.norm(flank_boundaries.flank_margins(p, 0.0, blank).margins_D_point, axis=-1)
     assert np.allclose(slopes[:, 1], 1 / math.cos(math.radians(7.0)), rtol=1e-12)
