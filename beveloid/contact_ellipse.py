@@ -146,6 +146,34 @@ def _chord(geom, flank, frames, P0, E, v2, cap):
     return out
 
 
+def _chord_kernel(backend):
+    """The compiled solver's chord search, or None: on the numpy backend, and where numba runs
+    interpreted (NUMBA_DISABLE_JIT=1: one point at a time in Python would be slower than numpy)."""
+    from .solver import backends
+
+    if backends.resolve(backend) != "compiled":
+        return None
+    kernel = backends.namespace("compiled").ellipse_chords
+    return kernel if hasattr(kernel, "py_func") else None
+
+
+def _compiled_chord(geom, flank, frames, P0, E, v2, cap):
+    """:func:`_chord` by the compiled solver (the same search, one point at a time)."""
+    members = ("pinion", "gear")
+    out = np.empty(P0.shape[0])
+    _chord_kernel("compiled")(
+        np.array([tca_kernels.model_id(geom.member(w).tooth_surface) for w in members], dtype=np.int64),
+        tca_kernels.flank_id(flank), geom.surface_params("pinion"), geom.surface_params("gear"),
+        geom.member("pinion").blank(), geom.member("gear").blank(),
+        np.ascontiguousarray(np.stack([frames[w][0] for w in members]), dtype=float),
+        np.ascontiguousarray(np.stack([frames[w][1] for w in members]), dtype=float),
+        np.ascontiguousarray(np.stack([np.stack(frames[w][2:], axis=-1) for w in members]), dtype=float),
+        np.ascontiguousarray(P0, dtype=float), np.ascontiguousarray(E, dtype=float),
+        np.ascontiguousarray(v2, dtype=float), np.ascontiguousarray(cap, dtype=float),
+        np.linspace(0, 1, _SAMPLES + 1)[1:], _BISECTIONS, out)
+    return out
+
+
 def classify(lmin, lmax, valid):
     """One of STATUSES per point from the eigenvalues of H (see the module docstring)."""
     return np.where(~np.asarray(valid, bool), "no contact",
@@ -153,9 +181,11 @@ def classify(lmin, lmax, valid):
                              np.where(lmin <= FLAT_RATIO * lmax, "line contact", "ellipse")))
 
 
-def ellipses(geom, flank, x, pinion_angle, errors, valid=None, approach_mm=DEFAULT_APPROACH_MM) -> ContactEllipses:
+def ellipses(geom, flank, x, pinion_angle, errors, valid=None, approach_mm=DEFAULT_APPROACH_MM,
+             backend="auto") -> ContactEllipses:
     """Contact ellipses at solved contacts x (n, 5) (tca_kernels.UNKNOWNS) for pinion angles (n,)
-    and errors (5,) or (n, 5); ``valid`` (n,) marks the points that are contacts."""
+    and errors (5,) or (n, 5); ``valid`` (n,) marks the points that are contacts.  The chords are
+    searched by the compiled solver when ``backend`` resolves to it (else vectorised numpy)."""
     x = np.atleast_2d(np.asarray(x, dtype=float))
     n = x.shape[0]
     phi1 = np.broadcast_to(np.asarray(pinion_angle, dtype=float), (n,))
@@ -184,24 +214,25 @@ def ellipses(geom, flank, x, pinion_angle, errors, valid=None, approach_mm=DEFAU
     if has_axis.any():
         idx = np.nonzero(has_axis)[0]
         frames = {k: tuple(arr[idx] for arr in fr) for k, fr in _member_frames(geom, xs, phi1, errors).items()}
+        chord = _chord if _chord_kernel(backend) is None else _compiled_chord
         for col, sign in ((0, -1.0), (1, 1.0)):
-            trunc[idx, col] = _chord(geom, flank, frames, rc.point[idx], rc.basis[idx], sign * v2[idx], cap[idx])
+            trunc[idx, col] = chord(geom, flank, frames, rc.point[idx], rc.basis[idx], sign * v2[idx], cap[idx])
     return ContactEllipses(approach_mm, np.array(errors), [str(s) for s in status], np.stack([a, b], axis=-1), ang,
                            np.where(has_axis[:, None], major, np.nan), trunc, lam, rc.point, rc.basis)
 
 
-def flank_ellipses(geom, fr, errors, approach_mm=DEFAULT_APPROACH_MM) -> ContactEllipses:
+def flank_ellipses(geom, fr, errors, approach_mm=DEFAULT_APPROACH_MM, backend="auto") -> ContactEllipses:
     """Contact ellipses at every point of a :class:`beveloid.tca.FlankResult` (pair 0's unknowns at
     the shifted pinion angles: the configuration in S_f is the same as pair k's)."""
     phi1 = fr.pinion_angle - fr.tooth_pair * geom.pitch_angles[0]
     valid = carries_numbers(np.asarray([Status[s.upper()] for s in fr.status]))
-    return ellipses(geom, fr.flank, fr.unknowns, phi1, errors, valid, approach_mm)
+    return ellipses(geom, fr.flank, fr.unknowns, phi1, errors, valid, approach_mm, backend)
 
 
-def with_ellipses(result, approach_mm=DEFAULT_APPROACH_MM):
+def with_ellipses(result, approach_mm=DEFAULT_APPROACH_MM, backend="auto"):
     """A new :class:`beveloid.tca.TCAResult` whose flanks carry their contact ellipses at the
     elastic approach (mm); ``result`` is not changed."""
-    flanks = {k: replace(fr, contact_ellipse=flank_ellipses(result.geometry, fr, result.errors, approach_mm))
+    flanks = {k: replace(fr, contact_ellipse=flank_ellipses(result.geometry, fr, result.errors, approach_mm, backend))
               for k, fr in result.flanks.items()}
     return replace(result, flanks=flanks, approach_mm=approach_mm)
 

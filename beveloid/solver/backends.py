@@ -50,7 +50,7 @@ def resolve(backend: str) -> str:
 
 
 #: the core's modules, by job (beveloid.solver.core is their one namespace)
-CORE_MODULES = ("linalg", "newton", "first_touch", "clearance", "paths", "gaps")
+CORE_MODULES = ("linalg", "newton", "first_touch", "clearance", "paths", "gaps", "chord")
 
 
 def _modules():

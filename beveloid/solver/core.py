@@ -52,6 +52,7 @@ from .clearance import (  # noqa: F401
 )
 from .paths import solve_off_patch, solve_paths, contact_points  # noqa: F401
 from .gaps import PINION_L, PINION_U, GEAR_L, GEAR_U, normal_gaps  # noqa: F401
+from .chord import ellipse_chords  # noqa: F401
 
 #: Functions compiled with numba's parallel=True by the compiled backend.
 PARALLEL = ("solve_paths",)
@@ -61,4 +62,4 @@ PARALLEL = ("solve_paths",)
 #: evaluation of the contact system costs ~28 % less (docs/performance.md).  numba refuses to
 #: compile a function outside this list that allocates ("NRT required but not enabled").
 ALLOCATING = ("scratch", "edge_scratch", "clearance_scratch", "workspace", "edge_workspace", "solve_paths",
-              "solve_point", "normal_gaps", "solve_linear", "contact_points")
+              "solve_point", "normal_gaps", "solve_linear", "contact_points", "ellipse_chords")
