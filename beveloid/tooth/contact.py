@@ -108,7 +108,7 @@ def _end_boundary(state):
     return names[boundary] if boundary >= 0 else ""
 
 
-def flank_contact(geom, flank, per_pitch=24, span_pitches=3, neighbours=2, backend="numpy") -> FlankContact:
+def flank_contact(geom, flank, per_pitch=24, span_pitches=3, neighbours=2, backend="auto") -> FlankContact:
     """Contact ratio and interference of one flank of the aligned pair (see the module docstring)."""
     path = _Path(geom, flank, neighbours, backend)
     p1, ref = path.p1, tca.reference_contact(geom, flank).pinion_angle

@@ -19,7 +19,7 @@ STATUSES = ("undercut", "pointed", "interference", "no contact")
 class ToothOptions:
     """What the checks sample: the contact ratio's grid (angles per pinion pitch) and solver backend."""
     contact_per_pitch: int = 24
-    backend: str = "numpy"
+    backend: str = "auto"  # the compiled solver when numba is installed
 
     def __post_init__(self):
         if not (isinstance(self.contact_per_pitch, int) and 8 <= self.contact_per_pitch <= 1000):
