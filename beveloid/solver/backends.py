@@ -70,12 +70,27 @@ def namespace(backend: str) -> types.SimpleNamespace:
     from . import core
 
     if backend == "numpy":
-        funcs = {k: v for k, v in vars(core).items() if isinstance(v, types.FunctionType)}
+        funcs = {k: _quiet(v) for k, v in vars(core).items() if isinstance(v, types.FunctionType)}
         funcs.update({name + "_serial": funcs[name] for name in core.PARALLEL})
         return types.SimpleNamespace(**funcs, compiled=False)
     if backend != "compiled":
         raise ValueError(f"backend must be 'numpy' or 'compiled', got {backend!r}")
     return _compile(_modules())
+
+
+def _quiet(fn):
+    """``fn`` under ``numpy.errstate(all="ignore")``.  Run by the interpreter, the core's scalar
+    arithmetic is numpy's, which warns where a diverging Newton iterate overflows (relieved flanks
+    far off their patch); the core already answers such a point by its status (a non-finite
+    residual is not converged), as the compiled core does silently, so the warnings are noise."""
+    import numpy
+
+    @functools.wraps(fn)
+    def quiet(*args, **kwargs):
+        with numpy.errstate(all="ignore"):
+            return fn(*args, **kwargs)
+
+    return quiet
 
 
 _cache_warned = False
@@ -211,6 +226,8 @@ def _compile(modules):
         copy.__qualname__ = f"{fn.__qualname__}_serial__{stamp}"  # its own cache entry (not the parallel one's)
         copy.__module__ = fn.__module__
         funcs[name + "_serial"] = _jit(copy, parallel=False)
+    # where numba runs nothing compiled (NUMBA_DISABLE_JIT=1) the functions are the interpreted core
+    funcs = {name: fn if hasattr(fn, "py_func") else _quiet(fn) for name, fn in funcs.items()}
     return types.SimpleNamespace(**funcs, compiled=True)
 
 
