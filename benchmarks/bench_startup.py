@@ -3,12 +3,21 @@
     python benchmarks/bench_startup.py              # table: median and min over --repeat runs
     python benchmarks/bench_startup.py --json
     python benchmarks/bench_startup.py --imports    # also the modules each command imports
+    python benchmarks/bench_startup.py --compare OTHER_CHECKOUT   # before/after, alternating, one run
 
 Not a test.  Each command runs as its own process (``python -m beveloid.cli``), so the time is what
 a user waits: interpreter start, imports, numba's cache loading, the work.  One untimed run of each
 command first fills numba's cache (a cold cache is a compile, not a start-up).  Commands: ``--help``,
-``example case1``, ``design`` and ``tca --positions 3`` on case 1 (the smallest real TCA), and
-``tca --help`` (the command's imports without its work).
+``example case1``, ``tca --help`` (the command's imports without its work), and on case 1
+``design``, ``tca`` (its defaults: 200 positions, both flanks, contact ellipses), ``tca --positions 3``
+(the smallest real TCA), ``ltca --torque-nm 200 --positions 3`` and ``sweep --samples 4
+--positions 10``.
+
+``--compare OTHER`` times each command also with the sources of another checkout (a folder holding
+``beveloid/`` and ``generated/``, e.g. ``git archive main | tar -x -C /tmp/main``) first on
+``PYTHONPATH``, the two alternating run by run, so a before/after ratio comes from one run on the
+same load.  Python writes .pyc files here whatever the calling shell says (``PYTHONDONTWRITEBYTECODE``
+is dropped: a user's install has them, and compiling ~70 modules from source costs ~0.1 s a run).
 """
 from __future__ import annotations
 
@@ -29,7 +38,10 @@ def commands(spec: str) -> dict[str, list[str]]:
         "example case1": ["example", "case1"],
         "tca --help": ["tca", "--help"],
         "design case1": ["design", spec],
+        "tca case1": ["tca", spec],
         "tca case1 --positions 3": ["tca", spec, "--positions", "3"],
+        "ltca case1 (3 positions)": ["ltca", spec, "--torque-nm", "200", "--positions", "3"],
+        "sweep case1 (4 x 10)": ["sweep", spec, "--samples", "4", "--positions", "10"],
     }
 
 
@@ -56,31 +68,55 @@ def _imports(args: list[str], cwd: str, env: dict) -> tuple[int, list[str]]:
     return int(count), heavy
 
 
+def _time(argv, cwd, envs, repeat):
+    """{label: {median_s, min_s, runs}} with the runs of the environments interleaved."""
+    for env in envs.values():
+        _run(argv, cwd, env)  # warm: numba's cache, the OS's file cache, .pyc files
+    times = {label: [] for label in envs}
+    for _ in range(repeat):
+        for label, env in envs.items():
+            times[label].append(_run(argv, cwd, env))
+    return {label: {"median_s": statistics.median(t), "min_s": min(t), "runs": len(t)} for label, t in times.items()}
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=7, help="timed runs per command (default 7)")
     ap.add_argument("--json", action="store_true")
     ap.add_argument("--imports", action="store_true", help="count the modules each command imports")
+    ap.add_argument("--compare", metavar="OTHER", help="another checkout's folder: time it too, alternating")
     args = ap.parse_args()
-    env = {**os.environ, "PYTHONDONTWRITEBYTECODE": "0"}
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+    envs = {"this": env}
+    if args.compare:
+        other = str(Path(args.compare).resolve())
+        if not (Path(other) / "beveloid" / "__init__.py").is_file():
+            raise SystemExit(f"--compare = {args.compare}: not a folder holding beveloid/__init__.py")
+        envs = {"other": {**env, "PYTHONPATH": os.pathsep.join(filter(None, [other, env.get("PYTHONPATH")]))},
+                "this": env}
     out = {}
     with tempfile.TemporaryDirectory() as tmp:
         spec = str(Path(tmp) / "case1.toml")
         with open(spec, "w") as f:
             subprocess.run([sys.executable, "-m", "beveloid.cli", "example", "case1"], stdout=f, check=True, env=env)
         for name, argv in commands(spec).items():
-            _run(argv, tmp, env)  # warm: numba's cache, the OS's file cache, .pyc files
-            times = [_run(argv, tmp, env) for _ in range(args.repeat)]
-            out[name] = {"median_s": statistics.median(times), "min_s": min(times), "runs": len(times)}
+            out[name] = _time(argv, tmp, envs, args.repeat)
             if args.imports:
-                out[name]["modules"], out[name]["heavy_modules"] = _imports(argv, tmp, env)
+                for label, e in envs.items():
+                    out[name][label]["modules"], out[name][label]["heavy_modules"] = _imports(argv, tmp, e)
     if args.json:
         print(json.dumps(out, indent=2))
         return
-    print(f"{'command':<26} {'median (s)':>10} {'min (s)':>8}" + ("  modules  heavy" if args.imports else ""))
+    labels = list(envs)
+    head = "".join(f" {label + ' median (s)':>18} {'min (s)':>8}" for label in labels)
+    print(f"{'command':<35}{head}" + ("  ratio" if len(labels) == 2 else "") + ("  modules  heavy" if args.imports else ""))
     for name, r in out.items():
-        extra = f"  {r['modules']:>7}  {' '.join(r['heavy_modules'])}" if args.imports else ""
-        print(f"beveloid {name:<17} {r['median_s']:>10.3f} {r['min_s']:>8.3f}{extra}")
+        row = "".join(f" {r[label]['median_s']:>18.3f} {r[label]['min_s']:>8.3f}" for label in labels)
+        if len(labels) == 2:
+            row += f"  {r['this']['median_s'] / r['other']['median_s']:>5.2f}"
+        if args.imports:
+            row += "".join(f"  {r[label]['modules']:>7}  {' '.join(r[label]['heavy_modules'])}" for label in labels)
+        print(f"beveloid {name:<26}{row}")
 
 
 if __name__ == "__main__":
