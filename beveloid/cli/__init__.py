@@ -63,6 +63,18 @@ def _version() -> str:
         return "unknown (not installed)"
 
 
+class _VersionAction(argparse.Action):
+    """``--version``: the installed version, looked up only when asked (importlib.metadata: ~10 ms)."""
+
+    def __init__(self, option_strings, dest=argparse.SUPPRESS, default=argparse.SUPPRESS, help=None):
+        super().__init__(option_strings, dest=dest, default=default, nargs=0,
+                         help=help or "show program's version number and exit")
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        print(f"{PROG} {_version()}")  # on stdout, as argparse's own version action
+        parser.exit()
+
+
 class _OneLineParser(argparse.ArgumentParser):
     """Usage errors as one line (``beveloid <command>: error: ...; see --help``), exit 2."""
 
@@ -77,7 +89,7 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
         prog=PROG,
         description="Crossed beveloid gears after Zhu, Song, Lim & Peng, Mech. Mach. Theory 59 (2013).",
     )
-    parser.add_argument("--version", action="version", version=f"{PROG} {_version()}")
+    parser.add_argument("--version", action=_VersionAction)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True, parser_class=_OneLineParser)
     for name in COMMANDS if only is None else (only,):
         module = command(name)
