@@ -1,0 +1,32 @@
+"""The script's quick exit (``gc.freeze`` after the command, beveloid/cli/__init__.py) changes
+nothing a user sees, and in-process callers keep a collected heap."""
+from __future__ import annotations
+
+import gc
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+from beveloid import cli
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def test_script_output_is_the_in_process_output(capsys, tmp_path):
+    argv = ["tca", str(ROOT / "examples" / "case1.toml"), "--positions", "3", "--json"]
+    frozen = gc.get_freeze_count()
+    assert cli.main(argv) == 0
+    assert gc.get_freeze_count() == frozen  # argv given: nothing frozen in the caller's process
+    here = json.loads(capsys.readouterr().out)
+    p = subprocess.run([sys.executable, "-m", "beveloid.cli", *argv], capture_output=True, text=True, timeout=600,
+                       cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    assert json.loads(p.stdout) == here
+    assert p.stderr == ""
+
+
+def test_script_error_exit_is_unchanged(tmp_path):
+    p = subprocess.run([sys.executable, "-m", "beveloid.cli", "tca", str(tmp_path / "missing.toml")],
+                       capture_output=True, text=True, timeout=600, cwd=tmp_path)
+    assert p.returncode == 2 and len(p.stderr.strip().splitlines()) == 1 and "Traceback" not in p.stderr
