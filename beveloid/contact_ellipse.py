@@ -146,7 +146,7 @@ def _chord(geom, flank, frames, P0, E, v2, cap):
     return out
 
 
-def _chord_kernel(backend):
+def chord_kernel(backend):
     """The compiled solver's chord search, or None: on the numpy backend, and where numba runs
     interpreted (NUMBA_DISABLE_JIT=1: one point at a time in Python would be slower than numpy)."""
     from .solver import backends
@@ -157,11 +157,11 @@ def _chord_kernel(backend):
     return kernel if hasattr(kernel, "py_func") else None
 
 
-def _compiled_chord(geom, flank, frames, P0, E, v2, cap):
-    """:func:`_chord` by the compiled solver (the same search, one point at a time)."""
+def _compiled_chord(kernel, geom, flank, frames, P0, E, v2, cap):
+    """:func:`_chord` by the compiled solver's ``kernel`` (the same search, one point at a time)."""
     members = ("pinion", "gear")
     out = np.empty(P0.shape[0])
-    _chord_kernel("compiled")(
+    kernel(
         np.array([tca_kernels.model_id(geom.member(w).tooth_surface) for w in members], dtype=np.int64),
         tca_kernels.flank_id(flank), geom.surface_params("pinion"), geom.surface_params("gear"),
         geom.member("pinion").blank(), geom.member("gear").blank(),
@@ -214,9 +214,10 @@ def ellipses(geom, flank, x, pinion_angle, errors, valid=None, approach_mm=DEFAU
     if has_axis.any():
         idx = np.nonzero(has_axis)[0]
         frames = {k: tuple(arr[idx] for arr in fr) for k, fr in _member_frames(geom, xs, phi1, errors).items()}
-        chord = _chord if _chord_kernel(backend) is None else _compiled_chord
+        kernel = chord_kernel(backend)
         for col, sign in ((0, -1.0), (1, 1.0)):
-            trunc[idx, col] = chord(geom, flank, frames, rc.point[idx], rc.basis[idx], sign * v2[idx], cap[idx])
+            args = (geom, flank, frames, rc.point[idx], rc.basis[idx], sign * v2[idx], cap[idx])
+            trunc[idx, col] = _chord(*args) if kernel is None else _compiled_chord(kernel, *args)
     return ContactEllipses(approach_mm, np.array(errors), [str(s) for s in status], np.stack([a, b], axis=-1), ang,
                            np.where(has_axis[:, None], major, np.nan), trunc, lam, rc.point, rc.basis)
 
