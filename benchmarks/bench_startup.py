@@ -4,6 +4,7 @@
     python benchmarks/bench_startup.py --json
     python benchmarks/bench_startup.py --imports    # also the modules each command imports
     python benchmarks/bench_startup.py --compare OTHER_CHECKOUT   # before/after, alternating, one run
+    python benchmarks/bench_startup.py --floor      # what numpy and numba cost before any beveloid code
 
 Not a test.  Each command runs as its own process (``python -m beveloid.cli``), so the time is what
 a user waits: interpreter start, imports, numba's cache loading, the work.  One untimed run of each
@@ -68,6 +69,29 @@ def _imports(args: list[str], cwd: str, env: dict) -> tuple[int, list[str]]:
     return int(count), heavy
 
 
+#: ``python -c CODE``: the floor under a command that runs the compiled solver
+FLOOR = {
+    "python (nothing)": "pass",
+    "import numpy": "import numpy",
+    "import numba (+ scipy.linalg by numba's BLAS check)": "import numba, numba.np.arraymath",
+    "+ numba's target refresh (first cache load)":
+        "import numba; from numba.core.registry import cpu_target; cpu_target.target_context.refresh()",
+    "+ gc.freeze() before the exit (as the CLI)":
+        "import numba, gc; from numba.core.registry import cpu_target; cpu_target.target_context.refresh(); gc.freeze()",
+}
+
+
+def _floor(repeat: int, env: dict) -> None:
+    print(f"{'python -c ...':<55} {'median (s)':>10} {'min (s)':>8}")
+    for name, code in FLOOR.items():
+        times = []
+        for _ in range(repeat):
+            t0 = time.perf_counter()
+            subprocess.run([sys.executable, "-c", code], check=True, env=env)
+            times.append(time.perf_counter() - t0)
+        print(f"{name:<55} {statistics.median(times):>10.3f} {min(times):>8.3f}")
+
+
 def _time(argv, cwd, envs, repeat):
     """{label: {median_s, min_s, runs}} with the runs of the environments interleaved."""
     for env in envs.values():
@@ -85,8 +109,12 @@ def main() -> None:
     ap.add_argument("--json", action="store_true")
     ap.add_argument("--imports", action="store_true", help="count the modules each command imports")
     ap.add_argument("--compare", metavar="OTHER", help="another checkout's folder: time it too, alternating")
+    ap.add_argument("--floor", action="store_true", help="time only numpy's and numba's own start-up")
     args = ap.parse_args()
     env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+    if args.floor:
+        _floor(args.repeat, env)
+        return
     envs = {"this": env}
     if args.compare:
         other = str(Path(args.compare).resolve())

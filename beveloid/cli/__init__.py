@@ -161,7 +161,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     Without ``argv`` (the script, ``python -m beveloid.cli``: the process ends right after) the
     objects left are moved out of the garbage collector's reach (``gc.freeze``), so the
-    interpreter's exit does not walk the ~10^5 objects numba leaves (0.05-0.09 s of a 0.5 s
+    interpreter's exit does not walk the ~10^5 objects left, most numba's (~0.05 s of a 0.5 s
     command, docs/performance.md).  The exit still runs as usual (atexit, streams flushed, modules
     torn down); in-process callers, which pass ``argv``, keep a collected heap."""
     status = _main(argv)
