@@ -10,7 +10,7 @@ active flank from the base circle + 0.5 mm to the tip) x 30 (face) cells; the ga
 k is a profile curvature about its contact line plus a 10 um crowning plus a pair offset
 (0, 3, 40 um: two pairs share the load, the third stays open).  Compliance per pair: the
 Love half-space matrix of the cells plus both teeth's thin-slice matrices with the plate
-coupling length; the three pairs are one block-diagonal problem with one rigid rotation
+face coupling (tooth height); the three pairs are one block-diagonal problem with one rigid rotation
 (moment weights r_b / r_b = 1 for a spur pair).  Timed separately:
   build   the compliance blocks and their checks (once per grid; the grid is fixed on the flank),
   cold    one solve from the solver's own start set,
@@ -38,7 +38,6 @@ from beveloid.ltca.tooth_compliance import (  # noqa: E402
     face_coupling_per_mm,
     involute_load_points,
     involute_tooth_section,
-    plate_coupling_length_mm,
     slice_compliance_mm2_per_n,
     tooth_influence_mm_per_mpa,
 )
@@ -64,9 +63,9 @@ def setup(n_profile: int, n_face: int):
     pinion = involute_load_points(MODULE_MM, TEETH, np.sqrt(r_b**2 + xc**2))
     # the mating gear point; beyond the gear's tip it is clipped to the tip (stand-in geometry)
     gear = involute_load_points(MODULE_MM, TEETH, np.sqrt(r_b**2 + np.clip(centre - xc, rho_lo, rho_hi) ** 2))
-    lam = plate_coupling_length_mm(float(np.mean(pinion.centreline_radius_mm)) - section.root_radius_mm)
+    height = 2.25 * MODULE_MM  # the tooth: the face coupling's plate
     t0 = time.perf_counter()
-    k = face_coupling_per_mm(0.5 * (ze[1:] + ze[:-1]), 0.5 * np.diff(ze), WIDTH_MM, lam)
+    k = face_coupling_per_mm(0.5 * (ze[1:] + ze[:-1]), 0.5 * np.diff(ze), WIDTH_MM, height)
     block = tensor_influence_matrix_mm_per_mpa(xe, ze, e_star)
     for lp in (pinion, gear):
         block = block + tooth_influence_mm_per_mpa(slice_compliance_mm2_per_n(section, lp), k, cells.area_mm2)

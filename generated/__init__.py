@@ -13,6 +13,7 @@ MODULES = (
     'design_equations',
     'root_fillet',
     'tooth_sections',
+    'tooth_plate_coupling',
 )
 SCALAR_MODULES = (
     'surface_involute_scalar',

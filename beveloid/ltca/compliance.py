@@ -32,7 +32,8 @@ class MemberTooth:
     face_width_mm: float
     toe_mm: float
     direction: float
-    coupling_mm: float
+    plate_height_mm: float  # tooth height: the face coupling's plate (tooth_compliance.face_coupling_per_mm)
+    poisson: float
     table_radius_mm: np.ndarray  # equivalent-tooth radii of the tabulated slice compliance
     table_mm2_per_n: np.ndarray  # g on table_radius_mm x table_radius_mm
 
@@ -53,7 +54,7 @@ def member_tooth(geom, which, e_mpa, nu) -> MemberTooth:
     table = tooth_compliance.slice_compliance_mm2_per_n(section, load, e_mpa, nu)
     return MemberTooth(section=section, pitch_radius_mm=m.pitch_radius_mm, virtual_pitch_radius_mm=0.5 * mn * zv,
                        face_width_mm=m.face_width_mm, toe_mm=toe, direction=1.0 if heel > toe else -1.0,
-                       coupling_mm=tooth_compliance.plate_coupling_length_mm((ha + hf) * mn, nu),
+                       plate_height_mm=(ha + hf) * mn, poisson=nu,
                        table_radius_mm=radii, table_mm2_per_n=table)
 
 
@@ -78,7 +79,7 @@ def tooth_line_compliance(tooth: MemberTooth, points) -> np.ndarray:
     w = tooth.face_width_mm
     hz = 1e-3 * w
     z = np.clip(np.nan_to_num((points[:, 2] - tooth.toe_mm) * tooth.direction, nan=0.5 * w), hz, w - hz)
-    k = tooth_compliance.face_coupling_per_mm(z, np.full(z.size, hz), w, tooth.coupling_mm)
+    k = tooth_compliance.face_coupling_per_mm(z, np.full(z.size, hz), w, tooth.plate_height_mm, tooth.poisson)
     return g * k
 
 

@@ -20,18 +20,21 @@ Model (derivation and limits in docs/loaded_contact.md):
   the rotation of the root section taken as a rigid strip on an elastic half-plane
   (theta = 16 M / (pi E' s_f^2); Weber's fillet-foundation term has 16.67/pi).
 
-* **Face coupling.**  Neighbouring slices are not independent: a point load deflects the
-  tooth over a length of the order of its height.  The slices are coupled like a string
-  on an elastic foundation, u - lambda^2 u'' = g q on 0 <= z <= L with free ends
-  (u' = 0), whose Green's function is
+* **Face coupling.**  Neighbouring slices are not independent: the tooth is a plate, and a
+  point load bends it over a length of the order of its height h.  Per Fourier mode cos(k z)
+  along the face, a Kirchhoff cantilever plate strip (clamped root, free tip edge, edge load)
+  has the slice's compliance times R(k h) (derivations/tooth_plate_coupling.py, generated
+  tooth_plate_coupling.py; R(0) = 1, R ~ 6 / ((1 - nu)(3 + nu)(k h)^3) for short waves).  On a
+  face 0 <= z <= L with free ends the Green's function is the cosine series
 
-      G(z, z') = cosh(z_< / lambda) cosh((L - z_>) / lambda) / (lambda sinh(L / lambda)).
+      G(z, z') = (1/L) sum_n eps_n R(k_n h) cos(k_n z) cos(k_n z'),  k_n = n pi / L,
 
-  int G dz' = 1, so a uniform line load gives exactly the thin-slice deflection; a load at
-  a free end deflects it twice as much as in mid-face.  lambda = 0 is the uncoupled thin
-  slice.  :func:`plate_coupling_length_mm` gives lambda = h sqrt(2 (1 - nu) / 3), a
-  Rayleigh-Ritz estimate for a cantilever plate of height h (twisting energy against
-  bending energy with a quadratic deflection shape).
+  (eps_0 = 1, else 2): int G dz' = 1, so a uniform line load gives exactly the thin-slice
+  deflection, and a load at a free end deflects more than in mid-face.  h is the tooth height
+  (the plate from root to tip; the load's own height is in the slice compliance, not in R).
+  ``plate_height_mm = 0`` is the uncoupled thin slice.  It replaced (issue 23) a string on an
+  elastic foundation, R = 1 / (1 + lambda^2 k^2), whose k^-2 tail made the tooth too soft to
+  short waves and flattened long Hertz ellipses (docs/loaded_contact.md section 5).
 
 Cells of a contact grid are the tensor product of profile points (on the flank, outer
 index) and face cells (inner index), the order of ``halfspace.tensor_grid`` with x along
@@ -45,6 +48,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import checks
+from ..generated import tooth_plate_coupling
 from .halfspace import STEEL_E_MPA, STEEL_NU
 
 __all__ = [
@@ -54,7 +58,8 @@ __all__ = [
     "involute_tooth_section",
     "involute_load_points",
     "slice_compliance_mm2_per_n",
-    "plate_coupling_length_mm",
+    "PLATE_SERIES_BELOW",
+    "plate_edge_compliance_ratio",
     "face_coupling_per_mm",
     "tooth_influence_mm_per_mpa",
 ]
@@ -207,47 +212,45 @@ def slice_compliance_mm2_per_n(
     return cc * (bending + at(shear) + foundation) + sn[:, None] * sn[None, :] * at(axial)
 
 
-def plate_coupling_length_mm(height_mm: float, nu: float = STEEL_NU) -> float:
-    """lambda = h sqrt(2 (1 - nu)/3): Rayleigh-Ritz coupling length of a cantilever plate of height h."""
-    h = checks.positive("height_mm", height_mm)
-    v = checks.poisson("nu", nu)
-    return h * math.sqrt(2.0 * (1.0 - v) / 3.0)
+PLATE_SERIES_BELOW = 0.03  # k h below which R is taken from its series (the closed form cancels)
+PLATE_MODES_PER_HEIGHT = 400.0  # modes up to k h = 400: the tail beyond holds < 1e-5 of G(z, z)
 
 
-def _antiderivative(z: np.ndarray, zp: np.ndarray, length: float, lam: float) -> np.ndarray:
-    """F(z, z') with dF/dz' = G(z, z'), F(z, 0) = 0, written with decaying exponentials only."""
-    big = length / lam
-    den = 2.0 * (1.0 - np.exp(-2.0 * big))
-    x_lo = np.minimum(zp, z) / lam  # z' <= z branch: sinh(z'/l) cosh((L - z)/l) / sinh(L/l)
-    y_lo = (length - z) / lam
-    below = np.exp((np.minimum(zp, z) - z) / lam) * (1 - np.exp(-2 * x_lo)) * (1 + np.exp(-2 * y_lo)) / den
-    x_hi = z / lam  # z' > z branch: 1 - cosh(z/l) sinh((L - z')/l) / sinh(L/l)
-    y_hi = (length - np.maximum(zp, z)) / lam
-    above = 1.0 - np.exp((z - np.maximum(zp, z)) / lam) * (1 + np.exp(-2 * x_hi)) * (1 - np.exp(-2 * y_hi)) / den
-    return np.where(zp <= z, below, above)
+def plate_edge_compliance_ratio(kh, nu: float = STEEL_NU) -> np.ndarray:
+    """R(k h): the plate strip's edge compliance of mode k over the beam's (generated)."""
+    t = np.asarray(kh, dtype=float)
+    small = t < PLATE_SERIES_BELOW
+    with np.errstate(divide="ignore", invalid="ignore"):
+        closed = tooth_plate_coupling.edge_compliance_ratio(np.where(small, 1.0, t), nu).ratio
+    return np.where(small, tooth_plate_coupling.edge_compliance_ratio_series(t, nu).ratio, closed)
 
 
-def face_coupling_per_mm(z_mm, half_dz_mm, face_width_mm: float, coupling_length_mm: float) -> np.ndarray:
-    """K[a, b] = (1/dz_b) int over face cell b of G(z_a, z') dz' (1/mm).
+def face_coupling_per_mm(z_mm, half_dz_mm, face_width_mm: float, plate_height_mm: float,
+                         nu: float = STEEL_NU) -> np.ndarray:
+    """K[a, b] = (1/dz_b) int over face cell b of G(z_a, z') dz' (1/mm), the plate's cosine series.
 
     z in [0, face_width_mm]; cells must lie inside the face.  Multiplied by a slice
     compliance g (mm^2/N) and a force on cell b it gives the deflection at z_a.
-    ``coupling_length_mm = 0`` gives uncoupled slices (K = diag(1/dz)).
+    ``plate_height_mm = 0`` gives uncoupled slices (K = diag(1/dz)).
     """
     z = checks.finite_array("z_mm", z_mm)
     hz = checks.finite_array("half_dz_mm", half_dz_mm, z.size, positive_only=True)
     length = checks.positive("face_width_mm", face_width_mm)
-    lam = float(coupling_length_mm)
-    if not (math.isfinite(lam) and lam >= 0.0):
-        raise ValueError(f"coupling_length_mm = {coupling_length_mm!r}: must be a finite number >= 0")
+    h = float(plate_height_mm)
+    if not (math.isfinite(h) and h >= 0.0):
+        raise ValueError(f"plate_height_mm = {plate_height_mm!r}: must be a finite number >= 0")
     lo, hi = z - hz, z + hz
     if np.any(lo < -1e-9 * length) or np.any(hi > length * (1 + 1e-9)):
         raise ValueError(f"z_mm +- half_dz_mm spans {float(lo.min())!r} to {float(hi.max())!r}: must lie in [0, {length!r}]")
-    if lam == 0.0:
+    if h == 0.0:
         return np.diag(1.0 / (2.0 * hz))
-    zz = z[:, None]
-    k = _antiderivative(zz, np.clip(hi, 0, length)[None, :], length, lam) - _antiderivative(zz, np.clip(lo, 0, length)[None, :], length, lam)
-    return k / (2.0 * hz)[None, :]
+    n = np.arange(1, int(math.ceil(PLATE_MODES_PER_HEIGHT * length / (math.pi * h))) + 1)
+    k = n * math.pi / length
+    weight = 2.0 * plate_edge_compliance_ratio(k * h, nu) / length
+    at = np.cos(np.outer(z, k)) * weight
+    cell_mean = (np.sin(np.outer(np.clip(hi, 0, length), k)) - np.sin(np.outer(np.clip(lo, 0, length), k))) \
+        / (np.outer(2.0 * hz, k))
+    return 1.0 / length + at @ cell_mean.T
 
 
 def tooth_influence_mm_per_mpa(slice_mm2_per_n: np.ndarray, coupling_per_mm: np.ndarray, area_mm2) -> np.ndarray:

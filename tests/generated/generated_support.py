@@ -206,9 +206,15 @@ def member(name):
     return name.removeprefix("pinion_").removeprefix("gear_")
 
 
+# The plate strip's edge compliance: k h from the longest face mode to the truncation, steel-like nu.
+PLATE = {"t": uniform(0.03, 60.0), "nu": uniform(0.2, 0.4)}
+
+
 def domain(module, name):
     if module == "design_equations":
         return CASE1[name]
+    if module == "tooth_plate_coupling":
+        return PLATE[name]
     return PHYSICAL[name] if name in PHYSICAL else PHYSICAL[member(name)]
 
 

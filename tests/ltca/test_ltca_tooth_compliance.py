@@ -16,7 +16,7 @@ from beveloid.ltca.tooth_compliance import (
     face_coupling_per_mm,
     involute_load_points,
     involute_tooth_section,
-    plate_coupling_length_mm,
+    plate_edge_compliance_ratio,
     slice_compliance_mm2_per_n,
     tooth_influence_mm_per_mpa,
 )
@@ -73,22 +73,37 @@ def test_involute_section_and_load_points():
 
 
 def test_face_coupling_green_function():
-    length, lam = 20.0, 1.0  # mid-face far from the ends: reflections below 1e-7
-    edges = np.linspace(0.0, length, 401)
+    """The plate's cosine series on a free-ended face: int G = 1, reciprocity, the infinite plate's
+    point value in mid-face (an integral of R computed here independently), mirror ends, decay."""
+    from scipy.integrate import quad
+
+    length, h = 200.0, 5.0  # mid-face far from the ends (40 h)
+    edges = np.linspace(0.0, length, 2001)
     z, hz = 0.5 * (edges[1:] + edges[:-1]), 0.5 * np.diff(edges)
-    k = face_coupling_per_mm(z, hz, length, lam)
+    k = face_coupling_per_mm(z, hz, length, h, NU)
     # a uniform line load deflects uniformly (free ends, int G = 1), also at the ends
-    assert np.allclose(k @ (2 * hz), 1.0, rtol=1e-12)
-    # reciprocity, exponential decay in mid-face, and the end twice as compliant as mid-face
+    assert np.allclose(k @ (2 * hz), 1.0, rtol=1e-10)
+    # reciprocity (up to the cells' averaging)
     assert np.allclose(k * (2 * hz)[None, :], (k * (2 * hz)[None, :]).T, rtol=2e-3, atol=1e-9)
-    mid = 200
-    assert k[mid, mid + 60] / k[mid, mid + 20] == pytest.approx(math.exp(-40 * 2 * hz[0] / lam), rel=1e-4)
-    # (point values: exactly 2; averaging over cells of dz / lambda = 0.05 lowers it by about 2%)
-    assert k[0, 0] / k[mid, mid] == pytest.approx(2.0, rel=3e-2)
-    assert k[0, 0] / k[mid, mid] < 2.0
-    # lambda = 0: uncoupled thin slices
-    assert np.allclose(face_coupling_per_mm(z, hz, length, 0.0), np.diag(1 / (2 * hz)))
-    assert plate_coupling_length_mm(3.0, 0.3) == pytest.approx(3.0 * math.sqrt(1.4 / 3))
+
+    def printed(t):  # derivations/tooth_plate_coupling.py's printed R, here by its hyperbolic form
+        return 3 * (math.sinh(2 * t) - 2 * t) / (t**3 * ((1 - NU) * (3 + NU) * math.sinh(t) ** 2 + (1 - NU) ** 2 * t**2 + 4))
+
+    # an infinite plate's point load: G(z, z) = (1 / (pi h)) int_0^inf R(t) dt (Fourier), in mid-face
+    infinite = (quad(printed, 1e-6, 30.0, limit=200)[0] + quad(lambda t: 6 / ((1 - NU) * (3 + NU) * t**3), 30.0,
+                                                                 math.inf)[0]) / (math.pi * h)
+    mid = 1000
+    assert k[mid, mid] == pytest.approx(infinite, rel=2e-3)  # the cell average of a cusp-free peak
+    # a free end mirrors the face: twice the mid-face deflection
+    assert k[0, 0] / k[mid, mid] == pytest.approx(2.0, rel=5e-3)
+    # the deflection decays along the face, monotonically, to under 1 % of its peak 4 h away
+    row = k[mid, mid:mid + 200]
+    assert np.all(np.diff(row[: 60]) < 0) and abs(row[200 - 1]) < 1e-2 * row[0]
+    # the transfer function: 1 at k = 0, the semi-infinite plate's free edge for short waves
+    assert plate_edge_compliance_ratio(0.0, NU) == 1.0
+    assert plate_edge_compliance_ratio(200.0, NU) * 200.0**3 == pytest.approx(6 / ((1 - NU) * (3 + NU)), rel=1e-12)
+    # height 0: uncoupled thin slices
+    assert np.allclose(face_coupling_per_mm(z[:50], hz[:50], length, 0.0), np.diag(1 / (2 * hz[:50])))
 
 
 def spur_pair_stiffness(coupling: bool) -> tuple[float, float]:
@@ -110,8 +125,8 @@ def spur_pair_stiffness(coupling: bool) -> tuple[float, float]:
     section = involute_tooth_section(m, z)
     pinion = involute_load_points(m, z, np.sqrt(r_b**2 + (rho + xc) ** 2))
     gear = involute_load_points(m, z, np.sqrt(r_b**2 + (rho - xc) ** 2))
-    lam = plate_coupling_length_mm(pinion.centreline_radius_mm.mean() - section.root_radius_mm) if coupling else 0.0
-    k = face_coupling_per_mm(0.5 * (ze[1:] + ze[:-1]), 0.5 * np.diff(ze), width, lam)
+    height = 2.25 * m if coupling else 0.0  # the tooth's height: the coupling plate
+    k = face_coupling_per_mm(0.5 * (ze[1:] + ze[:-1]), 0.5 * np.diff(ze), width, height)
     c = tensor_influence_matrix_mm_per_mpa(xe, ze, e_star)
     for lp in (pinion, gear):
         c = c + tooth_influence_mm_per_mpa(slice_compliance_mm2_per_n(section, lp), k, cells.area_mm2)
@@ -139,7 +154,7 @@ def test_spur_pair_stiffness_is_iso_6336_order_of_magnitude(coupling):
         (lambda: involute_tooth_section(4.0, 5), "teeth = 5"),
         (lambda: involute_tooth_section(-1.0, 30), "module_mm = -1.0"),
         (lambda: involute_load_points(4.0, 30, [50.0]), "radius_mm has minimum 50.0"),
-        (lambda: face_coupling_per_mm([1.0], [0.5], 10.0, -1.0), "coupling_length_mm = -1.0"),
+        (lambda: face_coupling_per_mm([1.0], [0.5], 10.0, -1.0), "plate_height_mm = -1.0"),
         (lambda: face_coupling_per_mm([9.8], [0.5], 10.0, 1.0), "must lie in"),
         (lambda: slice_compliance_mm2_per_n(involute_tooth_section(4.0, 30), LoadPoints(np.array([70.0]), np.array([0.0]))),
          "load centreline radii"),
