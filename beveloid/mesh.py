@@ -7,6 +7,8 @@ sweep, the backlash and the loaded TCA.
   its gear turned by -k p_2 (:func:`pair_angles`); its TE is pair 0's TE at phi'_1 - k p_1.
 * At each pinion angle the tooth pair that constrains the gear most carries the contact: the
   largest TE when the flank's first-touch sign is +1, the smallest when -1 (:func:`envelope`).
+* The envelope is the mesh's TE only where every pair that can touch was solved
+  (:func:`envelope_complete`); its peak-to-peak is taken there (tca and sweep alike).
 """
 from __future__ import annotations
 
@@ -54,3 +56,30 @@ def peak_to_peak(values):
         lo = np.where(np.isfinite(v), v, np.inf).min(axis=-1)
     out = np.where(has, hi - lo, np.nan)
     return float(out) if out.ndim == 0 else out
+
+
+def envelope_complete(pinion_angle_rad, ks, active, pinion_pitch_rad, margin_rad):
+    """(N,) bool: the pinion angles at which no tooth pair beyond ``ks`` can carry the contact.
+
+    Pair k at phi is pair 0 at psi = phi - k p1.  The angles psi at which a solved pair carries the
+    envelope (``active`` (pairs, N), :func:`envelope`), widened by ``margin_rad`` (their spacing),
+    give pair 0's carrying interval [lo, hi]; a pair k beyond ``ks`` can carry at phi only if
+    phi - k p1 lies in it.  When the interval reaches the first or last solved psi it may go on
+    beyond them: then no position is known complete.
+    """
+    phi = np.asarray(pinion_angle_rad, dtype=float)
+    ks = np.asarray(ks)
+    psi = phi[None, :] - ks[:, None] * pinion_pitch_rad
+    carried = psi[np.asarray(active, dtype=bool)]
+    if carried.size == 0:
+        return np.zeros(phi.shape, dtype=bool)
+    lo, hi = carried.min() - margin_rad, carried.max() + margin_rad
+    if lo <= psi.min() or hi >= psi.max():
+        return np.zeros(phi.shape, dtype=bool)
+    complete = np.ones(phi.shape, dtype=bool)
+    k_lo = int(np.floor((phi.min() - hi) / pinion_pitch_rad))  # every k whose psi can fall in [lo, hi]
+    k_hi = int(np.ceil((phi.max() - lo) / pinion_pitch_rad))
+    for k in [*range(k_lo, int(ks.min())), *range(int(ks.max()) + 1, k_hi + 1)]:
+        shifted = phi - k * pinion_pitch_rad
+        complete &= ~((shifted >= lo) & (shifted <= hi))
+    return complete

@@ -32,7 +32,8 @@ class FlankResult:
     active: np.ndarray  # carries the contact (envelope of all pairs) at its pinion angle
     iterations: np.ndarray
     nearest_boundary: list
-    #: rad, over the active points; nan if none, or with one position (a peak-to-peak needs several)
+    #: rad, of the envelope where it is complete (te_envelope_complete); nan with fewer than two such
+    #: positions (one position, or too few pairs for the contact ratio)
     te_peak_to_peak: float
     unknowns: np.ndarray = None  # (n, 5) pair 0's (l1, u1, l2, u2, phi'_2) as solved, for every point
     contact_ellipse: object = None  # contact_ellipse.ContactEllipses, when computed (tca.Options.approach_mm)
@@ -41,6 +42,8 @@ class FlankResult:
     contact_boundary: list = None
     #: per point: the contact's smallest margin (mm) to the boundaries that do not carry it; nan without contact
     boundary_margin_mm: np.ndarray = None
+    #: per position: no tooth pair beyond those solved can carry the contact there (mesh.envelope_complete)
+    te_envelope_complete: np.ndarray = None
 
     @property
     def positions(self) -> int:
@@ -73,6 +76,8 @@ class FlankResult:
                                  else [None] * len(self.status)),
             "boundary_margin_mm": (nan_to_none(self.boundary_margin_mm) if self.boundary_margin_mm is not None
                                    else [None] * len(self.status)),
+            "te_envelope_complete": ([bool(c) for c in self.te_envelope_complete]
+                                     if self.te_envelope_complete is not None else None),
         }
 
 
@@ -120,7 +125,9 @@ def mesh_flank(geom: PairGeometry, flank: str, errors=(0, 0, 0, 0, 0), positions
     P2[~valid] = np.nan
     phi2_v = np.where(valid, phi2, np.nan)
     env, active = mesh.envelope(te_v.reshape(pairs, positions), first_touch_sign(geom, flank))
-    ptp = mesh.peak_to_peak(env) if positions > 1 else float("nan")
+    step = abs(phi1[1] - phi1[0]) if positions > 1 else 0.0
+    complete = mesh.envelope_complete(phi1, ks, active, p1, step)
+    ptp = mesh.peak_to_peak(env[complete]) if complete.sum() >= 2 else float("nan")
     with np.errstate(invalid="ignore"):
         M = contact_margins(geom, flank, x)
     rows = np.arange(len(x))
@@ -133,4 +140,4 @@ def mesh_flank(geom: PairGeometry, flank: str, errors=(0, 0, 0, 0, 0), positions
                        pinion_contact=P1, gear_contact=P2, status=Status.labels(code), tooth_pair=kk,
                        active=active.ravel(), iterations=iterations, nearest_boundary=[str(n) for n in nearest],
                        te_peak_to_peak=ptp, unknowns=x, contact_boundary=boundary_names,
-                       boundary_margin_mm=margin)
+                       boundary_margin_mm=margin, te_envelope_complete=complete)

@@ -161,8 +161,11 @@ def test_tca_json_contract(capsys, case, flags, flanks, geom1, geom2):
         ptp = data["te_peak_to_peak_urad"][fl]
         if ptp is not None:
             assert _is_finite_number(ptp) and ptp >= 0
-            # consistent with the TE of the points that carry the contact
-            te = [t for t, a in zip(fd["transmission_error_rad"], fd["active"]) if a and t is not None]
+            # consistent with the TE of the points that carry the contact where the envelope is complete
+            complete = fd["te_envelope_complete"]
+            assert len(complete) == positions and sum(complete) >= 2
+            te = [t for i, (t, a) in enumerate(zip(fd["transmission_error_rad"], fd["active"]))
+                  if a and t is not None and complete[i % positions]]
             assert te, "a finite TE peak-to-peak needs active points"
             assert abs((max(te) - min(te)) * 1e6 - ptp) <= 1e-5
             # unmodified involute helicoids transmit a constant ratio while the contact stays on the

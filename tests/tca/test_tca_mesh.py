@@ -401,3 +401,23 @@ def test_backlash_is_never_wrapped_and_has_a_status():
     off = tca.backlash(case1, (0, 0, 0, 5 * DEG, 0))
     sweep_um = case1.gear.face_width_mm * math.sin(5 * DEG) * 1e3
     assert off.status == "ok" and -sweep_um < off.um < 0
+
+
+def test_envelope_complete_where_no_unsolved_pair_can_carry():
+    """Synthetic mesh, pitch 1: pair 0's TE -psi^2 carries on |psi| <= 1/2; with pairs -1..1 solved over
+    |phi| <= 1.5 only the ends, where pair +-2 (psi = phi -+ 2) would carry, are incomplete."""
+    from beveloid import mesh
+
+    phi = np.linspace(-1.5, 1.5, 31)
+    ks, psi = mesh.pair_angles(phi, 3, 1.0)
+    env, active = mesh.envelope(-psi**2, +1)
+    step = phi[1] - phi[0]
+    complete = mesh.envelope_complete(phi, ks, active, 1.0, step)
+    lo, hi = psi[active].min() - step, psi[active].max() + step
+    expect = ~(((phi - 2 >= lo) & (phi - 2 <= hi)) | ((phi + 2 >= lo) & (phi + 2 <= hi)))
+    np.testing.assert_array_equal(complete, expect)
+    assert complete[10:21].all() and not complete[0] and not complete[-1]
+    # the complete envelope's peak-to-peak is the cycle's: 0 at the vertex, -1/4 where pairs change
+    assert mesh.peak_to_peak(env[complete]) == pytest.approx(0.25, abs=1e-12)
+    # a carrier at the end of the solved angles may go on beyond them: nothing is known complete
+    assert not mesh.envelope_complete(phi, ks, np.ones_like(active), 1.0, step).any()
