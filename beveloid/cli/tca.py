@@ -107,14 +107,15 @@ def format_summary(result, spec) -> str:
         pairs = len(set(fr.tooth_pair.tolist()))
         positions = len(st) // pairs
         te = fr.transmission_error[fr.active & np.isfinite(fr.transmission_error)]
-        n_te = int((fr.active & np.isfinite(fr.transmission_error)).reshape(pairs, positions).any(axis=0).sum())
+        carried = (fr.active & np.isfinite(fr.transmission_error)).reshape(pairs, positions).any(axis=0)
+        n_te = int((carried & fr.te_envelope_complete).sum())
         mean = f"{te.mean() * 1e6:.3f}" if te.size else "-"
         ptp = (f"{fr.te_peak_to_peak * 1e6:.3e}" if np.isfinite(fr.te_peak_to_peak)
                else "n/a" if positions == 1 else "-")
         its = fr.newton_iterations_mean
         rows.append((flank, *cnt, _z_range(fr.pinion_contact, st), _z_range(fr.gear_contact, st), mean, ptp,
                      "-" if its is None else f"{its:.2f}", f"{n_te}/{positions}"))
-        if 0 < n_te < positions:
+        if 0 < n_te < int(fr.te_envelope_complete.sum()):
             caveats.append(f"{flank} flank: TE peak-to-peak from {n_te} of {positions} positions only (no"
                            f" contact on the flanks at the others): it does not describe a whole mesh cycle")
     w = [max(len(r[i]) for r in rows) for i in range(len(head))]
@@ -130,5 +131,6 @@ def format_summary(result, spec) -> str:
     lines += [f"note: {n}" for n in [*caveats, *result.notes]]
     lines += ["", "z: axial position in the member frame (toe -> heel); points per status over "
               f"{len(result.flanks[next(iter(result.flanks))].status)} pair-positions; TE points: pinion"
-              " positions with a contact on the flanks (TE envelope), of all positions"]
+              " positions where the TE envelope is carried and complete (no tooth pair beyond those solved"
+              " can carry there; the TE p-p is taken over these), of all positions"]
     return "\n".join(lines)
