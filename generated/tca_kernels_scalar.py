@@ -4,6 +4,8 @@
 flank dispatch by index (tca_kernels.MODELS, tca_kernels.FLANKS), the composed Eq 38 system
 of one contact and its margins.  Plain Python; the core runs it as it is or under numba.
 """
+import typing
+
 import numpy
 
 from .contact_system_scalar import contact_residual_point as _contact_residual
@@ -46,11 +48,30 @@ N_BOUNDARIES = 4
 OPPOSITE_BOUNDARY = (1, 0, 3, 2, )
 
 
+class Workspace(typing.NamedTuple):
+    """Scratch arrays of one contact evaluation: both surface jets (kept for the margins) and one
+    member's flank margins."""
+
+    pinion_point: numpy.ndarray  # (3,) mm, S_1
+    pinion_normal: numpy.ndarray  # (3,)
+    pinion_point_D_lu: numpy.ndarray  # (3, 2) [dR/dl, dR/du]
+    pinion_normal_D_lu: numpy.ndarray  # (3, 2)
+    gear_point: numpy.ndarray  # (3,) mm, S_2
+    gear_normal: numpy.ndarray  # (3,)
+    gear_point_D_lu: numpy.ndarray  # (3, 2)
+    gear_normal_D_lu: numpy.ndarray  # (3, 2)
+    margins: numpy.ndarray  # (4,) mm, one member's flank_margins
+    margins_D_point: numpy.ndarray  # (4, 3)
+    margins_D_l: numpy.ndarray  # (4,)
+
+
 def workspace():
-    """Scratch arrays of one contact evaluation (allocate once per thread, pass to every call)."""
-    return (numpy.empty(3), numpy.empty(3), numpy.empty((3, 2)), numpy.empty((3, 2)),
-            numpy.empty(3), numpy.empty(3), numpy.empty((3, 2)), numpy.empty((3, 2)),
-            numpy.empty(4), numpy.empty((4, 3)), numpy.empty(4))
+    """A :class:`Workspace` (allocate once per thread, pass to every call)."""
+    nb = 4
+    return Workspace(pinion_point=numpy.empty(3), pinion_normal=numpy.empty(3), pinion_point_D_lu=numpy.empty((3, 2)),
+                     pinion_normal_D_lu=numpy.empty((3, 2)), gear_point=numpy.empty(3), gear_normal=numpy.empty(3),
+                     gear_point_D_lu=numpy.empty((3, 2)), gear_normal_D_lu=numpy.empty((3, 2)),
+                     margins=numpy.empty(nb), margins_D_point=numpy.empty((nb, 3)), margins_D_l=numpy.empty(nb))
 
 
 def surface_point(model, flank, l, u, params, out_point, out_normal, out_roll_angle):
@@ -114,7 +135,8 @@ def contact_system_point(pinion_model, gear_model, flank, x, pinion_angle, error
                          pair, ws, out_residual, out_residual_D_unknowns, out_residual_D_errors,
                          out_residual_D_pinion_angle):
     """Eq 38 and its Jacobians at the unknowns x (pinion_l_mm, pinion_u_mm, gear_l_mm, gear_u_mm, gear_angle_rad); keeps both surface jets in ws."""
-    p1, n1, dp1, dn1, p2, n2, dp2, dn2, _, _, _ = ws
+    p1, n1, dp1, dn1 = ws.pinion_point, ws.pinion_normal, ws.pinion_point_D_lu, ws.pinion_normal_D_lu
+    p2, n2, dp2, dn2 = ws.gear_point, ws.gear_normal, ws.gear_point_D_lu, ws.gear_normal_D_lu
     surface_jet_point(pinion_model, flank, x[PINION_L_MM], x[PINION_U_MM], pinion_params, p1, n1, dp1, dn1)
     surface_jet_point(gear_model, flank, x[GEAR_L_MM], x[GEAR_U_MM], gear_params, p2, n2, dp2, dn2)
     _contact_residual(p1, n1, dp1, dn1, p2, n2, dp2, dn2, pinion_angle, x[GEAR_ANGLE_RAD], errors, pair, out_residual,
@@ -124,7 +146,8 @@ def contact_system_point(pinion_model, gear_model, flank, x, pinion_angle, error
 def contact_margin_point(x, pinion_blank, gear_blank, ws):
     """(smallest margin in mm, its index in tca_kernels.CONTACT_BOUNDARIES) of the contact whose
     surface points the last contact_system_point call left in ws."""
-    p1, _, _, _, p2, _, _, _, m, mdp, mdl = ws
+    p1, p2 = ws.pinion_point, ws.gear_point
+    m, mdp, mdl = ws.margins, ws.margins_D_point, ws.margins_D_l
     best = 1e300
     which = -1
     _flank_margins(p1, x[PINION_L_MM], pinion_blank, m, mdp, mdl)
@@ -140,13 +163,37 @@ def contact_margin_point(x, pinion_blank, gear_blank, ws):
     return best, which
 
 
+class EdgeWorkspace(typing.NamedTuple):
+    """Scratch arrays of one candidate-system evaluation (with a Workspace): second derivatives, both
+    members' boundary jets, the carrying boundary's margin derivatives and the edge tangency row."""
+
+    pinion_point_D2_lu: numpy.ndarray  # (3, 3) [d2R/dl2, d2R/dl du, d2R/du2]
+    gear_point_D2_lu: numpy.ndarray  # (3, 3)
+    pinion_margins: numpy.ndarray  # (4,) mm
+    pinion_margins_D_lu: numpy.ndarray  # (4, 2)
+    pinion_margins_D2_lu: numpy.ndarray  # (4, 3)
+    gear_margins: numpy.ndarray  # (4,) mm
+    gear_margins_D_lu: numpy.ndarray  # (4, 2)
+    gear_margins_D2_lu: numpy.ndarray  # (4, 3)
+    margin_D_lu: numpy.ndarray  # (2,) of the carrying boundary
+    margin_D2_lu: numpy.ndarray  # (3,)
+    tangency: numpy.ndarray  # (1,) the edge tangency residual
+    tangency_D_unknowns: numpy.ndarray  # (N_UNKNOWNS,)
+    tangency_D_errors: numpy.ndarray  # (N_ERRORS,)
+    tangency_D_pinion_angle: numpy.ndarray  # (1,)
+
+
 def edge_workspace():
-    """Scratch arrays of one candidate-system evaluation (with workspace(); once per thread).  Zeroed:
-    entries a corner system does not evaluate stay finite."""
+    """An :class:`EdgeWorkspace` (once per thread).  Zeroed: entries a corner system does not evaluate
+    stay finite."""
     nb = 4
-    return (numpy.zeros((3, 3)), numpy.zeros((3, 3)), numpy.zeros(nb), numpy.zeros((nb, 2)), numpy.zeros((nb, 3)),
-            numpy.zeros(nb), numpy.zeros((nb, 2)), numpy.zeros((nb, 3)), numpy.zeros(2), numpy.zeros(3),
-            numpy.zeros(1), numpy.zeros(N_UNKNOWNS), numpy.zeros(N_ERRORS), numpy.zeros(1))
+    return EdgeWorkspace(pinion_point_D2_lu=numpy.zeros((3, 3)), gear_point_D2_lu=numpy.zeros((3, 3)),
+                         pinion_margins=numpy.zeros(nb), pinion_margins_D_lu=numpy.zeros((nb, 2)),
+                         pinion_margins_D2_lu=numpy.zeros((nb, 3)), gear_margins=numpy.zeros(nb),
+                         gear_margins_D_lu=numpy.zeros((nb, 2)), gear_margins_D2_lu=numpy.zeros((nb, 3)),
+                         margin_D_lu=numpy.zeros(2), margin_D2_lu=numpy.zeros(3), tangency=numpy.zeros(1),
+                         tangency_D_unknowns=numpy.zeros(N_UNKNOWNS), tangency_D_errors=numpy.zeros(N_ERRORS),
+                         tangency_D_pinion_angle=numpy.zeros(1))
 
 
 def candidate_system_point(pinion_model, gear_model, flank, first, second, x, pinion_angle, errors, pinion_params,
@@ -162,8 +209,13 @@ def candidate_system_point(pinion_model, gear_model, flank, first, second, x, pi
 
     Also writes all N_MARGINS margins of the two points to out_margins."""
     nb = 4
-    p1, n1, dp1, dn1, p2, n2, dp2, dn2, _, _, _ = ws
-    d2p1, d2p2, m1, m1d, m1dd, m2, m2d, m2dd, gd, gdd, t, t_du, t_de, t_dp = ews
+    p1, n1, dp1, dn1 = ws.pinion_point, ws.pinion_normal, ws.pinion_point_D_lu, ws.pinion_normal_D_lu
+    p2, n2, dp2, dn2 = ws.gear_point, ws.gear_normal, ws.gear_point_D_lu, ws.gear_normal_D_lu
+    d2p1, d2p2 = ews.pinion_point_D2_lu, ews.gear_point_D2_lu
+    m1, m1d, m1dd = ews.pinion_margins, ews.pinion_margins_D_lu, ews.pinion_margins_D2_lu
+    m2, m2d, m2dd = ews.gear_margins, ews.gear_margins_D_lu, ews.gear_margins_D2_lu
+    gd, gdd = ews.margin_D_lu, ews.margin_D2_lu
+    t, t_du, t_de, t_dp = ews.tangency, ews.tangency_D_unknowns, ews.tangency_D_errors, ews.tangency_D_pinion_angle
     contact_system_point(pinion_model, gear_model, flank, x, pinion_angle, errors, pinion_params, gear_params, pair,
                          ws, out_residual, out_residual_D_unknowns, out_residual_D_errors, out_residual_D_pinion_angle)
     edge = first >= 0 and second < 0

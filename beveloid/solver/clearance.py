@@ -4,6 +4,7 @@ beveloid/solver/patch_cover.py; derivations/patch_clearance.py).
 Plain Python in numba's subset: compiled with the rest of the core by
 :mod:`beveloid.solver.backends` (see :mod:`beveloid.solver.core`)."""
 import math
+import typing
 
 import numpy as np
 
@@ -24,13 +25,29 @@ CELL_HALF_L, CELL_HALF_U = CELL_FIELDS.index("half_l_mm"), CELL_FIELDS.index("ha
 CELL_STRETCH = CELL_FIELDS.index("stretch")
 
 
+class ClearanceScratch(typing.NamedTuple):
+    """Work arrays of patches_apart (one thread)."""
+
+    rotation: np.ndarray  # (3, 3) L_21
+    translation: np.ndarray  # (3,) T_21
+    margins: np.ndarray  # (N_BOUNDARIES,)
+    margins_D_point: np.ndarray  # (N_BOUNDARIES, 3)
+    margins_D_l: np.ndarray  # (N_BOUNDARIES,)
+    point_in_gear: np.ndarray  # (3,) a pinion point in S_2
+    point: np.ndarray  # (3,) pinion point in S_1
+    normal: np.ndarray  # (3,)
+    point_D_lu: np.ndarray  # (3, 2)
+    normal_D_lu: np.ndarray  # (3, 2)
+    stack: np.ndarray  # (4 MAX_SPLITS + 4, 5) cells to test: l, u, half_l, half_u, depth
+
+
 def clearance_scratch():
-    """Work arrays of patches_apart: (rotation, translation, margins, margins_D_point, margins_D_l,
-    point in S_2, pinion point, normal, point_D_lu, normal_D_lu, stack of cells (l, u, half_l,
-    half_u, depth))."""
-    return (np.empty((3, 3)), np.empty(3), np.empty(N_BOUNDARIES), np.empty((N_BOUNDARIES, 3)),
-            np.empty(N_BOUNDARIES), np.empty(3), np.empty(3), np.empty(3), np.empty((3, 2)), np.empty((3, 2)),
-            np.empty((4 * MAX_SPLITS + 4, 5)))
+    """A :class:`ClearanceScratch` (allocate once per thread)."""
+    return ClearanceScratch(rotation=np.empty((3, 3)), translation=np.empty(3), margins=np.empty(N_BOUNDARIES),
+                            margins_D_point=np.empty((N_BOUNDARIES, 3)), margins_D_l=np.empty(N_BOUNDARIES),
+                            point_in_gear=np.empty(3), point=np.empty(3), normal=np.empty(3),
+                            point_D_lu=np.empty((3, 2)), normal_D_lu=np.empty((3, 2)),
+                            stack=np.empty((4 * MAX_SPLITS + 4, 5)))
 
 
 def sphere_outside_blank(p, radius, l, blank, m, mdp, mdl):
@@ -55,7 +72,8 @@ def patches_apart(problem, cells, pinion_blank, gear_blank, phi1, e, patch_tol, 
     False when that cannot be shown: a cell centre on the patch and inside the gear blank, or a
     cell still undecided after MAX_SPLITS."""
     pinion_model, gear_model, flank, pinion_params, gear_params, pair = problem
-    rot, trans, m, mdp, mdl, q, pt, nm, dp, dn, stack = cs
+    rot, trans, m, mdp, mdl = cs.rotation, cs.translation, cs.margins, cs.margins_D_point, cs.margins_D_l
+    q, pt, nm, dp, dn, stack = cs.point_in_gear, cs.point, cs.normal, cs.point_D_lu, cs.normal_D_lu, cs.stack
     pinion_in_gear_frame_point(phi1, e, pair, rot, trans)
     for i in range(cells.shape[0]):
         stretch = cells[i, CELL_STRETCH]

@@ -4,11 +4,13 @@ the candidate enumeration, and the edge followed along a path (see core.py).
 Plain Python in numba's subset: compiled with the rest of the core by
 :mod:`beveloid.solver.backends` (see :mod:`beveloid.solver.core`)."""
 import math
+import typing
 
 import numpy as np
 
 from ..generated.tca_kernels_scalar import (
-    N_BOUNDARIES, N_ERRORS, N_MARGINS, N_UNKNOWNS, OPPOSITE_BOUNDARY, candidate_system_point, edge_workspace,
+    N_BOUNDARIES, N_ERRORS, N_MARGINS, N_UNKNOWNS, OPPOSITE_BOUNDARY, EdgeWorkspace, candidate_system_point,
+    edge_workspace,
 )
 from .linalg import copy_into, residual_norm, solve_linear
 from .newton import GEAR_ANGLE, newton_update, on_patch
@@ -22,11 +24,27 @@ TRACK_H1, TRACK_H2, TRACK_VALID = 2 * N_UNKNOWNS, 2 * N_UNKNOWNS + 1, 2 * N_UNKN
 TRACK_SIZE = 2 * N_UNKNOWNS + 3
 
 
+class EdgeScratch(typing.NamedTuple):
+    """Work arrays of the first-touch search (one thread)."""
+
+    ews: EdgeWorkspace  # the candidate systems' jets (generated tca_kernels_scalar.EdgeWorkspace)
+    margins: np.ndarray  # (N_MARGINS,) both points' flank margins
+    F: np.ndarray  # (N_UNKNOWNS,) the candidate system's residual
+    J: np.ndarray  # (N_UNKNOWNS, N_UNKNOWNS)
+    Je: np.ndarray  # (N_UNKNOWNS, N_ERRORS)
+    Jp: np.ndarray  # (N_UNKNOWNS,)
+    step: np.ndarray  # (N_UNKNOWNS,)
+    y: np.ndarray  # (N_UNKNOWNS,) the multipliers' solve
+    rhs: np.ndarray  # (N_UNKNOWNS,)
+    JT: np.ndarray  # (N_UNKNOWNS, N_UNKNOWNS) J transposed
+
+
 def edge_scratch():
-    """Work arrays of the first-touch search: (edge workspace, margins, F, J, Je, Jp, step, y, rhs, JT)."""
-    return (edge_workspace(), np.zeros(N_MARGINS), np.empty(N_UNKNOWNS), np.empty((N_UNKNOWNS, N_UNKNOWNS)),
-            np.empty((N_UNKNOWNS, N_ERRORS)), np.empty(N_UNKNOWNS), np.empty(N_UNKNOWNS), np.empty(N_UNKNOWNS),
-            np.empty(N_UNKNOWNS), np.empty((N_UNKNOWNS, N_UNKNOWNS)))
+    """An :class:`EdgeScratch` (allocate once per thread)."""
+    return EdgeScratch(ews=edge_workspace(), margins=np.zeros(N_MARGINS), F=np.empty(N_UNKNOWNS),
+                       J=np.empty((N_UNKNOWNS, N_UNKNOWNS)), Je=np.empty((N_UNKNOWNS, N_ERRORS)),
+                       Jp=np.empty(N_UNKNOWNS), step=np.empty(N_UNKNOWNS), y=np.empty(N_UNKNOWNS),
+                       rhs=np.empty(N_UNKNOWNS), JT=np.empty((N_UNKNOWNS, N_UNKNOWNS)))
 
 
 def evaluate_candidate(problem, blanks, first, second, x, phi1, e, ws, ews, F, J, Je, Jp, margins):
@@ -100,7 +118,8 @@ def first_touch(problem, blanks, sign, x, first, second, phi1, e, scale, tol, ma
     """Active-set search for the first touch from x with the active set (first, second).  In
     place on x; returns (found, first, second, Newton iterations).  J, Jp of ``es`` hold the final
     system."""
-    ews, margins, F, J, Je, Jp, step, y, rhs, JT = es
+    ews, margins, F, J, Je, Jp, step, y, rhs, JT = (es.ews, es.margins, es.F, es.J, es.Je, es.Jp, es.step, es.y,
+                                                    es.rhs, es.JT)
     a = first
     b = second
     its = 0
@@ -162,7 +181,8 @@ def nearest_turn(x, angle):
 def enumerate_candidates(problem, blanks, sign, x_start, x, phi1, e, scale, tol, max_iter, patch_tol, ws, es, xt):
     """Every edge and corner system solved from x_start; the feasible solution with the largest
     sign * phi'_2 is written to x.  Returns (found, first, second, Newton iterations)."""
-    ews, margins, F, J, Je, Jp, step, y, rhs, JT = es
+    ews, margins, F, J, Je, Jp, step, y, rhs, JT = (es.ews, es.margins, es.F, es.J, es.Je, es.Jp, es.step, es.y,
+                                                    es.rhs, es.JT)
     best = -math.inf
     ba = -1
     bb = -1
@@ -205,7 +225,8 @@ def follow_edge(problem, blanks, sign, x_prev, prev_first, prev_second, phi1, ph
     prediction adds the second-order term from the change of the tangent (as the surface path
     does); with two, also the third-order term of the tangents' quadratic through the three
     points.  The candidate system then usually converges in one Newton step."""
-    ews, margins, F, J, Je, Jp, step, y, rhs, JT = es
+    ews, margins, F, J, Je, Jp, step, y, rhs, JT = (es.ews, es.margins, es.F, es.J, es.Je, es.Jp, es.step, es.y,
+                                                    es.rhs, es.JT)
     n = N_UNKNOWNS
     copy_into(xe, x_prev)
     h = phi1 - phi_prev

@@ -54,7 +54,8 @@ def normal_gaps(problem, pinion_blank, gear_blank, pair_of_point, coords, start,
     pinion_model, gear_model, flank, pinion_params, gear_params, pair = problem
     M = coords.shape[0]
     # serial: a parallel loop measured 3x slower here (small work per point, one thread)
-    ws, F, J, Je, Jp, step, dx, rhs, e = scratch()
+    s = scratch()
+    ws, F, J, Je, Jp, dx, e = s.ws, s.F, s.J, s.Je, s.Jp, s.dx, s.e
     for i in range(N_ERRORS):
         e[i] = errors[i]
     pt = np.empty(3)
@@ -150,8 +151,8 @@ def _normal_gap_point(problem, pinion_blank, gear_blank, q, coords, m, start, ph
         out_rates[m, 1] = nf[0] * Jp[0] + nf[1] * Jp[1] + nf[2] * Jp[2]
         margin, _ = contact_margin_point(x, pinion_blank, gear_blank, ws)
         out_margin[m] = margin
-        p1 = ws[0]
-        p2 = ws[4]
+        p1 = ws.pinion_point
+        p2 = ws.gear_point
         for i in range(3):
             out_p1[m, i] = p1[i]
             out_p2[m, i] = p2[i]

@@ -4,11 +4,12 @@ one point from a start.
 Plain Python in numba's subset: compiled with the rest of the core by
 :mod:`beveloid.solver.backends` (see :mod:`beveloid.solver.core`)."""
 import math
+import typing
 
 import numpy as np
 
 from ..generated.tca_kernels import UNKNOWNS
-from ..generated.tca_kernels_scalar import N_ERRORS, N_UNKNOWNS, contact_system_point, workspace
+from ..generated.tca_kernels_scalar import N_ERRORS, N_UNKNOWNS, Workspace, contact_system_point, workspace
 from ..status import Status
 from .linalg import residual_norm, solve_linear
 
@@ -27,11 +28,25 @@ FINAL_STEP_RESIDUAL_MM = 1e-4
 GEAR_ANGLE = UNKNOWNS.index("gear_angle_rad")
 
 
+class Scratch(typing.NamedTuple):
+    """Work arrays of one solver thread."""
+
+    ws: Workspace  # the surface jets of the last evaluation (generated tca_kernels_scalar.Workspace)
+    F: np.ndarray  # (N_UNKNOWNS,) Eq 38 residual
+    J: np.ndarray  # (N_UNKNOWNS, N_UNKNOWNS) d F / d unknowns
+    Je: np.ndarray  # (N_UNKNOWNS, N_ERRORS) d F / d errors
+    Jp: np.ndarray  # (N_UNKNOWNS,) d F / d pinion angle
+    step: np.ndarray  # (N_UNKNOWNS,) a Newton step
+    dx: np.ndarray  # (N_UNKNOWNS,) a predictor
+    rhs: np.ndarray  # (N_UNKNOWNS,) a right-hand side
+    e: np.ndarray  # (N_ERRORS,) the errors of the current homotopy step
+
+
 def scratch():
-    """Work arrays of one solver thread: (workspace, F, J, Je, Jp, step, dx, rhs, e)."""
-    return (workspace(), np.empty(N_UNKNOWNS), np.empty((N_UNKNOWNS, N_UNKNOWNS)),
-            np.empty((N_UNKNOWNS, N_ERRORS)), np.empty(N_UNKNOWNS), np.empty(N_UNKNOWNS), np.empty(N_UNKNOWNS),
-            np.empty(N_UNKNOWNS), np.empty(N_ERRORS))
+    """A :class:`Scratch` (allocate once per thread)."""
+    return Scratch(ws=workspace(), F=np.empty(N_UNKNOWNS), J=np.empty((N_UNKNOWNS, N_UNKNOWNS)),
+                   Je=np.empty((N_UNKNOWNS, N_ERRORS)), Jp=np.empty(N_UNKNOWNS), step=np.empty(N_UNKNOWNS),
+                   dx=np.empty(N_UNKNOWNS), rhs=np.empty(N_UNKNOWNS), e=np.empty(N_ERRORS))
 
 
 def evaluate_unchecked(problem, x, phi1, e, ws, F, J, Je, Jp):
@@ -139,7 +154,8 @@ def homotopy(problem, x, phi_ref, target, steps, scale, tol, max_iter, ws, F, J,
 
 def solve_point(problem, x, phi1, errors, scale, tol, max_iter):
     """One Newton solve from the guess x (copied): (x, converged, iterations, residual_norm_mm)."""
-    ws, F, J, Je, Jp, step, _, _, _ = scratch()
+    s = scratch()
+    ws, F, J, Je, Jp, step = s.ws, s.F, s.J, s.Je, s.Jp, s.step
     xs = x.copy()
     conv, it = newton(problem, xs, phi1, errors, scale, tol, max_iter, ws, F, J, Je, Jp, step)
     return xs, conv, it, residual_norm(F, scale)

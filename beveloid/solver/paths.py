@@ -69,7 +69,8 @@ def solve_paths(problem, pinion_blank, gear_blank, pinion_cover, x_ref, phi_ref,
     while j0 < N and phi_grid[j0] < phi_ref:
         j0 += 1
     for k in prange(K):
-        ws, F, J, Je, Jp, step, dx, rhs, e = scratch()
+        s = scratch()
+        ws, F, J, Je, Jp, step, dx, rhs, e = s.ws, s.F, s.J, s.Je, s.Jp, s.step, s.dx, s.rhs, s.e
         es = edge_scratch()
         cs = clearance_scratch()
         ews = workspace()  # the candidates' surface jets (ws keeps the tangency's)
