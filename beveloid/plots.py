@@ -43,8 +43,12 @@ def _plt():
 
 
 def _save(fig, out_png, title="", dpi=110, suptitle=True):
+    """Title (wrapped to the figure's width: a long one would run off both sides), layout, PNG."""
+    import textwrap
+
     plt = _plt()
     if title:
+        title = textwrap.fill(title, width=max(30, int(fig.get_figwidth() * 10)))
         (fig.suptitle if suptitle else fig.axes[0].set_title)(title)
     fig.tight_layout()
     fig.savefig(out_png, dpi=dpi)
@@ -116,17 +120,19 @@ def transmission_error(results, labels, flank, out_png, title=""):
         phi = np.degrees(fr.pinion_angle)
         te = fr.transmission_error * 1e6
         act = fr.active & np.isfinite(te)
-        order = np.argsort(phi[act])
         ptp = fr.te_peak_to_peak * 1e6
         if not act.any():
             ax.plot([], [], ".", label=f"{lab} (no contact on the flanks)")
             continue
         mean = float(np.mean(te[act]))
         ptps.append(ptp)
-        ax.plot(phi[act][order], te[act][order] - mean, ".", ms=3,
-                label=f"{lab}: mean {mean:+.1f} urad, peak-to-peak {ptp:.2e} urad from {int(act.sum())} points")
+        complete = np.tile(fr.te_envelope_complete, len(te) // fr.te_envelope_complete.size)
+        line, = ax.plot(phi[act & complete], te[act & complete] - mean, ".", ms=3,
+                        label=f"{lab}: mean {mean:+.1f} urad, peak-to-peak {ptp:.2e} urad from"
+                              f" {int((act & complete).sum())} points")
+        ax.plot(phi[act & ~complete], te[act & ~complete] - mean, ".", ms=3, color=line.get_color(), alpha=0.25)
     te_axis(ax, [0.0], ptps)
-    ax.set_xlabel("pinion angle phi'_1 (deg)")
+    ax.set_xlabel("pinion angle phi'_1 (deg); faded: the window's ends, where a pair beyond those solved may carry")
     ax.set_ylabel("TE minus its mean (urad)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
