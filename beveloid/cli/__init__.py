@@ -97,7 +97,7 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
         help_text = _help_text(module.run)
         p = sub.add_parser(name, help=help_text, description=(module.run.__doc__ or "").strip())
         module.configure(p)
-        p.set_defaults(_run=module.run)
+        p.set_defaults(command_run=module.run)  # the parsed namespace names the function that runs it
     return parser
 
 
@@ -179,7 +179,7 @@ def _main(argv: Sequence[str] | None) -> int:
     except SystemExit as exc:  # --help, --version (0) and usage errors (2)
         return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 2)
     try:
-        status = args._run(args)
+        status = args.command_run(args)
         sys.stdout.flush()  # a full or failing output shows here, not at the interpreter's exit
         return status
     except USER_ERRORS as exc:
