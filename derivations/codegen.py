@@ -19,7 +19,7 @@ import sympy as sp
 from sympy.printing.numpy import NumPyPrinter
 from sympy.printing.pycode import PythonCodePrinter
 
-from .interface import Field, Layout, with_trig  # noqa: F401  (the models' interface; re-exported)
+from .interface import Field, Layout  # noqa: F401  (the models' interface; re-exported)
 
 TEMPLATE_DIR = Path(__file__).parent / "templates"
 
@@ -159,7 +159,7 @@ def render_function(fn: Function, cse=True, scalar=False):
         if o.name in names or o.name in locals_ or o.name.startswith("_"):
             raise GenerationError(f"{fn.name}: output name {o.name!r} clashes with an argument or a generated name")
     rename = {sym: sp.Symbol(local, real=True) for _, local, sym, _ in entries}
-    # derived layout entries (with_trig) replace the expressions they hold
+    # derived layout entries (a layout's trig setting) replace the expressions they hold
     derived = {f.derived: f.symbol for a in fn.inputs if isinstance(a.symbol, Layout) for f in a.symbol.derived_fields()}
     all_exprs = [sp.sympify(e).xreplace(derived).xreplace(rename) for ents in flat for e in ents]
     stages = _needed_stages(fn, all_exprs, allowed)

@@ -17,7 +17,7 @@ edge contact (curve against surface) uses the same functions and their derivativ
 """
 import sympy as sp
 
-from .interface import Field, Layout, with_trig
+from .interface import Field, Layout
 from .symbols import gamma, l, r, s
 
 x, y, z = sp.symbols("x y z", real=True)
@@ -29,7 +29,7 @@ BOUNDARIES = ("form limit", "tip", "toe", "heel")
 #: The boundary on the far side of the patch: the two never meet (no corner between them).
 OPPOSITE = {"form limit": "tip", "tip": "form limit", "toe": "heel", "heel": "toe"}
 
-BLANK = Layout("FlankBlank", "Where one member's flank ends (the blank), in its frame S_i.", with_trig((
+BLANK = Layout("FlankBlank", "Where one member's flank ends (the blank), in its frame S_i.", (
     Field("pitch_radius_mm", r, "mm", "generating (reference) pitch radius r"),
     Field("tip_height_mm", tip_height, "mm", "tip above the rack pitch plane, along the rack depth axis"),
     Field("rack_shift_mm", s, "mm", "rack shift s along its depth axis"),
@@ -37,7 +37,7 @@ BLANK = Layout("FlankBlank", "Where one member's flank ends (the blank), in its 
     Field("toe_z_mm", toe_z, "mm", "axial position of the toe (small end) in S_i"),
     Field("heel_z_mm", heel_z, "mm", "axial position of the heel (large end) in S_i"),
     Field("form_limit_l_mm", form_l, "mm", "l where the straight edge starts: the tip round's junction l_t (0: sharp rack)"),
-), ("cone_angle",)))
+), trig=("cone_angle",))
 
 
 def tip_radius(zz=z):

@@ -2,9 +2,10 @@
 
 The sympy models (derivations/*.py) import these, not the generator (derivations/codegen.py):
 a model says which parameters it takes and in what units; how they are printed, packed and
-unpacked is the generator's business.  ``with_trig`` marks the angles of a layout whose sine,
+unpacked is the generator's business.  A layout's ``trig`` setting names the angles whose sine,
 cosine and tangent the generated ``pack`` computes once (a speed setting the generator honours:
-the kernels read the packed entries instead of evaluating the functions on every call).
+the kernels read the packed entries instead of evaluating the functions on every call); the
+model only says which of its parameters are such constant angles.
 """
 from __future__ import annotations
 
@@ -25,7 +26,7 @@ class Field:
     derived: object = None
 
 
-def with_trig(fields, angles):
+def _trig_entries(fields, angles):
     """``fields`` followed by derived entries sin_<a>, cos_<a>, tan_<a> for each field named in
     ``angles``: a layout's angles are constant over a solve, so their trigonometry is computed
     once, when the vector is packed (a profile of the compiled W2 sweep had 25 % of its samples in
@@ -49,10 +50,17 @@ class Layout:
     ``generated/layouts.py``; a kernel takes the vector as one array argument whose last axis
     holds the fields in this order (``numpy.asarray(Params(...))`` builds it), and unpacks it
     inside the generated code.  Callers fill it by field name and never count positions.
+    ``trig``: names of angle fields whose sin, cos and tan the generated ``pack`` appends as
+    derived entries (``fields`` then holds them after the stated ones).
     """
     name: str
     doc: str
     fields: tuple
+    trig: tuple = ()
+
+    def __post_init__(self):
+        if self.trig:
+            object.__setattr__(self, "fields", _trig_entries(self.fields, self.trig))
 
     def symbols(self):
         return [f.symbol for f in self.fields]

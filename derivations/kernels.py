@@ -49,7 +49,7 @@ from . import (
     flank_micro_geometry, patch_clearance, root_fillet, tooth_plate_coupling, tooth_sections,
 )
 from .codegen import Arg, Function, ModuleSpec, Output
-from .interface import Field, Layout, with_trig
+from .interface import Field, Layout
 from .eq01_03_rack_cutter import LEFT, RIGHT
 from .symbols import (
     E, N1, N2, a, alpha_n, alpha_nw, b, b_c1, b_c2, beta, beta1, beta_w1, d_w1, d_w2, delta, dg_h, dg_v, dx_q,
@@ -76,7 +76,7 @@ RACK_FIELDS = (
     Field("pitch_radius_mm", r, "mm", "generating (reference) pitch radius r"),
 )
 
-#: the rack fields whose sin, cos and tan every surface layout carries precomputed (with_trig)
+#: the rack fields whose sin, cos and tan every surface layout carries precomputed (Layout trig)
 RACK_ANGLES = ("normal_pressure_angle", "helix_angle", "cone_angle")
 
 ERRORS = Layout("AssemblyErrors", "The five assembly errors of Eq 34 (frame S_q of the aligned gear).", (
@@ -88,12 +88,12 @@ ERRORS = Layout("AssemblyErrors", "The five assembly errors of Eq 34 (frame S_q 
 ))
 
 _z1, _z2 = sp.symbols("z_1 z_2", real=True)
-PLACEMENT = Layout("PairPlacement", "Where the two members sit in S_f (Eqs 30, 33).", with_trig((
+PLACEMENT = Layout("PairPlacement", "Where the two members sit in S_f (Eqs 30, 33).", (
     Field("offset_mm", E, "mm", "offset E between the crossed axes"),
     Field("shaft_angle", delta, "rad", "shaft angle delta"),
     Field("pinion_axial_placement_mm", _z1, "mm", "d_w1 - b_c1: the S_1 origin on the pinion axis"),
     Field("gear_axial_placement_mm", _z2, "mm", "d_w2 - b_c2: the S_2 origin on the gear axis"),
-), ("shaft_angle",)))
+), trig=("shaft_angle",))
 
 CONTACT_UNKNOWNS = Layout("ContactUnknowns", "The unknowns of Eq 38 for a given pinion angle, in the solver's order.", (
     Field("pinion_l_mm", sp.Symbol("l_1", real=True), "mm", "pinion profile parameter l"),
@@ -113,7 +113,7 @@ def surface_layout(model_name, model):
     extra = tuple(getattr(model, "PARAMETERS", ()))
     return Layout(f"{_camel(model_name)}SurfaceParams",
                   f"Parameters of the '{model_name}' tooth-surface model ({model.__name__.rsplit('.', 1)[-1]}.py).",
-                  with_trig(RACK_FIELDS + extra, RACK_ANGLES))
+                  RACK_FIELDS + extra, trig=RACK_ANGLES)
 
 
 _LU = [Arg("l", l, "mm", "profile parameter along the rack edge"), Arg("u", u, "mm", "parameter along the tooth")]
@@ -302,7 +302,7 @@ def edge_contact_module():
 
 
 FILLET = Layout("FilletParams", "Parameters of the root fillet (root_fillet.py): the rack, its tip round and crowning.",
-                with_trig(RACK_FIELDS + root_fillet.PARAMETERS, RACK_ANGLES))
+                RACK_FIELDS + root_fillet.PARAMETERS, trig=RACK_ANGLES)
 _PSI_U = [Arg("psi", root_fillet.psi, "rad", "fillet profile parameter: 0 at the root, junction_psi at the flank"),
           Arg("u", u, "mm", "parameter along the tooth")]
 
@@ -335,7 +335,7 @@ def fillet_module():
 
 
 SECTION = Layout("ToothSectionParams", "A member's rack and tip for its transverse sections (tooth_sections.py).",
-                 with_trig(RACK_FIELDS + tooth_sections.PARAMETERS, RACK_ANGLES))
+                 RACK_FIELDS + tooth_sections.PARAMETERS, trig=RACK_ANGLES)
 
 
 def tooth_sections_module():

@@ -221,7 +221,7 @@ def domain(module, name):
 def sample_arg(module, arg, rng, n):
     """Float array (n, *arg.shape) drawn from the argument's domain (layouts field by field)."""
     if isinstance(arg.symbol, codegen.Layout):
-        # the base entries from their domains, the derived ones (with_trig) computed from them as pack does
+        # the base entries from their domains, the derived ones (the layout's trig setting) computed from them as pack does
         base = {f.symbol: domain(module, f.name)(rng, n) for f in arg.symbol.base_fields()}
         derived = lambda f: np.broadcast_to(sp.lambdify(list(base), f.derived, "numpy")(*base.values()), (n,))  # noqa: E731
         return np.stack([base[f.symbol] if f.derived is None else derived(f) for f in arg.symbol.fields], axis=-1)

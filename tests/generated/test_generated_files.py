@@ -92,7 +92,7 @@ def test_layouts_module_holds_the_spec_layouts(specs):
 
 def test_trigonometry_of_layout_angles_is_read_not_evaluated():
     """Kernels taking a layout with derived sin/cos/tan entries never evaluate those functions of
-    its angles again (the point of with_trig), and their values agree with the model's."""
+    its angles again (the point of a layout's trig setting), and their values agree with the model's."""
     import inspect
 
     for module in ("surface_involute_scalar", "surface_crowned_scalar", "flank_boundaries_scalar",
