@@ -438,6 +438,41 @@ _DESIGN_OUTPUTS = [
 ]
 
 
+#: One member's design outputs as a record: field -> the kernels' output name without its member
+#: number (1 pinion, 2 gear).  The generator emits the record (layouts.MemberDesignOutputs) and, per
+#: member, which output fills each field (design_equations.MEMBER_OUTPUTS): the runtime reads names.
+_MEMBER_RECORD = (
+    ("helix_angle", "beta", "rad", "helix angle"), ("cone_angle", "gamma", "rad", "cone angle"),
+    ("transverse_angular_factor", "xi_t", "1", "transverse angular factor (Eq 22-23)"),
+    ("mounting_distance_mm", "d", "mm", "mounting distance (Eqs 13-14)"),
+    ("working_mounting_distance_mm", "d_w", "mm", "working mounting distance"),
+    ("working_cone_angle", "gamma_w", "rad", "working cone angle"),
+    ("working_helix_angle", "beta_w", "rad", "working helix angle"),
+    ("working_pitch_radius_mm", "r_w", "mm", "working pitch radius"),
+    ("reference_pitch_radius_mm", "r", "mm", "reference pitch radius"),
+    ("transverse_pressure_angle_left", "alpha_PL", "rad", "transverse pressure angle, left, reference"),
+    ("transverse_pressure_angle_right", "alpha_PR", "rad", "transverse pressure angle, right, reference"),
+    ("working_transverse_pressure_angle_left", "alpha_PwL", "rad", "transverse pressure angle, left, working"),
+    ("working_transverse_pressure_angle_right", "alpha_PwR", "rad", "transverse pressure angle, right, working"),
+    ("fpd_angle_left", "xi_L", "rad", "FPD angle, left (Eq 19)"),
+    ("fpd_angle_right", "xi_R", "rad", "FPD angle, right (Eq 20)"),
+    ("cos_pitch_point_angle", "cos_theta", "1", "cos of the pitch point angle on the cone"),
+    ("sin_pitch_point_angle", "sin_theta", "1", "sin of the pitch point angle on the cone"),
+)
+MEMBER_DESIGN = Layout("MemberDesignOutputs", "One member's outputs of the direct or indirect design, by name.",
+                       tuple(Field(f, sp.Symbol(f, real=True), unit, doc) for f, _, unit, doc in _MEMBER_RECORD))
+
+
+def member_output_names():
+    """{"pinion": {field: output name}, "gear": {...}}, every name an output of the design kernels."""
+    outputs = {k for k, _, _ in _DESIGN_OUTPUTS}
+    out = {member: {f: f"{stem}{number}" for f, stem, _, _ in _MEMBER_RECORD}
+           for member, number in (("pinion", 1), ("gear", 2))}
+    missing = {n for names in out.values() for n in names.values()} - outputs
+    assert not missing, f"member record names outputs the design kernels lack: {sorted(missing)}"
+    return out
+
+
 def design_module():
     direct = design_chain.direct()
     indirect = design_chain.indirect()
@@ -468,7 +503,7 @@ def design_module():
                  [anw] + _pair_args() + ref, outs(direct)),
         Function("indirect_design", "All design quantities from the working data (indirect design).",
                  [anw] + _pair_args() + work, outs(indirect)),
-    ])
+    ], constants={"MEMBER_OUTPUTS": member_output_names()}, extra_layouts=(MEMBER_DESIGN,))
 
 
 def glue_files(models=None):

@@ -5,6 +5,8 @@ import typing
 
 import numpy
 
+MEMBER_OUTPUTS = {'pinion': {'helix_angle': 'beta1', 'cone_angle': 'gamma1', 'transverse_angular_factor': 'xi_t1', 'mounting_distance_mm': 'd1', 'working_mounting_distance_mm': 'd_w1', 'working_cone_angle': 'gamma_w1', 'working_helix_angle': 'beta_w1', 'working_pitch_radius_mm': 'r_w1', 'reference_pitch_radius_mm': 'r1', 'transverse_pressure_angle_left': 'alpha_PL1', 'transverse_pressure_angle_right': 'alpha_PR1', 'working_transverse_pressure_angle_left': 'alpha_PwL1', 'working_transverse_pressure_angle_right': 'alpha_PwR1', 'fpd_angle_left': 'xi_L1', 'fpd_angle_right': 'xi_R1', 'cos_pitch_point_angle': 'cos_theta1', 'sin_pitch_point_angle': 'sin_theta1'}, 'gear': {'helix_angle': 'beta2', 'cone_angle': 'gamma2', 'transverse_angular_factor': 'xi_t2', 'mounting_distance_mm': 'd2', 'working_mounting_distance_mm': 'd_w2', 'working_cone_angle': 'gamma_w2', 'working_helix_angle': 'beta_w2', 'working_pitch_radius_mm': 'r_w2', 'reference_pitch_radius_mm': 'r2', 'transverse_pressure_angle_left': 'alpha_PL2', 'transverse_pressure_angle_right': 'alpha_PR2', 'working_transverse_pressure_angle_left': 'alpha_PwL2', 'working_transverse_pressure_angle_right': 'alpha_PwR2', 'fpd_angle_left': 'xi_L2', 'fpd_angle_right': 'xi_R2', 'cos_pitch_point_angle': 'cos_theta2', 'sin_pitch_point_angle': 'sin_theta2'}}
+
 
 class OffsetResidual(typing.NamedTuple):
     """Outputs of offset_residual()."""

@@ -462,6 +462,74 @@ class InvoluteSurfaceParams(typing.NamedTuple):
         )
 
 
+class MemberDesignOutputs(typing.NamedTuple):
+    """One member's outputs of the direct or indirect design, by name."""
+
+    helix_angle: float  # [rad] helix angle
+    cone_angle: float  # [rad] cone angle
+    transverse_angular_factor: float  # [1] transverse angular factor (Eq 22-23)
+    mounting_distance_mm: float  # [mm] mounting distance (Eqs 13-14)
+    working_mounting_distance_mm: float  # [mm] working mounting distance
+    working_cone_angle: float  # [rad] working cone angle
+    working_helix_angle: float  # [rad] working helix angle
+    working_pitch_radius_mm: float  # [mm] working pitch radius
+    reference_pitch_radius_mm: float  # [mm] reference pitch radius
+    transverse_pressure_angle_left: float  # [rad] transverse pressure angle, left, reference
+    transverse_pressure_angle_right: float  # [rad] transverse pressure angle, right, reference
+    working_transverse_pressure_angle_left: float  # [rad] transverse pressure angle, left, working
+    working_transverse_pressure_angle_right: float  # [rad] transverse pressure angle, right, working
+    fpd_angle_left: float  # [rad] FPD angle, left (Eq 19)
+    fpd_angle_right: float  # [rad] FPD angle, right (Eq 20)
+    cos_pitch_point_angle: float  # [1] cos of the pitch point angle on the cone
+    sin_pitch_point_angle: float  # [1] sin of the pitch point angle on the cone
+
+    UNITS = {
+        "helix_angle": "rad",
+        "cone_angle": "rad",
+        "transverse_angular_factor": "1",
+        "mounting_distance_mm": "mm",
+        "working_mounting_distance_mm": "mm",
+        "working_cone_angle": "rad",
+        "working_helix_angle": "rad",
+        "working_pitch_radius_mm": "mm",
+        "reference_pitch_radius_mm": "mm",
+        "transverse_pressure_angle_left": "rad",
+        "transverse_pressure_angle_right": "rad",
+        "working_transverse_pressure_angle_left": "rad",
+        "working_transverse_pressure_angle_right": "rad",
+        "fpd_angle_left": "rad",
+        "fpd_angle_right": "rad",
+        "cos_pitch_point_angle": "1",
+        "sin_pitch_point_angle": "1",
+    }
+    DOCS = {
+        "helix_angle": "helix angle",
+        "cone_angle": "cone angle",
+        "transverse_angular_factor": "transverse angular factor (Eq 22-23)",
+        "mounting_distance_mm": "mounting distance (Eqs 13-14)",
+        "working_mounting_distance_mm": "working mounting distance",
+        "working_cone_angle": "working cone angle",
+        "working_helix_angle": "working helix angle",
+        "working_pitch_radius_mm": "working pitch radius",
+        "reference_pitch_radius_mm": "reference pitch radius",
+        "transverse_pressure_angle_left": "transverse pressure angle, left, reference",
+        "transverse_pressure_angle_right": "transverse pressure angle, right, reference",
+        "working_transverse_pressure_angle_left": "transverse pressure angle, left, working",
+        "working_transverse_pressure_angle_right": "transverse pressure angle, right, working",
+        "fpd_angle_left": "FPD angle, left (Eq 19)",
+        "fpd_angle_right": "FPD angle, right (Eq 20)",
+        "cos_pitch_point_angle": "cos of the pitch point angle on the cone",
+        "sin_pitch_point_angle": "sin of the pitch point angle on the cone",
+    }
+
+    DERIVED = ()
+
+    @classmethod
+    def pack(cls, values):
+        """The fields taken by name from a mapping (extra keys are ignored).  Floats or arrays."""
+        return cls(**{name: _value(values[name]) for name in cls._fields})
+
+
 class MicroGeometrySurfaceParams(typing.NamedTuple):
     """Parameters of the 'micro_geometry' tooth-surface model (flank_micro_geometry.py)."""
 

@@ -6,11 +6,12 @@ gamma2, beta1; radians and mm), from :func:`beveloid.design.solve.spec_constants
 from __future__ import annotations
 
 import math
-from typing import Any, NamedTuple
+from typing import Any
 
 import numpy as np
 
 from ..generated import design_equations as equations
+from ..generated import layouts
 
 
 def pair_kwargs(c: dict[str, Any]) -> dict[str, Any]:
@@ -42,43 +43,11 @@ def num_text(x: float) -> str:
     return f"{x:.6g}"
 
 
-class MemberOutputs(NamedTuple):
-    """One member's outputs of the direct/indirect design kernels, by name (radians, mm)."""
-
-    helix_angle: float
-    cone_angle: float
-    transverse_angular_factor: float
-    mounting_distance_mm: float
-    working_mounting_distance_mm: float
-    working_cone_angle: float
-    working_helix_angle: float
-    working_pitch_radius_mm: float
-    reference_pitch_radius_mm: float
-    transverse_pressure_angle_left: float
-    transverse_pressure_angle_right: float
-    working_transverse_pressure_angle_left: float
-    working_transverse_pressure_angle_right: float
-    fpd_angle_left: float
-    fpd_angle_right: float
-    cos_pitch_point_angle: float
-    sin_pitch_point_angle: float
-
-
-#: The kernels number a member's outputs (beta1 pinion, beta2 gear): each field's name without the number.
-#: The one place that reads that numbering.
-_KERNEL_STEMS = MemberOutputs(
-    helix_angle="beta", cone_angle="gamma", transverse_angular_factor="xi_t", mounting_distance_mm="d",
-    working_mounting_distance_mm="d_w", working_cone_angle="gamma_w", working_helix_angle="beta_w",
-    working_pitch_radius_mm="r_w", reference_pitch_radius_mm="r", transverse_pressure_angle_left="alpha_PL",
-    transverse_pressure_angle_right="alpha_PR", working_transverse_pressure_angle_left="alpha_PwL",
-    working_transverse_pressure_angle_right="alpha_PwR", fpd_angle_left="xi_L", fpd_angle_right="xi_R",
-    cos_pitch_point_angle="cos_theta", sin_pitch_point_angle="sin_theta")
-
-#: member name -> its number in the kernels' outputs
-MEMBER_NUMBER = {"pinion": 1, "gear": 2}
+#: One member's outputs of the direct/indirect design kernels, by name (radians, mm): the generated record.
+MemberOutputs = layouts.MemberDesignOutputs
 
 
 def member_outputs(q: dict[str, float], member: str) -> MemberOutputs:
-    """The outputs of ``member`` ("pinion" or "gear") among the kernels' outputs ``q``."""
-    number = MEMBER_NUMBER[member]
-    return MemberOutputs(**{field: q[f"{stem}{number}"] for field, stem in _KERNEL_STEMS._asdict().items()})
+    """The outputs of ``member`` ("pinion" or "gear") among the kernels' outputs ``q``, by the
+    generated map of which output fills which field (design_equations.MEMBER_OUTPUTS)."""
+    return MemberOutputs.pack({field: q[name] for field, name in equations.MEMBER_OUTPUTS[member].items()})

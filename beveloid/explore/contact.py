@@ -21,7 +21,7 @@ import types
 import numpy as np
 
 from .. import tca
-from ..generated import layouts, surface_models, tca_kernels
+from ..generated import design_equations, layouts, surface_models, tca_kernels
 from ..solver import backends
 from ..solver.options import DEFAULT_OPTIONS
 from ..geometry import junction_l
@@ -40,9 +40,10 @@ def members(values: dict, q: dict, idx: np.ndarray, models: dict) -> dict:
     """Per member: the geometry.Member quantities of designs idx, by name (arrays)."""
     m_n = values["pair.normal_module_mm"][idx]
     out = {}
-    for i, name in MEMBERS:
-        beta, gamma = q[f"beta{i}"][idx], q[f"gamma{i}"][idx]
-        x_t = values["pinion.profile_shift"][idx] if i == 1 else q["x_t2"][idx]
+    for _, name in MEMBERS:
+        o = design_equations.MEMBER_OUTPUTS[name]  # which design output fills each member field
+        beta, gamma = q[o["helix_angle"]][idx], q[o["cone_angle"]][idx]
+        x_t = values["pinion.profile_shift"][idx] if name == "pinion" else q["x_t2"][idx]
         b_c = values[f"{name}.reference_section_offset_mm"][idx]
         w = values[f"{name}.face_width_mm"][idx] / 2
         toe = np.where(gamma >= 0, b_c - w, b_c + w)
@@ -50,15 +51,17 @@ def members(values: dict, q: dict, idx: np.ndarray, models: dict) -> dict:
         out[name] = dict(
             helix_angle=beta, cone_angle=gamma, normal_pressure_angle=np.radians(values["pair.normal_pressure_angle_deg"][idx]),
             cutter_addendum_mm=values[f"{name}.cutter_addendum_coefficient"][idx] * m_n,
-            rack_shift_mm=x_t * m_n * np.cos(gamma) / np.cos(beta), pitch_radius_mm=q[f"r{i}"][idx],
-            working_pitch_radius_mm=q[f"r_w{i}"][idx], axial_placement_mm=q[f"d_w{i}"][idx] - b_c,
+            rack_shift_mm=x_t * m_n * np.cos(gamma) / np.cos(beta), pitch_radius_mm=q[o["reference_pitch_radius_mm"]][idx],
+            working_pitch_radius_mm=q[o["working_pitch_radius_mm"]][idx],
+            axial_placement_mm=q[o["working_mounting_distance_mm"]][idx] - b_c,
             reference_section_offset_mm=b_c, face_width_mm=values[f"{name}.face_width_mm"][idx],
             tip_height_mm=values[f"{name}.addendum_coefficient"][idx] * m_n, half_thickness_mm=math.pi * m_n / 4,
             normal_module_mm=m_n, toe_z_mm=toe, heel_z_mm=heel,
             form_limit_l_mm=np.broadcast_to(junction_l(
                 np.radians(values["pair.normal_pressure_angle_deg"][idx]),
                 values[f"{name}.cutter_tip_radius_coefficient"][idx] * m_n, m_n), m_n.shape),
-            pitch_point_angle=np.array([math.atan2(s, c) for s, c in zip(q[f"sin_theta{i}"][idx], q[f"cos_theta{i}"][idx])]),
+            pitch_point_angle=np.array([math.atan2(s, c) for s, c in zip(q[o["sin_pitch_point_angle"]][idx],
+                                                                          q[o["cos_pitch_point_angle"]][idx])]),
             model=models[name])
         for key in surface_models.MODEL_KEYS[models[name]]:  # the model's own inputs (crowning)
             out[name][key] = values[f"{name}.{key}"][idx]

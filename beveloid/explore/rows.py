@@ -18,22 +18,26 @@ import math
 import numpy as np
 
 from .. import assembly_errors, tca
-from ..generated import surface_models
+from ..generated import design_equations, surface_models
 from ..status import Status
 from . import batch, contact
 
 AXES = ("x", "y", "z")
 #: the design's working data: (column, q key or a function of (q, values), degrees?)
+#: (column stem, member record field (generated layouts.MemberDesignOutputs), in degrees)
 MEMBER_COLUMNS = (
-    ("helix_angle_deg", "beta{i}", True), ("cone_angle_deg", "gamma{i}", True),
-    ("transverse_angular_factor", "xi_t{i}", False), ("mounting_distance_mm", "d{i}", False),
-    ("working_mounting_distance_mm", "d_w{i}", False), ("working_cone_angle_deg", "gamma_w{i}", True),
-    ("working_helix_angle_deg", "beta_w{i}", True), ("working_pitch_radius_mm", "r_w{i}", False),
-    ("reference_pitch_radius_mm", "r{i}", False), ("transverse_pressure_angle_left_deg", "alpha_PL{i}", True),
-    ("transverse_pressure_angle_right_deg", "alpha_PR{i}", True),
-    ("working_transverse_pressure_angle_left_deg", "alpha_PwL{i}", True),
-    ("working_transverse_pressure_angle_right_deg", "alpha_PwR{i}", True),
-    ("fpd_angle_left_deg", "xi_L{i}", True), ("fpd_angle_right_deg", "xi_R{i}", True),
+    ("helix_angle_deg", "helix_angle", True), ("cone_angle_deg", "cone_angle", True),
+    ("transverse_angular_factor", "transverse_angular_factor", False),
+    ("mounting_distance_mm", "mounting_distance_mm", False),
+    ("working_mounting_distance_mm", "working_mounting_distance_mm", False),
+    ("working_cone_angle_deg", "working_cone_angle", True), ("working_helix_angle_deg", "working_helix_angle", True),
+    ("working_pitch_radius_mm", "working_pitch_radius_mm", False),
+    ("reference_pitch_radius_mm", "reference_pitch_radius_mm", False),
+    ("transverse_pressure_angle_left_deg", "transverse_pressure_angle_left", True),
+    ("transverse_pressure_angle_right_deg", "transverse_pressure_angle_right", True),
+    ("working_transverse_pressure_angle_left_deg", "working_transverse_pressure_angle_left", True),
+    ("working_transverse_pressure_angle_right_deg", "working_transverse_pressure_angle_right", True),
+    ("fpd_angle_left_deg", "fpd_angle_left", True), ("fpd_angle_right_deg", "fpd_angle_right", True),
 )
 MC_COLUMNS = ("mc_sets", "mc_edge_fraction", "mc_off_flank_fraction", "mc_te_peak_to_peak_urad_mean",
               "mc_te_peak_to_peak_urad_p95", "mc_te_peak_to_peak_urad_max")
@@ -86,16 +90,19 @@ def compute(plan, start: int, stop: int, tolerances: dict, backend: str = "auto"
     cols["max_fpd_angle_deg"] = np.maximum(np.abs(cols["fpd_angle_left_deg"]), np.abs(cols["fpd_angle_right_deg"]))
     cols["normal_angular_factor"] = q["xi_n"]
     cols["offset_residual_mm"] = q["offset_residual_mm"]
-    for i, name in contact.MEMBERS:
-        for col, key, is_deg in MEMBER_COLUMNS:
-            x = q[key.format(i=i)]
+    for _, name in contact.MEMBERS:
+        o = design_equations.MEMBER_OUTPUTS[name]  # which design output fills each member field
+        for col, field, is_deg in MEMBER_COLUMNS:
+            x = q[o[field]]
             cols[f"{name}_{col}"] = deg(x) if is_deg else x
-        cols[f"{name}_profile_shift"] = np.where(ok, values["pinion.profile_shift"], np.nan) if i == 1 else q["x_t2"]
+        cols[f"{name}_profile_shift"] = (np.where(ok, values["pinion.profile_shift"], np.nan) if name == "pinion"
+                                         else q["x_t2"])
         ppa = np.full(n, np.nan)
-        ppa[ok] = [math.degrees(math.atan2(s, c)) for s, c in zip(q[f"sin_theta{i}"][ok], q[f"cos_theta{i}"][ok])]
+        ppa[ok] = [math.degrees(math.atan2(s, c))
+                   for s, c in zip(q[o["sin_pitch_point_angle"]][ok], q[o["cos_pitch_point_angle"]][ok])]
         cols[f"{name}_pitch_point_angle_deg"] = ppa
         cols[f"{name}_rack_shift_mm"] = (cols[f"{name}_profile_shift"] * values["pair.normal_module_mm"]
-                                         * np.cos(q[f"gamma{i}"]) / np.cos(q[f"beta{i}"]))
+                                         * np.cos(q[o["cone_angle"]]) / np.cos(q[o["helix_angle"]]))
     _sensitivities(cols, plan, values, q, status, tolerances, backend)
     return cols
 
