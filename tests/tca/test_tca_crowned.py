@@ -385,3 +385,29 @@ def test_bad_crowning_in_a_file_exits_2_with_one_line(tmp_path, capsys):
     assert cli.main(["tca", str(path)]) == 2
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and "lead_crowning_um = -3" in err and "Traceback" not in err
+
+
+def test_statuses_do_not_flip_under_round_off_perturbations():
+    """Crowned case 1 (10 um on both members): the offset moved by +-1e-12 mm (alpha_nw by ~1e-13 rad)
+    leaves every point's status as it was and the TE peak-to-peak to 1e-9 (no point sits on a
+    decision boundary of the solver without the one tolerance deciding it)."""
+    import tomllib
+    from pathlib import Path
+
+    from beveloid import tca
+    from beveloid.pair import Pair
+
+    d = tomllib.loads((Path(__file__).resolve().parents[2] / "examples" / "case1.toml").read_text())
+    for member in ("pinion", "gear"):
+        d[member]["profile_crowning_um"] = d[member]["lead_crowning_um"] = 10.0
+    runs = []
+    for eps in (0.0, 1e-12, -1e-12):
+        spec = {k: dict(v) for k, v in d.items()}
+        spec["pair"]["offset_mm"] += eps
+        runs.append(tca.analyze(Pair.from_spec(spec), tca.Options(positions=120, approach_mm=None), tca.Solver()))
+    for flank in ("left", "right"):
+        ref = runs[0].flanks[flank]
+        for other in runs[1:]:
+            fr = other.flanks[flank]
+            assert fr.status == ref.status
+            assert fr.te_peak_to_peak == pytest.approx(ref.te_peak_to_peak, rel=1e-9)
