@@ -362,12 +362,19 @@ def assert_good_error(err: DesignError) -> None:
 @given(pair_data())
 @example(dict(mn=5.0, an=15.0, N1=12, N2=29, delta=4.0, g1=4.0, g2=0.5, b1=0.0, x1=0.0, dalpha=0.0,
               fallback_E=1.0))  # E = 1 mm: near the end of the tangency range (sin^2 eta = 4.6e-7)
+# delta = gamma1 + gamma2 and alpha_nw0 = alpha_n: E0 is the round-off (~1e-6 mm) of a zero offset, where
+# Eq 17 only touches E (a double root, no sign change to bracket): found by a run with another hash seed
+# (hypothesis draws differently); such E0 are outside what the construction can promise (below)
+@example(dict(mn=1.5, an=15.0, N1=32, N2=68, delta=3.0, g1=1.5, g2=1.5, b1=0.0, x1=0.0, dalpha=0.0, fallback_E=1.0))
+@example(dict(mn=1.0, an=15.0, N1=12, N2=12, delta=3.0, g1=1.5, g2=1.5, b1=0.0, x1=0.0, dalpha=0.0, fallback_E=1.0))
 def test_property_identities_and_round_trip(v):
     with np.errstate(all="ignore"):
         E0 = float(kernels.offset_residual(rad(v["an"] + v["dalpha"]), v["mn"], rad(v["an"]), v["N1"], v["N2"],
                                            rad(v["delta"]), v["x1"], rad(v["g1"]), rad(v["g2"]), rad(v["b1"]),
                                            0.0)[0])
-    feasible = math.isfinite(E0) and E0 > 0
+    # an offset below 1e-4 mm is the round-off of intersecting axes (delta = gamma1 + gamma2 at alpha_n),
+    # where Eq 17 touches E at a double root that no sign change brackets: treated as not constructible
+    feasible = math.isfinite(E0) and E0 > 1e-4
     if not feasible:
         # alpha_nw0 is not admissible (no tangency there, or beta_w2 beyond 90 deg): whatever offset is
         # asked for, the design either succeeds with all identities or raises a proper DesignError.
