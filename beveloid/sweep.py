@@ -202,7 +202,8 @@ def sweep(geom, flank="right", samples=1000, positions=50, seed=0, ranges=None, 
                      grid, solver, None, (errors, X, C, IT), progress, t0)
     for start in range(0, samples if executor is None else 0, chunk):
         sl = slice(start, min(samples, start + chunk))
-        X[sl], C[sl], IT[sl] = tca.solve_grid(geom, flank, errors[sl], grid, solver)
+        sol = tca.solve_grid(geom, flank, errors[sl], grid, solver)
+        X[sl], C[sl], IT[sl] = sol.x, sol.status, sol.iterations
         if progress:
             progress(sl.stop, samples, t0)
     seconds = time.perf_counter() - t0

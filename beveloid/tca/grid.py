@@ -25,9 +25,6 @@ class GridSolution:
     boundary: np.ndarray
     active: np.ndarray  # (K, N, 2) CONTACT_BOUNDARIES indices of an edge / corner contact, -1: none
 
-    def __iter__(self):  # (x, status, iterations), as solve_grid returned before
-        return iter((self.x, self.status, self.iterations))
-
 
 #: solve_grid runs up to this many error sets in one thread (a mesh study, a backlash: one set)
 SERIAL_MAX_SETS = 32
