@@ -25,8 +25,28 @@ def _save(fig, out_png, title=""):
     plt.close(fig)
 
 
+def surface_scale_mpa(result):
+    """The colour scale's top: the largest surface-contact peak over the converged positions.
+
+    The edge peaks at a blank's edge are singular and grow with the grid (docs/validation.md 7.2);
+    scaled to them, a pattern shows one dark cell and the rest pale. None when no cell is clear of
+    the edges (then the scale runs to the largest pressure)."""
+    surf = result.pair_surface_max_pressure_mpa[result.converged]
+    return float(np.nanmax(surf)) if np.isfinite(surf).any() else None
+
+
+def _colorbar(fig, sc, ax, label, clipped, fontsize=8, **kw):
+    """A colour bar whose arrow says that pressures above the scale (edge peaks) are drawn at its top."""
+    cb = fig.colorbar(sc, ax=ax, extend="max" if clipped else "neither", **kw)
+    cb.set_label(label + ("; edge peaks above the scale" if clipped else ""), fontsize=fontsize)
+    return cb
+
+
 def ltca_pattern(ax, result, geom, member, vmax=None):
-    """The max pressure over the cycle on one member's flank raster, in (axial position z, radius)."""
+    """The max pressure over the cycle on one member's flank raster, in (axial position z, radius).
+
+    The colour runs to ``vmax`` (default: the surface-contact peak over the cycle, surface_scale_mpa);
+    returns the artist and whether any pressure lies above the scale, or (None, False)."""
     from ..plots import flank_outline
 
     pat = result.pattern(geom, member)
@@ -35,7 +55,8 @@ def ltca_pattern(ax, result, geom, member, vmax=None):
     ax.set_xlabel("axial position z (mm), toe -> heel", fontsize=8)
     ax.set_ylabel("radius (mm)", fontsize=8)
     if not pat.points.size:
-        return None
+        return None, False
+    vmax = surface_scale_mpa(result) if vmax is None else vmax
     pts = pat.raster_points
     z, rad = pts[..., 2], np.hypot(pts[..., 0], pts[..., 1])
     shown = np.ma.masked_where(~pat.raster_inside, pat.raster_pressure_mpa)
@@ -45,7 +66,8 @@ def ltca_pattern(ax, result, geom, member, vmax=None):
     sc = ax.pcolormesh(z, rad, loaded, cmap="inferno_r", vmin=0, vmax=vmax, shading="nearest")
     frac = "-" if pat.area_fraction is None else f"{pat.area_fraction * 100:.0f}%"
     ax.set_title(f"{member}: {frac} of the flank loaded", fontsize=9)
-    return sc
+    clipped = vmax is not None and bool(np.ma.max(loaded) > vmax) if loaded.count() else False
+    return sc, clipped
 
 
 def ltca_summary(result, geom, out_png, title=""):
@@ -54,9 +76,9 @@ def ltca_summary(result, geom, out_png, title=""):
     plt = _plt()
     fig, axes = plt.subplots(2, 2, figsize=(11, 7.5))
     for ax, member in ((axes[0, 0], "pinion"), (axes[0, 1], "gear")):
-        sc = ltca_pattern(ax, result, geom, member)
+        sc, clipped = ltca_pattern(ax, result, geom, member)
         if sc is not None:
-            fig.colorbar(sc, ax=ax, label=PRESSURE_LABEL)
+            _colorbar(fig, sc, ax, PRESSURE_LABEL, clipped)
     phi = result.pinion_angle * 1e3
     ax = axes[1, 0]
     ax.plot(phi, result.unloaded_te * 1e6, "--", color="0.5", label="unloaded (rigid) TE")
@@ -88,7 +110,9 @@ def position_maps(result, geom, out_png, title="", member="pinion"):
     fig, axes = plt.subplots(rows, cols, figsize=(3.0 * cols, 2.6 * rows + 0.6), squeeze=False)
     zb, rb = flank_outline(geom, member, result.flank)
     pts = result.gap.pinion_point if member == "pinion" else result.gap.gear_point
-    vmax = float(np.nanmax(np.where(result.converged[:, None, None], result.pressure_mpa, 0.0))) or 1.0
+    top = float(np.nanmax(np.where(result.converged[:, None, None], result.pressure_mpa, 0.0)))
+    vmax = surface_scale_mpa(result) or top or 1.0
+    clipped = top > vmax
     sc = None
     for j, ax in enumerate(axes.ravel()):
         if j >= N:
@@ -106,7 +130,7 @@ def position_maps(result, geom, out_png, title="", member="pinion"):
         if j // cols == rows - 1:
             ax.set_xlabel("axial position z (mm)", fontsize=7)
     if sc is not None:
-        fig.colorbar(sc, ax=axes.ravel().tolist(), label="pressure (MPa)", shrink=0.8)
+        _colorbar(fig, sc, axes.ravel().tolist(), "pressure (MPa)", clipped, shrink=0.8)
     if title:
         fig.suptitle(f"{title}: {member} pressure at each position", fontsize=9)
     fig.savefig(out_png, dpi=100)
@@ -121,12 +145,11 @@ def ltca_torques(results, geom, out_png, title=""):
     for c, res in enumerate(results):
         for r, member in enumerate(("pinion", "gear")):
             ax = axes[r, c]
-            sc = ltca_pattern(ax, res, geom, member)
+            sc, clipped = ltca_pattern(ax, res, geom, member)
             ax.set_title(f"T1 = {res.torque_nm:g} N m, " + ax.get_title(), fontsize=8)
             ax.tick_params(labelsize=7)
             if sc is not None:
-                cb = fig.colorbar(sc, ax=ax, fraction=0.05)
-                cb.set_label(PRESSURE_LABEL, fontsize=6)
+                cb = _colorbar(fig, sc, ax, PRESSURE_LABEL, clipped, fraction=0.05, fontsize=6)
                 cb.ax.tick_params(labelsize=6)
         phi = res.pinion_angle * 1e3
         ax = axes[2, c]

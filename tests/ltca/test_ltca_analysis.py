@@ -231,3 +231,27 @@ def test_gap_backends_agree(geom1):
     on = a.on_flanks & b.on_flanks
     for name in ("gap_mm", "gap_D_gear_angle", "pinion_arm_mm", "pinion_lu", "pinion_point", "gear_point"):
         assert np.allclose(getattr(a, name)[on], getattr(b, name)[on], rtol=1e-9, atol=1e-8), name
+
+
+def test_pattern_colour_scale_is_the_surface_peak_not_the_edge_spike(geom1, loaded200):
+    """Case 1 at 200 N m has edge peaks (singular, grid-dependent) far above the surface peak; the
+    pattern's colour runs to the surface peak over the cycle and its colour bar says that more lies
+    above it, so the pattern is not one dark cell on a pale flank."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from beveloid.ltca import plots
+
+    r = loaded200
+    surface = np.nanmax(r.pair_surface_max_pressure_mpa[r.converged])
+    edge = np.nanmax(r.pair_edge_max_pressure_mpa[r.converged])
+    assert edge > 1.5 * surface  # the premise: the spikes would dominate an automatic scale
+    assert plots.surface_scale_mpa(r) == surface
+    fig, ax = plt.subplots()
+    try:
+        sc, clipped = plots.ltca_pattern(ax, r, geom1, "pinion")
+        assert sc.norm.vmax == surface and clipped
+        assert np.ma.max(sc.get_array()) > surface  # the raster itself keeps the spikes
+    finally:
+        plt.close(fig)
