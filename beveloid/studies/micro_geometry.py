@@ -101,9 +101,13 @@ def edge_share(geom, errors):
     return float((act & ends).sum()) / n_act, float(fr.te_peak_to_peak) * 1e6
 
 
-def delta_map(geom, member="pinion", n=41):
+def delta_map(geom, member="pinion", n=161):
     """(z from the face centre mm, radius mm, delta um) over the member's active flank: the
-    distance between the base (crowned) point and the modified one, from the kernels."""
+    distance between the base (crowned) point and the modified one, from the kernels.
+
+    The (l, u) raster reaches past the face (|u| <= 0.65 W): a helical flank's generating lines
+    cross the toe and heel planes obliquely, so |u| <= W/2 would leave corners of the blank out;
+    points outside the blank are nan."""
     from ..generated import tca_kernels
 
     m = geom.member(member)
@@ -111,7 +115,7 @@ def delta_map(geom, member="pinion", n=41):
         (k, v) for k, v in m.surface_options if k in ("profile_crowning_um", "lead_crowning_um")))
     g_base = dataclasses.replace(geom, **{member: base})
     lmax = (m.tip_height_mm + m.cutter_addendum_mm) / math.cos(geom.normal_pressure_angle)
-    l, u = np.meshgrid(np.linspace(0.0, lmax, n), np.linspace(-0.5, 0.5, n) * m.face_width_mm, indexing="ij")
+    l, u = np.meshgrid(np.linspace(0.0, lmax, n), np.linspace(-0.65, 0.65, n) * m.face_width_mm, indexing="ij")
     q, nrm, _ = tca_kernels.surface("crowned", FLANK, l, u, g_base.surface_params(member))
     p = tca_kernels.surface("micro_geometry", FLANK, l, u, geom.surface_params(member)).point
     rho = np.hypot(q[..., 0], q[..., 1])
@@ -126,11 +130,17 @@ def _plots(out, maps, loaded):
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import MaxNLocator
 
     fig, axes = plt.subplots(1, len(maps), figsize=(5.5 * len(maps), 4.2), squeeze=False)
     for ax, (case, (z, rho, d)) in zip(axes[0], maps.items()):
-        pc = ax.pcolormesh(z, rho, d, shading="auto", cmap="viridis")
-        fig.colorbar(pc, ax=ax, label="removal delta (um)")
+        top = float(np.nanmax(d))
+        levels = MaxNLocator(12).tick_values(0.0, top) if top > 0 else np.array([-0.5, 0.5])
+        d = np.where(np.abs(d) < 1e-6, 0.0, d)  # the unmodified zone's round-off (~1e-9 um, either sign)
+        pc = ax.contourf(z, rho, np.ma.masked_invalid(d), levels=levels, cmap="viridis")
+        if top > 0.1:  # where the relief starts (its kink lines)
+            ax.contour(z, rho, np.ma.masked_invalid(d), levels=[0.1], colors="w", linewidths=0.8)
+        fig.colorbar(pc, ax=ax, label="removal delta (um); white line: 0.1 um")
         ax.set_xlabel("z from the face centre (mm)")
         ax.set_ylabel("radius (mm)")
         ax.set_title(f"{case}: pinion modification map ({FLANK} flank)")

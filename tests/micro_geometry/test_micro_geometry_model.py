@@ -228,3 +228,25 @@ def test_displacement_is_the_removal_in_50_digits():
         seen |= {("tip", t_tip > 0), ("end", t_end > 0)}
         assert max(abs(pv[i] - (qv[i] - delta * nv[i])) for i in range(3)) < mpmath.mpf(10) ** -40
     assert seen == {("tip", True), ("tip", False), ("end", True), ("end", False)}  # every branch sampled
+
+
+def test_the_study_map_covers_the_whole_blank_and_peaks_at_the_tip_corners(geom1):
+    """The modification map of `beveloid paper` (studies.micro_geometry.delta_map) reaches both face
+    ends over the whole flank height (a helical flank's generating lines cross the end planes
+    obliquely), and its largest removal is tip + end relief together, at a tip corner."""
+    from beveloid.studies import micro_geometry as mg
+
+    both = mg.modified(geom1)
+    z, rho, d = mg.delta_map(both)
+    w = geom1.pinion.face_width_mm
+    inside = np.isfinite(d)
+    assert inside.sum() > 0.4 * d.size
+    assert z[inside].min() < -0.49 * w and z[inside].max() > 0.49 * w
+    for lo, hi in ((0.1, 0.3), (0.7, 0.9)):  # a low and a high band of the flank
+        r0, r1 = np.nanmin(rho[inside]), np.nanmax(rho[inside])
+        band = inside & (rho > r0 + lo * (r1 - r0)) & (rho < r0 + hi * (r1 - r0))
+        assert z[band].min() < -0.47 * w and z[band].max() > 0.47 * w
+    opts = dict(both.pinion.surface_options)
+    corner = opts["tip_relief_um"] + opts["end_relief_um"]
+    assert 0.85 * corner < np.nanmax(d) <= corner * (1 + 1e-9)
+    assert np.nanmin(d) > -1e-6
