@@ -64,18 +64,17 @@ def flank_outline(geom, which, flank, n=60):
     lo, hi = min(toe, heel), max(toe, heel)
     z = np.linspace(lo, hi, n)
     tip = np.array([m.tip_radius(zz) for zz in z])
-    # form limit l = 0: radius of the generated point as a function of z (solve u for each z)
+    # form limit l = 0: the generating line's point at axial position z (scipy's brentq on u, the
+    # line's axial position being monotone in u; bracketed on a vectorised scan of the line)
+    from scipy.optimize import brentq
+
+    us = np.linspace(2 * lo - hi - 1.0, 2 * hi - lo + 1.0, 401)  # u is near z on the generating line
+    zu = surface(geom, which, flank, np.zeros_like(us), us).point[:, 2]
     form = np.empty(n)
     for i, zz in enumerate(z):
-        u = zz
-        for _ in range(30):
-            p, _, _ = surface(geom, which, flank, 0.0, u)
-            dz = 1e-6
-            p2, _, _ = surface(geom, which, flank, 0.0, u + dz)
-            slope = (p2[2] - p[2]) / dz
-            u -= (p[2] - zz) / slope
-            if abs(p[2] - zz) < 1e-10:
-                break
+        k = np.flatnonzero(np.diff(np.sign(zu - zz)))[0]  # the bracketing step
+        u = brentq(lambda v: surface(geom, which, flank, 0.0, v).point[2] - zz, us[k], us[k + 1], xtol=1e-10)
+        p = surface(geom, which, flank, 0.0, u).point
         form[i] = math.hypot(p[0], p[1])
     zs = np.concatenate([z, z[::-1], z[:1]])
     rs = np.concatenate([form, tip[::-1], form[:1]])
