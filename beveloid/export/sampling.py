@@ -29,8 +29,6 @@ FLANKS = ("left", "right")
 #: the faces of one tooth and the gap after it, in the order the solid is built from
 FACES = ("flank_left", "flank_right", "fillet_left", "fillet_right", "tip", "root")
 
-_NEWTON_STEPS = 60
-
 
 class ExportGeometryError(UserError):
     """A member whose tooth the export cannot build (undercut, pointed, a bore through the root): one line."""
@@ -72,36 +70,26 @@ class ToothSampler:
 
     # ------------------------------------------------------------------ flanks
     def flank_u(self, flank, l, z, u0=None):
-        """u of the flank point with rack parameter l in the section z (Newton on the generated jet)."""
-        l, z = np.broadcast_arrays(np.asarray(l, dtype=float), np.asarray(z, dtype=float))
-        u = np.array(z if u0 is None else np.broadcast_to(u0, z.shape), dtype=float)
-        for _ in range(_NEWTON_STEPS):
-            jet = self.geometry.surface_jet(self.member, flank, l, u)
-            step = (jet.point[..., 2] - z) / jet.point_D_lu[..., 2, 1]
-            u = u - step
-            if np.max(np.abs(step), initial=0.0) < 1e-13 * (1 + np.max(np.abs(z), initial=0.0)):
-                return u
-        raise ExportGeometryError(f"{self.member} {flank} flank: no flank point found in a section (Newton on u)")
+        """u of the flank point with rack parameter l in the section z (tooth.profile's section Newton)."""
+        from ..tooth.profile import NoSolution, flank_in_section
+
+        try:
+            return flank_in_section(self.geometry, self.member, flank, z, l, z if u0 is None else u0)[1]
+        except NoSolution:
+            raise ExportGeometryError(f"{self.member} {flank} flank: no flank point found in a section "
+                                      "(Newton on u)") from None
 
     def flank_tip(self, flank, z):
-        """(l, u) where the flank meets the tip cone in the sections z (2-D Newton on the generated jet)."""
+        """(l, u) where the flank meets the tip cone in the sections z (tooth.profile.flank_at_radius)."""
+        from ..tooth.profile import NoSolution, flank_at_radius
+
         z = np.asarray(z, dtype=float)
-        target = self.tip_radius_mm(z)
-        l = np.full(z.shape, self.data.tip_height_mm + self.data.cutter_addendum_mm)
-        u = z.copy()
-        for _ in range(_NEWTON_STEPS):
-            jet = self.geometry.surface_jet(self.member, flank, l, u)
-            p, J = jet.point, jet.point_D_lu
-            rad = np.hypot(p[..., 0], p[..., 1])
-            F = np.stack([rad - target, p[..., 2] - z], axis=-1)
-            G = np.empty(z.shape + (2, 2))
-            G[..., 0, :] = (p[..., 0, None] * J[..., 0, :] + p[..., 1, None] * J[..., 1, :]) / rad[..., None]
-            G[..., 1, :] = J[..., 2, :]
-            d = np.linalg.solve(G, -F[..., None])[..., 0]
-            l, u = l + d[..., 0], u + d[..., 1]
-            if np.max(np.abs(d), initial=0.0) < 1e-12 * (1 + float(np.max(target))):
-                return l, u
-        raise ExportGeometryError(f"{self.member} {flank} flank: it does not reach the tip cone")
+        try:
+            _, l, u = flank_at_radius(self.geometry, self.member, flank, z, self.tip_radius_mm(z),
+                                      l0=self.data.tip_height_mm + self.data.cutter_addendum_mm)
+        except NoSolution:
+            raise ExportGeometryError(f"{self.member} {flank} flank: it does not reach the tip cone") from None
+        return l, u
 
     def form_l(self, flank) -> float:
         """The flank's rack parameter at the form limit (where the root transition meets it)."""
@@ -195,20 +183,18 @@ def root_transition(sampler: ToothSampler, flank, s, z):
     trochoidal surface for a sharp rack), sampled in the transverse sections z.
     """
     from ..tooth import fillet
+    from ..tooth.profile import NoSolution, fillet_in_section
 
     geometry, member = sampler.geometry, sampler.member
     z2 = np.broadcast_to(z[None, :], (s.size, z.size))
     tr = fillet.tip_round(geometry, member)
     psi = np.broadcast_to(s[:, None] * float(tr.junction_psi), z2.shape)
     u = sampler.flank_u(flank, float(tr.junction_l), z)
-    u = np.broadcast_to(u[None, :], z2.shape).copy()
-    for _ in range(_NEWTON_STEPS):
-        jet = fillet.fillet_jet(geometry, member, flank, psi, u)
-        step = (jet.point[..., 2] - z2) / jet.point_D_pu[..., 2, 1]
-        u = u - step
-        if np.max(np.abs(step), initial=0.0) < 1e-13 * (1 + np.max(np.abs(z), initial=0.0)):
-            return fillet.fillet(geometry, member, flank, psi, u).point
-    raise ExportGeometryError(f"{member} {flank} fillet: no fillet point found in a section (Newton on u)")
+    try:
+        return fillet_in_section(geometry, member, flank, z2, psi, np.broadcast_to(u[None, :], z2.shape))[0]
+    except NoSolution:
+        raise ExportGeometryError(f"{member} {flank} fillet: no fillet point found in a section "
+                                  "(Newton on u)") from None
 
 
 def rotate_z(points, angle):

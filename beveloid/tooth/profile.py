@@ -24,7 +24,7 @@ class NoSolution(RuntimeError):
 
 def _solve_u(jet, p, z, u0):
     """Solve point_z(p, u) = z for u, elementwise (jet(p, u) -> point, point_D)."""
-    u = np.broadcast_to(np.asarray(u0, dtype=float), np.broadcast(p, z).shape).copy()
+    u = np.array(np.broadcast_to(np.asarray(u0, dtype=float), np.broadcast(p, z, u0).shape))
     for _ in range(_MAX_ITER):
         j = jet(p, u)
         f = j[0][..., 2] - z
@@ -34,34 +34,39 @@ def _solve_u(jet, p, z, u0):
     raise NoSolution("no point of the surface in this section")
 
 
-def flank_in_section(geometry, member, flank, z, l):
-    """(points (..., 3), u) of the flank at rack parameters l in the section z of S_i."""
+def flank_in_section(geometry, member, flank, z, l, u0=0.0):
+    """(points (..., 3), u) of the flank at rack parameters l in the sections z of S_i (u0: a start)."""
     jet = lambda ll, uu: geometry.surface_jet(member, flank, ll, uu)  # noqa: E731
-    u = _solve_u(jet, np.asarray(l, dtype=float), z, 0.0)
+    u = _solve_u(jet, np.asarray(l, dtype=float), z, u0)
     return geometry.surface(member, flank, l, u).point, u
 
 
-def fillet_in_section(geometry, member, flank, z, psi):
-    """(points (..., 3), u) of the root fillet at parameters psi in the section z of S_i."""
+def fillet_in_section(geometry, member, flank, z, psi, u0=0.0):
+    """(points (..., 3), u) of the root fillet at parameters psi in the sections z of S_i."""
     jet = lambda pp, uu: fillet_kernels.fillet_jet(geometry, member, flank, pp, uu)  # noqa: E731
-    u = _solve_u(jet, np.asarray(psi, dtype=float), z, 0.0)
+    u = _solve_u(jet, np.asarray(psi, dtype=float), z, u0)
     return fillet_kernels.fillet(geometry, member, flank, psi, u).point, u
 
 
 def flank_at_radius(geometry, member, flank, z, radius, l0=None):
-    """(point, l, u) of the flank at a radius in the section z (scalar), by Newton in (l, u)."""
+    """(point, l, u) of the flank at a radius in the section z, by Newton in (l, u), elementwise over
+    z and radius (floats l, u for scalar input)."""
     m = geometry.member(member)
-    l, u = (m.cutter_addendum_mm / np.cos(geometry.normal_pressure_angle) if l0 is None else l0), 0.0
+    z, radius = np.broadcast_arrays(np.asarray(z, dtype=float), np.asarray(radius, dtype=float))
+    start = m.cutter_addendum_mm / np.cos(geometry.normal_pressure_angle) if l0 is None else l0
+    l, u = np.array(np.broadcast_to(start, z.shape), dtype=float), np.zeros(z.shape)
     for _ in range(_MAX_ITER):
         j = geometry.surface_jet(member, flank, l, u)
-        x, y, zz = j.point
-        rr = np.hypot(x, y)
-        f = np.array([rr - radius, zz - z])
-        d = j.point_D_lu
-        jac = np.array([(x * d[0] + y * d[1]) / rr, d[2]])
-        l, u = np.array([l, u]) - np.linalg.solve(jac, f)
-        if np.max(np.abs(f)) < _TOL:
-            return geometry.surface(member, flank, l, u).point, float(l), float(u)
+        p, d = j.point, j.point_D_lu
+        rr = np.hypot(p[..., 0], p[..., 1])
+        f = np.stack([rr - radius, p[..., 2] - z], axis=-1)
+        jac = np.stack([(p[..., 0, None] * d[..., 0, :] + p[..., 1, None] * d[..., 1, :]) / rr[..., None],
+                        d[..., 2, :]], axis=-2)
+        step = np.linalg.solve(jac, f[..., None])[..., 0]
+        l, u = l - step[..., 0], u - step[..., 1]
+        if np.max(np.abs(f), initial=0.0) < _TOL:
+            point = geometry.surface(member, flank, l, u).point
+            return (point, float(l), float(u)) if z.ndim == 0 else (point, l, u)
     raise NoSolution(f"no {member} {flank} flank point at radius {radius} mm in the section z = {z} mm")
 
 
