@@ -2,7 +2,7 @@
 
 For the designs that :func:`beveloid.explore.batch.design_batch` found ``ok`` this builds the
 solver's parameter vectors by layout field name (as ``beveloid.geometry.PairGeometry`` does, as
-arrays), finds the pitch point on both members (tca._point_at_radius, one 2x2 Newton over all
+arrays), finds the pitch point on both members (solver.section.point_at_radius, one 2x2 Newton over all
 designs at once), solves the aligned contact at P and classifies it with the compiled core (one
 compiled loop over the designs calling the core's own ``solve_point`` and ``solve_paths_serial``,
 exactly what ``tca.sensitivity`` calls for one design), then takes the implicit-function
@@ -22,7 +22,7 @@ import numpy as np
 
 from .. import tca
 from ..generated import design_equations, layouts, surface_models, tca_kernels
-from ..solver import backends
+from ..solver import backends, section
 from ..solver.options import DEFAULT_OPTIONS
 from ..geometry import junction_l
 from ..status import Status
@@ -74,31 +74,6 @@ def _params(member):
     out = np.zeros((fields.shape[0], tca_kernels.PARAMETER_COUNT))
     out[:, :fields.shape[1]] = fields
     return out
-
-
-def _point_at_radius(model, flank, params, l0, radius, z):
-    """tca._point_at_radius for every design at once: (l, u, polar angle)."""
-    l, u = l0.copy(), np.zeros_like(l0)
-    active = np.ones(l.size, dtype=bool)
-    for _ in range(30):
-        k = np.nonzero(active)[0]
-        if k.size == 0:
-            break
-        jet = tca_kernels.surface_jet(model, flank, l[k], u[k], params[k])
-        p, J = jet.point, jet.point_D_lu
-        rad = np.array([math.hypot(a, b) for a, b in zip(p[:, 0], p[:, 1])])
-        F = np.stack([rad - radius[k], p[:, 2] - z[k]], axis=-1)
-        G = np.empty((k.size, 2, 2))
-        G[:, 0, 0] = (p[:, 0] * J[:, 0, 0] + p[:, 1] * J[:, 1, 0]) / rad
-        G[:, 0, 1] = (p[:, 0] * J[:, 0, 1] + p[:, 1] * J[:, 1, 1]) / rad
-        G[:, 1, 0] = J[:, 2, 0]
-        G[:, 1, 1] = J[:, 2, 1]
-        d = np.linalg.solve(G, -F[..., None])[..., 0]
-        l[k] = l[k] + d[:, 0]
-        u[k] = u[k] + d[:, 1]
-        active[k[np.abs(d).max(axis=1) < 1e-12 * np.maximum(1.0, radius[k])]] = False
-    p = tca_kernels.surface(model, flank, l, u, params).point
-    return l, u, np.array([math.atan2(b, a) for a, b in zip(p[:, 0], p[:, 1])])
 
 
 def _aligned_contacts(pm, gm, flank, pp, gp, pair, pb, gb, x0, phi, scale, tol, max_iter, steps, patch_tol, x_out,
@@ -168,8 +143,9 @@ def sensitivities(values: dict, q: dict, idx: np.ndarray, models: dict, backend:
         ends = {}
         for name, m, params in (("pinion", p, pp), ("gear", g, gp)):
             l0 = np.array([a / math.cos(b) for a, b in zip(m["cutter_addendum_mm"], alpha_n)])
-            ends[name] = _point_at_radius(m["model"], flank, params, l0, m["working_pitch_radius_mm"],
-                                          m["reference_section_offset_mm"])
+            sp = section.point_at_radius(m["model"], flank, params, m["working_pitch_radius_mm"],
+                                         m["reference_section_offset_mm"], l0)
+            ends[name] = sp.l_mm, sp.u_mm, np.arctan2(sp.point[:, 1], sp.point[:, 0])
         l1, u1, psi1 = ends["pinion"]
         l2, u2, psi2 = ends["gear"]
         phi1 = p["pitch_point_angle"] - psi1

@@ -9,7 +9,7 @@ import numpy as np
 
 from ..generated import layouts
 from ..geometry import PairGeometry
-from ..solver import backends
+from ..solver import backends, section
 from ..solver.options import DEFAULT_OPTIONS
 from .contact import (ERROR_NAMES, NoContactError, boundary_margins, check_flank, evaluate, newton_tolerance,
                       surface, unknowns)
@@ -18,20 +18,9 @@ from .contact import (ERROR_NAMES, NoContactError, boundary_margins, check_flank
 def point_at_radius(geom, which, flank, radius, z):
     """(l, u, polar angle) of the flank point at the given radius in the transverse section z."""
     m = geom.member(which)
-    l, u = m.cutter_addendum_mm / math.cos(geom.normal_pressure_angle), 0.0
-    for _ in range(30):
-        jet = geom.surface_jet(which, flank, l, u)
-        p, J = jet.point, jet.point_D_lu
-        rad = math.hypot(p[0], p[1])
-        F = np.array([rad - radius, p[2] - z])
-        G = np.array([[(p[0] * J[0, 0] + p[1] * J[1, 0]) / rad, (p[0] * J[0, 1] + p[1] * J[1, 1]) / rad],
-                      [J[2, 0], J[2, 1]]])
-        d = np.linalg.solve(G, -F)
-        l, u = l + d[0], u + d[1]
-        if abs(d).max() < 1e-12 * max(1.0, radius):  # quadratic convergence: the last step was round-off
-            break
-    p = geom.surface(which, flank, l, u).point
-    return l, u, math.atan2(p[1], p[0])
+    sp = section.point_at_radius(m.tooth_surface, flank, geom.surface_params(which), radius, z,
+                                 m.cutter_addendum_mm / math.cos(geom.normal_pressure_angle))
+    return float(sp.l_mm), float(sp.u_mm), math.atan2(sp.point[1], sp.point[0])
 
 
 @dataclass(frozen=True)

@@ -12,6 +12,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..solver.section import point_at_radius
 from . import fillet as fillet_kernels
 
 _TOL = 1e-12  # mm
@@ -49,25 +50,14 @@ def fillet_in_section(geometry, member, flank, z, psi, u0=0.0):
 
 
 def flank_at_radius(geometry, member, flank, z, radius, l0=None):
-    """(point, l, u) of the flank at a radius in the section z, by Newton in (l, u), elementwise over
-    z and radius (floats l, u for scalar input)."""
+    """(point, l, u) of the flank at a radius in the section z (solver.section's Newton), elementwise
+    over z and radius (floats l, u for scalar input)."""
     m = geometry.member(member)
-    z, radius = np.broadcast_arrays(np.asarray(z, dtype=float), np.asarray(radius, dtype=float))
     start = m.cutter_addendum_mm / np.cos(geometry.normal_pressure_angle) if l0 is None else l0
-    l, u = np.array(np.broadcast_to(start, z.shape), dtype=float), np.zeros(z.shape)
-    for _ in range(_MAX_ITER):
-        j = geometry.surface_jet(member, flank, l, u)
-        p, d = j.point, j.point_D_lu
-        rr = np.hypot(p[..., 0], p[..., 1])
-        f = np.stack([rr - radius, p[..., 2] - z], axis=-1)
-        jac = np.stack([(p[..., 0, None] * d[..., 0, :] + p[..., 1, None] * d[..., 1, :]) / rr[..., None],
-                        d[..., 2, :]], axis=-2)
-        step = np.linalg.solve(jac, f[..., None])[..., 0]
-        l, u = l - step[..., 0], u - step[..., 1]
-        if np.max(np.abs(f), initial=0.0) < _TOL:
-            point = geometry.surface(member, flank, l, u).point
-            return (point, float(l), float(u)) if z.ndim == 0 else (point, l, u)
-    raise NoSolution(f"no {member} {flank} flank point at radius {radius} mm in the section z = {z} mm")
+    sp = point_at_radius(m.tooth_surface, flank, geometry.surface_params(member), radius, z, start)
+    if not sp.converged.all():
+        raise NoSolution(f"no {member} {flank} flank point at radius {radius} mm in the section z = {z} mm")
+    return (sp.point, float(sp.l_mm), float(sp.u_mm)) if sp.l_mm.ndim == 0 else (sp.point, sp.l_mm, sp.u_mm)
 
 
 def undercut_top(geometry, member, flank, z, psi0, l0, uf0=0.0, us0=0.0):
