@@ -11,6 +11,8 @@ import tomllib
 from pathlib import Path
 import numpy as np
 from beveloid import ltca
+from beveloid.ltca.compliance import member_tooth
+from beveloid.ltca.grid import centres
 from beveloid.pair import Pair
 
 base = tomllib.loads((Path(__file__).resolve().parents[1] / "examples" / "case1.toml").read_text())
@@ -50,7 +52,20 @@ while designs < n and tried < 8 * n:
             if not load > 0 or np.isfinite(r.pair_edge_max_pressure_mpa[j, k]) or not np.isfinite(r.pair_hertz_max_pressure_mpa[j, k]):
                 continue
             dev = r.pair_surface_max_pressure_mpa[j, k] / r.pair_hertz_max_pressure_mpa[j, k] - 1
-            rows.append((m, flank, z1, z2, j, k, load, dev))
+            # the loaded semi-axis along the contact from the pressure's second moment, a = sqrt(5 <y^2>)
+            # (exact for a Hertz ellipse), over the tooth height h = (h_a + h_f) m_n
+            g = r.grid
+            y = centres(g.along_half_mm[j, k], g.along_cells)
+            pk = r.pressure_mpa[j, k].reshape(g.across_cells, g.along_cells).sum(axis=0)
+            a_loaded = float(np.sqrt(5 * (pk * y ** 2).sum() / pk.sum()))
+            h = member_tooth(pair.geometry, "pinion", 2.1e5, 0.3).plate_height_mm
+            rows.append((m, flank, z1, z2, j, k, load, a_loaded / h, dev))
     print(f"m {m} z {z1}/{z2} {flank} T {torque:.1f}: devs {[f'{x[-1]:+.3f}' for x in rows if x[:4]==(m, flank, z1, z2)]}", flush=True)
 devs = np.array([r[-1] for r in rows])
+ratio = np.array([r[-2] for r in rows])
 print(f"points {len(devs)}  worst {devs.min():+.4f} / {devs.max():+.4f}  mean |dev| {np.abs(devs).mean():.4f}")
+print("loaded a / tooth height h | pairs | worst | mean |dev|")
+for lo, hi in ((0, 0.5), (0.5, 1), (1, 1.5), (1.5, 2), (2, 3), (3, np.inf)):
+    sel = (ratio >= lo) & (ratio < hi)
+    if sel.any():
+        print(f"{lo:g}-{hi:g} | {sel.sum()} | {devs[sel].min():+.4f} | {np.abs(devs[sel]).mean():.4f}")
