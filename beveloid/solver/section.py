@@ -32,20 +32,23 @@ def point_at_radius(model, flank, params, radius_mm, z_mm, l0_mm, u0_mm=0.0) -> 
                        for a in (radius_mm, z_mm, l0_mm, u0_mm))
     active = np.ones(l.shape, dtype=bool)
     per_element = np.ndim(params) > 1
+    k = slice(None)  # every element until one has converged
     for _ in range(MAX_ITERATIONS):
-        k = np.flatnonzero(active)
-        if not k.size:
-            break
         jet = tca_kernels.surface_jet(model, flank, l[k], u[k], params[k] if per_element else params)
         p, J = jet.point, jet.point_D_lu
-        rad = np.hypot(p[..., 0], p[..., 1])
-        F = np.stack([rad - radius[k], p[..., 2] - z[k]], axis=-1)
-        G = np.stack([(p[..., 0, None] * J[..., 0, :] + p[..., 1, None] * J[..., 1, :]) / rad[..., None],
-                      J[..., 2, :]], axis=-2)
-        with np.errstate(all="ignore"):
-            d = np.linalg.solve(G, -F[..., None])[..., 0]
-        l[k], u[k] = l[k] + d[..., 0], u[k] + d[..., 1]
-        done = np.abs(d).max(axis=-1) < 1e-12 * np.maximum(1.0, radius[k])  # the last step was round-off
-        active[k[done]] = False
+        rad = np.hypot(p[:, 0], p[:, 1])
+        f0, f1 = rad - radius[k], p[:, 2] - z[k]
+        g00 = (p[:, 0] * J[:, 0, 0] + p[:, 1] * J[:, 1, 0]) / rad  # d radius / d(l, u)
+        g01 = (p[:, 0] * J[:, 0, 1] + p[:, 1] * J[:, 1, 1]) / rad
+        g10, g11 = J[:, 2, 0], J[:, 2, 1]  # d z / d(l, u)
+        with np.errstate(all="ignore"):  # the 2 x 2 Newton step -G^-1 F by Cramer's rule
+            det = g00 * g11 - g01 * g10
+            dl, du = (g01 * f1 - g11 * f0) / det, (g10 * f0 - g00 * f1) / det
+        l[k], u[k] = l[k] + dl, u[k] + du
+        idx = np.arange(l.size)[k]
+        active[idx[np.maximum(np.abs(dl), np.abs(du)) < 1e-12 * np.maximum(1.0, radius[k])]] = False  # round-off
+        if not active.any():
+            break
+        k = np.flatnonzero(active)
     point = tca_kernels.surface(model, flank, l, u, params).point
     return SectionPoint(l.reshape(shape), u.reshape(shape), point.reshape(shape + (3,)), ~active.reshape(shape))
