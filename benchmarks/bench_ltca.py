@@ -21,9 +21,8 @@ import time  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from beveloid import ltca, tca  # noqa: E402
-from beveloid.design import design  # noqa: E402
-from beveloid.spec import load_example  # noqa: E402
+from beveloid import ltca  # noqa: E402
+from beveloid.pair import Pair  # noqa: E402
 
 
 def main():
@@ -36,13 +35,9 @@ def main():
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--json", action="store_true")
     a = ap.parse_args()
+    g = Pair.from_spec(a.spec).geometry if a.spec else Pair.example(a.case).geometry
     if a.spec:
-        from beveloid.spec import load_spec
-
-        g = tca.PairGeometry.from_design(design(load_spec(a.spec)))
         a.case = a.spec
-    else:
-        g = tca.PairGeometry.from_design(design(load_example(a.case)))
     run = lambda: ltca.analyze(g, a.torque_nm, a.flank, positions=a.positions)  # noqa: E731
     r = run()
     times = []

@@ -137,11 +137,9 @@ def run(repeats=5, only=None):
                 "W4": dict(sweep_workload(micro_case1(), with_baseline=False), crowning_um=20.0, tip_relief_um=30.0,
                            end_relief_um=40.0)}
     if only == "sweeps":  # W2 and W3 only, in one run (their ratio is what a noisy machine keeps)
-        from beveloid import tca
-        from beveloid.design import design
-        from beveloid.spec import load_spec
+        from beveloid.pair import Pair
 
-        geom = tca.PairGeometry.from_design(design(load_spec(ROOT / "examples" / "case1.toml")))
+        geom = Pair.from_spec(ROOT / "examples" / "case1.toml").geometry
         return {"W2": dict(sweep_workload(geom), target_us_per_point=3.0, target_speedup=300),
                 "W3": dict(sweep_workload(crowned_case1()), target_us_per_point=3.0, target_speedup=1000,
                            crowning_um=20.0)}

@@ -6,14 +6,13 @@ from pathlib import Path
 import numpy as np
 
 from beveloid import contact_ellipse, tca
-from beveloid.design import design
-from beveloid.spec import load_spec
+from beveloid.pair import Pair
 
 ROOT = Path(__file__).resolve().parents[1]
 errs = {"aligned": (0,0,0,0,0), "dx=0.1mm": (0.1,0,0,0,0), "dy=0.1mm": (0,0.1,0,0,0), "dz=0.1mm": (0,0,0.1,0,0),
         "vertical=0.05deg": (0,0,0,math.radians(0.05),0), "horizontal=0.05deg": (0,0,0,0,math.radians(0.05))}
 for case in ("case1","case2"):
-    g = tca.PairGeometry.from_design(design(load_spec(str(ROOT / "examples" / f"{case}.toml"))))
+    g = Pair.from_spec(ROOT / "examples" / f"{case}.toml").geometry
     for lab, e in errs.items():
         r = contact_ellipse.attach(tca.analyze(g, e, positions=60, backend="numpy"))
         for fl in (("left","right") if lab=="aligned" else ("right",)):

@@ -23,9 +23,8 @@ import numba
 import numpy as np
 
 from beveloid import sweep, tca
-from beveloid.design import design
 from beveloid.solver import backends, core
-from beveloid.spec import load_spec
+from beveloid.pair import Pair
 
 ROOT = Path(__file__).resolve().parents[1]
 CORE = backends.namespace("compiled")  # the solver core's own compiled functions
@@ -137,7 +136,7 @@ def main():
 
         geom = crowned_geometry("case1", a.crowned)
     else:
-        geom = tca.PairGeometry.from_design(design(load_spec(ROOT / "examples" / "case1.toml")))
+        geom = Pair.from_spec(ROOT / "examples" / "case1.toml").geometry
     ref = tca.reference_contact(geom, "right")
     problem = geom.problem("right")
     blanks = (geom.pinion.blank(), geom.gear.blank())

@@ -133,12 +133,11 @@ def _compile_solver():
     import numpy as np
 
     from beveloid import ltca, tca
-    from beveloid.design import design
+    from beveloid.pair import Pair
     from beveloid.solver import backends
-    from beveloid.spec import load_spec
 
     def geometry():
-        geom = tca.PairGeometry.from_design(design(load_spec(ROOT / "examples" / "case1.toml")))
+        geom = Pair.from_spec(ROOT / "examples" / "case1.toml").geometry
         return geom, tca.reference_contact(geom, "right")
 
     runs = (

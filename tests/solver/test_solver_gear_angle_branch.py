@@ -10,9 +10,8 @@ import numpy as np
 import pytest
 
 from beveloid import tca
-from beveloid.design import design
 from beveloid.solver import backends, core
-from beveloid.spec import load_spec
+from beveloid.pair import Pair
 
 ROOT = Path(__file__).resolve().parents[2]
 GEAR_ANGLE = tca.tca_kernels.UNKNOWNS.index("gear_angle_rad")
@@ -34,7 +33,7 @@ def test_edge_contacts_stay_within_a_pitch_of_the_tangency_branch():
     """Case 1 under the paper's largest errors, 3 pairs: every solved contact's gear angle is
     within a few gear pitches of the aligned reference (the neighbour pairs are one pitch away;
     a whole turn would be 45 pitches)."""
-    geom = tca.PairGeometry.from_design(design(load_spec(ROOT / "examples" / "case1.toml")))
+    geom = Pair.from_spec(ROOT / "examples" / "case1.toml").geometry
     p2 = geom.pitch_angles[1]
     for errors in ([1.0, 1.0, 1.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0, math.radians(-0.03)],
                    [0.0, 0.0, 0.0, math.radians(-0.2), 0.0]):

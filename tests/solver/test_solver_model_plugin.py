@@ -28,11 +28,10 @@ SCRIPT = r"""
 import json, sys
 import numpy as np
 from beveloid import tca
-from beveloid.design import design
-from beveloid.spec import load_spec
+from beveloid.pair import Pair
 from beveloid.generated import surface_models
-plug = tca.PairGeometry.from_design(design(load_spec(sys.argv[1])))
-base = tca.PairGeometry.from_design(design(load_spec(sys.argv[2])))
+plug = Pair.from_spec(sys.argv[1]).geometry
+base = Pair.from_spec(sys.argv[2]).geometry
 shift = dict(plug.gear.surface_options)["axial_shift_mm"]
 a = tca.analyze(plug, flanks=("right",), positions=40, backend="numpy").flanks["right"]
 b = tca.analyze(base, (0.0, 0.0, shift, 0.0, 0.0), flanks=("right",), positions=40, backend="numpy").flanks["right"]

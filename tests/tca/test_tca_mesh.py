@@ -11,7 +11,7 @@ from beveloid import tca
 from beveloid.solver import backends
 from beveloid.status import Status
 from beveloid.design import design
-from beveloid.spec import load_spec
+from beveloid.pair import Pair
 
 ROOT = Path(__file__).resolve().parents[2]
 DEG = math.pi / 180
@@ -27,7 +27,7 @@ def _homotopy(geom, flank, e, backend="numpy"):
 
 @pytest.fixture(scope="module", params=["case1", "case2"])
 def geom(request):
-    return tca.PairGeometry.from_design(design(load_spec(ROOT / "examples" / f"{request.param}.toml")))
+    return Pair.from_spec(ROOT / "examples" / f"{request.param}.toml").geometry
 
 
 # ---- an independent transcription of the printed placement (Eqs 30, 33, 34) -----------------
@@ -397,7 +397,7 @@ def test_backlash_is_never_wrapped_and_has_a_status():
     assert abs(b[0].um) < 1e-6 and 0 < b[1].um < b[2].um
     assert b[2].um == pytest.approx(2 * b[1].um, rel=0.05)  # first order in dx
     assert b[3].status == "outside" and b[3].um is None and "flank" in b[3].reason
-    case1 = tca.PairGeometry.from_design(design(load_spec(ROOT / "examples" / "case1.toml")))
+    case1 = Pair.from_spec(ROOT / "examples" / "case1.toml").geometry
     off = tca.backlash(case1, (0, 0, 0, 5 * DEG, 0))
     sweep_um = case1.gear.face_width_mm * math.sin(5 * DEG) * 1e3
     assert off.status == "ok" and -sweep_um < off.um < 0
