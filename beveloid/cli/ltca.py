@@ -12,7 +12,10 @@ and "pair_edge_max_pressure_mpa" [N][P] (the peak away from / at a flank edge; t
 grid-dependent), "grid_convergence" (per position the change of the surface peak and of the pair
 loads against the once-coarsened grid, with tolerances), "validity" (None per position inside the
 model: linear elastic, small strain), "loaded_transmission_error_peak_to_peak_urad" (null with fewer
-than 3 converged positions), "warnings" (also printed on stderr) and per-pair grid extents.
+than 3 converged positions), "warnings" (also printed on stderr), per-pair grid extents,
+"pair_hertz_max_pressure_mpa" [N][P] with its note, and "tooth_height_mm" {"pinion", "gear"}
+(the Hertz note's yardstick: the LTCA holds Hertz within 5 % where the patch's semi-axis along
+the contact is under half of it).
 """
 from __future__ import annotations
 

@@ -18,6 +18,14 @@ it; then a^3 = 3 P (K - E) / (2 pi E* A_small e^2).
 Line contact (two cylinders, parallel axes, load q per unit length, 1/R = 1/R1 + 1/R2):
 half-width b = sqrt(4 q R / (pi E*)), p0 = 2 q / (pi b).  The approach of a 2-D contact
 is not defined by the local solution (it depends on the bodies' size), so none is given.
+
+Hertz on uncoupled slices (the thin-slice tooth in series with the half-space; derivation in
+docs/loaded_contact.md section 5.1).  If the bodies also rest on slices normal to y that deflect
+independently by g q(y), q(y) = int p dx the load per unit length, the Hertz pressure of semi-axes
+(a_x, a_y) still solves the problem: its line load is q0 (1 - y^2/a_y^2) with q0 = 3 P / (4 a_y),
+so the slices add g q0 - (g q0 / a_y^2) y^2, a constant and a smaller curvature along y.  The
+contact is Hertz's for A and B_eff = B - 3 g P / (4 a_y^3), with a_y the semi-axis along y of that
+same contact (one equation in a_y), and its approach is delta + g q0.
 """
 from __future__ import annotations
 
@@ -36,6 +44,7 @@ __all__ = [
     "relative_curvature_coefficients",
     "hertz_point_contact",
     "hertz_line_contact",
+    "hertz_point_contact_on_slices",
 ]
 
 
@@ -140,3 +149,39 @@ def hertz_line_contact(radius_mm: float, load_per_length_n_per_mm: float, e_star
     es = checks.positive("e_star_mpa", e_star_mpa)
     b = math.sqrt(4.0 * q * r / (math.pi * es))
     return HertzLineContact(b, 2.0 * q / (math.pi * b), q)
+
+
+def hertz_point_contact_on_slices(
+    a_coef_per_mm: float, b_coef_per_mm: float, load_n: float, e_star_mpa: float, slice_compliance_mm2_per_n: float
+) -> HertzPointContact:
+    """Hertz contact of h = A x^2 + B y^2 whose bodies also rest on uncoupled slices along y.
+
+    A slice at y deflects by g q(y) (g = ``slice_compliance_mm2_per_n``, mm per N/mm; q the
+    load per unit length along y).  The result is the Hertz contact of (A, B_eff) with
+    B_eff = B - 3 g P / (4 a_y^3) solved for its own a_y; ``approach_mm`` includes the
+    slices' g q0.  g = 0 is :func:`hertz_point_contact`.
+    """
+    ax, by = checks.positive("a_coef_per_mm", a_coef_per_mm), checks.positive("b_coef_per_mm", b_coef_per_mm)
+    p = checks.positive("load_n", load_n)
+    es = checks.positive("e_star_mpa", e_star_mpa)
+    g = float(slice_compliance_mm2_per_n)
+    if not (math.isfinite(g) and g >= 0.0):
+        raise ValueError(f"slice_compliance_mm2_per_n = {slice_compliance_mm2_per_n!r}: must be a finite number >= 0")
+    if g == 0.0:
+        return hertz_point_contact(ax, by, p, es)
+    c = 0.75 * g * p
+
+    def contact(a_y: float) -> HertzPointContact:
+        return hertz_point_contact(ax, by - c / a_y**3, p, es)
+
+    # B_eff runs from 0+ (a_y at lo: the contact's own a_y is longer) up to B (a_y -> infinity:
+    # shorter); the curvature ratio stays inside hertz_point_contact's 1e10
+    lo = (c / (by * (1.0 - min(0.5, max(1e-6, 1e-9 * ax / by))))) ** (1.0 / 3.0)
+    hi = max(2.0 * lo, 2.0 * hertz_point_contact(ax, by, p, es).semi_axis_y_mm)
+    while contact(hi).semi_axis_y_mm > hi:
+        hi *= 2.0
+    a_y = brentq(lambda t: contact(t).semi_axis_y_mm - t, lo, hi, xtol=1e-14, rtol=1e-13, maxiter=200)
+    h = contact(a_y)
+    q0 = 0.75 * p / h.semi_axis_y_mm
+    return HertzPointContact(h.semi_major_mm, h.semi_minor_mm, h.semi_axis_x_mm, h.semi_axis_y_mm,
+                             h.max_pressure_mpa, h.approach_mm + g * q0, h.eccentricity, p)

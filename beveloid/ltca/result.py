@@ -170,7 +170,11 @@ def to_json_dict(result: LTCAResult, geom) -> dict:
         "pair_hertz_max_pressure_mpa": rows(r.pair_hertz_max_pressure_mpa),
         "hertz_note": "Hertz (half-space only) for each pair's load and the relative curvature at its rigid "
                       "tangency; the LTCA's surface peak departs from it near the flank edges and where the "
-                      "tooth beams bend under a patch as long as the tooth is high (docs/loaded_contact.md)",
+                      "tooth beams bend under a patch as long as the tooth is high: within 5 % where the "
+                      "patch's semi-axis along the contact (pair_patch_semi_axes_mm[.][.][1]) is under half "
+                      "the tooth height (tooth_height_mm), lower beyond (docs/loaded_contact.md 5.1)",
+        "tooth_height_mm": {m: float(geom.member(m).tip_height_mm + geom.member(m).cutter_addendum_mm)
+                            for m in ("pinion", "gear")},
         "edge_pressure_note": "at a flank edge (tip, form limit, toe, heel): grid-dependent, grows with refinement",
         "contact_area_mm2": [num(v, o) for v, o in zip(r.contact_area_mm2, ok)],
         "pair_patch_semi_axes_mm": [[None if not np.all(np.isfinite(ab)) else [float(ab[0]), float(ab[1])]

@@ -168,6 +168,9 @@ def test_ltca_json_contract(capsys):
             assert (axes[j][k] is not None) == bool(load)
             assert axes[j][k] is None or 0 < axes[j][k][0] < axes[j][k][1]
     assert all(m is None or m < 1e-6 for m in data["solver"]["moment_residual"])
+    # the tooth height the Hertz note measures a patch's length against: (h_a + h_f) m_n of each member
+    assert set(data["tooth_height_mm"]) == {"pinion", "gear"}
+    assert all(2.0 * 6.0 < h < 2.6 * 6.0 for h in data["tooth_height_mm"].values())  # case 1: m_n = 6
 
 
 @pytest.mark.parametrize("flags, needle", [
