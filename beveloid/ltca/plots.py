@@ -107,7 +107,8 @@ def position_maps(result, geom, out_png, title="", member="pinion"):
     N = len(result.status)
     cols = min(N, 5)
     rows = -(-N // cols)
-    fig, axes = plt.subplots(rows, cols, figsize=(3.0 * cols, 2.6 * rows + 0.6), squeeze=False)
+    fig, axes = plt.subplots(rows, cols, figsize=(2.7 * cols + 1.0, 2.6 * rows + 0.6), squeeze=False,
+                             layout="constrained")
     zb, rb = flank_outline(geom, member, result.flank)
     pts = result.gap.pinion_point if member == "pinion" else result.gap.gear_point
     top = float(np.nanmax(np.where(result.converged[:, None, None], result.pressure_mpa, 0.0)))
@@ -130,7 +131,7 @@ def position_maps(result, geom, out_png, title="", member="pinion"):
         if j // cols == rows - 1:
             ax.set_xlabel("axial position z (mm)", fontsize=7)
     if sc is not None:
-        _colorbar(fig, sc, axes.ravel().tolist(), "pressure (MPa)", clipped, shrink=0.8)
+        _colorbar(fig, sc, axes.ravel().tolist(), "pressure (MPa)", clipped, shrink=0.8, aspect=30)
     if title:
         fig.suptitle(f"{title}: {member} pressure at each position", fontsize=9)
     fig.savefig(out_png, dpi=100)

@@ -175,6 +175,12 @@ def check_tip_round(values: dict[str, dict[str, Any]]) -> None:
             half_thickness_mm=math.pi / 4, rack_shift_mm=0.0, pitch_radius_mm=1.0, cutter_tip_radius_mm=rho,
             normal_module_mm=1.0, profile_crowning_um=0.0, lead_crowning_um=0.0, face_width_mm=1.0)),
             dtype=float)).max_radius
+        if top < 0.0:  # no round fits: the rack tooth is pointed (top land pi/2 - 2 c tan(alpha) < 0)
+            dotted = f"{member}.cutter_addendum_coefficient"
+            raise SpecError(
+                f"{dotted} = {fmt_value(cutter)}: must be at most {math.pi / (4 * math.tan(alpha)):.4g} at"
+                f" pair.normal_pressure_angle_deg = {fmt_value(values['pair']['normal_pressure_angle_deg'])}:"
+                " a deeper rack tooth is pointed (no top land)", key=dotted)
         if rho > top:
             dotted = f"{member}.cutter_tip_radius_coefficient"
             raise SpecError(

@@ -119,6 +119,11 @@ BAD_CASES = [
     ("clearance_pinion_equal", {"pinion.cutter_addendum_coefficient": 1.0}, "pinion.cutter_addendum_coefficient", "1.0", "exceed gear.addendum_coefficient"),
     ("clearance_gear_tip_high", {"gear.addendum_coefficient": 1.3}, "pinion.cutter_addendum_coefficient", "1.25", "exceed gear.addendum_coefficient = 1.3"),
     ("clearance_gear_cutter", {"gear.cutter_addendum_coefficient": 1.1, "pinion.addendum_coefficient": 1.2}, "gear.cutter_addendum_coefficient", "1.1", "exceed pinion.addendum_coefficient"),
+    # a rack tooth deeper than pi / (4 tan alpha) module is pointed: 1.122 at 35 deg, 1.25 just fits at 32 deg
+    ("pointed_rack_35deg", {"pair.normal_pressure_angle_deg": 35.0}, "pinion.cutter_addendum_coefficient", "1.25",
+     "at most 1.122 at pair.normal_pressure_angle_deg = 35.0"),
+    ("pointed_rack_gear", {"pair.normal_pressure_angle_deg": 32.2, "pinion.cutter_addendum_coefficient": 1.2},
+     "gear.cutter_addendum_coefficient", "1.25", "pointed"),
     ("ref_offset_beyond_face", {"pinion.reference_section_offset_mm": 60.0}, "pinion.reference_section_offset_mm", "60.0", "pinion.face_width_mm = 50.0"),
     ("ref_offset_negative_beyond", {"gear.reference_section_offset_mm": -61}, "gear.reference_section_offset_mm", "-61", "|value| <="),
     ("ref_offset_nan", {"gear.reference_section_offset_mm": math.nan}, "gear.reference_section_offset_mm", "nan", "<= gear.face_width_mm"),
