@@ -133,12 +133,18 @@ codecs.register_error("beveloid-names", _by_name)
 
 
 def _robust_environment() -> None:
-    """Output in any terminal encoding, and a plotting backend that always works.
+    """Output in any terminal encoding, on closed streams, and a plotting backend that always works.
 
     Characters the stream's encoding lacks (Greek symbols with PYTHONIOENCODING=ascii) are written by
     name; every figure is a file, so matplotlib gets its file backend whatever MPLBACKEND says
     (beveloid.plots selects Agg too; an invalid MPLBACKEND would fail the import before that).
     """
+    # a stream closed by the caller (`beveloid tca my.toml >&-`) is None: write it to the null device,
+    # as `> /dev/null` would
+    if sys.stdout is None:
+        sys.stdout = open(os.devnull, "w")  # noqa: SIM115 (open for the life of the process)
+    if sys.stderr is None:
+        sys.stderr = open(os.devnull, "w")  # noqa: SIM115
     for stream in (sys.stdout, sys.stderr):
         try:
             stream.reconfigure(errors="beveloid-names")

@@ -38,6 +38,19 @@ def test_a_full_output_device_is_one_line_and_exit_2(tmp_path, case1, args):
     assert proc.stderr == "beveloid: error: cannot write the output: No space left on device (errno 28)\n"
 
 
+@pytest.mark.parametrize("closed", [">&-", "2>&-"])
+def test_a_closed_output_stream_is_like_the_null_device(tmp_path, case1, closed):
+    """`beveloid tca my.toml >&-`: the caller closed stdout (Python sees None); the run completes
+    with exit 0 and no traceback, and with stderr closed an error still exits 2."""
+    cmd = f"{sys.executable} -m beveloid.cli tca {case1} --positions 3 {closed}"
+    proc = subprocess.run(["bash", "-c", cmd], cwd=tmp_path, capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    assert "Traceback" not in proc.stderr and "Traceback" not in proc.stdout
+    bad = subprocess.run(["bash", "-c", f"{sys.executable} -m beveloid.cli tca missing.toml {closed}"],
+                         cwd=tmp_path, capture_output=True, text=True, timeout=300)
+    assert bad.returncode == 2 and "Traceback" not in bad.stderr
+
+
 def test_an_ascii_terminal_gets_the_greek_symbols_by_name(tmp_path, case1):
     proc = _beveloid(["design", case1], tmp_path, PYTHONIOENCODING="ascii")
     assert proc.returncode == 0, proc.stderr
