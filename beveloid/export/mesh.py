@@ -39,6 +39,11 @@ class MemberMesh:
     samples: dict  # face -> (profile, axial) grid points
     max_chord_error_um: float  # at the cells' centres
 
+    @property
+    def max_error_um(self) -> float:
+        """The writer registry's name for it (formats.Writer)."""
+        return self.max_chord_error_um
+
 
 def _tooth_ring(sampler, n_s, z):
     """Section points of one tooth (n_ring, n_z, 3), each shared point once, and per face the
