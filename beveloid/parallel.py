@@ -136,6 +136,18 @@ class WarmUp(_PluginBase):
         warm_up(self.initializer)
 
 
+def _lost_chunk_errors() -> tuple[type[BaseException], ...]:
+    """The exception types by which Dask says a chunk is lost (not a bug in the chunk's function)."""
+    import asyncio
+    import concurrent.futures
+
+    from distributed import KilledWorker
+    from distributed.comm.core import CommClosedError
+
+    # distributed's FutureCancelledError derives from concurrent.futures.CancelledError
+    return KilledWorker, CommClosedError, asyncio.CancelledError, concurrent.futures.CancelledError
+
+
 class _Dask:
     def __init__(self, address: str, initializer=None):
         self.address = address
@@ -177,10 +189,8 @@ class _Dask:
             for fut in as_completed(futures):
                 try:
                     result = fut.result()
-                except Exception as exc:  # KilledWorker, a lost connection: keep what finished
-                    if type(exc).__name__ in ("KilledWorker", "CommClosedError", "CancelledError", "FutureCancelledError"):
-                        raise WorkLost(f"the Dask cluster lost a chunk ({type(exc).__name__}: {exc})") from None
-                    raise
+                except _lost_chunk_errors() as exc:  # KilledWorker, a lost connection: keep what finished
+                    raise WorkLost(f"the Dask cluster lost a chunk ({type(exc).__name__}: {exc})") from None
                 yield index[fut.key], result
         finally:
             self._client.cancel([f for f in futures if not f.done()])

@@ -151,6 +151,7 @@ class _LosesWorker:
 
 
 def test_run_that_loses_a_worker_keeps_its_chunks(tmp_path):
+    from beveloid.errors import StopReason
     from beveloid.explore import run as runner
     from beveloid.explore.grid import Plan, parse_vary
     from beveloid.spec import load_example, spec_to_dict
@@ -158,6 +159,6 @@ def test_run_that_loses_a_worker_keeps_its_chunks(tmp_path):
     plan = Plan(spec_to_dict(load_example("case1")), (parse_vary("pinion.cone_angle_deg=1:3:3"),))
     out = str(tmp_path / "run")
     req = runner.prepare(out, runner.Request(plan, {"dx_mm": 0.5}, chunk=2), resume=False)
-    complete, why = runner.execute(out, req, _LosesWorker())
-    assert not complete and "KilledWorker" in why
+    stop, why = runner.execute(out, req, _LosesWorker())
+    assert stop is StopReason.WORK_LOST and "KilledWorker" in why
     assert runner.finished(out, req) == [0]
