@@ -20,7 +20,8 @@ import numpy as np
 from .. import assembly_errors, tca
 from ..generated import design_equations, surface_models
 from ..status import Status
-from . import batch, contact
+from ..design import design_arrays
+from . import contact
 
 AXES = ("x", "y", "z")
 #: the design's working data: (column, q key or a function of (q, values), degrees?)
@@ -78,11 +79,16 @@ def compute(plan, start: int, stop: int, tolerances: dict, backend: str = "auto"
     n = stop - start
     values = {k: np.full(n, v) for k, v in plan.base_values().items()}
     values.update({k: np.asarray(v, dtype=float) for k, v in varied.items()})
-    status, alpha, q = batch.design_batch(values)
-    ok = status == 0
+    d = design_arrays(values)
+    ok = d.ok
+    status = np.where(ok, 0, 1)  # the sensitivities are of the designs that pass the design's checks
+    with np.errstate(invalid="ignore"):
+        q = {k: np.where(ok, v, np.nan) for k, v in d.q.items()}
+    alpha = np.where(ok, d.alpha_nw, np.nan)
+    q["offset_residual_mm"] = np.where(ok, d.offset_residual_mm, np.nan)
     cols: dict = {"design": np.arange(start, stop)}
     cols.update(varied)
-    cols["status"] = np.array(batch.STATUSES, dtype=object)[status]
+    cols["status"] = d.labels()
     deg = np.degrees
     cols["working_normal_pressure_angle_deg"] = deg(alpha)
     cols["fpd_angle_left_deg"] = deg(q["xi_L"])

@@ -5,10 +5,11 @@ import numpy as np
 import pytest
 
 from beveloid import assembly_errors, tca
-from beveloid.design import DesignError, design
+from beveloid.design import DesignError, Outcome, design, design_arrays, spec_values
+from beveloid.errors import ErrorCode
 from beveloid.design.report import design_json
 from beveloid.spec import SpecError
-from beveloid.explore import batch, rows
+from beveloid.explore import rows
 from beveloid.explore.grid import Plan, parse_vary
 from beveloid.pair import Pair
 from beveloid.spec import load_example, spec_to_dict
@@ -49,8 +50,8 @@ def test_statuses_and_working_data_equal_design(explored):
         try:
             result = design(spec)
         except DesignError as err:
-            seen.add(batch.refusal_class(err))
-            assert cols["status"][j] == batch.refusal_class(err) != "design_refused", str(err)
+            seen.add(err.outcome.label)
+            assert cols["status"][j] == err.outcome.label, str(err)
             assert np.isnan(cols["working_normal_pressure_angle_deg"][j])
             assert np.isnan(cols["left_pinion_contact_z_mm_per_dx_mm"][j])
             continue
@@ -104,11 +105,21 @@ def test_batch_does_not_depend_on_its_neighbours(explored):
                 assert v[0] == cols[key][j], key
 
 
-def test_refusal_class_names_every_check():
-    """Each refusal class the batch reports is one design() raises (by its message)."""
-    assert batch.refusal_class(DesignError("pinion.cone_angle_deg = 0.0: a beveloid member needs a non-zero cone"
-                                           " angle")) == "zero_cone_angle"
-    assert batch.refusal_class(DesignError("something new")) == "design_refused"
+def test_every_refusal_names_its_outcome(explored):
+    """design() says which check refused a design by a named outcome (never by its message text), and
+    the outcome is the one beveloid.design.design_arrays gives the same spec values."""
+    plan, cols, values = explored
+    for j in range(plan.count):
+        try:
+            spec = rows.design_spec(plan, values, j)
+            design(spec)
+        except SpecError:
+            continue
+        except DesignError as err:
+            assert isinstance(err.outcome, Outcome) and err.outcome is not Outcome.OK
+            assert err.code is ErrorCode.DESIGN_REFUSED
+            one = design_arrays(spec_values(spec))
+            assert Outcome(int(one.outcome[0])) is err.outcome
 
 
 def test_flank_modification_keys_choose_the_surface_model():
