@@ -21,7 +21,7 @@ from .. import assembly_errors, tca
 from ..generated import design_equations, surface_models
 from ..status import Status
 from ..design import design_arrays
-from . import contact
+from . import contact, tooth
 
 AXES = ("x", "y", "z")
 #: the design's working data: (column, q key or a function of (q, values), degrees?)
@@ -73,8 +73,9 @@ def models(base: dict, values: dict) -> list[tuple[str, str]]:
     return list(zip(out[0], out[1]))
 
 
-def compute(plan, start: int, stop: int, tolerances: dict, backend: str = "auto") -> dict:
-    """The rows of designs start..stop-1 of a :class:`beveloid.explore.grid.Plan` (columns by name)."""
+def compute(plan, start: int, stop: int, tolerances: dict, backend: str = "auto", tooth_checks: bool = True) -> dict:
+    """The rows of designs start..stop-1 of a :class:`beveloid.explore.grid.Plan` (columns by name); the
+    whole-tooth checks (explore/tooth.py) unless ``tooth_checks`` is False."""
     varied = plan.values(start, stop)
     n = stop - start
     values = {k: np.full(n, v) for k, v in plan.base_values().items()}
@@ -110,6 +111,7 @@ def compute(plan, start: int, stop: int, tolerances: dict, backend: str = "auto"
         cols[f"{name}_rack_shift_mm"] = (cols[f"{name}_profile_shift"] * values["pair.normal_module_mm"]
                                          * np.cos(q[o["cone_angle"]]) / np.cos(q[o["helix_angle"]]))
     _sensitivities(cols, plan, values, q, status, tolerances, backend)
+    tooth.whole_tooth(cols, d.outcome, lambda j: design_spec(plan, values, j), check=tooth_checks)
     return cols
 
 
