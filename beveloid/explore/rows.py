@@ -188,7 +188,7 @@ def monte_carlo(cols: dict, plan, start: int, stop: int, tolerances: dict, sampl
     seed of design i is derived from (seed, i) alone, so a design's sets do not depend on its chunk.
     """
     from ..pair import Pair
-    from ..sweep import sweep
+    from .. import sweep
 
     n = stop - start
     for c in MC_COLUMNS:
@@ -205,9 +205,10 @@ def monte_carlo(cols: dict, plan, start: int, stop: int, tolerances: dict, sampl
         spec = design_spec(plan, values, j)
         nominal = {k: float(getattr(spec.misalignment, k)) for k in assembly_errors.KEYS}
         design_seed = int(np.random.SeedSequence([seed, start + j]).generate_state(1, np.uint64)[0] >> 1)
+        options = sweep.Options(flank=flank, samples=samples, positions=positions, seed=design_seed,
+                                ranges=dict(tolerances), nominal=nominal)
         try:
-            res = sweep(Pair.from_spec(spec).geometry, flank, samples, positions, design_seed, dict(tolerances),
-                        backend, nominal=nominal).to_json_dict()
+            res = sweep.analyze(Pair.from_spec(spec), options, backend).to_json_dict()
         except RuntimeError:  # the aligned flank has no engagement to sample
             cols["mc_status"][j] = "no_aligned_contact"
             continue

@@ -12,7 +12,7 @@ import time
 import numpy as np
 import pytest
 
-from beveloid import parallel
+from beveloid import assembly_errors, parallel
 from beveloid.cli import main
 from beveloid.spec import example_text
 from beveloid.sweep import DEFAULT_RANGES, draw_errors
@@ -44,9 +44,13 @@ def _sweep(case1, capsys, *where):
 def test_error_chunks_are_the_sweeps_stream():
     ranges, nominal = {"dx_mm": 0.3, "vertical_deg": 0.1}, {"dz_mm": 0.2}
     whole = draw_errors(1000, ranges, 11, nominal)
+    # the whole draw is numpy's default generator of the seed (independent of the chunk arithmetic)
+    half = assembly_errors.to_layout(dict(DEFAULT_RANGES, **ranges))
+    expected = assembly_errors.to_layout(nominal) + np.random.default_rng(11).uniform(-1, 1, (1000, 5)) * half
+    np.testing.assert_array_equal(whole, expected)
     for start, stop in ((0, 1), (0, 300), (300, 1000), (999, 1000)):
-        np.testing.assert_array_equal(parallel.draw_errors_chunk(start, stop, dict(DEFAULT_RANGES, **ranges), 11, nominal),
-                                      whole[start:stop])
+        np.testing.assert_array_equal(draw_errors(stop - start, dict(DEFAULT_RANGES, **ranges), 11, nominal,
+                                                  start=start), whole[start:stop])
 
 
 def test_executor_input_checks():
