@@ -93,8 +93,8 @@ def workers(plan, n):
         with tempfile.TemporaryDirectory() as out:
             runner.prepare(out, req, resume=False)
             t = time.perf_counter()
-            complete, _ = runner.execute(out, req, ex)
-            assert complete
+            stop, _ = runner.execute(out, req, ex)
+            assert stop is None
             rate = plan.count / (time.perf_counter() - t)
         cpu = {}
         for _, (pid, seconds, _) in ex.map_unordered(_timed_chunk, [(req.to_json(), i) for i in range(req.chunks)]):

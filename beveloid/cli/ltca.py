@@ -26,7 +26,7 @@ import re
 
 from .paths import check_output_file
 from .common import add_error_flags, apply_error_flags, error_vector, errors_label
-from ..errors import UserError
+from ..errors import OptionError, UserError
 
 
 def configure(p: argparse.ArgumentParser) -> None:
@@ -54,9 +54,8 @@ def parse_grid(text):
     m = re.fullmatch(r"\s*(\d+)\s*[xX]\s*(\d+)\s*", text)
     try:
         return check_grid((int(m[1]), int(m[2])) if m else text, key="--grid")
-    except ValueError as exc:
-        raise UserError(str(exc).replace("(11, 17)", text).replace(f"({m[1]}, {m[2]})" if m else text, text)) \
-            from None
+    except OptionError as exc:  # named by its fields: the flag and the text as typed
+        raise UserError(exc.for_flag("--grid", shown=text)) from None
 
 
 def run(args: argparse.Namespace) -> int:
@@ -77,8 +76,8 @@ def run(args: argparse.Namespace) -> int:
         ltca.options.check_torque(args.torque_nm, key="--torque-nm")
         ltca.options.check_positions(args.positions, key="--positions")
         ltca.options.check_pairs(args.pairs, key="--pairs")
-    except ValueError as exc:
-        raise UserError(str(exc)) from None
+    except OptionError as exc:
+        raise UserError(exc.for_flag(exc.key)) from None
     if args.plot is not None:
         check_output_file(args.plot, "--plot", ".png")
     from ..spec import load_spec
@@ -89,8 +88,8 @@ def run(args: argparse.Namespace) -> int:
                            grid=grid, errors=tuple(error_vector(spec)), material=ltca.Material.from_spec(spec))
     try:
         options.check_memory()
-    except ValueError as exc:
-        raise UserError(str(exc).replace("grid = ", "--grid = ")) from None
+    except OptionError as exc:
+        raise UserError(exc.for_flag("--grid")) from None
     result = ltca.analyze(pair, options, Solver())
     geom = pair.geometry
     if args.plot is not None:

@@ -4,24 +4,13 @@ from __future__ import annotations
 import numbers
 from dataclasses import dataclass
 
+from ..errors import OptionError
 from ..contact_ellipse import DEFAULT_APPROACH_MM, check_approach
 from .contact import FLANKS
 
 #: (smallest, largest) of each integer option; pairs must also be odd (pair 0 in the middle)
 POSITIONS = (1, 100_000)
 PAIRS = (1, 9)
-
-
-class OptionError(ValueError):
-    """A TCA option out of its range: ``key``, ``value`` and ``requirement`` (what is valid)."""
-
-    def __init__(self, key, value, requirement):
-        self.key, self.value, self.requirement = key, value, requirement
-        super().__init__(f"{key} = {value!r}: {requirement}")
-
-    def for_flag(self, flag: str) -> str:
-        """The message with the command-line flag in place of the key."""
-        return f"{flag} = {self.value}: {self.requirement}"
 
 
 def _integer(key, value, lo, hi, odd=False):
