@@ -285,7 +285,7 @@ def test_out_targets_are_refused_before_computing(capsys, monkeypatch, tmp_path,
         ("", "an empty name"),  # item 11: used to write 23 files into the current folder
         ("   ", "an empty name"),
         (a_file, "exists and is not a folder"),
-        *([] if ROOT else [(ro_dir, "is not writable"), (ro_dir / "new" / "deeper", "is not writable")]),
+        *([] if ROOT else [(ro_dir, "is not writable"), (ro_dir / "new" / "deeper", "does not exist")]),
         (tmp_path / ("d" * 256), "more than the 255"),
     ]
     for target, words in cases:
