@@ -50,6 +50,8 @@ def run(args: argparse.Namespace) -> int:
     try:
         result = export(pair, options)
     except OSError as exc:
+        if exc.filename is None:  # not a file of DIR (e.g. a closed stdout): the CLI reports it
+            raise
         raise UserError(f"--out = {args.out}: cannot write there ({exc.strerror or exc})") from None
     kind = WRITERS[args.format].accuracy
     for f in result.files:
