@@ -52,6 +52,7 @@ class LoadedContact:
     root_stress_max_mpa: dict  # member -> FE root stress max over the cycle, None when not computed
     root_stress_location: dict  # member -> where, or None
     notes: tuple = ()
+    peak_where: str = "mesh cycle peak"  # where the surface peak pressure is (pinion angle, tooth pair)
 
 
 def loaded_contact(ltca_result, geometry) -> LoadedContact:
@@ -61,6 +62,11 @@ def loaded_contact(ltca_result, geometry) -> LoadedContact:
     surf = ltca_result.pair_surface_max_pressure_mpa[ok]
     edge = ltca_result.pair_edge_max_pressure_mpa[ok]
     p_surf = float(np.nanmax(surf)) if np.isfinite(surf).any() else None
+    where = "mesh cycle peak"
+    if p_surf is not None:
+        j, k = np.unravel_index(int(np.nanargmax(surf)), surf.shape)
+        phi = ltca_result.pinion_angle[ok][j]
+        where = f"mesh cycle peak (pinion angle {phi * 1e3:.2f} mrad, tooth pair {int(ltca_result.tooth_pairs[k])})"
     p_edge = float(np.nanmax(edge)) if np.isfinite(edge).any() else None
     axes = ltca_result.patch_semi_axes_mm()[ok]  # (N, P, 2): across, along
     loads = np.where(np.isfinite(ltca_result.pair_load_n[ok]), ltca_result.pair_load_n[ok], -1.0)
@@ -74,10 +80,10 @@ def loaded_contact(ltca_result, geometry) -> LoadedContact:
     if not ok.any():
         notes.append("no LTCA position converged: local stresses are null")
     root = {m: None for m in MEMBERS}
-    where = {m: None for m in MEMBERS}
+    root_where = {m: None for m in MEMBERS}
     notes.append("local root stress: not computed (the FE tooth model is not available in this build); "
                  "root_stress_max_mpa and safety_bending are null, the ISO bending values stand alone")
-    return LoadedContact(p_surf, p_edge, length, root, where, tuple(notes))
+    return LoadedContact(p_surf, p_edge, length, root, root_where, tuple(notes), where)
 
 
 @dataclass(frozen=True)
@@ -100,6 +106,7 @@ class SectionRating:
     sigma_H_mpa: float
     safety_bending_iso: float
     safety_pitting_iso: float
+    status: str = "ok"
 
 
 @dataclass(frozen=True)
@@ -120,7 +127,20 @@ def _member_torque_nm(geometry, member, pinion_torque_nm):
 
 
 def rate_section(inp: RateInput, member: str, z_face: float, name: str = "") -> SectionRating:
-    """ISO 6336 on the virtual gear of ``member``'s section at face coordinate z_face (mm)."""
+    """ISO 6336 on the virtual gear of ``member``'s section at face coordinate z_face (mm); a section
+    where method B has no answer (no 30 deg tangent, a tip below the outer point of single contact)
+    gets NaN values and its reason in ``status`` (null in the JSON)."""
+    try:
+        return _rate_section(inp, member, z_face, name)
+    except (ValueError, ZeroDivisionError) as exc:
+        nan = math.nan
+        bend = iso6336.BendingGeometry(nan, nan, nan, nan, nan, nan, nan, nan, nan, 0)
+        return SectionRating(name, float(z_face), nan, nan, nan, bend, nan, nan,
+                             iso6336.ContactFactors(nan, nan, nan, nan), nan, nan, nan, nan, nan, nan, nan,
+                             status=f"ISO not computed: {exc}")
+
+
+def _rate_section(inp: RateInput, member: str, z_face: float, name: str) -> SectionRating:
     geom = inp.geometry
     sg = section_gear(geom, member, z_face, inp.flank, name)
     gear, mate = sg.gear, mate_gear(geom, sg, inp.flank)
@@ -163,11 +183,17 @@ class MemberRating:
 
     @property
     def safety_bending_iso(self) -> float:
-        return min(s.safety_bending_iso for s in self.sections.values())
+        """The lowest ISO S_F of the three sections (NaN when none was computed)."""
+        return _lowest(s.safety_bending_iso for s in self.sections.values())
 
     @property
     def safety_pitting_iso(self) -> float:
-        return min(s.safety_pitting_iso for s in self.sections.values())
+        return _lowest(s.safety_pitting_iso for s in self.sections.values())
+
+
+def _lowest(values) -> float:
+    finite = [v for v in values if math.isfinite(v)]
+    return min(finite) if finite else math.nan
 
 
 def analyze(pair, options: Options, solver=None, ltca_result=None, face_points: int = 0):
@@ -198,6 +224,7 @@ def analyze(pair, options: Options, solver=None, ltca_result=None, face_points: 
             None if root is None else factors.root_strength_mpa(member) / root,
             None if p is None else factors.contact_strength_mpa(member) / p, face)
     notes = factors.notes() + list(lc.notes)
+    notes += [f"{m.member} {k}: {s.status}" for m in members.values() for k, s in m.sections.items() if s.status != "ok"]
     if lc.contact_length_mm is None:
         notes.append("no loaded contact length from the LTCA: K_Hbeta = K_Fbeta = 1 on the full face width")
     if lc.edge_pressure_max_mpa is not None:

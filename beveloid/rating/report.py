@@ -48,7 +48,7 @@ class RatingResult:
             if m.safety_bending is not None:
                 out.append((m.safety_bending, "S_F", "local", name, where, f.S_Fmin))
             if m.safety_pitting is not None:
-                out.append((m.safety_pitting, "S_H", "local", name, "mesh cycle peak", f.S_Hmin))
+                out.append((m.safety_pitting, "S_H", "local", name, self.loaded.peak_where, f.S_Hmin))
         return out
 
     def verdict(self) -> dict:
@@ -57,6 +57,10 @@ class RatingResult:
         all_ = [s for s in self.safeties() if _num(s[0]) is not None]
         local_kinds = {s[1] for s in all_ if s[2] == "local"}
         deciding = [s for s in all_ if s[2] == "local" or s[1] not in local_kinds]
+        if not deciding:
+            return {"lowest": None, "value": None, "source": None, "member": None, "where": None, "required": None,
+                    "meets_S_Fmin": None, "meets_S_Hmin": None, "passes": None,
+                    "line": "no safety factor could be computed (see notes)"}
         low = min(deciding, key=lambda s: s[0] / s[5])
         ok_f = all(s[0] >= s[5] for s in deciding if s[1] == "S_F")
         ok_h = all(s[0] >= s[5] for s in deciding if s[1] == "S_H")

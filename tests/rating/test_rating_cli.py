@@ -104,3 +104,21 @@ def test_bad_input_is_one_line_and_exit_2(tmp_path, capsys, section, line, key):
 def test_bad_torque_is_one_line_and_exit_2(capsys):
     rc, out, err = run_cli(capsys, ["rating", C1, "--torque-nm", "0"])
     assert rc == 2 and out == "" and len(err.splitlines()) == 1 and "--torque-nm = 0" in err
+
+
+def test_a_section_without_a_method_b_answer_is_null_with_its_reason(case1_rating, monkeypatch):
+    from beveloid.rating import analysis, iso6336
+
+    pair, lt, _ = case1_rating
+
+    def no_tangent(_pair):
+        raise ValueError("method B: no fillet tangent of 30 deg (test)")
+
+    monkeypatch.setattr(iso6336, "bending_geometry", no_tangent)
+    result = analysis.analyze(pair, rating.Options(torque_nm=800.0, positions=2), ltca_result=lt)
+    out = rating.to_json_dict(result)
+    json.dumps(out, allow_nan=False)
+    assert all(v is None for v in out["pinion"]["sections"]["toe"].values())
+    assert out["pinion"]["safety_bending_iso"] is None
+    assert out["verdict"]["source"] == "local" and out["verdict"]["lowest"] == "S_H"
+    assert any("no fillet tangent" in n for n in out["notes"])
