@@ -122,3 +122,25 @@ def test_a_section_without_a_method_b_answer_is_null_with_its_reason(case1_ratin
     assert out["pinion"]["safety_bending_iso"] is None
     assert out["verdict"]["source"] == "local" and out["verdict"]["lowest"] == "S_H"
     assert any("no fillet tangent" in n for n in out["notes"])
+
+
+def test_plot_target_is_refused_before_computing(capsys, monkeypatch, tmp_path):
+    def boom(*a, **k):
+        raise AssertionError("computed before checking --plot")
+
+    monkeypatch.setattr(rating, "analyze", boom)
+    folder = tmp_path / "f.png"
+    folder.mkdir()
+    for target, words in ((folder, "is a folder"), (tmp_path / "plot.svg", "ending in .png"), ("", "an empty name")):
+        rc, out, err = run_cli(capsys, ["rating", C1, "--torque-nm", "100", "--plot", target])
+        assert rc == 2 and out == "" and len(err.splitlines()) == 1 and "--plot = " in err and words in err
+
+
+def test_plot_and_table(tmp_path, capsys, monkeypatch, case1_rating):
+    pair, lt, _ = case1_rating
+    real = rating.analyze
+    monkeypatch.setattr(rating, "analyze", lambda p, o, **k: real(pair, o, ltca_result=lt, **k))
+    target = tmp_path / "r.png"
+    rc, out, err = run_cli(capsys, ["rating", C1, "--torque-nm", "800", "--plot", target])
+    assert rc == 0 and target.stat().st_size > 10_000
+    assert "verdict: lowest safety" in out and out.count(" toe ") == 2
