@@ -167,7 +167,21 @@ def _rate_section(inp: RateInput, member: str, z_face: float, name: str) -> Sect
     return SectionRating(
         name, float(z_face), bend.virtual_teeth, gear.profile_shift, math.degrees(sg.helix_angle_signed), bend,
         y_beta, sf0, cf, sh0, k_hb, k_fb, s_f, s_h, f.root_strength_mpa(member) / s_f,
-        f.contact_strength_mpa(member) / s_h)
+        f.contact_strength_mpa(member) / s_h, _validity(bend, pair_loaded))
+
+
+def _validity(bend, pair) -> str:
+    """"ok", or where ISO 6336-3 says its factors hold no longer (the values are kept)."""
+    out = []
+    qs = bend.s_Fn_mm / (2 * bend.rho_F_mm)
+    if not 1.0 <= qs < 8.0:
+        out.append(f"notch parameter q_s = {qs:.3g} outside ISO 6336-3's 1 <= q_s < 8 (Y_S extrapolated)")
+    eps_an = pair.transverse_contact_ratio / math.cos(pair.gear.base_helix_angle) ** 2
+    if eps_an > 2.05:
+        out.append(f"eps_alpha_n = {eps_an:.3g} > 2.05: deep-tooth factor Y_DT < 1 not applied")
+    if eps_an < 1.0:
+        out.append(f"eps_alpha_n = {eps_an:.3g} < 1: the virtual pair has no single-pair contact span")
+    return "; ".join(out) if out else "ok"
 
 
 @dataclass(frozen=True)

@@ -71,3 +71,42 @@ def test_each_flank_is_the_generated_sections_involute(member, flank):
     bl = section_gear(g, member, 0.0, "left").helix_angle_signed
     br = section_gear(g, member, 0.0, "right").helix_angle_signed
     assert (math.tan(bl) + math.tan(br)) / 2 == pytest.approx(math.tan(m.helix_angle) * math.cos(m.cone_angle))
+
+
+def test_iso_section_rating_is_finite_or_null_with_a_reason_over_random_designs():
+    """Seeded random variations of case 1 (cone angles, tip round, shift): each
+    section of each member is rated with finite values, or is null with its reason; never an exception."""
+    import numpy as np
+
+    from beveloid.design import DesignError
+    from beveloid.rating.analysis import RateInput, rate_section
+    from beveloid.rating.factors import Factors
+    from beveloid.spec import SpecError
+
+    rng = np.random.default_rng(3)
+    rated = 0
+    for _ in range(12):
+        d = spec_to_dict(load_example("case1"))
+        d["pinion"]["cone_angle_deg"] = float(rng.uniform(0.05, 4.0))
+        d["gear"]["cone_angle_deg"] = float(rng.uniform(0.05, 3.0))
+        d["pinion"]["profile_shift"] = float(rng.uniform(0.0, 0.3))
+        for m in ("pinion", "gear"):
+            d[m]["cutter_tip_radius_coefficient"] = float(rng.uniform(0.0, 0.3))
+        try:
+            pair = Pair.from_spec(spec_from_dict(d))
+        except (DesignError, SpecError):
+            continue
+        g = pair.geometry
+        inp = RateInput(g, "right", 500.0, min(g.pinion.face_width_mm, g.gear.face_width_mm), None,
+                        Factors.from_spec(pair.spec), (206000.0, 0.3, 206000.0, 0.3))
+        for member in ("pinion", "gear"):
+            w = sections.half_face(g, member)
+            for at in (-w, 0.0, w):
+                s = rate_section(inp, member, at)
+                if s.status.startswith("ISO not computed"):
+                    assert math.isnan(s.sigma_F0_mpa)
+                else:
+                    assert all(math.isfinite(v) and v > 0 for v in (s.sigma_F0_mpa, s.sigma_H0_mpa, s.bending.Y_F,
+                                                                     s.bending.Y_S, s.safety_bending_iso))
+                    rated += 1
+    assert rated >= 30
