@@ -110,3 +110,44 @@ def test_iso_section_rating_is_finite_or_null_with_a_reason_over_random_designs(
                                                                      s.bending.Y_S, s.safety_bending_iso))
                     rated += 1
     assert rated >= 30
+
+
+@pytest.mark.parametrize("tip_radius", [0.0, 0.3])
+def test_method_b_root_chord_and_radius_are_those_of_the_generated_fillet(tip_radius):
+    """A straight (beta = 0), near-cylindrical pinion: the project's generated root fillet
+    (generated/root_fillet.py, the envelope of the rack's tip round) cut by a transverse section has
+    its 30 deg tangent where ISO 6336-3 method B puts it on the virtual gear: s_Fn and rho_F agree."""
+    import numpy as np
+    from scipy.optimize import brentq
+
+    from beveloid.rating import iso6336
+    from beveloid.rating.virtual import mate_gear
+    from beveloid.tooth import fillet
+
+    d = spec_to_dict(load_example("case1"))
+    d["pinion"].update(cone_angle_deg=1e-6, helix_angle_deg=0.0, cutter_tip_radius_coefficient=tip_radius)
+    d["gear"]["cone_angle_deg"] = 1e-6
+    g = Pair.from_spec(spec_from_dict(d)).geometry
+    junction = float(fillet.tip_round(g, "pinion").junction_psi) if tip_radius else 1.5
+
+    def point(psi):  # the right flank's fillet in the section z = 0 (u = 0: beta = gamma = 0); tooth on the x axis
+        return fillet.fillet(g, "pinion", "right", np.atleast_1d(psi), np.zeros(1)).point[0, :2]
+
+    def angle(psi, h=1e-7):
+        t = point(psi + h) - point(psi - h)
+        return math.degrees(math.atan2(abs(t[1]), abs(t[0])))  # to the centre line (x axis)
+
+    psis = np.linspace(1e-6, junction - 1e-6, 400)
+    a = np.array([angle(p) for p in psis]) - 30.0
+    k = int(np.nonzero(a[:-1] * a[1:] <= 0)[0][0])
+    psi = brentq(lambda p: angle(p) - 30.0, psis[k], psis[k + 1], xtol=1e-14)
+    p = point(psi)
+    h = 1e-4
+    d1 = (point(psi + h) - point(psi - h)) / (2 * h)
+    d2 = (point(psi + h) - 2 * p + point(psi - h)) / h ** 2
+    rho_f = np.hypot(*d1) ** 3 / abs(d1[0] * d2[1] - d1[1] * d2[0])
+
+    sg = section_gear(g, "pinion", 0.0, "right")
+    bend = iso6336.bending_geometry(iso6336.CylindricalPair(sg.gear, mate_gear(g, sg, "right"), 50.0))
+    assert bend.s_Fn_mm == pytest.approx(2 * abs(p[1]), rel=1e-6)
+    assert bend.rho_F_mm == pytest.approx(rho_f, rel=1e-3)
