@@ -151,3 +151,49 @@ def test_method_b_root_chord_and_radius_are_those_of_the_generated_fillet(tip_ra
     bend = iso6336.bending_geometry(iso6336.CylindricalPair(sg.gear, mate_gear(g, sg, "right"), 50.0))
     assert bend.s_Fn_mm == pytest.approx(2 * abs(p[1]), rel=1e-6)
     assert bend.rho_F_mm == pytest.approx(rho_f, rel=1e-3)
+
+
+def test_virtual_gear_follows_the_real_fillet_along_the_face_of_a_straight_beveloid():
+    """A straight pinion (beta = 0) with a cone angle of 3 deg: in the toe, middle and heel sections
+    the generated fillet's 30 deg chord (real beveloid, rack tilted) grows by ~10 % with the rack
+    shift, and method B on each section's virtual gear follows it within 0.05 % (the tilted tip round
+    cut by the section, O(gamma^2), is what remains)."""
+    import numpy as np
+    from scipy.optimize import brentq
+
+    from beveloid.rating import iso6336
+    from beveloid.rating.virtual import mate_gear
+    from beveloid.tooth import fillet
+
+    d = spec_to_dict(load_example("case1"))
+    d["pinion"].update(cone_angle_deg=3.0, helix_angle_deg=0.0, cutter_tip_radius_coefficient=0.3)
+    g = Pair.from_spec(spec_from_dict(d)).geometry
+    junction = float(fillet.tip_round(g, "pinion").junction_psi)
+    w = sections.half_face(g, "pinion")
+    chords = []
+    for at in (-w, 0.0, w):
+        z = float(sections.member_z(g, "pinion", at))
+
+        def point(psi, flank="right"):
+            def off(u):
+                return fillet.fillet(g, "pinion", flank, np.atleast_1d(psi), np.atleast_1d(u)).point[0, 2] - z
+            u = brentq(off, z - 20, z + 20, xtol=1e-13)
+            return fillet.fillet(g, "pinion", flank, np.atleast_1d(psi), np.atleast_1d(u)).point[0, :2]
+
+        c = 0.5 * (math.atan2(*point(1e-6)[::-1]) + math.atan2(*point(1e-6, "left")[::-1]))  # tooth centre line
+        axis = np.array([math.cos(c), math.sin(c)])
+
+        def angle(psi, h=1e-7):
+            t = point(psi + h) - point(psi - h)
+            return math.degrees(math.acos(abs(t @ axis) / np.hypot(*t)))
+
+        psis = np.linspace(1e-6, junction - 1e-6, 40)
+        a = np.array([angle(p) for p in psis]) - 30.0
+        k = int(np.nonzero(a[:-1] * a[1:] <= 0)[0][0])
+        p = point(brentq(lambda q: angle(q) - 30.0, psis[k], psis[k + 1], xtol=1e-12))
+        real = 2 * abs(p[0] * axis[1] - p[1] * axis[0])
+        sg = section_gear(g, "pinion", at, "right")
+        iso = iso6336.bending_geometry(iso6336.CylindricalPair(sg.gear, mate_gear(g, sg, "right"), 50.0)).s_Fn_mm
+        assert iso == pytest.approx(real, rel=5e-4)
+        chords.append(real)
+    assert chords[2] / chords[0] > 1.05
