@@ -53,6 +53,7 @@ class LoadedContact:
     root_stress_location: dict  # member -> where, or None
     notes: tuple = ()
     peak_where: str = "mesh cycle peak"  # where the surface peak pressure is (pinion angle, tooth pair)
+    peak_face_z_mm: dict = field(default_factory=dict)  # member -> face coordinate of that pair's patch centre
 
 
 def loaded_contact(ltca_result, geometry) -> LoadedContact:
@@ -62,11 +63,13 @@ def loaded_contact(ltca_result, geometry) -> LoadedContact:
     surf = ltca_result.pair_surface_max_pressure_mpa[ok]
     edge = ltca_result.pair_edge_max_pressure_mpa[ok]
     p_surf = float(np.nanmax(surf)) if np.isfinite(surf).any() else None
-    where = "mesh cycle peak"
+    where, face = "mesh cycle peak", {}
     if p_surf is not None:
         j, k = np.unravel_index(int(np.nanargmax(surf)), surf.shape)
         phi = ltca_result.pinion_angle[ok][j]
-        where = f"mesh cycle peak (pinion angle {phi * 1e3:.2f} mrad, tooth pair {int(ltca_result.tooth_pairs[k])})"
+        face = _patch_centre_face_z(geometry, ltca_result.flank, ltca_result.tangency_unknowns[ok][j, k])
+        where = (f"mesh cycle peak (pinion angle {phi * 1e3:.2f} mrad, tooth pair {int(ltca_result.tooth_pairs[k])}; "
+                 f"patch centre at face z {face['pinion']:.1f} mm on the pinion, {face['gear']:.1f} mm on the gear)")
     p_edge = float(np.nanmax(edge)) if np.isfinite(edge).any() else None
     axes = ltca_result.patch_semi_axes_mm()[ok]  # (N, P, 2): across, along
     loads = np.where(np.isfinite(ltca_result.pair_load_n[ok]), ltca_result.pair_load_n[ok], -1.0)
@@ -83,7 +86,19 @@ def loaded_contact(ltca_result, geometry) -> LoadedContact:
     root_where = {m: None for m in MEMBERS}
     notes.append("local root stress: not computed (the FE tooth model is not available in this build); "
                  "root_stress_max_mpa and safety_bending are null, the ISO bending values stand alone")
-    return LoadedContact(p_surf, p_edge, length, root, root_where, tuple(notes), where)
+    return LoadedContact(p_surf, p_edge, length, root, root_where, tuple(notes), where, face)
+
+
+def _patch_centre_face_z(geometry, flank, tangency) -> dict:
+    """Face coordinate (mm, toe < 0 < heel) on each member of a pair's rigid tangency point."""
+    from ..tca import unknowns
+
+    x = unknowns(np.asarray(tangency, dtype=float))
+    out = {}
+    for member, (l, u) in (("pinion", (x.pinion_l_mm, x.pinion_u_mm)), ("gear", (x.gear_l_mm, x.gear_u_mm))):
+        z = geometry.surface(member, flank, np.atleast_1d(l), np.atleast_1d(u)).point[0, 2]
+        out[member] = float(sections.face_z(geometry, member, z))
+    return out
 
 
 @dataclass(frozen=True)

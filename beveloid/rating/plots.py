@@ -12,7 +12,7 @@ def safety_along_face(result, geometry, path, title=""):
     import matplotlib.pyplot as plt
 
     f = result.factors
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), constrained_layout=True, sharey=True)
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.8), constrained_layout=True, sharey=True)
     for ax, (name, m) in zip(axes, result.members.items()):
         z = [s.face_z_mm for s in m.face]
         ax.plot(z, [s.safety_bending_iso for s in m.face], "C0-", label="S_F ISO")
@@ -25,7 +25,10 @@ def safety_along_face(result, geometry, path, title=""):
         if m.safety_bending is not None:
             ax.axhline(m.safety_bending, color="C0", ls="--", label="S_F local")
         if m.safety_pitting is not None:
-            ax.axhline(m.safety_pitting, color="C1", ls="--", label="S_H local")
+            ax.axhline(m.safety_pitting, color="C1", ls="--", label="S_H local (LTCA peak)")
+            at = result.loaded.peak_face_z_mm.get(name)
+            if at is not None:
+                ax.plot([at], [m.safety_pitting], "C1*", ms=11, label="where the peak's pair is centred")
         ax.axhline(f.S_Fmin, color="C0", ls=":", lw=1, label="S_Fmin")
         ax.axhline(f.S_Hmin, color="C1", ls=":", lw=1, label="S_Hmin")
         ax.set_xlabel(f"{name}: face coordinate z (mm), toe < 0 < heel")
@@ -33,7 +36,8 @@ def safety_along_face(result, geometry, path, title=""):
         ax.set_ylim(bottom=0)
         ax.grid(alpha=0.3)
     axes[0].set_ylabel("safety factor")
-    axes[1].legend(fontsize=8, loc="best")
+    handles, labels = axes[0].get_legend_handles_labels()
+    fig.legend(handles, labels, fontsize=8, loc="outside lower center", ncol=4)
     if title:
         fig.suptitle(title, fontsize=10)
     fig.savefig(path, dpi=120)

@@ -53,9 +53,11 @@ def test_local_contact_stress_is_the_ltca_surface_peak_at_ka_kv_t(case1_rating):
     assert lt.torque_nm == pytest.approx(800.0 * 1.25 * 1.1)
     peak = float(np.nanmax(lt.pair_surface_max_pressure_mpa[lt.converged]))
     f = result.factors
+    geom = pair.geometry
     for member in ("pinion", "gear"):
         m = result.members[member]
         assert m.contact_pressure_max_mpa == peak
+        assert abs(result.loaded.peak_face_z_mm[member]) <= geom.member(member).face_width_mm / 2
         assert m.safety_pitting == pytest.approx(f.contact_strength_mpa(member) / peak)
 
 
