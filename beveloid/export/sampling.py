@@ -32,6 +32,8 @@ from ..errors import UserError
 FLANKS = ("left", "right")
 #: the faces of one tooth and the gap after it, in the order the solid is built from
 FACES = ("flank_left", "flank_right", "fillet_left", "fillet_right", "tip", "root")
+#: the largest step (mm) between a flank and its fillet where they meet that the export accepts
+JOIN_TOL_MM = 1e-4
 
 
 class ExportGeometryError(UserError):
@@ -165,6 +167,14 @@ class ToothSampler:
         s = np.linspace(0.0, 1.0, 41)
         for flank in FLANKS:
             self.form_limits(flank, z)  # refuses a section without an involute up to the tip
+            step = np.linalg.norm(self.fillet_points(flank, np.array([1.0]), z)[0]
+                                  - self.flank_points(flank, np.array([0.0]), z)[0], axis=-1)
+            if np.max(step) > JOIN_TOL_MM:
+                k = int(np.argmax(step))
+                raise ExportGeometryError(
+                    f"{self.member}: the {flank} flank and its root fillet are {1e3 * step[k]:.1f} um apart at the form"
+                    f" limit (z = {z[k]:.3f} mm): the flank's modification ({self.data.tooth_surface} model) is not"
+                    " carried by the root fillet model, so the tooth's surfaces do not close")
         tips = [self.flank_points(f, np.array([1.0]), z)[0] for f in FLANKS]
         width = _signed_angle(tips[0], tips[1]) * self.tip_radius_mm(z)
         if np.min(width) <= 1e-3:
