@@ -132,7 +132,8 @@ def _member_docs(member: str) -> dict[str, KeyDoc]:
             hi=1.5,
             requirement=design_input,
         ),
-        "face_width_mm": KeyDoc("face width", "mm", lo=0.0, lo_open=True, hi=1000.0),
+        # at least 1 um: a narrower face is no tooth (5e-324 mm halves to 0 and the face's ends coincide)
+        "face_width_mm": KeyDoc("face width", "mm", lo=0.001, hi=1000.0),
         "addendum_coefficient": KeyDoc(
             "tip height above the rack pitch line, in units of normal module",
             lo=0.3,

@@ -79,18 +79,19 @@ def undercut_top(geometry, member, flank, z, psi0, l0, uf0=0.0, us0=0.0):
 
 
 def _crossing(a, b):
-    """(i, j) of the first segments of polylines a (n, 2) and b (m, 2) that cross, or None."""
-    for i in range(len(a) - 1):
-        p, r = a[i], a[i + 1] - a[i]
-        q, s = b[:-1], b[1:] - b[:-1]
-        den = r[0] * s[:, 1] - r[1] * s[:, 0]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            t = ((q[:, 0] - p[0]) * s[:, 1] - (q[:, 1] - p[1]) * s[:, 0]) / den
-            v = ((q[:, 0] - p[0]) * r[1] - (q[:, 1] - p[1]) * r[0]) / den
-        hit = np.nonzero((t >= 0) & (t <= 1) & (v >= 0) & (v <= 1))[0]
-        if hit.size:
-            return i, int(hit[0])
-    return None
+    """(i, j) of the first segments of polylines a (n, 2) and b (m, 2) that cross, or None (all pairs at once)."""
+    p, r = a[:-1, None, :], (a[1:] - a[:-1])[:, None, :]  # (n-1, 1, 2)
+    q, s = b[None, :-1, :], (b[1:] - b[:-1])[None, :, :]  # (1, m-1, 2)
+    den = r[..., 0] * s[..., 1] - r[..., 1] * s[..., 0]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = ((q[..., 0] - p[..., 0]) * s[..., 1] - (q[..., 1] - p[..., 1]) * s[..., 0]) / den
+        v = ((q[..., 0] - p[..., 0]) * r[..., 1] - (q[..., 1] - p[..., 1]) * r[..., 0]) / den
+    hit = (t >= 0) & (t <= 1) & (v >= 0) & (v <= 1)
+    rows = np.nonzero(hit.any(axis=1))[0]
+    if not rows.size:
+        return None
+    i = int(rows[0])
+    return i, int(np.nonzero(hit[i])[0][0])
 
 
 class FormLimit(NamedTuple):

@@ -15,6 +15,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from ..solver.patch_cover import UnboundedPatch
+from ..tca import NoContactError
 from . import contact, sections, tip, undercut
 
 STATUSES = ("undercut", "pointed", "interference", "tip inside base circle", "no contact", "no form limit")
@@ -95,7 +96,7 @@ def analyze(pair, options: ToothOptions = ToothOptions()) -> ToothResult:
     for fl in sections.FLANKS:
         try:
             flanks[fl] = contact.flank_contact(geom, fl, per_pitch=options.contact_per_pitch, backend=options.backend)
-        except (contact.NoContact, UnboundedPatch) as err:
+        except (contact.NoContact, NoContactError, UnboundedPatch) as err:
             flanks[fl] = None
             statuses.append(("no contact", f"contact ratio, {fl} flank: {err}"))
             continue
