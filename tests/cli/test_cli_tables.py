@@ -28,3 +28,13 @@ def test_tca_table_has_no_negative_zero(capsys):
     out = capsys.readouterr().out
     assert "TE mean (urad)" in out
     assert not NEGATIVE_ZERO.search(out), NEGATIVE_ZERO.search(out).group(0)
+
+
+def test_paper_and_sweep_name_their_path_measures_apart():
+    """`paper`'s mean axial contact position and `sweep`'s path shift (the change from the aligned
+    path) are different measures: no "path centre" left to confuse with "path shift"."""
+    texts = [p.read_text(encoding="utf-8") for p in (REPO / "beveloid").rglob("*.py")]
+    texts += [p.read_text(encoding="utf-8") for p in (REPO / "docs").glob("*.md")]
+    assert not any(re.search(r"path cent(re|er)", t, flags=re.I) for t in texts)
+    paper = (REPO / "beveloid" / "studies" / "paper.py").read_text(encoding="utf-8")
+    assert "mean contact z (mm)" in paper and "not the path shift of `beveloid sweep`" in paper
