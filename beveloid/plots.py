@@ -222,21 +222,34 @@ def _ellipse_outlines(geom, fr, which):
 def draw_bearing_pattern(ax, geom, fr, which, color="tab:orange", label="bearing pattern", outline=None):
     """Fill the union of the truncated contact ellipses of the active points on one member's flank,
     clipped to the flank's ``outline`` (z, radius) when given (an ellipse reaching past the heel or
-    the tip is drawn only where the flank is); the axes then span the flank."""
-    from matplotlib.patches import Polygon
+    the tip is drawn only where the flank is); the axes then span the flank.  Returns the number of
+    ellipses.
 
-    clip = None
-    if outline is not None:
-        clip = Polygon(np.column_stack(outline), closed=True, transform=ax.transData, fill=False, lw=0)
-        ax.add_patch(clip)
-        clip.set_visible(False)
+    The ellipses are one compound path, all turning the same way, so that the nonzero fill rule paints
+    their union once (one patch to draw and clip, however many ellipses)."""
+    from matplotlib.patches import PathPatch, Polygon
+    from matplotlib.path import Path
+
     outlines = _ellipse_outlines(geom, fr, which)
-    for j, (z, r) in enumerate(outlines):
-        for patch in ax.fill(z, r, color=color, alpha=0.35, lw=0, label=label if j == 0 else None):
-            if clip is not None:
-                patch.set_clip_path(clip)
+    if outlines:
+        verts, codes = [], []
+        for z, r in outlines:
+            ring = np.column_stack([z, r])
+            x, y = ring[:, 0], ring[:, 1]
+            if np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)) < 0:  # clockwise: turn it round
+                ring = ring[::-1]
+            verts += [ring, ring[:1]]
+            codes += [[Path.MOVETO] + [Path.LINETO] * (len(ring) - 1), [Path.CLOSEPOLY]]
+        patch = PathPatch(Path(np.concatenate(verts), np.concatenate(codes)), facecolor=color, alpha=0.35, lw=0,
+                          label=label)
+        ax.add_patch(patch)
+        if outline is not None:
+            clip = Polygon(np.column_stack(outline), closed=True, transform=ax.transData, fill=False, lw=0)
+            patch.set_clip_path(clip)
     if outline is not None:
         _span(ax, *outline)
+    else:
+        ax.autoscale_view()
     return len(outlines)
 
 

@@ -25,7 +25,7 @@ import math
 import re
 
 from .paths import check_output_file
-from .common import add_error_flags, apply_error_flags, error_vector, errors_label
+from .common import add_error_flags, apply_error_flags, error_vector, errors_label, number
 from ..errors import OptionError, UserError
 
 
@@ -110,7 +110,7 @@ def run(args: argparse.Namespace) -> int:
 
 
 def format_summary(result, geom, spec) -> str:
-    fmt = lambda v, f: "-" if v is None or not math.isfinite(v) else format(v, f)  # noqa: E731
+    fmt = number
     lines = [f"Loaded TCA of {spec.source}, {result.flank} flank, pinion torque {result.torque_nm:g} N m,"
              f" {errors_label(spec)}", ""]
     head = ["phi1 (mrad)", "status", "TE loaded (urad)", "TE unloaded (urad)", "area (mm2)"]

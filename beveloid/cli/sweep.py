@@ -12,6 +12,7 @@ import sys
 
 from .. import assembly_errors
 from ..errors import UserError
+from .common import number
 from ..solver.backends import BACKENDS
 from ..sweep import DEFAULT_RANGES, MAX_CONTACT_POINTS
 
@@ -132,11 +133,11 @@ def _warm_up(pair, flank, solver) -> float:
     return time.perf_counter() - t0
 
 
-def _row(name, st, unit, samples, scale=1.0, fmt="{:+.3f}"):
+def _row(name, st, unit, samples, scale=1.0, fmt="+.3f"):
     n = st.get("count", 0)
     if not n:
         return f"  {name:<28} {'(no set with contact on the flank)':<64}  {unit:<5} 0 of {samples} sets"
-    vals = [fmt.format(st[k] * scale) for k in ("mean", "std", "p05", "p50", "p95")]
+    vals = [number(st[k] * scale, fmt) for k in ("mean", "std", "p05", "p50", "p95")]
     return f"  {name:<28} " + "  ".join(f"{v:>10}" for v in vals) + f"  {unit:<5} {n} of {samples} sets"
 
 
@@ -160,12 +161,12 @@ def format_sweep(o, file):
          f"  {'':<28} " + "  ".join(f"{h:>10}" for h in ("mean", "std", "p5", "p50", "p95")) + "  unit  from",
          _row("pinion path shift", o["pinion_path_shift_mm"], "mm", k),
          _row("gear path shift", o["gear_path_shift_mm"], "mm", k),
-         _row("TE peak-to-peak", o["te_peak_to_peak_urad"], "urad", k, fmt="{:.2e}"), "",
+         _row("TE peak-to-peak", o["te_peak_to_peak_urad"], "urad", k, fmt=".2e"), "",
          f"  sets with edge contact:           {100 * o['fraction_sets_with_edge_contact']:.1f} % of {k}",
          f"  sets with contact off the flank:  {100 * o['fraction_sets_with_contact_off_flank']:.1f} % of {k}",
          f"  sets entirely off the flank:      {100 * o['fraction_sets_entirely_off_flank']:.1f} % of {k}", "",
          "  first-order sensitivity of the path (pinion axial shift, at the aligned pitch point):"]
     for name, v in o["sensitivity"]["pinion_axial_shift_mm_per_unit"].items():
         unit = "mm/mm" if name.endswith("_mm") else "mm/deg"
-        L.append(f"    {name:<16} {v:+10.3f} {unit}")
+        L.append(f"    {name:<16} {number(v, '+10.3f')} {unit}")
     return "\n".join(L)

@@ -149,3 +149,17 @@ def test_help_does_not_point_into_a_checkout():
     for text in texts:
         assert "examples/" not in text, text
     assert "beveloid example case1" in " ".join(sub.choices["design"].format_help().split())
+
+
+def test_files_the_docs_name_exist():
+    """README, pyproject.toml and docs/*.md name files of the checkout; each must still be there."""
+    pattern = re.compile(r"(?<![\w/.-])((?:beveloid|benchmarks|tests|derivations|generated|docs|examples)/[\w./-]*\w)")
+    pages = [REPO / "README.md", REPO / "pyproject.toml", *sorted((REPO / "docs").glob("*.md"))]
+    missing = []
+    for page in pages:
+        for name in pattern.findall(page.read_text(encoding="utf-8")):
+            if "NN" in name or name.startswith("docs/images/") and not name.endswith((".png", ".py")):
+                continue  # a pattern (derivations/eqNN_MM_*.py)
+            if not (REPO / name).exists():
+                missing.append(f"{page.relative_to(REPO)}: {name}")
+    assert not missing, "named files that do not exist:\n" + "\n".join(missing)
