@@ -11,11 +11,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import names
 from .generated import flank_boundaries, layouts, root_fillet, surface_models, tca_kernels
 
 BOUNDARIES = flank_boundaries.BOUNDARIES
 
-MEMBERS = ("pinion", "gear")
+MEMBERS = names.MEMBERS  # Member.PINION, Member.GEAR: equal to "pinion", "gear"
 
 
 @dataclass(frozen=True)
@@ -138,7 +139,7 @@ class PairGeometry:
 
     def member(self, which: str) -> Member:
         if which not in MEMBERS:
-            raise ValueError(f"member must be one of {MEMBERS}, got {which!r}")
+            raise ValueError(f"member must be one of {', '.join(MEMBERS)}, got {which!r}")
         return getattr(self, which)
 
     def surface_values(self, which: str) -> dict:
