@@ -1,7 +1,8 @@
 """Designs per second of `beveloid explore`: the batched path against one design at a time, and
 one local worker against two.
 
-    python benchmarks/bench_explore.py [--designs 2048] [--single 64] [--no-workers]
+    python benchmarks/bench_explore.py [--designs 2048] [--single 64] [--no-workers] [--tooth 64]
+    python benchmarks/bench_explore.py --against CHECKOUT [--rounds 3]   # before / after in one run
 
 Rows (status, working data, FPD angles, both flanks' sensitivities and worst path shifts; the
 whole-tooth checks of a row timed apart, --tooth) of case 1 with the pinion cone angle and helix angle varied over a grid that includes infeasible
@@ -118,6 +119,31 @@ def workers(plan, n):
     return rate, cpu
 
 
+_BATCHED = ("import os, sys; sys.path[:0] = [os.getcwd(), os.path.join(os.getcwd(), 'benchmarks')];"
+            " from bench_explore import _plan, batched; r = batched(_plan({designs})); print(r[0], r[1])")
+
+
+def against(other: str, rounds: int, designs: int) -> None:
+    """:func:`batched` of another checkout (``other``, e.g. a worktree of the commit before a change) and of
+    this one, alternating in one run, each in a fresh process (its own beveloid); the ratios after/before."""
+    import os
+    import subprocess
+
+    here = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    runs = {"before": [], "after": []}
+    for i in range(rounds):
+        for label, where in (("before", other), ("after", here)):
+            out = subprocess.run([sys.executable, "-c", _BATCHED.format(designs=designs)], cwd=where, check=True,
+                                 capture_output=True, text=True).stdout.split()
+            runs[label].append((float(out[-2]), float(out[-1])))
+            print(f"round {i + 1} {label:6} ({where}): {runs[label][-1][0]:6.0f} designs/s wall,"
+                  f" {runs[label][-1][1]:6.0f} per CPU second (load {os.getloadavg()[0]:.1f})", flush=True)
+    for k, what in ((0, "wall"), (1, "CPU")):
+        ratios = [a[k] / b[k] for a, b in zip(runs["after"], runs["before"])]
+        print(f"after / before, {what}: " + ", ".join(f"{r:.3f}" for r in ratios)
+              + f"; mean {np.mean(ratios):.3f}")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser()
     ap.add_argument("--designs", type=int, default=2048)
@@ -125,7 +151,13 @@ def main(argv=None):
     ap.add_argument("--no-workers", action="store_true")
     ap.add_argument("--tooth", type=int, default=64, metavar="N",
                     help="time the whole-tooth checks on the first N designs (0: not)")
+    ap.add_argument("--against", metavar="CHECKOUT",
+                    help="only: the batched rate of CHECKOUT (before) and of this checkout (after), alternating")
+    ap.add_argument("--rounds", type=int, default=3, help="with --against: alternations (default 3)")
     a = ap.parse_args(argv)
+    if a.against:
+        against(a.against, a.rounds, a.designs)
+        return 0
     plan = _plan(a.designs)
     import os
 
