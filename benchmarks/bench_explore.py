@@ -114,7 +114,8 @@ def workers(plan, n):
             assert stop is None
             rate = plan.count / (time.perf_counter() - t)
         cpu = {}
-        for _, (pid, seconds, _) in ex.map_unordered(_timed_chunk, [(req.to_json(), i) for i in range(req.chunks)]):
+        tasks = [runner.ChunkTask(req.to_json(), i) for i in range(req.chunks)]
+        for _, (pid, seconds, _) in ex.map_unordered(_timed_chunk, tasks):
             cpu[pid] = cpu.get(pid, 0.0) + seconds
     return rate, cpu
 
