@@ -23,8 +23,8 @@ from .members import DesignError
 INPUT_KEYS = ("pair.normal_module_mm", "pair.normal_pressure_angle_deg", "pair.shaft_angle_deg", "pair.offset_mm",
               "pinion.teeth", "pinion.cone_angle_deg", "pinion.helix_angle_deg", "pinion.profile_shift",
               "gear.teeth", "gear.cone_angle_deg",
-              *(f"{m}.{k}" for m in Member for k in ("addendum_coefficient", "cutter_addendum_coefficient",
-                                                      "reference_section_offset_mm")))
+              *(f"{m}.{k}" for m in Member for k in ("face_width_mm", "addendum_coefficient",
+                                                      "cutter_addendum_coefficient", "reference_section_offset_mm")))
 
 
 class ArrayDesign(NamedTuple):

@@ -55,28 +55,51 @@ class MemberArrays(NamedTuple):
     """One member of n designs by MemberDesign's field names (arrays; radians and mm)."""
 
     name: str
+    teeth: np.ndarray
     normal_module_mm: np.ndarray
     helix_angle: np.ndarray
     cone_angle: np.ndarray
     profile_shift: np.ndarray
     reference_pitch_radius_mm: np.ndarray
     working_pitch_radius_mm: np.ndarray
+    working_mounting_distance_mm: np.ndarray
     transverse_pressure_angle_left: np.ndarray
     transverse_pressure_angle_right: np.ndarray
+    face_width_mm: np.ndarray
     addendum_coefficient: np.ndarray
     cutter_addendum_coefficient: np.ndarray
     reference_section_offset_mm: np.ndarray
+    sin_pitch_point_angle: np.ndarray
+    cos_pitch_point_angle: np.ndarray
+
+    @property
+    def pitch_point_angle(self) -> np.ndarray:
+        """theta_i of P (rad), as MemberDesign's: atan2 of the generated sine and cosine."""
+        return np.array([math.atan2(s, c) for s, c in zip(self.sin_pitch_point_angle, self.cos_pitch_point_angle)])
+
+    @property
+    def rack_shift_mm(self) -> np.ndarray:
+        return _rack_shift_mm(self)
+
+    @property
+    def cutter_addendum_mm(self) -> np.ndarray:
+        return self.cutter_addendum_coefficient * self.normal_module_mm
+
+    def take(self, idx) -> "MemberArrays":
+        """The designs idx."""
+        return MemberArrays(self.name, *(np.asarray(v)[idx] for v in self[1:]))
 
 
 def member_arrays(values: dict, q: dict, name: str) -> MemberArrays:
     """Member ``name`` of n designs from the spec values (dotted key -> (n,)) and the kernels' outputs q."""
     o = member_outputs(q, name)
     return MemberArrays(
-        name, values["pair.normal_module_mm"], o.helix_angle, o.cone_angle,
+        name, values[f"{name}.teeth"], values["pair.normal_module_mm"], o.helix_angle, o.cone_angle,
         values["pinion.profile_shift"] if name == Member.PINION else q["x_t2"], o.reference_pitch_radius_mm,
-        o.working_pitch_radius_mm, o.transverse_pressure_angle_left, o.transverse_pressure_angle_right,
-        values[f"{name}.addendum_coefficient"], values[f"{name}.cutter_addendum_coefficient"],
-        values[f"{name}.reference_section_offset_mm"])
+        o.working_pitch_radius_mm, o.working_mounting_distance_mm, o.transverse_pressure_angle_left,
+        o.transverse_pressure_angle_right, values[f"{name}.face_width_mm"], values[f"{name}.addendum_coefficient"],
+        values[f"{name}.cutter_addendum_coefficient"], values[f"{name}.reference_section_offset_mm"],
+        o.sin_pitch_point_angle, o.cos_pitch_point_angle)
 
 
 def _flank_angles(m):

@@ -33,8 +33,8 @@ def design(spec: DesignSpec) -> DesignResult:
     # evaluations may differ in the last bit (d_w2 of case 1 and case 2)
     alpha_nw = float(a.alpha_nw[0])
     q = {k: float(v) for k, v in direct_outputs(alpha_nw, a.constants).items()}
-    return finish(spec, q, alpha_nw, offset=float(spec.pair.offset_mm),
-                  residual=float(a.offset_residual_mm[0]), notes=refusals.root_notes(a.constants, a.roots),
+    return finish(spec, q, alpha_nw, residual=float(a.offset_residual_mm[0]),
+                  notes=refusals.root_notes(a.constants, a.roots),
                   procedure="direct", outcome=outcome)
 
 
@@ -70,8 +70,8 @@ def member_design(spec: DesignSpec, q: dict[str, float], name: str, m_n: float) 
     )
 
 
-def finish(spec: DesignSpec, q: dict[str, float], alpha_nw: float, *, offset: float, residual: float,
-           notes: list[str], procedure: str, outcome: Outcome | None = None) -> DesignResult:
+def finish(spec: DesignSpec, q: dict[str, float], alpha_nw: float, *, residual: float, notes: list[str],
+           procedure: str, outcome: Outcome | None = None) -> DesignResult:
     """The :class:`DesignResult` of a design's outputs ``q`` (both procedures), or the refusal that explains
     its ``outcome`` (of :func:`beveloid.design.checks.check`; checked here when not given)."""
     if outcome is None:
@@ -101,7 +101,7 @@ def finish(spec: DesignSpec, q: dict[str, float], alpha_nw: float, *, offset: fl
         normal_angular_factor=q["xi_n"],
         fpd_angle_left=q["xi_L"],
         fpd_angle_right=q["xi_R"],
-        offset_mm=float(offset),
+        offset_mm=float(spec.pair.offset_mm),
         shaft_angle=math.radians(spec.pair.shaft_angle_deg),
         normal_module_mm=m_n,
         normal_pressure_angle=math.radians(spec.pair.normal_pressure_angle_deg),

@@ -21,6 +21,7 @@ from .. import assembly_errors, tca
 from ..generated import design_equations, surface_models
 from ..status import Status
 from ..design import design_arrays
+from ..names import Member
 from . import contact, tooth
 
 AXES = ("x", "y", "z")
@@ -97,7 +98,7 @@ def compute(plan, start: int, stop: int, tolerances: dict, backend: str = "auto"
     cols["max_fpd_angle_deg"] = np.maximum(np.abs(cols["fpd_angle_left_deg"]), np.abs(cols["fpd_angle_right_deg"]))
     cols["normal_angular_factor"] = q["xi_n"]
     cols["offset_residual_mm"] = q["offset_residual_mm"]
-    for _, name in contact.MEMBERS:
+    for name in Member:
         o = design_equations.MEMBER_OUTPUTS[name]  # which design output fills each member field
         for col, field, is_deg in MEMBER_COLUMNS:
             x = q[o[field]]

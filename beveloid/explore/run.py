@@ -15,6 +15,7 @@ import os
 import sys
 import time
 from dataclasses import asdict, dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
@@ -74,15 +75,21 @@ class Request:
         return -(-self.plan.count // self.chunk)
 
 
-def compute_chunk(task: tuple) -> dict:
-    """The rows of chunk ``index`` of a request (given as its JSON dict): what a worker runs."""
+class ChunkTask(NamedTuple):
+    """What a worker gets: the request (its JSON dict) and the index of the chunk."""
+
+    request: dict
+    index: int
+
+
+def compute_chunk(task: ChunkTask) -> dict:
+    """The rows of chunk ``task.index`` of a request: what a worker runs."""
     from .. import parallel
     from . import rows
 
-    request_json, index = task
     parallel.single_threaded()
-    req = Request.from_json(request_json)
-    start = index * req.chunk
+    req = Request.from_json(task.request)
+    start = task.index * req.chunk
     stop = min(req.plan.count, start + req.chunk)
     cols = rows.compute(req.plan, start, stop, req.tolerances, req.backend)
     if req.mc:
@@ -97,7 +104,7 @@ def warm_up() -> None:
     from ..sweep import DEFAULT_RANGES
 
     plan = Plan(spec_to_dict(load_example("case1")), ())
-    compute_chunk((Request(plan, dict(DEFAULT_RANGES)).to_json(), 0))
+    compute_chunk(ChunkTask(Request(plan, dict(DEFAULT_RANGES)).to_json(), 0))
 
 
 def _chunk_path(out_dir: str, index: int) -> str:
@@ -204,7 +211,7 @@ def execute(out_dir: str, req: Request, ex, progress: Progress | None = None) ->
     todo = [i for i in range(req.chunks) if not os.path.exists(_chunk_path(out_dir, i))]
     payload = req.to_json()
     try:
-        for k, cols in ex.map_unordered(compute_chunk, [(payload, i) for i in todo]):
+        for k, cols in ex.map_unordered(compute_chunk, [ChunkTask(payload, i) for i in todo]):
             save_chunk(out_dir, todo[k], cols)
             if progress:
                 progress.update(len(cols["design"]))

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..design import Outcome
+from ..design import DesignError, Outcome
 from ..names import Member
 
 __all__ = ["FLAGS", "REASONS", "whole_tooth"]
@@ -72,6 +72,10 @@ def whole_tooth(cols: dict, outcome: np.ndarray, specs, check: bool = True) -> N
     for j in np.nonzero(status == "ok")[0] if check else ():
         try:
             found = statuses(Pair.from_spec(specs(j)).geometry)
+        except DesignError as exc:  # design() of the one spec refuses what the chunk passed (a check's boundary)
+            status[j] = exc.outcome.label if exc.outcome is not None else "design_refused"
+            reason[j] = exc.detail
+            continue
         except ValueError as exc:  # a root bracket of the tooth's sections (beveloid.tooth) failed: this row only
             status[j] = FAILED
             reason[j] = f"the whole-tooth checks stopped: {type(exc).__name__}: {exc}"

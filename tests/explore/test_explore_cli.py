@@ -133,14 +133,16 @@ def _as_if_made_by_another_version(out):
 
 
 def test_chunks_of_another_version_are_recomputed_or_refused(case1, tmp_path, capsys):
+    from beveloid import parallel
+
     out = tmp_path / "run"
-    args = ["explore", case1, "--vary", "pinion.cone_angle_deg=1:2:2", "--workers", "1", "--chunk", "1",
-            "--out", str(out)]
-    assert main(args) == 0
+    plan = Plan(spec_to_dict(load_example("case1")), (parse_vary("pinion.cone_angle_deg=1:2:2"),))
+    req = runner.prepare(str(out), runner.Request(plan, {"dx_mm": 0.5}, chunk=1), resume=False)
+    with parallel.executor(workers=1) as ex:
+        assert runner.execute(str(out), req, ex)[0] is None
     request = json.loads((out / "request.json").read_text())
     assert request["code"] == runner.code_version()
     assert request["code"]["package_version"] == beveloid.__version__
-    capsys.readouterr()
     # --resume of chunks made by another version: refused, one line saying how to go on
     _as_if_made_by_another_version(out)
     assert main(["explore", "--resume", str(out), "--workers", "1"]) == 2
@@ -149,12 +151,13 @@ def test_chunks_of_another_version_are_recomputed_or_refused(case1, tmp_path, ca
     with pytest.raises(UserError) as info:
         runner.prepare(str(out), None, resume=True)
     assert info.value.code is ErrorCode.STALE_RESULTS
-    # the same request again with --out: every chunk is computed again, by this version
-    stamps = {p.name: p.stat().st_mtime_ns for p in (out / "chunks").iterdir()}
-    assert main(args) == 0
-    err = capsys.readouterr().err
-    assert "2 chunks of this request computed by beveloid 0.0.1" in err and "computing them again" in err
-    assert all((out / "chunks" / name).stat().st_mtime_ns != t for name, t in stamps.items())
+    assert runner.finished(str(out), req) == [0, 1]  # nothing removed by the refusal
+    # the same request again with --out: the old chunks go (then computed again, as missing ones are)
+    lines = []
+    again = runner.prepare(str(out), runner.Request(plan, {"dx_mm": 0.5}, chunk=1), resume=False, log=lines.append)
+    assert runner.finished(str(out), again) == []
+    assert len(lines) == 1 and "2 chunks of this request computed by beveloid 0.0.1" in lines[0]
+    assert "computing them again" in lines[0]
     assert json.loads((out / "request.json").read_text())["code"] == runner.code_version()
 
 
