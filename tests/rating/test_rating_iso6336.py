@@ -12,6 +12,7 @@
   value the zone-factor chart of ISO 6336-2 starts from); the centre distance a_w = 500 mm of
   ISO/TR 6336-30:2017 example 1 (z = 17/103, m_n = 8 mm, alpha_n = 20 deg, beta = 15.8 deg,
   x1 = 0.14522, x2 = 0) from the zero-backlash involute relation.
+* sigma_H0 / (Z_eps Z_beta) is Hertz at the working pitch point (closed form).
 * The fixed point of theta converges for every rack and gear in a wide random set.
 """
 from __future__ import annotations
@@ -172,3 +173,22 @@ def test_theta_converges_for_a_wide_random_set_of_racks_and_gears():
         assert abs(bg.theta - (2 * G / zn * math.tan(bg.theta) - H)) < 1e-12
         worst = max(worst, bg.iterations)
     assert worst <= 12
+
+
+@pytest.mark.parametrize("beta_deg,x1,x2", [(0.0, 0.0, 0.0), (0.0, 0.3, 0.1), (15.8, 0.14522, 0.0), (25.0, -0.1, 0.4)])
+def test_nominal_contact_stress_is_hertz_at_the_working_pitch_point(beta_deg, x1, x2):
+    """sigma_H0 / (Z_eps Z_beta) is the Hertz line-contact pressure at the working pitch point: the
+    normal load F_t d1/d_w1 / (cos alpha_wt cos beta_b) on the contact length b / cos beta_b, normal
+    radii (d_w/2) sin alpha_wt / cos beta_b (Z_eps and the 2019 Z_beta are ISO's empirical factors)."""
+    g1, g2 = gear(17, x1, beta_deg=beta_deg), gear(52, x2, beta_deg=beta_deg)
+    pair = iso.CylindricalPair(g1, g2, 40.0)
+    f = iso.contact_factors(pair, 206000.0, 0.3, 210000.0, 0.29)
+    ft, u = 10000.0, 52 / 17
+    sigma = iso.nominal_contact_stress_mpa(f, ft, g1.reference_diameter_mm, 40.0, u)
+    awt, bb = pair.working_pressure_angle, g1.base_helix_angle
+    dw1 = 2 * pair.center_distance_mm / (1 + u)
+    fn = ft * g1.reference_diameter_mm / dw1 / (math.cos(awt) * math.cos(bb))
+    rho1, rho2 = (dw1 / 2 * math.sin(awt) / math.cos(bb), u * dw1 / 2 * math.sin(awt) / math.cos(bb))
+    e_star = 1 / ((1 - 0.3 ** 2) / 206000.0 + (1 - 0.29 ** 2) / 210000.0)
+    hertz = math.sqrt(fn / (40.0 / math.cos(bb)) * (1 / rho1 + 1 / rho2) * e_star / math.pi)
+    assert sigma / (f.Z_eps * f.Z_beta) == pytest.approx(hertz, rel=1e-12)
