@@ -120,6 +120,11 @@ class LTCAResult:
                 self._patterns[member, raster] = flank_pattern(self, geom, member, raster)
         return self._patterns[member, raster]
 
+    def to_json_dict(self, geom) -> dict:
+        """The JSON of ``beveloid ltca`` (:func:`to_json_dict`); ``geom`` the analysed PairGeometry
+        (the bearing patterns are drawn on its flanks)."""
+        return to_json_dict(self, geom)
+
     def warnings(self) -> list:
         """One line per problem a reader must know: grid not converged, outside the model's validity."""
         out = []

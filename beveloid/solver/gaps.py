@@ -98,9 +98,10 @@ def _normal_gap_point(problem, request, m, out, w, warm):
     it is (the previous point's solution) when ``warm``, else from start[q].  True if it
     converged."""
     q = request.pair_of_point[m]
-    coords, start, origin, axes, rotation = request.coords, request.start, request.origin, request.axes, request.rotation
-    tol, max_iter = request.tol_mm, request.max_iter
-    s, x, pt, nm, dp, dn, nf, A, g = w.s, w.x, w.point, w.normal, w.point_D_lu, w.normal_D_lu, w.normal_f, w.matrix, w.rhs
+    coords, start, origin, axes = request.coords, request.start, request.origin, request.axes
+    rotation, tol, max_iter = request.rotation, request.tol_mm, request.max_iter
+    s, x, pt, nm, dp, dn = w.s, w.x, w.point, w.normal, w.point_D_lu, w.normal_D_lu
+    nf, A, g = w.normal_f, w.matrix, w.rhs
     F, J, Jp, dx = s.F, s.J, s.Jp, s.dx
     for i in range(N_UNKNOWNS):
         if not warm or i == GEAR_ANGLE:
