@@ -13,6 +13,7 @@ import numpy as np
 
 from . import names
 from .generated import flank_boundaries, layouts, root_fillet, surface_models, tca_kernels
+from .solver.records import Problem
 
 BOUNDARIES = flank_boundaries.BOUNDARIES
 
@@ -170,11 +171,12 @@ class PairGeometry:
             pinion_axial_placement_mm=self.pinion.axial_placement_mm,
             gear_axial_placement_mm=self.gear.axial_placement_mm))
 
-    def problem(self, flank: str):
-        """The solver core's problem tuple for one flank (see beveloid/solver/core.py)."""
-        return (tca_kernels.model_id(self.pinion.tooth_surface), tca_kernels.model_id(self.gear.tooth_surface),
-                tca_kernels.flank_id(flank), self.surface_params("pinion"), self.surface_params("gear"),
-                self.placement())
+    def problem(self, flank: str) -> Problem:
+        """The solver core's problem for one flank (beveloid/solver/records.py)."""
+        return Problem(pinion_model=tca_kernels.model_id(self.pinion.tooth_surface),
+                       gear_model=tca_kernels.model_id(self.gear.tooth_surface), flank=tca_kernels.flank_id(flank),
+                       pinion_params=self.surface_params("pinion"), gear_params=self.surface_params("gear"),
+                       pair=self.placement(), pinion_blank=self.pinion.blank(), gear_blank=self.gear.blank())
 
     @property
     def pitch_angles(self):

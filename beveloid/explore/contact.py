@@ -31,6 +31,7 @@ from ..geometry import PairGeometry
 from ..names import Member
 from ..solver import backends, section
 from ..solver.options import DEFAULT_OPTIONS
+from ..solver.records import PathOutput, PathRequest, Problem, Settings
 from ..status import Status
 
 _OK = int(Status.OK)
@@ -73,14 +74,18 @@ def _aligned_contacts(pm, gm, flank, pp, gp, pair, pb, gb, x0, phi, scale, tol, 
     bo = np.empty((1, 1), dtype=np.int64)
     ao = np.empty((1, 1, 2), dtype=np.int64)
     for i in range(x0.shape[0]):
-        problem = (pm, gm, flank, pp[i], gp[i], pair[i])
-        x, conv, _, _ = solve_point(problem, x0[i], phi[i], zeros, scale[i], tol[i], max_iter)  # noqa: F821
+        problem = Problem(pinion_model=pm, gear_model=gm, flank=flank, pinion_params=pp[i], gear_params=gp[i],
+                          pair=pair[i], pinion_blank=pb[i], gear_blank=gb[i])
+        limits = Settings(scale_mm=scale[i], tol_mm=tol[i], max_iter=max_iter, patch_tol_mm=patch_tol,
+                          homotopy_steps=steps, first_touch_sign=1.0)
+        x, conv, _, _ = solve_point(problem, x0[i], phi[i], zeros, limits)  # noqa: F821
         if not conv:
             code_out[i] = -1
             continue
         grid[0] = phi[i]
-        solve_paths_serial(problem, pb[i], gb[i], cover, x, phi[i], errors, grid, scale[i], tol[i],  # noqa: F821
-                           max_iter, steps, patch_tol, 1.0, xo, co, io, bo, ao)
+        solve_paths_serial(problem, PathRequest(pinion_cover=cover, x_ref=x, phi_ref=phi[i], errors=errors,  # noqa: F821
+                                                phi_grid=grid),
+                           limits, PathOutput(x=xo, status=co, iterations=io, boundary=bo, active=ao))
         code_out[i] = co[0, 0]
         x_out[i, :] = xo[0, 0, :]
 

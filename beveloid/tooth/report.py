@@ -56,6 +56,11 @@ class ToothResult:
         return {"contact_ratio": {fl: (c.contact_ratio if c is not None else None) for fl, c in self.contact.items()},
                 "tooth_status": [{"status": s, "message": m} for s, m in self.statuses]}
 
+    def to_json_dict(self) -> dict:
+        """The whole-tooth JSON: per member its tip thickness and undercut, and the pair's fields
+        (what :meth:`add_to` puts into the design JSON)."""
+        return {**{member: self.member_json(member) for member in sections.MEMBERS}, **self.pair_json()}
+
     def add_to(self, design: dict) -> dict:
         """The design JSON (beveloid design --json) with the whole-tooth fields added."""
         for member in sections.MEMBERS:
