@@ -106,19 +106,30 @@ def _cache_root() -> Path:
         return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "beveloid"
 
 
-def _write_glue(texts: dict, digest: str) -> Path:
-    """The folder holding the composed glue (written once; atomically, several processes may race)."""
-    for root in (_cache_root(), Path(tempfile.gettempdir()) / f"beveloid-{os.getuid() if hasattr(os, 'getuid') else 'u'}"):
-        folder = root / "models" / f"glue-{digest}"
+def _glue_folder(context: dict) -> Path:
+    """The folder holding the composed glue of a context: rendered and written once (atomically,
+    several processes may race), found again by a digest of the context and the templates."""
+    from .catalog import _locate
+
+    templates = _locate("derivations") / "templates"
+    digest = hashlib.sha256(json.dumps(context, sort_keys=True).encode())
+    for tpl in GLUE_TEMPLATES.values():
+        digest.update((templates / tpl).read_bytes())
+    name = f"glue-{digest.hexdigest()[:16]}"
+    roots = (_cache_root(), Path(tempfile.gettempdir()) / f"beveloid-{os.getuid() if hasattr(os, 'getuid') else 'u'}")
+    for root in roots:
+        folder = root / "models" / name
+        if all((folder / f"{m}.py").is_file() for m in GLUE_TEMPLATES):
+            return folder
+    texts = render_glue(context)
+    for root in roots:
+        folder = root / "models" / name
         try:
             folder.mkdir(parents=True, exist_ok=True)
-            for name, text in texts.items():
-                path = folder / f"{name}.py"
-                if path.is_file() and path.read_text() == text:
-                    continue
-                tmp = folder / f".{name}.{os.getpid()}.tmp"
+            for module, text in texts.items():
+                tmp = folder / f".{module}.{os.getpid()}.tmp"
                 tmp.write_text(text)
-                os.replace(tmp, path)
+                os.replace(tmp, folder / f"{module}.py")
             return folder
         except OSError:
             continue
@@ -143,12 +154,8 @@ def _activate() -> None:
 
 def _compose(pkg, cat: Catalog) -> dict:
     """Write the composed glue; {module: file} of everything served; the package lists the user kernels."""
-    context = composed_context(cat)
-    texts = render_glue(context)
-    digest = hashlib.sha256(json.dumps(context, sort_keys=True).encode()
-                            + "".join(texts.values()).encode()).hexdigest()[:16]
-    folder = _write_glue(texts, digest)
-    files = {name: folder / f"{name}.py" for name in texts}
+    folder = _glue_folder(composed_context(cat))
+    files = {name: folder / f"{name}.py" for name in GLUE_TEMPLATES}
     for m in cat.user:
         module = m.entry["module"]
         files[module] = m.folder / f"{module}.py"
