@@ -302,10 +302,10 @@ def runtime_checks(root: Path, name: str, values: dict) -> list[Check]:
 def _outside_packages(out: Path) -> str | None:
     import site
 
-    from beveloid.models.catalog import _locate
+    from beveloid.models.catalog import package_folder
 
     resolved = out.resolve()
-    forbidden = [_locate("generated").parent.resolve(), *(Path(p).resolve() for p in site.getsitepackages())]
+    forbidden = [package_folder("generated").parent.resolve(), *(Path(p).resolve() for p in site.getsitepackages())]
     for f in forbidden:
         if resolved == f or f in resolved.parents:
             return f"--out {out}: inside {f}; user models go to a folder of their own (default: the user data folder)"
@@ -316,11 +316,11 @@ def check_builtin_glue(base: dict, builtin: list) -> None:
     """The runtime composes the glue with the built-in models first: rendered alone, they must give
     the committed glue byte for byte (else generated/ is stale: `beveloid derive` first)."""
     from beveloid.models import render_glue
-    from beveloid.models.catalog import _locate
+    from beveloid.models.catalog import package_folder
 
     texts = render_glue(dict(base, models=builtin))
     for name, text in texts.items():
-        if (_locate("generated") / f"{name}.py").read_text() != text:
+        if (package_folder("generated") / f"{name}.py").read_text() != text:
             raise ModelError(f"generated/{name}.py differs from what the derivations render: the package's generated/"
                              " is stale; run `beveloid derive` in the checkout first")
 

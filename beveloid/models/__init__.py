@@ -6,8 +6,8 @@ kernels and interface into a model folder; :mod:`.catalog` finds the models (use
 every analysis reaches them by name (numpy) and by index (the solver core, either backend).
 docs/models.md is the user's guide.
 """
-from .catalog import ENTRY_POINT_GROUP, MODELS_ENV, Catalog, ModelInfo, models_dir, package_stamp
+from .catalog import ENTRY_POINT_GROUP, MODELS_ENV, Catalog, ModelInfo, models_dir, package_folder, package_stamp
 from .hook import builtin_models, catalog, install, render_glue, served_files
 
 __all__ = ["ENTRY_POINT_GROUP", "MODELS_ENV", "Catalog", "ModelInfo", "builtin_models", "catalog", "install",
-           "models_dir", "package_stamp", "render_glue", "served_files"]
+           "models_dir", "package_folder", "package_stamp", "render_glue", "served_files"]

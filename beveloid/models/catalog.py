@@ -100,7 +100,7 @@ def models_dir() -> Path:
         return Path(base) / "beveloid" / "models"
 
 
-def _locate(sub: str) -> Path:
+def package_folder(sub: str) -> Path:
     """The folder of beveloid.<sub> (generated or derivations) without importing its modules."""
     import importlib.util
 
@@ -114,10 +114,10 @@ def package_stamp() -> str:
     from .. import __version__
 
     digest = hashlib.sha256(__version__.encode())
-    templates = _locate("derivations") / "templates"
+    templates = package_folder("derivations") / "templates"
     for name in _STAMPED_TEMPLATES:
         digest.update((templates / name).read_bytes())
-    generated = _locate("generated")
+    generated = package_folder("generated")
     for name in ("surface_models.py", "tca_kernels.py", "tca_kernels_scalar.py", "layouts.py"):
         digest.update((generated / name).read_bytes())
     return digest.hexdigest()[:16]

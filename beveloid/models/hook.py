@@ -82,9 +82,9 @@ def glue_environment(templates: Path):
 
 def render_glue(context: dict) -> dict:
     """{module name: text} of the three glue modules for a glue context (kernels.glue_context)."""
-    from .catalog import _locate
+    from .catalog import package_folder
 
-    env = glue_environment(_locate("derivations") / "templates")
+    env = glue_environment(package_folder("derivations") / "templates")
     return {name: env.get_template(tpl).render(**context) for name, tpl in GLUE_TEMPLATES.items()}
 
 
@@ -109,9 +109,9 @@ def _cache_root() -> Path:
 def _glue_folder(context: dict) -> Path:
     """The folder holding the composed glue of a context: rendered and written once (atomically,
     several processes may race), found again by a digest of the context and the templates."""
-    from .catalog import _locate
+    from .catalog import package_folder
 
-    templates = _locate("derivations") / "templates"
+    templates = package_folder("derivations") / "templates"
     digest = hashlib.sha256(json.dumps(context, sort_keys=True).encode())
     for tpl in GLUE_TEMPLATES.values():
         digest.update((templates / tpl).read_bytes())

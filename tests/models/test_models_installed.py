@@ -63,8 +63,8 @@ ok = (np.array(a0.status) == "ok") & (np.array(a1.status) == "ok")
 out["backends"] = {"same_status": list(a0.status) == list(a1.status), "ok": int(ok.sum()),
                    "max_diff_rad": float(np.abs(a0.gear_angle[ok] - a1.gear_angle[ok]).max()),
                    "ltca_te_diff_urad": float(np.abs(elastic(l0) - elastic(l1)).max())}
-from beveloid.solver import backends
-out["compiled_kernels"] = [m.__name__ for m in backends._modules() if "shifted" in m.__name__]
+from beveloid import generated  # the scalar modules the compiled backend compiles with the core
+out["compiled_kernels"] = [m for m in generated.SCALAR_MODULES if "shifted" in m]
 print(json.dumps(out))
 """
 
@@ -123,6 +123,15 @@ def test_a_model_of_ones_own_in_an_installed_package(tmp_path):
         assert re.search(rf"^  ok +{check}:", proc.stdout, re.M), (check, proc.stdout)
     assert sorted(p.name for p in folder.iterdir()) == ["layout.py", "model.json", "surface_shifted.py",
                                                           "surface_shifted_scalar.py"]
+    # listed with its key, unit and range; in the key schema when selected
+    proc = _run([python, "-m", "beveloid.cli", "models", "--json"], lab, env)
+    listed = {m["name"]: m for m in json.loads(proc.stdout)["models"]}
+    assert listed["shifted"]["origin"] == "user folder" and listed["shifted"]["keys"] == [dict(
+        key="axial_shift_mm", unit="mm", default=0.0, lowest=-5.0, highest=5.0,
+        description="shift of the whole flank along the member axis")]
+    line = "axial_shift_mm: optional (default 0), a number from -5 to 5 (mm)"
+    assert line in _run([python, "-m", "beveloid.cli", "example", "--schema", "--model", "shifted"], lab, env).stdout
+    assert line not in _run([python, "-m", "beveloid.cli", "example", "--schema"], lab, env).stdout
     # the pair: case 1, the gear on the new model with its own TOML key
     text = (ROOT / "examples" / "case1.toml").read_text()
     (lab / "base.toml").write_text(text)
@@ -138,7 +147,7 @@ def test_a_model_of_ones_own_in_an_installed_package(tmp_path):
 
     assert out["models"] == [*surface_models.MODELS, "shifted"]
     assert (out["pinion_model"], out["gear_model"], out["shift"]) == ("involute", "shifted", 0.2)
-    assert out["compiled_kernels"] == ["beveloid.generated.surface_shifted_scalar"]  # compiled with the core
+    assert out["compiled_kernels"] == ["surface_shifted_scalar"]  # compiled with the core
     for backend in ("numpy", "compiled"):
         run = out[backend]
         assert run["compared"] >= 10 and run["max_diff_rad"] < 1e-9, (backend, run)
@@ -158,6 +167,11 @@ def test_a_model_of_ones_own_in_an_installed_package(tmp_path):
         assert proc.returncode == 0, proc.stderr
     plug_stl, base_stl = (lab / "small" / "small_gear.stl").read_bytes(), (lab / "base" / "base_gear.stl").read_bytes()
     assert len(plug_stl) > 10000 and plug_stl != base_stl
+    # its key is validated like a built-in key
+    (lab / "far.toml").write_text(plug.replace("axial_shift_mm = 0.2", "axial_shift_mm = 9"))
+    proc = _run([python, "-m", "beveloid.cli", "tca", "far.toml"], lab, env)
+    assert proc.returncode == 2 and proc.stderr.strip().splitlines() == [
+        "beveloid: error: far.toml: gear.axial_shift_mm = 9: must be a number from -5 to 5 (mm)"], proc.stderr
     # a stale model says so in one line: the derivation module changed since
     with open(lab / "shifted_flank_model.py", "a") as fh:
         fh.write("# edited\n")
