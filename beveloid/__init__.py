@@ -23,7 +23,7 @@ del _here, _checkout
 # Tooth-surface models beyond the built-in ones (docs/models.md): an import hook serves them and
 # the glue that dispatches to them into beveloid.generated; nothing is read before the first
 # import of a glue module, and nothing is served when there are none.
-from .models import install as _install_models  # noqa: E402
+from .models.finder import install as _install_models  # noqa: E402
 
 _install_models()
 del _install_models

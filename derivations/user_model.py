@@ -7,7 +7,7 @@ only place that runs it) as ``beveloid.derivations.<its file name>``, so it may 
 built-in models absolutely (``from beveloid.derivations import eq04_07_tooth_surface``) or, like a
 module of derivations/, relatively.
 
-What is written (beveloid/models/catalog.py reads it): ``<out>/<name>/`` with the numpy kernels
+What is written (beveloid/models/discovery.py reads it): ``<out>/<name>/`` with the numpy kernels
 ``surface_<name>.py``, their scalar twins ``surface_<name>_scalar.py`` (what the compiled solver
 runs), the parameter layout ``layout.py`` and ``model.json`` (interface, glue entry, hashes,
 checks).  Everything is generated and checked in a staging folder first; a model that fails a
@@ -78,10 +78,10 @@ def interface_problem(module, name: str, member_values: dict, builtin_keys: dict
 
     ``member_values``: the quantities the runtime fills by name (PairGeometry.surface_values);
     ``builtin_keys``: {key: KeyDoc} of a member section (no user key may shadow one)."""
-    from beveloid.models.catalog import NAME_PATTERN
+    from beveloid.models.discovery import name_problem
 
-    if not NAME_PATTERN.match(name):
-        return f"--name {name}: must be lower-case letters, digits and _ starting with a letter (at most 40)"
+    if name_problem(name):
+        return f"--name {name}: {name_problem(name)}"
     if name in kernels.SURFACE_MODELS:
         return f"--name {name}: a built-in model has this name; choose another"
     if not any(hasattr(module, f) for f in ("tooth_surface", "tooth_surface_late", "tooth_surface_staged")):
@@ -302,7 +302,7 @@ def runtime_checks(root: Path, name: str, values: dict) -> list[Check]:
 def _outside_packages(out: Path) -> str | None:
     import site
 
-    from beveloid.models.catalog import package_folder
+    from beveloid.models.discovery import package_folder
 
     resolved = out.resolve()
     forbidden = [package_folder("generated").parent.resolve(), *(Path(p).resolve() for p in site.getsitepackages())]
@@ -316,7 +316,7 @@ def check_builtin_glue(base: dict, builtin: list) -> None:
     """The runtime composes the glue with the built-in models first: rendered alone, they must give
     the committed glue byte for byte (else generated/ is stale: `beveloid derive` first)."""
     from beveloid.models import render_glue
-    from beveloid.models.catalog import package_folder
+    from beveloid.models.discovery import package_folder
 
     texts = render_glue(dict(base, models=builtin))
     for name, text in texts.items():
@@ -330,7 +330,7 @@ def derive_model(path, name: str, out=None, progress=None) -> Derived:
     ``out`` (default: the user model folder).  Raises ModelError (nothing written) for a bad
     module or destination; returns the checks (nothing written when one failed)."""
     from beveloid.models import models_dir, package_stamp
-    from beveloid.models.catalog import INTERFACE, file_sha256
+    from beveloid.models.discovery import INTERFACE, file_sha256
     from beveloid.pair import Pair
     from beveloid.spec import KEY_DOCS
 

@@ -23,7 +23,15 @@ def _keys(model, surface_models) -> list:
     return keys
 
 
-def _entry_keys(entry) -> list:
+def _entry_keys(info) -> list:
+    """The keys a (stale) model's model.json states ([] when it states none readable)."""
+    try:
+        return _glue_keys(info.entry)
+    except (KeyError, TypeError):
+        return []
+
+
+def _glue_keys(entry) -> list:
     keys = [dict(key=k["name"], unit=k["unit"], default=k["default"], lowest=k["lo"], highest=k["hi"],
                  description=k["doc"]) for k in entry["input_keys"]]
     keys += [dict(key=k["name"], unit="", default=k["default"], choices=sorted(c["name"] for c in k["choices"]),
@@ -47,7 +55,7 @@ def listing() -> dict:
                        beveloid_version=m.interface.get("beveloid_version"))
         rows.append(row)
     stale = [dict(name=name, origin=info.origin, folder=str(info.folder), reason=reason,
-                  regenerate=info.regenerate_hint(), keys=_entry_keys(info.entry))
+                  regenerate=info.regenerate_hint(), keys=_entry_keys(info))
              for name, (info, reason) in cat.stale.items()]
     return dict(models=rows, stale=stale, user_folder=str(models_dir()))
 

@@ -3,7 +3,7 @@
 The runtime reaches every surface model through three generated glue modules:
 ``surface_models`` (names and keys, read by the spec), ``tca_kernels`` (numpy dispatch by name)
 and ``tca_kernels_scalar`` (dispatch by model index, which the solver core calls and the
-compiled backend compiles).  When the catalog (:mod:`.catalog`) holds usable user models, an
+compiled backend compiles).  When the catalog (:mod:`.discovery`) holds usable user models, an
 import hook serves these three modules from a composition rendered with the package's own glue
 templates over the built-in models followed by the user models (``derive --model`` checks that
 the same rendering of the built-in models alone is byte-identical to the committed glue), and
@@ -21,28 +21,20 @@ from __future__ import annotations
 import functools
 import hashlib
 import importlib
-import importlib.abc
 import importlib.machinery
 import importlib.util
 import json
 import os
-import sys
 import tempfile
 from pathlib import Path
 
-from .catalog import GLUE_TEMPLATES, Catalog, discover
+from .discovery import GLUE_TEMPLATES, Catalog, discover
 
-PACKAGE = "beveloid.generated"
+from .finder import PACKAGE
+
 #: the environment variable of the cache folder (shared with the compiled solver's cache)
 CACHE_ENV = "BEVELOID_CACHE_DIR"
 _STATE: dict = {}
-
-
-def install() -> None:
-    """Put the hook in front of the import system (once; cheap: nothing is read until a glue
-    module of beveloid.generated is imported)."""
-    if not any(isinstance(f, _Finder) for f in sys.meta_path):
-        sys.meta_path.insert(0, _Finder())
 
 
 def catalog() -> Catalog:
@@ -82,7 +74,7 @@ def glue_environment(templates: Path):
 
 def render_glue(context: dict) -> dict:
     """{module name: text} of the three glue modules for a glue context (kernels.glue_context)."""
-    from .catalog import package_folder
+    from .discovery import package_folder
 
     env = glue_environment(package_folder("derivations") / "templates")
     return {name: env.get_template(tpl).render(**context) for name, tpl in GLUE_TEMPLATES.items()}
@@ -109,7 +101,7 @@ def _cache_root() -> Path:
 def _glue_folder(context: dict) -> Path:
     """The folder holding the composed glue of a context: rendered and written once (atomically,
     several processes may race), found again by a digest of the context and the templates."""
-    from .catalog import package_folder
+    from .discovery import package_folder
 
     templates = package_folder("derivations") / "templates"
     digest = hashlib.sha256(json.dumps(context, sort_keys=True).encode())
@@ -180,17 +172,10 @@ class _Loader(importlib.machinery.SourceFileLoader):
         super().exec_module(module)
 
 
-class _Finder(importlib.abc.MetaPathFinder):
-    def find_spec(self, fullname, path=None, target=None):
-        if not fullname.startswith(PACKAGE + "."):
-            return None
-        short = fullname[len(PACKAGE) + 1:]
-        if short.startswith("_") or "." in short:
-            return None
-        if short not in GLUE_TEMPLATES and not short.startswith(("surface_", "layout_")):
-            return None
-        _activate()
-        where = _STATE["files"].get(short)
-        if where is None:
-            return None
-        return importlib.util.spec_from_file_location(fullname, str(where), loader=_Loader(fullname, str(where)))
+def served_spec(fullname: str, short: str):
+    """The module spec the hook serves for beveloid.generated.<short> (None: the committed module)."""
+    _activate()
+    where = _STATE["files"].get(short)
+    if where is None:
+        return None
+    return importlib.util.spec_from_file_location(fullname, str(where), loader=_Loader(fullname, str(where)))

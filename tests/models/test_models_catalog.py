@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from beveloid.models import catalog as current_catalog
-from beveloid.models.catalog import FORMAT, INTERFACE, MODELS_ENV, discover, file_sha256, package_stamp
+from beveloid.models.discovery import FORMAT, INTERFACE, MODELS_ENV, discover, file_sha256, package_stamp
 from beveloid.spec import SpecError, spec_from_dict
 from beveloid.spec.schema import key_docs_markdown
 
@@ -28,7 +28,8 @@ def _model(root: Path, name: str, source: Path, stamp: str | None = None) -> Pat
     face = dict(format=FORMAT, name=name, beveloid_version="0.1.0", package_stamp=stamp or package_stamp(),
                 source=dict(path=str(source), sha256=file_sha256(source)),
                 files={f"surface_{name}.py": file_sha256(folder / f"surface_{name}.py")},
-                glue=dict(model=dict(name=name, input_keys=[], choice_keys=[])))
+                glue=dict(base={}, builtin=[], model=dict(name=name, module=f"surface_{name}", layout="X",
+                                                          nparams=16, input_keys=[], selected_by=[], choice_keys=[])))
     (folder / INTERFACE).write_text(json.dumps(face))
     return folder
 
@@ -43,11 +44,13 @@ def test_usable_stale_and_unknown_models(tmp_path, monkeypatch):
     edited = _model(root, "edited", src)
     (edited / "surface_edited.py").write_text("# kernels, edited by hand\n")
     _model(root, "involute", src)  # a built-in name: the built-in model wins
+    bad = _model(root, "bare", src)  # a model.json without the glue entry
+    (bad / INTERFACE).write_text(json.dumps(dict(json.loads((bad / INTERFACE).read_text()), glue={})))
     (root / "notes").mkdir()  # not a model folder: ignored
     monkeypatch.setenv(MODELS_ENV, str(root))
     cat = discover(BUILTIN)
     assert [m.name for m in cat.user] == ["good"] and cat.user[0].origin == "user folder"
-    assert sorted(cat.stale) == ["edited", "old"]
+    assert sorted(cat.stale) == ["bare", "edited", "old"] and "incomplete" in cat.problem("bare")
     assert cat.problem("good") is None and cat.problem("crowned") is None
     old = cat.problem("old")
     assert "stale" in old and "another build" in old and f"beveloid derive --model {src} --name old" in old
@@ -105,6 +108,7 @@ def test_derive_refuses_bad_requests_in_one_line(tmp_path):
              (["derive", "--model", str(bad), "--name", "x", "--check"], "--check with --model"),
              (["derive", "--model", str(bad), "--name", "x", "--out", site.getsitepackages()[0]], "inside"),
              (["derive", "--model", str(bad), "--name", "Bad-Name"], "--name Bad-Name: must be lower-case"),
+             (["derive", "--model", str(bad), "--name", "involute_scalar"], "scalar twin"),
              (["derive", "--model", str(bad), "--name", "crowned"], "a built-in model has this name"),
              (["derive", "--model", str(bad), "--name", "fine"], "defines no tooth_surface"),
              (["example", "--schema", "--model", "nosuch"], "--model nosuch: no such tooth-surface model")]

@@ -136,11 +136,28 @@ def read_interface(folder: Path) -> dict | None:
     return data if isinstance(data, dict) and data.get("format") == FORMAT else None
 
 
+#: what a model's glue entry holds (derivations/kernels.model_entry)
+ENTRY_FIELDS = ("name", "module", "layout", "nparams", "input_keys", "selected_by", "choice_keys")
+
+
+def name_problem(name: str) -> str | None:
+    """Why ``name`` cannot name a model (its modules would clash with the glue's), None if it can."""
+    if not NAME_PATTERN.match(name):
+        return "must be lower-case letters, digits and _ starting with a letter (at most 40)"
+    if name == "models" or name.endswith("_scalar"):
+        return "names a module of the glue (surface_models) or a scalar twin (surface_*_scalar); choose another"
+    return None
+
+
 def _staleness(info: ModelInfo, stamp: str) -> str | None:
     face = info.interface
     name = info.name
-    if not NAME_PATTERN.match(name) or face.get("name") != name:
-        return f"its folder name and model.json name differ ({face.get('name')!r})"
+    if name_problem(name) or face.get("name") != name:
+        return f"its folder name and model.json name differ ({face.get('name')!r}) or cannot name a model"
+    glue = face.get("glue")
+    if not isinstance(glue, dict) or not {"base", "builtin", "model"} <= set(glue) or not all(
+            k in glue["model"] for k in ENTRY_FIELDS):
+        return "its model.json is incomplete (not written by beveloid derive --model)"
     if face.get("package_stamp") != stamp:
         return (f"it was generated for beveloid {face.get('beveloid_version')} (stamp {face.get('package_stamp')}),"
                 f" this is another build (stamp {stamp})")
