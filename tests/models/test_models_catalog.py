@@ -7,6 +7,7 @@ end-to-end path (derive, then every analysis) is tests/models/test_models_instal
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -167,3 +168,15 @@ def test_models_of_an_installed_package_are_found_by_entry_point(tmp_path, monke
     _model(tmp_path / "mine", "labflank", src)
     monkeypatch.setenv(MODELS_ENV, str(tmp_path / "mine"))
     assert [(m.name, m.origin) for m in discover(BUILTIN).user] == [("labflank", "user folder")]
+
+
+def test_derive_refuses_a_model_that_fails_a_check(tmp_path):
+    """A normal that is not the surface's: exit 1, the failed check named, nothing written."""
+    model = tmp_path / "wrong_normal_model.py"
+    model.write_text((Path(__file__).resolve().parents[1] / "data" / "wrong_normal_model.py").read_text())
+    proc = _cli(["derive", "--model", str(model), "--name", "wrong", "--out", str(tmp_path / "models")])
+    assert proc.returncode == 1, proc.stdout + proc.stderr
+    assert re.search(r"^  FAIL normal orthogonal to the surface: .* = \d\.\de-0[1-4] ", proc.stdout, re.M), proc.stdout
+    assert re.search(r"^  ok   unit normal:", proc.stdout, re.M)  # the normal is still a unit vector
+    assert 'model "wrong" NOT written' in proc.stdout
+    assert list((tmp_path / "models").iterdir()) == []  # not even its staging folder
