@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import contextlib
 import hashlib
+import os
 import tempfile
 import warnings
 from pathlib import Path
@@ -35,6 +36,10 @@ except ImportError:  # not POSIX: no lock, each process compiles (or loads the c
     fcntl = None
 
 ROOT = Path(__file__).resolve().parents[1]
+
+# The suite runs on the built-in tooth-surface models only: an empty user model folder (docs/models.md),
+# whatever the machine's own holds; tests of user models give theirs to the processes they start.
+os.environ["BEVELOID_MODELS_DIR"] = tempfile.mkdtemp(prefix="beveloid-test-models-")
 
 
 @pytest.fixture(scope="session")

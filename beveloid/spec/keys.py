@@ -201,6 +201,26 @@ def _model_key_docs() -> dict[str, KeyDoc]:
     return out
 
 
+def key_docs_for(models=()) -> dict[str, dict[str, "KeyDoc"]]:
+    """:data:`KEY_DOCS` with the built-in tooth-surface models and only the user models named in
+    ``models`` (the README's table: none; ``beveloid example --schema --model NAME``: those)."""
+    from dataclasses import replace
+
+    from ..models import builtin_models
+
+    keep = set(builtin_models()) | set(models)
+    out: dict[str, dict[str, KeyDoc]] = {}
+    for section, docs in KEY_DOCS.items():
+        out[section] = {}
+        for key, doc in docs.items():
+            if doc.model is not None and doc.model not in keep:
+                continue
+            if key == "tooth_surface":
+                doc = replace(doc, choices=tuple(c for c in doc.choices if c in keep))
+            out[section][key] = doc
+    return out
+
+
 def model_takes(model: str, key: str) -> bool:
     """Whether a tooth-surface model takes a key (numeric or by name)."""
     return key in surface_models.MODEL_KEYS[model] or key in surface_models.MODEL_CHOICES.get(model, {})
