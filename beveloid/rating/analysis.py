@@ -30,6 +30,8 @@ class Options:
     flank: str = "right"
     positions: int = 10
     pairs: int = 3
+    tooth_model: str | None = None  # the LTCA's: None = "fe" when gmsh and scikit-fem import (root stress)
+    fe_refinement: int = 1
 
     def __post_init__(self):
         self.ltca_options(1.0)  # the LTCA's own range table checks the request
@@ -39,7 +41,7 @@ class Options:
         from ..ltca.options import Options as LTCAOptions
 
         return LTCAOptions(torque_nm=self.torque_nm * load_factor, flank=self.flank, positions=self.positions,
-                           pairs=self.pairs)
+                           pairs=self.pairs, tooth_model=self.tooth_model, fe_refinement=self.fe_refinement)
 
 
 @dataclass(frozen=True)
@@ -84,8 +86,21 @@ def loaded_contact(ltca_result, geometry) -> LoadedContact:
         notes.append("no LTCA position converged: local stresses are null")
     root = {m: None for m in MEMBERS}
     root_where = {m: None for m in MEMBERS}
-    notes.append("local root stress: not computed (the FE tooth model is not available in this build); "
-                 "root_stress_max_mpa and safety_bending are null, the ISO bending values stand alone")
+    if getattr(ltca_result, "tooth_model", "plate") == "fe":
+        top, at = ltca_result.root_stress_max_mpa(), ltca_result.root_stress_location()
+        for m in MEMBERS:
+            root[m] = top.get(m)
+            if at.get(m) is not None:
+                z = float(sections.face_z(geometry, m, at[m]["z_mm"]))
+                phi = ltca_result.pinion_angle[at[m]["position"]]
+                root_where[m] = (f"root fillet at face z {z:.1f} mm, {at[m]['height_mm']:.2f} mm above the root "
+                                 f"cone (pinion angle {phi * 1e3:.2f} mrad, tooth pair {at[m]['pair']})")
+        notes.append("local root stress: the FE tooth's largest maximum principal stress in the loaded side's "
+                     "root fillet over the mesh cycle (LTCA tooth_model = fe)")
+    else:
+        notes.append("local root stress: not computed (the LTCA ran with the plate tooth, which has no root "
+                     "fillet; --tooth-model fe): root_stress_max_mpa and safety_bending are null, the ISO "
+                     "bending values stand alone")
     return LoadedContact(p_surf, p_edge, length, root, root_where, tuple(notes), where, face)
 
 

@@ -77,6 +77,7 @@ def to_json_dict(r: RatingResult) -> dict:
         out[name] = {
             "sections": {k: section_json(s) for k, s in m.sections.items()},
             "root_stress_max_mpa": _num(m.root_stress_max_mpa),
+            "root_stress_location": m.root_stress_location,
             "contact_pressure_max_mpa": _num(m.contact_pressure_max_mpa),
             "safety_bending": _num(m.safety_bending),
             "safety_pitting": _num(m.safety_pitting),
