@@ -52,7 +52,9 @@ def test_the_ltca_root_stress_gives_the_local_bending_safety():
         member = result.members[m]
         assert member.root_stress_max_mpa == pytest.approx(top)
         assert member.safety_bending == pytest.approx(f.root_limit_mpa[m] * 2.0 / top)
-        assert "face z 5.0 mm" in member.root_stress_location
+        assert member.root_stress_location["face_z_mm"] == pytest.approx(5.0)
+        assert member.root_stress_location["height_above_root_mm"] == pytest.approx(0.4)
+        assert "face z 5.0 mm" in member.root_stress_where
     out = rating.to_json_dict(result)
     assert out["pinion"]["root_stress_max_mpa"] == pytest.approx(float(np.max(stress["pinion"])))
     assert all(s[2] == "local" for s in result.safeties() if s[1] == "S_F" and s[2] != "iso")
