@@ -27,8 +27,9 @@ def te_axis(ax, centre_urad, ptp_urad):
     c = float(np.mean(centre_urad)) if len(centre_urad) else 0.0
     ax.set_ylim(c - TE_FLAT_HALF_SPAN_URAD, c + TE_FLAT_HALF_SPAN_URAD)
     ax.ticklabel_format(axis="y", useOffset=False, style="plain")
-    ax.text(0.5, 0.92, f"TE is zero to the solver tolerance (peak-to-peak {max(ptp):.1e} urad"
-            f" < {TE_ZERO_URAD:g} urad)", transform=ax.transAxes, ha="center", va="top", fontsize=8,
+    # at the bottom: the legend goes to the top (upper right) where a flat TE leaves room
+    ax.text(0.5, 0.05, f"TE is zero to the solver tolerance\n(peak-to-peak {max(ptp):.1e} urad"
+            f" < {TE_ZERO_URAD:g} urad)", transform=ax.transAxes, ha="center", va="bottom", fontsize=8,
             bbox=dict(facecolor="white", edgecolor="0.7", alpha=0.9))
     return True
 
@@ -130,11 +131,11 @@ def transmission_error(results, labels, flank, out_png, title=""):
                         label=f"{lab}: mean {mean:+.1f} urad, peak-to-peak {ptp:.2e} urad from"
                               f" {int((act & complete).sum())} points")
         ax.plot(phi[act & ~complete], te[act & ~complete] - mean, ".", ms=3, color=line.get_color(), alpha=0.25)
-    te_axis(ax, [0.0], ptps)
+    flat = te_axis(ax, [0.0], ptps)
     ax.set_xlabel("pinion angle phi'_1 (deg); faded: the window's ends, where a pair beyond those solved may carry")
     ax.set_ylabel("TE minus its mean (urad)")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="upper right" if flat else "best")
     _save(fig, out_png, title, suptitle=False)
 
 
@@ -155,7 +156,7 @@ def tca_summary(result, geom, out_png, title=""):
                 r = np.hypot(P[sel, 0], P[sel, 1])
                 ax.plot(P[sel, 2], r, lw=1.5, label=f"tooth pair {k:+d}" if k else "tooth pair 0")
             if fr.contact_ellipse is not None:
-                draw_bearing_pattern(ax, geom, fr, which)
+                draw_bearing_pattern(ax, geom, fr, which, outline=(zb, rb))
             ax.set_xlabel("axial position z (mm)  toe -> heel")
             ax.set_ylabel("radius (mm)")
             ax.set_title(f"{which}, {flank} flank: contact path"
@@ -177,7 +178,8 @@ def tca_summary(result, geom, out_png, title=""):
         ax.set_xlabel("pinion angle phi'_1 (deg)")
         ax.set_ylabel("TE (urad)")
         ptp = fr.te_peak_to_peak * 1e6
-        if act.any() and not te_axis(ax, te[act], [ptp]):
+        flat = act.any() and te_axis(ax, te[act], [ptp])
+        if act.any() and not flat:
             lo, hi = float(te[act].min()), float(te[act].max())
             pad = max(0.25 * (hi - lo), 0.5)
             ax.set_ylim(lo - pad, hi + pad)  # the envelope, not each pair's whole path
@@ -191,7 +193,7 @@ def tca_summary(result, geom, out_png, title=""):
             ax.set_title(f"{flank} flank: no TE: no contact on the flanks\n({st.count('outside')} outside,"
                          f" {st.count('failed')} not solved)", fontsize=10)
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=8)
+        ax.legend(fontsize=8, loc="upper right" if flat else "best")
     _save(fig, out_png, title, dpi=100)
 
 
@@ -217,12 +219,45 @@ def _ellipse_outlines(geom, fr, which):
     return out
 
 
-def draw_bearing_pattern(ax, geom, fr, which, color="tab:orange", label="bearing pattern"):
-    """Fill the union of the truncated contact ellipses of the active points on one member's flank."""
+def draw_bearing_pattern(ax, geom, fr, which, color="tab:orange", label="bearing pattern", outline=None):
+    """Fill the union of the truncated contact ellipses of the active points on one member's flank,
+    clipped to the flank's ``outline`` (z, radius) when given (an ellipse reaching past the heel or
+    the tip is drawn only where the flank is); the axes then span the flank.  Returns the number of
+    ellipses.
+
+    The ellipses are one compound path, all turning the same way, so that the nonzero fill rule paints
+    their union once (one patch to draw and clip, however many ellipses)."""
+    from matplotlib.patches import PathPatch, Polygon
+    from matplotlib.path import Path
+
     outlines = _ellipse_outlines(geom, fr, which)
-    for j, (z, r) in enumerate(outlines):
-        ax.fill(z, r, color=color, alpha=0.35, lw=0, label=label if j == 0 else None)
+    if outlines:
+        verts, codes = [], []
+        for z, r in outlines:
+            ring = np.column_stack([z, r])
+            x, y = ring[:, 0], ring[:, 1]
+            if np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)) < 0:  # clockwise: turn it round
+                ring = ring[::-1]
+            verts += [ring, ring[:1]]
+            codes += [[Path.MOVETO] + [Path.LINETO] * (len(ring) - 1), [Path.CLOSEPOLY]]
+        patch = PathPatch(Path(np.concatenate(verts), np.concatenate(codes)), facecolor=color, alpha=0.35, lw=0,
+                          label=label)
+        ax.add_patch(patch)
+        if outline is not None:
+            clip = Polygon(np.column_stack(outline), closed=True, transform=ax.transData, fill=False, lw=0)
+            patch.set_clip_path(clip)
+    if outline is not None:
+        _span(ax, *outline)
+    else:
+        ax.autoscale_view()
     return len(outlines)
+
+
+def _span(ax, z, r, margin=0.05):
+    """Axes limits: the flank outline and a margin (what is drawn past it is clipped anyway)."""
+    dz, dr = np.ptp(z) * margin, np.ptp(r) * margin
+    ax.set_xlim(np.min(z) - dz, np.max(z) + dz)
+    ax.set_ylim(np.min(r) - dr, np.max(r) + dr)
 
 
 def bearing_patterns(results, labels, geom, flank, out_png, title=""):
@@ -235,7 +270,7 @@ def bearing_patterns(results, labels, geom, flank, out_png, title=""):
         for ax, which in zip(row, ("pinion", "gear")):
             zb, rb = flank_outline(geom, which, flank)
             ax.plot(zb, rb, color="0.3", lw=1.2, label="flank boundary")
-            n = draw_bearing_pattern(ax, geom, fr, which)
+            n = draw_bearing_pattern(ax, geom, fr, which, outline=(zb, rb))
             approach = fr.contact_ellipse.approach_mm * 1e3
             ax.set_title(f"{which}, {flank} flank, {lab}: {n} ellipses, approach {approach:g} um", fontsize=9)
             ax.set_xlabel("axial position z (mm)  toe -> heel")

@@ -68,6 +68,18 @@ def results_json(results) -> str:
     return json.dumps(out, indent=2)
 
 
+def extra_summary(extra) -> str:
+    """One line on the checks beyond the print: how many were applicable and how many of those hold."""
+    n_na = sum(r.status == "not applicable" for r in extra)
+    applicable = len(extra) - n_na
+    n_ver = sum(r.status == "verified" for r in extra)
+    check = "check" if applicable == 1 else "checks"
+    line = f"beyond the print: {n_ver} of {applicable} applicable {check} verified"
+    if n_ver != applicable:
+        line += f", {applicable - n_ver} differ"
+    return line + (f" ({n_na} not applicable)" if n_na else "")
+
+
 def results_table(results) -> str:
     rows = [("Eq", "what it is", "how it was checked", "status", "max rel diff")]
     for r in results:
@@ -84,5 +96,5 @@ def results_table(results) -> str:
     lines.append("")
     lines.append(f"{n_ver} verified, {n_def} definitions, {n_diff} differ (of {len(numbered)} equations)")
     if extra:
-        lines.append(f"beyond the print: {sum(r.status == 'verified' for r in extra)} of {len(extra)} checks verified")
+        lines.append(extra_summary(extra))
     return "\n".join(lines)

@@ -12,9 +12,12 @@ Command modules are imported lazily: ``beveloid tca ...`` imports only ``cli/tca
 inside ``run``).  A new command is a new module here plus one name in :data:`COMMANDS`.
 
 Exit status: 0 success; 1 the command ran but its result is negative (``verify``:
-an equation differs from the print); 2 a usage error (argparse) or a user error
-(:class:`beveloid.spec.SpecError`, :class:`beveloid.errors.UserError`), reported as
-one line ``beveloid: error: <message>`` on stderr without a traceback.
+an equation differs from the print) or its output could not be written (a closed stdout ``>&-``, a
+full device ``>/dev/full``: one line on stderr, as Unix tools do); 2 a usage error (argparse) or a
+user error (:class:`beveloid.spec.SpecError`, :class:`beveloid.errors.UserError`), reported as
+one line ``beveloid: error: <message>`` on stderr without a traceback; 130 Ctrl-C.  A closed pipe
+(``beveloid tca my.toml --json | head``) ends quietly with 0.  However a command ends, the output
+folders it created and left empty are removed (:func:`beveloid.cli.paths.remove_empty_created`).
 
 This package must stay cheap to import: it imports neither sympy nor the
 derivations at module level (``verify`` and ``derive`` load them when they run).
@@ -26,6 +29,7 @@ import codecs
 import errno
 import gc
 import importlib
+import io
 import os
 import sys
 import unicodedata
@@ -40,7 +44,7 @@ USER_ERRORS = (SpecError, UserError)
 #: The commands, in the order ``beveloid --help`` lists them; each is the module
 #: ``beveloid.cli.<name>`` with ``configure(parser)`` and ``run(args) -> int``.
 COMMANDS: tuple[str, ...] = ("verify", "derive", "design", "tca", "ltca", "paper", "sweep", "example", "export",
-                             "explore", "rating")
+                             "explore", "rating", "models")
 
 
 def command(name: str):
@@ -101,15 +105,37 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
     return parser
 
 
-def _error(message: str) -> int:
+def _error(message: str, status: int = 2) -> int:
     from ..spec import printable
 
     one_line = printable(" ".join(str(message).split()))  # no raw control characters on the terminal
     print(f"{PROG}: error: {one_line}", file=sys.stderr)
-    return 2
+    return status
 
 
-#: errors of writing the output that are the place's, not the program's: one line and exit 2
+class _ClosedStdout:
+    """sys.stdout when the caller closed it (``>&-``): writing fails as writing to a closed file
+    descriptor does (EBADF), so the command reports it; nothing is written at the exit."""
+
+    encoding = "utf-8"
+    errors = "strict"
+
+    def write(self, text: str) -> int:
+        if not text:
+            return 0
+        raise OSError(errno.EBADF, os.strerror(errno.EBADF))
+
+    def flush(self) -> None:
+        pass
+
+    def isatty(self) -> bool:
+        return False
+
+    def fileno(self) -> int:
+        raise io.UnsupportedOperation("stdout is closed")
+
+
+#: errors of writing the output that are the place's, not the program's: one line and exit 1
 OUTPUT_ERRNOS = frozenset(getattr(errno, n) for n in ("ENOSPC", "EIO", "EFBIG", "EDQUOT", "EROFS", "EBADF")
                           if hasattr(errno, n))
 
@@ -139,11 +165,14 @@ def _robust_environment() -> None:
     name; every figure is a file, so matplotlib gets its file backend whatever MPLBACKEND says
     (beveloid.plots selects Agg too; an invalid MPLBACKEND would fail the import before that).
     """
-    # a stream closed by the caller (`beveloid tca my.toml >&-`) is None: write it to the null device,
-    # as `> /dev/null` would
+    # a stdout closed by the caller (`beveloid tca my.toml >&-`) is None: writing to it fails as in
+    # any Unix tool (one line, exit 1); its descriptor is held by the null device meanwhile, so that no
+    # file opened later becomes descriptor 1.  A closed stderr is the null device (nothing to tell).
     if sys.stdout is None:
-        sys.stdout = open(os.devnull, "w")  # noqa: SIM115 (open for the life of the process)
+        _hold_descriptor(1)
+        sys.stdout = _ClosedStdout()
     if sys.stderr is None:
+        _hold_descriptor(2)
         sys.stderr = open(os.devnull, "w")  # noqa: SIM115
     for stream in (sys.stdout, sys.stderr):
         try:
@@ -154,12 +183,23 @@ def _robust_environment() -> None:
         os.environ["MPLBACKEND"] = "agg"
 
 
+def _hold_descriptor(fd: int) -> None:
+    """Put the null device on the closed descriptor ``fd``."""
+    try:
+        null = os.open(os.devnull, os.O_WRONLY)
+        if null != fd:
+            os.dup2(null, fd)
+            os.close(null)
+    except OSError:
+        pass
+
+
 def _drop_stdout() -> None:
     """Point stdout at the null device: nothing more is written, nor flushed at exit."""
     try:
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-    except (OSError, ValueError):  # no file descriptor (in-process callers' capture)
-        pass
+    except (OSError, ValueError):  # no file descriptor (a closed stdout, in-process callers' capture)
+        sys.stdout = _ClosedStdout()
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -184,6 +224,8 @@ def _main(argv: Sequence[str] | None) -> int:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # --help, --version (0) and usage errors (2)
         return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 2)
+    from .paths import remove_empty_created
+
     try:
         status = args.command_run(args)
         sys.stdout.flush()  # a full or failing output shows here, not at the interpreter's exit
@@ -193,11 +235,13 @@ def _main(argv: Sequence[str] | None) -> int:
     except BrokenPipeError:  # e.g. `beveloid tca ... --json | head`
         _drop_stdout()
         return 0
-    except OSError as exc:  # stdout on a full disk (/dev/full), a failing device
+    except OSError as exc:  # stdout closed (>&-), on a full disk (/dev/full), a failing device
         if exc.errno not in OUTPUT_ERRNOS:
             raise
         _drop_stdout()
-        return _error(f"cannot write the output: {exc.strerror or exc} (errno {exc.errno})")
+        return _error(f"cannot write the output: {exc.strerror or exc} (errno {exc.errno})", status=1)
     except KeyboardInterrupt:
         print(f"{PROG}: interrupted", file=sys.stderr)
         return 130
+    finally:
+        remove_empty_created()

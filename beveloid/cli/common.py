@@ -1,5 +1,6 @@
 """What several commands share: the five assembly-error flags (``--dx`` ... ``--horizontal``,
-overriding the spec's ``[misalignment]``) and the one-line label of a spec's errors."""
+overriding the spec's ``[misalignment]``), the one-line label of a spec's errors, and how a table
+writes a number (:func:`number`: no ``-0.000``)."""
 from __future__ import annotations
 
 import argparse
@@ -40,3 +41,16 @@ def error_vector(spec) -> np.ndarray:
 def errors_label(spec) -> str:
     """The spec's assembly errors in one line (titles and summaries)."""
     return assembly_errors.label(spec.misalignment)
+
+
+def number(value, spec: str, missing: str = "-") -> str:
+    """``value`` formatted by ``spec`` for a table: ``missing`` for None or a non-finite value, and a
+    value that rounds to zero written without a sign (``0.000``, not ``-0.000``)."""
+    import math
+
+    if value is None or not math.isfinite(value):
+        return missing
+    text = format(value, spec)
+    if text.lstrip().startswith("-") and float(text) == 0.0:
+        text = format(0.0, spec)
+    return text

@@ -12,7 +12,7 @@ import json
 import sys
 import time
 
-from ..errors import UserError
+from ..errors import StopReason, UserError
 
 TOLERANCE_NAMES = {"dx": "dx_mm", "dy": "dy_mm", "dz": "dz_mm", "vertical": "vertical_deg",
                    "horizontal": "horizontal_deg"}
@@ -129,7 +129,7 @@ def run(args: argparse.Namespace) -> int:
     Writes DIR/explore.csv, pareto.csv, summary.json and figures (heat maps, Pareto scatter and table).
     """
     from .. import parallel
-    from .paths import check_output_dir
+    from .paths import check_output_dir, created_here
     from ..explore import report, rows
     from ..explore import run as runner
     from ..explore.grid import Plan
@@ -143,15 +143,22 @@ def run(args: argparse.Namespace) -> int:
     else:
         req = _request(args)
         check_output_dir(out, "--out")
-        req = runner.prepare(out, req, resume=False)
+        req = runner.prepare(out, req, resume=False, log=lambda line: print(line, file=sys.stderr))
     t0 = time.perf_counter()
     ex = parallel.executor(args.workers, args.scheduler, initializer=runner.warm_up)
     done = sum(min(req.chunk, req.plan.count - i * req.chunk) for i in runner.finished(out, req))
     progress = runner.Progress(req.plan.count, done)
     with ex:
-        complete, why = runner.execute(out, req, ex, progress)
+        stop, why = runner.execute(out, req, ex, progress)
+        complete = stop is None
         where = ex.description
     table = runner.load_table(out, req)
+    if not complete and not table and created_here(out):
+        # stopped before any design finished, in a folder this run made: leave nothing behind (the
+        # CLI removes the folder once empty)
+        _discard(out, runner)
+        print(f"beveloid explore: stopped ({why}) before any design finished; nothing written", file=sys.stderr)
+        return 130 if "Ctrl-C" in why else 1
     base_plan = Plan(req.plan.base, (), seed=req.plan.seed)
     base_cols = rows.compute(base_plan, 0, 1, req.tolerances, req.backend)
     if req.mc:
@@ -172,8 +179,19 @@ def run(args: argparse.Namespace) -> int:
     if not complete:
         print(f"beveloid explore: stopped ({why}); {summ['designs_done']} of {summ['designs']} designs kept in {out};"
               f" continue with `beveloid explore --resume {out}`", file=sys.stderr)
-        return 130 if "Ctrl-C" in why else 1
+        return 130 if stop is StopReason.INTERRUPTED else 1
     return 0
+
+
+def _discard(out, runner) -> None:
+    """Remove the request and the (empty) chunk folder a run wrote into ``out``."""
+    import os
+
+    for remove, name in ((os.remove, runner.REQUEST), (os.rmdir, runner.CHUNKS)):
+        try:
+            remove(os.path.join(out, name))
+        except OSError:
+            pass
 
 
 def _print(summ, out):
@@ -189,6 +207,10 @@ def _print(summ, out):
     if b.get("status") == "ok":
         lines.append(f"Base design: max FPD {b['max_fpd_angle_deg']:.3f} deg, worst path shift"
                      f" {b['worst_path_shift_mm']:.3f} mm")
-    lines.append(f"Files in {out}: explore.csv, pareto.csv, summary.json, heatmap_fpd.png, heatmap_sensitivity.png,"
-                 f" pareto.png, pareto_table.png")
+    from pathlib import Path
+
+    names = ("explore.csv", "pareto.csv", "summary.json", "heatmap_fpd.png", "heatmap_sensitivity.png", "pareto.png",
+             "pareto_table.png")
+    written = [n for n in names if (Path(out) / n).is_file()]  # an interrupted run may have written none
+    lines.append(f"Files in {out}: {', '.join(written)}" if written else f"No result files written in {out}")
     print("\n".join(lines))

@@ -25,8 +25,8 @@ import math
 import re
 
 from .paths import check_output_file
-from .common import add_error_flags, apply_error_flags, error_vector, errors_label
-from ..errors import UserError
+from .common import add_error_flags, apply_error_flags, error_vector, errors_label, number
+from ..errors import OptionError, UserError
 
 
 def configure(p: argparse.ArgumentParser) -> None:
@@ -59,9 +59,8 @@ def parse_grid(text):
     m = re.fullmatch(r"\s*(\d+)\s*[xX]\s*(\d+)\s*", text)
     try:
         return check_grid((int(m[1]), int(m[2])) if m else text, key="--grid")
-    except ValueError as exc:
-        raise UserError(str(exc).replace("(11, 17)", text).replace(f"({m[1]}, {m[2]})" if m else text, text)) \
-            from None
+    except OptionError as exc:  # named by its fields: the flag and the text as typed
+        raise UserError(exc.for_flag("--grid", shown=text)) from None
 
 
 def run(args: argparse.Namespace) -> int:
@@ -83,8 +82,8 @@ def run(args: argparse.Namespace) -> int:
         ltca.options.check_positions(args.positions, key="--positions")
         ltca.options.check_pairs(args.pairs, key="--pairs")
         ltca.options.check_fe_refinement(args.fe_refinement, key="--fe-refinement")
-    except ValueError as exc:
-        raise UserError(str(exc)) from None
+    except OptionError as exc:
+        raise UserError(exc.for_flag(exc.key)) from None
     if args.plot is not None:
         check_output_file(args.plot, "--plot", ".png")
     from ..spec import load_spec
@@ -96,8 +95,8 @@ def run(args: argparse.Namespace) -> int:
                            tooth_model=args.tooth_model, fe_refinement=args.fe_refinement)
     try:
         options.check_memory()
-    except ValueError as exc:
-        raise UserError(str(exc).replace("grid = ", "--grid = ")) from None
+    except OptionError as exc:
+        raise UserError(exc.for_flag("--grid")) from None
     result = ltca.analyze(pair, options, Solver())
     geom = pair.geometry
     if args.plot is not None:
@@ -133,7 +132,7 @@ def _root_stress_lines(result) -> list:
 
 
 def format_summary(result, geom, spec) -> str:
-    fmt = lambda v, f: "-" if v is None or not math.isfinite(v) else format(v, f)  # noqa: E731
+    fmt = number
     lines = [f"Loaded TCA of {spec.source}, {result.flank} flank, pinion torque {result.torque_nm:g} N m,"
              f" {errors_label(spec)}", ""]
     head = ["phi1 (mrad)", "status", "TE loaded (urad)", "TE unloaded (urad)", "area (mm2)"]

@@ -23,5 +23,7 @@ def run(args: argparse.Namespace) -> int:
     try:
         reproduce(args.out, positions=args.positions)
     except OSError as exc:
+        if exc.filename is None:  # not a file of DIR (e.g. a closed stdout): the CLI reports it
+            raise
         raise UserError(f"--out = {args.out}: cannot write there ({exc.strerror})") from None
     return 0

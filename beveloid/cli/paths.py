@@ -16,7 +16,10 @@ from pathlib import Path
 from ..errors import UserError
 from ..spec import printable
 
-__all__ = ["check_output_file", "check_output_dir"]
+__all__ = ["check_output_file", "check_output_dir", "created_here", "remove_empty_created"]
+
+#: folders this process created for its outputs, in the order made
+_CREATED: list[Path] = []
 
 
 def _limit(folder: Path, name: str, default: int) -> int:
@@ -77,8 +80,7 @@ def check_output_file(path: str, flag: str, suffix: str | None = None) -> None:
         raise UserError(f"{flag} = {shown}: is a folder; give a file name inside it, e.g. {shown}/out{suffix or ''}")
     folder = p.parent if str(p.parent) else Path(".")
     if not folder.is_dir():
-        raise UserError(f"{flag} = {shown}: the folder {printable(str(folder), 80)} does not exist;"
-                        " create it or choose another")
+        _create(folder, flag, shown)
     if p.exists() and not os.access(p, os.W_OK):
         raise UserError(f"{flag} = {shown}: the file exists and is not writable; choose another name")
     if not os.access(folder, os.W_OK | os.X_OK):
@@ -87,12 +89,55 @@ def check_output_file(path: str, flag: str, suffix: str | None = None) -> None:
 
 
 def check_output_dir(path: str, flag: str) -> None:
-    """``path`` is a writable folder, or can be created in a writable folder."""
+    """``path`` is a writable folder afterwards: an existing one, or one created in its existing,
+    writable parent."""
     p = _common_checks(path, flag)
     shown = printable(path, 80)
     if p.exists() and not p.is_dir():
         raise UserError(f"{flag} = {shown}: exists and is not a folder; give a new or existing folder")
-    target = p if p.exists() else _nearest_existing(p)
-    if not os.access(target, os.W_OK | os.X_OK):
-        raise UserError(f"{flag} = {shown}: the folder {printable(str(target), 80)} is not writable;"
+    if not p.exists():
+        _create(p, flag, shown)
+    if not os.access(p, os.W_OK | os.X_OK):
+        raise UserError(f"{flag} = {shown}: the folder {printable(str(p), 80)} is not writable;"
                         " choose another")
+
+
+def _create(folder: Path, flag: str, shown: str) -> None:
+    """Make ``folder`` (one level: its parent must be an existing, writable folder) and remember it."""
+    parent = folder.parent if str(folder.parent) else Path(".")
+    where = printable(str(parent), 80)
+    if not parent.is_dir():
+        raise UserError(f"{flag} = {shown}: the folder {where} does not exist; create it first or choose"
+                        " a folder whose parent exists (only the last folder of the path is created)")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise UserError(f"{flag} = {shown}: cannot create {printable(folder.name, 40)} in {where}: the folder is"
+                        " not writable; choose another")
+    try:
+        folder.mkdir()
+    except FileExistsError:  # made meanwhile by another process: use it
+        if not folder.is_dir():
+            raise UserError(f"{flag} = {shown}: exists and is not a folder; choose another") from None
+        return
+    except OSError as exc:  # a read-only file system, a pseudo file system (/proc), ...
+        raise UserError(f"{flag} = {shown}: cannot create the folder ({exc.strerror or exc}); choose another"
+                        ) from None
+    _CREATED.append(folder.absolute())
+
+
+def created_here(path: str | os.PathLike) -> bool:
+    """Whether this process created the folder ``path`` for its outputs."""
+    return Path(path).absolute() in _CREATED
+
+
+def remove_empty_created() -> list[Path]:
+    """Remove the folders this process created for its outputs and left empty (the last made first);
+    returns them.  A folder that holds anything stays."""
+    removed = []
+    while _CREATED:
+        folder = _CREATED.pop()
+        try:
+            folder.rmdir()
+        except OSError:  # not empty, or gone
+            continue
+        removed.append(folder)
+    return removed

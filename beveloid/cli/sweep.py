@@ -12,6 +12,7 @@ import sys
 
 from .. import assembly_errors
 from ..errors import UserError
+from .common import number
 from ..solver.backends import BACKENDS
 from ..sweep import DEFAULT_RANGES, MAX_CONTACT_POINTS
 
@@ -58,7 +59,8 @@ def run(args: argparse.Namespace) -> int:
     from ..solver import Solver
     from ..solver.backends import BackendError
     from ..spec import load_spec
-    from ..sweep import SweepSizeError, check_sweep_size, sweep
+    from .. import sweep
+    from ..sweep import SweepSizeError, check_sweep_size
 
     try:
         check_sweep_size(args.samples, args.positions, flags=True)
@@ -93,10 +95,14 @@ def run(args: argparse.Namespace) -> int:
     from ..parallel import executor
 
     parallel = args.workers is not None or args.scheduler is not None
+    startup_s = None
     try:
+        if solver.backend == "compiled" and not parallel:
+            startup_s = _warm_up(pair, args.flank, solver)
         with (executor(args.workers, args.scheduler) if parallel else nullcontext()) as ex:
-            res = sweep(pair, args.flank, args.samples, args.positions, args.seed, ranges, solver,
-                        progress=progress, nominal=nominal, executor=ex)
+            options = sweep.Options(flank=args.flank, samples=args.samples, positions=args.positions, seed=args.seed,
+                                    ranges=ranges, nominal=nominal)  # the flags are checked above, one line each
+            res = sweep.analyze(pair, options, solver, executor=ex, progress=progress)
     except tca.NoContactError as exc:
         # the aligned pair has no contact on this flank: the sweep has no engagement to sample
         raise UserError(f"{args.file}: cannot sweep the {args.flank} flank: {exc} (the aligned pair does not"
@@ -106,15 +112,32 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps(out, allow_nan=False))
         return 0
-    print(format_sweep(out, args.file))
+    print(format_sweep(dict(out, solver_startup_s=startup_s), args.file))
     return 0
 
 
-def _row(name, st, unit, samples, scale=1.0, fmt="{:+.3f}"):
+def _warm_up(pair, flank, solver) -> float:
+    """Seconds to make the compiled solver ready (numba compiles it on the first run after an
+    installation, later runs load it from the cache): a small sweep that calls what the real one
+    calls, the serial and the parallel paths, so the sweep's own time is the solve alone."""
+    import time
+
+    from .. import tca
+    from ..sweep import sweep
+
+    t0 = time.perf_counter()
+    try:
+        sweep(pair, flank, tca.SERIAL_MAX_SETS + 1, 2, 0, None, solver)
+    except tca.NoContactError:
+        pass  # the real sweep reports it
+    return time.perf_counter() - t0
+
+
+def _row(name, st, unit, samples, scale=1.0, fmt="+.3f"):
     n = st.get("count", 0)
     if not n:
         return f"  {name:<28} {'(no set with contact on the flank)':<64}  {unit:<5} 0 of {samples} sets"
-    vals = [fmt.format(st[k] * scale) for k in ("mean", "std", "p05", "p50", "p95")]
+    vals = [number(st[k] * scale, fmt) for k in ("mean", "std", "p05", "p50", "p95")]
     return f"  {name:<28} " + "  ".join(f"{v:>10}" for v in vals) + f"  {unit:<5} {n} of {samples} sets"
 
 
@@ -126,6 +149,9 @@ def format_sweep(o, file):
     L = [f"Tolerance sweep of {file}, {o['flank']} flank: {k} error sets x {o['positions']} positions "
          f"= {o['contact_points_solved']} contact points ({o['backend']}, {o['seconds']:.2f} s, "
          f"{o['us_per_point']:.2f} us/point, {o['newton_iterations_mean']:.2f} Newton iterations per point)",
+         *([f"  compiled solver ready in {o['solver_startup_s']:.2f} s before the sweep (not in the time above):"
+            " numba compiles it once, on the first run after installation, and later runs load it from the cache"]
+           if o.get("solver_startup_s") is not None else []),
          "  nominal errors (the file's [misalignment]): " + ", ".join(f"{n} {v:g}" for n, v in nominal.items()),
          "  error ranges (uniform about the nominal, +-): " + ", ".join(f"{n} {v:g}" for n, v in o["ranges"].items()),
          "  contact points: " + ", ".join(f"{counts[s]} {s} ({100 * counts[s] / total:.1f} %)"
@@ -135,12 +161,12 @@ def format_sweep(o, file):
          f"  {'':<28} " + "  ".join(f"{h:>10}" for h in ("mean", "std", "p5", "p50", "p95")) + "  unit  from",
          _row("pinion path shift", o["pinion_path_shift_mm"], "mm", k),
          _row("gear path shift", o["gear_path_shift_mm"], "mm", k),
-         _row("TE peak-to-peak", o["te_peak_to_peak_urad"], "urad", k, fmt="{:.2e}"), "",
+         _row("TE peak-to-peak", o["te_peak_to_peak_urad"], "urad", k, fmt=".2e"), "",
          f"  sets with edge contact:           {100 * o['fraction_sets_with_edge_contact']:.1f} % of {k}",
          f"  sets with contact off the flank:  {100 * o['fraction_sets_with_contact_off_flank']:.1f} % of {k}",
          f"  sets entirely off the flank:      {100 * o['fraction_sets_entirely_off_flank']:.1f} % of {k}", "",
          "  first-order sensitivity of the path (pinion axial shift, at the aligned pitch point):"]
     for name, v in o["sensitivity"]["pinion_axial_shift_mm_per_unit"].items():
         unit = "mm/mm" if name.endswith("_mm") else "mm/deg"
-        L.append(f"    {name:<16} {v:+10.3f} {unit}")
+        L.append(f"    {name:<16} {number(v, '+10.3f')} {unit}")
     return "\n".join(L)

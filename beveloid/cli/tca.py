@@ -18,7 +18,7 @@ import json
 
 import numpy as np
 
-from .common import add_error_flags, apply_error_flags, error_vector, errors_label
+from .common import add_error_flags, apply_error_flags, errors_label, number
 from .paths import check_output_file
 from ..errors import UserError
 
@@ -109,8 +109,8 @@ def format_summary(result, spec) -> str:
         te = fr.transmission_error[fr.active & np.isfinite(fr.transmission_error)]
         carried = (fr.active & np.isfinite(fr.transmission_error)).reshape(pairs, positions).any(axis=0)
         n_te = int((carried & fr.te_envelope_complete).sum())
-        mean = f"{te.mean() * 1e6:.3f}" if te.size else "-"
-        ptp = (f"{fr.te_peak_to_peak * 1e6:.3e}" if np.isfinite(fr.te_peak_to_peak)
+        mean = number(te.mean() * 1e6, ".3f") if te.size else "-"
+        ptp = (number(fr.te_peak_to_peak * 1e6, ".3e") if np.isfinite(fr.te_peak_to_peak)
                else "n/a" if positions == 1 else "-")
         its = fr.newton_iterations_mean
         rows.append((flank, *cnt, _z_range(fr.pinion_contact, st), _z_range(fr.gear_contact, st), mean, ptp,
@@ -125,8 +125,7 @@ def format_summary(result, spec) -> str:
         if b.um is None:
             lines += ["", f"backlash: not measured ({b.status}: {b.reason})"]
         else:
-            um = 0.0 if abs(b.um) < 5e-5 else b.um  # display only: no "-0.0000" from round-off
-            lines += ["", f"backlash at the gear's working pitch circle: {um:.4f} um (smallest play over a mesh"
+            lines += ["", f"backlash at the gear's working pitch circle: {number(b.um, '.4f')} um (smallest play over a mesh"
                           f" cycle{_play_range(b)}; positive: play, negative: the flanks interfere)"]
     lines += [f"note: {n}" for n in [*caveats, *result.notes]]
     lines += ["", "z: axial position in the member frame (toe -> heel); points per status over "

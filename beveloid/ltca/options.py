@@ -9,6 +9,7 @@ import math
 import os
 from dataclasses import dataclass
 
+from ..errors import OptionError
 from . import halfspace
 
 FLANKS = ("left", "right")
@@ -61,14 +62,14 @@ def check_torque(value, key="torque_nm"):
     lo, hi = RANGES["torque_nm"]
     t = float(value) if isinstance(value, (int, float)) else math.nan
     if not (math.isfinite(t) and lo < t <= hi):
-        raise ValueError(f"{key} = {value}: must be a number > 0 and <= {hi:.0f} (N m)")
+        raise OptionError(key, value, f"must be a number > 0 and <= {hi:.0f} (N m)")
     return t
 
 
 def _check_integer(value, key, name):
     lo, hi = RANGES[name]
     if not (isinstance(value, int) and not isinstance(value, bool) and lo <= value <= hi):
-        raise ValueError(f"{key} = {value}: must be an integer from {lo} to {hi}")
+        raise OptionError(key, value, f"must be an integer from {lo} to {hi}")
     return value
 
 
@@ -79,7 +80,7 @@ def check_positions(value, key="positions"):
 def check_pairs(value, key="pairs"):
     lo, hi = RANGES["pairs"]
     if not (isinstance(value, int) and not isinstance(value, bool) and lo <= value <= hi and value % 2 == 1):
-        raise ValueError(f"{key} = {value}: must be an odd integer from {lo} to {hi}")
+        raise OptionError(key, value, f"must be an odd integer from {lo} to {hi}")
     return value
 
 
@@ -93,8 +94,8 @@ def check_grid(value, key="grid"):
     except (TypeError, ValueError):
         across = along = None
     if not all(isinstance(v, int) and not isinstance(v, bool) and lo <= v <= hi for v in (across, along)):
-        raise ValueError(f"{key} = {value}: must be ACROSSxALONG with two integers from {lo} to {hi}, e.g. "
-                         f"{DEFAULT_GRID[0]}x{DEFAULT_GRID[1]}")
+        raise OptionError(key, value, f"must be ACROSSxALONG with two integers from {lo} to {hi}, e.g. "
+                                      f"{DEFAULT_GRID[0]}x{DEFAULT_GRID[1]}")
     return (across, along)
 
 
@@ -186,7 +187,7 @@ class Options:
         need = self.memory_bytes()
         have = available_memory_bytes() if available is None else available
         if need > 0.8 * have:
-            raise ValueError(f"grid = {self.cells[0]}x{self.cells[1]}: needs about {need / 1e9:.1f} GB with "
-                             f"{self.pairs} pairs and {self.positions} positions, {have / 1e9:.1f} GB are available;"
-                             f" use fewer cells (the default {DEFAULT_GRID[0]}x{DEFAULT_GRID[1]} is sized from the"
-                             " contact)")
+            raise OptionError("grid", f"{self.cells[0]}x{self.cells[1]}", f"needs about {need / 1e9:.1f} GB with "
+                              f"{self.pairs} pairs and {self.positions} positions, {have / 1e9:.1f} GB are available;"
+                              f" use fewer cells (the default {DEFAULT_GRID[0]}x{DEFAULT_GRID[1]} is sized from the"
+                              " contact)")

@@ -42,6 +42,21 @@ def _colorbar(fig, sc, ax, label, clipped, fontsize=8, **kw):
     return cb
 
 
+def _cell_corners(centres: np.ndarray) -> np.ndarray:
+    """(n, m) cell centres -> (n + 1, m + 1) cell corners: the mean of the four neighbouring centres,
+    the raster extended by one linearly extrapolated row and column on each side.  Matplotlib's own
+    "nearest" shading does the same but warns where the raster folds in (z, radius) (its coordinates
+    are then not monotonic), which some flanks do near the root."""
+    n, m = centres.shape
+    e = np.empty((n + 2, m + 2))
+    e[1:-1, 1:-1] = centres
+    e[0, 1:-1] = 2 * centres[0] - centres[1] if n > 1 else centres[0]
+    e[-1, 1:-1] = 2 * centres[-1] - centres[-2] if n > 1 else centres[-1]
+    e[:, 0] = 2 * e[:, 1] - e[:, 2] if m > 1 else e[:, 1]
+    e[:, -1] = 2 * e[:, -2] - e[:, -3] if m > 1 else e[:, -2]
+    return 0.25 * (e[:-1, :-1] + e[1:, :-1] + e[:-1, 1:] + e[1:, 1:])
+
+
 def ltca_pattern(ax, result, geom, member, vmax=None):
     """The max pressure over the cycle on one member's flank raster, in (axial position z, radius).
 
@@ -61,9 +76,10 @@ def ltca_pattern(ax, result, geom, member, vmax=None):
     z, rad = pts[..., 2], np.hypot(pts[..., 0], pts[..., 1])
     shown = np.ma.masked_where(~pat.raster_inside, pat.raster_pressure_mpa)
     loaded = np.ma.masked_where(~pat.raster_inside | (pat.raster_pressure_mpa <= 0), shown)
-    ax.pcolormesh(z, rad, np.ma.masked_where(~pat.raster_inside, np.zeros(z.shape)), cmap="Greys", vmin=-1,
-                  vmax=12, shading="nearest")  # the flank, light grey
-    sc = ax.pcolormesh(z, rad, loaded, cmap="inferno_r", vmin=0, vmax=vmax, shading="nearest")
+    zc, rc = _cell_corners(z), _cell_corners(rad)  # the raster's cells; its nodes are their centres
+    ax.pcolormesh(zc, rc, np.ma.masked_where(~pat.raster_inside, np.zeros(z.shape)), cmap="Greys", vmin=-1,
+                  vmax=12, shading="flat")  # the flank, light grey
+    sc = ax.pcolormesh(zc, rc, loaded, cmap="inferno_r", vmin=0, vmax=vmax, shading="flat")
     frac = "-" if pat.area_fraction is None else f"{pat.area_fraction * 100:.0f}%"
     ax.set_title(f"{member}: {frac} of the flank loaded", fontsize=9)
     clipped = vmax is not None and bool(np.ma.max(loaded) > vmax) if loaded.count() else False

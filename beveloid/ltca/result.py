@@ -152,6 +152,11 @@ class LTCAResult:
                       "flank": self.flank}
         return out
 
+    def to_json_dict(self, geom) -> dict:
+        """The JSON of ``beveloid ltca`` (:func:`to_json_dict`); ``geom`` the analysed PairGeometry
+        (the bearing patterns are drawn on its flanks)."""
+        return to_json_dict(self, geom)
+
     def warnings(self) -> list:
         """One line per problem a reader must know: grid not converged, outside the model's validity."""
         out = []

@@ -132,7 +132,8 @@ def _member_docs(member: str) -> dict[str, KeyDoc]:
             hi=1.5,
             requirement=design_input,
         ),
-        "face_width_mm": KeyDoc("face width", "mm", lo=0.0, lo_open=True, hi=1000.0),
+        # at least 1 um: a narrower face is no tooth (5e-324 mm halves to 0 and the face's ends coincide)
+        "face_width_mm": KeyDoc("face width", "mm", lo=0.001, hi=1000.0),
         "addendum_coefficient": KeyDoc(
             "tip height above the rack pitch line, in units of normal module",
             lo=0.3,
@@ -197,6 +198,26 @@ def _model_key_docs() -> dict[str, KeyDoc]:
         for key, (default, choices, doc) in surface_models.MODEL_CHOICES.get(model, {}).items():
             out[key] = KeyDoc(f"{doc} (tooth_surface = \"{model}\")", kind="choice", choices=tuple(choices),
                               requirement="optional", default=default, model=model)
+    return out
+
+
+def key_docs_for(models=()) -> dict[str, dict[str, "KeyDoc"]]:
+    """:data:`KEY_DOCS` with the built-in tooth-surface models and only the user models named in
+    ``models`` (the README's table: none; ``beveloid example --schema --model NAME``: those)."""
+    from dataclasses import replace
+
+    from ..models import builtin_models
+
+    keep = set(builtin_models()) | set(models)
+    out: dict[str, dict[str, KeyDoc]] = {}
+    for section, docs in KEY_DOCS.items():
+        out[section] = {}
+        for key, doc in docs.items():
+            if doc.model is not None and doc.model not in keep:
+                continue
+            if key == "tooth_surface":
+                doc = replace(doc, choices=tuple(c for c in doc.choices if c in keep))
+            out[section][key] = doc
     return out
 
 

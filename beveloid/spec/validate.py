@@ -61,6 +61,7 @@ def _check_section(name: str, raw: Any) -> dict[str, Any]:
             f"{name} = {fmt_value(raw)}: must be a table ([{name}] section) with keys: {', '.join(accepted)}",
             key=name,
         )
+    _check_model_name(name, raw, docs)
     # 1. unknown keys and design results, in the order given
     for key, value in raw.items():
         key_s = str(key)
@@ -106,6 +107,21 @@ def _check_section(name: str, raw: Any) -> dict[str, Any]:
                 key=dotted,
             )
     return out
+
+
+def _check_model_name(name: str, raw: Mapping, docs: dict[str, KeyDoc]) -> None:
+    """A tooth_surface naming no usable model, before its keys are looked at: which (unknown, or a
+    user model whose generated code is stale) and how to make or regenerate it."""
+    value = raw.get("tooth_surface")
+    if "tooth_surface" in docs and isinstance(value, str) and value not in docs["tooth_surface"].choices:
+        from ..models import catalog
+
+        cat = catalog()
+        problem = cat.problem(value)
+        if problem:
+            match = closest(value, [*docs["tooth_surface"].choices, *cat.stale]) if value not in cat.stale else None
+            raise SpecError(f"{name}.tooth_surface = {fmt_value(value)}: {problem}"
+                            + (f" (did you mean {match}?)" if match else ""), key=f"{name}.tooth_surface")
 
 
 def _resolve_surface_model(name: str, raw: Mapping, out: dict[str, Any], docs: dict[str, KeyDoc]) -> None:

@@ -117,8 +117,10 @@ def _write_csv(path, study, geom_results):
                            + [fr.status[i], int(fr.active[i])])
 
 
-def path_centre(fr):
-    """Mean axial position (mm) of pair 0's contact points on the pinion and the gear (nan if none)."""
+def mean_contact_z(fr):
+    """Mean axial position (mm) of pair 0's contact points on the pinion and the gear (nan if none):
+    where the path lies on each flank (not its shift from the aligned path, `beveloid sweep`'s
+    "path shift")."""
     ok = (fr.tooth_pair == 0) & np.isfinite(fr.pinion_contact[:, 2])
     if not ok.any():
         return float("nan"), float("nan")
@@ -236,7 +238,7 @@ def write_study(out: Path, positions=200, progress=_progress) -> None:
                                f"Fig {st.figure} errors - bearing pattern ({FLANK} flank, like Figs 24a/25a)")
         for (lab, e), r in zip(st.errors, res):
             fr = r.flanks[FLANK]
-            pc, gc = path_centre(fr)
+            pc, gc = mean_contact_z(fr)
             n_ok = sum(s == "ok" for s in fr.status)
             summary.append((st.figure, st.case, lab, pc, gc, n_ok, len(fr.status), fr.te_peak_to_peak * 1e6,
                             r.backlash_um, r.flanks["left"].te_peak_to_peak * 1e6))
@@ -295,9 +297,11 @@ def _report(designs, comparison, summary, sens, onset, aligned, seconds, positio
     L += ["", f"{n_ok} of {len(comparison)} printed values reproduced to the last printed digit "
           "(the full tables: table1_case1.txt, table1_case2.txt; data: table1.csv).", ""]
     L += ["## Contact path and TE under the assembly errors (right flank)", "",
-          "Path centre: mean axial position of tooth pair 0's contact points (mm, toe -> heel) "
-          "in each member's frame. TE p-p: peak-to-peak of the contact envelope over the mesh window.", "",
-          "| figure | case | errors | pinion path centre z (mm) | gear path centre z (mm) | points on the flank | "
+          "Mean contact z: the mean axial position of tooth pair 0's contact points (mm, toe -> heel) "
+          "in each member's frame, i.e. where the path lies (not the path shift of `beveloid sweep`, which "
+          "is the change from the aligned path). TE p-p: peak-to-peak of the contact envelope over the "
+          "mesh window.", "",
+          "| figure | case | errors | pinion mean contact z (mm) | gear mean contact z (mm) | points on the flank | "
           "TE p-p right (urad) | TE p-p left (urad) | backlash (um) |", "|---|---|---|---|---|---|---|---|---|"]
     for fig, case, lab, pc, gc, n_ok, n, ptp, bl, ptp_l in summary:
         L.append(f"| {fig} | {case} | {lab} | {_fmt(pc, '{:+.3f}')} | {_fmt(gc, '{:+.3f}')} | {n_ok}/{n} | "

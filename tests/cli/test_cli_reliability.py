@@ -285,7 +285,7 @@ def test_out_targets_are_refused_before_computing(capsys, monkeypatch, tmp_path,
         ("", "an empty name"),  # item 11: used to write 23 files into the current folder
         ("   ", "an empty name"),
         (a_file, "exists and is not a folder"),
-        *([] if ROOT else [(ro_dir, "is not writable"), (ro_dir / "new" / "deeper", "is not writable")]),
+        *([] if ROOT else [(ro_dir, "is not writable"), (ro_dir / "new" / "deeper", "does not exist")]),
         (tmp_path / ("d" * 256), "more than the 255"),
     ]
     for target, words in cases:
@@ -361,8 +361,8 @@ def test_help_and_readme_document_the_nominal_errors():
     parser = cli.build_parser()
     sub = next(a for a in parser._actions if a.dest == "command").choices["sweep"]
     assert "[misalignment]" in " ".join(sub.format_help().split())
-    readme = (REPO / "README.md").read_text(encoding="utf-8")
-    assert "nominal_errors" in readme and "[misalignment]" in readme.split("## Commands")[1].split("## ")[0]
+    commands = (REPO / "docs" / "commands.md").read_text(encoding="utf-8")
+    assert "nominal_errors" in commands and "[misalignment]" in commands.split("## sweep")[1].split("## ")[0]
 
 
 def test_sweep_without_aligned_contact_is_one_line(capsys, monkeypatch, tmp_path):
@@ -389,8 +389,8 @@ def test_sweep_memory_is_bounded(capsys):
     rc, _, err = run_cli(capsys, ["sweep", C1, "--samples", "10000000", "--positions", "10000"])
     assert time.perf_counter() - t0 < 2
     assert_one_line_exit_2(rc, err, "100000000000 contact points", f"at most {sw.MAX_CONTACT_POINTS}")
-    readme = (REPO / "README.md").read_text(encoding="utf-8")
-    assert f"{sw.MAX_CONTACT_POINTS:,}" in readme or str(sw.MAX_CONTACT_POINTS) in readme
+    commands = (REPO / "docs" / "commands.md").read_text(encoding="utf-8")
+    assert f"{sw.MAX_CONTACT_POINTS:,}" in commands or str(sw.MAX_CONTACT_POINTS) in commands
     with pytest.raises(ValueError, match="at most"):
         sw.sweep(None, samples=sw.MAX_CONTACT_POINTS, positions=2)
 

@@ -1,5 +1,6 @@
-"""Hostile surroundings: a full output device, an ASCII terminal, a bogus matplotlib backend, a spec
-nested thousands deep. Each gives one line and exit 2, or a clean fallback; never a traceback."""
+"""Hostile surroundings: a full or closed output (one line, exit 1, as Unix tools), a closed pipe
+(quiet, 0), an ASCII terminal, a bogus matplotlib backend, a spec nested thousands deep. Each gives
+one line and an exit status, or a clean fallback; never a traceback."""
 from __future__ import annotations
 
 import os
@@ -29,26 +30,43 @@ def case1(tmp_path):
 @pytest.mark.skipif(not Path("/dev/full").exists(), reason="/dev/full is a Linux device")
 @pytest.mark.parametrize("args", [["design", "{case1}"], ["example", "case1"], ["design", "{case1}", "--json"],
                                   ["tca", "{case1}", "--positions", "3"]])
-def test_a_full_output_device_is_one_line_and_exit_2(tmp_path, case1, args):
-    args = [a.format(case1=case1) for a in args]
-    with open("/dev/full", "w") as full:
-        proc = subprocess.run([sys.executable, "-m", "beveloid.cli", *args], cwd=tmp_path, stdout=full,
-                              stderr=subprocess.PIPE, text=True, timeout=300)
-    assert proc.returncode == 2, proc.stderr
+def test_a_full_output_device_is_one_line_and_exit_1(tmp_path, case1, args):
+    """As `cat file > /dev/full`: a write error is one line on stderr and exit 1."""
+    args = " ".join(a.format(case1=case1) for a in args)
+    proc = subprocess.run(["bash", "-c", f"{sys.executable} -m beveloid.cli {args} > /dev/full"], cwd=tmp_path,
+                          capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 1, proc.stderr
     assert proc.stderr == "beveloid: error: cannot write the output: No space left on device (errno 28)\n"
 
 
-@pytest.mark.parametrize("closed", [">&-", "2>&-"])
-def test_a_closed_output_stream_is_like_the_null_device(tmp_path, case1, closed):
-    """`beveloid tca my.toml >&-`: the caller closed stdout (Python sees None); the run completes
-    with exit 0 and no traceback, and with stderr closed an error still exits 2."""
-    cmd = f"{sys.executable} -m beveloid.cli tca {case1} --positions 3 {closed}"
+@pytest.mark.parametrize("args", [["example", "case1"], ["tca", "{case1}", "--positions", "3", "--json"]])
+def test_a_closed_stdout_is_a_write_error(tmp_path, case1, args):
+    """`beveloid tca my.toml >&-`: the output is lost, so the command says so in one line and exits 1
+    (as `cat file >&-` does), instead of exiting 0."""
+    args = " ".join(a.format(case1=case1) for a in args)
+    proc = subprocess.run(["bash", "-c", f"{sys.executable} -m beveloid.cli {args} >&-"], cwd=tmp_path,
+                          capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 1, proc.stderr
+    assert proc.stderr == "beveloid: error: cannot write the output: Bad file descriptor (errno 9)\n"
+
+
+def test_a_closed_pipe_ends_quietly(tmp_path, case1):
+    """`beveloid tca my.toml --json | head -c 20`: head stops reading; beveloid ends with 0 and says nothing."""
+    cmd = (f"{sys.executable} -m beveloid.cli tca {case1} --positions 40 --json | head -c 20;"
+           " echo; echo status=${PIPESTATUS[0]}")
     proc = subprocess.run(["bash", "-c", cmd], cwd=tmp_path, capture_output=True, text=True, timeout=300)
-    assert proc.returncode == 0, proc.stderr
-    assert "Traceback" not in proc.stderr and "Traceback" not in proc.stdout
-    bad = subprocess.run(["bash", "-c", f"{sys.executable} -m beveloid.cli tca missing.toml {closed}"],
+    assert proc.stdout.startswith("{") and proc.stdout.rstrip().endswith("status=0"), proc.stdout
+    assert proc.stderr == ""
+
+
+def test_a_closed_stderr_still_gives_the_exit_status(tmp_path, case1):
+    """Nothing can be said with stderr closed (`2>&-`), but the run completes (0) and bad input exits 2."""
+    ok = subprocess.run(["bash", "-c", f"{sys.executable} -m beveloid.cli tca {case1} --positions 3 2>&-"],
+                        cwd=tmp_path, capture_output=True, text=True, timeout=300)
+    assert ok.returncode == 0 and "flank" in ok.stdout, ok.stdout
+    bad = subprocess.run(["bash", "-c", f"{sys.executable} -m beveloid.cli tca missing.toml 2>&-"],
                          cwd=tmp_path, capture_output=True, text=True, timeout=300)
-    assert bad.returncode == 2 and "Traceback" not in bad.stderr
+    assert bad.returncode == 2 and bad.stdout == ""
 
 
 def test_an_ascii_terminal_gets_the_greek_symbols_by_name(tmp_path, case1):

@@ -75,6 +75,18 @@ def test_verify_table(fake_verify, extra_checks, capsys):
     assert "FPD-principal-directions:involute" in out and "beyond the print:" in out
 
 
+def test_the_summary_counts_only_applicable_checks():
+    """`1 of 3 checks verified` read as two failures; two were not applicable."""
+    from types import SimpleNamespace as R
+
+    from beveloid.derivations.registry import extra_summary
+
+    extra = [R(status="verified"), R(status="not applicable"), R(status="not applicable")]
+    assert extra_summary(extra) == "beyond the print: 1 of 1 applicable check verified (2 not applicable)"
+    assert extra_summary([R(status="verified"), R(status="differs")]) == (
+        "beyond the print: 1 of 2 applicable checks verified, 1 differ")
+
+
 def test_verify_progress_on_tty(fake_verify, capsys, monkeypatch):
     monkeypatch.setattr(sys.stderr, "isatty", lambda: True)
     cli.main(["verify", "--json"])

@@ -1,0 +1,50 @@
+"""A per-point speed leaves the one-time compilation out (issue 29, item 10): `beveloid sweep` makes
+the compiled solver ready first, reports that time apart and says once that it happens once."""
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from beveloid import cli, tca
+from beveloid.solver import backends
+
+REPO = Path(__file__).resolve().parents[2]
+C1 = str(REPO / "examples" / "case1.toml")
+
+pytestmark = pytest.mark.skipif(not backends.AVAILABLE, reason="numba is not installed: nothing is compiled")
+
+
+@pytest.fixture
+def slow_first_parallel_solve(monkeypatch):
+    """The first solve of more than SERIAL_MAX_SETS error sets (numba's parallel entry point, compiled
+    on its first use) takes 1 s longer, as a first compilation would."""
+    real = tca.solve_grid
+    state = {"first": True}
+
+    def solve_grid(geom, flank, errors, *a, **k):
+        if np.ndim(errors) == 2 and len(errors) > tca.SERIAL_MAX_SETS and state["first"]:
+            state["first"] = False
+            import time
+            time.sleep(1.0)
+        return real(geom, flank, errors, *a, **k)
+
+    monkeypatch.setattr(tca, "solve_grid", solve_grid)
+
+
+def test_the_compilation_is_not_in_the_per_point_time(capsys, slow_first_parallel_solve):
+    assert cli.main(["sweep", C1, "--samples", "100", "--positions", "5"]) == 0
+    text = capsys.readouterr().out
+    seconds, us_per_point = re.search(r"\(compiled, ([\d.]+) s, ([\d.]+) us/point", text).groups()
+    startup = re.search(r"compiled solver ready in ([\d.]+) s", text).group(1)
+    assert float(startup) >= 1.0
+    assert float(seconds) < 1.0 and float(us_per_point) < 1e6 / 500
+
+
+def test_the_table_says_once_that_compilation_happens_once(capsys):
+    assert cli.main(["sweep", C1, "--samples", "40", "--positions", "5"]) == 0
+    text = capsys.readouterr().out
+    assert text.count("compiles it once") == 1
+    assert "before the sweep (not in the time above)" in text.splitlines()[1]

@@ -1,0 +1,53 @@
+"""The numbers the docs quote are the numbers the code gives now (issue 29, item 9).
+
+docs/readme_numbers.py lists every quoted number with its page.  The cheap ones are computed here
+(package constants, one TCA of case 1); the expensive ones (the worked exploration, the
+verification's counts) come from docs/numbers.json, which `python docs/readme_numbers.py --record`
+writes by running the commands it names."""
+from __future__ import annotations
+
+import importlib.util
+import json
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+@pytest.fixture(scope="module")
+def numbers():
+    spec = importlib.util.spec_from_file_location("readme_numbers", REPO / "docs" / "readme_numbers.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_every_quoted_number_is_current(numbers):
+    rec = numbers.recorded()
+    wrong = []
+    for page, text, holds in numbers.quotes(numbers.cheap_numbers(), rec):
+        if text not in (REPO / page).read_text(encoding="utf-8") or not holds:
+            wrong.append(f"{page}: {text!r}")
+    assert not wrong, "stale numbers (see `python docs/readme_numbers.py --print`):\n" + "\n".join(wrong)
+
+
+def test_the_record_names_the_commands_that_made_it(numbers):
+    """docs/numbers.json is strict JSON and was made by the commands the script runs now."""
+    rec = json.loads((REPO / "docs" / "numbers.json").read_text(), parse_constant=lambda c: pytest.fail(c))
+    assert rec["explore"]["command"] == "beveloid " + " ".join(numbers.EXPLORE_ARGS) + " --out case1_explore"
+    assert rec["verify"]["command"] == "beveloid verify --json"
+    assert rec["verify"]["verified"] + rec["verify"]["definitions"] == rec["verify"]["equations"] == 38
+
+
+def test_readme_quotes_no_number_without_a_source():
+    """The README keeps its numbers to the paper's equation range and the commands' names: timings and
+    results live on the docs pages, each with its command."""
+    import re
+
+    text = (REPO / "README.md").read_text(encoding="utf-8")
+    text = re.sub(r"`[^`]*`|\([^)]*\.(png|md)\)|!\[[^\]]*\]", "", text)  # code, links, image captions
+    # the paper's equations, table and figures, the citation, "a 2-core machine"
+    allowed = {"1–38", "1-38", "1", "10-22", "24-25", "48–64", "59", "2013", "2", "6336"}  # 6336: the ISO standard's number
+    found = set(re.findall(r"\d+(?:[.,–-]\d+)*", text)) - allowed
+    assert not found, f"numbers in the README without a source: {sorted(found)}"
