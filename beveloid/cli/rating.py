@@ -26,6 +26,11 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--flank", choices=("left", "right"), default="right", help="loaded flank pair (default right)")
     p.add_argument("--positions", type=int, default=10, metavar="N",
                    help="LTCA pinion positions over one mesh cycle (default 10)")
+    p.add_argument("--tooth-model", choices=("fe", "plate"), default=None,
+                   help="the LTCA's tooth: fe = finite-element tooth with the root stress (default when gmsh and "
+                        "scikit-fem are installed; its data is cached per design), plate = fast, no root stress")
+    p.add_argument("--fe-refinement", type=int, default=1, metavar="N",
+                   help="FE tooth mesh refinement, 1-4 (default 1)")
     p.add_argument("--plot", metavar="OUT.png", help="write S_F and S_H along the face of both members here")
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
 
@@ -40,9 +45,13 @@ def run(args: argparse.Namespace) -> int:
     from ..spec import load_spec
 
     try:
-        options = rating.Options(torque_nm=args.torque_nm, flank=args.flank, positions=args.positions)
+        options = rating.Options(torque_nm=args.torque_nm, flank=args.flank, positions=args.positions,
+                                 tooth_model=args.tooth_model, fe_refinement=args.fe_refinement)
     except ValueError as exc:
-        raise UserError(str(exc).replace("torque_nm", "--torque-nm").replace("positions", "--positions")) from None
+        text = str(exc)
+        for key in ("torque_nm", "positions", "fe_refinement"):
+            text = text.replace(key, "--" + key.replace("_", "-"))
+        raise UserError(text) from None
     if args.plot is not None:
         check_output_file(args.plot, "--plot", ".png")
     pair = Pair.from_spec(load_spec(args.file))

@@ -30,6 +30,8 @@ class Options:
     flank: str = "right"
     positions: int = 10
     pairs: int = 3
+    tooth_model: str | None = None  # the LTCA's: None = "fe" when gmsh and scikit-fem import (root stress)
+    fe_refinement: int = 1
 
     def __post_init__(self):
         self.ltca_options(1.0)  # the LTCA's own range table checks the request
@@ -39,7 +41,7 @@ class Options:
         from ..ltca.options import Options as LTCAOptions
 
         return LTCAOptions(torque_nm=self.torque_nm * load_factor, flank=self.flank, positions=self.positions,
-                           pairs=self.pairs)
+                           pairs=self.pairs, tooth_model=self.tooth_model, fe_refinement=self.fe_refinement)
 
 
 @dataclass(frozen=True)
@@ -50,7 +52,7 @@ class LoadedContact:
     edge_pressure_max_mpa: float | None  # None: no edge contact
     contact_length_mm: float | None  # the shortest loaded length along the face of the most loaded pair
     root_stress_max_mpa: dict  # member -> FE root stress max over the cycle, None when not computed
-    root_stress_location: dict  # member -> where, or None
+    root_stress_location: dict  # member -> {face_z_mm, height_above_root_mm, pinion_angle_rad, tooth_pair} or None
     notes: tuple = ()
     peak_where: str = "mesh cycle peak"  # where the surface peak pressure is (pinion angle, tooth pair)
     peak_face_z_mm: dict = field(default_factory=dict)  # member -> face coordinate of that pair's patch centre
@@ -84,8 +86,21 @@ def loaded_contact(ltca_result, geometry) -> LoadedContact:
         notes.append("no LTCA position converged: local stresses are null")
     root = {m: None for m in MEMBERS}
     root_where = {m: None for m in MEMBERS}
-    notes.append("local root stress: not computed (the FE tooth model is not available in this build); "
-                 "root_stress_max_mpa and safety_bending are null, the ISO bending values stand alone")
+    if getattr(ltca_result, "tooth_model", "plate") == "fe":
+        top, at = ltca_result.root_stress_max_mpa(), ltca_result.root_stress_location()
+        for m in MEMBERS:
+            root[m] = top.get(m)
+            if at.get(m) is not None:
+                root_where[m] = {"face_z_mm": float(sections.face_z(geometry, m, at[m]["z_mm"])),
+                                 "height_above_root_mm": float(at[m]["height_mm"]),
+                                 "pinion_angle_rad": float(ltca_result.pinion_angle[at[m]["position"]]),
+                                 "tooth_pair": int(at[m]["pair"])}
+        notes.append("local root stress: the FE tooth's largest maximum principal stress in the loaded side's "
+                     "root fillet over the mesh cycle (LTCA tooth_model = fe)")
+    else:
+        notes.append("local root stress: not computed (the LTCA ran with the plate tooth, which has no root "
+                     "fillet; --tooth-model fe): root_stress_max_mpa and safety_bending are null, the ISO "
+                     "bending values stand alone")
     return LoadedContact(p_surf, p_edge, length, root, root_where, tuple(notes), where, face)
 
 
@@ -204,11 +219,20 @@ class MemberRating:
     member: str
     sections: dict  # "toe" | "middle" | "heel" -> SectionRating
     root_stress_max_mpa: float | None
-    root_stress_location: object
+    root_stress_location: dict | None  # LoadedContact.root_stress_location's entry
     contact_pressure_max_mpa: float | None
     safety_bending: float | None
     safety_pitting: float | None
     face: tuple = field(default=(), repr=False)  # SectionRating along the face (for the plot)
+
+    @property
+    def root_stress_where(self) -> str:
+        """The root stress peak's place in words (the verdict's "where")."""
+        w = self.root_stress_location
+        if w is None:
+            return "mesh cycle peak"
+        return (f"root fillet at face z {w['face_z_mm']:.1f} mm, {w['height_above_root_mm']:.2f} mm above the root "
+                f"cone (pinion angle {w['pinion_angle_rad'] * 1e3:.2f} mrad, tooth pair {w['tooth_pair']})")
 
     @property
     def safety_bending_iso(self) -> float:

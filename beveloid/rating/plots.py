@@ -23,7 +23,10 @@ def safety_along_face(result, geometry, path, title=""):
             ax.annotate(key, (s.face_z_mm, s.safety_pitting_iso), textcoords="offset points", xytext=(0, 6),
                         ha="center", fontsize=8)
         if m.safety_bending is not None:
-            ax.axhline(m.safety_bending, color="C0", ls="--", label="S_F local")
+            ax.axhline(m.safety_bending, color="C0", ls="--", label="S_F local (FE root stress peak)")
+            if m.root_stress_location is not None:
+                ax.plot([m.root_stress_location["face_z_mm"]], [m.safety_bending], "C0*", ms=11,
+                        label="where the root stress peaks")
         if m.safety_pitting is not None:
             ax.axhline(m.safety_pitting, color="C1", ls="--", label="S_H local (LTCA peak)")
             at = result.loaded.peak_face_z_mm.get(name)

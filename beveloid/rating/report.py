@@ -44,7 +44,7 @@ class RatingResult:
             for sec in m.sections.values():
                 out.append((sec.safety_bending_iso, "S_F", "iso", name, sec.section, f.S_Fmin))
                 out.append((sec.safety_pitting_iso, "S_H", "iso", name, sec.section, f.S_Hmin))
-            where = "mesh cycle peak" if m.root_stress_location is None else str(m.root_stress_location)
+            where = m.root_stress_where
             if m.safety_bending is not None:
                 out.append((m.safety_bending, "S_F", "local", name, where, f.S_Fmin))
             if m.safety_pitting is not None:
@@ -77,6 +77,7 @@ def to_json_dict(r: RatingResult) -> dict:
         out[name] = {
             "sections": {k: section_json(s) for k, s in m.sections.items()},
             "root_stress_max_mpa": _num(m.root_stress_max_mpa),
+            "root_stress_location": None if m.root_stress_location is None else dict(m.root_stress_location),
             "contact_pressure_max_mpa": _num(m.contact_pressure_max_mpa),
             "safety_bending": _num(m.safety_bending),
             "safety_pitting": _num(m.safety_pitting),
@@ -108,7 +109,8 @@ def table(r: RatingResult) -> str:
     for name, m in r.members.items():
         def fmt(v, f="{:.1f}"):
             return "null" if v is None else f.format(v)
-        rows.append(f"  {name}: root stress max {fmt(m.root_stress_max_mpa)} MPa, S_F {fmt(m.safety_bending, '{:.3f}')}"
+        at = "" if m.root_stress_location is None else f" ({m.root_stress_where})"
+        rows.append(f"  {name}: root stress max {fmt(m.root_stress_max_mpa)} MPa{at}, S_F {fmt(m.safety_bending, '{:.3f}')}"
                     f"; contact pressure max {fmt(m.contact_pressure_max_mpa)} MPa, S_H "
                     f"{fmt(m.safety_pitting, '{:.3f}')}; ISO min S_F {m.safety_bending_iso:.3f}, "
                     f"S_H {m.safety_pitting_iso:.3f}")

@@ -24,7 +24,7 @@ def case1_rating():
     d = spec_to_dict(load_example("case1"))
     d["rating"].update(K_A=1.25, K_v=1.1, pinion_speed_rpm=1000.0, life_hours=2000.0)
     pair = Pair.from_spec(spec_from_dict(d))
-    options = rating.Options(torque_nm=800.0, positions=2)
+    options = rating.Options(torque_nm=800.0, positions=2, tooth_model="plate")
     lt = ltca.analyze(pair, options.ltca_options(1.25 * 1.1), Solver())
     return pair, lt, rating.analyze(pair, options, ltca_result=lt)
 
@@ -117,7 +117,7 @@ def test_a_section_without_a_method_b_answer_is_null_with_its_reason(case1_ratin
         raise ValueError("method B: no fillet tangent of 30 deg (test)")
 
     monkeypatch.setattr(iso6336, "bending_geometry", no_tangent)
-    result = analysis.analyze(pair, rating.Options(torque_nm=800.0, positions=2), ltca_result=lt)
+    result = analysis.analyze(pair, rating.Options(torque_nm=800.0, positions=2, tooth_model="plate"), ltca_result=lt)
     out = rating.to_json_dict(result)
     json.dumps(out, allow_nan=False)
     assert all(v is None for v in out["pinion"]["sections"]["toe"].values())
