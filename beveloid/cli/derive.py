@@ -63,6 +63,10 @@ def _run_model(args: argparse.Namespace) -> int:
     if args.check or args.no_docs:
         raise UserError(f"{'--check' if args.check else '--no-docs'} with --model: those apply to the built-in "
                         "derivation only; drop it")
+    if args.out is not None:  # one rule for every output folder, before any work (cli/paths.py)
+        from .paths import check_output_dir
+
+        check_output_dir(args.out, "--out")
     from beveloid.derivations.user_model import ModelError, derive_model  # lazy: imports sympy
 
     try:

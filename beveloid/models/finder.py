@@ -4,9 +4,7 @@ from __future__ import annotations
 
 import sys
 
-PACKAGE = "beveloid.generated"
-#: the glue modules the hook may serve (the surface_* and layout_* modules of user models too)
-GLUE = ("surface_models", "tca_kernels", "tca_kernels_scalar")
+from .names import GLUE, PACKAGE
 
 
 class Finder:

@@ -30,7 +30,7 @@ from pathlib import Path
 
 from .discovery import GLUE_TEMPLATES, Catalog, discover
 
-from .finder import PACKAGE
+from .names import PACKAGE
 
 #: the environment variable of the cache folder (shared with the compiled solver's cache)
 CACHE_ENV = "BEVELOID_CACHE_DIR"
