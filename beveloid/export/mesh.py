@@ -8,8 +8,8 @@ grid the tooth's faces (:mod:`beveloid.export.sampling`) are walked in order rou
 
 so that each shared point is one vertex; consecutive sections are joined by two triangles per cell,
 the toe and heel each by one polygon per tooth (the section's tooth outline from the left fillet's root
-point to the right one's, closed by their chord: ear clipping, so an undercut outline that turns back
-in angle is closed as well) and the star-shaped rest, the root lands and those chords, by a fan from
+point to the right one's, closed by their chord: a ladder of rungs across the tooth, so an undercut
+outline that turns back in angle is closed as well) and the star-shaped rest, the root lands and those chords, by a fan from
 the axis (no bore) or by a strip to the bore circle.  The grids are refined until the generated
 surface at every cell's centre (points not used for the mesh) lies within the chord tolerance of the
 cell's two triangles.
@@ -100,42 +100,35 @@ def _angles_round(outline, z, member):
     """Polar angles of a section's outline, unwrapped from its first point (n + 1: the last closes)."""
     ang = np.arctan2(outline[:, 1], outline[:, 0])
     step = np.angle(np.exp(1j * (np.roll(ang, -1) - ang)))  # outline point k -> k + 1, round the gear
-    if np.any(step < -1e-12) or abs(step.sum() - 2 * np.pi) > 1e-6:
+    if np.any(step < -1e-9) or abs(step.sum() - 2 * np.pi) > 1e-6:  # a pointed tip's two ends: ~1e-10 apart
         raise ExportGeometryError(f"{member}: the transverse section at z = {z:.3f} mm is not star-shaped about the"
                                   " axis (its outline turns back): the STL end faces cannot be closed")
     return ang[0] + np.concatenate([[0.0], np.cumsum(step)])
 
 
-def _ear_clip(xy, member, z):
-    """Triangles (k, 3) of the simple polygon xy (n, 2), counter-clockwise (+z normals) whatever its order."""
-    area2 = np.sum(xy[:, 0] * np.roll(xy[:, 1], -1) - np.roll(xy[:, 0], -1) * xy[:, 1])
-    idx = list(range(len(xy))) if area2 > 0 else list(range(len(xy)))[::-1]
-    tris = []
-    while len(idx) > 3:
-        m, pts = len(idx), xy[idx]
-        prev, nxt = np.roll(pts, 1, axis=0), np.roll(pts, -1, axis=0)
-        cross = (pts[:, 0] - prev[:, 0]) * (nxt[:, 1] - prev[:, 1]) - (pts[:, 1] - prev[:, 1]) * (nxt[:, 0] - prev[:, 0])
-        scale = np.max(np.abs(cross)) + 1e-300
-        for t in np.argsort(-cross):  # the most convex corners first
-            if cross[t] <= 1e-12 * scale:
-                break
-            a, b, c = prev[t], pts[t], nxt[t]
-            others = np.delete(pts, [(t - 1) % m, t, (t + 1) % m], axis=0)
-            d = [(q[1] - p[1]) * (others[:, 0] - p[0]) - (q[0] - p[0]) * (others[:, 1] - p[1])
-                 for p, q in ((a, b), (b, c), (c, a))]
-            if not np.any((d[0] >= 0) & (d[1] >= 0) & (d[2] >= 0)):  # no other corner in or on the ear
-                tris.append((idx[(t - 1) % m], idx[t], idx[(t + 1) % m]))
-                del idx[t]
-                break
+def _tooth_cap(ring_xy, top, root_start):
+    """Triangles (k, 3) of one tooth's outline in a section (ring points 0 .. root_start, closed by the chord
+    from the right fillet's root point back to the left one's), +z normals: a ladder between its left
+    side (0 up to the tip land's right end ``top``, radius growing) and its right side (root_start up to
+    the point below ``top``), rungs in order of radius.  An undercut outline turns back in angle but not in radius, so
+    every rung lies across the tooth; a pointed tip's land of zero width gives triangles of no area."""
+    radius = np.hypot(ring_xy[:, 0], ring_xy[:, 1])
+    left = np.arange(0, top + 1)
+    right = np.arange(root_start, top, -1)  # up to the point below the top: the edge (top, top + 1) closes it
+    a, b = np.maximum.accumulate(radius[left]), np.maximum.accumulate(radius[right])
+    a[a > b[-1]] = b[-1]  # the tip land's points: reached before the right side's last rung
+    out, i, k = [], 0, 0
+    while i < len(left) - 1 or k < len(right) - 1:
+        if k == len(right) - 1 or (i < len(left) - 1 and a[i + 1] <= b[k + 1]):
+            out.append((left[i], left[i + 1], right[k]))
+            i += 1
         else:
-            t = int(np.argmin(np.abs(cross)))  # only flat corners left: drop one (a triangle of no area)
-            if abs(cross[t]) > 1e-12 * scale:
-                raise ExportGeometryError(f"{member}: the tooth's outline in the section z = {z:.3f} mm crosses"
-                                          " itself: the STL end faces cannot be closed")
-            tris.append((idx[(t - 1) % m], idx[t], idx[(t + 1) % m]))
-            del idx[t]
-    tris.append(tuple(idx))
-    return np.array(tris)
+            out.append((left[i], right[k + 1], right[k]))
+            k += 1
+    tris = np.array(out)
+    p = ring_xy[tris]
+    area2 = np.sum((p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1]) - (p[:, 1, 1] - p[:, 0, 1]) * (p[:, 2, 0] - p[:, 0, 0]))
+    return tris if area2 > 0 else tris[:, ::-1]
 
 
 def _stitch(outer_angles, inner_angles):
@@ -164,7 +157,7 @@ def _bore_ring(radius_mm, chord_mm):
 def build_mesh(geometry, member: str, bore_diameter_mm: float = 0.0, chord_um: float = 3.0,
                first=FIRST_GRID) -> MemberMesh:
     """The member's closed mesh in S_i, vertices on the generated surfaces, within chord_um of them."""
-    sampler = ToothSampler(geometry, member)
+    sampler = ToothSampler(geometry, member, allow_pointed=True)
     sampler.check_bore(bore_diameter_mm)
     toe, heel = sampler.z_range_mm
     z_range = (min(toe, heel), max(toe, heel))
@@ -174,6 +167,7 @@ def build_mesh(geometry, member: str, bore_diameter_mm: float = 0.0, chord_um: f
     rings = np.concatenate([rotate_z(ring, k * sampler.pitch_angle_rad) for k in range(n_t)])  # (n, n_z, 3)
     n, per_tooth = len(rings), len(ring)
     root_start = sum(samples[face][0] - 1 for face, _ in RING[:-1])  # the right fillet's root point
+    top = sum(samples[face][0] - 1 for face, _ in RING[:3])  # the right flank's top: the tip land's right end
     # the end faces: per tooth its outline (ring 0 .. root_start) closed by a chord, and the rest inside
     # the root circle (each tooth's two root points and its root land), star-shaped about the axis
     base = np.concatenate([[0], np.arange(root_start, per_tooth)])
@@ -189,7 +183,7 @@ def build_mesh(geometry, member: str, bore_diameter_mm: float = 0.0, chord_um: f
     bore_rings = []
     for j, flip in ((0, True), (n_z - 1, False)):  # the toe's normal is -z, the heel's +z
         outer = _angles_round(rings[sel, j], z[j], member)
-        tooth = _ear_clip(ring[:root_start + 1, j, :2], member, z[j])
+        tooth = _tooth_cap(ring[:root_start + 1, j, :2], top, root_start)
         tooth_caps = np.concatenate([index[k * per_tooth + tooth, j] for k in range(n_t)])
         tris.append(tooth_caps[:, ::-1] if flip else tooth_caps)
         if bore is None:

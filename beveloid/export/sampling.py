@@ -47,8 +47,12 @@ class ToothSampler:
 
     geometry: object  # beveloid.geometry.PairGeometry
     member: str
+    #: end the flanks of a pointed section where they cross (a tip land of zero width), else refuse it
+    allow_pointed: bool = False
     #: (flank, z) -> (l, psi) of the form limit (tooth.profile.form_limit is a search: done once per section)
     _forms: dict = field(default_factory=dict, compare=False, repr=False)
+    #: z -> the radius where a pointed section's flanks cross (a root search: once per section)
+    _tops: dict = field(default_factory=dict, compare=False, repr=False)
 
     @property
     def data(self):
@@ -95,16 +99,48 @@ class ToothSampler:
             raise ExportGeometryError(f"{self.member} {flank} flank: no flank point found in a section "
                                       "(Newton on u)") from None
 
-    def flank_tip(self, flank, z):
-        """(l, u) where the flank meets the tip cone in the sections z (tooth.profile.flank_at_radius)."""
+    def _flank_at(self, flank, z, radius):
+        """(point, l, u) of the flank at radii in the sections z (tooth.profile.flank_at_radius)."""
         from ..tooth.profile import NoSolution, flank_at_radius
 
-        z = np.asarray(z, dtype=float)
         try:
-            _, l, u = flank_at_radius(self.geometry, self.member, flank, z, self.tip_radius_mm(z),
-                                      l0=self.data.tip_height_mm + self.data.cutter_addendum_mm)
+            return flank_at_radius(self.geometry, self.member, flank, z, radius,
+                                   l0=self.data.tip_height_mm + self.data.cutter_addendum_mm)
         except NoSolution:
             raise ExportGeometryError(f"{self.member} {flank} flank: it does not reach the tip cone") from None
+
+    def angular_width(self, z, radius, strict=True):
+        """The tooth's angle (rad) from its left to its right flank at radii in the sections z (< 0: crossed;
+        with ``strict=False`` NaN where a flank point is not found, else ExportGeometryError)."""
+        if strict:
+            return _signed_angle(self._flank_at("left", z, radius)[0], self._flank_at("right", z, radius)[0])
+        from ..tooth.profile import flank_at_radius
+
+        l0 = self.data.tip_height_mm + self.data.cutter_addendum_mm
+        pts = [flank_at_radius(self.geometry, self.member, f, z, radius, l0=l0, strict=False)[0] for f in FLANKS]
+        return _signed_angle(*pts)
+
+    def top_radius_mm(self, z):
+        """Where the flanks end in the sections z: the tip cone, or, in a pointed section (``allow_pointed``),
+        the radius where the two flanks cross, below the tip cone (the tooth as it really ends)."""
+        z = np.asarray(z, dtype=float)
+        r = np.array(self.tip_radius_mm(z), dtype=float)
+        if not self.allow_pointed:
+            return r
+        flat_z, flat_r = np.atleast_1d(z).ravel(), np.atleast_1d(r).ravel().copy()
+        pointed = np.nonzero(np.atleast_1d(self.angular_width(z, r)).ravel() <= 0)[0]
+        new = [k for k in pointed if float(flat_z[k]) not in self._tops]
+        if new:
+            for k, radius in zip(new, _crossing_radii(self, flat_z[new], flat_r[new])):
+                self._tops[float(flat_z[k])] = radius
+        for k in pointed:
+            flat_r[k] = self._tops[float(flat_z[k])]
+        return flat_r.reshape(np.shape(r))
+
+    def flank_tip(self, flank, z):
+        """(l, u) where the flank ends in the sections z (:meth:`top_radius_mm`; tooth.profile.flank_at_radius)."""
+        z = np.asarray(z, dtype=float)
+        _, l, u = self._flank_at(flank, z, self.top_radius_mm(z))
         return l, u
 
     def form_limits(self, flank, z):
@@ -177,11 +213,12 @@ class ToothSampler:
                     " carried by the root fillet model, so the tooth's surfaces do not close")
         tips = [self.flank_points(f, np.array([1.0]), z)[0] for f in FLANKS]
         width = _signed_angle(tips[0], tips[1]) * self.tip_radius_mm(z)
-        if np.min(width) <= 1e-3:
+        if not self.allow_pointed and np.min(width) <= 1e-3:
             k = int(np.argmin(width))
             raise ExportGeometryError(
-                f"{self.member}: the tooth is pointed at z = {z[k]:.3f} mm (tip land {width[k]:.4f} mm):"
-                " export needs a tip land over the whole face")
+                f"{self.member}: the tooth is pointed at z = {z[k]:.3f} mm (tip land {width[k]:.4f} mm): a STEP"
+                " solid needs a tip land over the whole face (its tip face would collapse to a curve); STL"
+                " (--format stl) ends the flanks where they cross")
         for flank in FLANKS:
             r = np.hypot(*np.moveaxis(self.flank_points(flank, s, z)[..., :2], -1, 0))
             if np.any(np.diff(r, axis=0) <= 0):
@@ -195,6 +232,33 @@ class ToothSampler:
         if np.min(land) <= 1e-3:
             raise ExportGeometryError(f"{self.member}: the root fillets of neighbouring teeth meet (no root land):"
                                       " export needs a root land")
+
+
+def _crossing_radii(sampler: ToothSampler, z, tip_radius, scan=24, halvings=45):
+    """The radii where pointed sections' two flanks cross (the tooth's angular width is zero), between the
+    larger base circle and the tip cone, for the sections z at once: a scan of radii, then bisection on the
+    last bracket from a positive width to a crossed one (NaN, a point Newton did not find, is skipped)."""
+    from ..tooth import sections
+
+    sec = sections.section(sampler.geometry, sampler.member, sections.face_z(sampler.geometry, sampler.member, z))
+    lo = np.minimum(np.maximum(sec.base_radius_left, sec.base_radius_right) * (1 + 1e-9), tip_radius)
+    t = np.linspace(0.0, 1.0, scan)[:, None]
+    radii = lo[None, :] + t * (tip_radius - lo)[None, :]
+    width = sampler.angular_width(np.broadcast_to(z, radii.shape), radii, strict=False)
+    open_ = (width[:-1] > 0) & (width[1:] <= 0)  # NaN compares False: no bracket through it
+    if not open_.any(axis=0).all():
+        k = int(np.argmin(open_.any(axis=0)))
+        raise ExportGeometryError(f"{sampler.member}: at z = {z[k]:.3f} mm the flanks cross at or inside the base"
+                                  " circle (a pointed tooth with no involute up to its point): its flanks cannot be"
+                                  " built")
+    j = open_.shape[0] - 1 - np.argmax(open_[::-1], axis=0)  # the last bracket, nearest the tip
+    cols = np.arange(len(z))
+    a, b = radii[j, cols], radii[j + 1, cols]
+    for _ in range(halvings):
+        mid = 0.5 * (a + b)
+        positive = sampler.angular_width(z, mid, strict=False) > 0
+        a, b = np.where(positive, mid, a), np.where(positive, b, mid)
+    return 0.5 * (a + b)
 
 
 def form_limits(sampler: ToothSampler, flank, z):

@@ -49,12 +49,16 @@ def fillet_in_section(geometry, member, flank, z, psi, u0=0.0):
     return fillet_kernels.fillet(geometry, member, flank, psi, u).point, u
 
 
-def flank_at_radius(geometry, member, flank, z, radius, l0=None):
+def flank_at_radius(geometry, member, flank, z, radius, l0=None, strict=True):
     """(point, l, u) of the flank at a radius in the section z (solver.section's Newton), elementwise
-    over z and radius (floats l, u for scalar input)."""
+    over z and radius (floats l, u for scalar input).  Where Newton does not converge: NoSolution, or
+    with ``strict=False`` NaN there."""
     m = geometry.member(member)
     start = m.cutter_addendum_mm / np.cos(geometry.normal_pressure_angle) if l0 is None else l0
     sp = point_at_radius(m.tooth_surface, flank, geometry.surface_params(member), radius, z, start)
+    if not strict:
+        bad = ~np.asarray(sp.converged)
+        return (np.where(bad[..., None], np.nan, sp.point), np.where(bad, np.nan, sp.l_mm), np.where(bad, np.nan, sp.u_mm))
     if not sp.converged.all():
         raise NoSolution(f"no {member} {flank} flank point at radius {radius} mm in the section z = {z} mm")
     return (sp.point, float(sp.l_mm), float(sp.u_mm)) if sp.l_mm.ndim == 0 else (sp.point, sp.l_mm, sp.u_mm)

@@ -47,3 +47,33 @@ def test_a_section_without_involute_up_to_the_tip_is_refused_in_one_line():
     with pytest.raises(ExportGeometryError, match=r"^pinion: at z = -?\d+\.\d{3} mm the left flank has no involute up"
                                                  r" to the tip \(its tip circle lies inside the base circle"):
         sampler.check_buildable(np.linspace(*sorted(sampler.z_range_mm), 5))
+
+
+def test_a_pointed_section_ends_where_the_flanks_cross():
+    """A pinion pointed toward its heel: with allow_pointed (the STL path) both flanks end at the same point,
+    at the radius where the section's involutes cross (tooth.tip, from the derived section: independent of
+    the sampler's Newton on the surfaces), below the tip cone; the STEP path refuses it in one line."""
+    import tomllib
+
+    from beveloid.pair import Pair
+    from beveloid.spec import example_text
+    from beveloid.tooth import sections, tip
+
+    d = tomllib.loads(example_text("case1"))
+    d["pair"].update(offset_mm=146.0 / 3, normal_module_mm=2.0)
+    d["pinion"].update(teeth=13, cone_angle_deg=8.0, profile_shift=0.45, face_width_mm=21.0)
+    d["gear"].update(face_width_mm=10.0)
+    g = Pair.from_spec(d).geometry
+    t = tip.tip_thickness(g, "pinion")
+    assert t.pointed and t.pointed_to_mm == 10.5
+    z_face = 0.5 * (t.pointed_from_mm + t.pointed_to_mm)
+    z = float(sections.member_z(g, "pinion", z_face))
+    sampler = ToothSampler(g, "pinion", allow_pointed=True)
+    ends = [sampler.flank_points(f, np.array([1.0]), np.array([z]))[0, 0] for f in ("left", "right")]
+    assert np.linalg.norm(ends[0] - ends[1]) <= 1e-6
+    radius = float(np.hypot(*ends[0][:2]))
+    assert radius == pytest.approx(tip.pointed_tip_radius(g, "pinion", z_face), abs=1e-6)
+    assert radius < float(sampler.tip_radius_mm(z)) - 0.01
+    with pytest.raises(ExportGeometryError, match=r"^pinion: the tooth is pointed at z = .*STL \(--format stl\) ends"
+                                                 r" the flanks where they cross$"):
+        ToothSampler(g, "pinion").check_buildable(np.linspace(*sorted(sampler.z_range_mm), 5))
