@@ -1,10 +1,11 @@
 """Designs per second of `beveloid explore`: the batched path against one design at a time, and
 one local worker against two.
 
-    python benchmarks/bench_explore.py [--designs 2048] [--single 64] [--no-workers]
+    python benchmarks/bench_explore.py [--designs 2048] [--single 64] [--no-workers] [--tooth 64]
+    python benchmarks/bench_explore.py --against CHECKOUT [--rounds 3]   # before / after in one run
 
-Rows (status, working data, FPD angles, both flanks' sensitivities and worst path shifts) of
-case 1 with the pinion cone angle and helix angle varied over a grid that includes infeasible
+Rows (status, working data, FPD angles, both flanks' sensitivities and worst path shifts; the
+whole-tooth checks of a row timed apart, --tooth) of case 1 with the pinion cone angle and helix angle varied over a grid that includes infeasible
 designs.  The batched path is beveloid.explore.rows.compute over chunks of 256 designs in this
 process; the one-design-at-a-time path is what a script does today: Pair.from_spec(spec) (design() and the
 geometry) and tca.sensitivity on both flanks, for the first --single designs of the same grid
@@ -38,12 +39,28 @@ def _plan(n):
 
 
 def batched(plan, chunk=256):
-    rows.compute(plan, 0, min(chunk, plan.count), DEFAULT_RANGES)  # warm-up
+    """Designs per second of the design and the sensitivities (rows.compute without the whole-tooth checks,
+    timed apart by :func:`tooth_cost`): the number the explore's batched path is held to."""
+    rows.compute(plan, 0, min(chunk, plan.count), DEFAULT_RANGES, tooth_checks=False)  # warm-up
     t, c = time.perf_counter(), time.process_time()
     ok = 0
     for s in range(0, plan.count, chunk):
-        ok += int((rows.compute(plan, s, min(plan.count, s + chunk), DEFAULT_RANGES)["status"] == "ok").sum())
+        cols = rows.compute(plan, s, min(plan.count, s + chunk), DEFAULT_RANGES, tooth_checks=False)
+        ok += int((cols["status"] == "ok").sum())
     return plan.count / (time.perf_counter() - t), plan.count / (time.process_time() - c), ok
+
+
+def tooth_cost(plan, count):
+    """CPU ms per design that passes the design's checks of the whole-tooth checks of a row (the first
+    ``count`` designs of the grid: rows.compute with minus without them)."""
+    rows.compute(plan, 0, 4, DEFAULT_RANGES)  # warm-up
+    c = time.process_time()
+    cols = rows.compute(plan, 0, count, DEFAULT_RANGES, tooth_checks=False)
+    without = time.process_time() - c
+    c = time.process_time()
+    cols = rows.compute(plan, 0, count, DEFAULT_RANGES)
+    passed = int(np.count_nonzero(np.isin(cols["status"], ("ok", "pointed", "undercut", "tooth_check_failed"))))
+    return (time.process_time() - c - without) / max(passed, 1) * 1e3, passed
 
 
 def one_at_a_time(plan, count):
@@ -93,13 +110,39 @@ def workers(plan, n):
         with tempfile.TemporaryDirectory() as out:
             runner.prepare(out, req, resume=False)
             t = time.perf_counter()
-            complete, _ = runner.execute(out, req, ex)
-            assert complete
+            stop, _ = runner.execute(out, req, ex)
+            assert stop is None
             rate = plan.count / (time.perf_counter() - t)
         cpu = {}
-        for _, (pid, seconds, _) in ex.map_unordered(_timed_chunk, [(req.to_json(), i) for i in range(req.chunks)]):
+        tasks = [runner.ChunkTask(req.to_json(), i) for i in range(req.chunks)]
+        for _, (pid, seconds, _) in ex.map_unordered(_timed_chunk, tasks):
             cpu[pid] = cpu.get(pid, 0.0) + seconds
     return rate, cpu
+
+
+_BATCHED = ("import os, sys; sys.path[:0] = [os.getcwd(), os.path.join(os.getcwd(), 'benchmarks')];"
+            " from bench_explore import _plan, batched; r = batched(_plan({designs})); print(r[0], r[1])")
+
+
+def against(other: str, rounds: int, designs: int) -> None:
+    """:func:`batched` of another checkout (``other``, e.g. a worktree of the commit before a change) and of
+    this one, alternating in one run, each in a fresh process (its own beveloid); the ratios after/before."""
+    import os
+    import subprocess
+
+    here = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    runs = {"before": [], "after": []}
+    for i in range(rounds):
+        for label, where in (("before", other), ("after", here)):
+            out = subprocess.run([sys.executable, "-c", _BATCHED.format(designs=designs)], cwd=where, check=True,
+                                 capture_output=True, text=True).stdout.split()
+            runs[label].append((float(out[-2]), float(out[-1])))
+            print(f"round {i + 1} {label:6} ({where}): {runs[label][-1][0]:6.0f} designs/s wall,"
+                  f" {runs[label][-1][1]:6.0f} per CPU second (load {os.getloadavg()[0]:.1f})", flush=True)
+    for k, what in ((0, "wall"), (1, "CPU")):
+        ratios = [a[k] / b[k] for a, b in zip(runs["after"], runs["before"])]
+        print(f"after / before, {what}: " + ", ".join(f"{r:.3f}" for r in ratios)
+              + f"; mean {np.mean(ratios):.3f}")
 
 
 def main(argv=None):
@@ -107,7 +150,15 @@ def main(argv=None):
     ap.add_argument("--designs", type=int, default=2048)
     ap.add_argument("--single", type=int, default=64)
     ap.add_argument("--no-workers", action="store_true")
+    ap.add_argument("--tooth", type=int, default=64, metavar="N",
+                    help="time the whole-tooth checks on the first N designs (0: not)")
+    ap.add_argument("--against", metavar="CHECKOUT",
+                    help="only: the batched rate of CHECKOUT (before) and of this checkout (after), alternating")
+    ap.add_argument("--rounds", type=int, default=3, help="with --against: alternations (default 3)")
     a = ap.parse_args(argv)
+    if a.against:
+        against(a.against, a.rounds, a.designs)
+        return 0
     plan = _plan(a.designs)
     import os
 
@@ -115,10 +166,15 @@ def main(argv=None):
     rate, cpu_rate, ok = batched(plan)
     single, cpu_single = one_at_a_time(plan, a.single)
     print(f"grid: {plan.count} designs of case 1 ({ok} ok), pinion cone x helix angle")
-    print(f"batched (rows.compute, chunks of 256, 1 process):  {rate:8.0f} designs/s wall, {cpu_rate:8.0f} per CPU second")
+    print(f"batched design + sensitivities (rows.compute, chunks of 256, 1 process, no whole-tooth checks):"
+          f"  {rate:8.0f} designs/s wall, {cpu_rate:8.0f} per CPU second")
     print(f"one at a time (Pair.from_spec + 2 x tca.sensitivity, first {a.single}): {single:8.0f} designs/s wall,"
           f" {cpu_single:8.0f} per CPU second")
     print(f"speed-up of the batched path: {rate / single:.1f}x wall, {cpu_rate / cpu_single:.1f}x CPU")
+    if a.tooth:
+        ms_tooth, passed = tooth_cost(plan, a.tooth)
+        print(f"whole-tooth checks (undercut, tip; first {a.tooth} designs, {passed} pass the design's checks):"
+              f" {ms_tooth:.0f} CPU ms per design checked, {1e3 / ms_tooth:.1f} designs/s")
     ms, done = monte_carlo(plan, 16)
     print(f"--mc 40 --mc-positions 20: {ms:.0f} ms per design ({done} designs)")
     if not a.no_workers:

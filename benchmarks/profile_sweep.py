@@ -52,21 +52,20 @@ def _loops():
 
     @numba.njit
     def evals(problem, x, phi, e, n):
-        ws, F, J, Je, Jp, _, _, _, _ = scratch()
+        w = scratch()
         s = 0.0
         for i in range(n):
-            evaluate(problem, x, phi + 1e-12 * i, e, ws, F, J, Je, Jp)
-            s += F[0]
+            evaluate(problem, x, phi + 1e-12 * i, e, w)
+            s += w.F[0]
         return s
 
     @numba.njit
-    def candidates(problem, blanks, first, second, x, phi, e, n):
-        ws = scratch()[0]
-        ews, margins, F, J, Je, Jp, _, _, _, _ = edge_scratch()
+    def candidates(problem, first, second, x, phi, e, n):
+        es = edge_scratch()
         s = 0.0
         for i in range(n):
-            candidate(problem, blanks, first, second, x, phi + 1e-12 * i, e, ws, ews, F, J, Je, Jp, margins)
-            s += F[0]
+            candidate(problem, first, second, x, phi + 1e-12 * i, e, es)
+            s += es.F[0]
         return s
 
     @numba.njit
@@ -80,13 +79,13 @@ def _loops():
         return s
 
     @numba.njit
-    def margins(problem, x, phi, e, b1, b2, n):
-        ws, F, J, Je, Jp, _, _, _, _ = scratch()
-        evaluate(problem, x, phi, e, ws, F, J, Je, Jp)
+    def margins(problem, x, phi, e, n):
+        w = scratch()
+        evaluate(problem, x, phi, e, w)
         s = 0.0
         for _ in range(n):
             x[0] += 1e-12
-            m, _ = margin_fn(x, b1, b2, ws)
+            m, _ = margin_fn(x, problem.pinion_blank, problem.gear_blank, w.ws)
             s += m
         return s
 
@@ -139,7 +138,6 @@ def main():
         geom = Pair.from_spec(ROOT / "examples" / "case1.toml").geometry
     ref = tca.reference_contact(geom, "right")
     problem = geom.problem("right")
-    blanks = (geom.pinion.blank(), geom.gear.blank())
     e = np.zeros(5)
     x, phi = ref.x.copy(), ref.pinion_angle
     s = tca.evaluate(geom, "right", ref.x, ref.pinion_angle, e)
@@ -147,12 +145,11 @@ def main():
     evals, candidates, solves, margins = _loops()
     rows = [
         ("contact system + Jacobians (1 evaluation)", _best(evals, (problem, x, phi, e), a.repeats)),
-        ("edge candidate system (pinion form limit)", _best(candidates, (problem, blanks, 0, -1, x, phi, e), a.repeats)),
+        ("edge candidate system (pinion form limit)", _best(candidates, (problem, 0, -1, x, phi, e), a.repeats)),
         ("corner candidate system (pinion form limit, gear form limit)",
-         _best(candidates, (problem, blanks, 0, 4, x, phi, e), a.repeats)),
+         _best(candidates, (problem, 0, 4, x, phi, e), a.repeats)),
         ("5x5 solve (partial pivoting)", _best(solves, (J.copy(), F.copy()), a.repeats)),
-        ("flank boundary check (margins of both members)", _best(margins, (problem, x.copy(), phi, e, *blanks),
-                                                                 a.repeats)),
+        ("flank boundary check (margins of both members)", _best(margins, (problem, x.copy(), phi, e), a.repeats)),
     ]
     sweep.sweep(geom, "right", samples=100, positions=50)
     r = sweep.sweep(geom, "right", samples=10_000, positions=50)

@@ -19,3 +19,11 @@ if not _os.path.isdir(_os.path.join(_here, "generated")) and all(
         _os.path.isfile(_os.path.join(_checkout, d, "__init__.py")) for d in ("generated", "derivations")):
     __path__.append(_checkout)
 del _here, _checkout
+
+# Tooth-surface models beyond the built-in ones (docs/models.md): an import hook serves them and
+# the glue that dispatches to them into beveloid.generated; nothing is read before the first
+# import of a glue module, and nothing is served when there are none.
+from .models.finder import install as _install_models  # noqa: E402
+
+_install_models()
+del _install_models

@@ -22,12 +22,16 @@ null with its status beside it.
 from __future__ import annotations
 
 import math
+import typing
 from dataclasses import dataclass, replace
 
 import numpy as np
 
 from . import curvature
 from .generated import flank_boundaries, tca_kernels
+from .solver.chord import ChordFrame
+from .solver.core import GEAR_ANGLE, GEAR_L, GEAR_U, PINION_L, PINION_U
+from .solver.records import ChordRequest
 from .status import Status, carries_numbers
 
 DEFAULT_APPROACH_MM = 0.00632
@@ -49,9 +53,10 @@ def check_approach(approach_mm, name="--approach-um", scale=1e3, unit="um"):
     return v
 
 
-@dataclass
+@dataclass(frozen=True)
 class ContactEllipses:
-    """Contact ellipses at n points (NaN where a number is not defined; ``status`` says why)."""
+    """Contact ellipses at n points (NaN where a number is not defined; ``status`` says why);
+    immutable, its JSON by :meth:`to_json_dict`."""
 
     approach_mm: float
     errors: np.ndarray  # (n, 5) the error sets of the points
@@ -79,22 +84,36 @@ class ContactEllipses:
         }
 
 
+class MemberFrame(typing.NamedTuple):
+    """A member at n contacts: its placement in S_f and its flank parameters there."""
+
+    rotation: np.ndarray  # (n, 3, 3) L
+    translation: np.ndarray  # (n, 3) t
+    l: np.ndarray  # noqa: E741  (n,) mm
+    u: np.ndarray  # (n,) mm
+
+    def rows(self, idx) -> "MemberFrame":
+        return self._make(a[idx] for a in self)  # every field, the same rows
+
+
 def _member_frames(geom, x, pinion_angle, errors):
-    """Per member: (surface params, model, rotation L (n,3,3), translation (n,3), l, u)."""
+    """Per member: its :class:`MemberFrame` at the contacts x (n, 5) (tca_kernels.UNKNOWNS)."""
     from .generated import placement
 
     pair = geom.placement()
     p1 = placement.pinion_placement(pinion_angle, pair)
-    p2 = placement.gear_placement(x[:, 4], errors, pair)
-    return {"pinion": (p1.rotation, p1.translation, x[:, 0], x[:, 1]),
-            "gear": (p2.rotation, p2.translation, x[:, 2], x[:, 3])}
+    p2 = placement.gear_placement(x[:, GEAR_ANGLE], errors, pair)
+    return {"pinion": MemberFrame(rotation=p1.rotation, translation=p1.translation, l=x[:, PINION_L], u=x[:, PINION_U]),
+            "gear": MemberFrame(rotation=p2.rotation, translation=p2.translation, l=x[:, GEAR_L], u=x[:, GEAR_U])}
 
 
-def _over_tangent(geom, which, flank, L, t, l, u, P0, E, target, iters=8):
-    """(l, u) and member-frame point of the flank point whose tangent-plane coordinates about P0
-    (basis rows E, S_f) are ``target`` (n, 2); Newton from (l, u)."""
+def _over_tangent(geom, which, flank, frame: ChordFrame, l, u, target, iters=8):
+    """(l, u) and member-frame point of the flank point whose tangent-plane coordinates about
+    frame.origin P0 (basis rows frame.basis E, S_f; the member placed by frame.rotation L and
+    frame.translation t, all (n, ...)) are ``target`` (n, 2); Newton from (l, u)."""
     m = geom.member(which)
     params = geom.surface_params(which)
+    L, t, P0, E = frame.rotation, frame.translation, frame.origin, frame.basis
     Ei = E @ L  # basis in S_i
     P0i = np.einsum("nji,nj->ni", L, P0 - t)
     for _ in range(iters):
@@ -117,8 +136,10 @@ def _chord(geom, flank, frames, P0, E, v2, cap):
     boundary of either member, at most cap (n,)."""
     n = P0.shape[0]
     out = cap.copy()
-    for which, (L, t, l0, u0) in frames.items():
-        start = _min_margin(geom, which, _over_tangent(geom, which, flank, L, t, l0, u0, P0, E, 0 * v2)[2], l0)
+    for which, member in frames.items():
+        l0, u0 = member.l, member.u
+        frame = ChordFrame(rotation=member.rotation, translation=member.translation, origin=P0, basis=E)
+        start = _min_margin(geom, which, _over_tangent(geom, which, flank, frame, l0, u0, 0 * v2)[2], l0)
         thr = np.minimum(start, 0.0) - 1e-9  # an 'edge' contact may sit just outside
         s_lo = np.zeros(n)
         s_hi = np.full(n, np.inf)
@@ -126,7 +147,7 @@ def _chord(geom, flank, frames, P0, E, v2, cap):
         lo_lu = (l.copy(), u.copy())
         for s in np.linspace(0, 1, _SAMPLES + 1)[1:]:
             open_ = ~np.isfinite(s_hi)
-            l, u, p = _over_tangent(geom, which, flank, L, t, l, u, P0, E, (s * cap)[:, None] * v2, iters=4)
+            l, u, p = _over_tangent(geom, which, flank, frame, l, u, (s * cap)[:, None] * v2, iters=4)
             bad = (_min_margin(geom, which, p, l) < thr) & open_
             s_hi = np.where(bad, s * cap, s_hi)
             keep = open_ & ~bad
@@ -138,7 +159,7 @@ def _chord(geom, flank, frames, P0, E, v2, cap):
             ll, uu = lo_lu
             for _ in range(_BISECTIONS):
                 mid = 0.5 * (lo + hi)
-                l2, u2, p = _over_tangent(geom, which, flank, L, t, ll, uu, P0, E, mid[:, None] * v2, iters=4)
+                l2, u2, p = _over_tangent(geom, which, flank, frame, ll, uu, mid[:, None] * v2, iters=4)
                 inside = _min_margin(geom, which, p, l2) >= thr
                 lo, hi = np.where(inside, mid, lo), np.where(inside, hi, mid)
                 ll, uu = np.where(inside, l2, ll), np.where(inside, u2, uu)
@@ -161,16 +182,14 @@ def _compiled_chord(kernel, geom, flank, frames, P0, E, v2, cap):
     """:func:`_chord` by the compiled solver's ``kernel`` (the same search, one point at a time)."""
     members = ("pinion", "gear")
     out = np.empty(P0.shape[0])
-    kernel(
-        np.array([tca_kernels.model_id(geom.member(w).tooth_surface) for w in members], dtype=np.int64),
-        tca_kernels.flank_id(flank), geom.surface_params("pinion"), geom.surface_params("gear"),
-        geom.member("pinion").blank(), geom.member("gear").blank(),
-        np.ascontiguousarray(np.stack([frames[w][0] for w in members]), dtype=float),
-        np.ascontiguousarray(np.stack([frames[w][1] for w in members]), dtype=float),
-        np.ascontiguousarray(np.stack([np.stack(frames[w][2:], axis=-1) for w in members]), dtype=float),
-        np.ascontiguousarray(P0, dtype=float), np.ascontiguousarray(E, dtype=float),
-        np.ascontiguousarray(v2, dtype=float), np.ascontiguousarray(cap, dtype=float),
-        np.linspace(0, 1, _SAMPLES + 1)[1:], _BISECTIONS, out)
+    c = np.ascontiguousarray
+    request = ChordRequest(
+        rotations=c(np.stack([frames[w].rotation for w in members]), dtype=float),
+        translations=c(np.stack([frames[w].translation for w in members]), dtype=float),
+        start_lu=c(np.stack([np.stack((frames[w].l, frames[w].u), axis=-1) for w in members]), dtype=float),
+        points=c(P0, dtype=float), bases=c(E, dtype=float), directions=c(v2, dtype=float), caps=c(cap, dtype=float),
+        samples=np.linspace(0, 1, _SAMPLES + 1)[1:], bisections=_BISECTIONS)
+    kernel(geom.problem(flank), request, out)
     return out
 
 
@@ -213,7 +232,7 @@ def ellipses(geom, flank, x, pinion_angle, errors, valid=None, approach_mm=DEFAU
     trunc = np.full((n, 2), np.nan)
     if has_axis.any():
         idx = np.nonzero(has_axis)[0]
-        frames = {k: tuple(arr[idx] for arr in fr) for k, fr in _member_frames(geom, xs, phi1, errors).items()}
+        frames = {k: fr.rows(idx) for k, fr in _member_frames(geom, xs, phi1, errors).items()}
         kernel = chord_kernel(backend)
         for col, sign in ((0, -1.0), (1, 1.0)):
             args = (geom, flank, frames, rc.point[idx], rc.basis[idx], sign * v2[idx], cap[idx])
@@ -239,7 +258,9 @@ def with_ellipses(result, approach_mm=DEFAULT_APPROACH_MM, backend="auto"):
 
 
 def attach(result, approach_mm=DEFAULT_APPROACH_MM):
-    """:func:`with_ellipses`, or ``result`` itself when it already carries them at this approach."""
+    """Deprecated (the form before ``tca.Options.approach_mm``; kept for its callers in
+    beveloid/studies and benchmarks/): :func:`with_ellipses`, or ``result`` itself when it already
+    carries them at this approach.  Like it, a new result: ``result`` is not changed."""
     if result.approach_mm == approach_mm and all(fr.contact_ellipse is not None for fr in result.flanks.values()):
         return result
     return with_ellipses(result, approach_mm)

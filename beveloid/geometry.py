@@ -11,11 +11,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import names
 from .generated import flank_boundaries, layouts, root_fillet, surface_models, tca_kernels
+from .solver.records import Problem
 
 BOUNDARIES = flank_boundaries.BOUNDARIES
 
-MEMBERS = ("pinion", "gear")
+MEMBERS = names.MEMBERS  # Member.PINION, Member.GEAR: equal to "pinion", "gear"
 
 
 @dataclass(frozen=True)
@@ -49,7 +51,30 @@ class Member:
         """(toe, heel) axial positions in S_i, centred on the working pitch circle (z = b_c)."""
         c = self.reference_section_offset_mm
         w = self.face_width_mm / 2
+        if np.ndim(self.cone_angle):  # the members of many designs
+            up = self.cone_angle >= 0
+            return np.where(up, c - w, c + w), np.where(up, c + w, c - w)
         return (c - w, c + w) if self.cone_angle >= 0 else (c + w, c - w)
+
+    @classmethod
+    def from_design(cls, m, normal_module_mm, normal_pressure_angle, spec_member) -> "Member":
+        """From a designed member ``m`` (a :class:`beveloid.design.MemberDesign`, or the members of many
+        designs by the same field names: :class:`beveloid.design.checks.MemberArrays`) and its spec
+        section (``tooth_surface``, ``surface_options``, ``cutter_tip_radius_coefficient``)."""
+        mn = normal_module_mm
+        rho = getattr(spec_member, "cutter_tip_radius_coefficient", 0.0) * mn
+        form = junction_l(normal_pressure_angle, rho, mn)
+        return cls(
+            teeth=_number(m.teeth, int), helix_angle=m.helix_angle, cone_angle=m.cone_angle,
+            cutter_addendum_mm=m.cutter_addendum_mm, rack_shift_mm=m.rack_shift_mm,
+            pitch_radius_mm=m.reference_pitch_radius_mm, working_pitch_radius_mm=m.working_pitch_radius_mm,
+            working_mounting_distance_mm=m.working_mounting_distance_mm,
+            reference_section_offset_mm=m.reference_section_offset_mm, face_width_mm=m.face_width_mm,
+            tip_height_mm=m.addendum_coefficient * mn, pitch_point_angle=m.pitch_point_angle,
+            tooth_surface=getattr(spec_member, "tooth_surface", "involute"),
+            surface_options=tuple(sorted(dict(getattr(spec_member, "surface_options", ()) or ()).items())),
+            cutter_tip_radius_mm=rho, form_limit_l_mm=_number(form, float) if np.ndim(m.cone_angle) == 0 else
+            np.broadcast_to(form, np.shape(m.cone_angle)))
 
     def tip_radius(self, z):
         """Tip cone radius at axial positions z (S_i): the generated tip margin of a point at radius r, plus r."""
@@ -59,11 +84,21 @@ class Member:
         return r + flank_boundaries.flank_margins(point, 0.0, self.blank()).margins[..., BOUNDARIES.index("tip")]
 
     def blank(self) -> np.ndarray:
+        """The FlankBlank vector (fields,), or (n, fields) for the members of n designs."""
         toe, heel = self.face_limits
-        return np.asarray(layouts.FlankBlank.pack(dict(
+        return pack_rows(layouts.FlankBlank, dict(
             pitch_radius_mm=self.pitch_radius_mm, tip_height_mm=self.tip_height_mm, rack_shift_mm=self.rack_shift_mm,
-            cone_angle=self.cone_angle, toe_z_mm=toe, heel_z_mm=heel, form_limit_l_mm=self.form_limit_l_mm)),
-            dtype=float)
+            cone_angle=self.cone_angle, toe_z_mm=toe, heel_z_mm=heel, form_limit_l_mm=self.form_limit_l_mm))
+
+
+def _number(x, kind):
+    """A Python int or float for one design; the arrays of many designs as they are."""
+    return kind(x) if np.ndim(x) == 0 else x
+
+
+def pack_rows(layout, values) -> np.ndarray:
+    """A generated layout filled by field name: (fields,) for one design, (n, fields) for arrays of n."""
+    return np.ascontiguousarray(np.stack(np.broadcast_arrays(*layout.pack(values)), axis=-1), dtype=float)
 
 
 def junction_l(normal_pressure_angle, tip_radius_mm, normal_module_mm):
@@ -79,7 +114,10 @@ def junction_l(normal_pressure_angle, tip_radius_mm, normal_module_mm):
 
 @dataclass(frozen=True)
 class PairGeometry:
-    """Everything the TCA needs: the designed pair in mm and rad."""
+    """Everything the TCA needs: the designed pair in mm and rad.
+
+    One design (floats), or many (each field an array of n designs, one surface model per member:
+    ``beveloid explore``'s batched contact at P); the parameter vectors then have a leading axis n."""
 
     normal_module_mm: float
     normal_pressure_angle: float
@@ -95,28 +133,14 @@ class PairGeometry:
     @classmethod
     def from_design(cls, result) -> "PairGeometry":
         """From a :class:`beveloid.design.DesignResult` (surface models from its spec)."""
-        mn = result.normal_module_mm
-
-        def member(m, spec_member):
-            rho = getattr(spec_member, "cutter_tip_radius_coefficient", 0.0) * mn
-            return Member(
-                teeth=int(m.teeth), helix_angle=m.helix_angle, cone_angle=m.cone_angle,
-                cutter_addendum_mm=m.cutter_addendum_mm, rack_shift_mm=m.rack_shift_mm,
-                pitch_radius_mm=m.reference_pitch_radius_mm, working_pitch_radius_mm=m.working_pitch_radius_mm,
-                working_mounting_distance_mm=m.working_mounting_distance_mm,
-                reference_section_offset_mm=m.reference_section_offset_mm, face_width_mm=m.face_width_mm,
-                tip_height_mm=m.addendum_coefficient * mn, pitch_point_angle=m.pitch_point_angle,
-                tooth_surface=getattr(spec_member, "tooth_surface", "involute"),
-                surface_options=tuple(sorted(dict(getattr(spec_member, "surface_options", ()) or ()).items())),
-                cutter_tip_radius_mm=rho, form_limit_l_mm=float(junction_l(result.normal_pressure_angle, rho, mn)))
-
-        spec = result.spec
+        mn, spec = result.normal_module_mm, result.spec
         return cls(mn, result.normal_pressure_angle, result.offset_mm, result.shaft_angle,
-                   member(result.pinion, spec.pinion), member(result.gear, spec.gear))
+                   Member.from_design(result.pinion, mn, result.normal_pressure_angle, spec.pinion),
+                   Member.from_design(result.gear, mn, result.normal_pressure_angle, spec.gear))
 
     def member(self, which: str) -> Member:
         if which not in MEMBERS:
-            raise ValueError(f"member must be one of {MEMBERS}, got {which!r}")
+            raise ValueError(f"member must be one of {', '.join(MEMBERS)}, got {which!r}")
         return getattr(self, which)
 
     def surface_values(self, which: str) -> dict:
@@ -134,20 +158,25 @@ class PairGeometry:
         return values
 
     def surface_params(self, which: str) -> np.ndarray:
-        """The member's parameter vector for its surface model (tca_kernels.pack_surface_params)."""
-        return tca_kernels.pack_surface_params(self.member(which).tooth_surface, self.surface_values(which))
+        """The member's parameter vector for its surface model, zero-padded to tca_kernels.PARAMETER_COUNT
+        ((n, PARAMETER_COUNT) for n designs)."""
+        fields = pack_rows(tca_kernels.SURFACE_LAYOUTS[self.member(which).tooth_surface], self.surface_values(which))
+        out = np.zeros(fields.shape[:-1] + (tca_kernels.PARAMETER_COUNT,))
+        out[..., :fields.shape[-1]] = fields
+        return out
 
     def placement(self) -> np.ndarray:
-        return np.asarray(layouts.PairPlacement.pack(dict(
+        return pack_rows(layouts.PairPlacement, dict(
             offset_mm=self.offset_mm, shaft_angle=self.shaft_angle,
             pinion_axial_placement_mm=self.pinion.axial_placement_mm,
-            gear_axial_placement_mm=self.gear.axial_placement_mm)), dtype=float)
+            gear_axial_placement_mm=self.gear.axial_placement_mm))
 
-    def problem(self, flank: str):
-        """The solver core's problem tuple for one flank (see beveloid/solver/core.py)."""
-        return (tca_kernels.model_id(self.pinion.tooth_surface), tca_kernels.model_id(self.gear.tooth_surface),
-                tca_kernels.flank_id(flank), self.surface_params("pinion"), self.surface_params("gear"),
-                self.placement())
+    def problem(self, flank: str) -> Problem:
+        """The solver core's problem for one flank (beveloid/solver/records.py)."""
+        return Problem(pinion_model=tca_kernels.model_id(self.pinion.tooth_surface),
+                       gear_model=tca_kernels.model_id(self.gear.tooth_surface), flank=tca_kernels.flank_id(flank),
+                       pinion_params=self.surface_params("pinion"), gear_params=self.surface_params("gear"),
+                       pair=self.placement(), pinion_blank=self.pinion.blank(), gear_blank=self.gear.blank())
 
     @property
     def pitch_angles(self):

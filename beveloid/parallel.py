@@ -136,6 +136,18 @@ class WarmUp(_PluginBase):
         warm_up(self.initializer)
 
 
+def _lost_chunk_errors() -> tuple[type[BaseException], ...]:
+    """The exception types by which Dask says a chunk is lost (not a bug in the chunk's function)."""
+    import asyncio
+    import concurrent.futures
+
+    from distributed import KilledWorker
+    from distributed.comm.core import CommClosedError
+
+    # distributed's FutureCancelledError derives from concurrent.futures.CancelledError
+    return KilledWorker, CommClosedError, asyncio.CancelledError, concurrent.futures.CancelledError
+
+
 class _Dask:
     def __init__(self, address: str, initializer=None):
         self.address = address
@@ -177,10 +189,8 @@ class _Dask:
             for fut in as_completed(futures):
                 try:
                     result = fut.result()
-                except Exception as exc:  # KilledWorker, a lost connection: keep what finished
-                    if type(exc).__name__ in ("KilledWorker", "CommClosedError", "CancelledError", "FutureCancelledError"):
-                        raise WorkLost(f"the Dask cluster lost a chunk ({type(exc).__name__}: {exc})") from None
-                    raise
+                except _lost_chunk_errors() as exc:  # KilledWorker, a lost connection: keep what finished
+                    raise WorkLost(f"the Dask cluster lost a chunk ({type(exc).__name__}: {exc})") from None
                 yield index[fut.key], result
         finally:
             self._client.cancel([f for f in futures if not f.done()])
@@ -198,49 +208,3 @@ def executor(workers: int | None = None, scheduler: str | None = None, initializ
     if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= 1024:
         raise UserError(f"--workers = {workers}: must be an integer from 1 to 1024")
     return _Serial() if n == 1 else _Local(n, initializer)
-
-
-# ---------------------------------------------------------------------------
-# beveloid sweep --workers / --scheduler: chunks of error sets
-# ---------------------------------------------------------------------------
-
-
-def draw_errors_chunk(start: int, stop: int, ranges: dict, seed: int, nominal) -> "np.ndarray":
-    """Error sets start..stop-1 of ``sweep.draw_errors(samples, ranges, seed, nominal)``, drawn on their own:
-    the chunk's generator is the seed's PCG64 stream advanced past the 5 * start draws before it.
-    ``ranges``: every half-width (sweep.DEFAULT_RANGES with the caller's overrides)."""
-    import numpy as np
-
-    from . import assembly_errors
-
-    half = assembly_errors.to_layout(ranges)
-    centre = assembly_errors.to_layout(dict(nominal or {}))
-    bits = np.random.PCG64(seed)
-    bits.advance(len(half) * start)
-    return centre + np.random.Generator(bits).uniform(-1.0, 1.0, (stop - start, len(half))) * half
-
-
-def sweep_chunk(task: tuple):
-    """One chunk of a sweep: (errors, x, status codes, Newton iterations) of its error sets."""
-    from . import tca
-
-    geom, flank, start, stop, ranges, seed, nominal, grid, backend, options = task
-    single_threaded()
-    errors = draw_errors_chunk(start, stop, ranges, seed, nominal)
-    sol = tca.solve_grid(geom, flank, errors, grid, backend, options)
-    return errors, sol.x, sol.status, sol.iterations
-
-
-def sweep_chunks(ex, geom, flank, samples, chunk, ranges, seed, nominal, grid, backend, options, out, progress=None,
-                 t0=0.0):
-    """Solve every chunk of a sweep on the executor ``ex`` into out = (errors, X, C, IT) arrays."""
-    starts = list(range(0, samples, chunk))
-    tasks = [(geom, flank, s, min(samples, s + chunk), ranges, seed, nominal, grid, backend, options) for s in starts]
-    done = 0
-    for k, parts in ex.map_unordered(sweep_chunk, tasks):
-        sl = slice(starts[k], min(samples, starts[k] + chunk))
-        for dst, src in zip(out, parts):
-            dst[sl] = src
-        done += sl.stop - sl.start
-        if progress:
-            progress(done, samples, t0)

@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
@@ -43,16 +44,54 @@ def check_sweep_size(samples, positions, flags=False):
                              f" sweeps with different seeds")
 
 
-def draw_errors(samples, ranges=None, seed=0, nominal=None):
-    """Uniform error sets (K, 5) in (mm, mm, mm, rad, rad) about ``nominal``.
+def draw_errors(samples, ranges=None, seed=0, nominal=None, start=0):
+    """Uniform error sets (K, 5) in (mm, mm, mm, rad, rad) about ``nominal``: sets start .. start +
+    samples - 1 of the seed's stream.
 
     ``ranges`` are half-widths and ``nominal`` the centre (dicts keyed like DEFAULT_RANGES: mm / deg;
-    missing nominal keys are 0).
+    missing range keys take DEFAULT_RANGES, missing nominal keys are 0).  The generator is the seed's
+    PCG64 stream advanced past the 5 * start draws before the first set, so a chunk of sets drawn on its
+    own (on any worker) is the same as that part of the whole draw: the one draw of the package.
     """
     half = assembly_errors.to_layout(dict(DEFAULT_RANGES, **(ranges or {})))
     centre = assembly_errors.to_layout(dict(nominal or {}))
-    rng = np.random.default_rng(seed)
-    return centre + rng.uniform(-1.0, 1.0, (samples, 5)) * half
+    bits = np.random.PCG64(seed)
+    bits.advance(len(half) * start)
+    return centre + np.random.Generator(bits).uniform(-1.0, 1.0, (samples, len(half))) * half
+
+
+class ChunkTask(NamedTuple):
+    """One chunk of a sweep, as a worker receives it: error sets start .. stop - 1 on the angle grid."""
+
+    geometry: object
+    flank: str
+    start: int
+    stop: int
+    ranges: dict
+    seed: int
+    nominal: dict
+    grid: np.ndarray
+    solver: object
+
+
+class ChunkSolution(NamedTuple):
+    """What a worker returns for a chunk: its error sets and, per set and angle, the unknowns, the status
+    codes and the Newton iterations."""
+
+    errors: np.ndarray
+    x: np.ndarray
+    status: np.ndarray
+    iterations: np.ndarray
+
+
+def solve_chunk(task: ChunkTask) -> ChunkSolution:
+    """The error sets of one chunk, drawn on their own, solved (what a worker runs; module level: pickled)."""
+    from .parallel import single_threaded
+
+    single_threaded()
+    errors = draw_errors(task.stop - task.start, task.ranges, task.seed, task.nominal, start=task.start)
+    sol = tca.solve_grid(task.geometry, task.flank, errors, task.grid, task.solver)
+    return ChunkSolution(errors, sol.x, sol.status, sol.iterations)
 
 
 def engagement_window(geom, flank, ref=None, resolution=400, backend: "tca.Solver | str" = "auto"):
@@ -97,6 +136,12 @@ class SweepResult:
     #: centre of the error distribution (mm / deg keys like DEFAULT_RANGES); the file's [misalignment] in the CLI
     nominal_errors: dict = field(default_factory=lambda: {k: 0.0 for k in DEFAULT_RANGES})
     seconds_total: float = float("nan")  # the whole sweep: window, aligned path, solve, statistics
+
+    def to_json(self) -> str:
+        """The JSON contract (strict: no NaN)."""
+        import json
+
+        return json.dumps(self.to_json_dict(), allow_nan=False)
 
     @property
     def contact_points_solved(self):
@@ -164,6 +209,11 @@ def mesh_te_peak_to_peak(te, m, first, sign):
     return mesh.peak_to_peak(env)
 
 
+def _solve_in_place(task: ChunkTask, errors):
+    sol = tca.solve_grid(task.geometry, task.flank, errors[task.start:task.stop], task.grid, task.solver)
+    return sol.x, sol.status, sol.iterations
+
+
 def sweep(geom, flank="right", samples=1000, positions=50, seed=0, ranges=None, backend="auto",
           options=None, progress=None, chunk=2000, nominal=None, executor=None):
     """Run the sweep; ``progress`` is a callable(done, total, t0) or None (beveloid.progress).
@@ -175,8 +225,8 @@ def sweep(geom, flank="right", samples=1000, positions=50, seed=0, ranges=None, 
     (as tca's), the neighbouring pairs being the same path a pitch earlier or later.
 
     ``executor`` (beveloid.parallel.executor(workers, scheduler)) solves the chunks of ``chunk``
-    error sets on local processes or a Dask cluster, each chunk drawing its own sets (the same as
-    without it: parallel.draw_errors_chunk).
+    error sets on local processes or a Dask cluster (:func:`solve_chunk`), each chunk drawing its own
+    sets (the same as without it: :func:`draw_errors` from the chunk's start).
 
     Error sets are drawn uniformly within ``ranges`` (half-widths) about ``nominal`` (mm / deg dicts).
     """
@@ -195,17 +245,20 @@ def sweep(geom, flank="right", samples=1000, positions=50, seed=0, ranges=None, 
     X = np.empty((samples, positions, 5))
     C = np.empty((samples, positions), dtype=np.int64)
     IT = np.empty((samples, positions), dtype=np.int64)
-    if executor is not None:
-        from .parallel import sweep_chunks
-
-        sweep_chunks(executor, geom, flank, samples, chunk, dict(DEFAULT_RANGES, **(ranges or {})), seed, nominal,
-                     grid, solver, None, (errors, X, C, IT), progress, t0)
-    for start in range(0, samples if executor is None else 0, chunk):
-        sl = slice(start, min(samples, start + chunk))
-        sol = tca.solve_grid(geom, flank, errors[sl], grid, solver)
-        X[sl], C[sl], IT[sl] = sol.x, sol.status, sol.iterations
+    starts = list(range(0, samples, chunk))
+    tasks = [ChunkTask(geom, flank, s, min(samples, s + chunk), dict(DEFAULT_RANGES, **(ranges or {})), seed,
+                       dict(nominal or {}), grid, solver) for s in starts]
+    if executor is None:  # in this process, on the sets drawn above
+        solved = ((k, ChunkSolution(errors[t.start:t.stop], *_solve_in_place(t, errors))) for k, t in enumerate(tasks))
+    else:
+        solved = executor.map_unordered(solve_chunk, tasks)
+    done = 0
+    for k, part in solved:
+        sl = slice(tasks[k].start, tasks[k].stop)
+        errors[sl], X[sl], C[sl], IT[sl] = part.errors, part.x, part.status, part.iterations
+        done += sl.stop - sl.start
         if progress:
-            progress(sl.stop, samples, t0)
+            progress(done, samples, t0)
     seconds = time.perf_counter() - t0
     ok = carries_numbers(C)
     P1, P2 = tca.solved_contact_points(geom, flank, X, C, solver)
@@ -233,3 +286,62 @@ def sweep(geom, flank="right", samples=1000, positions=50, seed=0, ranges=None, 
                        sensitivity=sens, backend=solver.backend, seconds=seconds, newton_iterations_mean=float(IT.mean()),
                        ranges=r, nominal_errors={k: 0.0 for k in DEFAULT_RANGES} | dict(nominal or {}),
                        seconds_total=time.perf_counter() - t_start)
+
+
+#: largest seed (the CLI's --seed)
+MAX_SEED = 2 ** 63 - 1
+
+
+@dataclass(frozen=True)
+class Options:
+    """A Monte Carlo sweep: ``samples`` error sets x ``positions`` contact positions on ``flank``; the sets
+    uniform within the half-widths ``ranges`` about ``nominal`` (dicts keyed like DEFAULT_RANGES, mm / deg;
+    missing range keys take DEFAULT_RANGES, missing nominal keys are 0), drawn from ``seed``; solved in
+    chunks of ``chunk`` sets.  Validates itself: a bad value raises a one-line OptionError (key, value,
+    what is valid; SweepSizeError for the sizes)."""
+
+    flank: str = "right"
+    samples: int = 1000
+    positions: int = 50
+    seed: int = 0
+    ranges: dict = field(default_factory=lambda: dict(DEFAULT_RANGES))
+    nominal: dict = field(default_factory=lambda: {k: 0.0 for k in DEFAULT_RANGES})
+    chunk: int = 2000
+
+    def __post_init__(self):
+        from .errors import OptionError
+
+        if self.flank not in tca.FLANKS:
+            raise OptionError("flank", self.flank, f"must be one of {', '.join(tca.FLANKS)}")
+        check_sweep_size(self.samples, self.positions)
+        for key, value, lo, hi in (("seed", self.seed, 0, MAX_SEED), ("chunk", self.chunk, 1, 10_000_000)):
+            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not lo <= value <= hi:
+                raise OptionError(key, value, f"must be an integer from {lo} to {hi}")
+        for name, given in (("ranges", self.ranges), ("nominal", self.nominal)):
+            unknown = set(given) - set(DEFAULT_RANGES)
+            if unknown:
+                raise OptionError(f"{name}.{sorted(unknown)[0]}", given[sorted(unknown)[0]],
+                                  f"not an error; valid: {', '.join(DEFAULT_RANGES)}")
+        ranges = dict(DEFAULT_RANGES, **self.ranges)
+        nominal = {k: 0.0 for k in DEFAULT_RANGES} | dict(self.nominal)
+        for key, half in ranges.items():
+            limit, unit = assembly_errors.BY_KEY[key].limit, assembly_errors.BY_KEY[key].unit
+            if not (isinstance(half, (int, float, np.floating)) and 0 <= half < limit):
+                raise OptionError(f"ranges.{key}", half, f"must be >= 0 and < {limit:g} ({unit})")
+            if not abs(nominal[key]) + half <= limit:
+                raise OptionError(f"ranges.{key}", half, f"about nominal {nominal[key]:g} reaches"
+                                  f" {abs(nominal[key]) + half:g}; |nominal| + half-width must be <= {limit:g} ({unit})")
+        object.__setattr__(self, "ranges", ranges)
+        object.__setattr__(self, "nominal", nominal)
+
+
+def analyze(pair, options: Options = Options(), solver: "tca.Solver | str" = "auto", executor=None,
+            progress=None) -> SweepResult:
+    """The sweep of ``options`` on a :class:`beveloid.pair.Pair` (or its PairGeometry): an immutable
+    :class:`SweepResult` (``to_json_dict()`` / ``to_json()``).  ``solver``: a :class:`beveloid.solver.Solver`
+    or a backend name; ``executor``: beveloid.parallel.executor(...) for the chunks (the same numbers on
+    one worker, N workers and a cluster); ``progress``: callable(done, total, t0) or None."""
+    if not isinstance(options, Options):
+        raise TypeError(f"sweep.analyze needs a sweep.Options, not {type(options).__name__}")
+    return sweep(pair, options.flank, options.samples, options.positions, options.seed, options.ranges, solver,
+                 progress=progress, chunk=options.chunk, nominal=options.nominal, executor=executor)

@@ -506,25 +506,45 @@ def design_module():
     ], constants={"MEMBER_OUTPUTS": member_output_names()}, extra_layouts=(MEMBER_DESIGN,))
 
 
+def glue_context(models=None):
+    """The context the glue templates render from: plain data (names, counts, keys), so that the
+    runtime can compose the glue of built-in and user models without sympy (beveloid/models/)."""
+    models = models or SURFACE_MODELS
+    ctx = dict(models=[model_entry(k, m) for k, m in models.items()])
+    ctx.update(glue_base())
+    return ctx
+
+
+def glue_base():
+    """The model-independent part of the glue context (flanks, unknowns, errors, boundaries)."""
+    return dict(flanks=[f for f, _ in FLANKS], unknowns=list(UNKNOWNS), n_errors=len(ERRORS.fields),
+                boundaries=list(flank_boundaries.BOUNDARIES),
+                opposite=[flank_boundaries.BOUNDARIES.index(flank_boundaries.OPPOSITE[b])
+                          for b in flank_boundaries.BOUNDARIES])
+
+
+def model_entry(name, model):
+    """One model's entry of the glue context: its modules, layout, parameter count and input keys."""
+    lay = surface_layout(name, model)
+    fields = {f.name: f for f in getattr(model, "PARAMETERS", ())}
+    return dict(name=name, module=f"surface_{name}", layout=lay.name, nparams=len(lay.fields),
+                input_keys=[dict(name=k, unit=fields[k].unit, doc=fields[k].doc, default=float(d), lo=float(lo),
+                                 hi=float(hi)) for k, (d, lo, hi) in getattr(model, "KEYS", {}).items()],
+                selected_by=list(getattr(model, "SELECTED_BY", ())),
+                choice_keys=[dict(name=k, doc=fields[k].doc, default=d,
+                                  choices=[dict(name=c, value=float(v)) for c, v in ch.items()])
+                             for k, (d, ch) in getattr(model, "CHOICE_KEYS", {}).items()])
+
+
+#: the glue modules and their templates
+GLUE_TEMPLATES = {"tca_kernels.py": "tca_kernels.py.jinja", "tca_kernels_scalar.py": "tca_kernels_scalar.py.jinja",
+                  "surface_models.py": "surface_models.py.jinja"}
+
+
 def glue_files(models=None):
     """The generated glue: model dispatch and the composed contact system, numpy and scalar."""
-    models = models or SURFACE_MODELS
-    ctx = dict(models=[dict(name=k, module=f"surface_{k}", layout=surface_layout(k, m).name,
-                            nparams=len(surface_layout(k, m).fields)) for k, m in models.items()],
-               flanks=[f for f, _ in FLANKS], unknowns=UNKNOWNS, n_errors=len(ERRORS.fields),
-               boundaries=flank_boundaries.BOUNDARIES,
-               opposite=[flank_boundaries.BOUNDARIES.index(flank_boundaries.OPPOSITE[b])
-                         for b in flank_boundaries.BOUNDARIES])
-    for m, (name, model) in zip(ctx["models"], models.items()):
-        fields = {f.name: f for f in getattr(model, "PARAMETERS", ())}
-        m["input_keys"] = [dict(name=k, unit=fields[k].unit, doc=fields[k].doc, default=float(d), lo=float(lo), hi=float(hi))
-                     for k, (d, lo, hi) in getattr(model, "KEYS", {}).items()]
-        m["selected_by"] = list(getattr(model, "SELECTED_BY", ()))
-        m["choice_keys"] = [dict(name=k, doc=fields[k].doc, default=d, choices=[dict(name=c, value=float(v)) for c, v in ch.items()])
-                            for k, (d, ch) in getattr(model, "CHOICE_KEYS", {}).items()]
-    return {"tca_kernels.py": codegen.render_template("tca_kernels.py.jinja", **ctx),
-            "tca_kernels_scalar.py": codegen.render_template("tca_kernels_scalar.py.jinja", **ctx),
-            "surface_models.py": codegen.render_template("surface_models.py.jinja", **ctx)}
+    ctx = glue_context(models)
+    return {name: codegen.render_template(tpl, **ctx) for name, tpl in GLUE_TEMPLATES.items()}
 
 
 def module_specs(models=None):

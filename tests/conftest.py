@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import contextlib
 import hashlib
+import os
 import tempfile
 import warnings
 from pathlib import Path
@@ -35,6 +36,10 @@ except ImportError:  # not POSIX: no lock, each process compiles (or loads the c
     fcntl = None
 
 ROOT = Path(__file__).resolve().parents[1]
+
+# The suite runs on the built-in tooth-surface models only: an empty user model folder (docs/models.md),
+# whatever the machine's own holds; tests of user models give theirs to the processes they start.
+os.environ["BEVELOID_MODELS_DIR"] = tempfile.mkdtemp(prefix="beveloid-test-models-")
 
 
 @pytest.fixture(scope="session")
@@ -135,6 +140,7 @@ def _compile_solver():
     from beveloid import ltca, tca
     from beveloid.pair import Pair
     from beveloid.solver import backends
+    from beveloid.solver.records import settings
 
     def geometry():
         geom = Pair.from_spec(ROOT / "examples" / "case1.toml").geometry
@@ -146,8 +152,8 @@ def _compile_solver():
         lambda geom, ref: tca.solve_grid(geom, "right", np.zeros((tca.SERIAL_MAX_SETS + 1, 5)), [ref.pinion_angle],
                                          backend="compiled"),
         lambda geom, ref: backends.namespace("compiled").solve_point(
-            geom.problem("right"), ref.x.copy(), ref.pinion_angle, np.zeros(5), geom.gear.working_pitch_radius_mm,
-            tca.newton_tolerance(geom), 3),
+            geom.problem("right"), ref.x.copy(), ref.pinion_angle, np.zeros(5),
+            settings(scale_mm=geom.gear.working_pitch_radius_mm, tol_mm=tca.newton_tolerance(geom), max_iter=3)),
         lambda geom, ref: ltca.analyze(geom, 100.0, "right", positions=2, pairs=1, backend="compiled"),
     )
     # only a head start: whatever fails here, the tests run (and report) the same code themselves

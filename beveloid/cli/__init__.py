@@ -44,7 +44,7 @@ USER_ERRORS = (SpecError, UserError)
 #: The commands, in the order ``beveloid --help`` lists them; each is the module
 #: ``beveloid.cli.<name>`` with ``configure(parser)`` and ``run(args) -> int``.
 COMMANDS: tuple[str, ...] = ("verify", "derive", "design", "tca", "ltca", "paper", "sweep", "example", "export",
-                             "explore")
+                             "explore", "rating", "models")
 
 
 def command(name: str):

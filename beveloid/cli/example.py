@@ -17,6 +17,8 @@ def configure(p: argparse.ArgumentParser) -> None:
                    help="which example: " + ", ".join(f"{k} ({v})" for k, v in EXAMPLES.items()))
     p.add_argument("--schema", action="store_true",
                    help="print every key of a spec file (required/default, valid values, meaning) instead")
+    p.add_argument("--model", action="append", default=[], metavar="NAME",
+                   help="with --schema: include the keys of this user model (repeatable; `beveloid models` lists them)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -30,9 +32,23 @@ def run(args: argparse.Namespace) -> int:
     if args.schema:
         if args.name is not None:
             raise UserError(f"NAME = {args.name} with --schema: give one of them, not both")
-        sys.stdout.write(key_schema_text() + "\n")
+        _check_models(args.model)
+        sys.stdout.write(key_schema_text(tuple(args.model)) + "\n")
         return 0
+    if args.model:
+        raise UserError(f"--model {args.model[0]} without --schema: --model selects the user model keys --schema prints")
     if args.name is None:
         raise UserError(f"NAME is missing: give one of {', '.join(EXAMPLES)} (or --schema for the keys)")
     sys.stdout.write(example_text(args.name))
     return 0
+
+
+def _check_models(names) -> None:
+    from ..errors import UserError
+    from ..models import catalog
+
+    cat = catalog()
+    for name in names:
+        problem = cat.problem(name)
+        if problem:
+            raise UserError(f"--model {name}: {problem}")

@@ -12,7 +12,7 @@ import json
 import sys
 import time
 
-from ..errors import UserError
+from ..errors import StopReason, UserError
 
 TOLERANCE_NAMES = {"dx": "dx_mm", "dy": "dy_mm", "dz": "dz_mm", "vertical": "vertical_deg",
                    "horizontal": "horizontal_deg"}
@@ -143,13 +143,14 @@ def run(args: argparse.Namespace) -> int:
     else:
         req = _request(args)
         check_output_dir(out, "--out")
-        req = runner.prepare(out, req, resume=False)
+        req = runner.prepare(out, req, resume=False, log=lambda line: print(line, file=sys.stderr))
     t0 = time.perf_counter()
     ex = parallel.executor(args.workers, args.scheduler, initializer=runner.warm_up)
     done = sum(min(req.chunk, req.plan.count - i * req.chunk) for i in runner.finished(out, req))
     progress = runner.Progress(req.plan.count, done)
     with ex:
-        complete, why = runner.execute(out, req, ex, progress)
+        stop, why = runner.execute(out, req, ex, progress)
+        complete = stop is None
         where = ex.description
     table = runner.load_table(out, req)
     if not complete and not table and created_here(out):
@@ -178,7 +179,7 @@ def run(args: argparse.Namespace) -> int:
     if not complete:
         print(f"beveloid explore: stopped ({why}); {summ['designs_done']} of {summ['designs']} designs kept in {out};"
               f" continue with `beveloid explore --resume {out}`", file=sys.stderr)
-        return 130 if "Ctrl-C" in why else 1
+        return 130 if stop is StopReason.INTERRUPTED else 1
     return 0
 
 

@@ -26,7 +26,7 @@ import re
 
 from .paths import check_output_file
 from .common import add_error_flags, apply_error_flags, error_vector, errors_label, number
-from ..errors import UserError
+from ..errors import OptionError, UserError
 
 
 def configure(p: argparse.ArgumentParser) -> None:
@@ -40,6 +40,11 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--grid", default=None, metavar="ACROSSxALONG",
                    help="contact cells across x along the contact line per tooth pair (default "
                         "11x17, each cell a fixed fraction of the pair's Hertz semi-axes)")
+    p.add_argument("--tooth-model", choices=("fe", "plate"), default=None,
+                   help="how the teeth bend: fe = finite-element tooth from the real geometry with root stress "
+                        "(default; its data is cached per design), plate = the fast equivalent-spur-tooth plate")
+    p.add_argument("--fe-refinement", type=int, default=1, metavar="N",
+                   help="FE tooth mesh refinement, 1-4 (default 1; 2 halves every element size)")
     p.add_argument("--plot", metavar="OUT.png", help="write the contact patterns, loaded TE and load sharing here "
                                                      "(and the per-position pressure maps beside it)")
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
@@ -54,9 +59,8 @@ def parse_grid(text):
     m = re.fullmatch(r"\s*(\d+)\s*[xX]\s*(\d+)\s*", text)
     try:
         return check_grid((int(m[1]), int(m[2])) if m else text, key="--grid")
-    except ValueError as exc:
-        raise UserError(str(exc).replace("(11, 17)", text).replace(f"({m[1]}, {m[2]})" if m else text, text)) \
-            from None
+    except OptionError as exc:  # named by its fields: the flag and the text as typed
+        raise UserError(exc.for_flag("--grid", shown=text)) from None
 
 
 def run(args: argparse.Namespace) -> int:
@@ -77,8 +81,9 @@ def run(args: argparse.Namespace) -> int:
         ltca.options.check_torque(args.torque_nm, key="--torque-nm")
         ltca.options.check_positions(args.positions, key="--positions")
         ltca.options.check_pairs(args.pairs, key="--pairs")
-    except ValueError as exc:
-        raise UserError(str(exc)) from None
+        ltca.options.check_fe_refinement(args.fe_refinement, key="--fe-refinement")
+    except OptionError as exc:
+        raise UserError(exc.for_flag(exc.key)) from None
     if args.plot is not None:
         check_output_file(args.plot, "--plot", ".png")
     from ..spec import load_spec
@@ -86,11 +91,12 @@ def run(args: argparse.Namespace) -> int:
     spec = apply_error_flags(load_spec(args.file), args)
     pair = Pair.from_spec(spec)
     options = ltca.Options(torque_nm=args.torque_nm, flank=args.flank, positions=args.positions, pairs=args.pairs,
-                           grid=grid, errors=tuple(error_vector(spec)), material=ltca.Material.from_spec(spec))
+                           grid=grid, errors=tuple(error_vector(spec)), material=ltca.Material.from_spec(spec),
+                           tooth_model=args.tooth_model, fe_refinement=args.fe_refinement)
     try:
         options.check_memory()
-    except ValueError as exc:
-        raise UserError(str(exc).replace("grid = ", "--grid = ")) from None
+    except OptionError as exc:
+        raise UserError(exc.for_flag("--grid")) from None
     result = ltca.analyze(pair, options, Solver())
     geom = pair.geometry
     if args.plot is not None:
@@ -108,6 +114,21 @@ def run(args: argparse.Namespace) -> int:
     else:
         print(format_summary(result, geom, spec))
     return 0
+
+
+def _root_stress_lines(result) -> list:
+    if result.tooth_model != "fe":
+        return ["root stress: not computed with the plate tooth (--tooth-model fe)"]
+    top, where = result.root_stress_max_mpa(), result.root_stress_location()
+    out = []
+    for m in ("pinion", "gear"):
+        if top.get(m) is None:
+            out.append(f"{m} root stress: not available (no converged position)")
+            continue
+        w = where[m]
+        out.append(f"{m} root stress (max principal, loaded fillet): {top[m]:.1f} MPa at position {w['position']}, "
+                   f"pair {w['pair']}, z = {w['z_mm']:.2f} mm, {w['height_mm']:.2f} mm above the root")
+    return out
 
 
 def format_summary(result, geom, spec) -> str:
@@ -137,6 +158,9 @@ def format_summary(result, geom, spec) -> str:
     ptp = result.loaded_te_peak_to_peak
     lines += [f"loaded TE peak-to-peak: {fmt(ptp * 1e6, '.3f')} urad" if math.isfinite(ptp) else
               "loaded TE peak-to-peak: not available (needs 3 or more converged positions)"]
+    lines += _root_stress_lines(result)
     lines += [f"note: {n}" for n in result.notes]
-    lines += ["approximate: Boussinesq half-space + thin-slice tooth beams, frictionless (docs/loaded_contact.md)"]
+    teeth = (f"FE tooth (refinement {result.fe_refinement})" if result.tooth_model == "fe"
+             else "thin-slice plate tooth beams")
+    lines += [f"approximate: Boussinesq half-space + {teeth}, frictionless (docs/loaded_contact.md)"]
     return "\n".join(lines)

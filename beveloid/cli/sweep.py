@@ -59,7 +59,8 @@ def run(args: argparse.Namespace) -> int:
     from ..solver import Solver
     from ..solver.backends import BackendError
     from ..spec import load_spec
-    from ..sweep import SweepSizeError, check_sweep_size, sweep
+    from .. import sweep
+    from ..sweep import SweepSizeError, check_sweep_size
 
     try:
         check_sweep_size(args.samples, args.positions, flags=True)
@@ -99,8 +100,9 @@ def run(args: argparse.Namespace) -> int:
         if solver.backend == "compiled" and not parallel:
             startup_s = _warm_up(pair, args.flank, solver)
         with (executor(args.workers, args.scheduler) if parallel else nullcontext()) as ex:
-            res = sweep(pair, args.flank, args.samples, args.positions, args.seed, ranges, solver,
-                        progress=progress, nominal=nominal, executor=ex)
+            options = sweep.Options(flank=args.flank, samples=args.samples, positions=args.positions, seed=args.seed,
+                                    ranges=ranges, nominal=nominal)  # the flags are checked above, one line each
+            res = sweep.analyze(pair, options, solver, executor=ex, progress=progress)
     except tca.NoContactError as exc:
         # the aligned pair has no contact on this flank: the sweep has no engagement to sample
         raise UserError(f"{args.file}: cannot sweep the {args.flank} flank: {exc} (the aligned pair does not"

@@ -61,20 +61,31 @@ section, tip radius ``r + x_t m_t + h_a m_n / cos(gamma)``):
 * a zero cone angle (the cone apex, hence the mounting distance, is at infinity), a gear helix
   angle ``|beta2| >= 80 deg`` and non-finite or non-positive results: errors.
 
-Modules: ``kernels`` (the generated kernels, by name), ``solve`` (alpha_nw), ``direct`` (design),
-``indirect`` (indirect_design), ``members`` (the result types, DesignError), ``checks`` (the checks
-above), ``report`` (Table 1 text and JSON).
+One implementation for one design and for many: ``design_arrays(values)`` (``arrays``) designs n
+designs given by spec values (dotted key -> (n,) arrays) and names each one's outcome
+(:class:`Outcome`: ``ok`` or the first check it fails); ``design(spec)`` is it at n = 1 plus the
+refusal that explains the outcome; ``beveloid explore`` calls it on chunks of designs.
+
+Modules: ``kernels`` (the generated kernels, by name), ``solve`` (alpha_nw, over arrays), ``arrays``
+(the design of n designs), ``direct`` (design), ``indirect`` (indirect_design), ``members`` (the result
+types, DesignError), ``checks`` (the checks above, their outcomes and the tooth/pitch-point refusals),
+``refusals`` (the other one-line refusals), ``report`` (Table 1 text and JSON).
 """
 from __future__ import annotations
 
-from .checks import POINTED_TIP_FACTOR, pitch_point_margins
-from .direct import MAX_GEAR_HELIX_ANGLE, design
+from .arrays import ArrayDesign, design_arrays, spec_values
+from .checks import MAX_GEAR_HELIX_ANGLE, POINTED_TIP_FACTOR, Outcome, pitch_point_margins
+from .direct import design
 from .indirect import indirect_design
 from .members import RAD, DesignError, DesignResult, MemberDesign
 from .report import TABLE1_ROWS, design_json, format_table1
 from .solve import MAX_WORKING_PRESSURE_ANGLE, RESIDUAL_TOLERANCE_MM
 
 __all__ = [
+    "ArrayDesign",
+    "design_arrays",
+    "spec_values",
+    "Outcome",
     "DesignError",
     "MemberDesign",
     "DesignResult",

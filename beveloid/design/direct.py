@@ -3,28 +3,39 @@ from __future__ import annotations
 
 import math
 
-from ..spec import DesignSpec
-from . import checks
-from .kernels import deg_text, direct_outputs, member_outputs, num_text
-from .members import DesignError, DesignResult, MemberDesign
-from .solve import check_cone_angles, solve_alpha_nw, spec_constants
+import numpy as np
 
-#: |beta2| at or above this (rad) is rejected.
-MAX_GEAR_HELIX_ANGLE = math.radians(80.0)
+from ..spec import DesignSpec
+from . import checks, refusals
+from .arrays import design_arrays, spec_values
+from .checks import MAX_GEAR_HELIX_ANGLE, Outcome
+from .kernels import direct_outputs, member_outputs
+from .members import DesignResult, MemberDesign
+
+__all__ = ["design", "finish", "member_design", "MAX_GEAR_HELIX_ANGLE"]
 
 
 def design(spec: DesignSpec) -> DesignResult:
     """Direct design (Fig. 7, first chart): solve alpha_nw from Eq 17, then evaluate Eqs 12-27.
 
-    Raises :class:`DesignError` when the request has no physical solution.
+    The design of many designs at n = 1 (:func:`beveloid.design.arrays.design_arrays`).  Raises
+    :class:`DesignError` (one line explaining the failed check) when the request has no physical solution.
     """
     if not isinstance(spec, DesignSpec):
         raise TypeError(f"design() needs a DesignSpec, not {type(spec).__name__} (see beveloid.spec.load_spec)")
-    c = spec_constants(spec)
-    check_cone_angles(spec, c["gamma1"], c["gamma2"])
-    alpha_nw, resid, notes = solve_alpha_nw(spec, c)
-    q = {k: float(v) for k, v in direct_outputs(alpha_nw, c).items()}
-    return finish(spec, q, alpha_nw, offset=c["E"], residual=resid, notes=notes, procedure="direct")
+    a = design_arrays(spec_values(spec), scalar=True)
+    outcome = Outcome(int(a.outcome[0]))
+    if outcome is Outcome.ZERO_CONE_ANGLE:
+        raise refusals.zero_cone_angle(spec)
+    if outcome is Outcome.NO_WORKING_PRESSURE_ANGLE:
+        raise refusals.no_working_pressure_angle(spec, a.constants)
+    # the result's numbers from the kernel at Python scalars (also alpha_nw): numpy's 0-d and 1-element
+    # evaluations may differ in the last bit (d_w2 of case 1 and case 2)
+    alpha_nw = float(a.alpha_nw[0])
+    q = {k: float(v) for k, v in direct_outputs(alpha_nw, a.constants).items()}
+    return finish(spec, q, alpha_nw, residual=float(a.offset_residual_mm[0]),
+                  notes=refusals.root_notes(a.constants, a.roots),
+                  procedure="direct", outcome=outcome)
 
 
 def member_design(spec: DesignSpec, q: dict[str, float], name: str, m_n: float) -> MemberDesign:
@@ -59,52 +70,38 @@ def member_design(spec: DesignSpec, q: dict[str, float], name: str, m_n: float) 
     )
 
 
-def finish(spec: DesignSpec, q: dict[str, float], alpha_nw: float, *, offset: float, residual: float,
-           notes: list[str], procedure: str) -> DesignResult:
-    """The checks of a design's outputs ``q`` (both procedures), then the :class:`DesignResult`."""
-    src = spec.source
-    beta2 = q["beta2"]
-    if not math.isfinite(beta2) or abs(beta2) >= MAX_GEAR_HELIX_ANGLE:
-        shown = f"{deg_text(beta2)} deg" if math.isfinite(beta2) else "not real (|sin beta2| > 1)"
-        # beta2 ~ eta - beta_w1 with eta ~ delta: move beta1 toward delta
-        bw2 = q["beta_w2"]
-        direction = "increase" if (bw2 > 0 if math.isfinite(bw2) else True) else "reduce"
-        raise DesignError(
-            f"pinion.helix_angle_deg = {spec.pinion.helix_angle_deg!r}: the gear helix angle beta2 (Eq 26,"
-            f" beta_w2 = eta - beta_w1 of Eq 16) is {shown}, |beta2| must stay below 80 deg;"
-            f" {direction} pinion.helix_angle_deg (beta2 ~ shaft angle - beta1)",
-            keys=("pinion.helix_angle_deg", "pair.shaft_angle_deg"), source=src)
-    checks.check_transverse_pressure_angles(spec, q, alpha_nw)
-    bad = sorted(k for k, v in q.items() if not math.isfinite(v))
-    if bad:
-        raise DesignError(
-            f"pinion.cone_angle_deg = {spec.pinion.cone_angle_deg!r}, gear.cone_angle_deg ="
-            f" {spec.gear.cone_angle_deg!r}: the design equations give non-finite {', '.join(bad)}"
-            f" at alpha_nw = {deg_text(alpha_nw)} deg; increase |cone angles| or the shaft angle",
-            keys=("pinion.cone_angle_deg", "gear.cone_angle_deg"), source=src)
-    for name in ("pinion", "gear"):
-        o = member_outputs(q, name)
-        if not o.working_pitch_radius_mm > 0 or not o.reference_pitch_radius_mm > 0:
-            raise DesignError(
-                f"{name}.teeth = {getattr(spec, name).teeth}: non-physical {name} pitch radius"
-                f" (r = {num_text(o.reference_pitch_radius_mm)}, r_w = {num_text(o.working_pitch_radius_mm)} mm);"
-                f" increase {name}.teeth",
-                keys=(f"{name}.teeth",), source=src)
+def finish(spec: DesignSpec, q: dict[str, float], alpha_nw: float, *, residual: float, notes: list[str],
+           procedure: str, outcome: Outcome | None = None) -> DesignResult:
+    """The :class:`DesignResult` of a design's outputs ``q`` (both procedures), or the refusal that explains
+    its ``outcome`` (of :func:`beveloid.design.checks.check`; checked here when not given)."""
+    if outcome is None:
+        codes = np.zeros(1, dtype=np.int64)
+        checks.check(spec_values(spec), {k: np.array([v]) for k, v in q.items()}, np.array([alpha_nw]), codes)
+        outcome = Outcome(int(codes[0]))
+    if outcome is Outcome.GEAR_HELIX_ANGLE_OUT_OF_RANGE:
+        raise refusals.gear_helix_angle(spec, q)
+    if outcome is Outcome.TRANSVERSE_PRESSURE_ANGLE_NOT_POSITIVE:
+        checks.check_transverse_pressure_angles(spec, q, alpha_nw)
+    if outcome is Outcome.NON_FINITE_DESIGN:
+        raise refusals.non_finite(spec, q, alpha_nw)
+    if outcome is Outcome.NON_PHYSICAL_PITCH_RADIUS:
+        raise refusals.pitch_radius(spec, q)
     m_n = float(spec.pair.normal_module_mm)
     pinion = member_design(spec, q, "pinion", m_n)
     gear = member_design(spec, q, "gear", m_n)
     notes = list(notes)
     for m in (pinion, gear):
-        checks.tooth_checks(spec, m, notes)
-    for m in (pinion, gear):
-        checks.check_pitch_point(spec, m, alpha_nw)
+        checks.tooth_checks(spec, m, notes)  # the refusal of a tip inside the base circle or pointed teeth
+    if outcome is Outcome.PITCH_POINT_OFF_ACTIVE_PROFILE:
+        for m in (pinion, gear):
+            checks.check_pitch_point(spec, m, alpha_nw)
     return DesignResult(
         spec=spec,
         working_normal_pressure_angle=float(alpha_nw),
         normal_angular_factor=q["xi_n"],
         fpd_angle_left=q["xi_L"],
         fpd_angle_right=q["xi_R"],
-        offset_mm=float(offset),
+        offset_mm=float(spec.pair.offset_mm),
         shaft_angle=math.radians(spec.pair.shaft_angle_deg),
         normal_module_mm=m_n,
         normal_pressure_angle=math.radians(spec.pair.normal_pressure_angle_deg),

@@ -101,4 +101,4 @@ def indirect_design(spec_like: DesignSpec | Mapping, alpha_nw: float, pinion_wor
     except SpecError as err:
         raise DesignError(f"the indirect design gives {err.detail}; change the working data",
                           keys=((err.key,) if err.key else ()), source=src) from None
-    return finish(new_spec, q, alpha_nw, offset=q["E"], residual=0.0, notes=[], procedure="indirect")
+    return finish(new_spec, q, alpha_nw, residual=0.0, notes=[], procedure="indirect")  # its offset: q["E"]

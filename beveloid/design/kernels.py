@@ -1,12 +1,11 @@
 """The generated design kernels (``generated/design_equations.py``), called by name.
 
 ``c`` is the design's constants by the paper's symbols (m_n, alpha_n, delta, E, N1, N2, x_t1, gamma1,
-gamma2, beta1; radians and mm), from :func:`beveloid.design.solve.spec_constants`.
+gamma2, beta1; radians and mm; one array entry per design), from :func:`beveloid.design.solve.constants`.
 """
 from __future__ import annotations
 
 import math
-from typing import Any
 
 import numpy as np
 
@@ -14,23 +13,37 @@ from ..generated import design_equations as equations
 from ..generated import layouts
 
 
-def pair_kwargs(c: dict[str, Any]) -> dict[str, Any]:
-    """The design kernels' pair and reference arguments, by name."""
-    return dict(normal_module=c["m_n"], normal_pressure_angle=c["alpha_n"], pinion_teeth=c["N1"],
-                gear_teeth=c["N2"], shaft_angle=c["delta"], pinion_profile_shift=c["x_t1"],
-                pinion_cone_angle=c["gamma1"], gear_cone_angle=c["gamma2"], pinion_helix_angle=c["beta1"])
+#: the constants' flag of one design evaluated at Python scalars (see :func:`single`)
+SCALAR = "scalar_kernels"
 
 
-def direct_outputs(alpha_nw, c: dict[str, Any]) -> dict[str, Any]:
-    """Every output of the direct design at alpha_nw, by the generated names."""
+def single(c: dict) -> bool:
+    """One design whose kernels are evaluated at Python scalars: numpy's array and scalar evaluations of
+    the same expression may differ in the last bit (a power, a square root), and :func:`beveloid.design.design`
+    keeps the scalar bits it always had, while a chunk of designs gives each design the same bits
+    whatever its neighbours (the array evaluation, also for a chunk of one)."""
+    return bool(c.get(SCALAR))
+
+
+def pair_kwargs(c: dict, idx=None, column: bool = False) -> dict:
+    """The design kernels' pair and reference arguments (by name) of the designs idx, as (k,) or (k, 1);
+    Python scalars for a :func:`single` design."""
+    def pick(v):
+        if single(c):
+            return np.asarray(v).item()
+        v = v if idx is None else v[idx]
+        return v[:, None] if column else v
+    return dict(normal_module=pick(c["m_n"]), normal_pressure_angle=pick(c["alpha_n"]),
+                pinion_teeth=pick(c["N1"]), gear_teeth=pick(c["N2"]), shaft_angle=pick(c["delta"]),
+                pinion_profile_shift=pick(c["x_t1"]), pinion_cone_angle=pick(c["gamma1"]),
+                gear_cone_angle=pick(c["gamma2"]), pinion_helix_angle=pick(c["beta1"]))
+
+
+def direct_outputs(alpha_nw, c: dict) -> dict:
+    """Every output of the direct design at alpha_nw (one per design), by the generated names."""
     with np.errstate(all="ignore"):
-        return equations.direct_design(alpha_nw=alpha_nw, **pair_kwargs(c))._asdict()
-
-
-def residual(alpha_nw, c: dict[str, Any]):
-    """E(alpha_nw) - E and its derivative d/d alpha_nw (Eq 17)."""
-    with np.errstate(all="ignore"):
-        return equations.offset_residual(alpha_nw=alpha_nw, offset=c["E"], **pair_kwargs(c))
+        return {k: np.asarray(v, dtype=float)
+                for k, v in equations.direct_design(alpha_nw=alpha_nw, **pair_kwargs(c))._asdict().items()}
 
 
 def deg_text(x: float) -> str:

@@ -6,7 +6,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
-from ..errors import UserError
+from ..errors import ErrorCode, UserError
 from ..spec import DEFAULT_SOURCE, DesignSpec
 
 
@@ -14,16 +14,20 @@ class DesignError(UserError):
     """A design request that has no (physical) solution; one line naming key(s) and a direction.
 
     Attributes: ``detail`` (message without the ``source:`` prefix), ``keys`` (tuple of the
-    dotted spec keys concerned, may be empty) and ``source`` (the spec's file, if any).
+    dotted spec keys concerned, may be empty), ``source`` (the spec's file, if any) and ``outcome``
+    (the :class:`beveloid.design.Outcome` refused, None for a request the design cannot read).
     """
 
-    def __init__(self, message: str, *, keys: tuple[str, ...] = (), source: str | None = None):
+    code = ErrorCode.DESIGN_REFUSED
+
+    def __init__(self, message: str, *, keys: tuple[str, ...] = (), source: str | None = None, outcome=None):
         detail = " ".join(str(message).split())
         full = f"{source}: {detail}" if source and source != DEFAULT_SOURCE else detail
         super().__init__(full)
         self.detail = detail
         self.keys = tuple(keys)
         self.source = source
+        self.outcome = outcome
 
 
 # ---------------------------------------------------------------------------

@@ -1,19 +1,20 @@
-"""The direct design's unknown: the working normal pressure angle alpha_nw, the root of Eq 17.
+"""The direct design's unknown: the working normal pressure angle alpha_nw, the root of Eq 17, for
+arrays of designs (one design is the array of one).
 
-``offset_residual(alpha_nw) = E(alpha_nw) - E`` is scanned on a grid of the admissible interval
-(see the package docstring) for sign changes; each bracket is solved to ``|residual| <`` the
-tolerance; the root closest to alpha_n is taken.
+``offset_residual(alpha_nw) = E(alpha_nw) - E`` is scanned on a grid of each design's admissible
+interval (see the package docstring) for sign changes; each bracket is solved to ``|residual| <``
+the tolerance by a safeguarded Newton/bisection; the root closest to alpha_n is taken.  Every step
+is one call of a generated kernel (``beveloid.generated.design_equations``, numpy, broadcasting)
+over all designs (or all brackets) still at that step.
 """
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import NamedTuple
 
 import numpy as np
 
-from ..spec import DesignSpec
-from .kernels import deg_text, direct_outputs, equations, num_text, pair_kwargs, residual
-from .members import DesignError
+from .kernels import equations, pair_kwargs, single
 
 #: Upper end of the alpha_nw search interval (rad).
 MAX_WORKING_PRESSURE_ANGLE = math.radians(60.0)
@@ -27,204 +28,229 @@ _GRID_POINTS = 1201
 _SECTIONS = 64
 _SECTION_PASSES = 10
 _EPS = np.finfo(float).eps
+#: designs per block of the alpha_nw scan (keeps the (designs x 1200) temporaries in cache)
+SCAN_BLOCK = 4
 
 
-def spec_constants(spec: DesignSpec) -> dict[str, Any]:
-    p, g1, g2 = spec.pair, spec.pinion, spec.gear
-    if g1.helix_angle_deg is None or g1.profile_shift is None:
-        raise DesignError("pinion.helix_angle_deg and pinion.profile_shift are required for the direct design",
-                          keys=("pinion.helix_angle_deg", "pinion.profile_shift"), source=spec.source)
-    return dict(
-        m_n=float(p.normal_module_mm), alpha_n=math.radians(p.normal_pressure_angle_deg),
-        delta=math.radians(p.shaft_angle_deg), E=float(p.offset_mm),
-        N1=int(g1.teeth), N2=int(g2.teeth), x_t1=float(g1.profile_shift),
-        gamma1=math.radians(g1.cone_angle_deg), gamma2=math.radians(g2.cone_angle_deg),
-        beta1=math.radians(g1.helix_angle_deg),
-    )
+def constants(values: dict) -> dict:
+    """Per-design constants by the paper's symbols (radians, mm; (n,) arrays) from spec values by dotted key."""
+    rad = np.radians
+    return dict(m_n=values["pair.normal_module_mm"], alpha_n=rad(values["pair.normal_pressure_angle_deg"]),
+                delta=rad(values["pair.shaft_angle_deg"]), E=values["pair.offset_mm"],
+                N1=values["pinion.teeth"], N2=values["gear.teeth"], x_t1=values["pinion.profile_shift"],
+                gamma1=rad(values["pinion.cone_angle_deg"]), gamma2=rad(values["gear.cone_angle_deg"]),
+                beta1=rad(values["pinion.helix_angle_deg"]))
 
 
-def check_cone_angles(spec: DesignSpec, gamma1: float, gamma2: float) -> None:
-    for member, g in (("pinion", gamma1), ("gear", gamma2)):
-        if g == 0.0:
-            key = f"{member}.cone_angle_deg"
-            raise DesignError(
-                f"{key} = 0.0: a beveloid member needs a non-zero cone angle (with gamma = 0 the pitch cone is a"
-                f" cylinder, its apex and the mounting distance of Eqs 13-14 are at infinity);"
-                f" increase |{key}| above 0", keys=(key,), source=spec.source)
-
-
-def scan(alpha_nw, c: dict[str, Any]) -> tuple[np.ndarray, np.ndarray]:
-    """Residual E(alpha_nw) - E and the admissibility mask (all real, positive working radii)."""
+def scan(alpha, c: dict, idx, column: bool = False, offset=None):
+    """Residual E(alpha_nw) - E (``offset`` in place of E when given) and the admissibility mask (all
+    real, positive working radii) of the designs idx at alpha (k,) or (k, m) with ``column``."""
+    E = c["E"][idx] if offset is None else offset
+    if single(c) and offset is None:
+        E = c["E"].item()
     with np.errstate(all="ignore"):
-        out = equations.offset_scan(alpha_nw=np.asarray(alpha_nw, dtype=float), offset=c["E"], **pair_kwargs(c))
-    ok = np.isfinite(out.residual) & (out.r_w1 > 0) & (out.r_w2 > 0)
-    return out.residual, ok
+        res, r1, r2 = equations.offset_scan(alpha_nw=alpha, offset=(E[:, None] if column and offset is None and not single(c) else E),
+                                            **pair_kwargs(c, idx, column))
+    return res, np.isfinite(res) & (r1 > 0) & (r2 > 0)
 
 
-def _admissible_grid(c: dict[str, Any]) -> np.ndarray:
-    """alpha_nw grid on (lower Eq 25 bound, 60 deg], plus the refined ends of the admissible runs.
+def _residual(alpha, c, idx):
+    """E(alpha_nw) - E and its derivative (Eq 17) at alpha (k,) of the designs idx (one design: each
+    bracket's alpha_nw a Python scalar)."""
+    with np.errstate(all="ignore"):
+        if not single(c):
+            return equations.offset_residual(alpha_nw=alpha, offset=c["E"][idx], **pair_kwargs(c, idx))
+        kw = pair_kwargs(c)
+        outs = [equations.offset_residual(alpha_nw=float(x), offset=c["E"].item(), **kw) for x in alpha]
+    return (np.array([float(o.residual) for o in outs]), np.array([float(o.residual_D_alpha_nw) for o in outs]))
 
-    Admissible: the kernel is real (Eqs 16, 25, 26 defined) and both working pitch radii are
-    positive (|beta_w| < 90 deg; beyond, Eq 17 passes through a pole and changes sign).
+
+def tolerance(E):
+    """The residual tolerance (mm) at offsets E: 1e-11 mm, relaxed to 8 ulp of E for large E."""
+    return np.maximum(RESIDUAL_TOLERANCE_MM, 8.0 * _EPS * np.abs(E))
+
+
+def _refine(c, did, a, b):
+    """Multisection of admissibility transitions [a, b] (design did): the admissible end of each.
+    Each pass cuts every bracket into _SECTIONS and keeps the piece where the admissibility changes
+    first (10 passes of 64 = 60 halvings, in 10 kernel calls, not 60)."""
+    fa = scan(a, c, did)[1]
+    frac = np.arange(_SECTIONS + 1) / _SECTIONS
+    rows = np.arange(a.size)
+    for _ in range(_SECTION_PASSES):
+        pts = a[:, None] + (b - a)[:, None] * frac[None, :]
+        pts[:, -1] = b
+        differs = scan(pts, c, did, True)[1] != fa[:, None]
+        j = np.where(differs.any(axis=1), differs.argmax(axis=1), _SECTIONS)
+        j = np.maximum(j, 1)
+        a, b = pts[rows, j - 1], pts[rows, j]
+    return np.where(fa, a, b)
+
+
+class Grids(NamedTuple):
+    """The alpha_nw grids of several designs, flat and in design order: design index, alpha_nw (rad),
+    residual (mm), admissible."""
+
+    design: np.ndarray
+    alpha_nw: np.ndarray
+    residual_mm: np.ndarray
+    admissible: np.ndarray
+
+
+def grids(c: dict, todo: np.ndarray) -> Grids:
+    """Each design's alpha_nw grid on (lower Eq 25 bound, 60 deg], plus the refined admissible ends of
+    its admissible runs, and the scan there.
+
+    Admissible: the kernel is real (Eqs 16, 25, 26 defined) and both working pitch radii are positive
+    (|beta_w| < 90 deg; beyond, Eq 17 passes through a pole and changes sign).
     """
-    lo = math.asin(min(1.0, max(abs(math.sin(c["gamma1"])), abs(math.sin(c["gamma2"]))) * math.sin(c["alpha_n"])))
-    hi = MAX_WORKING_PRESSURE_ANGLE
-    grid = np.linspace(lo, hi, _GRID_POINTS)[1:]
-    _, ok = scan(grid, c)
-    # refine every admissible / inadmissible transition (and the open lower end) by bisection
-    lefts, rights = [], []
-    for i in np.flatnonzero(ok[:-1] != ok[1:]):
-        lefts.append(grid[i])
-        rights.append(grid[i + 1])
-    if ok[0]:
-        lefts.append(lo)
-        rights.append(grid[0])
-    extra: list[float] = []
-    if lefts:
-        a = np.array(lefts)
-        b = np.array(rights)
-        fa = scan(a, c)[1]
-        # multisection: each pass cuts every bracket into _SECTIONS and keeps the piece where the
-        # admissibility changes first (10 passes of 64 = 60 halvings, in 10 kernel calls, not 60)
-        frac = np.arange(_SECTIONS + 1) / _SECTIONS
-        rows = np.arange(a.size)
-        for _ in range(_SECTION_PASSES):
-            pts = a[:, None] + (b - a)[:, None] * frac[None, :]
-            pts[:, -1] = b
-            differs = scan(pts.ravel(), c)[1].reshape(pts.shape) != fa[:, None]
-            j = np.where(differs.any(axis=1), differs.argmax(axis=1), _SECTIONS)
-            j = np.maximum(j, 1)
-            a, b = pts[rows, j - 1], pts[rows, j]
-        extra = [float(x) for x in np.where(fa, a, b)]  # the admissible end of each transition
-    return np.unique(np.concatenate([grid, np.array(extra, dtype=float)]))
+    lo = np.array([math.asin(min(1.0, max(abs(math.sin(float(g1))), abs(math.sin(float(g2)))) * math.sin(float(an))))
+                   for g1, g2, an in zip(c["gamma1"][todo], c["gamma2"][todo], c["alpha_n"][todo])])
+    grid = np.linspace(lo, MAX_WORKING_PRESSURE_ANGLE, _GRID_POINTS, axis=-1)[:, 1:]
+    res = np.empty_like(grid)
+    ok = np.empty(grid.shape, dtype=bool)
+    for k in range(0, todo.size, SCAN_BLOCK):
+        sl = slice(k, k + SCAN_BLOCK)
+        res[sl], ok[sl] = scan(grid[sl], c, todo[sl], True)
+    # transitions and the open lower end, refined
+    i, j = np.nonzero(ok[:, :-1] != ok[:, 1:])
+    did = np.concatenate([todo[i], todo[ok[:, 0]]])
+    left = np.concatenate([grid[i, j], lo[ok[:, 0]]])
+    right = np.concatenate([grid[i, j + 1], grid[ok[:, 0], 0]])
+    extra = _refine(c, did, left, right) if did.size else np.empty(0)
+    e_res, e_ok = scan(extra, c, did) if did.size else (np.empty(0), np.empty(0, dtype=bool))
+    # the union of grid and extra points per design, sorted: the rows are sorted, so insert the few extra
+    m = grid.shape[1]
+    row = np.searchsorted(todo, did)  # todo is ascending
+    pos = np.empty(0, dtype=np.int64)
+    if did.size:
+        o = np.lexsort((extra, row))
+        row, extra, e_res, e_ok = row[o], extra[o], e_res[o], e_ok[o]
+        first = np.ones(row.size, dtype=bool)
+        first[1:] = (row[1:] != row[:-1]) | (extra[1:] != extra[:-1])
+        pos = np.array([np.searchsorted(grid[r], x) for r, x in zip(row, extra)], dtype=np.int64)
+        new = first & ~((pos < m) & (grid[row, np.minimum(pos, m - 1)] == extra))
+        row, extra, e_res, e_ok, pos = row[new], extra[new], e_res[new], e_ok[new], pos[new]
+    at = row * m + pos
+    return Grids(np.insert(np.repeat(todo, m), at, todo[row]), np.insert(grid.ravel(), at, extra),
+                 np.insert(res.ravel(), at, e_res), np.insert(ok.ravel(), at, e_ok))
 
 
-def _brackets(grid: np.ndarray, res: np.ndarray, ok: np.ndarray) -> list[tuple[float, float, float, float]]:
-    """Sign changes of the residual between neighbouring admissible grid points."""
-    out = []
-    for i in range(len(grid) - 1):
-        if not (ok[i] and ok[i + 1]):
-            continue
-        ra, rb = res[i], res[i + 1]
-        if ra == 0.0:
-            out.append((grid[i], grid[i], ra, ra))
-        elif (ra < 0.0) != (rb < 0.0) and rb != 0.0:  # signs, not the product: no overflow for huge E
-            out.append((grid[i], grid[i + 1], ra, rb))
-    if len(res) and ok[-1] and res[-1] == 0.0:
-        out.append((grid[-1], grid[-1], 0.0, 0.0))
-    return out
+def _brackets(g: Grids):
+    """Sign changes of the residual between neighbouring admissible grid points (and exact zeros):
+    (design, a, b, fa, fb), per design in grid order (an exact zero at the grid's end last)."""
+    D, A, R, K = g
+    same = D[1:] == D[:-1]
+    pair = same & K[:-1] & K[1:]
+    ra, rb = R[:-1], R[1:]
+    zero = pair & (ra == 0.0)
+    change = pair & ~zero & ((ra < 0.0) != (rb < 0.0)) & (rb != 0.0)  # signs, not the product: no overflow
+    last = np.ones(D.size, dtype=bool)
+    last[:-1] = ~same
+    end = last & K & (R == 0.0)
+    i = np.nonzero(zero | change)[0]
+    e = np.nonzero(end)[0]
+    z = zero[i]
+    did = np.concatenate([D[i], D[e]])
+    a = np.concatenate([A[i], A[e]])
+    b = np.concatenate([np.where(z, A[i], A[i + 1]), A[e]])
+    fa = np.concatenate([R[i], np.zeros(e.size)])
+    fb = np.concatenate([np.where(z, R[i], R[i + 1]), np.zeros(e.size)])
+    rank = np.concatenate([i, e + 0.5])
+    order = np.lexsort((rank, did))
+    return did[order], a[order], b[order], fa[order], fb[order]
 
 
-def _tolerance(c: dict[str, Any]) -> float:
-    return max(RESIDUAL_TOLERANCE_MM, 8.0 * _EPS * abs(c["E"]))
-
-
-def _solve_bracket(c: dict[str, Any], a: float, b: float, fa: float, fb: float) -> tuple[float, float]:
-    """Safeguarded Newton (exact derivative) / bisection on a sign-change bracket.
+def _solve(c, did, a, b, fa, fb):
+    """Safeguarded Newton (exact derivative) / bisection on every bracket at once: (alpha_nw, residual;
+    nan if the bracket holds a pole rather than a zero: the iteration did not bring |residual| down).
 
     Kept rather than scipy.optimize.brentq, which finds the same roots within 1.0e-13 rad (252
     brackets of 300 random designs): that difference alone turns one position of the crowned case 1
     (4 um, 31 positions, right flank) into a diverging TCA point whose TE spoils the TE peak-to-peak
-    (tests/test_crowned.py::test_aligned_te_grows_in_proportion_to_small_crowning); the TCA's
+    (tests/tca/test_tca_crowned.py::test_aligned_te_grows_in_proportion_to_small_crowning); the TCA's
     sensitivity is the defect, and the design keeps its numbers until it is fixed.
-
-    Returns (alpha_nw, residual); the residual is NaN if the bracket holds no root
-    (a pole rather than a zero: the iteration did not bring |residual| down).
     """
-    if a == b:
-        return a, fa
-    tol = _tolerance(c)
-    x = a - fa * (b - a) / (fb - fa)
-    if not a < x < b:
-        x = 0.5 * (a + b)
-    best = (math.inf, x)
+    n = did.size
+    tol = tolerance(c["E"][did])
+    out_x = a.copy()
+    out_r = fa.copy()
+    active = a != b
+    with np.errstate(all="ignore"):
+        x = a - fa * (b - a) / (fb - fa)
+    x = np.where((a < x) & (x < b), x, 0.5 * (a + b))
+    best_r = np.full(n, np.inf)
+    best_x = x.copy()
+    fallback = np.zeros(n, dtype=bool)  # left the loop without |r| < tol: take the best point
     for _ in range(300):
-        out = residual(x, c)
-        r, dr = float(out.residual), float(out.residual_D_alpha_nw)
-        if not math.isfinite(r):
-            x = 0.5 * (a + b)
-            continue
-        if abs(r) < best[0]:
-            best = (abs(r), x)
-        if abs(r) < tol:
-            return x, r
-        if (r < 0) == (fa < 0):
-            a, fa = x, r
-        else:
-            b, fb = x, r
-        if b - a <= 4.0 * _EPS * max(abs(a), abs(b)):
+        k = np.nonzero(active)[0]
+        if k.size == 0:
             break
-        xn = x - r / dr if (math.isfinite(dr) and dr != 0.0) else math.nan
-        if not (a < xn < b) or abs(xn - x) > 0.5 * (b - a):  # outside, or not faster than bisection
-            xn = 0.5 * (a + b)
-        x = xn
-    x = best[1]
-    out = residual(x, c)
-    r, dr = float(out.residual), float(out.residual_D_alpha_nw)
-    # converged to floating-point resolution of alpha_nw (E(alpha_nw) very steep), not a pole?
-    resolution = 8.0 * abs(dr) * _EPS * abs(x) if math.isfinite(dr) else 0.0
-    ok = abs(r) <= max(1e3 * tol, resolution) and abs(r) <= 1e-6 * max(1.0, abs(c["E"]))
-    return (x, r) if ok else (x, math.nan)
+        r, dr = _residual(x[k], c, did[k])
+        bad = ~np.isfinite(r)
+        x[k[bad]] = 0.5 * (a[k[bad]] + b[k[bad]])
+        g = ~bad
+        k, r, dr = k[g], r[g], dr[g]
+        better = np.abs(r) < best_r[k]
+        best_r[k[better]] = np.abs(r[better])
+        best_x[k[better]] = x[k[better]]
+        done = np.abs(r) < tol[k]
+        out_x[k[done]] = x[k[done]]
+        out_r[k[done]] = r[done]
+        active[k[done]] = False
+        k, r, dr = k[~done], r[~done], dr[~done]
+        same = (r < 0) == (fa[k] < 0)
+        a[k[same]], fa[k[same]] = x[k[same]], r[same]
+        b[k[~same]], fb[k[~same]] = x[k[~same]], r[~same]
+        stop = b[k] - a[k] <= 4.0 * _EPS * np.maximum(np.abs(a[k]), np.abs(b[k]))
+        active[k[stop]] = False
+        fallback[k[stop]] = True
+        k, r, dr = k[~stop], r[~stop], dr[~stop]
+        with np.errstate(all="ignore"):
+            xn = np.where(np.isfinite(dr) & (dr != 0.0), x[k] - r / dr, np.nan)
+        mid = 0.5 * (a[k] + b[k])
+        outside = ~((a[k] < xn) & (xn < b[k])) | (np.abs(xn - x[k]) > 0.5 * (b[k] - a[k]))  # or not faster
+        x[k] = np.where(outside, mid, xn)
+    fallback |= active  # 300 iterations without convergence
+    k = np.nonzero(fallback)[0]
+    if k.size:  # converged to floating-point resolution of alpha_nw (E(alpha_nw) very steep), not a pole?
+        xb = best_x[k]
+        r, dr = _residual(xb, c, did[k])
+        with np.errstate(all="ignore"):
+            resolution = np.where(np.isfinite(dr), 8.0 * np.abs(dr) * _EPS * np.abs(xb), 0.0)
+        ok = (np.abs(r) <= np.maximum(1e3 * tol[k], resolution)) & (np.abs(r) <= 1e-6 * np.maximum(1.0, np.abs(c["E"][did[k]])))
+        out_x[k] = xb
+        out_r[k] = np.where(ok, r, np.nan)
+    return out_x, out_r
 
 
-def _infeasible_no_root(spec: DesignSpec, c: dict[str, Any], grid: np.ndarray, res: np.ndarray,
-                        ok: np.ndarray) -> DesignError:
-    src = spec.source
-    if not ok.any():
-        q = direct_outputs(grid, c)
-        gw_ok = np.isfinite(q["gamma_w1"]) & np.isfinite(q["gamma_w2"])
-        bw1_ok = gw_ok & np.isfinite(q["beta_w1"])
-        tangent = bw1_ok & np.isfinite(q["beta_w2"])
-        if gw_ok.any() and not bw1_ok.any():
-            return DesignError(
-                f"pinion.helix_angle_deg = {spec.pinion.helix_angle_deg!r}: the working helix angle of Eq 26"
-                f" (sin beta_w1 = sin beta1 cos gamma1 / (xi_n cos gamma_w1)) is not real for any alpha_nw up to"
-                f" 60 deg; reduce |pinion.helix_angle_deg|", keys=("pinion.helix_angle_deg",), source=src)
-        if tangent.any():
-            return DesignError(
-                f"pinion.helix_angle_deg = {spec.pinion.helix_angle_deg!r}, pair.shaft_angle_deg ="
-                f" {spec.pair.shaft_angle_deg!r}: the gear's working helix angle beta_w2 = eta - beta_w1 (Eq 16)"
-                f" reaches 90 deg for every alpha_nw up to 60 deg; move pinion.helix_angle_deg toward the shaft"
-                f" angle ({'increase' if spec.pinion.helix_angle_deg < spec.pair.shaft_angle_deg else 'reduce'} it)",
-                keys=("pinion.helix_angle_deg", "pair.shaft_angle_deg"), source=src)
-        return DesignError(
-            f"pair.shaft_angle_deg = {spec.pair.shaft_angle_deg!r}: the pitch cones cannot touch"
-            f" (sin^2 delta < sin^2 gw1 + sin^2 gw2 + 2 sin gw1 sin gw2 cos delta for every alpha_nw up to 60 deg,"
-            f" with pinion.cone_angle_deg = {spec.pinion.cone_angle_deg!r}, gear.cone_angle_deg ="
-            f" {spec.gear.cone_angle_deg!r}); increase the shaft angle or reduce the cone angles",
-            keys=("pair.shaft_angle_deg", "pinion.cone_angle_deg", "gear.cone_angle_deg"), source=src)
-    e_model = scan(grid[ok], dict(c, E=0.0))[0]  # E(alpha_nw) itself, not E(alpha_nw) - E + E
-    a_ok = grid[ok]
-    span = (f"Eq 17 gives E from {num_text(e_model.min())} to {num_text(e_model.max())} mm for alpha_nw from"
-            f" {deg_text(a_ok.min())} to {deg_text(a_ok.max())} deg")
-    head = f"pair.offset_mm = {spec.pair.offset_mm!r}: no working normal pressure angle solves Eq 17"
-    if (res[ok] > 0).all():
-        return DesignError(
-            f"{head}: the offset is too small for the given teeth, module and helix angles ({span});"
-            f" increase pair.offset_mm to at least {num_text(e_model.min())} mm or reduce the teeth or module",
-            keys=("pair.offset_mm",), source=src)
-    return DesignError(
-        f"{head}: the offset is too large for the given teeth, module and helix angles ({span});"
-        f" reduce pair.offset_mm to at most {num_text(e_model.max())} mm or increase the teeth or module",
-        keys=("pair.offset_mm",), source=src)
+class Roots(NamedTuple):
+    """Every root of Eq 17 found, per design (ascending design index), the closest to alpha_n first."""
+
+    design: np.ndarray
+    alpha_nw: np.ndarray
+    residual_mm: np.ndarray
 
 
-def solve_alpha_nw(spec: DesignSpec, c: dict[str, Any]) -> tuple[float, float, list[str]]:
-    grid = _admissible_grid(c)
-    res, ok = scan(grid, c)
-    roots = [_solve_bracket(c, *br) for br in _brackets(grid, res, ok)]
-    roots = [(x, r) for x, r in roots if math.isfinite(r)]
-    if not roots:
-        raise _infeasible_no_root(spec, c, grid, res, ok)
-    roots.sort(key=lambda xr: abs(xr[0] - c["alpha_n"]))
-    notes = []
-    if len(roots) > 1:
-        listed = ", ".join(deg_text(x) for x, _ in sorted(roots))
-        notes.append(f"Eq 17 has {len(roots)} roots alpha_nw = {listed} deg; chose {deg_text(roots[0][0])} deg,"
-                     f" the one closest to alpha_n = {deg_text(c['alpha_n'])} deg")
-    x, r = roots[0]
-    if abs(r) >= _tolerance(c):
-        notes.append(f"Eq 17 solved only to |E(alpha_nw) - E| = {abs(r):.2g} mm: alpha_nw = {deg_text(x)} deg is at"
-                     f" floating-point resolution (E(alpha_nw) is very steep there, near the end of the tangency"
-                     f" range)")
-    return x, r, notes
+def roots(c: dict, todo: np.ndarray) -> Roots:
+    """The roots of Eq 17 of the designs todo (ascending indices)."""
+    if todo.size == 0:
+        return Roots(np.empty(0, dtype=np.int64), np.empty(0), np.empty(0))
+    did, a, b, fa, fb = _brackets(grids(c, todo))
+    x, r = _solve(c, did, a, b, fa, fb)
+    good = np.isfinite(r)
+    did, x, r = did[good], x[good], r[good]
+    order = np.lexsort((np.abs(x - c["alpha_n"][did]), did))  # stable: equal distances keep the bracket order
+    return Roots(did[order], x[order], r[order])
+
+
+def closest(found: Roots, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Per design: alpha_nw and the Eq 17 residual of the root closest to alpha_n (nan: no root)."""
+    alpha = np.full(n, np.nan)
+    resid = np.full(n, np.nan)
+    did = found.design
+    first = np.ones(did.size, dtype=bool)
+    first[1:] = did[1:] != did[:-1]
+    alpha[did[first]] = found.alpha_nw[first]
+    resid[did[first]] = found.residual_mm[first]
+    return alpha, resid

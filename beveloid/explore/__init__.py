@@ -1,7 +1,7 @@
 """Design exploration (``beveloid explore``, docs/explore.md): map the pitch-cone design space.
 
 grid.py     the designs: --vary grids and Latin hypercube samples (Plan)
-batch.py    design() over arrays of designs (the generated design equations broadcast)
+(the designs themselves: beveloid.design.design_arrays, the one design of one or many specs)
 contact.py  the aligned contact at P and tca.sensitivity's derivatives for arrays of designs
 rows.py     one row per design: status, working data, FPD angles, sensitivities, Monte Carlo
 pareto.py   the Pareto front

@@ -1,8 +1,9 @@
 """Batched reference contact and exact first-order sensitivities of many designs (tca.sensitivity).
 
-For the designs that :func:`beveloid.explore.batch.design_batch` found ``ok`` this builds the
-solver's parameter vectors by layout field name (as ``beveloid.geometry.PairGeometry`` does, as
-arrays), finds the pitch point on both members (solver.section.point_at_radius, one 2x2 Newton over all
+For the designs that :func:`beveloid.design.design_arrays` found ``ok`` this builds their
+``beveloid.geometry.PairGeometry`` (one geometry whose fields are arrays over the designs:
+``Member.from_design`` on the design's members, the parameter vectors packed by layout field name with a
+leading axis over the designs), finds the pitch point on both members (solver.section.point_at_radius, one 2x2 Newton over all
 designs at once), solves the aligned contact at P and classifies it with the compiled core (one
 compiled loop over the designs calling the core's own ``solve_point`` and ``solve_paths_serial``,
 exactly what ``tca.sensitivity`` calls for one design), then takes the implicit-function
@@ -21,59 +22,43 @@ import types
 import numpy as np
 
 from .. import tca
-from ..generated import design_equations, layouts, surface_models, tca_kernels
+from typing import NamedTuple
+
+from ..design import checks
+from ..generated import layouts, surface_models, tca_kernels
+from ..geometry import Member as GeometryMember
+from ..geometry import PairGeometry
+from ..names import Member
 from ..solver import backends, section
 from ..solver.options import DEFAULT_OPTIONS
-from ..geometry import junction_l
+from ..solver.records import PathOutput, PathRequest, Problem, Settings
 from ..status import Status
 
-MEMBERS = ((1, "pinion"), (2, "gear"))
 _OK = int(Status.OK)
 
 
-def _pack(layout, values):
-    """A layout's fields by name as an (n, fields) array."""
-    return np.ascontiguousarray(np.stack(np.broadcast_arrays(*layout.pack(values)), axis=-1), dtype=float)
+class MemberSource(NamedTuple):
+    """What a member's spec section gives the geometry (PairGeometry.from_design reads the same names)."""
+
+    tooth_surface: str
+    surface_options: dict
+    cutter_tip_radius_coefficient: np.ndarray
 
 
-def members(values: dict, q: dict, idx: np.ndarray, models: dict) -> dict:
-    """Per member: the geometry.Member quantities of designs idx, by name (arrays)."""
-    m_n = values["pair.normal_module_mm"][idx]
-    out = {}
-    for _, name in MEMBERS:
-        o = design_equations.MEMBER_OUTPUTS[name]  # which design output fills each member field
-        beta, gamma = q[o["helix_angle"]][idx], q[o["cone_angle"]][idx]
-        x_t = values["pinion.profile_shift"][idx] if name == "pinion" else q["x_t2"][idx]
-        b_c = values[f"{name}.reference_section_offset_mm"][idx]
-        w = values[f"{name}.face_width_mm"][idx] / 2
-        toe = np.where(gamma >= 0, b_c - w, b_c + w)
-        heel = np.where(gamma >= 0, b_c + w, b_c - w)
-        out[name] = dict(
-            helix_angle=beta, cone_angle=gamma, normal_pressure_angle=np.radians(values["pair.normal_pressure_angle_deg"][idx]),
-            cutter_addendum_mm=values[f"{name}.cutter_addendum_coefficient"][idx] * m_n,
-            rack_shift_mm=x_t * m_n * np.cos(gamma) / np.cos(beta), pitch_radius_mm=q[o["reference_pitch_radius_mm"]][idx],
-            working_pitch_radius_mm=q[o["working_pitch_radius_mm"]][idx],
-            axial_placement_mm=q[o["working_mounting_distance_mm"]][idx] - b_c,
-            reference_section_offset_mm=b_c, face_width_mm=values[f"{name}.face_width_mm"][idx],
-            tip_height_mm=values[f"{name}.addendum_coefficient"][idx] * m_n, half_thickness_mm=math.pi * m_n / 4,
-            normal_module_mm=m_n, toe_z_mm=toe, heel_z_mm=heel,
-            form_limit_l_mm=np.broadcast_to(junction_l(
-                np.radians(values["pair.normal_pressure_angle_deg"][idx]),
-                values[f"{name}.cutter_tip_radius_coefficient"][idx] * m_n, m_n), m_n.shape),
-            pitch_point_angle=np.array([math.atan2(s, c) for s, c in zip(q[o["sin_pitch_point_angle"]][idx],
-                                                                          q[o["cos_pitch_point_angle"]][idx])]),
-            model=models[name])
-        for key in surface_models.MODEL_KEYS[models[name]]:  # the model's own inputs (crowning)
-            out[name][key] = values[f"{name}.{key}"][idx]
-    return out
-
-
-def _params(member):
-    layout = tca_kernels.SURFACE_LAYOUTS[member["model"]]
-    fields = _pack(layout, member)
-    out = np.zeros((fields.shape[0], tca_kernels.PARAMETER_COUNT))
-    out[:, :fields.shape[1]] = fields
-    return out
+def geometry(values: dict, q: dict, idx: np.ndarray, models: dict) -> PairGeometry:
+    """The designs idx as one PairGeometry of arrays: Member.from_design over the design's members
+    (beveloid.design.checks.member_arrays), as PairGeometry.from_design builds one design."""
+    sub = {k: np.asarray(v)[idx] for k, v in values.items()}
+    qs = {k: np.asarray(v)[idx] for k, v in q.items()}
+    m_n = sub["pair.normal_module_mm"]
+    alpha_n = np.radians(sub["pair.normal_pressure_angle_deg"])
+    members = []
+    for name in Member:
+        model = models[name]
+        source = MemberSource(model, {key: sub[f"{name}.{key}"] for key in surface_models.MODEL_KEYS[model]},
+                              sub[f"{name}.cutter_tip_radius_coefficient"])
+        members.append(GeometryMember.from_design(checks.member_arrays(sub, qs, name), m_n, alpha_n, source))
+    return PairGeometry(m_n, alpha_n, sub["pair.offset_mm"], np.radians(sub["pair.shaft_angle_deg"]), *members)
 
 
 def _aligned_contacts(pm, gm, flank, pp, gp, pair, pb, gb, x0, phi, scale, tol, max_iter, steps, patch_tol, x_out,
@@ -89,14 +74,18 @@ def _aligned_contacts(pm, gm, flank, pp, gp, pair, pb, gb, x0, phi, scale, tol, 
     bo = np.empty((1, 1), dtype=np.int64)
     ao = np.empty((1, 1, 2), dtype=np.int64)
     for i in range(x0.shape[0]):
-        problem = (pm, gm, flank, pp[i], gp[i], pair[i])
-        x, conv, _, _ = solve_point(problem, x0[i], phi[i], zeros, scale[i], tol[i], max_iter)  # noqa: F821
+        problem = Problem(pinion_model=pm, gear_model=gm, flank=flank, pinion_params=pp[i], gear_params=gp[i],
+                          pair=pair[i], pinion_blank=pb[i], gear_blank=gb[i])
+        limits = Settings(scale_mm=scale[i], tol_mm=tol[i], max_iter=max_iter, patch_tol_mm=patch_tol,
+                          homotopy_steps=steps, first_touch_sign=1.0)
+        x, conv, _, _ = solve_point(problem, x0[i], phi[i], zeros, limits)  # noqa: F821
         if not conv:
             code_out[i] = -1
             continue
         grid[0] = phi[i]
-        solve_paths_serial(problem, pb[i], gb[i], cover, x, phi[i], errors, grid, scale[i], tol[i],  # noqa: F821
-                           max_iter, steps, patch_tol, 1.0, xo, co, io, bo, ao)
+        solve_paths_serial(problem, PathRequest(pinion_cover=cover, x_ref=x, phi_ref=phi[i], errors=errors,  # noqa: F821
+                                                phi_grid=grid),
+                           limits, PathOutput(x=xo, status=co, iterations=io, boundary=bo, active=ao))
         code_out[i] = co[0, 0]
         x_out[i, :] = xo[0, 0, :]
 
@@ -124,33 +113,31 @@ def sensitivities(values: dict, q: dict, idx: np.ndarray, models: dict, backend:
     ``gear_angle_D_errors`` (n, 5), ``unknowns_D_errors`` (n, 5, 5); nan elsewhere.
     """
     backend = backends.resolve(backend)
-    mem = members(values, q, idx, models)
-    p, g = mem["pinion"], mem["gear"]
-    pp, gp = _params(p), _params(g)
-    pair = _pack(layouts.PairPlacement, dict(
-        offset_mm=values["pair.offset_mm"][idx], shaft_angle=np.radians(values["pair.shaft_angle_deg"][idx]),
-        pinion_axial_placement_mm=p["axial_placement_mm"], gear_axial_placement_mm=g["axial_placement_mm"]))
-    pb, gb = _pack(layouts.FlankBlank, p), _pack(layouts.FlankBlank, g)
-    alpha_n = p["normal_pressure_angle"]
+    geom = geometry(values, q, idx, models)
+    p, g = geom.pinion, geom.gear
+    pp, gp = geom.surface_params("pinion"), geom.surface_params("gear")
+    pair = geom.placement()
+    pb, gb = p.blank(), g.blank()
+    alpha_n = geom.normal_pressure_angle
     eps = np.finfo(float).eps
-    tol = np.maximum(DEFAULT_OPTIONS.tol_mm, 64 * eps * (np.abs(g["axial_placement_mm"]) + values["pair.offset_mm"][idx]
-                                                          + g["working_pitch_radius_mm"]))
-    scale = g["working_pitch_radius_mm"]
+    tol = np.maximum(DEFAULT_OPTIONS.tol_mm, 64 * eps * (np.abs(g.axial_placement_mm) + geom.offset_mm
+                                                          + g.working_pitch_radius_mm))
+    scale = g.working_pitch_radius_mm
     n = idx.size
     out = {}
+    pm, gm = p.tooth_surface, g.tooth_surface
     for flank in tca.FLANKS:
-        pm, gm = p["model"], g["model"]
         ends = {}
         for name, m, params in (("pinion", p, pp), ("gear", g, gp)):
-            l0 = np.array([a / math.cos(b) for a, b in zip(m["cutter_addendum_mm"], alpha_n)])
-            sp = section.point_at_radius(m["model"], flank, params, m["working_pitch_radius_mm"],
-                                         m["reference_section_offset_mm"], l0)
+            l0 = np.array([a / math.cos(b) for a, b in zip(m.cutter_addendum_mm, alpha_n)])
+            sp = section.point_at_radius(m.tooth_surface, flank, params, m.working_pitch_radius_mm,
+                                         m.reference_section_offset_mm, l0)
             ends[name] = sp.l_mm, sp.u_mm, np.arctan2(sp.point[:, 1], sp.point[:, 0])
         l1, u1, psi1 = ends["pinion"]
         l2, u2, psi2 = ends["gear"]
-        phi1 = p["pitch_point_angle"] - psi1
+        phi1 = p.pitch_point_angle - psi1
         x0 = np.ascontiguousarray(np.stack(layouts.ContactUnknowns(
-            pinion_l_mm=l1, pinion_u_mm=u1, gear_l_mm=l2, gear_u_mm=u2, gear_angle_rad=g["pitch_point_angle"] - psi2),
+            pinion_l_mm=l1, pinion_u_mm=u1, gear_l_mm=l2, gear_u_mm=u2, gear_angle_rad=g.pitch_point_angle - psi2),
             axis=-1))
         x = np.full((n, 5), np.nan)
         code = np.empty(n, dtype=np.int64)

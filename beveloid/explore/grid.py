@@ -11,6 +11,7 @@ way on any worker.
 """
 from __future__ import annotations
 
+import difflib
 import math
 from dataclasses import dataclass
 
@@ -27,6 +28,27 @@ def numeric_keys() -> dict:
     """Every numeric key of a spec (dotted name -> KeyDoc) that a file may give."""
     return {f"{section}.{key}": doc for section, docs in KEY_DOCS.items() for key, doc in docs.items()
             if doc.kind in ("number", "integer") and doc.requirement != "result"}
+
+
+#: which design inputs fix a design result (the package docstring of beveloid.design)
+_RESULT_INPUTS = {"gear.helix_angle_deg": "pinion.helix_angle_deg and pair.shaft_angle_deg, Eqs 16 and 26",
+                  "gear.profile_shift": "pair.offset_mm and pinion.profile_shift, Eq 27"}
+
+
+def _unknown_key_text(key: str, keys: dict) -> str:
+    """One line for a --vary key that is not a design input: a design result (which keys are the
+    inputs), a choice key, or an unknown key (with the closest inputs, difflib)."""
+    section, _, name = key.partition(".")
+    doc = KEY_DOCS.get(section, {}).get(name)
+    if doc is not None and doc.requirement == "result":
+        inputs = _RESULT_INPUTS.get(key, "the design inputs")
+        return (f"--vary {key}: a design result, not a design input (the design computes it from {inputs});"
+                f" vary those inputs instead (the numeric design inputs: {', '.join(keys)})")
+    if doc is not None:
+        return f"--vary {key}: a {doc.kind} key, not a numeric one; --vary takes the numeric design inputs"
+    close = difflib.get_close_matches(key, list(keys), n=3, cutoff=0.6)
+    hint = f"did you mean {' or '.join(close)}? " if close else ""
+    return f"--vary {key}: not a spec key; {hint}the numeric design inputs are: {', '.join(keys)}"
 
 
 @dataclass(frozen=True)
@@ -49,7 +71,7 @@ def parse_vary(text: str) -> Vary:
     key, _, spec = text.partition("=")
     key = key.strip()
     if key not in keys:
-        raise UserError(f"--vary {key}: not a numeric spec key; valid keys: {', '.join(keys)}")
+        raise UserError(_unknown_key_text(key, keys))
     doc = keys[key]
     parts = spec.split(":")
     if len(parts) != 3:

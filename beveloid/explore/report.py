@@ -126,7 +126,9 @@ def heatmap(path, req, table, column, label, base_row, log=False):
     plt = _plt()
     from matplotlib.colors import LogNorm
 
-    norm = LogNorm() if log else None
+    shown = np.asarray(table[column], dtype=float)[table["status"] == "ok"]
+    shown = shown[np.isfinite(shown)]
+    norm = LogNorm() if log and (shown > 0).any() else None  # no ok design: an empty map, no colour scale
     g = _grid2(req, table, column)
     fig, ax = plt.subplots(figsize=(6.0, 4.4))
     if g is None:  # a sample: scatter over the first two keys (or one key against the value)
@@ -149,8 +151,9 @@ def heatmap(path, req, table, column, label, base_row, log=False):
         if bx is not None and by is not None:
             ax.plot([bx], [by], marker="*", color="red", ms=12, ls="", label="base design")
             ax.legend(loc="best", fontsize=8)
-    fig.colorbar(sc, ax=ax, label=label)
-    ax.set_title(f"{label}\n(grey: no design or no surface contact at P)", fontsize=9)
+    if shown.size:
+        fig.colorbar(sc, ax=ax, label=label)
+    ax.set_title(f"{label}\n(grey: no ok design, or no surface contact at P)", fontsize=9)
     fig.tight_layout()
     fig.savefig(path, dpi=90)
     plt.close(fig)

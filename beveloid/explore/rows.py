@@ -20,7 +20,9 @@ import numpy as np
 from .. import assembly_errors, tca
 from ..generated import design_equations, surface_models
 from ..status import Status
-from . import batch, contact
+from ..design import design_arrays
+from ..names import Member
+from . import contact, tooth
 
 AXES = ("x", "y", "z")
 #: the design's working data: (column, q key or a function of (q, values), degrees?)
@@ -72,17 +74,23 @@ def models(base: dict, values: dict) -> list[tuple[str, str]]:
     return list(zip(out[0], out[1]))
 
 
-def compute(plan, start: int, stop: int, tolerances: dict, backend: str = "auto") -> dict:
-    """The rows of designs start..stop-1 of a :class:`beveloid.explore.grid.Plan` (columns by name)."""
+def compute(plan, start: int, stop: int, tolerances: dict, backend: str = "auto", tooth_checks: bool = True) -> dict:
+    """The rows of designs start..stop-1 of a :class:`beveloid.explore.grid.Plan` (columns by name); the
+    whole-tooth checks (explore/tooth.py) unless ``tooth_checks`` is False."""
     varied = plan.values(start, stop)
     n = stop - start
     values = {k: np.full(n, v) for k, v in plan.base_values().items()}
     values.update({k: np.asarray(v, dtype=float) for k, v in varied.items()})
-    status, alpha, q = batch.design_batch(values)
-    ok = status == 0
+    d = design_arrays(values)
+    ok = d.ok
+    status = np.where(ok, 0, 1)  # the sensitivities are of the designs that pass the design's checks
+    with np.errstate(invalid="ignore"):
+        q = {k: np.where(ok, v, np.nan) for k, v in d.q.items()}
+    alpha = np.where(ok, d.alpha_nw, np.nan)
+    q["offset_residual_mm"] = np.where(ok, d.offset_residual_mm, np.nan)
     cols: dict = {"design": np.arange(start, stop)}
     cols.update(varied)
-    cols["status"] = np.array(batch.STATUSES, dtype=object)[status]
+    cols["status"] = d.labels()
     deg = np.degrees
     cols["working_normal_pressure_angle_deg"] = deg(alpha)
     cols["fpd_angle_left_deg"] = deg(q["xi_L"])
@@ -90,7 +98,7 @@ def compute(plan, start: int, stop: int, tolerances: dict, backend: str = "auto"
     cols["max_fpd_angle_deg"] = np.maximum(np.abs(cols["fpd_angle_left_deg"]), np.abs(cols["fpd_angle_right_deg"]))
     cols["normal_angular_factor"] = q["xi_n"]
     cols["offset_residual_mm"] = q["offset_residual_mm"]
-    for _, name in contact.MEMBERS:
+    for name in Member:
         o = design_equations.MEMBER_OUTPUTS[name]  # which design output fills each member field
         for col, field, is_deg in MEMBER_COLUMNS:
             x = q[o[field]]
@@ -104,6 +112,7 @@ def compute(plan, start: int, stop: int, tolerances: dict, backend: str = "auto"
         cols[f"{name}_rack_shift_mm"] = (cols[f"{name}_profile_shift"] * values["pair.normal_module_mm"]
                                          * np.cos(q[o["cone_angle"]]) / np.cos(q[o["helix_angle"]]))
     _sensitivities(cols, plan, values, q, status, tolerances, backend)
+    tooth.whole_tooth(cols, d.outcome, lambda j: design_spec(plan, values, j), check=tooth_checks)
     return cols
 
 
@@ -180,7 +189,7 @@ def monte_carlo(cols: dict, plan, start: int, stop: int, tolerances: dict, sampl
     seed of design i is derived from (seed, i) alone, so a design's sets do not depend on its chunk.
     """
     from ..pair import Pair
-    from ..sweep import sweep
+    from .. import sweep
 
     n = stop - start
     for c in MC_COLUMNS:
@@ -197,9 +206,10 @@ def monte_carlo(cols: dict, plan, start: int, stop: int, tolerances: dict, sampl
         spec = design_spec(plan, values, j)
         nominal = {k: float(getattr(spec.misalignment, k)) for k in assembly_errors.KEYS}
         design_seed = int(np.random.SeedSequence([seed, start + j]).generate_state(1, np.uint64)[0] >> 1)
+        options = sweep.Options(flank=flank, samples=samples, positions=positions, seed=design_seed,
+                                ranges=dict(tolerances), nominal=nominal)
         try:
-            res = sweep(Pair.from_spec(spec).geometry, flank, samples, positions, design_seed, dict(tolerances),
-                        backend, nominal=nominal).to_json_dict()
+            res = sweep.analyze(Pair.from_spec(spec), options, backend).to_json_dict()
         except RuntimeError:  # the aligned flank has no engagement to sample
             cols["mc_status"][j] = "no_aligned_contact"
             continue

@@ -9,21 +9,37 @@ at once to ``DIR/chunks/`` (numpy .npz, written to a temporary name and renamed)
 """
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import sys
 import time
 from dataclasses import asdict, dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
-from ..errors import UserError
+from ..errors import ErrorCode, StopReason, UserError
 from .grid import Plan, Vary
 
 #: designs per chunk: large enough for the batched kernels, small enough to lose little on a stop
 CHUNK = 256
 REQUEST = "request.json"
 CHUNKS = "chunks"
+
+
+def code_version() -> dict:
+    """What computed the rows: the package version and a digest of the generated kernels (every module
+    of ``beveloid.generated``, the code ``beveloid derive`` writes)."""
+    from .. import __version__, generated
+
+    digest = hashlib.sha1()
+    folder = generated.__path__[0]
+    for name in sorted(os.listdir(folder)):
+        if name.endswith(".py"):
+            with open(os.path.join(folder, name), "rb") as f:
+                digest.update(name.encode() + b"\0" + f.read())
+    return {"package_version": __version__, "generated_kernels_sha1": digest.hexdigest()[:16]}
 
 
 @dataclass(frozen=True)
@@ -39,6 +55,8 @@ class Request:
     backend: str = "auto"
     source: str = ""
     extra: dict = field(default_factory=dict)
+    #: the code that computes the rows (:func:`code_version`); chunks of another version are not reused
+    code: dict = field(default_factory=code_version)
 
     def to_json(self) -> dict:
         d = asdict(self)
@@ -50,22 +68,28 @@ class Request:
         p = d["plan"]
         plan = Plan(p["base"], tuple(Vary(**v) for v in p["varies"]), p.get("samples"), p.get("seed", 0))
         return cls(plan, dict(d["tolerances"]), d["mc"], d["mc_positions"], d["mc_flank"], d["chunk"], d["backend"],
-                   d.get("source", ""), d.get("extra", {}))
+                   d.get("source", ""), d.get("extra", {}), dict(d.get("code", {})))
 
     @property
     def chunks(self) -> int:
         return -(-self.plan.count // self.chunk)
 
 
-def compute_chunk(task: tuple) -> dict:
-    """The rows of chunk ``index`` of a request (given as its JSON dict): what a worker runs."""
+class ChunkTask(NamedTuple):
+    """What a worker gets: the request (its JSON dict) and the index of the chunk."""
+
+    request: dict
+    index: int
+
+
+def compute_chunk(task: ChunkTask) -> dict:
+    """The rows of chunk ``task.index`` of a request: what a worker runs."""
     from .. import parallel
     from . import rows
 
-    request_json, index = task
     parallel.single_threaded()
-    req = Request.from_json(request_json)
-    start = index * req.chunk
+    req = Request.from_json(task.request)
+    start = task.index * req.chunk
     stop = min(req.plan.count, start + req.chunk)
     cols = rows.compute(req.plan, start, stop, req.tolerances, req.backend)
     if req.mc:
@@ -80,7 +104,7 @@ def warm_up() -> None:
     from ..sweep import DEFAULT_RANGES
 
     plan = Plan(spec_to_dict(load_example("case1")), ())
-    compute_chunk((Request(plan, dict(DEFAULT_RANGES)).to_json(), 0))
+    compute_chunk(ChunkTask(Request(plan, dict(DEFAULT_RANGES)).to_json(), 0))
 
 
 def _chunk_path(out_dir: str, index: int) -> str:
@@ -110,19 +134,45 @@ def load_table(out_dir: str, req: Request) -> dict:
     return {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
 
 
-def prepare(out_dir: str, req: Request, resume: bool) -> Request:
-    """Create DIR (fresh) or read its request (resume); refuse to mix two runs in one DIR."""
+def _version_text(code: dict) -> str:
+    return (f"beveloid {code.get('package_version', '(unknown)')}, generated kernels"
+            f" {code.get('generated_kernels_sha1', '(unknown)')}")
+
+
+def prepare(out_dir: str, req: Request | None, resume: bool, log=None) -> Request:
+    """Create DIR (fresh) or read its request (resume); refuse to mix two runs in one DIR.
+
+    Chunks are reused only when computed by the same code (:func:`code_version`): a fresh run of the
+    same request into a DIR made by another version removes the old chunks (``log`` says so, one line)
+    and computes them again; ``--resume`` of such a DIR is refused with a line saying how to go on.
+    """
     path = os.path.join(out_dir, REQUEST)
+    now = code_version()
     if resume:
         if not os.path.exists(path):
             raise UserError(f"--resume {out_dir}: no {REQUEST} there; start a run with --out {out_dir}")
         with open(path) as f:
-            return Request.from_json(json.load(f))
+            old = Request.from_json(json.load(f))
+        if old.code != now:
+            raise UserError(f"--resume {out_dir}: its chunks were computed by {_version_text(old.code)}, this is"
+                            f" {_version_text(now)}; rows of two versions would mix: run the same request again"
+                            f" with --out {out_dir} (it recomputes every chunk) or with the version that started it",
+                            code=ErrorCode.STALE_RESULTS)
+        return old
     if os.path.exists(path):
         with open(path) as f:
-            if json.load(f) != json.loads(json.dumps(req.to_json())):
-                raise UserError(f"--out {out_dir}: holds another exploration ({REQUEST}); continue it with --resume"
-                                f" {out_dir} or choose another --out")
+            held = json.load(f)
+        mine = json.loads(json.dumps(req.to_json()))
+        if {k: v for k, v in held.items() if k != "code"} != {k: v for k, v in mine.items() if k != "code"}:
+            raise UserError(f"--out {out_dir}: holds another exploration ({REQUEST}); continue it with --resume"
+                            f" {out_dir} or choose another --out")
+        if held.get("code") != mine["code"]:
+            stale = finished(out_dir, req)
+            for i in stale:
+                os.remove(_chunk_path(out_dir, i))
+            if log and stale:
+                log(f"beveloid explore: {out_dir} holds {len(stale)} chunks of this request computed by"
+                    f" {_version_text(held.get('code', {}))}; this is {_version_text(now)}: computing them again")
     os.makedirs(os.path.join(out_dir, CHUNKS), exist_ok=True)
     with open(path, "w") as f:
         json.dump(req.to_json(), f, indent=1)
@@ -153,19 +203,20 @@ class Progress:
         self.stream.flush()
 
 
-def execute(out_dir: str, req: Request, ex, progress: Progress | None = None) -> tuple[bool, str]:
-    """Compute the missing chunks on the executor ``ex``; (complete, why not)."""
+def execute(out_dir: str, req: Request, ex, progress: Progress | None = None) -> tuple[StopReason | None, str]:
+    """Compute the missing chunks on the executor ``ex``: (None, "") when complete, else (why it stopped,
+    a line saying so)."""
     from ..parallel import WorkLost
 
     todo = [i for i in range(req.chunks) if not os.path.exists(_chunk_path(out_dir, i))]
     payload = req.to_json()
     try:
-        for k, cols in ex.map_unordered(compute_chunk, [(payload, i) for i in todo]):
+        for k, cols in ex.map_unordered(compute_chunk, [ChunkTask(payload, i) for i in todo]):
             save_chunk(out_dir, todo[k], cols)
             if progress:
                 progress.update(len(cols["design"]))
     except KeyboardInterrupt:
-        return False, "interrupted (Ctrl-C)"
+        return StopReason.INTERRUPTED, str(StopReason.INTERRUPTED)
     except WorkLost as exc:
-        return False, str(exc)
-    return True, ""
+        return StopReason.WORK_LOST, str(exc)
+    return None, ""

@@ -10,11 +10,15 @@ root fillets, tip and root lands are B-spline surfaces fitted through the genera
   STL by trimesh (watertight: checked before writing).  No OpenCASCADE on this path: the two
   formats are built independently, and their volumes agree (tests/export).
 
+The formats are the writers of :data:`formats.WRITERS` (name, extension, extra, build, place,
+write): a new format is one entry there.
+
 Each member is written in its own frame S_i (``<stem>_pinion.step``, ``<stem>_gear.step``); with
 ``assembled=True`` the requested members go into one file ``<stem>_pair.<ext>``, placed in the
 fixed frame S_f as designed (generated/placement.py, Eqs 30-35, with the spec's [misalignment]).
 
-Needs the ``cad`` extra (``pip install "beveloid[cad]"``): :func:`require_cad` says so in one line.
+Needs the ``cad`` extra: :func:`require_cad` says in one line what to install, worded for a source
+checkout or an installed copy (:func:`formats.install_hint`).
 """
 from __future__ import annotations
 
@@ -22,9 +26,13 @@ import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
-FORMATS = ("step", "stl")
+from .formats import WRITERS, install_hint
+
+__all__ = ["FORMATS", "MEMBERS", "CHORD_UM", "CadMissing", "require_cad", "ExportOptions", "WrittenFile",
+           "ExportResult", "bore_diameters", "export", "WRITERS", "install_hint"]
+
+FORMATS = tuple(WRITERS)
 MEMBERS = ("pinion", "gear")
-INSTALL_HINT = 'beveloid export needs OpenCASCADE and trimesh: pip install "beveloid[cad]"'
 #: the STL's chord error aimed at (um) at the cells' centres; 5 um is promised anywhere
 CHORD_UM = 3.0
 
@@ -33,13 +41,13 @@ class CadMissing(ImportError):
     """The ``cad`` extra is not installed (its message is one line: what to install)."""
 
 
-def require_cad() -> None:
-    """Raise :class:`CadMissing` unless OCP (cadquery-ocp) and trimesh import."""
-    try:
-        import OCP.BRepBuilderAPI  # noqa: F401
-        import trimesh  # noqa: F401
-    except ImportError:
-        raise CadMissing(INSTALL_HINT) from None
+def require_cad(format: str = "step") -> None:
+    """Raise :class:`CadMissing` unless the modules of the format's writer import."""
+    from .formats import missing_modules
+
+    writer = WRITERS[format]
+    if missing_modules(writer):
+        raise CadMissing(install_hint(writer))
 
 
 @dataclass(frozen=True)
@@ -90,41 +98,24 @@ def bore_diameters(spec) -> dict:
 
 def export(pair, options: ExportOptions = ExportOptions()) -> ExportResult:
     """Build the requested members and write them (see the module docstring)."""
-    require_cad()
-    from . import assembly, mesh
+    require_cad(options.format)
+    from . import assembly
 
+    writer = WRITERS[options.format]
     bores = bore_diameters(pair.spec)
     out = Path(options.out_dir)
     out.mkdir(parents=True, exist_ok=True)
     places = assembly.assembly_placements(pair) if options.assembled else None
-    if options.format == "step":
-        from . import occ, solid
-
-        built = {m: solid.build_member(pair.geometry, m, bores[m]) for m in options.members}
-        shapes = {m: built[m].shape if places is None else occ.transformed(built[m].shape, places[m].trsf)
-                  for m in options.members}
-        fits = {m: built[m].max_fit_error_um for m in options.members}
-    else:
-        built = {m: mesh.build_mesh(pair.geometry, m, bores[m], options.chord_um) for m in options.members}
-        shapes = {m: built[m].mesh if places is None else mesh.placed(built[m].mesh, *places[m].matrix)
-                  for m in options.members}
-        fits = {m: built[m].max_chord_error_um for m in options.members}
+    built = {m: writer.build(pair.geometry, m, bores[m], options) for m in options.members}
+    shapes = {m: writer.place(built[m], None if places is None else places[m]) for m in options.members}
     if options.assembled:
         groups = [(f"{options.stem}_pair", options.members)]
     else:
         groups = [(f"{options.stem}_{m}", (m,)) for m in options.members]
     written = []
     for name, members in groups:
-        path = out / f"{name}.{options.format}"
-        teeth = tuple(built[m].teeth for m in members)
-        error = max(fits[m] for m in members)
-        if options.format == "step":
-            shape = occ.compound([shapes[m] for m in members]) if len(members) > 1 else shapes[members[0]]
-            occ.write_step(shape, path)
-            volume = sum(occ.volume_mm3(s) for s in occ.solids_of(shape))
-            written.append(WrittenFile(path, members, volume, teeth, error))
-        else:
-            joined = mesh.joined([shapes[m] for m in members])
-            mesh.write(joined, path)
-            written.append(WrittenFile(path, members, float(joined.volume), teeth, error, len(joined.faces)))
+        path = out / f"{name}.{writer.extension}"
+        volume, triangles = writer.write([shapes[m] for m in members], path)
+        written.append(WrittenFile(path, members, volume, tuple(built[m].teeth for m in members),
+                                   max(built[m].max_error_um for m in members), triangles))
     return ExportResult(tuple(written), built)

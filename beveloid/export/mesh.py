@@ -7,9 +7,12 @@ grid the tooth's faces (:mod:`beveloid.export.sampling`) are walked in order rou
     fillet_right (-> root), root (-> the next tooth's fillet_left)
 
 so that each shared point is one vertex; consecutive sections are joined by two triangles per cell,
-the toe and heel by a fan from the axis (no bore) or by a strip to the bore circle.  The grids are
-refined until the generated surface at every cell's centre (points not used for the mesh) lies within
-the chord tolerance of the cell's two triangles.
+the toe and heel each by one polygon per tooth (the section's tooth outline from the left fillet's root
+point to the right one's, closed by their chord: ear clipping, so an undercut outline that turns back
+in angle is closed as well) and the star-shaped rest, the root lands and those chords, by a fan from
+the axis (no bore) or by a strip to the bore circle.  The grids are refined until the generated
+surface at every cell's centre (points not used for the mesh) lies within the chord tolerance of the
+cell's two triangles.
 """
 from __future__ import annotations
 
@@ -38,6 +41,11 @@ class MemberMesh:
     mesh: trimesh.Trimesh
     samples: dict  # face -> (profile, axial) grid points
     max_chord_error_um: float  # at the cells' centres
+
+    @property
+    def max_error_um(self) -> float:
+        """The writer registry's name for it (formats.Writer)."""
+        return self.max_chord_error_um
 
 
 def _tooth_ring(sampler, n_s, z):
@@ -98,6 +106,38 @@ def _angles_round(outline, z, member):
     return ang[0] + np.concatenate([[0.0], np.cumsum(step)])
 
 
+def _ear_clip(xy, member, z):
+    """Triangles (k, 3) of the simple polygon xy (n, 2), counter-clockwise (+z normals) whatever its order."""
+    area2 = np.sum(xy[:, 0] * np.roll(xy[:, 1], -1) - np.roll(xy[:, 0], -1) * xy[:, 1])
+    idx = list(range(len(xy))) if area2 > 0 else list(range(len(xy)))[::-1]
+    tris = []
+    while len(idx) > 3:
+        m, pts = len(idx), xy[idx]
+        prev, nxt = np.roll(pts, 1, axis=0), np.roll(pts, -1, axis=0)
+        cross = (pts[:, 0] - prev[:, 0]) * (nxt[:, 1] - prev[:, 1]) - (pts[:, 1] - prev[:, 1]) * (nxt[:, 0] - prev[:, 0])
+        scale = np.max(np.abs(cross)) + 1e-300
+        for t in np.argsort(-cross):  # the most convex corners first
+            if cross[t] <= 1e-12 * scale:
+                break
+            a, b, c = prev[t], pts[t], nxt[t]
+            others = np.delete(pts, [(t - 1) % m, t, (t + 1) % m], axis=0)
+            d = [(q[1] - p[1]) * (others[:, 0] - p[0]) - (q[0] - p[0]) * (others[:, 1] - p[1])
+                 for p, q in ((a, b), (b, c), (c, a))]
+            if not np.any((d[0] >= 0) & (d[1] >= 0) & (d[2] >= 0)):  # no other corner in or on the ear
+                tris.append((idx[(t - 1) % m], idx[t], idx[(t + 1) % m]))
+                del idx[t]
+                break
+        else:
+            t = int(np.argmin(np.abs(cross)))  # only flat corners left: drop one (a triangle of no area)
+            if abs(cross[t]) > 1e-12 * scale:
+                raise ExportGeometryError(f"{member}: the tooth's outline in the section z = {z:.3f} mm crosses"
+                                          " itself: the STL end faces cannot be closed")
+            tris.append((idx[(t - 1) % m], idx[t], idx[(t + 1) % m]))
+            del idx[t]
+    tris.append(tuple(idx))
+    return np.array(tris)
+
+
 def _stitch(outer_angles, inner_angles):
     """Triangles (outer/inner ring positions, +z normals) between two closed rings round the axis, both
     with non-decreasing unwrapped angles over one turn (n + 1 and m + 1 values: the last closes the
@@ -132,7 +172,13 @@ def build_mesh(geometry, member: str, bore_diameter_mm: float = 0.0, chord_um: f
     ring, z, samples, error = _refined_ring(sampler, z_range, chord_um * 1e-3, first)
     n_t, n_z = sampler.teeth, len(z)
     rings = np.concatenate([rotate_z(ring, k * sampler.pitch_angle_rad) for k in range(n_t)])  # (n, n_z, 3)
-    n = len(rings)
+    n, per_tooth = len(rings), len(ring)
+    root_start = sum(samples[face][0] - 1 for face, _ in RING[:-1])  # the right fillet's root point
+    # the end faces: per tooth its outline (ring 0 .. root_start) closed by a chord, and the rest inside
+    # the root circle (each tooth's two root points and its root land), star-shaped about the axis
+    base = np.concatenate([[0], np.arange(root_start, per_tooth)])
+    sel = np.concatenate([k * per_tooth + base for k in range(n_t)])
+    n_sel = len(sel)
     index = np.arange(n * n_z).reshape(n, n_z)  # vertex i * n_z + j: ring point i in section j
     i0, i1 = index, np.roll(index, -1, axis=0)
     a, b, c, d = i0[:, :-1], i1[:, :-1], i1[:, 1:], i0[:, 1:]  # angle, then z increasing: outward normals
@@ -142,9 +188,12 @@ def build_mesh(geometry, member: str, bore_diameter_mm: float = 0.0, chord_um: f
     bore = _bore_ring(bore_diameter_mm / 2, chord_um * 1e-3) if bore_diameter_mm > 0 else None
     bore_rings = []
     for j, flip in ((0, True), (n_z - 1, False)):  # the toe's normal is -z, the heel's +z
-        outer = _angles_round(rings[:, j], z[j], member)
+        outer = _angles_round(rings[sel, j], z[j], member)
+        tooth = _ear_clip(ring[:root_start + 1, j, :2], member, z[j])
+        tooth_caps = np.concatenate([index[k * per_tooth + tooth, j] for k in range(n_t)])
+        tris.append(tooth_caps[:, ::-1] if flip else tooth_caps)
         if bore is None:
-            codes = np.column_stack([np.arange(n), np.roll(np.arange(n), -1), np.full(n, -1)])
+            codes = np.column_stack([np.arange(n_sel), np.roll(np.arange(n_sel), -1), np.full(n_sel, -1)])
             inner_index = np.array([count])
             vertices.append(np.array([[0.0, 0.0, z[j]]]))
         else:
@@ -156,7 +205,7 @@ def build_mesh(geometry, member: str, bore_diameter_mm: float = 0.0, chord_um: f
             r = bore_diameter_mm / 2
             vertices.append(np.column_stack([r * np.cos(bore), r * np.sin(bore), np.full(len(bore), z[j])]))
             bore_rings.append(count + np.arange(len(bore)))
-        cap = np.where(codes >= 0, index[np.clip(codes, 0, n - 1), j], inner_index[np.clip(-1 - codes, 0, None)])
+        cap = np.where(codes >= 0, index[sel[np.clip(codes, 0, n_sel - 1)], j], inner_index[np.clip(-1 - codes, 0, None)])
         tris.append(cap[:, ::-1] if flip else cap)
         count += len(inner_index) if bore is not None else 1
     if bore is not None:  # the bore wall, normals toward the axis

@@ -9,6 +9,10 @@ in the toe and heel planes and neighbouring faces share their boundary rows poin
   that the point lies in the section z;
 * ``fillet_left``, ``fillet_right``: the root transition, from the root cone (s = 0) to the form
   limit (s = 1): :func:`root_transition`, the one place that says where it comes from;
+* the form limit of a section (:func:`form_limits`) is where the fillet meets the flank: the tip
+  round's junction, or, in an undercut section, where the fillet cuts into the involute
+  (``tooth.profile.form_limit``): the tooth is exported as generated, the undercut fillet surface
+  below that crossing and the flank above it;
 * ``tip``: the tip cone between the left flank's and the right flank's tip curves of the tooth;
 * ``root``: the root cone between the right fillet of this tooth and the left fillet of the next
   tooth (turned by one pitch, 2 pi / N, about the axis).
@@ -19,7 +23,7 @@ the accuracy tests measure the exported surfaces against them.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -28,10 +32,13 @@ from ..errors import UserError
 FLANKS = ("left", "right")
 #: the faces of one tooth and the gap after it, in the order the solid is built from
 FACES = ("flank_left", "flank_right", "fillet_left", "fillet_right", "tip", "root")
+#: the largest step (mm) between a flank and its fillet where they meet that the export accepts
+JOIN_TOL_MM = 1e-4
 
 
 class ExportGeometryError(UserError):
-    """A member whose tooth the export cannot build (undercut, pointed, a bore through the root): one line."""
+    """A member whose tooth the export cannot build (no involute up to the tip, pointed, a bore through the
+    root): one line that says why."""
 
 
 @dataclass(frozen=True)
@@ -40,6 +47,8 @@ class ToothSampler:
 
     geometry: object  # beveloid.geometry.PairGeometry
     member: str
+    #: (flank, z) -> (l, psi) of the form limit (tooth.profile.form_limit is a search: done once per section)
+    _forms: dict = field(default_factory=dict, compare=False, repr=False)
 
     @property
     def data(self):
@@ -68,6 +77,13 @@ class ToothSampler:
     def tip_radius_mm(self, z):
         return self.data.tip_radius(z)
 
+    def undercut_depth(self, flank, z):
+        """How far the rack's form point reaches below the involute's start in the sections z (> 0: undercut)."""
+        from ..tooth import sections
+
+        return getattr(sections.section(self.geometry, self.member, sections.face_z(self.geometry, self.member, z)),
+                       f"undercut_depth_{flank}")
+
     # ------------------------------------------------------------------ flanks
     def flank_u(self, flank, l, z, u0=None):
         """u of the flank point with rack parameter l in the section z (tooth.profile's section Newton)."""
@@ -91,15 +107,16 @@ class ToothSampler:
             raise ExportGeometryError(f"{self.member} {flank} flank: it does not reach the tip cone") from None
         return l, u
 
-    def form_l(self, flank) -> float:
-        """The flank's rack parameter at the form limit (where the root transition meets it)."""
-        return float(transition_junction(self.geometry, self.member, flank)["l"])
+    def form_limits(self, flank, z):
+        """(l, psi) arrays: the flank's rack parameter and the fillet's parameter at the form limit of
+        the sections z (:func:`form_limits`)."""
+        return form_limits(self, flank, np.asarray(z, dtype=float))
 
     def flank_points(self, flank, s, z):
         """Flank points on the grid s (n_s,) x z (n_z,): shape (n_s, n_z, 3)."""
         s, z = np.asarray(s, dtype=float), np.asarray(z, dtype=float)
         l_tip, u_tip = self.flank_tip(flank, z)
-        l0 = self.form_l(flank)
+        l0 = self.form_limits(flank, z)[0][None, :]
         l = l0 + s[:, None] * (l_tip[None, :] - l0)
         u = self.flank_u(flank, l, z[None, :], u0=u_tip[None, :])
         return self.geometry.surface(self.member, flank, l, u).point
@@ -144,9 +161,20 @@ class ToothSampler:
                 f" {root:.3f} mm (0: no bore)")
 
     def check_buildable(self, z):
-        """Refuse a tooth the export cannot build: pointed within the face, undercut flank, no root land."""
+        """Refuse a tooth the export cannot build: no involute up to the tip, pointed within the face, a
+        flank that turns back above its form limit, no root land."""
         z = np.asarray(z, dtype=float)
         s = np.linspace(0.0, 1.0, 41)
+        for flank in FLANKS:
+            self.form_limits(flank, z)  # refuses a section without an involute up to the tip
+            step = np.linalg.norm(self.fillet_points(flank, np.array([1.0]), z)[0]
+                                  - self.flank_points(flank, np.array([0.0]), z)[0], axis=-1)
+            if np.max(step) > JOIN_TOL_MM:
+                k = int(np.argmax(step))
+                raise ExportGeometryError(
+                    f"{self.member}: the {flank} flank and its root fillet are {1e3 * step[k]:.1f} um apart at the form"
+                    f" limit (z = {z[k]:.3f} mm): the flank's modification ({self.data.tooth_surface} model) is not"
+                    " carried by the root fillet model, so the tooth's surfaces do not close")
         tips = [self.flank_points(f, np.array([1.0]), z)[0] for f in FLANKS]
         width = _signed_angle(tips[0], tips[1]) * self.tip_radius_mm(z)
         if np.min(width) <= 1e-3:
@@ -159,8 +187,8 @@ class ToothSampler:
             if np.any(np.diff(r, axis=0) <= 0):
                 k = int(np.nonzero(np.any(np.diff(r, axis=0) <= 0, axis=0))[0][0])
                 raise ExportGeometryError(
-                    f"{self.member}: the {flank} flank is undercut at z = {z[k]:.3f} mm: export of undercut"
-                    " teeth is not supported")
+                    f"{self.member}: the {flank} flank turns back toward the axis above its form limit at"
+                    f" z = {z[k]:.3f} mm: its sections are not a single profile the export can build")
         root = [self.fillet_points("right", np.array([0.0]), z)[0],
                 rotate_z(self.fillet_points("left", np.array([0.0]), z)[0], self.pitch_angle_rad)]
         land = _signed_angle(root[0], root[1]) * self.root_radius_mm(z)
@@ -169,11 +197,29 @@ class ToothSampler:
                                       " export needs a root land")
 
 
-def transition_junction(geometry, member, flank):
-    """Where the root transition meets the flank: {"l": l (mm)} (form limit of the flank)."""
-    from ..tooth import fillet
+def form_limits(sampler: ToothSampler, flank, z):
+    """THE form limit of the exported tooth, per section z: (l (n_z,), psi (n_z,)) where the root
+    transition meets the flank.  The tip round's junction (l_t, psi_J); in an undercut section the
+    crossing of the fillet and the flank (``tooth.profile.form_limit``), below which the generated
+    tooth is the fillet surface and above which it is the flank."""
+    from ..tooth import fillet, profile
 
-    return {"l": float(fillet.tip_round(geometry, member).junction_l)}
+    tr = fillet.tip_round(sampler.geometry, sampler.member)
+    l, psi = np.full(z.shape, float(tr.junction_l)), np.full(z.shape, float(tr.junction_psi))
+    cut = sampler.undercut_depth(flank, z)
+    for k in np.nonzero(cut > 0)[0]:
+        key = (flank, float(z[k]))
+        if key not in sampler._forms:
+            form = (profile.form_limit(sampler.geometry, sampler.member, flank, float(z[k]), samples=100)
+                    or profile.form_limit(sampler.geometry, sampler.member, flank, float(z[k])))  # finer search
+            if form is None:
+                raise ExportGeometryError(
+                    f"{sampler.member}: at z = {z[k]:.3f} mm the {flank} flank has no involute up to the tip (its"
+                    " tip circle lies inside the base circle: the section is all fillet and undercut), which the"
+                    " exported tooth's faces cannot describe")
+            sampler._forms[key] = (form.l_mm, form.psi)
+        l[k], psi[k] = sampler._forms[key]
+    return l, psi
 
 
 def root_transition(sampler: ToothSampler, flank, s, z):
@@ -182,14 +228,13 @@ def root_transition(sampler: ToothSampler, flank, s, z):
     The generated root fillet (``beveloid.tooth.fillet``: the envelope of the rack's tip round, a
     trochoidal surface for a sharp rack), sampled in the transverse sections z.
     """
-    from ..tooth import fillet
     from ..tooth.profile import NoSolution, fillet_in_section
 
     geometry, member = sampler.geometry, sampler.member
     z2 = np.broadcast_to(z[None, :], (s.size, z.size))
-    tr = fillet.tip_round(geometry, member)
-    psi = np.broadcast_to(s[:, None] * float(tr.junction_psi), z2.shape)
-    u = sampler.flank_u(flank, float(tr.junction_l), z)
+    l_form, psi_form = form_limits(sampler, flank, z)
+    psi = s[:, None] * psi_form[None, :]
+    u = sampler.flank_u(flank, l_form, z)
     try:
         return fillet_in_section(geometry, member, flank, z2, psi, np.broadcast_to(u[None, :], z2.shape))[0]
     except NoSolution:

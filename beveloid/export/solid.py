@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import occ
-from .sampling import FACES, ExportGeometryError, ToothSampler
+from .sampling import FACES, ToothSampler
 
 #: the fitted faces lie within this distance of the generated surfaces between the fit points
 #: (the export promises 1 um; the fit aims at a quarter of it)
@@ -48,6 +48,11 @@ class MemberSolid:
     @property
     def max_fit_error_um(self) -> float:
         return max(f.max_error_um for f in self.fits)
+
+    @property
+    def max_error_um(self) -> float:
+        """The writer registry's name for it (formats.Writer)."""
+        return self.max_fit_error_um
 
 
 def fit_face(sampler: ToothSampler, face: str, n_s: int, z) -> FaceFit:

@@ -37,24 +37,26 @@ class GridOptions:
     along_cells: int = DEFAULT_GRID[1]
 
 
-def analyze(pair, options=None, solver=None, *args, **kwargs) -> LTCAResult:
-    """The loaded TCA of one flank over one mesh cycle.
+def analyze(pair, options: Options | None = None, solver=None, **legacy) -> LTCAResult:
+    """The loaded TCA of one flank over one mesh cycle: ``analyze(pair_or_geometry, options,
+    solver=None)`` -> an immutable :class:`LTCAResult` (its JSON: ``result.to_json_dict(geom)``).
 
-    ``analyze(pair, options, solver)``: ``pair`` a :class:`beveloid.pair.Pair` (its misalignment and
-    ``[material]`` are used unless ``options`` sets them) or a ``PairGeometry``; ``options`` an
-    :class:`Options`; ``solver`` a :class:`beveloid.solver.Solver` (default: the default solver).
+    ``pair`` a :class:`beveloid.pair.Pair` (its misalignment and ``[material]`` are used unless
+    ``options`` sets them) or a ``PairGeometry``; ``options`` an :class:`Options`; ``solver`` a
+    :class:`beveloid.solver.Solver`, a backend name or None (the default solver).
 
-    The keyword form of earlier versions is kept:
+    Deprecated, kept for the callers written before Options (tests/ltca, studies, benchmarks), with the
+    tooth it had (the plate):
     ``analyze(geom, torque_nm, flank="right", errors=(0,)*5, positions=20, pairs=3, grid=GridOptions(),
-    material=Material(), backend="auto")``.
+    material=Material(), backend="auto")``.  ``Options.tooth_model`` defaults to the FE tooth.
     """
     from ..solver import Solver
     from .analysis import run
 
     if not isinstance(options, Options):
-        options, solver = _keyword_form(options, solver, args, kwargs)
-    elif args or kwargs:
-        raise TypeError("analyze(pair, options, solver) takes no further arguments")
+        options, solver = _keyword_form(options, solver, legacy)
+    elif legacy:
+        raise TypeError(f"analyze(pair, options, solver): give {', '.join(sorted(legacy))} in Options")
     geom = getattr(pair, "geometry", pair)
     errors = options.errors
     if errors is None:
@@ -63,12 +65,13 @@ def analyze(pair, options=None, solver=None, *args, **kwargs) -> LTCAResult:
     if material is None:
         spec = getattr(pair, "spec", None)
         material = Material.from_spec(spec) if spec is not None else Material()
-    return run(geom, errors, options, material, Solver.of(solver))
+    return run(geom, errors, options, material, Solver.of(solver), pair=pair)
 
 
-def _keyword_form(torque_nm, third, args, kwargs):
+def _keyword_form(torque_nm, flank, kwargs):
+    """(Options, backend) of the deprecated form analyze(geom, torque_nm, flank, **keywords)."""
     names = ("flank", "errors", "positions", "pairs", "grid", "material", "backend")
-    values = dict(zip(names, ((third,) if third is not None else ()) + tuple(args)))
+    values = {} if flank is None else {"flank": flank}
     if "torque_nm" in kwargs:
         torque_nm = kwargs.pop("torque_nm")
     for k in kwargs:
@@ -82,4 +85,4 @@ def _keyword_form(torque_nm, third, args, kwargs):
     return (Options(torque_nm=torque_nm, flank=values.get("flank", "right"), positions=values.get("positions", 20),
                     pairs=values.get("pairs", 3), grid=grid,
                     errors=None if errors is None else tuple(np.asarray(errors, float).ravel()),
-                    material=values.get("material")), values.get("backend", "auto"))
+                    material=values.get("material"), tooth_model="plate"), values.get("backend", "auto"))

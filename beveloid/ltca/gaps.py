@@ -17,6 +17,7 @@ import numpy as np
 from .. import curvature, tca
 from ..generated import placement
 from ..solver.core import on_patch
+from ..solver.records import GapOutput, GapRequest
 
 OFF_FLANK_GAP_MM = 10.0  #: the gap given to cells that lie off a blank: they never touch
 NEWTON_TOL_MM = 1e-9  #: both Newtons of the gap (mm)
@@ -52,15 +53,18 @@ def cell_gaps(geom, flank, errors, frames: Frames, coords, solver) -> CellGaps:
     M = Q * n
     rotation = placement.pinion_placement(frames.pinion_angle, geom.placement()).rotation
     core = solver.announced_core()
-    lu, gear, rates = np.empty((M, 2)), np.empty((M, 3)), np.empty((M, 2))
-    margin, ok = np.empty(M), np.empty(M, dtype=np.int64)
-    p1, p2 = np.empty((M, 3)), np.empty((M, 3))
+    out = GapOutput(pinion_lu=np.empty((M, 2)), gear_lu_gap=np.empty((M, 3)), rates=np.empty((M, 2)),
+                    margin=np.empty(M), ok=np.empty(M, dtype=np.int64), pinion_point=np.empty((M, 3)),
+                    gear_point=np.empty((M, 3)))
     c = np.ascontiguousarray
-    core.normal_gaps(geom.problem(flank), geom.pinion.blank(), geom.gear.blank(), np.repeat(np.arange(Q), n),
-                     c(coords.reshape(M, 2), dtype=float), c(frames.start, dtype=float),
-                     c(frames.pinion_angle, dtype=float), c(frames.origin, dtype=float), c(frames.axes, dtype=float),
-                     c(rotation, dtype=float), c(errors, dtype=float), NEWTON_TOL_MM, NEWTON_ITERATIONS, lu, gear,
-                     rates, margin, ok, p1, p2)
+    request = GapRequest(pair_of_point=np.repeat(np.arange(Q), n), coords=c(coords.reshape(M, 2), dtype=float),
+                         start=c(frames.start, dtype=float), pinion_angle=c(frames.pinion_angle, dtype=float),
+                         origin=c(frames.origin, dtype=float), axes=c(frames.axes, dtype=float),
+                         rotation=c(rotation, dtype=float), errors=c(errors, dtype=float),
+                         tol_mm=float(NEWTON_TOL_MM), max_iter=int(NEWTON_ITERATIONS))
+    core.normal_gaps(geom.problem(flank), request, out)
+    lu, gear, rates, margin, ok, p1, p2 = (out.pinion_lu, out.gear_lu_gap, out.rates, out.margin, out.ok,
+                                           out.pinion_point, out.gear_point)
     r = lambda a: a.reshape((Q, n) + a.shape[1:])  # noqa: E731
     on = (ok == 1) & on_patch(margin, solver.options.patch_tol_mm) & np.isfinite(gear[:, 2])
     return CellGaps(gap_mm=r(gear[:, 2]), gap_D_gear_angle=r(rates[:, 0]), pinion_arm_mm=r(rates[:, 1]),

@@ -9,9 +9,14 @@ import math
 import os
 from dataclasses import dataclass
 
+from ..errors import OptionError
 from . import halfspace
 
 FLANKS = ("left", "right")
+#: how the teeth bend: "fe" the finite-element tooth (beveloid.fe), "plate" the Kirchhoff plate over
+#: the equivalent spur tooth (tooth_compliance.py)
+TOOTH_MODELS = ("fe", "plate")
+FE_REFINEMENTS = (1, 4)
 
 #: (low, high) of every numeric option; pairs must also be odd
 RANGES = {
@@ -19,6 +24,7 @@ RANGES = {
     "positions": (1, 400),
     "pairs": (1, 9),
     "grid_cells": (3, 201),  # cells across / along the contact line per tooth pair
+    "fe_refinement": FE_REFINEMENTS,  # the FE tooth's mesh: every element size divided by it
 }
 
 #: default cells (across, along the contact line) per tooth pair; the cell size follows the local
@@ -56,21 +62,25 @@ def check_torque(value, key="torque_nm"):
     lo, hi = RANGES["torque_nm"]
     t = float(value) if isinstance(value, (int, float)) else math.nan
     if not (math.isfinite(t) and lo < t <= hi):
-        raise ValueError(f"{key} = {value}: must be a number > 0 and <= {hi:.0f} (N m)")
+        raise OptionError(key, value, f"must be a number > 0 and <= {hi:.0f} (N m)")
     return t
 
 
-def check_positions(value, key="positions"):
-    lo, hi = RANGES["positions"]
+def _check_integer(value, key, name):
+    lo, hi = RANGES[name]
     if not (isinstance(value, int) and not isinstance(value, bool) and lo <= value <= hi):
-        raise ValueError(f"{key} = {value}: must be an integer from {lo} to {hi}")
+        raise OptionError(key, value, f"must be an integer from {lo} to {hi}")
     return value
+
+
+def check_positions(value, key="positions"):
+    return _check_integer(value, key, "positions")
 
 
 def check_pairs(value, key="pairs"):
     lo, hi = RANGES["pairs"]
     if not (isinstance(value, int) and not isinstance(value, bool) and lo <= value <= hi and value % 2 == 1):
-        raise ValueError(f"{key} = {value}: must be an odd integer from {lo} to {hi}")
+        raise OptionError(key, value, f"must be an odd integer from {lo} to {hi}")
     return value
 
 
@@ -84,9 +94,29 @@ def check_grid(value, key="grid"):
     except (TypeError, ValueError):
         across = along = None
     if not all(isinstance(v, int) and not isinstance(v, bool) and lo <= v <= hi for v in (across, along)):
-        raise ValueError(f"{key} = {value}: must be ACROSSxALONG with two integers from {lo} to {hi}, e.g. "
-                         f"{DEFAULT_GRID[0]}x{DEFAULT_GRID[1]}")
+        raise OptionError(key, value, f"must be ACROSSxALONG with two integers from {lo} to {hi}, e.g. "
+                                      f"{DEFAULT_GRID[0]}x{DEFAULT_GRID[1]}")
     return (across, along)
+
+
+def default_tooth_model() -> str:
+    """"fe" when gmsh and scikit-fem import, else "plate"."""
+    try:
+        import gmsh  # noqa: F401
+        import skfem  # noqa: F401
+    except ImportError:
+        return "plate"
+    return "fe"
+
+
+def check_tooth_model(value, key="tooth_model"):
+    if value not in TOOTH_MODELS:
+        raise ValueError(f"{key} = {value!r}: must be one of {', '.join(TOOTH_MODELS)}")
+    return value
+
+
+def check_fe_refinement(value, key="fe_refinement"):
+    return _check_integer(value, key, "fe_refinement")
 
 
 def available_memory_bytes() -> float:
@@ -108,7 +138,9 @@ def available_memory_bytes() -> float:
 class Options:
     """One LTCA request.  ``grid``: cells (across, along) per tooth pair, None = :data:`DEFAULT_GRID`
     (their size follows the local Hertz semi-axes in both cases); ``errors``: None = the pair's own
-    misalignment; ``material``: None = the pair's ``[material]`` (steel without a spec)."""
+    misalignment; ``material``: None = the pair's ``[material]`` (steel without a spec);
+    ``tooth_model``: "fe" or "plate", None = "fe" when gmsh and scikit-fem import
+    (:func:`default_tooth_model`); ``fe_refinement``: the FE tooth's mesh refinement N (1-4)."""
 
     torque_nm: float
     flank: str = "right"
@@ -117,8 +149,14 @@ class Options:
     grid: tuple | None = None
     errors: tuple | None = None
     material: Material | None = None
+    tooth_model: str | None = None
+    fe_refinement: int = 1
 
     def __post_init__(self):
+        if self.tooth_model is None:
+            object.__setattr__(self, "tooth_model", default_tooth_model())
+        check_tooth_model(self.tooth_model)
+        check_fe_refinement(self.fe_refinement)
         object.__setattr__(self, "torque_nm", check_torque(self.torque_nm))
         if self.flank not in FLANKS:
             raise ValueError(f"flank = {self.flank!r}: must be one of {', '.join(FLANKS)}")
@@ -149,7 +187,7 @@ class Options:
         need = self.memory_bytes()
         have = available_memory_bytes() if available is None else available
         if need > 0.8 * have:
-            raise ValueError(f"grid = {self.cells[0]}x{self.cells[1]}: needs about {need / 1e9:.1f} GB with "
-                             f"{self.pairs} pairs and {self.positions} positions, {have / 1e9:.1f} GB are available;"
-                             f" use fewer cells (the default {DEFAULT_GRID[0]}x{DEFAULT_GRID[1]} is sized from the"
-                             " contact)")
+            raise OptionError("grid", f"{self.cells[0]}x{self.cells[1]}", f"needs about {need / 1e9:.1f} GB with "
+                              f"{self.pairs} pairs and {self.positions} positions, {have / 1e9:.1f} GB are available;"
+                              f" use fewer cells (the default {DEFAULT_GRID[0]}x{DEFAULT_GRID[1]} is sized from the"
+                              " contact)")

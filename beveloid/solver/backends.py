@@ -3,7 +3,8 @@
 * ``"numpy"``: the core's functions as they are, over the generated scalar kernels: the
   reference, needs nothing beyond numpy, slow (interpreted).
 * ``"compiled"``: the same functions and kernels compiled by numba (``nogil``, the sweep in
-  parallel over error sets, reference counting only where arrays are allocated), with numba's
+  parallel over error sets, reference counting only where arrays are allocated; how the same
+  source is compiled: :mod:`beveloid.solver.compiled`), with numba's
   on-disk cache: next to the sources, or in the folder named by ``BEVELOID_CACHE_DIR`` (or
   numba's own ``NUMBA_CACHE_DIR``).  Where the sources' folder cannot be written (a read-only
   install) the cache goes to the user's cache folder (``$XDG_CACHE_HOME/beveloid`` or
@@ -54,14 +55,15 @@ CORE_MODULES = ("linalg", "newton", "first_touch", "clearance", "paths", "gaps",
 
 
 def _modules():
-    """The core's modules and every generated scalar module they reach (all compiled together)."""
+    """Every generated scalar module the core reaches and the core's modules, callees first (all
+    compiled together, in this order: beveloid.solver.compiled)."""
     from .. import generated
     from . import core
 
-    jobs = [importlib.import_module(f"{__package__}.{m}") for m in CORE_MODULES]
     gen = [importlib.import_module(f"{generated.__name__}.{m}") for m in generated.SCALAR_MODULES]
     gen.append(importlib.import_module(f"{generated.__name__}.tca_kernels_scalar"))
-    return [core] + jobs + gen
+    jobs = [importlib.import_module(f"{__package__}.{m}") for m in CORE_MODULES]
+    return gen + jobs + [core]
 
 
 @functools.lru_cache(maxsize=None)
@@ -189,43 +191,35 @@ def core_stamp() -> str:
 
 
 def _compile(modules):
-    """Copies of every function of ``modules`` bound to globals in which each such function is
-    replaced by its numba dispatcher (numba resolves globals when it compiles, lazily)."""
-    from . import core
+    """The core's namespace on the compiled backend: the compiled twins of ``modules``
+    (:mod:`beveloid.solver.compiled`), each function jit-compiled by :func:`_jit` with its options
+    by name (``core.PARALLEL``, ``core.ALLOCATING``)."""
+    from . import compiled, core
 
-    originals = {}
-    for mod in modules:
-        for name, fn in vars(mod).items():
-            if isinstance(fn, types.FunctionType) and fn.__module__ == mod.__name__:
-                originals[fn] = mod
-    glob = {mod: dict(vars(mod)) for mod in modules}
-    jitted = {}
     stamp = sources_stamp(modules)
-    for fn, mod in originals.items():
-        copy = types.FunctionType(fn.__code__, glob[mod], fn.__name__, fn.__defaults__, fn.__closure__)
-        copy.__qualname__ = f"{fn.__qualname__}__{stamp}"  # its cache entry belongs to these sources
-        copy.__module__ = fn.__module__
+
+    def jit(fn, module):
+        name = fn.__name__
+        fn.__qualname__ = f"{name}__{stamp}"  # its cache entry belongs to these sources
         # the generated kernels are not inlined: inlining them (numba inline="always") made an
         # evaluation ~20 % faster but the first compilation 157 s instead of 47 s; the glue that
         # dispatches to them (tca_kernels_scalar: small, unpacks the work tuples) is, which made the
         # first compilation faster too (docs/performance.md)
-        inline = "always" if mod.__name__.endswith(".tca_kernels_scalar") else "never"
-        nrt = fn.__name__ in core.ALLOCATING
-        jitted[fn] = _jit(copy, parallel=(fn.__name__ in core.PARALLEL), inline=inline, nrt=nrt)
-    for g in glob.values():
-        for name, val in list(g.items()):
-            if isinstance(val, types.FunctionType) and val in jitted:
-                g[name] = jitted[val]
-    # the core's functions and the kernels it imports, as the core sees them
-    funcs = {name: val for name, val in glob[core].items() if any(val is d for d in jitted.values())}
+        inline = "always" if module.__name__.endswith(".tca_kernels_scalar") else "never"
+        return _jit(fn, parallel=name in core.PARALLEL, inline=inline, nrt=name in core.ALLOCATING)
+
+    twins = compiled.load(modules, jit)
+    twin_core = twins[core]
+    # the core's functions and the kernels it imports, as the core sees them (by the core's names)
+    funcs = {name: getattr(twin_core, name) for name, fn in vars(core).items() if isinstance(fn, types.FunctionType)}
     # a serial twin of each parallel function: a parallel call costs ~8 ms to start its threads
-    # here (measured: docs/performance.md), more than a mesh study's whole solve
+    # here (measured: docs/performance.md), more than a mesh study's whole solve.  The same
+    # function compiled once more without parallel=True, under its own cache entry (numba names
+    # the entry, when the dispatcher is made, after the function's __qualname__)
     for name in core.PARALLEL:
-        fn = vars(core)[name]
-        copy = types.FunctionType(fn.__code__, glob[originals[fn]], fn.__name__, fn.__defaults__, fn.__closure__)
-        copy.__qualname__ = f"{fn.__qualname__}_serial__{stamp}"  # its own cache entry (not the parallel one's)
-        copy.__module__ = fn.__module__
-        funcs[name + "_serial"] = _jit(copy, parallel=False)
+        fn = getattr(funcs[name], "py_func", funcs[name])
+        fn.__qualname__ = f"{name}_serial__{stamp}"
+        funcs[name + "_serial"] = _jit(fn, parallel=False)
     # where numba runs nothing compiled (NUMBA_DISABLE_JIT=1) the functions are the interpreted core
     funcs = {name: fn if hasattr(fn, "py_func") else _quiet(fn) for name, fn in funcs.items()}
     return types.SimpleNamespace(**funcs, compiled=True)

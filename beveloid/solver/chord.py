@@ -10,6 +10,7 @@ point outside the member's blank (its smallest margin below ``min(margin at P0, 
 at most the cap.
 """
 import math
+import typing
 
 import numpy as np
 
@@ -19,10 +20,43 @@ from ..generated.tca_kernels_scalar import blank_margins_point, surface_jet_poin
 CHORD_SLACK_MM = 1e-9
 
 
-def _tangent_point(model, flank, params, rot, trans, p0, basis, tx, ty, l, u, iters, jet):
-    """(l, u) of the flank point whose tangent-plane coordinates about p0 are (tx, ty); Newton
-    from (l, u).  ``jet``: the surface_jet_point outputs (point, normal, point_D_lu, normal_D_lu)."""
-    point, normal, point_d, normal_d = jet
+class ChordMember(typing.NamedTuple):
+    """One member's flank as the chord search reads it."""
+
+    model: int
+    flank: int
+    params: np.ndarray  # its surface parameters
+    blank: np.ndarray  # its layouts.FlankBlank
+
+
+class ChordFrame(typing.NamedTuple):
+    """One contact of one member: its placement in S_f and the tangent plane there."""
+
+    rotation: np.ndarray  # (3, 3)
+    translation: np.ndarray  # (3,)
+    origin: np.ndarray  # (3,) the contact P0 in S_f
+    basis: np.ndarray  # (2, 3) the tangent plane's basis E
+
+
+class ChordWork(typing.NamedTuple):
+    """Work arrays of the chord search (the surface and margin kernels' outputs)."""
+
+    point: np.ndarray  # (3,)
+    normal: np.ndarray  # (3,)
+    point_D_lu: np.ndarray  # (3, 2)
+    normal_D_lu: np.ndarray  # (3, 2)
+    roll: np.ndarray  # (1,)
+    margins: np.ndarray  # (4,)
+    margins_D_point: np.ndarray  # (4, 3)
+    margins_D_l: np.ndarray  # (4,)
+
+
+def _tangent_point(member, frame, tx, ty, l, u, iters, work):
+    """(l, u) of the flank point whose tangent-plane coordinates about frame.origin are (tx, ty);
+    Newton from (l, u)."""
+    model, flank, params = member.model, member.flank, member.params
+    rot, trans, p0, basis = frame.rotation, frame.translation, frame.origin, frame.basis
+    point, point_d = work.point, work.point_D_lu
     # the basis and p0 in the member frame: E L and L^T (p0 - t)
     e00 = basis[0, 0] * rot[0, 0] + basis[0, 1] * rot[1, 0] + basis[0, 2] * rot[2, 0]
     e01 = basis[0, 0] * rot[0, 1] + basis[0, 1] * rot[1, 1] + basis[0, 2] * rot[2, 1]
@@ -35,7 +69,7 @@ def _tangent_point(model, flank, params, rot, trans, p0, basis, tx, ty, l, u, it
     q1 = rot[0, 1] * d0 + rot[1, 1] * d1 + rot[2, 1] * d2
     q2 = rot[0, 2] * d0 + rot[1, 2] * d1 + rot[2, 2] * d2
     for _ in range(iters):
-        surface_jet_point(model, flank, l, u, params, point, normal, point_d, normal_d)
+        surface_jet_point(model, flank, l, u, params, point, work.normal, point_d, work.normal_D_lu)
         w0, w1, w2 = point[0] - q0, point[1] - q1, point[2] - q2
         r0 = e00 * w0 + e01 * w1 + e02 * w2 - tx
         r1 = e10 * w0 + e11 * w1 + e12 * w2 - ty
@@ -51,11 +85,12 @@ def _tangent_point(model, flank, params, rot, trans, p0, basis, tx, ty, l, u, it
     return l, u
 
 
-def _margin_at(model, flank, params, blank, l, u, l_margin, point, normal, roll, margins, margins_d_point, margins_d_l):
+def _margin_at(member, l, u, l_margin, work):
     """The smallest of the member's blank margins (NaN if any is) at the flank point (l, u),
     the form limit taken at ``l_margin``."""
-    surface_point(model, flank, l, u, params, point, normal, roll)
-    blank_margins_point(point, l_margin, blank, margins, margins_d_point, margins_d_l)
+    margins = work.margins
+    surface_point(member.model, member.flank, l, u, member.params, work.point, work.normal, work.roll)
+    blank_margins_point(work.point, l_margin, member.blank, margins, work.margins_D_point, work.margins_D_l)
     smallest = margins[0]
     for k in range(1, margins.shape[0]):
         if margins[k] < smallest or margins[k] != margins[k]:
@@ -63,36 +98,40 @@ def _margin_at(model, flank, params, blank, l, u, l_margin, point, normal, roll,
     return smallest
 
 
-def ellipse_chords(models, flank, pinion_params, gear_params, pinion_blank, gear_blank, rotations, translations,
-                   start_lu, points, bases, directions, caps, samples, bisections, out):
-    """Writes out[i]: the chord from contact i along ``directions[i]`` (n, 2) in its tangent basis
-    ``bases[i]`` (n, 2, 3) inside both members' blanks, at most ``caps[i]``.  Per member m (0
+def ellipse_chords(problem, request, out):
+    """Writes out[i]: the chord from contact i of the :class:`records.ChordRequest` ``request``
+    along ``directions[i]`` (n, 2) in its tangent basis ``bases[i]`` (n, 2, 3) inside both
+    members' blanks (of the :class:`records.Problem`), at most ``caps[i]``.  Per member m (0
     pinion, 1 gear): ``rotations[m]`` (n, 3, 3) and ``translations[m]`` (n, 3) place it in S_f,
-    ``start_lu[m]`` (n, 2) is its (l, u) at the contact, ``models[m]`` its surface model."""
-    point, normal, point_d, normal_d = np.empty(3), np.empty(3), np.empty((3, 2)), np.empty((3, 2))
-    jet = (point, normal, point_d, normal_d)
-    roll, margins, margins_d_point, margins_d_l = np.empty(1), np.empty(4), np.empty((4, 3)), np.empty(4)
-    for i in range(points.shape[0]):
-        cap = caps[i]
+    ``start_lu[m]`` (n, 2) is its (l, u) at the contact."""
+    work = ChordWork(point=np.empty(3), normal=np.empty(3), point_D_lu=np.empty((3, 2)),
+                     normal_D_lu=np.empty((3, 2)), roll=np.empty(1), margins=np.empty(4),
+                     margins_D_point=np.empty((4, 3)), margins_D_l=np.empty(4))
+    samples, bisections, directions = request.samples, request.bisections, request.directions
+    for i in range(request.points.shape[0]):
+        cap = request.caps[i]
         best = cap
         vx, vy = directions[i, 0], directions[i, 1]
         for m in range(2):
-            params = pinion_params if m == 0 else gear_params
-            blank = pinion_blank if m == 0 else gear_blank
-            model, rot, trans, p0, basis = models[m], rotations[m, i], translations[m, i], points[i], bases[i]
-            l0, u0 = start_lu[m, i, 0], start_lu[m, i, 1]
-            l, u = _tangent_point(model, flank, params, rot, trans, p0, basis, 0.0, 0.0, l0, u0, 8, jet)
-            start = _margin_at(model, flank, params, blank, l, u, l0, point, normal, roll, margins, margins_d_point,
-                               margins_d_l)
+            if m == 0:
+                member = ChordMember(model=problem.pinion_model, flank=problem.flank, params=problem.pinion_params,
+                                     blank=problem.pinion_blank)
+            else:
+                member = ChordMember(model=problem.gear_model, flank=problem.flank, params=problem.gear_params,
+                                     blank=problem.gear_blank)
+            frame = ChordFrame(rotation=request.rotations[m, i], translation=request.translations[m, i],
+                               origin=request.points[i], basis=request.bases[i])
+            l0, u0 = request.start_lu[m, i, 0], request.start_lu[m, i, 1]
+            l, u = _tangent_point(member, frame, 0.0, 0.0, l0, u0, 8, work)
+            start = _margin_at(member, l, u, l0, work)
             threshold = min(start, 0.0) - CHORD_SLACK_MM
             s_lo, s_hi, found = 0.0, cap, False
             l, u = l0, u0
             lo_l, lo_u = l0, u0
             for k in range(samples.shape[0]):
                 s = samples[k] * cap
-                l, u = _tangent_point(model, flank, params, rot, trans, p0, basis, s * vx, s * vy, l, u, 4, jet)
-                if _margin_at(model, flank, params, blank, l, u, l, point, normal, roll, margins, margins_d_point,
-                              margins_d_l) < threshold:
+                l, u = _tangent_point(member, frame, s * vx, s * vy, l, u, 4, work)
+                if _margin_at(member, l, u, l, work) < threshold:
                     s_hi, found = s, True
                     break
                 s_lo, lo_l, lo_u = s, l, u
@@ -100,10 +139,8 @@ def ellipse_chords(models, flank, pinion_params, gear_params, pinion_blank, gear
                 lo, hi = s_lo, s_hi
                 for _ in range(bisections):
                     mid = 0.5 * (lo + hi)
-                    l2, u2 = _tangent_point(model, flank, params, rot, trans, p0, basis, mid * vx, mid * vy, lo_l, lo_u,
-                                            4, jet)
-                    if _margin_at(model, flank, params, blank, l2, u2, l2, point, normal, roll, margins,
-                                  margins_d_point, margins_d_l) >= threshold:
+                    l2, u2 = _tangent_point(member, frame, mid * vx, mid * vy, lo_l, lo_u, 4, work)
+                    if _margin_at(member, l2, u2, l2, work) >= threshold:
                         lo, lo_l, lo_u = mid, l2, u2
                     else:
                         hi = mid

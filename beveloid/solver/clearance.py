@@ -13,7 +13,6 @@ from ..generated.tca_kernels_scalar import (
     N_BOUNDARIES, blank_margins_point, pinion_in_gear_frame_point, surface_jet_point,
 )
 from .patch_cover import CELL_FIELDS
-from .newton import on_patch
 
 #: How often patches_apart may halve a cell of the pinion patch cover (root spheres of a few mm
 #: become 1/64 of that) before it gives up the proof.
@@ -64,17 +63,17 @@ def sphere_outside_blank(p, radius, l, blank, m, mdp, mdl):
     return False, inside
 
 
-def patches_apart(problem, cells, pinion_blank, gear_blank, phi1, e, patch_tol, cs):
+def patches_apart(problem, cells, phi1, e, patch_tol, cs):
     """True when the pinion's bounded flank cannot meet the gear's at phi1 for any gear angle
     (derivations/patch_clearance.py): every cell of the pinion patch cover (beveloid/solver/patch_cover.py)
     has its sphere outside the pinion blank (no patch point) or, carried into S_2 at phi'_2 = 0,
     outside the gear blank.  A cell that is neither is cut in four, at most MAX_SPLITS times.
     False when that cannot be shown: a cell centre on the patch and inside the gear blank, or a
     cell still undecided after MAX_SPLITS."""
-    pinion_model, gear_model, flank, pinion_params, gear_params, pair = problem
+    pinion_blank, gear_blank = problem.pinion_blank, problem.gear_blank
     rot, trans, m, mdp, mdl = cs.rotation, cs.translation, cs.margins, cs.margins_D_point, cs.margins_D_l
     q, pt, nm, dp, dn, stack = cs.point_in_gear, cs.point, cs.normal, cs.point_D_lu, cs.normal_D_lu, cs.stack
-    pinion_in_gear_frame_point(phi1, e, pair, rot, trans)
+    pinion_in_gear_frame_point(phi1, e, problem.pair, rot, trans)
     for i in range(cells.shape[0]):
         stretch = cells[i, CELL_STRETCH]
         stack[0, 0] = cells[i, CELL_L]
@@ -90,7 +89,7 @@ def patches_apart(problem, cells, pinion_blank, gear_blank, phi1, e, patch_tol, 
                 for a in range(3):
                     pt[a] = cells[i, CELL_X + a]
             else:
-                surface_jet_point(pinion_model, flank, l, u, pinion_params, pt, nm, dp, dn)
+                surface_jet_point(problem.pinion_model, problem.flank, l, u, problem.pinion_params, pt, nm, dp, dn)
             radius = math.sqrt(hl * hl + hu * hu) * stretch + patch_tol
             out, on_patch = sphere_outside_blank(pt, radius, l, pinion_blank, m, mdp, mdl)
             if out:

@@ -8,8 +8,10 @@ numba compiles.  :mod:`beveloid.solver.backends` runs the same functions either 
 maths only through the generated glue ``tca_kernels_scalar`` (the Eq 38 system of the two
 members' surface models and the flank margins), so a new surface model changes nothing here.
 
-A *problem* is the tuple (pinion_model, gear_model, flank, pinion_params, gear_params, pair)
-of model and flank indices and the generated parameter vectors (see beveloid/tca.py).
+A call names what it solves and how by records (:mod:`beveloid.solver.records`): the *problem*
+(each member's model and parameter vectors, the placement and the flank blanks: ``Problem``), the
+request (``PathRequest``, ``GapRequest``, ``ChordRequest``), the ``Settings`` (tolerances, limits,
+the first-touch sign) and the output arrays (``PathOutput``, ``GapOutput``).
 
 **First touch.**  A tooth pair's contact is the extreme gear angle (``sign`` * phi'_2 largest,
 ``sign`` from tca.gap_sign) over the pairs of points of the two bounded patches that coincide.
@@ -30,11 +32,9 @@ not touch (OUTSIDE).  Before the search from the tangency, :func:`patches_apart`
 that the pinion's patch cannot reach the gear's at any gear angle (out-of-mesh tooth pairs):
 then the point is OUTSIDE at once.
 """
-from ..generated.tca_kernels import BOUNDARIES, UNKNOWNS
-from ..generated.tca_kernels_scalar import (
-    N_BOUNDARIES, N_ERRORS, N_MARGINS, N_UNKNOWNS, OPPOSITE_BOUNDARY, blank_margins_point, candidate_system_point,
-    contact_margin_point, contact_system_point, edge_workspace, pinion_in_gear_frame_point, surface_jet_point,
-    surface_point, workspace,
+from ..generated.tca_kernels_scalar import (  # noqa: F401  (the kernels the core calls, in its namespace)
+    blank_margins_point, candidate_system_point, contact_margin_point, contact_system_point, edge_workspace,
+    pinion_in_gear_frame_point, surface_jet_point, surface_point, workspace,
 )
 from .linalg import copy_into, solve_linear, residual_norm  # noqa: F401
 from .newton import (  # noqa: F401

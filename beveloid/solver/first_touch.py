@@ -9,8 +9,8 @@ import typing
 import numpy as np
 
 from ..generated.tca_kernels_scalar import (
-    N_BOUNDARIES, N_ERRORS, N_MARGINS, N_UNKNOWNS, OPPOSITE_BOUNDARY, EdgeWorkspace, candidate_system_point,
-    edge_workspace,
+    N_BOUNDARIES, N_ERRORS, N_MARGINS, N_UNKNOWNS, OPPOSITE_BOUNDARY, EdgeWorkspace, Workspace,
+    candidate_system_point, edge_workspace, workspace,
 )
 from .linalg import copy_into, residual_norm, solve_linear
 from .newton import GEAR_ANGLE, newton_update, on_patch
@@ -25,8 +25,9 @@ TRACK_SIZE = 2 * N_UNKNOWNS + 3
 
 
 class EdgeScratch(typing.NamedTuple):
-    """Work arrays of the first-touch search (one thread)."""
+    """Work arrays of the first-touch search and of the edge followed along a path (one thread)."""
 
+    ws: Workspace  # the candidates' surface jets (the tangency's stay in newton.Scratch.ws)
     ews: EdgeWorkspace  # the candidate systems' jets (generated tca_kernels_scalar.EdgeWorkspace)
     margins: np.ndarray  # (N_MARGINS,) both points' flank margins
     F: np.ndarray  # (N_UNKNOWNS,) the candidate system's residual
@@ -37,42 +38,51 @@ class EdgeScratch(typing.NamedTuple):
     y: np.ndarray  # (N_UNKNOWNS,) the multipliers' solve
     rhs: np.ndarray  # (N_UNKNOWNS,)
     JT: np.ndarray  # (N_UNKNOWNS, N_UNKNOWNS) J transposed
+    x: np.ndarray  # (N_UNKNOWNS,) the first touch found (and followed: follow_edge)
+    x_prev: np.ndarray  # (N_UNKNOWNS,) the edge contact before it (follow_edge)
+    trial: np.ndarray  # (N_UNKNOWNS,) a candidate's solution (enumerate_candidates)
+    tangent: np.ndarray  # (N_UNKNOWNS,) the edge path's tangent (follow_edge)
+    track: np.ndarray  # (TRACK_SIZE,) the edge path's last tangents, steps and validity (follow_edge)
 
 
 def edge_scratch():
     """An :class:`EdgeScratch` (allocate once per thread)."""
-    return EdgeScratch(ews=edge_workspace(), margins=np.zeros(N_MARGINS), F=np.empty(N_UNKNOWNS),
+    return EdgeScratch(ws=workspace(), ews=edge_workspace(), margins=np.zeros(N_MARGINS), F=np.empty(N_UNKNOWNS),
                        J=np.empty((N_UNKNOWNS, N_UNKNOWNS)), Je=np.empty((N_UNKNOWNS, N_ERRORS)),
                        Jp=np.empty(N_UNKNOWNS), step=np.empty(N_UNKNOWNS), y=np.empty(N_UNKNOWNS),
-                       rhs=np.empty(N_UNKNOWNS), JT=np.empty((N_UNKNOWNS, N_UNKNOWNS)))
+                       rhs=np.empty(N_UNKNOWNS), JT=np.empty((N_UNKNOWNS, N_UNKNOWNS)), x=np.empty(N_UNKNOWNS),
+                       x_prev=np.empty(N_UNKNOWNS), trial=np.empty(N_UNKNOWNS), tangent=np.empty(N_UNKNOWNS),
+                       track=np.zeros(TRACK_SIZE))
 
 
-def evaluate_candidate(problem, blanks, first, second, x, phi1, e, ws, ews, F, J, Je, Jp, margins):
-    """The candidate system of the active boundaries (first, second) at x (tca_kernels_scalar).
-    May raise, as evaluate_unchecked: newton_candidate catches it around its loop."""
-    pinion_model, gear_model, flank, pinion_params, gear_params, pair = problem
-    pinion_blank, gear_blank = blanks
-    candidate_system_point(pinion_model, gear_model, flank, first, second, x, phi1, e, pinion_params, gear_params,
-                           pair, pinion_blank, gear_blank, ws, ews, F, J, Je, Jp, margins)
+def evaluate_candidate(problem, first, second, x, phi1, e, es):
+    """The candidate system of the active boundaries (first, second) at x (tca_kernels_scalar)
+    into the :class:`EdgeScratch` es.  May raise, as evaluate_unchecked: newton_candidate catches
+    it around its loop."""
+    candidate_system_point(problem.pinion_model, problem.gear_model, problem.flank, first, second, x, phi1, e,
+                           problem.pinion_params, problem.gear_params, problem.pair, problem.pinion_blank,
+                           problem.gear_blank, es.ws, es.ews, es.F, es.J, es.Je, es.Jp, es.margins)
 
 
-def newton_candidate(problem, blanks, first, second, x, phi1, e, scale, tol, max_iter, ws, ews, F, J, Je, Jp, step,
-                     margins):
-    """Newton in place on x for one candidate system; (converged, iterations).  F, J, Je, Jp and
-    margins hold the last evaluation (as in :func:`newton`)."""
+def newton_candidate(problem, first, second, x, phi1, e, settings, es):
+    """Newton in place on x for one candidate system; (converged, iterations).  es.F, J, Je, Jp
+    and margins hold the last evaluation (as in :func:`newton`)."""
+    scale = settings.scale_mm
+    tol = settings.tol_mm
+    max_iter = settings.max_iter
     n_mm = 3 + (1 if first >= 0 else 0) + (1 if second >= 0 else 0)
     done = 0
     try:
         for it in range(max_iter + 1):
             done = it
-            evaluate_candidate(problem, blanks, first, second, x, phi1, e, ws, ews, F, J, Je, Jp, margins)
-            s = newton_update(F, J, x, step, residual_norm(F, scale, n_mm), tol, it == max_iter, scale)
+            evaluate_candidate(problem, first, second, x, phi1, e, es)
+            s = newton_update(es.F, es.J, x, es.step, residual_norm(es.F, scale, n_mm), tol, it == max_iter, scale)
             if s == 2:
                 return True, it + 1
             if s != 0:
                 return s > 0, it
     except Exception:  # as in newton: the same verdict on both backends
-        F[0] = math.nan
+        es.F[0] = math.nan
         return False, done
     return False, max_iter
 
@@ -114,18 +124,18 @@ def worst_inactive(margins, first, second, patch_tol):
     return worst
 
 
-def first_touch(problem, blanks, sign, x, first, second, phi1, e, scale, tol, max_iter, patch_tol, ws, es):
+def first_touch(problem, x, first, second, phi1, e, settings, es):
     """Active-set search for the first touch from x with the active set (first, second).  In
     place on x; returns (found, first, second, Newton iterations).  J, Jp of ``es`` hold the final
     system."""
-    ews, margins, F, J, Je, Jp, step, y, rhs, JT = (es.ews, es.margins, es.F, es.J, es.Je, es.Jp, es.step, es.y,
-                                                    es.rhs, es.JT)
+    sign = settings.first_touch_sign
+    patch_tol = settings.patch_tol_mm
+    margins, J, y, rhs, JT = es.margins, es.J, es.y, es.rhs, es.JT
     a = first
     b = second
     its = 0
     for _ in range(MAX_ROUNDS):
-        conv, it = newton_candidate(problem, blanks, a, b, x, phi1, e, scale, tol, max_iter, ws, ews, F, J, Je, Jp,
-                                    step, margins)
+        conv, it = newton_candidate(problem, a, b, x, phi1, e, settings, es)
         its += it
         if not conv:
             return False, a, b, its
@@ -178,11 +188,12 @@ def nearest_turn(x, angle):
         x[GEAR_ANGLE] -= 2 * math.pi * turns
 
 
-def enumerate_candidates(problem, blanks, sign, x_start, x, phi1, e, scale, tol, max_iter, patch_tol, ws, es, xt):
+def enumerate_candidates(problem, x_start, x, phi1, e, settings, es):
     """Every edge and corner system solved from x_start; the feasible solution with the largest
     sign * phi'_2 is written to x.  Returns (found, first, second, Newton iterations)."""
-    ews, margins, F, J, Je, Jp, step, y, rhs, JT = (es.ews, es.margins, es.F, es.J, es.Je, es.Jp, es.step, es.y,
-                                                    es.rhs, es.JT)
+    sign = settings.first_touch_sign
+    patch_tol = settings.patch_tol_mm
+    margins, xt = es.margins, es.trial
     best = -math.inf
     ba = -1
     bb = -1
@@ -192,8 +203,7 @@ def enumerate_candidates(problem, blanks, sign, x_start, x, phi1, e, scale, tol,
             if b >= 0 and (b <= a or conflicting(a, b)):
                 continue
             copy_into(xt, x_start)
-            conv, it = newton_candidate(problem, blanks, a, b, xt, phi1, e, scale, tol, max_iter, ws, ews, F, J, Je,
-                                        Jp, step, margins)
+            conv, it = newton_candidate(problem, a, b, xt, phi1, e, settings, es)
             its += it
             nearest_turn(xt, x_start[GEAR_ANGLE])
             if conv and worst_inactive(margins, a, b, patch_tol) < 0 and sign * xt[GEAR_ANGLE] > best:
@@ -204,35 +214,32 @@ def enumerate_candidates(problem, blanks, sign, x_start, x, phi1, e, scale, tol,
     if ba < 0:
         return False, -1, -1, its
     # leave the winner's system in es (J, Jp for the next point's predictor)
-    conv, it = newton_candidate(problem, blanks, ba, bb, x, phi1, e, scale, tol, max_iter, ws, ews, F, J, Je, Jp, step,
-                                margins)
+    conv, it = newton_candidate(problem, ba, bb, x, phi1, e, settings, es)
     return True, ba, bb, its + it
 
 
-def follow_edge(problem, blanks, sign, x_prev, prev_first, prev_second, phi1, phi_prev, e, scale, tol, max_iter,
-                patch_tol, ws, es, xe, dx, track):
-    """The first touch at phi1 continued from the previous point's edge or corner contact x_prev
-    (at phi_prev, active set (prev_first, prev_second)), predicted along its exact tangent, without
+def follow_edge(problem, prev_first, prev_second, phi1, phi_prev, e, settings, es):
+    """The first touch at phi1 continued from the previous point's edge or corner contact es.x
+    (at phi_prev, active set (prev_first, prev_second); kept in es.x_prev), predicted along its exact tangent, without
     solving the Eq 38 tangency: the active-set search from there settles on a feasible point with
     non-negative multipliers (a Karush-Kuhn-Tucker point of "maximize sign * phi'_2") or fails.  When
     the tangency comes back onto the patches the multiplier of the edge goes through zero
     (the edge solution meets the tangency there), the search gives up and the caller solves the
-    tangency.  Result in xe; returns (found, first, second, Newton iterations); found with
+    tangency.  Result in es.x; returns (found, first, second, Newton iterations); found with
     first < 0 (the search dropped every boundary) is left to the caller's tangency solve too.
 
-    ``track`` (TRACK_SIZE) carries the edge path's tangents at the two points before the
+    ``es.track`` (TRACK_SIZE) carries the edge path's tangents at the two points before the
     previous one, the steps between them and how many are valid (same active set): with one, the
     prediction adds the second-order term from the change of the tangent (as the surface path
     does); with two, also the third-order term of the tangents' quadratic through the three
     points.  The candidate system then usually converges in one Newton step."""
-    ews, margins, F, J, Je, Jp, step, y, rhs, JT = (es.ews, es.margins, es.F, es.J, es.Je, es.Jp, es.step, es.y,
-                                                    es.rhs, es.JT)
+    xe, x_prev, dx, track, rhs = es.x, es.x_prev, es.tangent, es.track, es.rhs
     n = N_UNKNOWNS
-    copy_into(xe, x_prev)
+    copy_into(x_prev, xe)
     h = phi1 - phi_prev
     for i in range(n):
-        rhs[i] = -Jp[i]
-    if solve_linear(J, rhs, dx):
+        rhs[i] = -es.Jp[i]
+    if solve_linear(es.J, rhs, dx):
         valid = track[TRACK_VALID]
         h1 = track[TRACK_H1]
         h2 = track[TRACK_H2]
@@ -254,8 +261,7 @@ def follow_edge(problem, blanks, sign, x_prev, prev_first, prev_second, phi1, ph
         track[TRACK_VALID] = min(valid + 1.0, 2.0)
     else:
         track[TRACK_VALID] = 0.0
-    found, a, b, its = first_touch(problem, blanks, sign, xe, prev_first, prev_second, phi1, e, scale, tol, max_iter,
-                                   patch_tol, ws, es)
+    found, a, b, its = first_touch(problem, xe, prev_first, prev_second, phi1, e, settings, es)
     if not found or a < 0:
         track[TRACK_VALID] = 0.0
         return False, a, b, its

@@ -3,12 +3,13 @@
 Plain Python in numba's subset: compiled with the rest of the core by
 :mod:`beveloid.solver.backends` (see :mod:`beveloid.solver.core`)."""
 import math
+import typing
 
 import numpy as np
 
 from ..generated.tca_kernels import UNKNOWNS
 from ..generated.tca_kernels_scalar import N_ERRORS, N_UNKNOWNS, contact_margin_point, surface_jet_point
-from .newton import GEAR_ANGLE, evaluate, scratch
+from .newton import GEAR_ANGLE, Scratch, evaluate, scratch
 
 #: where normal_gaps finds each unknown (by the generated names; numba reads them as constants)
 PINION_L = UNKNOWNS.index("pinion_l_mm")
@@ -17,8 +18,26 @@ GEAR_L = UNKNOWNS.index("gear_l_mm")
 GEAR_U = UNKNOWNS.index("gear_u_mm")
 
 
-def _solve3(a00, a01, a02, a10, a11, a12, a20, a21, a22, b0, b1, b2, out):
+class GapScratch(typing.NamedTuple):
+    """Work arrays of normal_gaps (one thread)."""
+
+    s: Scratch  # the Eq 38 evaluation (newton.Scratch)
+    point: np.ndarray  # (3,) the pinion point, S_1
+    normal: np.ndarray  # (3,)
+    point_D_lu: np.ndarray  # (3, 2)
+    normal_D_lu: np.ndarray  # (3, 2)
+    normal_f: np.ndarray  # (3,) the pinion normal in S_f
+    x: np.ndarray  # (N_UNKNOWNS,) the unknowns of the current point
+    matrix: np.ndarray  # (3, 3) the gear Newton's system
+    rhs: np.ndarray  # (3,)
+
+
+def _solve3(A, b, out):
     """out = A^-1 b for a 3x3 system by Cramer's rule; False if A is singular or not finite."""
+    a00, a01, a02 = A[0, 0], A[0, 1], A[0, 2]
+    a10, a11, a12 = A[1, 0], A[1, 1], A[1, 2]
+    a20, a21, a22 = A[2, 0], A[2, 1], A[2, 2]
+    b0, b1, b2 = b[0], b[1], b[2]
     c00 = a11 * a22 - a12 * a21
     c01 = a12 * a20 - a10 * a22
     c02 = a10 * a21 - a11 * a20
@@ -36,56 +55,62 @@ def _diverging(err, last, it, bound):
     return not math.isfinite(err) or err > bound or (it >= 2 and err > 0.5 * last)
 
 
-def normal_gaps(problem, pinion_blank, gear_blank, pair_of_point, coords, start, phi1, origin, axes, rotation,
-                errors, tol, max_iter, out_lu, out_gear, out_rates, out_margin, out_ok, out_p1, out_p2):
-    """The unloaded gap of loaded-TCA cells (beveloid/ltca.py), one point per cell.
+def _gear_system(J, nf, A):
+    """The gear Newton's 3x3 matrix: d/d(l2, u2) of Eq 38's position rows and the pinion normal."""
+    for r in range(3):
+        A[r, 0] = J[r, GEAR_L]
+        A[r, 1] = J[r, GEAR_U]
+        A[r, 2] = nf[r]
 
-    Point m belongs to pair q = pair_of_point[m]; start[q] holds unknowns (UNKNOWNS order).  The
+
+def normal_gaps(problem, request, out):
+    """The unloaded gap of loaded-TCA cells (beveloid/ltca), one point per cell: the
+    :class:`records.GapRequest` ``request`` into the :class:`records.GapOutput` ``out``.
+
+    Point m belongs to pair q = request.pair_of_point[m]; start[q] holds unknowns (UNKNOWNS
+    order).  The
     pinion flank point whose offset from origin[q] (S_1) has the components coords[m] on the
     two rows of axes[q] (2x2 Newton on the pinion surface jet, from start[q]'s pinion l, u), then
     the gear point on the pinion's normal line R_f2(l2, u2) = R_f1 + s n_f1 (3x3 Newton on
-    Eq 38's position rows, from start[q]'s gear l, u, at the pinion angle phi1[q] and start[q]'s
-    gear angle; rotation[q] is the pinion's L_f1).  Outputs per point: out_lu (l1, u1); out_gear
-    (l2, u2, s); out_rates (ds/dphi'_2 by the implicit function theorem, the moment arm
-    n_f1 . dR_f1/dphi'_1);
-    out_margin the smallest margin of both points to their blanks; out_ok 1 when both Newtons
-    converged; out_p1, out_p2 the points in S_1 and S_2.
+    Eq 38's position rows, from start[q]'s gear l, u, at the pinion angle pinion_angle[q] and
+    start[q]'s gear angle; rotation[q] is the pinion's L_f1).  Outputs per point: pinion_lu
+    (l1, u1); gear_lu_gap (l2, u2, s); rates (ds/dphi'_2 by the implicit function theorem, the
+    moment arm n_f1 . dR_f1/dphi'_1); margin the smallest margin of both points to their blanks;
+    ok 1 when both Newtons converged; pinion_point, gear_point the points in S_1 and S_2.
     """
-    pinion_model, gear_model, flank, pinion_params, gear_params, pair = problem
-    M = coords.shape[0]
+    pair_of_point = request.pair_of_point
+    M = request.coords.shape[0]
     # serial: a parallel loop measured 3x slower here (small work per point, one thread)
-    s = scratch()
-    ws, F, J, Je, Jp, dx, e = s.ws, s.F, s.J, s.Je, s.Jp, s.dx, s.e
+    w = GapScratch(s=scratch(), point=np.empty(3), normal=np.empty(3), point_D_lu=np.empty((3, 2)),
+                   normal_D_lu=np.empty((3, 2)), normal_f=np.empty(3), x=np.empty(N_UNKNOWNS),
+                   matrix=np.empty((3, 3)), rhs=np.empty(3))
     for i in range(N_ERRORS):
-        e[i] = errors[i]
-    pt = np.empty(3)
-    nm = np.empty(3)
-    dp = np.empty((3, 2))
-    dn = np.empty((3, 2))
-    nf = np.empty(3)
-    x = np.empty(N_UNKNOWNS)
+        w.s.e[i] = request.errors[i]
     warm = False
     for m in range(M):
         # continuation: the previous point of the same pair, when it converged, is the start
         warm = warm and m > 0 and pair_of_point[m - 1] == pair_of_point[m]
-        warm = _normal_gap_point(problem, pinion_blank, gear_blank, pair_of_point[m], coords, m, start, phi1,
-                                 origin, axes, rotation, tol, max_iter, out_lu, out_gear, out_rates, out_margin,
-                                 out_ok, out_p1, out_p2, ws, F, J, Je, Jp, dx, e, pt, nm, dp, dn, nf, x, warm)
+        warm = _normal_gap_point(problem, request, m, out, w, warm)
 
 
-def _normal_gap_point(problem, pinion_blank, gear_blank, q, coords, m, start, phi1, origin, axes, rotation, tol,
-                      max_iter, out_lu, out_gear, out_rates, out_margin, out_ok, out_p1, out_p2, ws, F, J, Je, Jp,
-                      dx, e, pt, nm, dp, dn, nf, x, warm):
-    """Point m of :func:`normal_gaps` with the caller's scratch arrays; starts from x as it is
-    (the previous point's solution) when ``warm``, else from start[q].  True if it converged."""
-    pinion_model, gear_model, flank, pinion_params, gear_params, pair = problem
+def _normal_gap_point(problem, request, m, out, w, warm):
+    """Point m of :func:`normal_gaps` with the caller's :class:`GapScratch` w; starts from w.x as
+    it is (the previous point's solution) when ``warm``, else from start[q].  True if it
+    converged."""
+    q = request.pair_of_point[m]
+    coords, start, origin, axes = request.coords, request.start, request.origin, request.axes
+    rotation, tol, max_iter = request.rotation, request.tol_mm, request.max_iter
+    s, x, pt, nm, dp, dn = w.s, w.x, w.point, w.normal, w.point_D_lu, w.normal_D_lu
+    nf, A, g = w.normal_f, w.matrix, w.rhs
+    F, J, Jp, dx = s.F, s.J, s.Jp, s.dx
     for i in range(N_UNKNOWNS):
         if not warm or i == GEAR_ANGLE:
             x[i] = start[q, i]
     ok1 = False
     last = 1e300
     for it in range(max_iter + 1):
-        surface_jet_point(pinion_model, flank, x[PINION_L], x[PINION_U], pinion_params, pt, nm, dp, dn)
+        surface_jet_point(problem.pinion_model, problem.flank, x[PINION_L], x[PINION_U], problem.pinion_params, pt, nm,
+                          dp, dn)
         f0 = -coords[m, 0]
         f1 = -coords[m, 1]
         a00 = 0.0
@@ -111,53 +136,55 @@ def _normal_gap_point(problem, pinion_blank, gear_blank, q, coords, m, start, ph
             break
         x[PINION_L] += (-f0 * a11 + f1 * a01) / det
         x[PINION_U] += (-a00 * f1 + a10 * f0) / det
-    out_lu[m, 0] = x[PINION_L]
-    out_lu[m, 1] = x[PINION_U]
+    out.pinion_lu[m, 0] = x[PINION_L]
+    out.pinion_lu[m, 1] = x[PINION_U]
     for i in range(3):
         nf[i] = rotation[q, i, 0] * nm[0] + rotation[q, i, 1] * nm[1] + rotation[q, i, 2] * nm[2]
-    s = 0.0
+    gap = 0.0
     ok2 = False
     last = 1e300
     if ok1:
         for it in range(max_iter + 1):
-            evaluate(problem, x, phi1[q], e, ws, F, J, Je, Jp)
-            g0 = F[0] + s * nf[0]
-            g1 = F[1] + s * nf[1]
-            g2 = F[2] + s * nf[2]
-            err = max(abs(g0), max(abs(g1), abs(g2)))
+            evaluate(problem, x, request.pinion_angle[q], s.e, s)
+            for r in range(3):
+                g[r] = -(F[r] + gap * nf[r])
+            err = max(abs(g[0]), max(abs(g[1]), abs(g[2])))
             if err < tol:
                 ok2 = True
                 break
             if it == max_iter or _diverging(err, last, it, 1e3):
                 break
             last = err
-            if not _solve3(J[0, GEAR_L], J[0, GEAR_U], nf[0], J[1, GEAR_L], J[1, GEAR_U], nf[1], J[2, GEAR_L], J[2, GEAR_U], nf[2],
-                           -g0, -g1, -g2, dx):
+            _gear_system(J, nf, A)
+            if not _solve3(A, g, dx):
                 break
             x[GEAR_L] += dx[0]
             x[GEAR_U] += dx[1]
-            s += dx[2]
-    out_gear[m, 0] = x[GEAR_L]
-    out_gear[m, 1] = x[GEAR_U]
-    out_gear[m, 2] = s
-    out_ok[m] = 0
-    out_margin[m] = -1e300
-    out_rates[m, 0] = 0.0
-    out_rates[m, 1] = 0.0
-    if ok2 and _solve3(J[0, GEAR_L], J[0, GEAR_U], nf[0], J[1, GEAR_L], J[1, GEAR_U], nf[1], J[2, GEAR_L], J[2, GEAR_U], nf[2],
-                       -J[0, GEAR_ANGLE], -J[1, GEAR_ANGLE], -J[2, GEAR_ANGLE], dx):
-        out_ok[m] = 1
-        out_rates[m, 0] = dx[2]
-        out_rates[m, 1] = nf[0] * Jp[0] + nf[1] * Jp[1] + nf[2] * Jp[2]
-        margin, _ = contact_margin_point(x, pinion_blank, gear_blank, ws)
-        out_margin[m] = margin
-        p1 = ws.pinion_point
-        p2 = ws.gear_point
+            gap += dx[2]
+    out.gear_lu_gap[m, 0] = x[GEAR_L]
+    out.gear_lu_gap[m, 1] = x[GEAR_U]
+    out.gear_lu_gap[m, 2] = gap
+    out.ok[m] = 0
+    out.margin[m] = -1e300
+    out.rates[m, 0] = 0.0
+    out.rates[m, 1] = 0.0
+    if ok2:
+        _gear_system(J, nf, A)
+        for r in range(3):
+            g[r] = -J[r, GEAR_ANGLE]
+    if ok2 and _solve3(A, g, dx):
+        out.ok[m] = 1
+        out.rates[m, 0] = dx[2]
+        out.rates[m, 1] = nf[0] * Jp[0] + nf[1] * Jp[1] + nf[2] * Jp[2]
+        margin, _ = contact_margin_point(x, problem.pinion_blank, problem.gear_blank, s.ws)
+        out.margin[m] = margin
+        p1 = s.ws.pinion_point
+        p2 = s.ws.gear_point
         for i in range(3):
-            out_p1[m, i] = p1[i]
-            out_p2[m, i] = p2[i]
+            out.pinion_point[m, i] = p1[i]
+            out.gear_point[m, i] = p2[i]
         return True
     for i in range(3):
-        out_p1[m, i] = math.nan
-        out_p2[m, i] = math.nan
+        out.pinion_point[m, i] = math.nan
+        out.gear_point[m, i] = math.nan
     return False

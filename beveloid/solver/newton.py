@@ -49,21 +49,21 @@ def scratch():
                    dx=np.empty(N_UNKNOWNS), rhs=np.empty(N_UNKNOWNS), e=np.empty(N_ERRORS))
 
 
-def evaluate_unchecked(problem, x, phi1, e, ws, F, J, Je, Jp):
-    """Eq 38 at unknowns x: residual F, d/d unknowns J, d/d errors Je, d/d pinion angle Jp.  May
+def evaluate_unchecked(problem, x, phi1, e, s):
+    """Eq 38 at unknowns x, pinion angle phi1 and errors e into the :class:`Scratch` s: residual
+    s.F, d/d unknowns s.J, d/d errors s.Je, d/d pinion angle s.Jp, the surface jets s.ws.  May
     raise on a runaway iterate (math domain error, division by zero): callers catch it once
     around their loop (a try per evaluation cost ~15 % of an evaluation, compiled)."""
-    pinion_model, gear_model, flank, pinion_params, gear_params, pair = problem
-    contact_system_point(pinion_model, gear_model, flank, x, phi1, e, pinion_params, gear_params, pair, ws, F, J, Je,
-                         Jp)
+    contact_system_point(problem.pinion_model, problem.gear_model, problem.flank, x, phi1, e, problem.pinion_params,
+                         problem.gear_params, problem.pair, s.ws, s.F, s.J, s.Je, s.Jp)
 
 
-def evaluate(problem, x, phi1, e, ws, F, J, Je, Jp):
-    """evaluate_unchecked with a failure made non-finite (F[0] = nan) instead of raised."""
+def evaluate(problem, x, phi1, e, s):
+    """evaluate_unchecked with a failure made non-finite (s.F[0] = nan) instead of raised."""
     try:
-        evaluate_unchecked(problem, x, phi1, e, ws, F, J, Je, Jp)
+        evaluate_unchecked(problem, x, phi1, e, s)
     except Exception:  # a math domain error or overflow of a runaway iterate (numba gives nan): not finite
-        F[0] = math.nan
+        s.F[0] = math.nan
 
 
 def newton_update(F, J, x, step, r, tol, last, scale):
@@ -89,21 +89,25 @@ def newton_update(F, J, x, step, r, tol, last, scale):
     return 0
 
 
-def newton(problem, x, phi1, e, scale, tol, max_iter, ws, F, J, Je, Jp, step):
-    """Newton in place on x.  Returns (converged, iterations); F, J, Je, Jp and ws hold the
-    last evaluation: at the returned x, or one final small step before it (FINAL_STEP_K)."""
+def newton(problem, x, phi1, e, settings, s):
+    """Newton in place on x (records.Settings: scale_mm, tol_mm, max_iter).  Returns (converged,
+    iterations); the :class:`Scratch` s holds the last evaluation (F, J, Je, Jp, ws): at the
+    returned x, or one final small step before it (FINAL_STEP_K)."""
+    scale = settings.scale_mm
+    tol = settings.tol_mm
+    max_iter = settings.max_iter
     done = 0
     try:
         for it in range(max_iter + 1):
             done = it
-            evaluate_unchecked(problem, x, phi1, e, ws, F, J, Je, Jp)
-            s = newton_update(F, J, x, step, residual_norm(F, scale), tol, it == max_iter, scale)
-            if s == 2:
+            evaluate_unchecked(problem, x, phi1, e, s)
+            decision = newton_update(s.F, s.J, x, s.step, residual_norm(s.F, scale), tol, it == max_iter, scale)
+            if decision == 2:
                 return True, it + 1
-            if s != 0:
-                return s > 0, it
+            if decision != 0:
+                return decision > 0, it
     except Exception:  # an evaluation failed (see evaluate): not converged
-        F[0] = math.nan
+        s.F[0] = math.nan
         return False, done
     return False, max_iter
 
@@ -128,34 +132,35 @@ def classify(converged, margin, patch_tol):
     return OUTSIDE
 
 
-def homotopy(problem, x, phi_ref, target, steps, scale, tol, max_iter, ws, F, J, Je, Jp, step, dx, e, rhs):
-    """Carry the solution x at phi_ref from zero errors to ``target`` in ``steps`` equal steps,
-    each predicted along d x / d errors and corrected by Newton.  In place; True if every step
-    converged.  On return e == target."""
+def homotopy(problem, x, phi_ref, target, settings, s):
+    """Carry the solution x at phi_ref from zero errors to ``target`` in settings.homotopy_steps
+    equal steps, each predicted along d x / d errors and corrected by Newton.  In place; True if
+    every step converged.  On return s.e == target."""
+    steps = settings.homotopy_steps
+    Je, dx, e, rhs = s.Je, s.dx, s.e, s.rhs
     ok = True
     for i in range(e.shape[0]):
         e[i] = 0.0
     for h in range(1, steps + 1):
-        evaluate(problem, x, phi_ref, e, ws, F, J, Je, Jp)
+        evaluate(problem, x, phi_ref, e, s)
         for i in range(rhs.shape[0]):
-            s = 0.0
+            r = 0.0
             for c in range(e.shape[0]):
-                s -= Je[i, c] * target[c] / steps
-            rhs[i] = s
-        if solve_linear(J, rhs, dx):
+                r -= Je[i, c] * target[c] / steps
+            rhs[i] = r
+        if solve_linear(s.J, rhs, dx):
             for i in range(x.shape[0]):
                 x[i] += dx[i]
         for c in range(e.shape[0]):
             e[c] = target[c] if h == steps else target[c] * h / steps
-        conv, _ = newton(problem, x, phi_ref, e, scale, tol, max_iter, ws, F, J, Je, Jp, step)
+        conv, _ = newton(problem, x, phi_ref, e, settings, s)
         ok = ok and conv
     return ok
 
 
-def solve_point(problem, x, phi1, errors, scale, tol, max_iter):
+def solve_point(problem, x, phi1, errors, settings):
     """One Newton solve from the guess x (copied): (x, converged, iterations, residual_norm_mm)."""
     s = scratch()
-    ws, F, J, Je, Jp, step = s.ws, s.F, s.J, s.Je, s.Jp, s.step
     xs = x.copy()
-    conv, it = newton(problem, xs, phi1, errors, scale, tol, max_iter, ws, F, J, Je, Jp, step)
-    return xs, conv, it, residual_norm(F, scale)
+    conv, it = newton(problem, xs, phi1, errors, settings, s)
+    return xs, conv, it, residual_norm(s.F, settings.scale_mm)

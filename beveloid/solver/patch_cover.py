@@ -30,12 +30,20 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..errors import UserError
 from ..generated import flank_boundaries, tca_kernels
 
 #: root cells along l and u of the patch's parameter box
 CELLS = (4, 16)
 #: nodes per root cell and direction at which the stretch and bend are sampled
 SAMPLES = 5
+
+
+class UnboundedPatch(UserError, RuntimeError):
+    """A flank patch that no parameter box holds (a tooth so undercut or pointed that its flank does not
+    close between the form limit, the tip cone and the face ends): the contact solver cannot bound it.
+    A RuntimeError for the whole-tooth and explore callers, which record it as no contact; a UserError
+    (one line, exit 2) for a command that needs the contact."""
 
 
 class PatchCover(NamedTuple):
@@ -107,7 +115,9 @@ def _box(geom, which, flank, patch_tol):
     if box is None:
         box = _box_search(geom, which, flank, patch_tol, square=True)
     if box is None:
-        raise RuntimeError(f"the {which}'s {flank} flank patch is unbounded in its parameters")
+        raise UnboundedPatch(f"the {which}'s {flank} flank patch is unbounded in its parameters: the flank does not close"
+                             " between its form limit, tip cone and face ends, so the contact cannot be solved"
+                             " (`beveloid design` reports the whole tooth: undercut, pointed)")
     return box
 
 

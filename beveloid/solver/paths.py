@@ -7,12 +7,10 @@ import math
 
 import numpy as np
 
-from ..generated.tca_kernels_scalar import N_UNKNOWNS, contact_margin_point, surface_point, workspace
+from ..generated.tca_kernels_scalar import N_UNKNOWNS, contact_margin_point, surface_point
 from .linalg import copy_into, solve_linear
 from .newton import EDGE, FAILED, GEAR_ANGLE, OK, OUTSIDE, classify, homotopy, newton, scratch
-from .first_touch import (
-    TRACK_SIZE, TRACK_VALID, edge_scratch, enumerate_candidates, first_touch, follow_edge, nearest_turn,
-)
+from .first_touch import TRACK_VALID, edge_scratch, enumerate_candidates, first_touch, follow_edge, nearest_turn
 from .clearance import clearance_scratch, patches_apart
 
 try:
@@ -21,66 +19,64 @@ except ImportError:  # pragma: no cover - numba-free installs
     prange = range
 
 
-def solve_off_patch(problem, blanks, cells, sign, x_tangency, phi1, e, scale, tol, max_iter, patch_tol, ws, es, cs,
-                    xe, xt, track):
+def solve_off_patch(problem, cells, x_tangency, phi1, e, settings, es, cs):
     """The first touch at phi1 when the tangency x_tangency is off a patch and no edge contact is
-    being followed (:func:`follow_edge`): unless patches_apart proves the patches cannot touch,
-    the active-set search from the tangency and, when it does not settle, the enumeration.  Result
-    in xe; returns (found, first, second, Newton iterations)."""
-    track[TRACK_VALID] = 0.0
-    if patches_apart(problem, cells, blanks[0], blanks[1], phi1, e, patch_tol, cs):
+    being followed (:func:`follow_edge`): unless patches_apart proves the patches cannot touch
+    (over the pinion patch cover ``cells``), the active-set search from the tangency and, when it
+    does not settle, the enumeration.  Result in es.x; returns (found, first, second, Newton
+    iterations)."""
+    xe = es.x
+    es.track[TRACK_VALID] = 0.0
+    if patches_apart(problem, cells, phi1, e, settings.patch_tol_mm, cs):
         return False, -1, -1, 0
     copy_into(xe, x_tangency)
-    found, a, b, its = first_touch(problem, blanks, sign, xe, -1, -1, phi1, e, scale, tol, max_iter, patch_tol, ws,
-                                   es)
+    found, a, b, its = first_touch(problem, xe, -1, -1, phi1, e, settings, es)
     if found and a >= 0:
         nearest_turn(xe, x_tangency[GEAR_ANGLE])
         return True, a, b, its
-    found, a, b, more = enumerate_candidates(problem, blanks, sign, x_tangency, xe, phi1, e, scale, tol, max_iter,
-                                             patch_tol, ws, es, xt)
+    found, a, b, more = enumerate_candidates(problem, x_tangency, xe, phi1, e, settings, es)
     return found, a, b, its + more
 
 
-def solve_paths(problem, pinion_blank, gear_blank, pinion_cover, x_ref, phi_ref, errors, phi_grid, scale, tol, max_iter,
-                homotopy_steps, patch_tol, sign, x_out, code_out, iters_out, boundary_out, active_out):
-    """Error sets (K, N_ERRORS) x pinion angles (N,) sorted ascending: the contact unknowns, status
-    codes, Newton iterations (of the Eq 38 tangency and of the first-touch search, when there is
-    one), the flank boundary nearest the tangency or, at an edge or corner contact, the (first)
-    boundary that carries it (-1 if failed), and the active boundaries (K, N, 2) of an edge or
-    corner contact (-1: none).
+def solve_paths(problem, request, settings, out):
+    """The :class:`records.PathRequest` ``request``: error sets (K, N_ERRORS) x pinion angles (N,)
+    sorted ascending, written to the :class:`records.PathOutput` ``out``: the contact unknowns,
+    status codes, Newton iterations (of the Eq 38 tangency and of the first-touch search, when
+    there is one), the flank boundary nearest the tangency or, at an edge or corner contact, the
+    (first) boundary that carries it (-1 if failed), and the active boundaries (K, N, 2) of an
+    edge or corner contact (-1: none).
 
-    x_ref is the aligned contact at phi_ref; pinion_cover the cells of the pinion's flank patch
-    (beveloid/solver/patch_cover.py) for the proof that a pair's patches cannot touch.  Per error set: the homotopy in the errors at
+    request.x_ref is the aligned contact at request.phi_ref; request.pinion_cover the cells of the
+    pinion's flank patch (beveloid/solver/patch_cover.py) for the proof that a pair's patches
+    cannot touch.  Per error set: the homotopy in the errors at
     phi_ref, then a march up and a march down the grid with the exact tangent d x / d phi_1 as
     predictor, plus the second-order term from the change of the tangent over the last step once
     two converged points are behind (non-conjugate surfaces, e.g. crowned: one Newton step instead
     of two).  A point that fails restarts the next one from the homotopy's solution.  Where the
     tangency leaves a patch, the first touch (edge or corner contact) is solved and reported;
-    ``sign`` (+1 or -1) says which extreme of phi'_2 touches first.  The next points follow that
+    ``settings.first_touch_sign`` (+1 or -1) says which extreme of phi'_2 touches first.  The next points follow that
     edge contact (:func:`follow_edge`) without solving the tangency, until the search from it
     fails (its multiplier changes sign where the tangency comes back onto the patches): then the
     tangency is solved again, from the last edge contact (which meets it there) or, if that does
     not converge, from where the tangency was last solved.
     """
+    errors, phi_grid, phi_ref = request.errors, request.phi_grid, request.phi_ref
+    x_out, code_out, iters_out, boundary_out, active_out = out.x, out.status, out.iterations, out.boundary, out.active
     K = errors.shape[0]
     N = phi_grid.shape[0]
-    blanks = (pinion_blank, gear_blank)
     j0 = 0
     while j0 < N and phi_grid[j0] < phi_ref:
         j0 += 1
     for k in prange(K):
         s = scratch()
-        ws, F, J, Je, Jp, step, dx, rhs, e = s.ws, s.F, s.J, s.Je, s.Jp, s.step, s.dx, s.rhs, s.e
+        J, Jp, dx, rhs, e = s.J, s.Jp, s.dx, s.rhs, s.e
         es = edge_scratch()
         cs = clearance_scratch()
-        ews = workspace()  # the candidates' surface jets (ws keeps the tangency's)
-        xe = np.empty(N_UNKNOWNS)
-        xp = np.empty(N_UNKNOWNS)
-        track = np.zeros(TRACK_SIZE)  # the edge path's last tangents, steps and validity (follow_edge)
+        xe = es.x  # the edge contact found or followed
+        xp = es.x_prev  # the one before it
         xt = np.empty(N_UNKNOWNS)
-        x = x_ref.copy()
-        ok_all = homotopy(problem, x, phi_ref, errors[k], homotopy_steps, scale, tol, max_iter, ws, F, J, Je, Jp,
-                          step, dx, e, rhs)
+        x = request.x_ref.copy()
+        ok_all = homotopy(problem, x, phi_ref, errors[k], settings, s)
         xs = x.copy()
         Jst = J.copy()
         Jpst = Jp.copy()
@@ -106,9 +102,7 @@ def solve_paths(problem, pinion_blank, gear_blank, pinion_cover, x_ref, phi_ref,
                 phi = phi_grid[j]
                 if have_edge:
                     # follow the edge contact: the tangency is left unsolved while the edge carries
-                    xp[:] = xe
-                    found, ea, eb, its = follow_edge(problem, blanks, sign, xp, ea, eb, phi, phi_edge, e, scale, tol,
-                                                     max_iter, patch_tol, ews, es, xe, dx, track)
+                    found, ea, eb, its = follow_edge(problem, ea, eb, phi, phi_edge, e, settings, es)
                     if found:
                         phi_edge = phi
                         for i in range(N_UNKNOWNS):
@@ -130,10 +124,10 @@ def solve_paths(problem, pinion_blank, gear_blank, pinion_cover, x_ref, phi_ref,
                     # over many steps can make Newton wander, even by whole turns of the gear)
                     xt[:] = x
                     x[:] = xp
-                    conv, it = newton(problem, x, phi, e, scale, tol, max_iter, ws, F, J, Je, Jp, step)
+                    conv, it = newton(problem, x, phi, e, settings, s)
                     if not conv:  # then from the tangency where it was last solved
                         x[:] = xt
-                        conv, it = newton(problem, x, phi, e, scale, tol, max_iter, ws, F, J, Je, Jp, step)
+                        conv, it = newton(problem, x, phi, e, settings, s)
                     nearest_turn(x, xp[GEAR_ANGLE])
                     skipped = False
                 else:
@@ -146,7 +140,7 @@ def solve_paths(problem, pinion_blank, gear_blank, pinion_cover, x_ref, phi_ref,
                                 x[i] += dx[i] * h
                                 if curved and hprev != 0.0:
                                     x[i] += 0.5 * (dx[i] - tprev[i]) / hprev * h * h
-                    conv, it = newton(problem, x, phi, e, scale, tol, max_iter, ws, F, J, Je, Jp, step)
+                    conv, it = newton(problem, x, phi, e, settings, s)
                 curved = conv and predicted
                 if curved:
                     tprev[:] = dx
@@ -157,12 +151,12 @@ def solve_paths(problem, pinion_blank, gear_blank, pinion_cover, x_ref, phi_ref,
                 active_out[k, j, 0] = -1
                 active_out[k, j, 1] = -1
                 if conv and ok_all:
-                    margin, which = contact_margin_point(x, pinion_blank, gear_blank, ws)
-                    code = classify(True, margin, patch_tol)
+                    margin, which = contact_margin_point(x, problem.pinion_blank, problem.gear_blank, s.ws)
+                    code = classify(True, margin, settings.patch_tol_mm)
                     boundary_out[k, j] = which
                     if code == OUTSIDE:
-                        found, ea, eb, its = solve_off_patch(problem, blanks, pinion_cover, sign, x, phi, e, scale, tol,
-                                                             max_iter, patch_tol, ews, es, cs, xe, xt, track)
+                        found, ea, eb, its = solve_off_patch(problem, request.pinion_cover, x, phi, e, settings, es,
+                                                             cs)
                         have_edge = found
                         if found:
                             code = EDGE
@@ -188,7 +182,8 @@ def contact_points(problem, x, code, p1_out, p2_out):
     """The pinion point in S_1 and the gear point in S_2 (K, N, 3) of the solved contacts x
     (K, N, N_UNKNOWNS) whose status code carries numbers (OK, EDGE); nan elsewhere.  The compiled
     twin of tca.contact_points for a whole sweep (one pass, no temporaries)."""
-    pinion_model, gear_model, flank, pinion_params, gear_params, pair = problem
+    pinion_model, gear_model, flank = problem.pinion_model, problem.gear_model, problem.flank
+    pinion_params, gear_params = problem.pinion_params, problem.gear_params
     p = np.empty(3)
     nm = np.empty(3)
     roll = np.empty(1)

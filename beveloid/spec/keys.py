@@ -132,7 +132,8 @@ def _member_docs(member: str) -> dict[str, KeyDoc]:
             hi=1.5,
             requirement=design_input,
         ),
-        "face_width_mm": KeyDoc("face width", "mm", lo=0.0, lo_open=True, hi=1000.0),
+        # at least 1 um: a narrower face is no tooth (5e-324 mm halves to 0 and the face's ends coincide)
+        "face_width_mm": KeyDoc("face width", "mm", lo=0.001, hi=1000.0),
         "addendum_coefficient": KeyDoc(
             "tip height above the rack pitch line, in units of normal module",
             lo=0.3,
@@ -200,6 +201,26 @@ def _model_key_docs() -> dict[str, KeyDoc]:
     return out
 
 
+def key_docs_for(models=()) -> dict[str, dict[str, "KeyDoc"]]:
+    """:data:`KEY_DOCS` with the built-in tooth-surface models and only the user models named in
+    ``models`` (the README's table: none; ``beveloid example --schema --model NAME``: those)."""
+    from dataclasses import replace
+
+    from ..models import builtin_models
+
+    keep = set(builtin_models()) | set(models)
+    out: dict[str, dict[str, KeyDoc]] = {}
+    for section, docs in KEY_DOCS.items():
+        out[section] = {}
+        for key, doc in docs.items():
+            if doc.model is not None and doc.model not in keep:
+                continue
+            if key == "tooth_surface":
+                doc = replace(doc, choices=tuple(c for c in doc.choices if c in keep))
+            out[section][key] = doc
+    return out
+
+
 def model_takes(model: str, key: str) -> bool:
     """Whether a tooth-surface model takes a key (numeric or by name)."""
     return key in surface_models.MODEL_KEYS[model] or key in surface_models.MODEL_CHOICES.get(model, {})
@@ -221,7 +242,31 @@ def _material_docs() -> dict[str, KeyDoc]:
         out[f"{member}_poisson_ratio"] = KeyDoc(
             f"Poisson's ratio of the {member} (loaded TCA)", lo=0.0, hi=0.5, hi_open=True, requirement="optional",
             default=0.3)
+    for member in ("pinion", "gear"):
+        out[f"{member}_root_stress_limit_mpa"] = KeyDoc(
+            f"nominal tooth-root stress limit sigma_Flim of the {member} (rating; default ISO 6336-5 MQ, "
+            "case-hardened steel)", "MPa", lo=0.0, lo_open=True, hi=5000.0, requirement="optional", default=500.0)
+        out[f"{member}_contact_stress_limit_mpa"] = KeyDoc(
+            f"allowable contact stress sigma_Hlim of the {member} (rating; default ISO 6336-5 MQ, "
+            "case-hardened steel)", "MPa", lo=0.0, lo_open=True, hi=10000.0, requirement="optional", default=1500.0)
     return out
+
+
+def _rating_docs() -> dict[str, KeyDoc]:
+    return {
+        "K_A": KeyDoc("application factor K_A (rating)", lo=1.0, hi=10.0, requirement="optional", default=1.0),
+        "K_v": KeyDoc("dynamic factor K_v, the user's (rating; not computed)", lo=1.0, hi=10.0,
+                      requirement="optional", default=1.0),
+        "pinion_speed_rpm": KeyDoc("pinion speed for the life factors (rating; without it and life_hours: "
+                                   "long-life factors = 1)", "rpm", lo=0.0, lo_open=True, hi=1e6,
+                                   requirement="optional"),
+        "life_hours": KeyDoc("required life for the life factors (rating; needs pinion_speed_rpm)", "h", lo=0.0,
+                             lo_open=True, hi=1e7, requirement="optional"),
+        "S_Fmin": KeyDoc("required minimum bending safety S_Fmin (rating)", lo=0.0, lo_open=True, hi=100.0,
+                         requirement="optional", default=1.4),
+        "S_Hmin": KeyDoc("required minimum pitting safety S_Hmin (rating)", lo=0.0, lo_open=True, hi=100.0,
+                         requirement="optional", default=1.0),
+    }
 
 
 #: section -> key -> KeyDoc.  The single source of truth for validation and docs.
@@ -231,6 +276,7 @@ KEY_DOCS: dict[str, dict[str, KeyDoc]] = {
     "gear": _member_docs("gear"),
     "misalignment": _MIS_DOCS,
     "material": _material_docs(),
+    "rating": _rating_docs(),
 }
 
 #: Valid top-level sections, in canonical order, with a description.
@@ -240,5 +286,6 @@ SECTIONS: dict[str, str] = {
     "gear": "its helix angle and profile shift are results of the direct design",
     "misalignment": "assembly errors for tooth contact analysis; optional, default 0",
     "material": "elastic constants of both members for the loaded TCA; optional, default steel",
+    "rating": "load factors, speed, life and minimum safeties of `beveloid rating`; optional",
 }
 REQUIRED_SECTIONS: tuple[str, ...] = ("pair", "pinion", "gear")

@@ -96,6 +96,22 @@ class MaterialSpec:
     pinion_poisson_ratio: float = 0.3
     gear_youngs_modulus_gpa: float = 206.0
     gear_poisson_ratio: float = 0.3
+    pinion_root_stress_limit_mpa: float = 500.0
+    pinion_contact_stress_limit_mpa: float = 1500.0
+    gear_root_stress_limit_mpa: float = 500.0
+    gear_contact_stress_limit_mpa: float = 1500.0
+
+
+@dataclass(frozen=True)
+class RatingSpec:
+    """Load factors, speed, life and minimum safeties of the strength rating (``beveloid rating``)."""
+
+    K_A: float = 1.0
+    K_v: float = 1.0
+    pinion_speed_rpm: float | None = None
+    life_hours: float | None = None
+    S_Fmin: float = 1.4
+    S_Hmin: float = 1.0
 
 
 @dataclass(frozen=True)
@@ -105,5 +121,6 @@ class DesignSpec:
     gear: MemberSpec
     misalignment: MisalignmentSpec = field(default_factory=MisalignmentSpec)
     material: MaterialSpec = field(default_factory=MaterialSpec)
+    rating: RatingSpec = field(default_factory=RatingSpec)
     #: Where the spec came from (file path or "<dict>"); not part of equality.
     source: str = field(default=DEFAULT_SOURCE, compare=False)

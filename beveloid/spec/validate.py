@@ -15,7 +15,7 @@ import numpy as np
 
 from ..generated import layouts, root_fillet, surface_models
 from .keys import KEY_DOCS, REQUIRED_SECTIONS, SECTIONS, KeyDoc, model_takes
-from .model import (DEFAULT_SOURCE, DesignSpec, MaterialSpec, MemberSpec, MisalignmentSpec, PairSpec,
+from .model import (DEFAULT_SOURCE, DesignSpec, MaterialSpec, RatingSpec, MemberSpec, MisalignmentSpec, PairSpec,
                     SpecError)
 from .text import closest, fmt_value, hint, name_text
 
@@ -61,6 +61,7 @@ def _check_section(name: str, raw: Any) -> dict[str, Any]:
             f"{name} = {fmt_value(raw)}: must be a table ([{name}] section) with keys: {', '.join(accepted)}",
             key=name,
         )
+    _check_model_name(name, raw, docs)
     # 1. unknown keys and design results, in the order given
     for key, value in raw.items():
         key_s = str(key)
@@ -92,7 +93,7 @@ def _check_section(name: str, raw: Any) -> dict[str, Any]:
         if key in raw:
             out[key] = _check_value(f"{name}.{key}", raw[key], doc)
         else:
-            out[key] = float(doc.default) if doc.kind == "number" else doc.default
+            out[key] = float(doc.default) if doc.kind == "number" and doc.default is not None else doc.default
     if any(d.model for d in docs.values()):
         _resolve_surface_model(name, raw, out, docs)
     # 4. bounds that depend on another key of the same section
@@ -106,6 +107,21 @@ def _check_section(name: str, raw: Any) -> dict[str, Any]:
                 key=dotted,
             )
     return out
+
+
+def _check_model_name(name: str, raw: Mapping, docs: dict[str, KeyDoc]) -> None:
+    """A tooth_surface naming no usable model, before its keys are looked at: which (unknown, or a
+    user model whose generated code is stale) and how to make or regenerate it."""
+    value = raw.get("tooth_surface")
+    if "tooth_surface" in docs and isinstance(value, str) and value not in docs["tooth_surface"].choices:
+        from ..models import catalog
+
+        cat = catalog()
+        problem = cat.problem(value)
+        if problem:
+            match = closest(value, [*docs["tooth_surface"].choices, *cat.stale]) if value not in cat.stale else None
+            raise SpecError(f"{name}.tooth_surface = {fmt_value(value)}: {problem}"
+                            + (f" (did you mean {match}?)" if match else ""), key=f"{name}.tooth_surface")
 
 
 def _resolve_surface_model(name: str, raw: Mapping, out: dict[str, Any], docs: dict[str, KeyDoc]) -> None:
@@ -190,8 +206,16 @@ def check_tip_round(values: dict[str, dict[str, Any]]) -> None:
                 key=dotted)
 
 
+def check_rating_life(values: dict[str, dict[str, Any]]) -> None:
+    """rating.life_hours needs rating.pinion_speed_rpm (the load cycles are 60 n L_h)."""
+    rating = values["rating"]
+    if rating["life_hours"] is not None and rating["pinion_speed_rpm"] is None:
+        raise SpecError(f"rating.life_hours = {fmt_value(rating['life_hours'])}: needs rating.pinion_speed_rpm "
+                        "(a number > 0, rpm) for the load cycles; give both or neither", key="rating.life_hours")
+
+
 CROSS_CHECKS: tuple[Callable[[dict[str, dict[str, Any]]], None], ...] = (check_clearance, check_relief_extent,
-                                                                          check_tip_round)
+                                                                          check_tip_round, check_rating_life)
 
 #: section -> the dataclass holding its keys
 SECTION_TYPES: dict[str, type] = {
@@ -200,6 +224,7 @@ SECTION_TYPES: dict[str, type] = {
     "gear": MemberSpec,
     "misalignment": MisalignmentSpec,
     "material": MaterialSpec,
+    "rating": RatingSpec,
 }
 
 

@@ -25,8 +25,9 @@ Conventions (the paper is silent on these; see docs/validation.md):
   at the pitch point P of the aligned pair on the same flank.
 
 Shape (as every analysis package): :class:`Options` (frozen, self-validating: the one range
-table the CLI reads), ``analyze(pair, options, solver) -> TCAResult`` (immutable), the JSON
-writer :func:`to_json_dict`.  Modules: contact (kernels and unknowns by name), reference (the
+table the CLI reads; the errors too), ``analyze(pair_or_geometry, options, solver=None) ->
+TCAResult`` (immutable, with its contact ellipses at ``options.approach_mm``), its JSON by
+``TCAResult.to_json_dict()``.  Modules: contact (kernels and unknowns by name), reference (the
 pitch-point contact, first-touch sign), grid (the solver over error sets x angles), flank (one
 flank over the mesh), backlash, sensitivity, result; the TE formula and the pair envelope are
 :mod:`beveloid.mesh`.
@@ -47,3 +48,12 @@ from .options import OptionError, Options  # noqa: F401
 from .reference import Reference, first_touch_sign, gap_sign, pitch_point_notes, reference_contact  # noqa: F401
 from .result import TCAResult, analyze, run, to_json_dict, with_ellipses  # noqa: F401
 from .sensitivity import sensitivity  # noqa: F401
+
+__all__ = ["analyze", "as_solver", "Backlash", "backlash", "BACKLASH_PAIRS", "BACKLASH_POSITIONS",
+           "boundary_margins", "check_flank", "contact_boundary_names", "contact_margins", "contact_points",
+           "DEFAULT_OPTIONS", "ERROR_NAMES", "ERROR_UNITS", "errors_array", "evaluate", "first_touch_sign",
+           "FlankResult", "FLANKS", "gap_sign", "geometry_of", "GridSolution", "Member", "mesh_angles", "mesh_flank",
+           "newton_tolerance", "NoContactError", "OptionError", "Options", "PairGeometry", "pitch_point_notes",
+           "Reference", "reference_contact", "resolve_backend", "run", "sensitivity", "SERIAL_MAX_SETS",
+           "solve_grid", "solved_contact_points", "Solver", "SolverOptions", "surface", "surface_jacobian",
+           "tangent", "tca_kernels", "TCAResult", "to_json_dict", "unknowns", "whole_pitches", "with_ellipses"]

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import UserError
 from ..generated import layouts, tca_kernels
 from ..geometry import PairGeometry
 from ..solver import Solver, backends
@@ -15,8 +16,9 @@ ERROR_NAMES = layouts.AssemblyErrors._fields
 ERROR_UNITS = layouts.AssemblyErrors.UNITS
 
 
-class NoContactError(RuntimeError):
-    """The aligned pair has no contact on the flanks (an analysis cannot start from it)."""
+class NoContactError(UserError, RuntimeError):
+    """The aligned pair has no contact on the flanks (an analysis cannot start from it).  A UserError too:
+    a command that needs the contact says so in one line (exit 2); the design changes it."""
 
 
 def geometry_of(pair) -> PairGeometry:

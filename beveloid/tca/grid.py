@@ -7,6 +7,7 @@ import numpy as np
 
 from ..generated import tca_kernels
 from ..solver import Solver, patch_cover
+from ..solver.records import PathOutput, PathRequest, settings
 from ..solver.options import SolverOptions
 from ..status import Status, carries_numbers
 from .contact import as_solver, contact_points, errors_array, newton_tolerance, unknowns
@@ -62,24 +63,30 @@ def _solve_once(geom, flank, errors, phi_grid, solver, homotopy_steps):
     order = np.argsort(phi_grid, kind="stable")
     grid = np.ascontiguousarray(phi_grid[order])
     K, N = errors.shape[0], grid.shape[0]
-    out = dict(x=np.empty((K, N, len(tca_kernels.UNKNOWNS))), status=np.empty((K, N), dtype=np.int64),
-               iterations=np.empty((K, N), dtype=np.int64), boundary=np.empty((K, N), dtype=np.int64),
-               active=np.empty((K, N, 2), dtype=np.int64))
+    out = PathOutput(x=np.empty((K, N, len(tca_kernels.UNKNOWNS))), status=np.empty((K, N), dtype=np.int64),
+                     iterations=np.empty((K, N), dtype=np.int64), boundary=np.empty((K, N), dtype=np.int64),
+                     active=np.empty((K, N, 2), dtype=np.int64))
     core = solver.announced_core()
     cover = patch_cover.patch_cover(geom, "pinion", flank, options.patch_tol_mm).cells
     # a parallel call costs ~8 ms to start its threads (docs/performance.md): few error sets run serially
     solve_paths = core.solve_paths if K > SERIAL_MAX_SETS else core.solve_paths_serial
-    solve_paths(geom.problem(flank), geom.pinion.blank(), geom.gear.blank(), cover, np.ascontiguousarray(ref.x),
-                ref.pinion_angle, errors, grid, geom.gear.working_pitch_radius_mm,
-                newton_tolerance(geom, options.tol_mm), options.max_iter, homotopy_steps, options.patch_tol_mm,
-                first_touch_sign(geom, flank), out["x"], out["status"], out["iterations"], out["boundary"],
-                out["active"])
+    request = PathRequest(pinion_cover=cover, x_ref=np.ascontiguousarray(ref.x), phi_ref=float(ref.pinion_angle),
+                          errors=errors, phi_grid=grid)
+    solve_paths(geom.problem(flank), request, solver_settings(geom, flank, options, homotopy_steps), out)
     off_branch(geom, ref, grid, out)
     if np.array_equal(order, np.arange(N)):  # an ascending grid (the sweep's): no copies back
-        return GridSolution(**out)
+        return GridSolution(**out._asdict())
     inv = np.empty_like(order)
     inv[order] = np.arange(N)
-    return GridSolution(**{k: v[:, inv] for k, v in out.items()})
+    return GridSolution(**{k: v[:, inv] for k, v in out._asdict().items()})
+
+
+def solver_settings(geom, flank, options: SolverOptions, homotopy_steps=None):
+    """The core's records.Settings for a flank of a pair under ``options``."""
+    return settings(scale_mm=geom.gear.working_pitch_radius_mm, tol_mm=newton_tolerance(geom, options.tol_mm),
+                    max_iter=options.max_iter, patch_tol_mm=options.patch_tol_mm,
+                    homotopy_steps=options.homotopy_steps if homotopy_steps is None else homotopy_steps,
+                    first_touch_sign=first_touch_sign(geom, flank))
 
 
 #: a contact of pair 0 is that pair's only while its gear angle lies within this many gear pitches
@@ -88,17 +95,18 @@ BRANCH_PITCHES = 0.5
 
 
 def off_branch(geom, ref, grid, out):
-    """Mark FAILED (in place, no numbers) every solved point whose gear angle is off pair 0's
-    branch: |TE| >= BRANCH_PITCHES gear pitches is another tooth's contact, or a search that
-    wandered (e.g. a diverged edge Newton, whole turns or pitches away), never pair 0's."""
-    x, code = out["x"], out["status"]
+    """Mark FAILED (in place, no numbers) every solved point of ``out`` (records.PathOutput) whose
+    gear angle is off pair 0's branch: |TE| >= BRANCH_PITCHES gear pitches is another tooth's
+    contact, or a search that wandered (e.g. a diverged edge Newton, whole turns or pitches away),
+    never pair 0's."""
+    x, code = out.x, out.status
     kinematic = unknowns(ref.x).gear_angle_rad - geom.pinion.teeth / geom.gear.teeth * (grid - ref.pinion_angle)
     with np.errstate(invalid="ignore"):
         far = ~(np.abs(x[..., GEAR_ANGLE_INDEX] - kinematic[None, :]) < BRANCH_PITCHES * geom.pitch_angles[1])
     bad = far & carries_numbers(code)
     code[bad] = Status.FAILED
-    out["boundary"][bad] = -1
-    out["active"][bad] = -1
+    out.boundary[bad] = -1
+    out.active[bad] = -1
 
 
 def solved_contact_points(geom, flank, x, status, backend: "Solver | str" = "auto"):

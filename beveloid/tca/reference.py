@@ -11,6 +11,7 @@ from ..generated import layouts
 from ..geometry import PairGeometry
 from ..solver import backends, section
 from ..solver.options import DEFAULT_OPTIONS
+from ..solver.records import settings
 from .contact import (ERROR_NAMES, NoContactError, boundary_margins, check_flank, evaluate, newton_tolerance,
                       surface, unknowns)
 
@@ -45,8 +46,9 @@ def reference_contact(geom: PairGeometry, flank: str) -> Reference:
                                             gear_angle_rad=phi2), dtype=float)
     opts = DEFAULT_OPTIONS
     x, conv, _, res = backends.namespace("numpy").solve_point(
-        geom.problem(flank), x0, phi1, np.zeros(len(ERROR_NAMES)), geom.gear.working_pitch_radius_mm,
-        newton_tolerance(geom, opts.tol_mm), opts.max_iter)
+        geom.problem(flank), x0, phi1, np.zeros(len(ERROR_NAMES)),
+        settings(scale_mm=geom.gear.working_pitch_radius_mm, tol_mm=newton_tolerance(geom, opts.tol_mm),
+                 max_iter=opts.max_iter))
     if not conv:
         raise NoContactError(f"no contact at the pitch point on the {flank} flank (residual {res:.2e} mm)")
     return Reference(flank, phi1, x)

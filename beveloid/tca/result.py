@@ -10,7 +10,7 @@ from ..contact_ellipse import with_ellipses
 from ..geometry import PairGeometry
 from ..solver import Solver
 from .backlash import Backlash, backlash
-from .contact import FLANKS, as_solver, errors_array, geometry_of
+from .contact import ERROR_NAMES, FLANKS, errors_array, geometry_of
 from .flank import FlankResult, mesh_flank
 from .options import Options
 from .reference import pitch_point_notes
@@ -77,32 +77,40 @@ def run(pair, errors, options: Options, solver: Solver) -> TCAResult:
     return with_ellipses(result, options.approach_mm) if options.approach_mm is not None else result
 
 
-def analyze(pair, options=None, solver=None, *, errors=None, flanks=None, positions=None, pairs=None,
-            backend=None) -> TCAResult:
-    """TCA of a pair over the mesh; the two-flank backlash when both flanks are solved.
+def analyze(pair, options: Options | None = None, solver: Solver | str | None = None, **legacy) -> TCAResult:
+    """TCA of a pair over the mesh (the backlash when both flanks are solved, the contact ellipses
+    at ``options.approach_mm``): ``analyze(pair_or_geometry, Options(...), Solver(...))``.
 
-    New form: ``analyze(pair, Options(...), Solver(...))`` (``pair``: a :class:`beveloid.pair.Pair`,
-    whose [misalignment] are the errors unless ``errors=`` is given, or a PairGeometry).
-    The earlier form stays: ``analyze(geom, errors, flanks=..., positions=200, pairs=3,
-    options=SolverOptions, backend="auto")``: no contact ellipses (add them with
-    ``contact_ellipse.attach``).
+    ``pair``: a :class:`beveloid.pair.Pair` (its [misalignment] are the errors unless
+    ``options.errors`` is set) or a PairGeometry; ``options``: an :class:`Options` (None: as the
+    deprecated form below, without ellipses); ``solver``: a :class:`beveloid.solver.Solver`, a
+    backend name or None (the default).
+
+    Deprecated, kept for the callers written before Options: ``analyze(geom, errors, flanks=...,
+    positions=200, pairs=3, backend="auto")`` (the errors in place of the options; no contact
+    ellipses).
     """
-    from ..solver.options import SolverOptions
-
-    solver_options = None
-    if isinstance(options, SolverOptions):  # the earlier keyword options=SolverOptions(...)
-        solver_options, options = options, None
-    if isinstance(options, Options):
-        tca_options = options
-        if any(v is not None for v in (flanks, positions, pairs)):
-            raise TypeError("analyze: give flanks, positions and pairs in Options, not beside it")
-    else:  # the earlier form: the second argument is the errors
-        if errors is None and options is not None:
-            errors = options
-        tca_options = Options(flanks=FLANKS if flanks is None else tuple(flanks),
-                              positions=200 if positions is None else positions,
-                              pairs=3 if pairs is None else pairs, approach_mm=None)
-    s = as_solver(backend if solver is None else solver, solver_options)
+    if not isinstance(options, Options):
+        options, solver = _legacy_options(options, solver, legacy)
+    elif legacy:
+        raise TypeError(f"analyze(pair, options, solver): give {', '.join(sorted(legacy))} in Options")
+    errors = options.errors
     if errors is None:
-        errors = getattr(pair, "errors", np.zeros(5))
-    return run(pair, errors, tca_options, s)
+        errors = getattr(pair, "errors", np.zeros(len(ERROR_NAMES)))
+    return run(pair, errors, options, Solver.of(solver))
+
+
+def _legacy_options(errors, solver, legacy):
+    """(Options, solver) of the deprecated form analyze(geom, errors, flanks=, positions=, pairs=,
+    errors=, backend=)."""
+    unknown = set(legacy) - {"errors", "flanks", "positions", "pairs", "backend"}
+    if unknown:
+        raise TypeError(f"analyze() got unexpected arguments {sorted(unknown)}")
+    errors = legacy.get("errors", errors)
+    flanks = legacy.get("flanks")
+    positions, pairs = legacy.get("positions"), legacy.get("pairs")
+    options = Options(flanks=FLANKS if flanks is None else tuple(flanks),
+                      positions=200 if positions is None else positions, pairs=3 if pairs is None else pairs,
+                      approach_mm=None,
+                      errors=None if errors is None else tuple(errors_array(errors)))
+    return options, legacy.get("backend", "auto") if solver is None else solver

@@ -28,6 +28,10 @@ from ..status import Status, carries_numbers
 from . import fillet as fillet_kernels
 from . import profile, sections
 
+class NoContact(RuntimeError):
+    """The contact ratio cannot be measured: no contact at the pitch point, or over too many pitches."""
+
+
 #: a contact point this far (mm, along the rack edge) below the true form limit is interference
 FORM_TOL_MM = 1e-9
 
@@ -44,7 +48,8 @@ class FlankContact:
     start_boundary: str
     end_boundary: str
     interference: tuple  # names of the form limits the mating tip reaches (empty: none)
-    #: per member: the smallest l - l_form (mm) over the contact's points (< 0: below the form limit)
+    #: per member: the smallest l - l_form (mm) over the contact's points (< 0: below the form limit;
+    #: None: the form limit could not be found in any of their sections)
     form_margin_mm: dict = None
 
 
@@ -123,14 +128,14 @@ def flank_contact(geom, flank, per_pitch=24, span_pitches=3, neighbours=2, backe
     inc = _carries(te[central], te_k, path.sign)
     c0 = int(np.nonzero(idx[central] == 0)[0][0])
     if not inc[c0]:
-        raise RuntimeError(f"{flank} flank: the aligned pair carries no contact at its pitch point")
+        raise NoContact(f"{flank} flank: the aligned pair carries no contact at its pitch point")
     lo, hi = c0, c0
     while lo > 0 and inc[lo - 1]:
         lo -= 1
     while hi < len(central) - 1 and inc[hi + 1]:
         hi += 1
     if lo == 0 or hi == len(central) - 1:
-        raise RuntimeError(f"{flank} flank: contact over more than {span_pitches} pinion pitches on either side")
+        raise NoContact(f"{flank} flank: contact over more than {span_pitches} pinion pitches on either side")
     start, s_state = _refine(path, phi[central[lo]], phi[central[lo - 1]])
     end, e_state = _refine(path, phi[central[hi]], phi[central[hi + 1]])
     # form limits carrying contact on the interval, or where the contact ends
@@ -143,8 +148,9 @@ def flank_contact(geom, flank, per_pitch=24, span_pitches=3, neighbours=2, backe
     p1_pts, p2_pts = tca.contact_points(geom, flank, xs)
     margins = {}
     for member, l_col, pts in (("pinion", 0, p1_pts), ("gear", 2, p2_pts)):
-        margins[member] = float(np.min(xs[:, l_col] - form_limit_l(geom, member, flank, pts[:, 2])))
-        if margins[member] < -FORM_TOL_MM:
+        margin = xs[:, l_col] - form_limit_l(geom, member, flank, pts[:, 2])
+        margins[member] = float(np.min(margin[np.isfinite(margin)])) if np.isfinite(margin).any() else None
+        if margins[member] is not None and margins[member] < -FORM_TOL_MM:
             reached.add(f"{member} form limit")
     return FlankContact(flank, float((end - start) / p1), float(start), float(end), ends[0], ends[1],
                         tuple(sorted(reached)), margins)
@@ -153,12 +159,13 @@ def flank_contact(geom, flank, per_pitch=24, span_pitches=3, neighbours=2, backe
 def form_limit_l(geom, member, flank, z, samples=9):
     """l_form (mm) of the flank at axial positions z (S_i): l_t of the tip round, or, where the section is
     undercut, the top of the undercut (``profile.form_limit`` on ``samples`` sections across the contact's
-    z range, interpolated)."""
+    z range, interpolated); NaN where a section has no form limit (no involute up to the tip)."""
     z = np.asarray(z, dtype=float)
     l_t = float(fillet_kernels.tip_round(geom, member).junction_l)
     cut = getattr(sections.section(geom, member, sections.face_z(geom, member, z)), f"undercut_depth_{flank}")
     if not np.any(cut > 0):
         return np.full(z.shape, l_t)
     zs = np.linspace(z.min(), z.max(), samples)
-    lf = np.array([profile.form_limit(geom, member, flank, zz)[0] for zz in zs])
+    forms = [profile.form_limit(geom, member, flank, zz) for zz in zs]
+    lf = np.array([np.nan if f is None else f.l_mm for f in forms])
     return np.interp(z, zs, lf) if samples > 1 and z.max() > z.min() else np.full(z.shape, lf[0])

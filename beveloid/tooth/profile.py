@@ -79,18 +79,19 @@ def undercut_top(geometry, member, flank, z, psi0, l0, uf0=0.0, us0=0.0):
 
 
 def _crossing(a, b):
-    """(i, j) of the first segments of polylines a (n, 2) and b (m, 2) that cross, or None."""
-    for i in range(len(a) - 1):
-        p, r = a[i], a[i + 1] - a[i]
-        q, s = b[:-1], b[1:] - b[:-1]
-        den = r[0] * s[:, 1] - r[1] * s[:, 0]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            t = ((q[:, 0] - p[0]) * s[:, 1] - (q[:, 1] - p[1]) * s[:, 0]) / den
-            v = ((q[:, 0] - p[0]) * r[1] - (q[:, 1] - p[1]) * r[0]) / den
-        hit = np.nonzero((t >= 0) & (t <= 1) & (v >= 0) & (v <= 1))[0]
-        if hit.size:
-            return i, int(hit[0])
-    return None
+    """(i, j) of the first segments of polylines a (n, 2) and b (m, 2) that cross, or None (all pairs at once)."""
+    p, r = a[:-1, None, :], (a[1:] - a[:-1])[:, None, :]  # (n-1, 1, 2)
+    q, s = b[None, :-1, :], (b[1:] - b[:-1])[None, :, :]  # (1, m-1, 2)
+    den = r[..., 0] * s[..., 1] - r[..., 1] * s[..., 0]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = ((q[..., 0] - p[..., 0]) * s[..., 1] - (q[..., 1] - p[..., 1]) * s[..., 0]) / den
+        v = ((q[..., 0] - p[..., 0]) * r[..., 1] - (q[..., 1] - p[..., 1]) * r[..., 0]) / den
+    hit = (t >= 0) & (t <= 1) & (v >= 0) & (v <= 1)
+    rows = np.nonzero(hit.any(axis=1))[0]
+    if not rows.size:
+        return None
+    i = int(rows[0])
+    return i, int(np.nonzero(hit[i])[0][0])
 
 
 class FormLimit(NamedTuple):
@@ -99,8 +100,9 @@ class FormLimit(NamedTuple):
     psi: float  # the fillet's parameter there (the junction psi_J without undercut)
 
 
-def form_limit(geometry, member, flank, z, samples=400) -> FormLimit:
-    """(l, radius, psi) where the flank's usable involute starts in the section z of S_i.
+def form_limit(geometry, member, flank, z, samples=400) -> FormLimit | None:
+    """(l, radius, psi) where the flank's usable involute starts in the section z of S_i, or None where
+    it has none (the tip circle inside the base circle: the section is all fillet and undercut).
 
     Without undercut it is the junction with the fillet (l = l_t of the tip round).  Where the
     section is undercut the fillet cuts the flank: the form limit is the top of the undercut,
@@ -113,17 +115,22 @@ def form_limit(geometry, member, flank, z, samples=400) -> FormLimit:
     s = sections.section(geometry, member, sections.face_z(geometry, member, z))
     if float(getattr(s, f"undercut_depth_{flank}")) <= 0:
         return FormLimit(l_t, float(getattr(s, f"form_radius_{flank}")), psi_j)
-    _, l_tip, _ = flank_at_radius(geometry, member, flank, z, float(s.tip_radius))
-    t = np.linspace(0.0, 1.0, samples)
-    ls = l_t + (l_tip - l_t) * t ** 3  # dense near the junction: a mild undercut is a small loop there
-    psis = psi_j * (1 - (1 - t) ** 3)
-    fl, ul = flank_in_section(geometry, member, flank, z, ls)
-    fi, ui = fillet_in_section(geometry, member, flank, z, psis)
-    # the top of the undercut: the crossing farthest up the flank
-    hit = _crossing(fl[::-1, :2], fi[:, :2])
-    if hit is None:
-        raise NoSolution(f"the {member} {flank} fillet does not cross the flank in the section z = {z} mm")
-    i, j = hit
-    k = len(ls) - 1 - i
-    point, psi, l = undercut_top(geometry, member, flank, z, psis[j], ls[k], ui[j], ul[k])
+    if not float(s.tip_radius) > float(getattr(s, f"base_radius_{flank}")):
+        return None  # no involute up to the tip: nothing above an undercut
+    try:
+        _, l_tip, _ = flank_at_radius(geometry, member, flank, z, float(s.tip_radius))
+        t = np.linspace(0.0, 1.0, samples)
+        ls = l_t + (l_tip - l_t) * t ** 3  # dense near the junction: a mild undercut is a small loop there
+        psis = psi_j * (1 - (1 - t) ** 3)
+        fl, ul = flank_in_section(geometry, member, flank, z, ls)
+        fi, ui = fillet_in_section(geometry, member, flank, z, psis)
+        # the top of the undercut: the crossing farthest up the flank
+        hit = _crossing(fl[::-1, :2], fi[:, :2])
+        if hit is None:
+            return None
+        i, j = hit
+        k = len(ls) - 1 - i
+        point, psi, l = undercut_top(geometry, member, flank, z, psis[j], ls[k], ui[j], ul[k])
+    except NoSolution:  # a section Newton found no point: the flank does not reach up there
+        return None
     return FormLimit(l, float(np.hypot(point[0], point[1])), psi)

@@ -3,16 +3,27 @@ its table.
 
 Statuses (not refusals: the design stands, the designer decides): ``undercut`` (a flank is
 undercut somewhere in the face), ``pointed`` (the tip thickness reaches zero inside the face),
-``interference`` (the mating tip reaches a fillet on the aligned pair's path of contact), and
-``no contact`` (the contact ratio could not be measured: it is then null).
+``interference`` (the mating tip reaches a fillet on the aligned pair's path of contact),
+``tip inside base circle`` (somewhere in the face the tip circle lies inside a flank's base circle:
+no involute reaches the tip there, its tip thickness is null), ``no contact`` (the contact ratio
+could not be measured: it is then null) and ``no form limit`` (the interference check could not
+find where a flank's involute starts).  Every value that could not be computed is ``None`` (JSON
+``null``, a dash in the table), with the status that says why.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from ..solver.patch_cover import UnboundedPatch
+from ..tca import NoContactError
 from . import contact, sections, tip, undercut
 
-STATUSES = ("undercut", "pointed", "interference", "no contact")
+STATUSES = ("undercut", "pointed", "interference", "tip inside base circle", "no contact", "no form limit")
+
+
+def _mm(x, digits=4) -> str:
+    """A length for the table: a dash when it could not be computed."""
+    return "-" if x is None else f"{x:.{digits}f}"
 
 
 @dataclass(frozen=True)
@@ -45,6 +56,11 @@ class ToothResult:
         return {"contact_ratio": {fl: (c.contact_ratio if c is not None else None) for fl, c in self.contact.items()},
                 "tooth_status": [{"status": s, "message": m} for s, m in self.statuses]}
 
+    def to_json_dict(self) -> dict:
+        """The whole-tooth JSON: per member its tip thickness and undercut, and the pair's fields
+        (what :meth:`add_to` puts into the design JSON)."""
+        return {**{member: self.member_json(member) for member in sections.MEMBERS}, **self.pair_json()}
+
     def add_to(self, design: dict) -> dict:
         """The design JSON (beveloid design --json) with the whole-tooth fields added."""
         for member in sections.MEMBERS:
@@ -60,9 +76,9 @@ class ToothResult:
             for fl in sections.FLANKS:
                 u = self.undercut[member][fl]
                 cut = "none" if u is None else f"{u.from_mm:.3f} .. {u.to_mm:.3f} ({u.depth_mm:.4f})"
-                thick = f"{t.toe_mm:.4f} / {t.middle_mm:.4f} / {t.heel_mm:.4f}" if fl == "left" else ""
+                thick = " / ".join(_mm(x) for x in (t.toe_mm, t.middle_mm, t.heel_mm)) if fl == "left" else ""
                 lines.append(f"{member} | {fl} | {thick} | {cut}")
-        ratio = " | ".join(f"{fl} {c.contact_ratio:.4f}" if c is not None else f"{fl} none"
+        ratio = " | ".join(f"{fl} {c.contact_ratio:.4f}" if c is not None else f"{fl} -"
                            for fl, c in self.contact.items())
         lines.append(f"contact ratio (aligned TCA, per pinion pitch): {ratio}")
         lines += [f"status {s}: {m}" for s, m in self.statuses]
@@ -79,18 +95,26 @@ def analyze(pair, options: ToothOptions = ToothOptions()) -> ToothResult:
         statuses += [("undercut", u.message()) for u in cut[member].values() if u is not None]
         if tips[member].pointed:
             statuses.append(("pointed", tips[member].message()))
+        if tips[member].no_involute:
+            statuses.append(("tip inside base circle", tips[member].no_involute_message()))
     flanks = {}
     for fl in sections.FLANKS:
         try:
             flanks[fl] = contact.flank_contact(geom, fl, per_pitch=options.contact_per_pitch, backend=options.backend)
-        except RuntimeError as err:
+        except (contact.NoContact, NoContactError, UnboundedPatch) as err:
             flanks[fl] = None
             statuses.append(("no contact", f"contact ratio, {fl} flank: {err}"))
             continue
+        for member, margin in flanks[fl].form_margin_mm.items():
+            if margin is None:
+                statuses.append(("no form limit", f"interference, {fl} flank: the {member}'s form limit was not found in"
+                                                  " the sections of the path of contact (no involute up to the tip"
+                                                  " there): interference with its fillet is not checked"))
         for boundary in flanks[fl].interference:
             owner = boundary.split()[0]
             mate = "gear" if owner == "pinion" else "pinion"
-            below = -flanks[fl].form_margin_mm[owner]
+            margin = flanks[fl].form_margin_mm[owner]
+            below = -margin if margin is not None else 0.0
             depth = f" by {below:.4f} mm along the rack edge" if below > 0 else ""
             statuses.append(("interference", f"interference: {fl} flank, the {mate}'s tip reaches below the"
                                              f" {owner}'s form limit{depth} (into its fillet) on the aligned"

@@ -49,14 +49,27 @@ def half_face(geometry, member: str) -> float:
 
 
 def section(geometry, member: str, z_face):
-    """``tooth_sections.TransverseSection`` at face coordinate(s) z_face."""
-    return tooth_sections.transverse_section(member_z(geometry, member, z_face), section_params(geometry, member))
+    """``tooth_sections.TransverseSection`` at face coordinate(s) z_face.
+
+    The tip fields (``tip_thickness_angle``, ``tip_arc_thickness``) are NaN, without a warning, in a
+    section whose tip circle lies inside a flank's base circle: that flank has no involute there
+    (the tooth is all fillet and undercut); callers report it by :func:`has_involute_at_tip`.
+    """
+    with np.errstate(invalid="ignore"):
+        return tooth_sections.transverse_section(member_z(geometry, member, z_face), section_params(geometry, member))
+
+
+def has_involute_at_tip(s) -> np.ndarray:
+    """Whether the section(s) s reach the tip circle on both flanks' involutes (tip radius >= both base radii)."""
+    return (s.tip_radius >= s.base_radius_left) & (s.tip_radius >= s.base_radius_right)
 
 
 def thickness_at_radius(geometry, member: str, z_face, radius):
-    """``tooth_sections.ThicknessAtRadius`` (angular and arc thickness) at a radius of the section z_face."""
-    return tooth_sections.thickness_at_radius(member_z(geometry, member, z_face), radius,
-                                              section_params(geometry, member))
+    """``tooth_sections.ThicknessAtRadius`` (angular and arc thickness) at a radius of the section z_face;
+    NaN, without a warning, at a radius inside a flank's base circle (no involute there)."""
+    with np.errstate(invalid="ignore"):
+        return tooth_sections.thickness_at_radius(member_z(geometry, member, z_face), radius,
+                                                  section_params(geometry, member))
 
 
 def face_grid(geometry, member: str, n: int = 201) -> np.ndarray:
@@ -64,23 +77,91 @@ def face_grid(geometry, member: str, n: int = 201) -> np.ndarray:
     return np.linspace(-w, w, n)
 
 
-def sign_change_roots(f, grid, values, xtol=1e-12):
-    """Every root of the scalar function f between consecutive grid points where ``values`` changes sign."""
+# ------------------------------------------------------------------------------------------------
+# The one root finder of the whole-tooth checks: scan first (NaN marks a point outside the
+# function's domain), bracket between neighbouring scan points, then solve.
+# ------------------------------------------------------------------------------------------------
+
+#: the class of a value: > 0, <= 0, or not computable (NaN)
+POSITIVE, NOT_POSITIVE, INVALID = "positive", "not positive", "invalid"
+_BISECTIONS = 60
+
+
+def classify(value: float) -> str:
+    if not np.isfinite(value):
+        return INVALID
+    return POSITIVE if value > 0 else NOT_POSITIVE
+
+
+def scan(f, grid) -> np.ndarray:
+    """f at the grid points (NaN where it cannot be evaluated); numpy's warnings on invalid values
+    are the NaNs themselves, not reported."""
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.array([f(x) for x in grid], dtype=float)
+
+
+def _bisect_class(f, a, b, class_a, xtol):
+    """Bisection on the class of f between a (class_a) and b (another class): the point where it changes."""
+    for _ in range(_BISECTIONS):
+        if abs(b - a) <= xtol:
+            break
+        mid = 0.5 * (a + b)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            if classify(float(f(mid))) == class_a:
+                a = mid
+            else:
+                b = mid
+    return 0.5 * (a + b)
+
+
+class _Invalid(ArithmeticError):
+    pass
+
+
+def transition(f, a, b, fa, fb, xtol=1e-12) -> float:
+    """Where f changes class between a and b (classes of fa and fb differ): brentq where both ends are
+    finite and f stays finite between them, else bisection on the class (the edge of f's domain)."""
     from scipy.optimize import brentq
 
-    out = []
-    for k in np.nonzero(np.sign(values[:-1]) * np.sign(values[1:]) < 0)[0]:
-        out.append(brentq(f, grid[k], grid[k + 1], xtol=xtol, rtol=4 * np.finfo(float).eps))
-    return out
+    ca = classify(fa)
+    if ca == INVALID or classify(fb) == INVALID or fa == 0.0:
+        return a if fa == 0.0 else _bisect_class(f, a, b, ca, xtol)
+    if fb == 0.0:
+        return b
+
+    def finite(x):
+        with np.errstate(invalid="ignore", divide="ignore"):
+            v = float(f(x))
+        if not np.isfinite(v):
+            raise _Invalid
+        return v
+
+    try:
+        return brentq(finite, a, b, xtol=xtol, rtol=4 * np.finfo(float).eps)
+    except _Invalid:  # f is not computable somewhere inside: the class bisection still finds a change
+        return _bisect_class(f, a, b, ca, xtol)
+
+
+def segments(f, grid, xtol=1e-12, values=None):
+    """[(from, to, class)] covering the grid's span: where f > 0, <= 0 or cannot be computed (NaN),
+    the ends between grid points refined by :func:`transition`."""
+    values = scan(f, grid) if values is None else np.asarray(values, dtype=float)
+    classes = [classify(v) for v in values]
+    out, lo = [], float(grid[0])
+    for k in range(len(grid) - 1):
+        if classes[k] != classes[k + 1]:
+            cut = float(transition(f, grid[k], grid[k + 1], values[k], values[k + 1], xtol))
+            out.append((lo, cut, classes[k]))
+            lo = cut
+    out.append((lo, float(grid[-1]), classes[-1]))
+    return [seg for seg in out if seg[1] > seg[0] or len(out) == 1]
+
+
+def ranges_of(f, grid, cls, xtol=1e-12, values=None):
+    """[(from, to)] of the grid's span where f is of class ``cls`` (:func:`segments`)."""
+    return [(lo, hi) for lo, hi, c in segments(f, grid, xtol, values) if c == cls]
 
 
 def positive_ranges(f, grid, xtol=1e-12):
-    """[(from, to)] of the grid's span where the scalar function f > 0 (ends refined by bisection)."""
-    values = np.array([f(x) for x in grid])
-    cuts = sign_change_roots(f, grid, values, xtol)
-    edges = [grid[0]] + cuts + [grid[-1]]
-    ranges = []
-    for lo, hi in zip(edges[:-1], edges[1:]):
-        if f(0.5 * (lo + hi)) > 0:
-            ranges.append((float(lo), float(hi)))
-    return ranges
+    """[(from, to)] of the grid's span where the scalar function f > 0 (ends refined)."""
+    return ranges_of(f, grid, POSITIVE, xtol)

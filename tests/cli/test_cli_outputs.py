@@ -124,3 +124,13 @@ def test_ctrl_c_in_explore_lists_only_the_files_written(tmp_path):
     if listed.startswith("Files in"):
         for name in listed.split(": ", 1)[1].split(", "):
             assert (out / name).is_file(), (name, listed)
+
+
+def test_derive_model_out_follows_the_folder_rule(tmp_path, capsys):
+    """`derive --model ... --out DIR` is refused before any work when DIR's parent does not exist
+    (it used to create the whole missing tree)."""
+    model = Path(__file__).resolve().parents[1] / "data" / "shifted_flank_model.py"
+    deep = tmp_path / "no" / "such" / "dir"
+    _one_line_exit_2(capsys, ["derive", "--model", str(model), "--name", "shifted", "--out", str(deep)],
+                     "--out = ", "does not exist")
+    assert not (tmp_path / "no").exists()

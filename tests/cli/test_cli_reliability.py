@@ -272,7 +272,7 @@ def test_plot_targets_are_refused_before_computing(capsys, monkeypatch, tmp_path
         (tmp_path / "plot.svg", "ending in .png"),
     ]
     for target, words in cases:
-        for argv in (["tca", C1, "--positions", "3"], ["ltca", C1, "--torque-nm", "10", "--positions", "3"],
+        for argv in (["tca", C1, "--positions", "3"], ["ltca", C1, "--torque-nm", "10", "--positions", "3", "--tooth-model", "plate"],
                      ["design", C1]):
             rc, _, err = run_cli(capsys, [*argv, "--plot", target])
             assert_one_line_exit_2(rc, err, "--plot = ", words)
@@ -301,7 +301,8 @@ def test_every_output_flag_of_every_command_is_checked():
     outputs = {(name, opt) for name, p in sub.choices.items() for a in p._actions for opt in a.option_strings
                if opt in ("--plot", "--out", "--output", "-o", "--png", "--csv")}
     assert outputs == {("tca", "--plot"), ("ltca", "--plot"), ("paper", "--out"), ("export", "--out"),
-                       ("explore", "--out"), ("design", "--plot")}  # export: tests/export, explore: tests/explore
+                       ("explore", "--out"), ("design", "--plot"), ("rating", "--plot"), ("derive", "--out")}
+    # export: tests/export, explore: tests/explore, rating: tests/rating, derive: tests/cli/test_cli_outputs.py
 
 
 # ---------------------------------------------------------------------------------------------

@@ -1,10 +1,10 @@
 """A tooth-surface model for the plug-in test: the involute flank (Eqs 1-7) moved along the
-member's own axis by ``axial_shift_mm``.  Copied into a scratch checkout's derivations/ by
-tests/solver/test_solver_model_plugin.py; not part of the product."""
+member's own axis by ``axial_shift_mm``.  Derived from a copy outside the checkout by
+tests/models/test_models_installed.py (``beveloid derive --model``); not part of the product."""
 import sympy as sp
 
-from . import eq04_07_tooth_surface as involute
-from .interface import Field
+from beveloid.derivations import eq04_07_tooth_surface as involute
+from beveloid.derivations.interface import Field
 
 axial_shift = sp.Symbol("axial_shift_mm", real=True)
 

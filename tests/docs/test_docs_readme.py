@@ -42,22 +42,6 @@ def test_input_key_table_is_current():
         "docs/input.md's key table differs from beveloid.spec.key_docs_markdown(): paste its output")
 
 
-def test_python_api_example_runs(monkeypatch, tmp_path):
-    """docs/api.md's Python block runs as written, from any working directory (here an empty one)."""
-    text = (REPO / "docs" / "api.md").read_text(encoding="utf-8")
-    blocks = re.findall(r"^```python\n(.*?)^```", text, flags=re.M | re.S)
-    assert len(blocks) == 1
-    monkeypatch.chdir(tmp_path)
-    ns = {}
-    exec(compile(blocks[0], "docs/api.md", "exec"), ns)
-    assert ns["res"].backlash_um is not None
-    assert ns["mc"].contact_points_solved == 2_000 * 20
-    assert abs(ns["back"].offset_mm - ns["d"].offset_mm) < 1e-9 * ns["d"].offset_mm
-    assert ns["d"] is ns["pair"].design and ns["geom"] is ns["pair"].geometry
-    assert list(ns["shifted"].errors) == [0.5, 0.0, 0.0, 0.0, 0.0]
-    assert ns["right"].status.count("ok") > 0 and ns["k"].k1 >= ns["k"].k2
-
-
 def test_packaged_examples_match_the_examples_folder():
     """beveloid/data/ ships copies of examples/*.toml for `beveloid paper`; they must not drift."""
     for name in ("case1.toml", "case2.toml"):

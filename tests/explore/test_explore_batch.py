@@ -5,10 +5,11 @@ import numpy as np
 import pytest
 
 from beveloid import assembly_errors, tca
-from beveloid.design import DesignError, design
+from beveloid.design import DesignError, Outcome, design, design_arrays, spec_values
+from beveloid.errors import ErrorCode
 from beveloid.design.report import design_json
 from beveloid.spec import SpecError
-from beveloid.explore import batch, rows
+from beveloid.explore import rows
 from beveloid.explore.grid import Plan, parse_vary
 from beveloid.pair import Pair
 from beveloid.spec import load_example, spec_to_dict
@@ -49,13 +50,14 @@ def test_statuses_and_working_data_equal_design(explored):
         try:
             result = design(spec)
         except DesignError as err:
-            seen.add(batch.refusal_class(err))
-            assert cols["status"][j] == batch.refusal_class(err) != "design_refused", str(err)
+            seen.add(err.outcome.label)
+            assert cols["status"][j] == err.outcome.label, str(err)
             assert np.isnan(cols["working_normal_pressure_angle_deg"][j])
             assert np.isnan(cols["left_pinion_contact_z_mm_per_dx_mm"][j])
             continue
-        seen.add("ok")
-        assert cols["status"][j] == "ok"
+        seen.add("ok")  # passes the design's checks; the whole tooth's may still flag it
+        assert cols["status"][j] in ("ok", "pointed", "undercut", "tooth_check_failed")
+        assert cols["tooth_status"][j] or cols["status"][j] == "ok"
         out = design_json(result)
         for key in ("working_normal_pressure_angle_deg", "fpd_angle_left_deg", "fpd_angle_right_deg",
                     "normal_angular_factor", "offset_residual_mm"):
@@ -104,11 +106,21 @@ def test_batch_does_not_depend_on_its_neighbours(explored):
                 assert v[0] == cols[key][j], key
 
 
-def test_refusal_class_names_every_check():
-    """Each refusal class the batch reports is one design() raises (by its message)."""
-    assert batch.refusal_class(DesignError("pinion.cone_angle_deg = 0.0: a beveloid member needs a non-zero cone"
-                                           " angle")) == "zero_cone_angle"
-    assert batch.refusal_class(DesignError("something new")) == "design_refused"
+def test_every_refusal_names_its_outcome(explored):
+    """design() says which check refused a design by a named outcome (never by its message text), and
+    the outcome is the one beveloid.design.design_arrays gives the same spec values."""
+    plan, cols, values = explored
+    for j in range(plan.count):
+        try:
+            spec = rows.design_spec(plan, values, j)
+            design(spec)
+        except SpecError:
+            continue
+        except DesignError as err:
+            assert isinstance(err.outcome, Outcome) and err.outcome is not Outcome.OK
+            assert err.code is ErrorCode.DESIGN_REFUSED
+            one = design_arrays(spec_values(spec))
+            assert Outcome(int(one.outcome[0])) is err.outcome
 
 
 def test_flank_modification_keys_choose_the_surface_model():
@@ -132,3 +144,45 @@ def test_flank_modification_keys_choose_the_surface_model():
         np.testing.assert_allclose(got, D, rtol=0, atol=RTOL * np.abs(D).max())
         first.append(got[2, 0])
     assert abs(first[0] - first[1]) > 1.0  # the crowning changes the path's sensitivity (18.7 -> 6.9 mm/mm)
+
+
+@pytest.fixture(scope="module")
+def face_widths():
+    """Case 1 at pinion face widths 100 and 700 mm: the 700 mm design is pointed at the heel and undercut
+    at the toe (issue 29 item 3)."""
+    plan = Plan(spec_to_dict(load_example("case1")), (parse_vary("pinion.face_width_mm=100:700:2"),))
+    return plan, rows.compute(plan, 0, plan.count, DEFAULT_RANGES)
+
+
+def test_rows_carry_the_whole_tooth_statuses_of_design(face_widths):
+    """A row carries the statuses `beveloid design` reports (beveloid.tooth.report.analyze, the one
+    implementation), and a pointed or undercut design is not ok, says why, and is not on the front."""
+    from beveloid.explore import report
+    from beveloid.tooth import report as tooth_report
+
+    plan, cols = face_widths
+    values = {k: np.full(plan.count, v) for k, v in plan.base_values().items()}
+    values.update(plan.values(0, plan.count))
+    for j in range(plan.count):
+        found = tooth_report.analyze(Pair.from_spec(rows.design_spec(plan, values, j))).statuses
+        geometric = [s for s, _ in found if s in ("undercut", "pointed")]
+        assert cols["tooth_status"][j] == " ".join(dict.fromkeys(geometric))
+        for s, message in found:
+            if s in ("undercut", "pointed"):
+                assert message in cols["reason"][j]
+    assert cols["status"].tolist() == ["ok", "pointed"]
+    assert set(cols["tooth_status"][1].split()) == {"pointed", "undercut"}
+    assert cols["reason"][0] == ""
+    assert np.isfinite(cols["max_fpd_angle_deg"]).all()  # a flagged design keeps its numbers
+    table = dict(cols)
+    report.mark_pareto(table, mc=False)
+    assert table["pareto"].tolist() == [True, False]
+
+
+def test_refused_rows_say_why(explored):
+    plan, cols, _ = explored
+    for j in range(plan.count):
+        if cols["status"][j] == "ok":
+            assert cols["reason"][j] == ""
+        else:
+            assert cols["reason"][j], cols["status"][j]

@@ -8,10 +8,12 @@ import os
 import numpy as np
 import pytest
 
+import beveloid
+
 from beveloid.cli import main
 from beveloid.explore import run as runner
 from beveloid.explore.grid import Plan, parse_vary
-from beveloid.errors import UserError
+from beveloid.errors import ErrorCode, StopReason, UserError
 from beveloid.spec import example_text, load_example, spec_to_dict
 
 GRID = ["--vary", "pinion.cone_angle_deg=1:3:3", "--vary", "pinion.helix_angle_deg=18:28:3"]
@@ -25,8 +27,11 @@ def case1(tmp_path_factory):
 
 
 @pytest.mark.parametrize("vary, words", [
-    ("pinion.cone_angel_deg=1:2:3", ["pinion.cone_angel_deg", "valid keys", "pinion.cone_angle_deg"]),
-    ("gear.helix_angle_deg=1:2:3", ["gear.helix_angle_deg", "not a numeric spec key"]),
+    ("pinion.cone_angel_deg=1:2:3", ["pinion.cone_angel_deg", "did you mean pinion.cone_angle_deg"]),
+    ("gear.helix_angle_deg=1:2:3", ["gear.helix_angle_deg", "a design result", "pinion.helix_angle_deg and"
+                                    " pair.shaft_angle_deg", "design inputs: pair.normal_module_mm"]),
+    ("gear.profile_shift=0:1:3", ["gear.profile_shift", "a design result", "pair.offset_mm"]),
+    ("pinion.tooth_surface=1:2:3", ["pinion.tooth_surface", "a choice key"]),
     ("pinion.cone_angle_deg=1:20:3", ["pinion.cone_angle_deg", "STOP = 20", "from -15 to 15"]),
     ("pinion.teeth=20:30:4", ["pinion.teeth", "integers"]),
     ("pinion.cone_angle_deg=1:2", ["START:STOP:COUNT"]),
@@ -120,6 +125,42 @@ def test_resume_computes_only_missing_chunks(case1, tmp_path, capsys):
     assert "--resume" in capsys.readouterr().err
 
 
+def _as_if_made_by_another_version(out):
+    path = out / "request.json"
+    held = json.loads(path.read_text())
+    held["code"] = {"package_version": "0.0.1", "generated_kernels_sha1": "0123456789abcdef"}
+    path.write_text(json.dumps(held))
+
+
+def test_chunks_of_another_version_are_recomputed_or_refused(case1, tmp_path, capsys):
+    from beveloid import parallel
+
+    out = tmp_path / "run"
+    plan = Plan(spec_to_dict(load_example("case1")), (parse_vary("pinion.cone_angle_deg=1:2:2"),))
+    req = runner.prepare(str(out), runner.Request(plan, {"dx_mm": 0.5}, chunk=1), resume=False)
+    with parallel.executor(workers=1) as ex:
+        assert runner.execute(str(out), req, ex)[0] is None
+    request = json.loads((out / "request.json").read_text())
+    assert request["code"] == runner.code_version()
+    assert request["code"]["package_version"] == beveloid.__version__
+    # --resume of chunks made by another version: refused, one line saying how to go on
+    _as_if_made_by_another_version(out)
+    assert main(["explore", "--resume", str(out), "--workers", "1"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "beveloid 0.0.1" in err and f"--out {out}" in err
+    with pytest.raises(UserError) as info:
+        runner.prepare(str(out), None, resume=True)
+    assert info.value.code is ErrorCode.STALE_RESULTS
+    assert runner.finished(str(out), req) == [0, 1]  # nothing removed by the refusal
+    # the same request again with --out: the old chunks go (then computed again, as missing ones are)
+    lines = []
+    again = runner.prepare(str(out), runner.Request(plan, {"dx_mm": 0.5}, chunk=1), resume=False, log=lines.append)
+    assert runner.finished(str(out), again) == []
+    assert len(lines) == 1 and "2 chunks of this request computed by beveloid 0.0.1" in lines[0]
+    assert "computing them again" in lines[0]
+    assert json.loads((out / "request.json").read_text())["code"] == runner.code_version()
+
+
 class _Interrupted:
     """An executor that finishes the first chunk and then sees Ctrl-C."""
 
@@ -135,8 +176,8 @@ def test_interrupted_run_keeps_finished_chunks(case1, tmp_path):
     out = str(tmp_path / "run")
     plan = Plan(spec_to_dict(load_example("case1")), (parse_vary("pinion.cone_angle_deg=1:3:3"),))
     req = runner.prepare(out, runner.Request(plan, {"dx_mm": 0.5}, chunk=1), resume=False)
-    complete, why = runner.execute(out, req, _Interrupted())
-    assert not complete and "Ctrl-C" in why
+    stop, why = runner.execute(out, req, _Interrupted())
+    assert stop is StopReason.INTERRUPTED and "Ctrl-C" in why
     assert runner.finished(out, req) == [0]
     table = runner.load_table(out, req)
     assert table["design"].tolist() == [0]

@@ -12,7 +12,7 @@ import time
 import numpy as np
 import pytest
 
-from beveloid import parallel
+from beveloid import assembly_errors, parallel
 from beveloid.cli import main
 from beveloid.spec import example_text
 from beveloid.sweep import DEFAULT_RANGES, draw_errors
@@ -44,9 +44,13 @@ def _sweep(case1, capsys, *where):
 def test_error_chunks_are_the_sweeps_stream():
     ranges, nominal = {"dx_mm": 0.3, "vertical_deg": 0.1}, {"dz_mm": 0.2}
     whole = draw_errors(1000, ranges, 11, nominal)
+    # the whole draw is numpy's default generator of the seed (independent of the chunk arithmetic)
+    half = assembly_errors.to_layout(dict(DEFAULT_RANGES, **ranges))
+    expected = assembly_errors.to_layout(nominal) + np.random.default_rng(11).uniform(-1, 1, (1000, 5)) * half
+    np.testing.assert_array_equal(whole, expected)
     for start, stop in ((0, 1), (0, 300), (300, 1000), (999, 1000)):
-        np.testing.assert_array_equal(parallel.draw_errors_chunk(start, stop, dict(DEFAULT_RANGES, **ranges), 11, nominal),
-                                      whole[start:stop])
+        np.testing.assert_array_equal(draw_errors(stop - start, dict(DEFAULT_RANGES, **ranges), 11, nominal,
+                                                  start=start), whole[start:stop])
 
 
 def test_executor_input_checks():
@@ -151,6 +155,7 @@ class _LosesWorker:
 
 
 def test_run_that_loses_a_worker_keeps_its_chunks(tmp_path):
+    from beveloid.errors import StopReason
     from beveloid.explore import run as runner
     from beveloid.explore.grid import Plan, parse_vary
     from beveloid.spec import load_example, spec_to_dict
@@ -158,6 +163,6 @@ def test_run_that_loses_a_worker_keeps_its_chunks(tmp_path):
     plan = Plan(spec_to_dict(load_example("case1")), (parse_vary("pinion.cone_angle_deg=1:3:3"),))
     out = str(tmp_path / "run")
     req = runner.prepare(out, runner.Request(plan, {"dx_mm": 0.5}, chunk=2), resume=False)
-    complete, why = runner.execute(out, req, _LosesWorker())
-    assert not complete and "KilledWorker" in why
+    stop, why = runner.execute(out, req, _LosesWorker())
+    assert stop is StopReason.WORK_LOST and "KilledWorker" in why
     assert runner.finished(out, req) == [0]

@@ -71,10 +71,13 @@ def distances_to_mesh(mesh, points, candidates=32, signed=False):
     dist = d[np.arange(len(pts)), best]
     if not signed:
         return dist
-    tri = idx[np.arange(len(pts)), best]
-    side = np.einsum("ij,ij->i", pts - c.reshape(len(pts), candidates, 3)[np.arange(len(pts)), best],
-                     mesh.face_normals[tri])
-    return np.where(side < 0, -dist, dist)
+    # the side: of the nearest triangles (several when the nearest point is a shared vertex or edge), the
+    # one the point lies farthest off the plane of (the others' planes pass nearly through the point)
+    c = c.reshape(len(pts), candidates, 3)
+    side = np.einsum("ikj,ikj->ik", pts[:, None, :] - c, mesh.face_normals[idx])
+    tied = d <= dist[:, None] + 1e-9
+    pick = np.argmax(np.where(tied, np.abs(side), -1.0), axis=1)
+    return np.where(side[np.arange(len(pts)), pick] < 0, -dist, dist)
 
 
 def section_crossings(mesh, z_mm, radius_mm):

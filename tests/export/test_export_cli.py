@@ -2,11 +2,13 @@
 from __future__ import annotations
 
 import sys
+from pathlib import Path
 
 import pytest
 import trimesh
 
 from beveloid.cli import main
+from beveloid.export import formats
 
 SMALL = """
 [pair]
@@ -53,11 +55,42 @@ def test_a_bore_through_the_root_exits_2_with_one_line(tmp_path, capsys):
 
 
 def test_without_the_cad_extra_it_says_what_to_install(tmp_path, capsys, monkeypatch):
+    """Run from this checkout, the hint is the checkout's own install command (the package is on no index)."""
     monkeypatch.setitem(sys.modules, "OCP", None)  # `import OCP...` now raises ImportError
+    monkeypatch.setitem(sys.modules, "OCP.BRepBuilderAPI", None)
     assert main(["export", str(_spec(tmp_path)), "--out", str(tmp_path)]) == 2
     err = capsys.readouterr().err
-    assert err == 'beveloid: error: beveloid export needs OpenCASCADE and trimesh: pip install "beveloid[cad]"\n'
+    root = Path(__file__).resolve().parents[2]
+    assert err == (f'beveloid: error: beveloid export --format step needs OCP: pip install ".[cad]" in the source'
+                   f" checkout {root}\n")
     assert not list(tmp_path.glob("*.st*"))
+
+
+def test_an_installed_copy_is_told_the_extras_requirements(monkeypatch):
+    """Not in a checkout: the installed metadata's requirements of the extra, which need no index for beveloid."""
+    monkeypatch.setattr(formats, "source_checkout", lambda: None)
+    monkeypatch.setattr(formats.importlib.metadata, "requires",
+                        lambda name: ["numpy>=1.26", 'cadquery-ocp>=8.0; extra == "cad"', "trimesh>=4.0; extra == 'cad'",
+                                      'pytest; extra == "test"'])
+    hint = formats.install_hint(formats.WRITERS["stl"])
+    assert hint == "beveloid export --format stl needs trimesh: pip install 'cadquery-ocp>=8.0' 'trimesh>=4.0' (the 'cad' extra)"
+
+
+def test_the_writer_registry_drives_the_formats_and_the_hint(tmp_path, capsys, monkeypatch):
+    """A new writer is one entry: --format offers it, --help describes it, and its missing extra is named."""
+    vtu = formats.Writer("vtu", "vtu", "fe", ("a_module_that_is_not_installed",), "VTU of the tooth (test)",
+                         "chord", None, None, None)
+    monkeypatch.setitem(formats.WRITERS, "vtu", vtu)
+    assert main(["export", "--help"]) == 0
+    help_text = " ".join(capsys.readouterr().out.split())
+    assert "{step,stl,vtu}" in help_text and "vtu: VTU of the tooth (test)" in help_text
+    assert main(["export", str(_spec(tmp_path)), "--format", "vtu", "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("beveloid: error: beveloid export --format vtu needs a_module_that_is_not_installed: ")
+    assert '".[fe]"' in err and err.count("\n") == 1
+    monkeypatch.delitem(formats.WRITERS, "vtu")
+    assert main(["export", str(_spec(tmp_path)), "--format", "vtu"]) == 2  # gone from the choices again
+    assert "invalid choice: 'vtu'" in capsys.readouterr().err
 
 
 @pytest.mark.parametrize("args", [["--format", "iges"], ["--member", "rack"]])

@@ -35,15 +35,15 @@ def test_faces_lie_in_their_sections_and_share_their_boundary_rows(pair1, member
         assert np.all(np.diff(r, axis=0) > 0) and np.all(r[0] > sampler.root_radius_mm(z))
 
 
-def test_an_undercut_tooth_is_refused_in_one_line():
+def test_a_section_without_involute_up_to_the_tip_is_refused_in_one_line():
+    """Case 1 with the longest pinion face: at the toe the tip circle lies inside the base circle, a
+    tooth the export's faces (fillet, flank, tip land) cannot describe; said in one line, with where."""
     from beveloid.pair import Pair
     from beveloid.spec import load_example, spec_to_dict
 
     data = spec_to_dict(load_example("case1"))
-    data["pair"].update(normal_module_mm=2.0, offset_mm=29.5)
-    data["pinion"].update(teeth=11, face_width_mm=8.0)
-    data["gear"].update(teeth=17, face_width_mm=10.0)
+    data["pinion"].update(face_width_mm=900.0)
     sampler = ToothSampler(Pair.from_spec(data).geometry, "pinion")
-    with pytest.raises(ExportGeometryError, match=r"^pinion: the left flank is undercut at z = -?\d+\.\d{3} mm: "
-                                                 r"export of undercut teeth is not supported$"):
+    with pytest.raises(ExportGeometryError, match=r"^pinion: at z = -?\d+\.\d{3} mm the left flank has no involute up"
+                                                 r" to the tip \(its tip circle lies inside the base circle"):
         sampler.check_buildable(np.linspace(*sorted(sampler.z_range_mm), 5))

@@ -214,7 +214,6 @@ def test_candidate_system_jacobians(geom1, active):
     central differences in the unknowns, the errors and the pinion angle."""
     first, second = active
     problem = geom1.problem("right")
-    pm, gm, fl, pp, gp, pair = problem
     x = tca.reference_contact(geom1, "right").x + np.array([0.3, 2.0, -0.2, -1.5, 1e-3])
     phi1, e = 0.05, np.array([0.1, -0.2, 0.3, 0.01, -0.02])
     ws, ews = tks.workspace(), tks.edge_workspace()
@@ -222,8 +221,9 @@ def test_candidate_system_jacobians(geom1, active):
 
     def F(x, phi1, e):
         out = (np.empty(n), np.empty((n, n)), np.empty((n, tks.N_ERRORS)), np.empty(n), np.empty(tks.N_MARGINS))
-        tks.candidate_system_point(pm, gm, fl, first, second, x, phi1, e, pp, gp, pair, geom1.pinion.blank(),
-                                   geom1.gear.blank(), ws, ews, *out)
+        tks.candidate_system_point(problem.pinion_model, problem.gear_model, problem.flank, first, second, x, phi1, e,
+                                   problem.pinion_params, problem.gear_params, problem.pair, problem.pinion_blank,
+                                   problem.gear_blank, ws, ews, *out)
         return out
 
     _, J, Je, Jp, _ = F(x, phi1, e)

@@ -14,7 +14,7 @@ from beveloid import tca
 from beveloid.solver import patch_cover
 from beveloid.derivations import patch_clearance
 from beveloid.generated import flank_boundaries, layouts, patch_clearance as pc_kernels, placement
-from beveloid.solver import backends, core
+from beveloid.solver import backends
 from beveloid.status import Status
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -106,7 +106,7 @@ def test_apart_means_no_patch_point_inside_the_gear_blank(geom1, backend):
     problem = geom1.problem(flank)
     apart = []
     for phi in ref.pinion_angle + np.linspace(-3.0, 3.0, 41) * p1:
-        a = core_ns.patches_apart(problem, cells, geom1.pinion.blank(), geom1.gear.blank(), phi, np.zeros(5), 1e-9,
+        a = core_ns.patches_apart(problem, cells, phi, np.zeros(5), 1e-9,
                                   core_ns.clearance_scratch())
         m = pc_kernels.pinion_in_gear_frame(phi, np.zeros(5), geom1.placement())
         q = P @ m.rotation.T + m.translation
@@ -137,6 +137,6 @@ def test_outside_points_of_a_mesh_study_cannot_touch(geom1):
         m = pc_kernels.pinion_in_gear_frame(phi - k * p1, np.zeros(5), geom1.placement())
         g = flank_boundaries.flank_margins(P @ m.rotation.T + m.translation, 0.0, geom1.gear.blank()).margins[:, 1:]
         assert not (g >= 0).all(-1).any()
-        proven += core_ns.patches_apart(geom1.problem("right"), cells, geom1.pinion.blank(), geom1.gear.blank(),
+        proven += core_ns.patches_apart(geom1.problem("right"), cells,
                                         phi - k * p1, np.zeros(5), 1e-9, core_ns.clearance_scratch())
     assert proven >= 0.9 * outside.sum()

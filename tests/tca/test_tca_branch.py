@@ -4,6 +4,7 @@ import numpy as np
 from beveloid import tca
 from beveloid.generated import tca_kernels
 from beveloid.pair import Pair
+from beveloid.solver.records import PathOutput
 from beveloid.spec import load_example, spec_to_dict
 from beveloid.status import Status
 from beveloid.tca.grid import BRANCH_PITCHES, off_branch
@@ -17,12 +18,12 @@ def test_off_branch_fails_points_a_pitch_or_a_turn_away(geom1):
     p2 = geom1.pitch_angles[1]
     x = np.tile(ref.x, (1, 4, 1))
     x[0, :, 4] = kin + np.array([0.0, 0.49 * p2, p2, 2 * np.pi])
-    out = dict(x=x, status=np.full((1, 4), Status.EDGE, dtype=np.int64), boundary=np.zeros((1, 4), np.int64),
-               active=np.zeros((1, 4, 2), np.int64))
+    out = PathOutput(x=x, status=np.full((1, 4), Status.EDGE, dtype=np.int64), iterations=np.zeros((1, 4), np.int64),
+                     boundary=np.zeros((1, 4), np.int64), active=np.zeros((1, 4, 2), np.int64))
     off_branch(geom1, ref, grid, out)
     assert BRANCH_PITCHES == 0.5
-    assert list(out["status"][0]) == [Status.EDGE, Status.EDGE, Status.FAILED, Status.FAILED]
-    assert list(out["boundary"][0]) == [0, 0, -1, -1]
+    assert list(out.status[0]) == [Status.EDGE, Status.EDGE, Status.FAILED, Status.FAILED]
+    assert list(out.boundary[0]) == [0, 0, -1, -1]
 
 
 def test_crowned_mesh_points_with_numbers_are_on_their_branch():

@@ -1,6 +1,7 @@
 """Contact ellipses: the outline is where the measured separation of the placed flanks equals
 the approach, semi-axes scale with sqrt(approach), the truncated chord ends on a flank
 boundary, a flat direction is a status (never NaN in the JSON)."""
+import dataclasses
 import json
 import math
 from pathlib import Path
@@ -82,7 +83,7 @@ def test_json_is_strict_for_a_line_contact(geom1):
     fr = tca.mesh_flank(geom1, "left", positions=5, pairs=1, backend="numpy")
     ce = contact_ellipse.flank_ellipses(geom1, fr, np.zeros(5))
     ce.semi_axes_mm[:, 0] = np.nan
-    ce.status = ["line contact" if s == "ellipse" else s for s in ce.status]
+    ce = dataclasses.replace(ce, status=["line contact" if s == "ellipse" else s for s in ce.status])
     text = json.dumps(ce.to_json_dict(), allow_nan=False)
     assert "line contact" in text
 

@@ -9,6 +9,7 @@ import pytest
 
 from beveloid import tca
 from beveloid.solver import backends
+from beveloid.solver.records import settings
 from beveloid.status import Status
 from beveloid.design import design
 from beveloid.pair import Pair
@@ -197,7 +198,6 @@ def test_sensitivity_against_finite_differences(geom1, k):
     sens = tca.sensitivity(geom1, "right", base)
     assert sens["converged"]
     h = (1e-5, 1e-5, 1e-5, 1e-7, 1e-7)[k]
-    ref = tca.reference_contact(geom1, "right")
 
     def solve(e):
         x, conv, surface = _homotopy(geom1, "right", e)
@@ -237,8 +237,8 @@ def test_newton_reports_failure_not_numbers(geom1, backend):
     ref = tca.reference_contact(geom1, "left")
     bad = ref.x + np.array([1e3, 1e3, -1e3, 1e3, 2.0])
     core = backends.namespace(backend)
-    x, conv, it, res = core.solve_point(geom1.problem("left"), bad, ref.pinion_angle, np.zeros(5),
-                                        geom1.gear.working_pitch_radius_mm, tca.newton_tolerance(geom1), 3)
+    limits = settings(scale_mm=geom1.gear.working_pitch_radius_mm, tol_mm=tca.newton_tolerance(geom1), max_iter=3)
+    x, conv, it, res = core.solve_point(geom1.problem("left"), bad, ref.pinion_angle, np.zeros(5), limits)
     assert not conv and it <= 3 and not res <= tca.newton_tolerance(geom1)
 
 

@@ -15,7 +15,10 @@ CASE1 = str(Path(__file__).resolve().parents[2] / "examples" / "case1.toml")
 
 @pytest.mark.parametrize("kw, key", [(dict(positions=0), "positions"), (dict(pairs=2), "pairs"),
                                      (dict(pairs=11), "pairs"), (dict(flanks=("up",)), "flanks"),
-                                     (dict(positions=2.5), "positions"), (dict(approach_mm=0.0), "approach_mm")])
+                                     (dict(positions=2.5), "positions"), (dict(approach_mm=0.0), "approach_mm"),
+                                     (dict(errors=(0.1, 0.2)), "errors"),
+                                     (dict(errors=(0, 0, float("nan"), 0, 0)), "errors"),
+                                     (dict(errors="dx"), "errors")])
 def test_options_refuse_out_of_range(kw, key):
     with pytest.raises(ValueError, match=key):
         tca.Options(**kw)
@@ -52,3 +55,17 @@ def test_long_pinion_face_has_a_bounded_patch(tmp_path, capsys, face_mm):
     o = json.loads(capsys.readouterr().out)
     assert set(o["flanks"]["right"]["status"]) <= {"ok", "edge", "outside"}
     assert "ok" in o["flanks"]["right"]["status"]
+
+
+def test_errors_in_options_are_the_errors_analysed(geom1):
+    """analyze(geometry, Options(errors=...)) solves under those errors: the same numbers as the
+    deprecated positional form; a PairGeometry without them is the aligned pair."""
+    e = (0.2, -0.1, 0.3, 0.0, 1e-4)
+    new = tca.analyze(geom1, tca.Options(flanks=("right",), positions=9, pairs=1, approach_mm=None, errors=e), "numpy")
+    old = tca.analyze(geom1, e, flanks=("right",), positions=9, pairs=1, backend="numpy")
+    assert list(new.errors) == list(e)
+    np.testing.assert_array_equal(new.flanks["right"].transmission_error, old.flanks["right"].transmission_error)
+    aligned = tca.analyze(geom1, tca.Options(flanks=("right",), positions=3, pairs=1, approach_mm=None), "numpy")
+    assert not aligned.errors.any()
+    with pytest.raises(TypeError, match="positions"):
+        tca.analyze(geom1, tca.Options(), positions=3)

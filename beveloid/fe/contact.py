@@ -1,0 +1,94 @@
+"""The FE tooth as the loaded contact sees it: compliance between flank points and root stress.
+
+``FeTooth(data, flank)`` holds one member's :class:`beveloid.fe.tooth.ToothData` for the loaded
+flank.  Flank points (member frame, tooth 0) are mapped onto the load grid by their axial position
+z and their radius (bilinear weights W, points x grid nodes; outside the grid: its edge), so that
+
+* ``line_compliance(points)`` = W C W^T (mm/N), the same interface as the plate's
+  ``ltca.compliance.MemberTooth``: no FE solve per position, only this interpolation;
+* ``root_stress(points, forces_n)``: the fillet stress tensors S W^T f superposed over the cell
+  forces; the largest max-principal stress in the fillet on the loaded side (tension) with where
+  it is (z, height above the root cone), and the most compressive min-principal stress in the
+  other fillet.
+
+C is the FE compliance of :mod:`beveloid.fe.tooth` (local deformation removed) made positive
+semi-definite: its eigenvalues below zero (a load at the root of a tooth on a rim stiffer than
+the half-space subtracted from it) are set to zero.  Fillet nodes nearer a load-grid node than the
+reading depth are left out of the root stress (they see the point force's local stress).
+"""
+from __future__ import annotations
+
+import typing
+
+import numpy as np
+
+from ..export.sampling import FLANKS
+from .solve import principal_stresses
+
+__all__ = ["FeTooth", "RootStress"]
+
+
+class RootStress(typing.NamedTuple):
+    tension_mpa: float  # largest max-principal stress in the loaded side's fillet
+    z_mm: float
+    height_mm: float
+    compression_mpa: float  # most compressive min-principal stress in the other fillet
+
+
+class FeTooth:
+    """One member's FE tooth on one flank (see the module docstring)."""
+
+    def __init__(self, data, flank: str):
+        if flank not in FLANKS:
+            raise ValueError(f"flank = {flank!r}: must be one of {', '.join(FLANKS)}")
+        self.data = data
+        self.index = FLANKS.index(flank)
+        c = np.asarray(data.compliance_mm_per_n[self.index], dtype=float)
+        lam, vec = np.linalg.eigh(0.5 * (c + c.T))
+        self.compliance_mm_per_n = (vec * np.maximum(lam, 0.0)) @ vec.T
+        self.radius_mm = np.asarray(data.radius_mm[self.index])  # (ns, nz)
+        self.z_mm = np.asarray(data.z_mm)
+        self.stress = np.asarray(data.stress_mpa_per_n[self.index])  # (2, nf, 6, G)
+        # fillet nodes nearer a load-grid node than the reading depth see that point force's local
+        # (singular) stress, not the tooth's: left out of the root stress
+        grid = np.asarray(data.points_mm[self.index]).reshape(-1, 3)
+        near = float(np.max(data.depth_mm[self.index]))
+        fp = np.asarray(data.fillet_points_mm)
+        dist = np.min(np.linalg.norm(fp[:, :, None, :] - grid[None, None], axis=-1), axis=-1)
+        self.counted = dist > near  # (2, nf)
+
+    def weights(self, points) -> np.ndarray:
+        """(n, G) bilinear weights of the load grid's nodes (profile-major) for points (n, 3)."""
+        p = np.asarray(points, dtype=float).reshape(-1, 3)
+        ns, nz = self.radius_mm.shape
+        W = np.zeros((p.shape[0], ns * nz))
+        ok = np.all(np.isfinite(p), axis=1)
+        z = np.clip(p[:, 2], self.z_mm[0], self.z_mm[-1])
+        fz = np.interp(z, self.z_mm, np.arange(nz))
+        jz = np.minimum(fz.astype(int), nz - 2)
+        tz = fz - jz
+        r = np.hypot(p[:, 0], p[:, 1])
+        for n in np.flatnonzero(ok):
+            col = (1 - tz[n]) * self.radius_mm[:, jz[n]] + tz[n] * self.radius_mm[:, jz[n] + 1]
+            fs = np.interp(r[n], col, np.arange(ns))
+            js = min(int(fs), ns - 2)
+            ts = fs - js
+            for a, wa in ((js, 1 - ts), (js + 1, ts)):
+                W[n, a * nz + jz[n]] += wa * (1 - tz[n])
+                W[n, a * nz + jz[n] + 1] += wa * tz[n]
+        return W
+
+    def line_compliance(self, points) -> np.ndarray:
+        W = self.weights(points)
+        return W @ self.compliance_mm_per_n @ W.T
+
+    def root_stress(self, points, forces_n) -> RootStress:
+        """The root stress of this tooth under normal forces (N) at flank points (see the module docstring)."""
+        f = np.nan_to_num(np.asarray(forces_n, dtype=float).ravel())
+        g = self.weights(points).T @ f  # (G,)
+        loaded = principal_stresses(self.stress[self.index] @ g)  # (nf, 3)
+        other = principal_stresses(self.stress[1 - self.index] @ g)
+        k = int(np.argmax(np.where(self.counted[self.index], loaded[:, 2], -np.inf)))
+        where = self.data.fillet_points_mm[self.index][k]
+        return RootStress(float(loaded[k, 2]), float(where[2]), float(self.data.fillet_height_mm[self.index][k]),
+                          float(np.min(np.where(self.counted[1 - self.index], other[:, 0], np.inf))))

@@ -1,0 +1,378 @@
+"""A sector of one member meshed by gmsh as second-order (10-node) tetrahedra.
+
+``sector_mesh(pair, member, refinement=1, teeth=3)`` builds the sector from OUR geometry: the
+transverse sections of the tooth faces that the export samples (``export.sampling.ToothSampler``:
+the generated flanks, the generated root fillets, tip and root cones) are closed into one planar
+profile per section z, and gmsh's OpenCASCADE kernel lofts a solid through the sections
+(``addThruSections``).  Every segment of the profile becomes one lateral face of the solid, so each
+face of the mesh is known by name without searching.
+
+The sector (member frame S_i, mm): ``teeth`` whole teeth (odd, the loaded tooth 0 in the middle,
+tooth k turned by k pitches from the sampled tooth), the root lands either side cut in their middle
+by a radial surface (``side_lo``, ``side_hi``), down to the inner surface ``rim``: the bore when the
+member has one, else a cylinder of radius r_root,min - RIM_DEPTH_PER_HEIGHT * h (h the tooth depth;
+ISO 6336-3 takes a rim of 1.2 h or more as not weakening the tooth).
+
+Element size (mm, ``refinement`` N divides every size): on the flanks of the loaded tooth
+h_flank = FLANK_SIZE_PER_MODULE m_n / N; in the fillets of the loaded tooth
+h_fillet = min(max(FILLET_SIZE_PER_RADIUS rho_F, FILLET_SIZE_MIN_PER_MODULE m_n), h_flank) (rho_F the smallest radius of curvature of
+the fillet section at mid-face) / N; elsewhere h_far = FAR_SIZE_PER_MODULE m_n / N, grown linearly
+from the fine faces over one module.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..export.sampling import ToothSampler
+
+__all__ = ["FACE_KINDS", "SectorMesh", "MeshSizes", "mesh_sizes", "sector_mesh", "fillet_radius_mm",
+           "FLANK_SIZE_PER_MODULE", "FAR_SIZE_PER_MODULE", "FILLET_SIZE_PER_RADIUS", "RIM_DEPTH_PER_HEIGHT", "record_from_gmsh"]
+
+FLANK_SIZE_PER_MODULE = 0.3
+FAR_SIZE_PER_MODULE = 1.0
+FILLET_SIZE_PER_RADIUS = 0.5
+RIM_DEPTH_PER_HEIGHT = 1.2
+#: the fillet's size is kept above this fraction of the module (a sharp rack's trochoid has a radius
+#: of curvature of a few hundredths of a module at its deepest point, where it is not loaded)
+FILLET_SIZE_MIN_PER_MODULE = 0.12
+#: transverse sections the solid is lofted through, and points per face segment in a section
+SECTIONS = 9
+SEGMENT_POINTS = 9
+#: the faces of one tooth in the order a section's profile runs (increasing polar angle)
+TOOTH_FACES = ("fillet_left", "flank_left", "tip", "flank_right", "fillet_right", "root")
+FACE_KINDS = TOOTH_FACES + ("side_lo", "side_hi", "rim", "toe", "heel")
+
+
+@dataclass(frozen=True)
+class MeshSizes:
+    flank_mm: float
+    fillet_mm: float
+    far_mm: float
+    fillet_radius_mm: float
+
+
+@dataclass(frozen=True)
+class SectorMesh:
+    """A member sector as 10-node tetrahedra (gmsh / CalculiX C3D10 node order), member frame S_i.
+
+    * ``nodes``: (n, 3) float, mm, member frame S_i (z along the axis, toe to heel as the spec);
+    * ``tets``: (m, 10) int, 0-based node indices, gmsh order (4 corners, then the mid-edge nodes of
+      edges 01, 12, 20, 03, 23, 13); CalculiX C3D10 takes the last two swapped (``ccx_tets``);
+    * ``facets``: {name: (k, 6) int} the boundary's 6-node triangles of each named surface, outward
+      normals (corners 0, 1, 2 counter-clockwise seen from outside, then mid-nodes of 01, 12, 20).
+      Names: ``"<face>_<k>"`` for face in :data:`TOOTH_FACES` and tooth k in ``tooth_indices``
+      (``flank_left_0`` the loaded tooth's left flank; ``root_k`` the land after tooth k, the last
+      one cut in half, ``root_start`` the half land before the first tooth), and ``side_lo``,
+      ``side_hi`` (the radial cuts), ``rim`` (bore or rim cylinder), ``toe``, ``heel`` (end planes);
+    * ``node_sets``: {name: sorted unique node indices} of the same surfaces;
+    * ``tooth_indices``: the sector's teeth, e.g. (-1, 0, 1): tooth k is the sampled tooth turned
+      by k * 2 pi / N about the z axis (the TCA's tooth pairs are counted the same way);
+    * ``pitch_angle_rad`` (2 pi / N), ``sizes`` (:class:`MeshSizes`), ``refinement``, ``member``.
+    """
+
+    member: str
+    nodes: np.ndarray
+    tets: np.ndarray
+    facets: dict
+    node_sets: dict
+    tooth_indices: tuple
+    pitch_angle_rad: float
+    rim_radius_mm: float
+    sizes: MeshSizes
+    refinement: int
+    z_range_mm: tuple = field(default=(0.0, 0.0))
+
+    @property
+    def corner_tets(self) -> np.ndarray:
+        return self.tets[:, :4]
+
+    @property
+    def ccx_tets(self) -> np.ndarray:
+        """The tets in CalculiX C3D10 order (mid-nodes 01, 12, 20, 03, 13, 23), 0-based."""
+        return self.tets[:, [0, 1, 2, 3, 4, 5, 6, 7, 9, 8]]
+
+    def volume_mm3(self) -> float:
+        """Volume of the straight-sided corner tetrahedra (mm^3)."""
+        p = self.nodes[self.tets[:, :4]]
+        return float(np.sum(np.einsum("ij,ij->i", np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]),
+                                      p[:, 3] - p[:, 0])) / 6.0)
+
+
+def fillet_radius_mm(sampler: ToothSampler, flank: str = "left") -> float:
+    """The smallest radius of curvature of the fillet in the mid-face section (mm), from 81 samples."""
+    z = np.array([0.5 * sum(sampler.z_range_mm)])
+    p = sampler.face_points(f"fillet_{flank}", np.linspace(0.0, 1.0, 81), z)[:, 0, :2]
+    d1 = np.gradient(p, axis=0)
+    d2 = np.gradient(d1, axis=0)
+    speed = np.hypot(d1[:, 0], d1[:, 1])
+    curv = np.abs(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) / np.maximum(speed, 1e-300) ** 3
+    return float(1.0 / np.max(curv[2:-2]))
+
+
+def mesh_sizes(sampler: ToothSampler, normal_module_mm: float, refinement: float) -> MeshSizes:
+    """The element sizes of the module docstring."""
+    rho = fillet_radius_mm(sampler)
+    flank = FLANK_SIZE_PER_MODULE * normal_module_mm
+    fillet = min(max(FILLET_SIZE_PER_RADIUS * rho, FILLET_SIZE_MIN_PER_MODULE * normal_module_mm), flank)
+    return MeshSizes(flank / refinement, fillet / refinement,
+                     FAR_SIZE_PER_MODULE * normal_module_mm / refinement, rho)
+
+
+def _rotate(points, angle):
+    c, s = math.cos(angle), math.sin(angle)
+    return np.stack([c * points[..., 0] - s * points[..., 1], s * points[..., 0] + c * points[..., 1],
+                     points[..., 2]], axis=-1)
+
+
+def _section_segments(sampler: ToothSampler, z, teeth: tuple, n: int):
+    """Per face segment of the profile: (name, points (n, len(z), 3)) in profile order."""
+    s = np.linspace(0.0, 1.0, n)
+    half = np.linspace(0.5, 1.0, n)
+    pitch = sampler.pitch_angle_rad
+    base = {f: sampler.face_points(f, s, z) for f in TOOTH_FACES}
+    base["flank_right"] = base["flank_right"][::-1]
+    base["fillet_right"] = base["fillet_right"][::-1]
+    segments = [("root_start", _rotate(sampler.face_points("root", half, z), (teeth[0] - 1) * pitch))]
+    for k in teeth:
+        for f in TOOTH_FACES:
+            pts = base[f]
+            if f == "root" and k == teeth[-1]:
+                pts = sampler.face_points("root", np.linspace(0.0, 0.5, n), z)
+            segments.append((f"{f}_{k}", _rotate(pts, k * pitch)))
+    return segments
+
+
+def _references(segments, z, r_rim):
+    """A point of each lateral face in the mid section: the middle of its profile segment."""
+    j = len(z) // 2
+    refs = {name: pts[pts.shape[0] // 2, j] for name, pts in segments}
+    ends = {"side_lo": segments[0][1][0, j], "side_hi": segments[-1][1][-1, j]}
+    angle = {k: math.atan2(p[1], p[0]) for k, p in ends.items()}
+    for k, p in ends.items():
+        r = 0.5 * (math.hypot(p[0], p[1]) + r_rim)
+        refs[k] = np.array([r * math.cos(angle[k]), r * math.sin(angle[k]), z[j]])
+    mid = 0.5 * (angle["side_lo"] + angle["side_hi"])
+    refs["rim"] = np.array([r_rim * math.cos(mid), r_rim * math.sin(mid), z[j]])
+    return refs
+
+
+def rim_radius(sampler: ToothSampler, bore_diameter_mm: float) -> float:
+    """The sector's inner radius (mm): the bore, else the rim of the module docstring."""
+    if bore_diameter_mm > 0:
+        return 0.5 * bore_diameter_mm
+    z = np.array(sampler.z_range_mm)
+    r_root = float(np.min(sampler.root_radius_mm(z)))
+    depth = float(np.max(sampler.tip_radius_mm(z) - sampler.root_radius_mm(z)))
+    return r_root - RIM_DEPTH_PER_HEIGHT * depth
+
+
+def sector_mesh(pair, member: str, refinement: int = 1, teeth: int = 3, coarsen: float = 1.0) -> SectorMesh:
+    """The member's sector meshed by gmsh (see :class:`SectorMesh` for the record's fields).
+
+    ``pair``: a :class:`beveloid.pair.Pair` (its spec gives the bore) or a ``PairGeometry``;
+    ``refinement`` N divides every element size; ``teeth`` (odd, >= 3) the sector's teeth;
+    ``coarsen`` multiplies every size (> 1: a cheaper mesh for tests and quick looks).
+    """
+    import gmsh
+
+    if not (isinstance(refinement, int) and 1 <= refinement <= 4):
+        raise ValueError(f"fe_refinement = {refinement!r}: must be an integer from 1 to 4")
+    if not (isinstance(teeth, int) and teeth >= 3 and teeth % 2 == 1):
+        raise ValueError(f"teeth = {teeth!r}: must be an odd integer >= 3")
+    geometry = getattr(pair, "geometry", pair)
+    spec = getattr(pair, "spec", None)
+    bore = float(getattr(getattr(spec, member, None), "bore_diameter_mm", 0.0) or 0.0) if spec else 0.0
+    sampler = ToothSampler(geometry, member)
+    toe, heel = sampler.z_range_mm
+    zlo, zhi = min(toe, heel), max(toe, heel)
+    sampler.check_buildable(np.linspace(zlo, zhi, 11))
+    sampler.check_bore(bore)
+    idx = tuple(range(-(teeth // 2), teeth // 2 + 1))
+    if not (isinstance(coarsen, (int, float)) and 0.25 <= coarsen <= 8):
+        raise ValueError(f"coarsen = {coarsen!r}: must be a number from 0.25 to 8")
+    sizes = mesh_sizes(sampler, geometry.normal_module_mm, refinement / coarsen)
+    r_rim = rim_radius(sampler, bore)
+    z = np.linspace(zlo, zhi, SECTIONS)
+    segments = _section_segments(sampler, z, idx, SEGMENT_POINTS)
+
+    gmsh.initialize(interruptible=False)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.model.add(f"{member}_sector")
+        occ = gmsh.model.occ
+        wires = []
+        for j, zj in enumerate(z):
+            curves, first = [], None
+            prev_tag = None
+            for _, pts in segments:
+                p = pts[:, j]
+                tags = [occ.addPoint(*p[0]) if prev_tag is None else prev_tag]
+                tags += [occ.addPoint(*q) for q in p[1:]]
+                first = tags[0] if first is None else first
+                curves.append(occ.addSpline(tags))
+                prev_tag = tags[-1]
+            end = segments[-1][1][-1, j]
+            start = segments[0][1][0, j]
+            a_end, a_start = math.atan2(end[1], end[0]), math.atan2(start[1], start[0])
+            p_end = occ.addPoint(r_rim * math.cos(a_end), r_rim * math.sin(a_end), zj)
+            p_start = occ.addPoint(r_rim * math.cos(a_start), r_rim * math.sin(a_start), zj)
+            centre = occ.addPoint(0.0, 0.0, zj)
+            curves.append(occ.addLine(prev_tag, p_end))
+            curves.append(occ.addCircleArc(p_end, centre, p_start))
+            curves.append(occ.addLine(p_start, first))
+            wires.append(occ.addCurveLoop(curves))
+        out = occ.addThruSections(wires, makeSolid=True, makeRuled=False)
+        occ.synchronize()
+        volumes = [t for d, t in out if d == 3]
+        if len(volumes) != 1:
+            raise RuntimeError(f"{member}: gmsh lofted {len(volumes)} volumes through the sections, not one")
+        faces = [t for d, t in gmsh.model.getBoundary([(3, volumes[0])], oriented=False)]
+        face_of = _name_faces(faces, _references(segments, z, r_rim), z)
+        for name, tag in face_of.items():
+            gmsh.model.addPhysicalGroup(2, [tag], name=name)
+        gmsh.model.addPhysicalGroup(3, volumes, name="sector")
+        _size_field(face_of, sizes)
+        gmsh.option.setNumber("Mesh.Algorithm", 6)  # frontal-Delaunay surfaces
+        gmsh.option.setNumber("Mesh.Algorithm3D", 1)  # Delaunay (measured faster than HXT here)
+        gmsh.option.setNumber("Mesh.SecondOrderLinear", 1)  # mid-nodes placed by _curve_midnodes
+        gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
+        gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
+        gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
+        gmsh.model.mesh.generate(3)
+        gmsh.model.mesh.setOrder(2)
+        _curve_midnodes(gmsh, face_of)
+        return record_from_gmsh(gmsh, member, face_of, idx, sampler.pitch_angle_rad, r_rim, sizes, refinement, (toe, heel))
+    finally:
+        gmsh.finalize()
+
+
+def _name_faces(faces, references, z):
+    """{name: gmsh face tag}: the end planes by z, each lateral face by the reference point (a point
+    of its profile segment in the mid section) nearest to its own parametric middle."""
+    import gmsh
+    from scipy.optimize import linear_sum_assignment
+
+    out, lateral = {}, []
+    for tag in faces:
+        box = gmsh.model.getBoundingBox(2, tag)
+        if abs(box[2] - box[5]) < 1e-3:
+            out["toe" if abs(box[2] - z[0]) < abs(box[2] - z[-1]) else "heel"] = tag
+        else:
+            lateral.append(tag)
+    names = list(references)
+    if len(lateral) != len(names) or len(out) != 2:
+        raise RuntimeError(f"the lofted sector has {len(lateral)} lateral faces and {len(out)} end faces, expected"
+                           f" {len(names)} and 2")
+    mids = []
+    for tag in lateral:
+        lo, hi = gmsh.model.getParametrizationBounds(2, tag)
+        mids.append(gmsh.model.getValue(2, tag, 0.5 * (np.asarray(lo) + np.asarray(hi))))
+    cost = np.linalg.norm(np.asarray(mids)[:, None, :] - np.array([references[n] for n in names])[None], axis=-1)
+    rows, cols = linear_sum_assignment(cost)
+    return {**out, **{names[c]: lateral[r] for r, c in zip(rows, cols)}}
+
+
+def _size_field(face_of, sizes: MeshSizes):
+    import gmsh
+
+    f = gmsh.model.mesh.field
+    fields = []
+    for kind, h in (("flank", sizes.flank_mm), ("fillet", sizes.fillet_mm)):
+        tags = [face_of[f"{kind}_{side}_0"] for side in ("left", "right")]
+        d = f.add("Distance")
+        f.setNumbers(d, "SurfacesList", tags)
+        f.setNumber(d, "Sampling", 60)
+        t = f.add("Threshold")
+        f.setNumber(t, "InField", d)
+        f.setNumber(t, "SizeMin", h)
+        f.setNumber(t, "SizeMax", sizes.far_mm)
+        f.setNumber(t, "DistMin", 0.5 * h)
+        f.setNumber(t, "DistMax", 0.5 * h + 1.5 * (sizes.far_mm - h))
+        fields.append(t)
+    m = f.add("Min")
+    f.setNumbers(m, "FieldsList", fields)
+    f.setAsBackgroundMesh(m)
+
+
+def _curve_midnodes(gmsh, face_of):
+    """Move the mid-edge nodes of the boundary triangles onto their face: the face evaluated at the
+    mean of the edge's corner parameters (gmsh's own curved setOrder, a projection per node, took
+    10 s for 20k nodes).  Corners on the face's boundary curves are parametrised on the face by
+    projection (few)."""
+    tri6 = gmsh.model.mesh.getElementType("Triangle", 2)
+    for name, tag in face_of.items():
+        if name in ("toe", "heel"):
+            continue  # planes: the straight mid-point lies on them
+        inner, _, par = gmsh.model.mesh.getNodes(2, tag, includeBoundary=False, returnParametricCoord=True)
+        uv = dict(zip(inner.tolist(), np.asarray(par).reshape(-1, 2)))
+        et, _, en = gmsh.model.mesh.getElements(2, tag)
+        tri = np.asarray(en[list(et).index(tri6)], dtype=np.int64).reshape(-1, 6)
+        edge_nodes = sorted(set(np.unique(tri[:, :3]).tolist()) - set(uv))
+        if edge_nodes:
+            xyz = np.array([gmsh.model.mesh.getNode(n)[0] for n in edge_nodes])
+            par = np.asarray(gmsh.model.getParametrization(2, tag, xyz.ravel())).reshape(-1, 2)
+            uv.update(zip(edge_nodes, par))
+        mids, params = {}, []
+        for a, b, m in ((0, 1, 3), (1, 2, 4), (2, 0, 5)):
+            for row in tri.tolist():
+                if row[m] not in mids:
+                    mids[row[m]] = len(params)
+                    params.append(0.5 * (uv[row[a]] + uv[row[b]]))
+        xyz = np.asarray(gmsh.model.getValue(2, tag, np.ravel(params))).reshape(-1, 3)
+        for node, k in mids.items():
+            gmsh.model.mesh.setNode(node, xyz[k], [])
+
+
+def record_from_gmsh(gmsh, member, face_of, idx, pitch, r_rim, sizes, refinement, z_range) -> SectorMesh:
+    """The :class:`SectorMesh` of gmsh's current mesh, faces named by ``face_of`` {name: face tag}."""
+    tags, coords, _ = gmsh.model.mesh.getNodes()
+    order = np.argsort(tags)
+    tags = tags[order]
+    nodes = coords.reshape(-1, 3)[order]
+    index = np.zeros(int(tags.max()) + 1, dtype=np.int64)
+    index[tags] = np.arange(tags.size)
+    etypes, _, enodes = gmsh.model.mesh.getElements(3)
+    tet10 = gmsh.model.mesh.getElementType("Tetrahedron", 2)
+    k = list(etypes).index(tet10)
+    tets = index[np.asarray(enodes[k], dtype=np.int64).reshape(-1, 10)]
+    tri6 = gmsh.model.mesh.getElementType("Triangle", 2)
+    facets, node_sets = {}, {}
+    for name, tag in face_of.items():
+        et, _, en = gmsh.model.mesh.getElements(2, tag)
+        tri = index[np.asarray(en[list(et).index(tri6)], dtype=np.int64).reshape(-1, 6)]
+        facets[name] = tri
+        node_sets[name] = np.unique(tri)
+    # only nodes used by the tets (gmsh keeps geometry points too)
+    used = np.unique(tets)
+    remap = np.full(nodes.shape[0], -1, dtype=np.int64)
+    remap[used] = np.arange(used.size)
+    nodes = nodes[used]
+    tets = remap[tets]
+    facets = {k: remap[v] for k, v in facets.items()}
+    node_sets = {k: remap[v] for k, v in node_sets.items()}
+    facets = _outward(nodes, tets, facets)
+    return SectorMesh(member, nodes, tets, facets, node_sets, idx, pitch, r_rim, sizes, refinement, z_range)
+
+
+def _outward(nodes, tets, facets):
+    """Facets turned so that their corner normals point out of the volume: away from the fourth
+    corner of the tet they bound."""
+    faces = np.concatenate([tets[:, [0, 1, 2]], tets[:, [0, 1, 3]], tets[:, [1, 2, 3]], tets[:, [0, 2, 3]]])
+    opposite = np.concatenate([tets[:, 3], tets[:, 2], tets[:, 0], tets[:, 1]])
+    key = {tuple(f): o for f, o in zip(np.sort(faces, axis=1).tolist(), opposite.tolist())}
+    return {name: _turned(nodes, tri, key) for name, tri in facets.items()}
+
+
+def _turned(nodes, tri, key):
+    if tri.size == 0:
+        return tri
+    fourth = np.array([key[tuple(f)] for f in np.sort(tri[:, :3], axis=1).tolist()])
+    a = nodes[tri[:, 0]]
+    n = np.cross(nodes[tri[:, 1]] - a, nodes[tri[:, 2]] - a)
+    flip = np.einsum("ij,ij->i", n, nodes[fourth] - a) > 0
+    out = tri.copy()
+    out[flip] = tri[flip][:, [0, 2, 1, 5, 4, 3]]
+    return out

@@ -1,0 +1,10 @@
+"""Strength rating of a crossed beveloid pair (``beveloid rating``, docs/rating.md): the ISO 6336
+yardstick on the virtual cylindrical gear of each transverse section (``iso6336``, ``virtual``) and
+the local stresses of the loaded contact, with permissible stresses and safety factors (``factors``,
+``analysis``, ``report``)."""
+from __future__ import annotations
+
+from .analysis import LoadedContact, MemberRating, Options, SectionRating, analyze
+from .report import RatingResult, to_json_dict
+
+__all__ = ["LoadedContact", "MemberRating", "Options", "RatingResult", "SectionRating", "analyze", "to_json_dict"]

@@ -1,0 +1,69 @@
+"""The Python example is true: every ```python block of README.md and docs/api.md (found by its
+fence, wherever the page puts it) runs as written, and what its comments promise holds."""
+from __future__ import annotations
+
+import dataclasses
+import json
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+def python_blocks(text: str) -> list[str]:
+    """The bodies of the ```python fenced blocks of a markdown text, in order."""
+    return re.findall(r"^```python[ \t]*\n(.*?)^```[ \t]*$", text, flags=re.M | re.S)
+
+
+def test_python_blocks_are_found_by_their_fence_alone():
+    text = "# T\n\n```python\nx = 1\n```\n\n## Anywhere\n```bash\nls\n```\n```python\ny = 2\n```\n"
+    assert python_blocks(text) == ["x = 1\n", "y = 2\n"]
+
+
+@pytest.fixture(scope="module")
+def readme_namespace(tmp_path_factory):
+    pages = ("README.md", "docs/api.md")  # the README links the API page
+    blocks = [b for page in pages for b in python_blocks((REPO / page).read_text(encoding="utf-8"))]
+    assert blocks, "neither README.md nor docs/api.md has a ```python block"
+    ns: dict = {}
+    with pytest.MonkeyPatch.context() as mp:
+        mp.chdir(tmp_path_factory.mktemp("readme"))  # runs from any working directory
+        for i, block in enumerate(blocks):
+            exec(compile(block, f"python block {i + 1}", "exec"), ns)
+    return ns
+
+
+def test_the_readme_example_runs_and_its_result_carries_what_the_comments_say(readme_namespace):
+    from beveloid import tca
+
+    ns = readme_namespace
+    res = ns["res"]
+    assert isinstance(res, tca.TCAResult)
+    # "both flanks, backlash, contact ellipses": on the result as returned, not added later
+    assert set(res.flanks) == set(tca.FLANKS) and res.backlash_um is not None
+    ce = ns["ce"]
+    assert ce is ns["right"].contact_ellipse is not None
+    ok = [s == "ellipse" for s in ce.status]
+    assert sum(ok) > 0 and np.all(np.asarray(ce.semi_axes_mm)[ok] > 0)
+    # the result is immutable and has its JSON as a method (strict JSON: no NaN)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        res.notes = ()
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        ce.status = []
+    doc = json.loads(json.dumps(res.to_json_dict(), allow_nan=False))
+    assert "contact_ellipse_semi_axes_mm" in doc["flanks"]["right"]
+    # the errors named in the example are the errors analysed
+    assert list(res.errors) == pytest.approx(list(ns["errors"]))
+
+
+def test_the_rest_of_the_example_holds(readme_namespace):
+    """The design, the indirect design, the misalignment, the curvature and the sweep lines."""
+    ns = readme_namespace
+    assert ns["mc"].contact_points_solved == 2_000 * 20
+    assert abs(ns["back"].offset_mm - ns["d"].offset_mm) < 1e-9 * ns["d"].offset_mm
+    assert ns["d"] is ns["pair"].design and ns["geom"] is ns["pair"].geometry
+    assert list(ns["shifted"].errors) == [0.5, 0.0, 0.0, 0.0, 0.0]
+    assert ns["right"].status.count("ok") > 0 and ns["k"].k1 >= ns["k"].k2

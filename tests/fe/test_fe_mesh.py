@@ -1,0 +1,80 @@
+"""The FE sector mesh (beveloid.fe.mesh): a valid closed volume whose named faces are where they say."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.spatial import cKDTree
+
+from beveloid.export.sampling import ToothSampler
+from beveloid.fe.mesh import FACE_KINDS, sector_mesh
+from beveloid.pair import Pair
+
+pytestmark = pytest.mark.xdist_group(name="fe_case1")
+
+
+@pytest.fixture(scope="module")
+def pair():
+    return Pair.example("case1")
+
+
+@pytest.fixture(scope="module")
+def mesh(pair):
+    return sector_mesh(pair, "pinion", coarsen=3.0)
+
+
+def test_tets_are_positive_and_the_named_facets_close_the_volume(mesh):
+    p = mesh.nodes[mesh.tets[:, :4]]
+    vol = np.einsum("ij,ij->i", np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), p[:, 3] - p[:, 0]) / 6
+    assert np.all(vol > 0)
+    tri = np.concatenate(list(mesh.facets.values()))
+    # every corner edge of the boundary is shared by exactly two facets: a closed surface
+    edges = np.sort(np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]]), axis=1)
+    _, counts = np.unique(edges, axis=0, return_counts=True)
+    assert np.all(counts == 2)
+    # the faces of the tets that no other tet shares are exactly the named facets
+    faces = np.sort(np.concatenate([mesh.tets[:, [0, 1, 2]], mesh.tets[:, [0, 1, 3]], mesh.tets[:, [1, 2, 3]],
+                                    mesh.tets[:, [0, 2, 3]]]), axis=1)
+    uniq, counts = np.unique(faces, axis=0, return_counts=True)
+    assert {tuple(f) for f in uniq[counts == 1]} == {tuple(f) for f in np.sort(tri[:, :3], axis=1)}
+    # divergence theorem over the outward facets = the sum of the tets' volumes
+    a, b, c = (mesh.nodes[tri[:, k]] for k in range(3))
+    assert np.sum(np.einsum("ij,ij->i", a, np.cross(b, c))) / 6 == pytest.approx(vol.sum(), rel=1e-9)
+
+
+def test_every_face_kind_is_named_and_the_mid_nodes_are_edge_mid_points(mesh):
+    kinds = {name.rsplit("_", 1)[0] if name[-1].isdigit() else name for name in mesh.facets}
+    assert set(FACE_KINDS) <= kinds | {"root"}
+    assert mesh.tooth_indices == (-1, 0, 1)
+    t = mesh.tets
+    for (i, j), m in zip(((0, 1), (1, 2), (2, 0), (0, 3), (2, 3), (1, 3)), range(4, 10)):
+        mid = mesh.nodes[t[:, m]]
+        straight = 0.5 * (mesh.nodes[t[:, i]] + mesh.nodes[t[:, j]])
+        edge = np.linalg.norm(mesh.nodes[t[:, i]] - mesh.nodes[t[:, j]], axis=1)
+        assert np.all(np.linalg.norm(mid - straight, axis=1) < 0.2 * edge)
+
+
+@pytest.mark.parametrize("flank", ["left", "right"])
+def test_the_loaded_tooth_flank_and_fillet_lie_on_the_generated_surfaces(pair, mesh, flank):
+    sampler = ToothSampler(pair.geometry, "pinion")
+    z = np.linspace(*sorted(sampler.z_range_mm), 1001)
+    for face, tol in ((f"flank_{flank}", 0.06), (f"fillet_{flank}", 0.06)):
+        dense = sampler.face_points(face, np.linspace(0, 1, 161), z).reshape(-1, 3)
+        nodes = mesh.nodes[mesh.node_sets[f"{face}_0"]]
+        d = cKDTree(dense).query(nodes)[0]
+        assert np.max(d) < tol, face
+        # and not on the neighbour's face, a pitch away
+        other = mesh.nodes[mesh.node_sets[f"{face}_1"]]
+        assert np.min(cKDTree(dense).query(other)[0]) > 1.0
+
+
+def test_the_rim_is_a_cylinder_below_the_root(mesh):
+    r = np.hypot(*mesh.nodes[mesh.node_sets["rim"], :2].T)
+    assert np.allclose(r, mesh.rim_radius_mm, atol=1e-3 * mesh.rim_radius_mm)
+    assert mesh.pitch_angle_rad == pytest.approx(2 * math.pi / 29)
+
+
+def test_bad_refinement_is_one_line(pair):
+    with pytest.raises(ValueError, match="fe_refinement = 0: must be an integer from 1 to 4"):
+        sector_mesh(pair, "pinion", refinement=0)

@@ -1,0 +1,148 @@
+"""``beveloid rating``: the JSON contract (strict), the local values against the LTCA they come from,
+the factors, and bad input (one line, exit 2)."""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from beveloid import cli, ltca, rating
+from beveloid.pair import Pair
+from beveloid.rating.report import SEC_KEYS
+from beveloid.solver import Solver
+from beveloid.spec import load_example, spec_from_dict, spec_to_dict
+
+REPO = Path(__file__).resolve().parents[2]
+C1 = str(REPO / "examples" / "case1.toml")
+CASE1_TEXT = (REPO / "examples" / "case1.toml").read_text(encoding="utf-8")
+
+
+@pytest.fixture(scope="module")
+def case1_rating():
+    d = spec_to_dict(load_example("case1"))
+    d["rating"].update(K_A=1.25, K_v=1.1, pinion_speed_rpm=1000.0, life_hours=2000.0)
+    pair = Pair.from_spec(spec_from_dict(d))
+    options = rating.Options(torque_nm=800.0, positions=2, tooth_model="plate")
+    lt = ltca.analyze(pair, options.ltca_options(1.25 * 1.1), Solver())
+    return pair, lt, rating.analyze(pair, options, ltca_result=lt)
+
+
+def test_json_contract_is_complete_and_strict(case1_rating):
+    _, _, result = case1_rating
+    out = rating.to_json_dict(result)
+    json.dumps(out, allow_nan=False)
+    assert out["torque_nm"] == 800.0
+    for member in ("pinion", "gear"):
+        m = out[member]
+        assert set(m["sections"]) == {"toe", "middle", "heel"}
+        for sec in m["sections"].values():
+            assert tuple(sec) == SEC_KEYS and all(isinstance(v, float) for v in sec.values())
+        for key in ("root_stress_max_mpa", "contact_pressure_max_mpa", "safety_bending", "safety_pitting",
+                    "safety_bending_iso", "safety_pitting_iso"):
+            assert key in m
+        assert m["safety_bending_iso"] == min(s.safety_bending_iso for s in result.members[member].sections.values())
+    v = out["verdict"]
+    assert v["lowest"] in ("S_F", "S_H") and v["member"] in ("pinion", "gear")
+    assert isinstance(out["notes"], list) and out["notes"]
+
+
+def test_local_contact_stress_is_the_ltca_surface_peak_at_ka_kv_t(case1_rating):
+    pair, lt, result = case1_rating
+    assert lt.torque_nm == pytest.approx(800.0 * 1.25 * 1.1)
+    peak = float(np.nanmax(lt.pair_surface_max_pressure_mpa[lt.converged]))
+    f = result.factors
+    geom = pair.geometry
+    for member in ("pinion", "gear"):
+        m = result.members[member]
+        assert m.contact_pressure_max_mpa == peak
+        assert abs(result.loaded.peak_face_z_mm[member]) <= geom.member(member).face_width_mm / 2
+        assert m.safety_pitting == pytest.approx(f.contact_strength_mpa(member) / peak)
+
+
+def test_iso_stresses_carry_the_load_and_life_factors(case1_rating):
+    _, _, result = case1_rating
+    f = result.factors
+    assert f.cycles["pinion"] == pytest.approx(60 * 1000.0 * 2000.0)
+    assert f.cycles["gear"] == pytest.approx(60 * 1000.0 * 2000.0 * 29 / 45)
+    # ISO 6336-3 case-hardened: log-log between (3e6, 1.0) and (1e10, 0.85) at N_L = 1.2e8
+    assert f.Y_NT("pinion") == pytest.approx(np.exp(np.log(0.85) * np.log(1.2e8 / 3e6) / np.log(1e10 / 3e6)))
+    for member in ("pinion", "gear"):
+        for s in result.members[member].sections.values():
+            assert s.sigma_F_mpa == pytest.approx(s.sigma_F0_mpa * 1.25 * 1.1 * s.K_Fbeta)
+            assert s.sigma_H_mpa == pytest.approx(s.sigma_H0_mpa * np.sqrt(1.25 * 1.1 * s.K_Hbeta))
+            assert s.safety_bending_iso == pytest.approx(
+                f.root_limit_mpa[member] * 2.0 * f.Y_NT(member) / s.sigma_F_mpa)
+            assert s.K_Hbeta >= 1.0 and 1.0 <= s.K_Fbeta <= s.K_Hbeta
+
+
+def run_cli(capsys, argv):
+    rc = cli.main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return rc, out, err
+
+
+@pytest.mark.parametrize("section,line,key", [
+    ("[rating]", "K_A = 0.9", "rating.K_A = 0.9"),
+    ("[material]", "gear_root_stress_limit_mpa = 0", "material.gear_root_stress_limit_mpa = 0"),
+    ("[material]", "pinion_contact_stress_limit_mpa = -5", "material.pinion_contact_stress_limit_mpa = -5"),
+    ("[rating]", "life_hours = -10\npinion_speed_rpm = 100", "rating.life_hours = -10"),
+    ("[rating]", "life_hours = 10", "rating.life_hours = 10"),
+])
+def test_bad_input_is_one_line_and_exit_2(tmp_path, capsys, section, line, key):
+    path = tmp_path / "bad.toml"
+    text = CASE1_TEXT
+    if section == "[rating]":
+        text += f"\n[rating]\n{line}\n"
+    else:
+        text += f"\n[material]\n{line}\n"
+    path.write_text(text, encoding="utf-8")
+    rc, out, err = run_cli(capsys, ["rating", path, "--torque-nm", "100"])
+    assert rc == 2 and out == ""
+    assert len(err.splitlines()) == 1 and key in err and "Traceback" not in err
+
+
+def test_bad_torque_is_one_line_and_exit_2(capsys):
+    rc, out, err = run_cli(capsys, ["rating", C1, "--torque-nm", "0"])
+    assert rc == 2 and out == "" and len(err.splitlines()) == 1 and "--torque-nm = 0" in err
+
+
+def test_a_section_without_a_method_b_answer_is_null_with_its_reason(case1_rating, monkeypatch):
+    from beveloid.rating import analysis, iso6336
+
+    pair, lt, _ = case1_rating
+
+    def no_tangent(_pair):
+        raise ValueError("method B: no fillet tangent of 30 deg (test)")
+
+    monkeypatch.setattr(iso6336, "bending_geometry", no_tangent)
+    result = analysis.analyze(pair, rating.Options(torque_nm=800.0, positions=2, tooth_model="plate"), ltca_result=lt)
+    out = rating.to_json_dict(result)
+    json.dumps(out, allow_nan=False)
+    assert all(v is None for v in out["pinion"]["sections"]["toe"].values())
+    assert out["pinion"]["safety_bending_iso"] is None
+    assert out["verdict"]["source"] == "local" and out["verdict"]["lowest"] == "S_H"
+    assert any("no fillet tangent" in n for n in out["notes"])
+
+
+def test_plot_target_is_refused_before_computing(capsys, monkeypatch, tmp_path):
+    def boom(*a, **k):
+        raise AssertionError("computed before checking --plot")
+
+    monkeypatch.setattr(rating, "analyze", boom)
+    folder = tmp_path / "f.png"
+    folder.mkdir()
+    for target, words in ((folder, "is a folder"), (tmp_path / "plot.svg", "ending in .png"), ("", "an empty name")):
+        rc, out, err = run_cli(capsys, ["rating", C1, "--torque-nm", "100", "--plot", target])
+        assert rc == 2 and out == "" and len(err.splitlines()) == 1 and "--plot = " in err and words in err
+
+
+def test_plot_and_table(tmp_path, capsys, monkeypatch, case1_rating):
+    pair, lt, _ = case1_rating
+    real = rating.analyze
+    monkeypatch.setattr(rating, "analyze", lambda p, o, **k: real(pair, o, ltca_result=lt, **k))
+    target = tmp_path / "r.png"
+    rc, out, err = run_cli(capsys, ["rating", C1, "--torque-nm", "800", "--plot", target])
+    assert rc == 0 and target.stat().st_size > 10_000
+    assert "verdict: lowest safety" in out and out.count(" toe ") == 2
