@@ -5,6 +5,7 @@
     python benchmarks/bench_startup.py --imports    # also the modules each command imports
     python benchmarks/bench_startup.py --compare OTHER_CHECKOUT   # before/after, alternating, one run
     python benchmarks/bench_startup.py --floor      # what numpy and numba cost before any beveloid code
+    python benchmarks/bench_startup.py --only "tca case1"   # one command (repeatable)
 
 Not a test.  Each command runs as its own process (``python -m beveloid.cli``), so the time is what
 a user waits: interpreter start, imports, numba's cache loading, the work.  One untimed run of each
@@ -110,6 +111,8 @@ def main() -> None:
     ap.add_argument("--imports", action="store_true", help="count the modules each command imports")
     ap.add_argument("--compare", metavar="OTHER", help="another checkout's folder: time it too, alternating")
     ap.add_argument("--floor", action="store_true", help="time only numpy's and numba's own start-up")
+    ap.add_argument("--only", action="append", metavar="NAME",
+                    help="time only this command (a name of the table, e.g. 'tca case1'); repeatable")
     args = ap.parse_args()
     env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
     if args.floor:
@@ -127,7 +130,13 @@ def main() -> None:
         spec = str(Path(tmp) / "case1.toml")
         with open(spec, "w") as f:
             subprocess.run([sys.executable, "-m", "beveloid.cli", "example", "case1"], stdout=f, check=True, env=env)
-        for name, argv in commands(spec).items():
+        chosen = commands(spec)
+        unknown = set(args.only or ()) - set(chosen)
+        if unknown:
+            raise SystemExit(f"--only: unknown command {sorted(unknown)}; choose from {sorted(chosen)}")
+        for name, argv in chosen.items():
+            if args.only and name not in args.only:
+                continue
             out[name] = _time(argv, tmp, envs, args.repeat)
             if args.imports:
                 for label, e in envs.items():

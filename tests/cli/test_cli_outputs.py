@@ -108,10 +108,14 @@ def test_ctrl_c_removes_the_folder_it_made_and_left_empty(tmp_path, argv):
 
 def test_ctrl_c_in_explore_lists_only_the_files_written(tmp_path):
     out = tmp_path / "explore_out"
-    argv = ["explore", C1, "--vary", "pinion.cone_angle_deg=1:3:40", "--chunk", "4", "--workers", "1",
-            "--out", str(out)]
+    # ~2000 designs with a 200-set Monte Carlo each: tens of seconds even on a quiet machine, so the
+    # SIGINT (1 s after the chunk folder appears) always lands in the middle of the run
+    argv = ["explore", C1, "--vary", "pinion.cone_angle_deg=1:3:2000", "--mc", "200", "--chunk", "4",
+            "--workers", "1", "--out", str(out)]
     rc, stdout, err = _interrupt(argv, tmp_path, lambda: (out / "chunks").is_dir(), wait_s=1.0)
-    assert rc == 130, err
+    # 130, or ended by the signal itself after the clean-up (a shell shows 130 for both): the worker
+    # pool's exit handlers may see the interrupt again
+    assert rc in (130, -signal.SIGINT), err
     assert "Traceback" not in err
     if not out.exists():  # stopped before a design finished: nothing left behind
         assert "nothing written" in err
