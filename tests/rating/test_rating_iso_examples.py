@@ -1,6 +1,6 @@
 """ISO 6336-2/-3 against published worked examples, to the printed digits.
 
-Every value is asserted to half a unit of its last printed digit.  The sources are public
+Every value is asserted to half a unit of its last printed digit (kst-B: see below).  The sources are public
 transcriptions of printed reports; where two independent ones overlap they agree.
 
 1. Spur: the FZG-C test gear pair, rated by STplus 11.1F (FVA / FZG TU Muenchen, release
@@ -12,9 +12,9 @@ transcriptions of printed reports; where two independent ones overlap they agree
    a = 91.5 mm, x1 = 0.1818 (x2 from a), d_a = 82.45/118.35 mm, b = 14 mm, hob h_aP0* = 1.39
    (= h_fP*), rho_aP0* = 0.25, no protuberance, upper tooth thickness allowance A_sne = -0.085 mm
    (both), T_1 = 130 N m, E = 210 000 N/mm^2, nu = 0.3.
-   Spur, second listing: "kst-B" (STplus 9.0F, "ISO 6336 Teil 1-3 (1996)",
-   whose method B, Z_H, Z_E, Z_eps are those of 2019), same repository, .../stplus/kst_b/report.sta.txt
-   (sheets 2-13): z = 36/54, m_n = 2 mm, a = 91.5 mm, x1 = 0.2407, d_a = 76.46/112.95 mm with the
+   Spur, second listing: "kst-B" (STplus 9.0F, "ISO 6336 Teil 1-3 (1996)"; its method B, Z_H,
+   Z_E and Z_eps are reproduced by our 2019 implementation), same repository,
+   .../stplus/kst_b/report.sta.txt (sheets 2-13): z = 36/54, m_n = 2 mm, a = 91.5 mm, x1 = 0.2407, d_a = 76.46/112.95 mm with the
    wheel's tip chamfered by its hob to the tip form circle d_Fa = 112.376 mm, b = 22/20 mm, hobs
    h_aP0* = 1.25, rho_aP0* = 0.25/0.394, x_E = 0.1823/0.3037 (from the measured spans), P = 400 kW
    at 1000 1/min (T_1 = 3819.72 N m).  x_E is printed to 4 decimals and STplus iterates it to its
@@ -170,8 +170,7 @@ def test_stplus_fzg_c_spur_iso_6336_2019(fzg_c, where, name, printed, decimals):
 @pytest.mark.parametrize("where, name, printed, decimals", KST_B_PRINTED,
                          ids=[f"{w}-{n}" for w, n, _, _ in KST_B_PRINTED])
 def test_stplus_kst_b_spur_iso_6336_1996(kst_b_range, where, name, printed, decimals):
-    """kst-B (spur, chamfered wheel tip) rated by STplus 9.0F to ISO 6336:1996 method B (the same
-    method B, Z_H, Z_E, Z_eps as 2019): the printed value lies within half a unit of its last digit
+    """kst-B (spur, chamfered wheel tip) rated by STplus 9.0F to ISO 6336:1996 method B: the printed value lies within half a unit of its last digit
     of ours, for an x_E within the printed x_E's own rounding."""
     a, b = (v[where][name] for v in kst_b_range)
     half = 0.5 * 10.0 ** -decimals * (1 + 1e-9)
