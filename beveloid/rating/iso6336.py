@@ -10,7 +10,10 @@ Pure functions over plain records; nothing here knows about beveloids.  Implemen
   correction factor Y_S = (1.2 + 0.13 L) q_s^(1/(1.21 + 2.3/L)), the helix factor
   Y_beta = 1 - eps_beta beta/120 deg (eps_beta <= 1, beta <= 30 deg) and the nominal root stress
   sigma_F0 = F_t / (b m_n) Y_F Y_S Y_beta.  Left at 1: the rim factor Y_B, the deep-tooth factor
-  Y_DT (both apply to thin rims / eps_alpha_n > 2.05, which the caller flags).
+  Y_DT (both apply to thin rims / eps_alpha_n > 2.05, which the caller flags).  A gear cut with a
+  tooth thickness allowance has its root (s_Fn, rho_F, gamma_e) at the generating profile shift
+  x_E and its mesh at the nominal x, as STplus (FVA/FZG) rates it (tests/rating/
+  test_rating_iso_examples.py reproduces its printed FZG-C listing).
 * ISO 6336-2:2019: zone factor Z_H, elasticity factor Z_E, contact ratio factor Z_eps, helix factor
   Z_beta = 1/sqrt(cos beta) and sigma_H0 = Z_H Z_E Z_eps Z_beta sqrt(F_t/(d_1 b) (u+1)/u).  Left at
   1: the single pair tooth contact factors Z_B, Z_D.
@@ -58,6 +61,15 @@ class CylindricalGear:
     tip_diameter_mm: float
     rack_dedendum_mm: float  # h_fP: the basic rack's dedendum = the cutter's addendum
     rack_tip_radius_mm: float  # rho_fP: the cutter's tip round
+    # x_E: the profile shift the cutter actually generated (x less the tooth thickness allowance,
+    # x_E = x + A_sn / (2 m_n tan alpha_n)); the root of method B (s_Fn, rho_F, and the tooth's
+    # half angle gamma_e at d_en) is that of the real, thinned tooth, while the mesh (alpha_wt,
+    # eps_alpha, d_en) stays nominal.  None: no allowance, x_E = x (a beveloid section).
+    generating_profile_shift: float | None = None
+
+    @property
+    def root_profile_shift(self) -> float:
+        return self.profile_shift if self.generating_profile_shift is None else self.generating_profile_shift
 
     @property
     def transverse_pressure_angle(self) -> float:
@@ -190,7 +202,7 @@ def bending_geometry(pair: CylindricalPair) -> BendingGeometry:
     """ISO 6336-3:2019 method B of ``pair.gear`` loaded at the outer point of single pair contact."""
     g = pair.gear
     mn, an = g.normal_module_mm, g.normal_pressure_angle
-    rho, hfp, x = g.rack_tip_radius_mm, g.rack_dedendum_mm, g.profile_shift
+    rho, hfp, x = g.rack_tip_radius_mm, g.rack_dedendum_mm, g.root_profile_shift
     zn = virtual_teeth(g)
     # the 30 deg tangent on the fillet (rack tooth centre of the tip round at E)
     E = math.pi / 4 * mn - hfp * math.tan(an) - (1 - math.sin(an)) * rho / math.cos(an)
