@@ -82,12 +82,28 @@ class FeTooth:
         W = self.weights(points)
         return W @ self.compliance_mm_per_n @ W.T
 
-    def root_stress(self, points, forces_n) -> RootStress:
-        """The root stress of this tooth under normal forces (N) at flank points (see the module docstring)."""
+    def _principal(self, points, forces_n):
         f = np.nan_to_num(np.asarray(forces_n, dtype=float).ravel())
         g = self.weights(points).T @ f  # (G,)
-        loaded = principal_stresses(self.stress[self.index] @ g)  # (nf, 3)
-        other = principal_stresses(self.stress[1 - self.index] @ g)
+        return (principal_stresses(self.stress[self.index] @ g), principal_stresses(self.stress[1 - self.index] @ g))
+
+    def along_face(self, points, forces_n, bins: int = 24):
+        """(z_mm (bins,), stress (bins,)): the loaded fillet's largest max-principal stress in each of
+        ``bins`` equal slices of the face (nan where a slice holds no counted node)."""
+        loaded, _ = self._principal(points, forces_n)
+        z = self.data.fillet_points_mm[self.index][:, 2]
+        edges = np.linspace(self.z_mm[0], self.z_mm[-1], bins + 1)
+        slot = np.clip(np.searchsorted(edges, z) - 1, 0, bins - 1)
+        out = np.full(bins, np.nan)
+        for b in range(bins):
+            sel = (slot == b) & self.counted[self.index]
+            if sel.any():
+                out[b] = float(np.max(loaded[sel, 2]))
+        return 0.5 * (edges[1:] + edges[:-1]), out
+
+    def root_stress(self, points, forces_n) -> RootStress:
+        """The root stress of this tooth under normal forces (N) at flank points (see the module docstring)."""
+        loaded, other = self._principal(points, forces_n)
         k = int(np.argmax(np.where(self.counted[self.index], loaded[:, 2], -np.inf)))
         where = self.data.fillet_points_mm[self.index][k]
         return RootStress(float(loaded[k, 2]), float(where[2]), float(self.data.fillet_height_mm[self.index][k]),

@@ -75,3 +75,16 @@ def test_fe_and_plate_agree_on_the_loads_and_te_to_within_their_model_difference
     assert np.allclose(te_fe, te_plate, rtol=0.3)
     share = lambda r: r.pair_load_n / r.pair_load_n.sum(axis=1, keepdims=True)  # noqa: E731
     assert np.max(np.abs(share(fe) - share(plate))) < 0.15
+
+
+def test_plot_has_the_root_stress_panel(results, case1, tmp_path):
+    from beveloid.ltca.plots import ltca_summary
+
+    r = results["fe"]
+    for m in ("pinion", "gear"):
+        z, s = r.root_stress_along_face[m]
+        lo, hi = sorted(case1.geometry.member(m).face_limits)
+        assert np.all((z > lo) & (z < hi)) and np.nanmax(s) == pytest.approx(r.root_stress_max_mpa()[m])
+    out = tmp_path / "ltca.png"
+    ltca_summary(r, case1.geometry, out)
+    assert out.read_bytes().startswith(b"\x89PNG")
