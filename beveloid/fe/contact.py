@@ -68,14 +68,14 @@ class FeTooth:
         jz = np.minimum(fz.astype(int), nz - 2)
         tz = fz - jz
         r = np.hypot(p[:, 0], p[:, 1])
-        for n in np.flatnonzero(ok):
-            col = (1 - tz[n]) * self.radius_mm[:, jz[n]] + tz[n] * self.radius_mm[:, jz[n] + 1]
-            fs = np.interp(r[n], col, np.arange(ns))
-            js = min(int(fs), ns - 2)
-            ts = fs - js
-            for a, wa in ((js, 1 - ts), (js + 1, ts)):
-                W[n, a * nz + jz[n]] += wa * (1 - tz[n])
-                W[n, a * nz + jz[n] + 1] += wa * tz[n]
+        col = (1 - tz)[:, None] * self.radius_mm[:, jz].T + tz[:, None] * self.radius_mm[:, jz + 1].T  # (n, ns)
+        js = np.clip(np.sum(col <= r[:, None], axis=1) - 1, 0, ns - 2)
+        rows = np.arange(p.shape[0])
+        lo, hi = col[rows, js], col[rows, js + 1]
+        ts = np.clip((r - lo) / (hi - lo), 0.0, 1.0)
+        for da, wa in ((0, 1 - ts), (1, ts)):
+            for dz, wz in ((0, 1 - tz), (1, tz)):
+                np.add.at(W, (rows, (js + da) * nz + jz + dz), np.where(ok, wa * wz, 0.0))
         return W
 
     def line_compliance(self, points) -> np.ndarray:
