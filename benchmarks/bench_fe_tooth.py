@@ -5,6 +5,7 @@
     python -m benchmarks.bench_fe_tooth convergence [1 2 3]   # case 1 LTCA at each refinement
     python -m benchmarks.bench_fe_tooth compare               # FE vs plate, case 1 and case 2
     python -m benchmarks.bench_fe_tooth startup               # cached FE start-up vs the plate
+    python -m benchmarks.bench_fe_tooth meshes [1 2 3]        # case 1 pinion mesh sizes
 
 Not a test.  Every run writes the FE data into a fresh cache folder of its own (``cost``,
 ``convergence``) or the user cache (``compare``, ``startup``: computed once, then cached).
@@ -160,6 +161,22 @@ def compare():
     return out
 
 
+def meshes(refinements):
+    """The case 1 pinion's sector mesh at each refinement: nodes, tets, free dofs, seconds."""
+    from beveloid.fe import solve
+    from beveloid.fe.mesh import sector_mesh
+
+    out = {}
+    for n in refinements:
+        t = time.perf_counter()
+        mesh = sector_mesh(_pair("case1"), "pinion", refinement=n)
+        clamped = np.unique(np.concatenate([mesh.node_sets[c] for c in solve.CLAMPED]))
+        out[n] = {"nodes": int(len(mesh.nodes)), "tets": int(len(mesh.tets)),
+                  "free_dofs": int(3 * (len(mesh.nodes) - clamped.size)), "seconds": time.perf_counter() - t}
+        print(n, out[n], file=sys.stderr, flush=True)
+    return out
+
+
 def startup():
     """Seconds to the first position: Options + teeth (cached FE data read) for each model."""
     from beveloid import ltca
@@ -168,22 +185,23 @@ def startup():
     pair = _pair("case1")
     mat = ltca.Material.from_spec(pair.spec)
     out = {}
-    for model in ("fe", "plate", "fe", "plate"):
+    for i, model in enumerate(("fe", "plate", "fe", "plate")):
         t = time.perf_counter()
         member_teeth(pair, pair.geometry, ltca.Options(torque_nm=TORQUE_NM, tooth_model=model), mat)
-        out[model] = time.perf_counter() - t
+        out[f"{model}_call{i // 2 + 1}_s"] = time.perf_counter() - t  # call 1 includes the imports
+    out["load_average_1min"] = os.getloadavg()[0]
     return out
 
 
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("what", choices=("cost", "solvers", "convergence", "compare", "startup"))
+    p.add_argument("what", choices=("cost", "solvers", "convergence", "compare", "startup", "meshes"))
     p.add_argument("refinements", nargs="*", type=int, default=[1, 2, 3])
     a = p.parse_args(argv)
     if a.what in ("cost", "convergence"):
         os.environ["BEVELOID_CACHE_DIR"] = tempfile.mkdtemp(prefix="beveloid-fe-bench-")
     fn = {"cost": cost, "solvers": solvers, "compare": compare, "startup": startup,
-          "convergence": lambda: convergence(a.refinements)}[a.what]
+          "convergence": lambda: convergence(a.refinements), "meshes": lambda: meshes(a.refinements)}[a.what]
     print(json.dumps(fn(), indent=1))
 
 
