@@ -88,3 +88,20 @@ def test_plot_has_the_root_stress_panel(results, case1, tmp_path):
     out = tmp_path / "ltca.png"
     ltca_summary(r, case1.geometry, out)
     assert out.read_bytes().startswith(b"\x89PNG")
+
+
+@pytest.mark.parametrize("flags, names", [(["--fe-refinement", "9"], "--fe-refinement = 9: must be an integer from 1 to 4"),
+                                          (["--tooth-model", "beam"], "--tooth-model")])
+def test_bad_tooth_flags_are_one_line_and_exit_2(capsys, flags, names):
+    from pathlib import Path
+
+    from beveloid import cli
+
+    case1 = Path(__file__).resolve().parents[2] / "examples" / "case1.toml"
+    try:
+        rc = cli.main(["ltca", str(case1), "--torque-nm", "10", *flags])
+    except SystemExit as exc:  # argparse's own refusal
+        rc = exc.code
+    out, err = capsys.readouterr()
+    assert rc == 2 and not out and names in err and "Traceback" not in err
+    assert len([line for line in err.splitlines() if line.strip()]) <= 2  # argparse adds its usage line
