@@ -88,10 +88,24 @@ def stiffness(mesh, e_mpa: float, nu: float) -> scipy.sparse.csr_matrix:
                                                     np.tile(dofs, (1, 30)).reshape(-1))), shape=(n, n)).tocsr()
 
 
+def _point_pypardiso_at_mkl():
+    """pypardiso looks for MKL's runtime by a recursive glob of the environment (3 s per solver
+    here); a pip-installed MKL sits in <prefix>/lib: name it (PYPARDISO_MKL_RT) when found there."""
+    import glob
+    import os
+    import sys
+
+    if not os.environ.get("PYPARDISO_MKL_RT"):
+        found = sorted(glob.glob(os.path.join(sys.prefix, "lib", "libmkl_rt.so*")), key=len)
+        if found:
+            os.environ["PYPARDISO_MKL_RT"] = found[0]
+
+
 class PardisoFactor:
     """Intel MKL PARDISO (pypardiso) on the upper triangle of a symmetric positive definite matrix."""
 
     def __init__(self, matrix):
+        _point_pypardiso_at_mkl()
         import pypardiso
 
         self.solver = pypardiso.PyPardisoSolver()
