@@ -151,7 +151,8 @@ class LTCAResult:
                 continue
             j, k = np.unravel_index(int(np.nanargmax(a)), a.shape)
             z, h = self.pair_root_stress_where[m][j, k]
-            out[m] = {"position": int(j), "pair": int(self.tooth_pairs[k]), "z_mm": float(z), "height_mm": float(h),
+            known = lambda v: float(v) if np.isfinite(v) else None  # noqa: E731
+            out[m] = {"position": int(j), "pair": int(self.tooth_pairs[k]), "z_mm": known(z), "height_mm": known(h),
                       "flank": self.flank}
         return out
 
