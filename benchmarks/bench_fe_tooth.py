@@ -7,8 +7,8 @@
     python -m benchmarks.bench_fe_tooth startup               # cached FE start-up vs the plate
     python -m benchmarks.bench_fe_tooth meshes [1 2 3]        # case 1 pinion mesh sizes
 
-Not a test.  Every run writes the FE data into a fresh cache folder of its own (``cost``,
-``convergence``) or the user cache (``compare``, ``startup``: computed once, then cached).
+Not a test.  ``cost`` and ``convergence`` compute the FE data into a fresh cache folder of their own
+(removed at the end); ``compare`` and ``startup`` use the user cache (computed once, then cached).
 Torque 500 N m on the pinion, right flank, 20 positions, 3 pairs (the LTCA defaults).
 """
 from __future__ import annotations
@@ -198,11 +198,16 @@ def main(argv=None):
     p.add_argument("what", choices=("cost", "solvers", "convergence", "compare", "startup", "meshes"))
     p.add_argument("refinements", nargs="*", type=int, default=[1, 2, 3])
     a = p.parse_args(argv)
-    if a.what in ("cost", "convergence"):
-        os.environ["BEVELOID_CACHE_DIR"] = tempfile.mkdtemp(prefix="beveloid-fe-bench-")
+    fresh = tempfile.TemporaryDirectory(prefix="beveloid-fe-bench-") if a.what in ("cost", "convergence") else None
+    if fresh is not None:
+        os.environ["BEVELOID_CACHE_DIR"] = fresh.name
     fn = {"cost": cost, "solvers": solvers, "compare": compare, "startup": startup,
           "convergence": lambda: convergence(a.refinements), "meshes": lambda: meshes(a.refinements)}[a.what]
-    print(json.dumps(fn(), indent=1))
+    try:
+        print(json.dumps(fn(), indent=1))
+    finally:
+        if fresh is not None:
+            fresh.cleanup()
 
 
 if __name__ == "__main__":
