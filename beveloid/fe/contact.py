@@ -68,26 +68,42 @@ class FeTooth:
         jz = np.minimum(fz.astype(int), nz - 2)
         tz = fz - jz
         r = np.hypot(p[:, 0], p[:, 1])
-        for n in np.flatnonzero(ok):
-            col = (1 - tz[n]) * self.radius_mm[:, jz[n]] + tz[n] * self.radius_mm[:, jz[n] + 1]
-            fs = np.interp(r[n], col, np.arange(ns))
-            js = min(int(fs), ns - 2)
-            ts = fs - js
-            for a, wa in ((js, 1 - ts), (js + 1, ts)):
-                W[n, a * nz + jz[n]] += wa * (1 - tz[n])
-                W[n, a * nz + jz[n] + 1] += wa * tz[n]
+        col = (1 - tz)[:, None] * self.radius_mm[:, jz].T + tz[:, None] * self.radius_mm[:, jz + 1].T  # (n, ns)
+        js = np.clip(np.sum(col <= r[:, None], axis=1) - 1, 0, ns - 2)
+        rows = np.arange(p.shape[0])
+        lo, hi = col[rows, js], col[rows, js + 1]
+        ts = np.clip((r - lo) / (hi - lo), 0.0, 1.0)
+        for da, wa in ((0, 1 - ts), (1, ts)):
+            for dz, wz in ((0, 1 - tz), (1, tz)):
+                np.add.at(W, (rows, (js + da) * nz + jz + dz), np.where(ok, wa * wz, 0.0))
         return W
 
     def line_compliance(self, points) -> np.ndarray:
         W = self.weights(points)
         return W @ self.compliance_mm_per_n @ W.T
 
-    def root_stress(self, points, forces_n) -> RootStress:
-        """The root stress of this tooth under normal forces (N) at flank points (see the module docstring)."""
+    def _principal(self, points, forces_n):
         f = np.nan_to_num(np.asarray(forces_n, dtype=float).ravel())
         g = self.weights(points).T @ f  # (G,)
-        loaded = principal_stresses(self.stress[self.index] @ g)  # (nf, 3)
-        other = principal_stresses(self.stress[1 - self.index] @ g)
+        return (principal_stresses(self.stress[self.index] @ g), principal_stresses(self.stress[1 - self.index] @ g))
+
+    def along_face(self, points, forces_n, bins: int = 24):
+        """(z_mm (bins,), stress (bins,)): the loaded fillet's largest max-principal stress in each of
+        ``bins`` equal slices of the face (nan where a slice holds no counted node)."""
+        loaded, _ = self._principal(points, forces_n)
+        z = self.data.fillet_points_mm[self.index][:, 2]
+        edges = np.linspace(self.z_mm[0], self.z_mm[-1], bins + 1)
+        slot = np.clip(np.searchsorted(edges, z) - 1, 0, bins - 1)
+        out = np.full(bins, np.nan)
+        for b in range(bins):
+            sel = (slot == b) & self.counted[self.index]
+            if sel.any():
+                out[b] = float(np.max(loaded[sel, 2]))
+        return 0.5 * (edges[1:] + edges[:-1]), out
+
+    def root_stress(self, points, forces_n) -> RootStress:
+        """The root stress of this tooth under normal forces (N) at flank points (see the module docstring)."""
+        loaded, other = self._principal(points, forces_n)
         k = int(np.argmax(np.where(self.counted[self.index], loaded[:, 2], -np.inf)))
         where = self.data.fillet_points_mm[self.index][k]
         return RootStress(float(loaded[k, 2]), float(where[2]), float(self.data.fillet_height_mm[self.index][k]),

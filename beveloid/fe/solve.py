@@ -20,9 +20,9 @@ import scipy.sparse
 import scipy.sparse.linalg
 from scipy.spatial import cKDTree
 
-__all__ = ["CLAMPED", "EDGES", "Elastic", "Located", "QUADRATURE", "factorise", "sparse_solver", "stiffness",
-           "tet_volumes", "locate", "shape_values", "shape_gradients",
-           "stress_operator", "displacement_operator", "principal_stresses"]
+__all__ = ["CLAMPED", "EDGES", "Elastic", "Located", "PardisoFactor", "QUADRATURE", "displacement_operator",
+           "factorise", "locate", "principal_stresses", "shape_gradients", "shape_values", "sparse_solver",
+           "stiffness", "stress_operator", "tet_volumes"]
 
 #: the surfaces held fixed
 CLAMPED = ("rim", "side_lo", "side_hi")
@@ -88,10 +88,24 @@ def stiffness(mesh, e_mpa: float, nu: float) -> scipy.sparse.csr_matrix:
                                                     np.tile(dofs, (1, 30)).reshape(-1))), shape=(n, n)).tocsr()
 
 
-class _Pardiso:
+def _point_pypardiso_at_mkl():
+    """pypardiso looks for MKL's runtime by a recursive glob of the environment (3 s per solver
+    here); a pip-installed MKL sits in <prefix>/lib: name it (PYPARDISO_MKL_RT) when found there."""
+    import glob
+    import os
+    import sys
+
+    if not os.environ.get("PYPARDISO_MKL_RT"):
+        found = sorted(glob.glob(os.path.join(sys.prefix, "lib", "libmkl_rt.so*")), key=len)
+        if found:
+            os.environ["PYPARDISO_MKL_RT"] = found[0]
+
+
+class PardisoFactor:
     """Intel MKL PARDISO (pypardiso) on the upper triangle of a symmetric positive definite matrix."""
 
     def __init__(self, matrix):
+        _point_pypardiso_at_mkl()
         import pypardiso
 
         self.solver = pypardiso.PyPardisoSolver()
@@ -125,7 +139,7 @@ def factorise(mesh, e_mpa: float, nu: float, clamped=CLAMPED, solver: str | None
     Kf = K[free][:, free]
     solver = solver or sparse_solver()
     if solver == "pardiso":
-        lu = _Pardiso(Kf)
+        lu = PardisoFactor(Kf)
     else:
         lu = scipy.sparse.linalg.splu(Kf.tocsc(), permc_spec="MMD_AT_PLUS_A")
     t2 = time.perf_counter()

@@ -34,8 +34,8 @@ from ..export.sampling import FLANKS, ToothSampler
 from . import solve
 from .mesh import sector_mesh
 
-__all__ = ["DEPTH_PER_MODULE", "DEPTH_PER_THICKNESS", "GRID", "ToothData", "flank_grid", "halfspace_at_depth",
-           "tooth_data"]
+__all__ = ["DEPTH_PER_MODULE", "DEPTH_PER_THICKNESS", "GRID", "ToothData", "flank_compliance", "flank_grid",
+           "halfspace_at_depth", "tooth_data"]
 
 #: load grid per flank: points along the profile (form limit to tip) x along the face (toe to heel)
 GRID = (7, 9)
@@ -90,6 +90,20 @@ def halfspace_at_depth(surface_points, depth, e_mpa, nu):
     return (1 + nu) / (2 * math.pi * e_mpa * r) * (2 * (1 - nu) + d * d / (r * r))
 
 
+def flank_compliance(elastic, points, normals, depth, solutions=None):
+    """(raw, corrected) compliance (mm/N) between surface points (G, 3) with outward normals (G, 3):
+    unit forces along -normal at the points, the displacement along -normal read at the depths
+    (G,) below them; corrected = raw - :func:`halfspace_at_depth` (the module docstring).  Returns
+    also the solutions (ndofs, G) for the stresses."""
+    mesh = elastic.mesh
+    load = solve.displacement_operator(elastic, solve.locate(mesh, points), -normals)
+    read = solve.displacement_operator(elastic, solve.locate(mesh, points - depth[:, None] * normals), -normals)
+    u = elastic.solve(load.T.toarray()) if solutions is None else solutions
+    raw = read @ u
+    corrected = raw - halfspace_at_depth(points, depth, elastic.e_mpa, elastic.nu)
+    return raw, 0.5 * (corrected + corrected.T), u
+
+
 def _say(progress, text):
     if progress is not None:
         progress(text)
@@ -115,9 +129,6 @@ def tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: int = 1, 
     thick = np.stack([cKDTree(flat_p[1 - f]).query(flat_p[f])[0] for f in range(2)])
     # the other flank's grid is coarse: the thickness is a fraction of it, so an upper bound does
     depth = np.minimum(DEPTH_PER_MODULE * geometry.normal_module_mm, DEPTH_PER_THICKNESS * thick)
-    load_ops = [solve.displacement_operator(elastic, solve.locate(mesh, flat_p[f]), -flat_n[f]) for f in range(2)]
-    read_ops = [solve.displacement_operator(elastic, solve.locate(mesh, flat_p[f] - depth[f][:, None] * flat_n[f]),
-                                            -flat_n[f]) for f in range(2)]
     fillet_nodes = [mesh.node_sets[f"fillet_{f}_0"] for f in FLANKS]
     stress_ops = [solve.stress_operator(elastic, nodes) for nodes in fillet_nodes]
     _say(progress, f"FE tooth {member}: {elastic.timings_s['free_dofs']} dofs factorised in "
@@ -127,10 +138,7 @@ def tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: int = 1, 
     stress = np.zeros((2, 2, nf, 6, G))
     comp, raw = np.zeros((2, G, G)), np.zeros((2, G, G))
     for f in range(2):
-        u = elastic.solve(load_ops[f].T.toarray())  # (ndofs, G)
-        raw[f] = read_ops[f] @ u
-        comp[f] = raw[f] - halfspace_at_depth(flat_p[f], depth[f], e_mpa, nu)
-        comp[f] = 0.5 * (comp[f] + comp[f].T)
+        raw[f], comp[f], u = flank_compliance(elastic, flat_p[f], flat_n[f], depth[f])
         for side in range(2):
             sig = (stress_ops[side] @ u).reshape(-1, 6, G)
             stress[f, side, :sig.shape[0]] = sig

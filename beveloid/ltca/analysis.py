@@ -165,7 +165,7 @@ def _result(setup, options, sol, check, e_star, notes, hertz_ref, teeth):
         pair_pinion_angle=setup.pair_phi1, notes=tuple(notes), tooth_model=options.tooth_model,
         fe_refinement=options.fe_refinement if options.tooth_model == "fe" else None,
         pair_root_stress_mpa=root["tension"], pair_root_compressive_stress_mpa=root["compression"],
-        pair_root_stress_where=root["where"],
+        pair_root_stress_where=root["where"], root_stress_along_face=root["along"],
         mesh_stiffness_n_per_um=np.where(ok & (sol.approach_mm > 0), total / (1e3 * sol.approach_mm), np.nan))
 
 

@@ -100,13 +100,10 @@ def check_grid(value, key="grid"):
 
 
 def default_tooth_model() -> str:
-    """"fe" when gmsh and scikit-fem import, else "plate"."""
-    try:
-        import gmsh  # noqa: F401
-        import skfem  # noqa: F401
-    except ImportError:
-        return "plate"
-    return "fe"
+    """"fe" when gmsh and scikit-fem are installed, else "plate" (found without importing them)."""
+    from importlib.util import find_spec
+
+    return "fe" if find_spec("gmsh") is not None and find_spec("skfem") is not None else "plate"
 
 
 def check_tooth_model(value, key="tooth_model"):

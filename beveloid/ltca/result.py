@@ -70,6 +70,9 @@ class LTCAResult:
     pair_root_compressive_stress_mpa: dict = field(default_factory=dict)
     #: {member: (N, P, 2)} where the tensile peak is: (z_mm member frame, height above the root cone mm)
     pair_root_stress_where: dict = field(default_factory=dict)
+    #: {member: (z_mm (nb,), stress_mpa (nb,))} the loaded fillet's max principal stress along the face
+    #: of the (position, pair) with the largest root stress
+    root_stress_along_face: dict = field(default_factory=dict)
     #: (N,) the sum of the pair loads over the approach of the teeth along the normal (N/um)
     mesh_stiffness_n_per_um: np.ndarray | None = None
     _patterns: dict = field(default_factory=dict, repr=False, compare=False)
@@ -148,7 +151,8 @@ class LTCAResult:
                 continue
             j, k = np.unravel_index(int(np.nanargmax(a)), a.shape)
             z, h = self.pair_root_stress_where[m][j, k]
-            out[m] = {"position": int(j), "pair": int(self.tooth_pairs[k]), "z_mm": float(z), "height_mm": float(h),
+            known = lambda v: float(v) if np.isfinite(v) else None  # noqa: E731
+            out[m] = {"position": int(j), "pair": int(self.tooth_pairs[k]), "z_mm": known(z), "height_mm": known(h),
                       "flank": self.flank}
         return out
 

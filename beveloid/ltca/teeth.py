@@ -36,13 +36,14 @@ def member_teeth(pair, geom, options, material) -> tuple:
 
 
 def root_stresses(teeth, sol, ok) -> dict:
-    """{"tension": {member: (N, P)}, "compression": {...}, "where": {member: (N, P, 2)}} (MPa, mm) for
-    FE teeth, each pair's tooth under its own cells' forces; empty for the plate."""
+    """{"tension": {member: (N, P)}, "compression": {...}, "where": {member: (N, P, 2)}, "along": {member:
+    (z, stress)}} (MPa, mm) for FE teeth, each pair's tooth under its own cells' forces ("along": the
+    loaded fillet along the face at the largest root stress); empty for the plate."""
+    out = {"tension": {}, "compression": {}, "where": {}, "along": {}}
     if not all(hasattr(t, "root_stress") for t in teeth):
-        return {"tension": {}, "compression": {}, "where": {}}
+        return out
     N, P = sol.pressure_mpa.shape[:2]
     area = sol.grid.cell_area_mm2()
-    out = {"tension": {}, "compression": {}, "where": {}}
     for tooth, m in zip(teeth, MEMBERS):
         ten, comp, where = np.full((N, P), np.nan), np.full((N, P), np.nan), np.full((N, P, 2), np.nan)
         points = sol.gap.pinion_point if m == "pinion" else sol.gap.gear_point
@@ -55,4 +56,8 @@ def root_stresses(teeth, sol, ok) -> dict:
                 r = tooth.root_stress(points[j, k], f)
                 ten[j, k], comp[j, k], where[j, k] = r.tension_mpa, r.compression_mpa, (r.z_mm, r.height_mm)
         out["tension"][m], out["compression"][m], out["where"][m] = ten, comp, where
+        if np.isfinite(ten).any() and np.nanmax(ten) > 0:
+            j, k = np.unravel_index(int(np.nanargmax(ten)), ten.shape)
+            f = np.where(sol.gap.in_flank[j, k], sol.pressure_mpa[j, k] * area[j, k], 0.0)
+            out["along"][m] = tooth.along_face(points[j, k], f)
     return out

@@ -146,11 +146,14 @@ def _run(capsys, argv):
 
 
 def test_ltca_json_contract(capsys):
-    rc, out, err = _run(capsys, ["ltca", CASE1, "--torque-nm", "150", "--positions", "4", "--json"])
+    rc, out, err = _run(capsys, ["ltca", CASE1, "--torque-nm", "150", "--positions", "4", "--json",
+                                 "--tooth-model", "plate"])
     assert rc == 0, err
     data = json.loads(out, parse_constant=lambda c: (_ for _ in ()).throw(ValueError(c)))
     n, pairs = 4, data["tooth_pairs"]
     assert data["torque_nm"] == 150.0 and pairs == [-1, 0, 1]
+    assert data["tooth_model"] == "plate" and data["pair_root_stress_mpa"] is None
+    assert len(data["mesh_stiffness_n_per_um"]) == n
     for key in ("pinion_angle_rad", "loaded_transmission_error_urad", "contact_area_mm2", "status"):
         assert len(data[key]) == n, key
     for key in ("pair_normal_load_n", "pair_max_pressure_mpa"):
