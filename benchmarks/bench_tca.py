@@ -144,9 +144,8 @@ def run(repeats=5, only=None):
                 "W3": dict(sweep_workload(crowned_case1()), target_us_per_point=3.0, target_speedup=1000,
                            crowning_um=20.0)}
     t_imp = time.perf_counter()
-    from beveloid import sweep, tca
+    from beveloid import tca
     from beveloid.solver import patch_cover
-    from beveloid.solver import backends
     from beveloid.design import design
     from beveloid.spec import load_spec
 

@@ -29,10 +29,10 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-# Annotations name beveloid.design's DesignResult and MemberDesign as strings: design imports
-# this module, not the other way round.
+if TYPE_CHECKING:  # annotations only: design imports this module, not the other way round
+    from .members import DesignResult, MemberDesign
 
 __all__ = ["format_table1", "design_json", "TABLE1_ROWS"]
 

@@ -161,7 +161,10 @@ plausible_numbers = st.sampled_from(["0", "0.1", "-0.2", "0.5", "-0.03", "0.01"]
 @st.composite
 def argv_for(draw, path: str, tmp: str, plausible: bool):
     flag_numbers = plausible_numbers if plausible else hostile_numbers
-    counts = (lambda good, bad: st.sampled_from(good if plausible else good + bad))
+
+    def counts(good, bad):
+        return st.sampled_from(good if plausible else good + bad)
+
     command = draw(st.sampled_from(["design", "tca", "tca", "sweep", "sweep", "example"]))
     if command == "example":
         return ["example", *draw(st.sampled_from([["case1"], ["case2"], ["--schema"], [], ["case3"],
