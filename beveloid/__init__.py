@@ -6,6 +6,8 @@ The runtime uses only the numeric modules in ``beveloid.generated``; sympy is im
 only by ``beveloid.derivations`` and the generator (``beveloid derive``).
 """
 __version__ = "0.1.0"
+#: the public surface is the subpackages (beveloid.pair, beveloid.tca, ...); this module only names the version
+__all__ = ["__version__"]
 
 import os as _os
 

@@ -38,6 +38,8 @@ from collections.abc import Sequence
 from ..errors import UserError
 from ..spec import SpecError
 
+__all__ = ["main", "build_parser", "command", "COMMANDS", "PROG", "USER_ERRORS", "OUTPUT_ERRNOS"]
+
 PROG = "beveloid"
 USER_ERRORS = (SpecError, UserError)
 

@@ -9,3 +9,6 @@ run.py      fixed chunks on any executor (beveloid.parallel), kept on disk, resu
 report.py   explore.csv, pareto.csv, summary.json, figures
 The command itself is beveloid/cli/explore.py.
 """
+
+__all__ = ["contact", "grid", "pareto", "report", "rows", "run", "tooth"]
+

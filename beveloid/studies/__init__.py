@@ -7,3 +7,6 @@
 Each study takes pairs (:class:`beveloid.pair.Pair`) and writes into a folder; nothing here is
 imported by the analyses.
 """
+
+__all__ = ["crowning", "loaded", "micro_geometry", "output", "paper"]
+

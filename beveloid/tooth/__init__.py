@@ -2,3 +2,6 @@
 
 One module per check; ``fillet`` evaluates the generated root fillet.
 """
+
+__all__ = ["contact", "fillet", "plot", "profile", "report", "sections", "tip", "undercut"]
+
