@@ -170,9 +170,5 @@ def hom(v):
     return sp.Matrix([v[0], v[1], v[2], 1])
 
 
-def rotation_part(m):
-    return m[:3, :3]
-
-
 def latex(expr) -> str:
     return sp.latex(expr)

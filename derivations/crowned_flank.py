@@ -26,8 +26,7 @@ for a generic cutter point and normal, linear in phi: it applies unchanged to th
 rack, so the crowned tooth surface stays explicit in (l, u):
 phi(l, u) = (n_xc y_c - n_yc x_c) / (r n_xc) with the displaced point and normal.
 
-``tooth_surface_in_delta`` keeps delta, delta_l, delta_u as plain symbols (for the checks);
-``tooth_surface`` replaces them by their polynomials in (l, u).
+``tooth_surface`` replaces delta, delta_l, delta_u by their polynomials in (l, u).
 """
 import sympy as sp
 
@@ -97,19 +96,6 @@ def displaced_rack_normal(sigma, delta_l=None, delta_u=None, unit=True):
     t_u = rack_point(sigma).diff(u)
     n = rack_normal(sigma) + delta_l * t_l + delta_u * t_u
     return n / sp.sqrt(1 + delta_l ** 2 + delta_u ** 2) if unit else n
-
-
-def tooth_surface_in_delta(sigma):
-    """(point, normal, phi) of the generated tooth with delta, delta_l, delta_u as symbols."""
-    pc = displaced_rack_point(sigma, d0)
-    nc = displaced_rack_normal(sigma, d_l, d_u)
-    # Eq 7 is homogeneous of degree 0 in the normal: the unnormalised normal gives the same phi
-    # without the square root
-    nn = displaced_rack_normal(sigma, d_l, d_u, unit=False)
-    phi_lu = roll_angle(pc, nn)
-    point = involute.generated_family(pc).xreplace({phi: phi_lu})
-    normal = (involute.M_ic[:3, :3] * nc).xreplace({phi: phi_lu})
-    return point, normal, phi_lu
 
 
 def roll_angle(point, normal):

@@ -16,7 +16,7 @@ import sympy as sp
 from . import paper
 from .common import Equation, hom, rot_z, trans, uniform
 from .eq01_03_rack_cutter import rack_normal, rack_point
-from .symbols import N, beta, m_n, n_xc, n_yc, n_zc, phi, r, s, x_c, y_c, z_c
+from .symbols import n_xc, n_yc, n_zc, phi, r, s, x_c, y_c, z_c
 
 M_ic = rot_z(phi) * trans(r, -r * phi, 0)
 
@@ -35,11 +35,6 @@ def meshing_equation():
     condition = sp.expand(sp.trigsimp(sp.expand(n_in_gear.dot(rel_velocity))))
     (sol,) = sp.solve(condition, phi)
     return condition, sol
-
-
-def pitch_radius():
-    """Generating pitch radius r = m_n N / (2 cos beta): transverse pitch of the rack is pi m_n / cos beta."""
-    return m_n * N / (2 * sp.cos(beta))
 
 
 def tooth_surface(sigma, with_shift=True):

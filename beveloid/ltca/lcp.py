@@ -68,11 +68,6 @@ class ContactSolution:
     def max_pressure_mpa(self) -> float:
         return float(self.pressure_mpa.max()) if self.pressure_mpa.size else 0.0
 
-    @property
-    def normal_force_n(self) -> float:
-        """sum a p: the total normal force (equals the load only when t = 1)."""
-        return float(self.area_mm2 @ self.pressure_mpa)
-
 
 @dataclass(frozen=True)
 class Compliance:

@@ -78,10 +78,6 @@ class ToothSection:
     def root_radius_mm(self) -> float:
         return float(self.radius_mm[0])
 
-    @property
-    def root_thickness_mm(self) -> float:
-        return float(self.thickness_mm[0])
-
 
 @dataclass(frozen=True)
 class LoadPoints:

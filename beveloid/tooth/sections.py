@@ -53,15 +53,10 @@ def section(geometry, member: str, z_face):
 
     The tip fields (``tip_thickness_angle``, ``tip_arc_thickness``) are NaN, without a warning, in a
     section whose tip circle lies inside a flank's base circle: that flank has no involute there
-    (the tooth is all fillet and undercut); callers report it by :func:`has_involute_at_tip`.
+    (the tooth is all fillet and undercut); the tip check reports it as a status.
     """
     with np.errstate(invalid="ignore"):
         return tooth_sections.transverse_section(member_z(geometry, member, z_face), section_params(geometry, member))
-
-
-def has_involute_at_tip(s) -> np.ndarray:
-    """Whether the section(s) s reach the tip circle on both flanks' involutes (tip radius >= both base radii)."""
-    return (s.tip_radius >= s.base_radius_left) & (s.tip_radius >= s.base_radius_right)
 
 
 def thickness_at_radius(geometry, member: str, z_face, radius):

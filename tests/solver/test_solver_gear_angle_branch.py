@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from beveloid import tca
-from beveloid.solver import backends, core
+from beveloid.solver import backends
 from beveloid.pair import Pair
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -32,7 +32,7 @@ from beveloid.derivations import eq04_07_tooth_surface as involute
 from beveloid.derivations.eq01_03_rack_cutter import LEFT, RIGHT, rack_normal, rack_point
 from beveloid.derivations.symbols import a, alpha_n, b, beta, gamma, l, m_n, phi, r, s, u
 from beveloid.design import design
-from beveloid.generated import layouts, surface_crowned, surface_involute, tca_kernels
+from beveloid.generated import layouts, surface_crowned, surface_involute
 from beveloid.solver import backends
 from beveloid.spec import SpecError, example_text, spec_from_dict
 from beveloid.status import Status
