@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["Body", "ContactDeck", "PENALTY_OVER_E", "RigidLoad", "TENSION_OVER_PRESSURE", "face_elements",
+__all__ = ["Body", "ContactDeck", "ccx_name", "PENALTY_OVER_E", "RigidLoad", "TENSION_OVER_PRESSURE", "face_elements",
            "write_deck"]
 
 PENALTY_OVER_E = 50.0  #: penalty slope K = 50 E per mm (CalculiX's advice: 5-50 E)
@@ -42,6 +42,8 @@ class Body:
     tets: np.ndarray
     facet_sets: dict = field(default_factory=dict)
     node_sets: dict = field(default_factory=dict)
+    young_mpa: float | None = None  #: the body's own material, else the deck's
+    poisson: float | None = None
 
 
 @dataclass(frozen=True)
@@ -94,6 +96,12 @@ def face_elements(tets: np.ndarray, facets: np.ndarray):
     return np.array([v[0] for v in found], dtype=int), np.array([v[1] for v in found], dtype=int)
 
 
+def ccx_name(name: str) -> str:
+    """A CalculiX name of "BODY.SET" (or "BODY_SET"): the dot an underscore, a minus sign "M", upper case
+    (CalculiX folds names to upper case)."""
+    return name.replace(".", "_", 1).replace("-", "M").upper()
+
+
 def _lines(prefix, ids, per_line=8):
     ids = [str(int(i)) for i in ids]
     return [prefix + ", ".join(ids[i:i + per_line]) for i in range(0, len(ids), per_line)]
@@ -115,7 +123,7 @@ def write_deck(deck: ContactDeck, path) -> dict:
         conn = np.asarray(b.tets) + n_nodes + 1
         out += [f"{e}, " + ", ".join(str(int(v)) for v in row) for e, row in zip(eids, conn)]
         for name, nodes in b.node_sets.items():
-            out.append(f"*NSET, NSET={b.name}_{name}")
+            out.append(f"*NSET, NSET={ccx_name(b.name + '_' + name)}")
             out += _lines("", np.unique(np.asarray(nodes)) + n_nodes + 1)
         n_nodes += len(b.nodes_mm)
         n_elems += len(b.tets)
@@ -130,23 +138,25 @@ def write_deck(deck: ContactDeck, path) -> dict:
         bname, fname = s.split(".", 1)
         b = bodies[bname]
         els, faces = face_elements(b.tets, b.facet_sets[fname])
-        out.append(f"*SURFACE, NAME=S{bname}_{fname}, TYPE=ELEMENT")
+        out.append(f"*SURFACE, NAME=S{ccx_name(s)}, TYPE=ELEMENT")
         out += [f"{e + elem_off[bname] + 1}, S{f}" for e, f in zip(els, faces)]
-    out += ["*MATERIAL, NAME=STEEL", "*ELASTIC", f"{deck.young_mpa:.9g}, {deck.poisson:.9g}"]
     for b in deck.bodies:
-        out.append(f"*SOLID SECTION, ELSET=E{b.name}, MATERIAL=STEEL")
+        e = deck.young_mpa if b.young_mpa is None else b.young_mpa
+        nu = deck.poisson if b.poisson is None else b.poisson
+        out += [f"*MATERIAL, NAME=M{b.name}", "*ELASTIC", f"{e:.9g}, {nu:.9g}",
+                f"*SOLID SECTION, ELSET=E{b.name}, MATERIAL=M{b.name}"]
     k = deck.penalty_over_e * deck.young_mpa
     tension = TENSION_OVER_PRESSURE * deck.expected_pressure_mpa
     out += ["*SURFACE INTERACTION, NAME=FRICTIONLESS", "*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=LINEAR",
             f"{k:.9g}, {tension:.9g}"]
     for slave, master in deck.contact_pairs:
         out += ["*CONTACT PAIR, INTERACTION=FRICTIONLESS, TYPE=SURFACE TO SURFACE",
-                "S" + slave.replace(".", "_", 1) + ", S" + master.replace(".", "_", 1)]
-    out += [f"*RIGID BODY, NSET={r.body}_{r.node_set}, REF NODE={ref}, ROT NODE={rot}", "*BOUNDARY"]
+                f"S{ccx_name(slave)}, S{ccx_name(master)}"]
+    out += [f"*RIGID BODY, NSET={ccx_name(r.body + '_' + r.node_set)}, REF NODE={ref}, ROT NODE={rot}", "*BOUNDARY"]
     for s in deck.fixed:
-        out.append(f"{s.replace('.', '_', 1)}, 1, 3")
+        out.append(f"{ccx_name(s)}, 1, 3")
     for s, first, last in deck.constraints:
-        out.append(f"{s.replace('.', '_', 1)}, {first}, {last}")
+        out.append(f"{ccx_name(s)}, {first}, {last}")
     out += [f"{ref}, 1, 2", f"{rot}, 1, 2"] if r.hold_rotation else [f"{ref}, 1, 2"]
     if r.axial_force_n is None:
         out.append(f"{ref}, 3, 3")
@@ -161,7 +171,7 @@ def write_deck(deck: ContactDeck, path) -> dict:
             "*NODE PRINT, NSET=NROT", "U", "*NODE PRINT, NSET=NREF, TOTALS=ONLY", "RF",
             "*CONTACT PRINT", "CELS"]
     for slave, master in deck.contact_pairs:
-        out += [f"*CONTACT PRINT, SLAVE=S{slave.replace('.', '_', 1)}, MASTER=S{master.replace('.', '_', 1)}", "CF"]
+        out += [f"*CONTACT PRINT, SLAVE=S{ccx_name(slave)}, MASTER=S{ccx_name(master)}", "CF"]
     out.append("*END STEP")
     with open(path, "w") as fh:
         fh.write("\n".join(out) + "\n")

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import os
 import re
+import resource
 import shutil
 import subprocess
 import time
@@ -20,13 +21,14 @@ CCX_MISSING = ("CalculiX (ccx) is not installed: fe-check needs it; on Debian/Ub
 @dataclass(frozen=True)
 class CcxRun:
     """A finished run: the job's folder and name (``<folder>/<job>.frd``, ``.dat``, ``.sta``), wall time (s),
-    the solver's own total time when it prints one (s), the version and the log."""
+    the version, the log and ccx's CPU time (s)."""
 
     folder: Path
     job: str
     wall_s: float
     version: str | None
     log: str
+    cpu_s: float = float("nan")  #: CPU time of ccx (user + system, all its threads)
 
     def file(self, ext: str) -> Path:
         return self.folder / f"{self.job}.{ext}"
@@ -65,6 +67,7 @@ def run_ccx(deck_path, progress=None, threads: int = 2) -> CcxRun:
     env = dict(os.environ, OMP_NUM_THREADS=str(threads), CCX_NPROC_EQUATION_SOLVER=str(threads),
                GFORTRAN_UNBUFFERED_PRECONNECTED="y")
     t0 = time.perf_counter()
+    r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     lines = []
     with subprocess.Popen([exe, "-i", job], cwd=deck_path.parent, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                           text=True, env=env) as proc:
@@ -74,9 +77,11 @@ def run_ccx(deck_path, progress=None, threads: int = 2) -> CcxRun:
                 progress(line.rstrip("\n"))
         rc = proc.wait()
     wall = time.perf_counter() - t0
+    r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
     log = "\n".join(lines)
     failed = rc != 0 or "*ERROR" in log or not (deck_path.parent / f"{job}.frd").exists()
     if failed:
         tail = " | ".join(s.strip() for s in lines if s.strip())[-400:]
         raise UserError(f"CalculiX failed on {deck_path} (exit {rc}): {tail}")
-    return CcxRun(deck_path.parent, job, wall, ccx_version(), log)
+    return CcxRun(deck_path.parent, job, wall, ccx_version(), log, cpu)

@@ -61,7 +61,7 @@ def _command_rows() -> dict[str, str]:
     """command name -> the README command-table row that documents it."""
     rows = {}
     for line in _section("Commands").splitlines():
-        m = re.match(r"^\| `beveloid (\w+)", line)
+        m = re.match(r"^\| `beveloid ([\w-]+)", line)
         if m:
             assert m.group(1) not in rows, f"two rows for {m.group(1)}"
             rows[m.group(1)] = line
