@@ -40,6 +40,11 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--grid", default=None, metavar="ACROSSxALONG",
                    help="contact cells across x along the contact line per tooth pair (default "
                         "11x17, each cell a fixed fraction of the pair's Hertz semi-axes)")
+    p.add_argument("--tooth-model", choices=("fe", "plate"), default=None,
+                   help="how the teeth bend: fe = finite-element tooth from the real geometry with root stress "
+                        "(default; its data is cached per design), plate = the fast equivalent-spur-tooth plate")
+    p.add_argument("--fe-refinement", type=int, default=1, metavar="N",
+                   help="FE tooth mesh refinement, 1-4 (default 1; 2 halves every element size)")
     p.add_argument("--plot", metavar="OUT.png", help="write the contact patterns, loaded TE and load sharing here "
                                                      "(and the per-position pressure maps beside it)")
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
@@ -77,6 +82,7 @@ def run(args: argparse.Namespace) -> int:
         ltca.options.check_torque(args.torque_nm, key="--torque-nm")
         ltca.options.check_positions(args.positions, key="--positions")
         ltca.options.check_pairs(args.pairs, key="--pairs")
+        ltca.options.check_fe_refinement(args.fe_refinement, key="--fe-refinement")
     except ValueError as exc:
         raise UserError(str(exc)) from None
     if args.plot is not None:
@@ -86,7 +92,8 @@ def run(args: argparse.Namespace) -> int:
     spec = apply_error_flags(load_spec(args.file), args)
     pair = Pair.from_spec(spec)
     options = ltca.Options(torque_nm=args.torque_nm, flank=args.flank, positions=args.positions, pairs=args.pairs,
-                           grid=grid, errors=tuple(error_vector(spec)), material=ltca.Material.from_spec(spec))
+                           grid=grid, errors=tuple(error_vector(spec)), material=ltca.Material.from_spec(spec),
+                           tooth_model=args.tooth_model, fe_refinement=args.fe_refinement)
     try:
         options.check_memory()
     except ValueError as exc:
@@ -108,6 +115,21 @@ def run(args: argparse.Namespace) -> int:
     else:
         print(format_summary(result, geom, spec))
     return 0
+
+
+def _root_stress_lines(result) -> list:
+    if result.tooth_model != "fe":
+        return ["root stress: not computed with the plate tooth (--tooth-model fe)"]
+    top, where = result.root_stress_max_mpa(), result.root_stress_location()
+    out = []
+    for m in ("pinion", "gear"):
+        if top.get(m) is None:
+            out.append(f"{m} root stress: not available (no converged position)")
+            continue
+        w = where[m]
+        out.append(f"{m} root stress (max principal, loaded fillet): {top[m]:.1f} MPa at position {w['position']}, "
+                   f"pair {w['pair']}, z = {w['z_mm']:.2f} mm, {w['height_mm']:.2f} mm above the root")
+    return out
 
 
 def format_summary(result, geom, spec) -> str:
@@ -137,6 +159,9 @@ def format_summary(result, geom, spec) -> str:
     ptp = result.loaded_te_peak_to_peak
     lines += [f"loaded TE peak-to-peak: {fmt(ptp * 1e6, '.3f')} urad" if math.isfinite(ptp) else
               "loaded TE peak-to-peak: not available (needs 3 or more converged positions)"]
+    lines += _root_stress_lines(result)
     lines += [f"note: {n}" for n in result.notes]
-    lines += ["approximate: Boussinesq half-space + thin-slice tooth beams, frictionless (docs/loaded_contact.md)"]
+    teeth = (f"FE tooth (refinement {result.fe_refinement})" if result.tooth_model == "fe"
+             else "thin-slice plate tooth beams")
+    lines += [f"approximate: Boussinesq half-space + {teeth}, frictionless (docs/loaded_contact.md)"]
     return "\n".join(lines)

@@ -22,7 +22,6 @@ from the fine faces over one module.
 from __future__ import annotations
 
 import math
-import os
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -30,7 +29,7 @@ import numpy as np
 from ..export.sampling import ToothSampler
 
 __all__ = ["FACE_KINDS", "SectorMesh", "MeshSizes", "mesh_sizes", "sector_mesh", "fillet_radius_mm",
-           "FLANK_SIZE_PER_MODULE", "FAR_SIZE_PER_MODULE", "FILLET_SIZE_PER_RADIUS", "RIM_DEPTH_PER_HEIGHT"]
+           "FLANK_SIZE_PER_MODULE", "FAR_SIZE_PER_MODULE", "FILLET_SIZE_PER_RADIUS", "RIM_DEPTH_PER_HEIGHT", "record_from_gmsh"]
 
 FLANK_SIZE_PER_MODULE = 0.3
 FAR_SIZE_PER_MODULE = 1.0
@@ -61,8 +60,7 @@ class SectorMesh:
 
     * ``nodes``: (n, 3) float, mm, member frame S_i (z along the axis, toe to heel as the spec);
     * ``tets``: (m, 10) int, 0-based node indices, gmsh order (4 corners, then the mid-edge nodes of
-      edges 01, 12, 20, 03, 23, 13; the same as CalculiX C3D10 up to its 0 -> 1 -> 2 base order,
-      which is identical);
+      edges 01, 12, 20, 03, 23, 13); CalculiX C3D10 takes the last two swapped (``ccx_tets``);
     * ``facets``: {name: (k, 6) int} the boundary's 6-node triangles of each named surface, outward
       normals (corners 0, 1, 2 counter-clockwise seen from outside, then mid-nodes of 01, 12, 20).
       Names: ``"<face>_<k>"`` for face in :data:`TOOTH_FACES` and tooth k in ``tooth_indices``
@@ -90,6 +88,11 @@ class SectorMesh:
     @property
     def corner_tets(self) -> np.ndarray:
         return self.tets[:, :4]
+
+    @property
+    def ccx_tets(self) -> np.ndarray:
+        """The tets in CalculiX C3D10 order (mid-nodes 01, 12, 20, 03, 13, 23), 0-based."""
+        return self.tets[:, [0, 1, 2, 3, 4, 5, 6, 7, 9, 8]]
 
     def volume_mm3(self) -> float:
         """Volume of the straight-sided corner tetrahedra (mm^3)."""
@@ -241,7 +244,7 @@ def sector_mesh(pair, member: str, refinement: int = 1, teeth: int = 3, coarsen:
         gmsh.model.mesh.generate(3)
         gmsh.model.mesh.setOrder(2)
         _curve_midnodes(gmsh, face_of)
-        return _record(gmsh, member, face_of, idx, sampler.pitch_angle_rad, r_rim, sizes, refinement, (toe, heel))
+        return record_from_gmsh(gmsh, member, face_of, idx, sampler.pitch_angle_rad, r_rim, sizes, refinement, (toe, heel))
     finally:
         gmsh.finalize()
 
@@ -323,7 +326,8 @@ def _curve_midnodes(gmsh, face_of):
             gmsh.model.mesh.setNode(node, xyz[k], [])
 
 
-def _record(gmsh, member, face_of, idx, pitch, r_rim, sizes, refinement, z_range) -> SectorMesh:
+def record_from_gmsh(gmsh, member, face_of, idx, pitch, r_rim, sizes, refinement, z_range) -> SectorMesh:
+    """The :class:`SectorMesh` of gmsh's current mesh, faces named by ``face_of`` {name: face tag}."""
     tags, coords, _ = gmsh.model.mesh.getNodes()
     order = np.argsort(tags)
     tags = tags[order]
@@ -372,12 +376,3 @@ def _turned(nodes, tri, key):
     out = tri.copy()
     out[flip] = tri[flip][:, [0, 2, 1, 5, 4, 3]]
     return out
-
-
-def write_msh(mesh: SectorMesh, path: os.PathLike) -> None:
-    """Write the mesh with meshio (debugging / viewing); nothing in the package calls it."""
-    import meshio
-
-    cells = [("tetra10", mesh.tets)]
-    meshio.write(path, meshio.Mesh(mesh.nodes, cells))
-

@@ -44,9 +44,9 @@ def analyze(pair, options=None, solver=None, *args, **kwargs) -> LTCAResult:
     ``[material]`` are used unless ``options`` sets them) or a ``PairGeometry``; ``options`` an
     :class:`Options`; ``solver`` a :class:`beveloid.solver.Solver` (default: the default solver).
 
-    The keyword form of earlier versions is kept:
+    The keyword form of earlier versions is kept, with the tooth it had (the plate):
     ``analyze(geom, torque_nm, flank="right", errors=(0,)*5, positions=20, pairs=3, grid=GridOptions(),
-    material=Material(), backend="auto")``.
+    material=Material(), backend="auto")``.  ``Options.tooth_model`` defaults to the FE tooth.
     """
     from ..solver import Solver
     from .analysis import run
@@ -63,7 +63,7 @@ def analyze(pair, options=None, solver=None, *args, **kwargs) -> LTCAResult:
     if material is None:
         spec = getattr(pair, "spec", None)
         material = Material.from_spec(spec) if spec is not None else Material()
-    return run(geom, errors, options, material, Solver.of(solver))
+    return run(geom, errors, options, material, Solver.of(solver), pair=pair)
 
 
 def _keyword_form(torque_nm, third, args, kwargs):
@@ -82,4 +82,4 @@ def _keyword_form(torque_nm, third, args, kwargs):
     return (Options(torque_nm=torque_nm, flank=values.get("flank", "right"), positions=values.get("positions", 20),
                     pairs=values.get("pairs", 3), grid=grid,
                     errors=None if errors is None else tuple(np.asarray(errors, float).ravel()),
-                    material=values.get("material")), values.get("backend", "auto"))
+                    material=values.get("material"), tooth_model="plate"), values.get("backend", "auto"))

@@ -18,10 +18,10 @@ import numpy as np
 
 from .. import tca
 from . import grid as grids
-from .compliance import member_tooth
 from .cycle import Setup, merge, solve
 from .options import Material, Options
 from .result import (MAX_HALF_WIDTH_TIMES_CURVATURE, MAX_PRESSURE_OVER_E_STAR, Convergence, LTCAResult)
+from .teeth import member_teeth, root_stresses
 
 
 def _one_blas_thread():
@@ -34,19 +34,19 @@ def _one_blas_thread():
     return threadpool_limits(limits=1, user_api="blas")
 
 
-def run(geom, errors, options: Options, material: Material, solver) -> LTCAResult:
-    """The LTCA of ``geom`` (a PairGeometry) with the assembly ``errors``; see the module docstring."""
+def run(geom, errors, options: Options, material: Material, solver, pair=None) -> LTCAResult:
+    """The LTCA of ``geom`` (a PairGeometry) with the assembly ``errors``; see the module docstring.
+    ``pair``: the Pair when known (the FE tooth reads the bores from its spec)."""
     options.check_memory()
+    teeth = member_teeth(pair, geom, options, material)
     with _one_blas_thread(), np.errstate(all="ignore"):
-        return _run(geom, errors, options, material, solver)
+        return _run(geom, errors, options, material, solver, teeth)
 
 
-def _run(geom, errors, options, material, solver):
+def _run(geom, errors, options, material, solver, teeth):
     T, N, P = options.torque_nm, options.positions, options.pairs
     e_star = material.e_star_mpa
     setup = Setup(geom, options.flank, errors, N, P, solver)
-    teeth = (member_tooth(geom, "pinion", material.pinion_e_mpa, material.pinion_nu),
-             member_tooth(geom, "gear", material.gear_e_mpa, material.gear_nu))
     fine = options.cells
     coarse = (grids.coarser(fine[0]), grids.coarser(fine[1]))
     fr = setup.frame
@@ -91,7 +91,7 @@ def _run(geom, errors, options, material, solver):
     # 4. the convergence indicator
     check = solve(setup, sol.grid.coarsened(), need, T, e_star, teeth)
     hertz_ref = grids.hertz_peak_mpa(fr.curvature_across, fr.curvature_along, sol.pair_load_n(), e_star, line)
-    return _result(setup, options, sol, check, e_star, notes, hertz_ref)
+    return _result(setup, options, sol, check, e_star, notes, hertz_ref, teeth)
 
 
 def _peaks(sol):
@@ -106,7 +106,7 @@ def _peaks(sol):
     return np.where(np.isfinite(surf), surf, np.nan), np.where(np.isfinite(edge), edge, np.nan)
 
 
-def _result(setup, options, sol, check, e_star, notes, hertz_ref):
+def _result(setup, options, sol, check, e_star, notes, hertz_ref, teeth):
     N = options.positions
     ok = sol.converged
     p = sol.pressure_mpa
@@ -147,6 +147,7 @@ def _result(setup, options, sol, check, e_star, notes, hertz_ref):
     ref = setup.reference
     te_rigid_ref = (setup.gear_angle - tca.unknowns(ref.x).gear_angle_rad
                     + setup.n1_over_n2 * (setup.phi1 - ref.pinion_angle))
+    root = root_stresses(teeth, sol, ok)
     status = tuple("ok" if ok[j] else ("no contact" if sol.no_contact[j] else "not converged") for j in range(N))
     okc = ok[:, None]
     return LTCAResult(
@@ -161,7 +162,11 @@ def _result(setup, options, sol, check, e_star, notes, hertz_ref):
         complementarity_residual=sol.complementarity_residual, load_residual=sol.load_residual, grid=sol.grid,
         convergence=Convergence(np.where(ok, dp, np.nan), dl), validity=tuple(validity), pressure_mpa=p,
         gap=sol.gap, axes=setup.frame.axes, tangency_unknowns=np.where(setup.solved[..., None], setup.x, np.nan),
-        pair_pinion_angle=setup.pair_phi1, notes=tuple(notes))
+        pair_pinion_angle=setup.pair_phi1, notes=tuple(notes), tooth_model=options.tooth_model,
+        fe_refinement=options.fe_refinement if options.tooth_model == "fe" else None,
+        pair_root_stress_mpa=root["tension"], pair_root_compressive_stress_mpa=root["compression"],
+        pair_root_stress_where=root["where"], root_stress_along_face=root["along"],
+        mesh_stiffness_n_per_um=np.where(ok & (sol.approach_mm > 0), total / (1e3 * sol.approach_mm), np.nan))
 
 
 def _semi_minor(sol):

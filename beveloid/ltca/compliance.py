@@ -37,6 +37,10 @@ class MemberTooth:
     table_radius_mm: np.ndarray  # equivalent-tooth radii of the tabulated slice compliance
     table_mm2_per_n: np.ndarray  # g on table_radius_mm x table_radius_mm
 
+    def line_compliance(self, points) -> np.ndarray:
+        """:func:`tooth_line_compliance` (the interface the FE tooth shares: beveloid.fe.tooth.FeTooth)."""
+        return tooth_line_compliance(self, points)
+
 
 def member_tooth(geom, which, e_mpa, nu) -> MemberTooth:
     m = geom.member(which)
@@ -85,8 +89,9 @@ def tooth_line_compliance(tooth: MemberTooth, points) -> np.ndarray:
 
 def pair_tooth_compliance(tooth_p, tooth_g, pinion_points, gear_points) -> np.ndarray:
     """(ny, ny) tooth compliance (mm/N) of both members along one grid's centre line; symmetrised
-    (Maxwell reciprocity: the beam model is symmetric up to the coupling's cell averaging)."""
-    t = tooth_line_compliance(tooth_p, pinion_points) + tooth_line_compliance(tooth_g, gear_points)
+    (Maxwell reciprocity: the beam model is symmetric up to the coupling's cell averaging).  A tooth
+    is any object with ``line_compliance(points)``: :class:`MemberTooth` (plate) or the FE tooth."""
+    t = tooth_p.line_compliance(pinion_points) + tooth_g.line_compliance(gear_points)
     return 0.5 * (t + t.T)
 
 

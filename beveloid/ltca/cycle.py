@@ -130,6 +130,7 @@ class Solution(typing.NamedTuple):
     converged: np.ndarray  # (N,)
     no_contact: np.ndarray  # (N,)
     rotation_rad: np.ndarray  # (N,) the rigid gear rotation delta / r2
+    approach_mm: np.ndarray  # (N,) delta: the teeth's approach along the contact normal
     iterations: np.ndarray
     complementarity_residual: np.ndarray
     load_residual: np.ndarray
@@ -150,7 +151,7 @@ def solve(setup: Setup, grid, need, torque_nm, e_star_mpa, teeth, positions=None
     line = np.arange(nx * ny) % ny  # along index of each cell
     centre = (nx // 2) * ny + np.arange(ny)  # the cells on the grid's along-axis
     out = dict(p=np.zeros((N, P, nx * ny)), ok=np.zeros(N, bool), none=np.zeros(N, bool),
-               delta=np.full(N, np.nan), it=np.zeros(N, int), comp=np.full(N, np.nan), load=np.full(N, np.nan))
+               delta=np.full(N, np.nan), approach=np.full(N, np.nan), it=np.zeros(N, int), comp=np.full(N, np.nan), load=np.full(N, np.nan))
     for j in np.flatnonzero(todo):
         inside = gap.in_flank[j]
         if not inside.any():
@@ -173,11 +174,12 @@ def solve(setup: Setup, grid, need, torque_nm, e_star_mpa, teeth, positions=None
         out["p"][j] = sol.pressure_mpa.reshape(P, -1)
         out["ok"][j] = sol.converged
         out["delta"][j] = sol.approach_mm / r2
+        out["approach"][j] = sol.approach_mm
         out["it"][j] = sol.iterations
         out["comp"][j] = sol.complementarity_residual
         out["load"][j] = sol.load_residual
     return Solution(grid=grid, gap=gap, pressure_mpa=out["p"], converged=out["ok"], no_contact=out["none"],
-                    rotation_rad=out["delta"], iterations=out["it"], complementarity_residual=out["comp"],
+                    rotation_rad=out["delta"], approach_mm=out["approach"], iterations=out["it"], complementarity_residual=out["comp"],
                     load_residual=out["load"])
 
 

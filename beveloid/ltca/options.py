@@ -12,6 +12,10 @@ from dataclasses import dataclass
 from . import halfspace
 
 FLANKS = ("left", "right")
+#: how the teeth bend: "fe" the finite-element tooth (beveloid.fe), "plate" the Kirchhoff plate over
+#: the equivalent spur tooth (tooth_compliance.py)
+TOOTH_MODELS = ("fe", "plate")
+FE_REFINEMENTS = (1, 4)
 
 #: (low, high) of every numeric option; pairs must also be odd
 RANGES = {
@@ -19,6 +23,7 @@ RANGES = {
     "positions": (1, 400),
     "pairs": (1, 9),
     "grid_cells": (3, 201),  # cells across / along the contact line per tooth pair
+    "fe_refinement": FE_REFINEMENTS,  # the FE tooth's mesh: every element size divided by it
 }
 
 #: default cells (across, along the contact line) per tooth pair; the cell size follows the local
@@ -60,11 +65,15 @@ def check_torque(value, key="torque_nm"):
     return t
 
 
-def check_positions(value, key="positions"):
-    lo, hi = RANGES["positions"]
+def _check_integer(value, key, name):
+    lo, hi = RANGES[name]
     if not (isinstance(value, int) and not isinstance(value, bool) and lo <= value <= hi):
         raise ValueError(f"{key} = {value}: must be an integer from {lo} to {hi}")
     return value
+
+
+def check_positions(value, key="positions"):
+    return _check_integer(value, key, "positions")
 
 
 def check_pairs(value, key="pairs"):
@@ -89,6 +98,23 @@ def check_grid(value, key="grid"):
     return (across, along)
 
 
+def default_tooth_model() -> str:
+    """"fe" when gmsh and scikit-fem are installed, else "plate" (found without importing them)."""
+    from importlib.util import find_spec
+
+    return "fe" if find_spec("gmsh") is not None and find_spec("skfem") is not None else "plate"
+
+
+def check_tooth_model(value, key="tooth_model"):
+    if value not in TOOTH_MODELS:
+        raise ValueError(f"{key} = {value!r}: must be one of {', '.join(TOOTH_MODELS)}")
+    return value
+
+
+def check_fe_refinement(value, key="fe_refinement"):
+    return _check_integer(value, key, "fe_refinement")
+
+
 def available_memory_bytes() -> float:
     """What this process may still allocate: the machine's available memory (Linux), else 4 GB."""
     try:
@@ -108,7 +134,9 @@ def available_memory_bytes() -> float:
 class Options:
     """One LTCA request.  ``grid``: cells (across, along) per tooth pair, None = :data:`DEFAULT_GRID`
     (their size follows the local Hertz semi-axes in both cases); ``errors``: None = the pair's own
-    misalignment; ``material``: None = the pair's ``[material]`` (steel without a spec)."""
+    misalignment; ``material``: None = the pair's ``[material]`` (steel without a spec);
+    ``tooth_model``: "fe" or "plate", None = "fe" when gmsh and scikit-fem import
+    (:func:`default_tooth_model`); ``fe_refinement``: the FE tooth's mesh refinement N (1-4)."""
 
     torque_nm: float
     flank: str = "right"
@@ -117,8 +145,14 @@ class Options:
     grid: tuple | None = None
     errors: tuple | None = None
     material: Material | None = None
+    tooth_model: str | None = None
+    fe_refinement: int = 1
 
     def __post_init__(self):
+        if self.tooth_model is None:
+            object.__setattr__(self, "tooth_model", default_tooth_model())
+        check_tooth_model(self.tooth_model)
+        check_fe_refinement(self.fe_refinement)
         object.__setattr__(self, "torque_nm", check_torque(self.torque_nm))
         if self.flank not in FLANKS:
             raise ValueError(f"flank = {self.flank!r}: must be one of {', '.join(FLANKS)}")

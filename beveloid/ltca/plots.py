@@ -70,11 +70,30 @@ def ltca_pattern(ax, result, geom, member, vmax=None):
     return sc, clipped
 
 
+def root_stress_panel(ax, result):
+    """The FE tooth's root stress along the face (max principal in the loaded fillet) of each
+    member's most loaded tooth: the (position, pair) of its largest root stress."""
+    where = result.root_stress_location()
+    for member, (z, s) in result.root_stress_along_face.items():
+        w = where.get(member)
+        label = member if w is None else f"{member}, position {w['position']}, pair {w['pair']}"
+        ax.plot(z, s, "o-", ms=3, label=label)
+    ax.set_xlabel("z along the face (mm, member frame)")
+    ax.set_ylabel("root stress, max principal (MPa)")
+    ax.set_title("root stress along the face (FE tooth)", fontsize=9)
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+
+
 def ltca_summary(result, geom, out_png, title=""):
     """Contact patterns of both members, loaded TE and load sharing; the per-position pressure maps
     go to ``<out>_positions.png`` beside it."""
     plt = _plt()
-    fig, axes = plt.subplots(2, 2, figsize=(11, 7.5))
+    fe = bool(result.root_stress_along_face)
+    fig, axes = plt.subplots(2, 3 if fe else 2, figsize=(16 if fe else 11, 7.5))
+    if fe:
+        root_stress_panel(axes[0, 2], result)
+        axes[1, 2].axis("off")
     for ax, member in ((axes[0, 0], "pinion"), (axes[0, 1], "gear")):
         sc, clipped = ltca_pattern(ax, result, geom, member)
         if sc is not None:

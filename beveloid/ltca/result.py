@@ -60,6 +60,21 @@ class LTCAResult:
     tangency_unknowns: np.ndarray  # (N, P, 5) each pair's rigid-body tangency (tca_kernels.UNKNOWNS)
     pair_pinion_angle: np.ndarray  # (N, P) the pinion angle of each pair's tangency (pair 0 frame)
     notes: tuple = ()
+    #: how the teeth bent: "fe" (beveloid.fe, mesh refinement ``fe_refinement``) or "plate"
+    tooth_model: str = "plate"
+    fe_refinement: int | None = None
+    #: {member: (N, P)} the largest max-principal (tensile) stress in the loaded side's root fillet
+    #: of each pair's tooth (MPa), nan where not ok; empty with the plate (it has no fillet)
+    pair_root_stress_mpa: dict = field(default_factory=dict)
+    #: {member: (N, P)} the most compressive min-principal stress in the other fillet (MPa, < 0)
+    pair_root_compressive_stress_mpa: dict = field(default_factory=dict)
+    #: {member: (N, P, 2)} where the tensile peak is: (z_mm member frame, height above the root cone mm)
+    pair_root_stress_where: dict = field(default_factory=dict)
+    #: {member: (z_mm (nb,), stress_mpa (nb,))} the loaded fillet's max principal stress along the face
+    #: of the (position, pair) with the largest root stress
+    root_stress_along_face: dict = field(default_factory=dict)
+    #: (N,) the sum of the pair loads over the approach of the teeth along the normal (N/um)
+    mesh_stiffness_n_per_um: np.ndarray | None = None
     _patterns: dict = field(default_factory=dict, repr=False, compare=False)
 
     @property
@@ -120,6 +135,26 @@ class LTCAResult:
                 self._patterns[member, raster] = flank_pattern(self, geom, member, raster)
         return self._patterns[member, raster]
 
+    def root_stress_max_mpa(self) -> dict:
+        """{member: the largest pair_root_stress_mpa over the cycle (MPa) or None}."""
+        out = {}
+        for m, a in self.pair_root_stress_mpa.items():
+            out[m] = float(np.nanmax(a)) if np.isfinite(a).any() else None
+        return out
+
+    def root_stress_location(self) -> dict:
+        """{member: {"position", "pair", "z_mm", "height_mm", "flank"} of the largest root stress, or None}."""
+        out = {}
+        for m, a in self.pair_root_stress_mpa.items():
+            if not np.isfinite(a).any():
+                out[m] = None
+                continue
+            j, k = np.unravel_index(int(np.nanargmax(a)), a.shape)
+            z, h = self.pair_root_stress_where[m][j, k]
+            out[m] = {"position": int(j), "pair": int(self.tooth_pairs[k]), "z_mm": float(z), "height_mm": float(h),
+                      "flank": self.flank}
+        return out
+
     def warnings(self) -> list:
         """One line per problem a reader must know: grid not converged, outside the model's validity."""
         out = []
@@ -141,6 +176,31 @@ class LTCAResult:
             out.append("edge contact: the edge peak pressure is grid-dependent (a sharp flank edge is singular); "
                        "loads and TE converge")
         return out
+
+
+def _tooth_json(r: LTCAResult, num) -> dict:
+    """The tooth model's keys (issue 31): root stress (FE only) and mesh stiffness."""
+    ok = r.converged
+    rows = lambda a: [[num(v, o) for v in row] for row, o in zip(a, ok)]  # noqa: E731
+    fe = r.tooth_model == "fe"
+    stiff = r.mesh_stiffness_n_per_um
+    return {
+        "tooth_model": r.tooth_model,
+        "fe_refinement": r.fe_refinement if fe else None,
+        "pair_root_stress_mpa": {m: rows(a) for m, a in r.pair_root_stress_mpa.items()} if fe else None,
+        "pair_root_compressive_stress_mpa": ({m: rows(a) for m, a in r.pair_root_compressive_stress_mpa.items()}
+                                             if fe else None),
+        "root_stress_max_mpa": r.root_stress_max_mpa() if fe else None,
+        "root_stress_location": r.root_stress_location() if fe else None,
+        "root_stress_note": ("maximum principal stress in the root fillet of the loaded side (tension) and minimum "
+                             "principal stress in the other fillet, from the FE tooth's influence data superposed "
+                             "over the LTCA pressure (docs/loaded_contact.md); z_mm in the member's frame, "
+                             "height_mm above the root cone" if fe else
+                             "not computed: the plate tooth has no root fillet (use --tooth-model fe)"),
+        "mesh_stiffness_n_per_um": (None if stiff is None else [num(v, o) for v, o in zip(stiff, ok)]),
+        "mesh_stiffness_note": "sum of the pair normal loads over the approach of the teeth along the contact "
+                               "normal (the loaded TE's displacement at the contact), per position",
+    }
 
 
 def to_json_dict(result: LTCAResult, geom) -> dict:
@@ -199,6 +259,7 @@ def to_json_dict(result: LTCAResult, geom) -> dict:
                    "load_residual": [num(v) for v in r.load_residual],
                    "moment_residual": [num(abs(m / (r.torque_nm * 1e3) - 1.0), o)
                                        for m, o in zip(r.pinion_moment_nmm, ok)]},
+        **_tooth_json(r, num),
         "warnings": r.warnings(),
         "notes": list(r.notes),
     }

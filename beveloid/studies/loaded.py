@@ -24,10 +24,16 @@ FIGURES = {"case1": "24", "case2": "25"}
 FLANK = "right"
 
 
-def run_loaded(out, geoms, designs, progress=lambda msg: None):
-    """Compute the loaded study for both cases; write the figures and CSV into ``out``; return report lines."""
+def run_loaded(out, geoms, designs, progress=lambda msg: None, tooth_model=None):
+    """Compute the loaded study for both cases; write the figures and CSV into ``out``; return report lines.
+    ``tooth_model``: "fe", "plate" or None (the LTCA's default: the FE tooth when gmsh and scikit-fem import)."""
     from .. import ltca
     from ..ltca import plots
+
+    model = ltca.Options(torque_nm=1.0, tooth_model=tooth_model).tooth_model
+    teeth = ("the FE tooth (beveloid/fe: gmsh mesh of each member's sector from the generated geometry, refinement"
+             " 1; bending compliance and root stress; docs/loaded_contact.md)" if model == "fe" else
+             "the plate tooth (thin slices of the equivalent spur tooth with the plate's face coupling)")
 
     t0 = time.perf_counter()
     rows = []
@@ -37,17 +43,18 @@ def run_loaded(out, geoms, designs, progress=lambda msg: None):
              f"{POSITIONS} positions, the default grid (cells sized from each pair's Hertz semi-axes), steel. "
              "Pattern area: the share of the flank (between form limit, tip, toe and heel) that carries "
              "pressure somewhere in the cycle. Model and limits: docs/loaded_contact.md; checks: "
-             "docs/validation.md.", "",
+             "docs/validation.md.", "", f"Tooth model: **{model}**, {teeth}.", "",
              "| case | xi_R (deg) | T1 (N m) | T2 (N m) | pinion area | gear area | surface max pressure (MPa) | "
-             "loaded TE mean (urad) | loaded TE p-p (urad) | max pair load share | converged |",
-             "|---|---|---|---|---|---|---|---|---|---|---|"]
+             "loaded TE mean (urad) | loaded TE p-p (urad) | max pair load share | converged | "
+             "root stress pinion / gear (MPa) |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     figures = []
     for case, fig in FIGURES.items():
         g = geoms[case]
         results = []
         for t in TORQUES_NM:
             progress(f"   loaded contact {case}, T1 = {t:g} N m")
-            r = ltca.analyze(g, ltca.Options(torque_nm=t, flank=FLANK, positions=POSITIONS))
+            r = ltca.analyze(g, ltca.Options(torque_nm=t, flank=FLANK, positions=POSITIONS, tooth_model=model))
             results.append(r)
             ok = r.converged
             fr = {m: r.pattern(g, m).area_fraction for m in ("pinion", "gear")}
@@ -57,11 +64,15 @@ def run_loaded(out, geoms, designs, progress=lambda msg: None):
                    fr["pinion"], fr["gear"], float(np.nanmax(r.pair_surface_max_pressure_mpa)), float(te.mean()),
                    float(te.max() - te.min()), float(share), int(ok.sum()))
             rows.append(row)
+            root = r.root_stress_max_mpa()
+            root_text = " / ".join("-" if root.get(m) is None else f"{root[m]:.0f}" for m in ("pinion", "gear"))
             lines.append(f"| {case} | {row[1]:.2f} | {t:g} | {row[3]:.0f} | {_pct(row[4])} | {_pct(row[5])} | "
-                         f"{row[6]:.0f} | {row[7]:.2f} | {row[8]:.2f} | {row[9]:.2f} | {row[10]}/{POSITIONS} |")
+                         f"{row[6]:.0f} | {row[7]:.2f} | {row[8]:.2f} | {row[9]:.2f} | {row[10]}/{POSITIONS} | "
+                         f"{root_text} |")
         plots.ltca_torques(results, g, out / f"fig{fig}_loaded_contact.png",
                            f"Fig {fig} - {case}: loaded contact at pinion torques "
-                           f"{', '.join(f'{t:g}' for t in TORQUES_NM)} N m ({FLANK} flank, approximate LTCA)")
+                           f"{', '.join(f'{t:g}' for t in TORQUES_NM)} N m ({FLANK} flank, approximate LTCA, "
+                           f"{model} tooth)")
         plots.position_maps(results[1], g, out / f"fig{fig}_loaded_positions.png",
                             f"Fig {fig} - {case}, T1 = {results[1].torque_nm:g} N m")
         figures.append(f"![Fig {fig}](fig{fig}_loaded_contact.png)")

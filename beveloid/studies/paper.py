@@ -176,7 +176,7 @@ def bearing_pattern_figure(geom, results, labels, out_png, title):
     plots.bearing_patterns(results, labels, geom, FLANK, out_png, title)
 
 
-def run(out_dir, positions=200, progress=_progress):
+def run(out_dir, positions=200, progress=_progress, tooth_model=None):
     """Write figures, CSV and report.md into out_dir; returns the report path.
 
     The files are written into a folder of their own and moved into out_dir at the end
@@ -186,14 +186,15 @@ def run(out_dir, positions=200, progress=_progress):
 
     t0 = time.perf_counter()
     with staged_folder(out_dir) as stage:
-        write_study(stage, positions, progress)
+        write_study(stage, positions, progress, tooth_model)
     report = Path(out_dir) / "report.md"
     progress(f"done in {time.perf_counter() - t0:.1f} s: {report}")
     return report
 
 
-def write_study(out: Path, positions=200, progress=_progress) -> None:
-    """Compute every study and write its figures, CSV and report.md into the folder ``out``."""
+def write_study(out: Path, positions=200, progress=_progress, tooth_model=None) -> None:
+    """Compute every study and write its figures, CSV and report.md into the folder ``out``
+    (``tooth_model``: the loaded contact's, None = the LTCA's default)."""
     from .. import plots, tca
     from ..design import format_table1
     from ..pair import Pair
@@ -264,7 +265,7 @@ def write_study(out: Path, positions=200, progress=_progress) -> None:
     step("Figs 24-25: loaded contact (approximate LTCA)")
     from .loaded import run_loaded
 
-    loaded = run_loaded(out, geoms, designs, progress)
+    loaded = run_loaded(out, geoms, designs, progress, tooth_model=tooth_model)
     step("micro-geometry study: tip and end relief (beveloid/studies/micro_geometry.py)")
     from . import micro_geometry
 

@@ -272,7 +272,7 @@ def test_plot_targets_are_refused_before_computing(capsys, monkeypatch, tmp_path
         (tmp_path / "plot.svg", "ending in .png"),
     ]
     for target, words in cases:
-        for argv in (["tca", C1, "--positions", "3"], ["ltca", C1, "--torque-nm", "10", "--positions", "3"],
+        for argv in (["tca", C1, "--positions", "3"], ["ltca", C1, "--torque-nm", "10", "--positions", "3", "--tooth-model", "plate"],
                      ["design", C1]):
             rc, _, err = run_cli(capsys, [*argv, "--plot", target])
             assert_one_line_exit_2(rc, err, "--plot = ", words)

@@ -41,7 +41,7 @@ def test_default_grid_holds_hertz(name, flank):
     the relative curvature at its tangency) at the default grid, and the indicator says converged."""
     pair = Pair.from_spec(_spec(**DESIGNS[name]))
     torque = 100.0 * (pair.geometry.normal_module_mm / 6) ** 2
-    r = ltca.analyze(pair, ltca.Options(torque_nm=torque, flank=flank, positions=5))
+    r = ltca.analyze(pair, ltca.Options(torque_nm=torque, flank=flank, positions=5, tooth_model="plate"))
     checked = 0
     for j in range(5):
         for k in range(3):
@@ -67,7 +67,7 @@ def test_pair_loads_continuous_over_the_cycle():
     d = _spec(pinion__profile_crowning_um=10.0, pinion__lead_crowning_um=10.0, gear__profile_crowning_um=10.0,
               gear__lead_crowning_um=10.0)
     pair = Pair.from_spec(d)
-    r = ltca.analyze(pair, ltca.Options(torque_nm=200.0, positions=12))
+    r = ltca.analyze(pair, ltca.Options(torque_nm=200.0, positions=12, tooth_model="plate"))
     assert all(s == "ok" for s in r.status)
     # the case means something: the rigid TCA leaves one loaded pair's tangency unsolved here
     from beveloid.ltca.cycle import Setup
@@ -88,12 +88,12 @@ def test_one_and_two_positions_accepted(capsys):
     from beveloid import cli
 
     pair = Pair.example("case1")
-    r = ltca.analyze(pair, ltca.Options(torque_nm=50.0, positions=1))
+    r = ltca.analyze(pair, ltca.Options(torque_nm=50.0, positions=1, tooth_model="plate"))
     assert r.status == ("ok",) and math.isnan(r.loaded_te_peak_to_peak)
     from pathlib import Path
 
     case1 = Path(__file__).resolve().parents[2] / "examples" / "case1.toml"
-    rc = cli.main(["ltca", str(case1), "--torque-nm", "50", "--positions", "2", "--json"])
+    rc = cli.main(["ltca", str(case1), "--torque-nm", "50", "--positions", "2", "--json", "--tooth-model", "plate"])
     out, err = capsys.readouterr()
     import json
 
@@ -103,10 +103,10 @@ def test_one_and_two_positions_accepted(capsys):
 
 
 def test_extreme_torque_leaves_the_models_validity():
-    r = ltca.analyze(Pair.example("case1"), ltca.Options(torque_nm=1e6, positions=1))
+    r = ltca.analyze(Pair.example("case1"), ltca.Options(torque_nm=1e6, positions=1, tooth_model="plate"))
     assert r.validity[0] is not None and "elastic" in r.validity[0]
     assert any("validity" in w for w in r.warnings())
-    low = ltca.analyze(Pair.example("case1"), ltca.Options(torque_nm=50.0, positions=1))
+    low = ltca.analyze(Pair.example("case1"), ltca.Options(torque_nm=50.0, positions=1, tooth_model="plate"))
     assert low.validity == (None,)
 
 

@@ -112,7 +112,7 @@ def test_cli_commands_run_on_a_modified_pair(tmp_path):
     assert "right" in json.dumps(out)
     p = run("sweep", str(path), "--samples", "4", "--positions", "10")
     assert p.returncode == 0, p.stderr
-    p = run("ltca", str(path), "--torque-nm", "200", "--positions", "3")
+    p = run("ltca", str(path), "--torque-nm", "200", "--positions", "3", "--tooth-model", "plate")
     assert p.returncode == 0, p.stderr
     bad = path.read_text().replace('tip_relief_shape = "linear"', 'tip_relief_shape = "cubic"', 1)
     path.write_text(bad)

@@ -597,7 +597,7 @@ def _is_int_literal(s):
 @pytest.mark.long_running
 def test_paper(capsys, tmp_path):
     out_dir = tmp_path / "paper"
-    rc, out, err = run_cli(capsys, ["paper", "--out", out_dir, "--positions", 20])
+    rc, out, err = run_cli(capsys, ["paper", "--out", out_dir, "--positions", 20, "--tooth-model", "plate"])
     assert rc == 0, err
     assert "Traceback" not in err
     report = (out_dir / "report.md").read_text()

@@ -1,0 +1,110 @@
+"""The FE tooth as the loaded contact sees it: compliance between flank points and root stress.
+
+``FeTooth(data, flank)`` holds one member's :class:`beveloid.fe.tooth.ToothData` for the loaded
+flank.  Flank points (member frame, tooth 0) are mapped onto the load grid by their axial position
+z and their radius (bilinear weights W, points x grid nodes; outside the grid: its edge), so that
+
+* ``line_compliance(points)`` = W C W^T (mm/N), the same interface as the plate's
+  ``ltca.compliance.MemberTooth``: no FE solve per position, only this interpolation;
+* ``root_stress(points, forces_n)``: the fillet stress tensors S W^T f superposed over the cell
+  forces; the largest max-principal stress in the fillet on the loaded side (tension) with where
+  it is (z, height above the root cone), and the most compressive min-principal stress in the
+  other fillet.
+
+C is the FE compliance of :mod:`beveloid.fe.tooth` (local deformation removed) made positive
+semi-definite: its eigenvalues below zero (a load at the root of a tooth on a rim stiffer than
+the half-space subtracted from it) are set to zero.  Fillet nodes nearer a load-grid node than the
+reading depth are left out of the root stress (they see the point force's local stress).
+"""
+from __future__ import annotations
+
+import typing
+
+import numpy as np
+
+from ..export.sampling import FLANKS
+from .solve import principal_stresses
+
+__all__ = ["FeTooth", "RootStress"]
+
+
+class RootStress(typing.NamedTuple):
+    tension_mpa: float  # largest max-principal stress in the loaded side's fillet
+    z_mm: float
+    height_mm: float
+    compression_mpa: float  # most compressive min-principal stress in the other fillet
+
+
+class FeTooth:
+    """One member's FE tooth on one flank (see the module docstring)."""
+
+    def __init__(self, data, flank: str):
+        if flank not in FLANKS:
+            raise ValueError(f"flank = {flank!r}: must be one of {', '.join(FLANKS)}")
+        self.data = data
+        self.index = FLANKS.index(flank)
+        c = np.asarray(data.compliance_mm_per_n[self.index], dtype=float)
+        lam, vec = np.linalg.eigh(0.5 * (c + c.T))
+        self.compliance_mm_per_n = (vec * np.maximum(lam, 0.0)) @ vec.T
+        self.radius_mm = np.asarray(data.radius_mm[self.index])  # (ns, nz)
+        self.z_mm = np.asarray(data.z_mm)
+        self.stress = np.asarray(data.stress_mpa_per_n[self.index])  # (2, nf, 6, G)
+        # fillet nodes nearer a load-grid node than the reading depth see that point force's local
+        # (singular) stress, not the tooth's: left out of the root stress
+        grid = np.asarray(data.points_mm[self.index]).reshape(-1, 3)
+        near = float(np.max(data.depth_mm[self.index]))
+        fp = np.asarray(data.fillet_points_mm)
+        dist = np.min(np.linalg.norm(fp[:, :, None, :] - grid[None, None], axis=-1), axis=-1)
+        self.counted = dist > near  # (2, nf)
+
+    def weights(self, points) -> np.ndarray:
+        """(n, G) bilinear weights of the load grid's nodes (profile-major) for points (n, 3)."""
+        p = np.asarray(points, dtype=float).reshape(-1, 3)
+        ns, nz = self.radius_mm.shape
+        W = np.zeros((p.shape[0], ns * nz))
+        ok = np.all(np.isfinite(p), axis=1)
+        z = np.clip(p[:, 2], self.z_mm[0], self.z_mm[-1])
+        fz = np.interp(z, self.z_mm, np.arange(nz))
+        jz = np.minimum(fz.astype(int), nz - 2)
+        tz = fz - jz
+        r = np.hypot(p[:, 0], p[:, 1])
+        col = (1 - tz)[:, None] * self.radius_mm[:, jz].T + tz[:, None] * self.radius_mm[:, jz + 1].T  # (n, ns)
+        js = np.clip(np.sum(col <= r[:, None], axis=1) - 1, 0, ns - 2)
+        rows = np.arange(p.shape[0])
+        lo, hi = col[rows, js], col[rows, js + 1]
+        ts = np.clip((r - lo) / (hi - lo), 0.0, 1.0)
+        for da, wa in ((0, 1 - ts), (1, ts)):
+            for dz, wz in ((0, 1 - tz), (1, tz)):
+                np.add.at(W, (rows, (js + da) * nz + jz + dz), np.where(ok, wa * wz, 0.0))
+        return W
+
+    def line_compliance(self, points) -> np.ndarray:
+        W = self.weights(points)
+        return W @ self.compliance_mm_per_n @ W.T
+
+    def _principal(self, points, forces_n):
+        f = np.nan_to_num(np.asarray(forces_n, dtype=float).ravel())
+        g = self.weights(points).T @ f  # (G,)
+        return (principal_stresses(self.stress[self.index] @ g), principal_stresses(self.stress[1 - self.index] @ g))
+
+    def along_face(self, points, forces_n, bins: int = 24):
+        """(z_mm (bins,), stress (bins,)): the loaded fillet's largest max-principal stress in each of
+        ``bins`` equal slices of the face (nan where a slice holds no counted node)."""
+        loaded, _ = self._principal(points, forces_n)
+        z = self.data.fillet_points_mm[self.index][:, 2]
+        edges = np.linspace(self.z_mm[0], self.z_mm[-1], bins + 1)
+        slot = np.clip(np.searchsorted(edges, z) - 1, 0, bins - 1)
+        out = np.full(bins, np.nan)
+        for b in range(bins):
+            sel = (slot == b) & self.counted[self.index]
+            if sel.any():
+                out[b] = float(np.max(loaded[sel, 2]))
+        return 0.5 * (edges[1:] + edges[:-1]), out
+
+    def root_stress(self, points, forces_n) -> RootStress:
+        """The root stress of this tooth under normal forces (N) at flank points (see the module docstring)."""
+        loaded, other = self._principal(points, forces_n)
+        k = int(np.argmax(np.where(self.counted[self.index], loaded[:, 2], -np.inf)))
+        where = self.data.fillet_points_mm[self.index][k]
+        return RootStress(float(loaded[k, 2]), float(where[2]), float(self.data.fillet_height_mm[self.index][k]),
+                          float(np.min(np.where(self.counted[1 - self.index], other[:, 0], np.inf))))

@@ -1,0 +1,253 @@
+"""Linear elasticity on a sector mesh: P2 tets, one factorisation, many load cases.
+
+The stiffness is that of 10-node (P2) vector elements on the straight-sided tets through the
+mesh's corner nodes (the curved mid-nodes of the gmsh mesh serve the contact check of issue 33;
+here they take the P2 field's mid-edge values), assembled vectorised (:func:`stiffness`, held equal
+to scikit-fem's ``linear_elasticity`` by a test).  The rim and both radial cuts are clamped.
+``Elastic.solve(loads)`` solves all load cases by one factorisation: MKL PARDISO (pypardiso)
+where installed, else scipy's SuperLU (measured in docs/performance.md).
+
+The field is evaluated by the P2 shape functions in each tet's barycentric coordinates
+(:func:`shape_values`, :func:`shape_gradients`), with the gmsh node order of :class:`SectorMesh`
+(corners 0-3, mid-nodes of edges 01, 12, 20, 03, 23, 13).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse
+import scipy.sparse.linalg
+from scipy.spatial import cKDTree
+
+__all__ = ["CLAMPED", "EDGES", "Elastic", "Located", "PardisoFactor", "QUADRATURE", "displacement_operator",
+           "factorise", "locate", "principal_stresses", "shape_gradients", "shape_values", "sparse_solver",
+           "stiffness", "stress_operator", "tet_volumes"]
+
+#: the surfaces held fixed
+CLAMPED = ("rim", "side_lo", "side_hi")
+#: gmsh's mid-node edges of a 10-node tet
+EDGES = ((0, 1), (1, 2), (2, 0), (0, 3), (2, 3), (1, 3))
+#: tets searched around a point (by their centres) to find the one that holds it
+_CANDIDATES = 24
+
+
+@dataclass(frozen=True)
+class Elastic:
+    """One factorised sector: ``node_dofs`` (n, 3) global dof of each mesh node's x, y, z."""
+
+    mesh: object  # SectorMesh
+    node_dofs: np.ndarray
+    free: np.ndarray  # free dof indices
+    ndofs: int
+    e_mpa: float
+    nu: float
+    lu: object  # a factorisation of K[free, free] with .solve(rhs)
+    timings_s: dict
+
+    def solve(self, loads) -> np.ndarray:
+        """Displacements (ndofs, m) (mm) for load vectors (ndofs, m) (N)."""
+        loads = np.asarray(loads, dtype=float)
+        u = np.zeros_like(loads)
+        u[self.free] = self.lu.solve(np.ascontiguousarray(loads[self.free]))
+        return u
+
+
+#: 4-point quadrature of degree 2 on a tet (barycentric points, weights summing to 1): exact for
+#: the P2 stiffness on straight tets (products of linear gradients)
+_QA, _QB = 0.5854101966249685, 0.1381966011250105
+QUADRATURE = np.array([[_QA, _QB, _QB, _QB], [_QB, _QA, _QB, _QB], [_QB, _QB, _QA, _QB], [_QB, _QB, _QB, _QA]])
+
+
+def tet_volumes(mesh) -> np.ndarray:
+    p = mesh.nodes[mesh.tets[:, :4]]
+    return np.einsum("ij,ij->i", np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), p[:, 3] - p[:, 0]) / 6.0
+
+
+def stiffness(mesh, e_mpa: float, nu: float) -> scipy.sparse.csr_matrix:
+    """The P2 linear-elastic stiffness (N/mm) of straight tets, node n's dofs 3 n + (0, 1, 2):
+
+        K[(a,i),(b,j)] = sum_q w_q V (lam g_ai g_bj + mu (g_aj g_bi + delta_ij g_a . g_b))
+
+    (g the shape gradients at the quadrature points).  Vectorised over the tets; it equals
+    scikit-fem's ``linear_elasticity`` assembled on ``ElementVector(ElementTetP2())``
+    (tests/fe/test_fe_solver.py), which took 43 s for 24k tets against about 1 s here."""
+    lam, mu = _lame(e_mpa, nu)
+    corners = mesh.nodes[mesh.tets[:, :4]]
+    vol = tet_volumes(mesh)
+    g = np.stack([shape_gradients(corners, np.broadcast_to(q, (len(corners), 4))) for q in QUADRATURE], axis=1)
+    A = np.einsum("eqai,eqbj->eaibj", g, g) * (vol / len(QUADRATURE))[:, None, None, None, None]
+    trace = np.einsum("eakbk->eab", A)
+    K = lam * A + mu * np.swapaxes(A, 2, 4)
+    for i in range(3):
+        K[:, :, i, :, i] += mu * trace
+    ne = len(corners)
+    dofs = (3 * mesh.tets[:, :, None] + np.arange(3)).reshape(ne, 30).astype(np.int32)
+    n = 3 * mesh.nodes.shape[0]
+    return scipy.sparse.coo_matrix((K.reshape(-1), (np.repeat(dofs, 30, axis=1).reshape(-1),
+                                                    np.tile(dofs, (1, 30)).reshape(-1))), shape=(n, n)).tocsr()
+
+
+class PardisoFactor:
+    """Intel MKL PARDISO (pypardiso) on the upper triangle of a symmetric positive definite matrix."""
+
+    def __init__(self, matrix):
+        import pypardiso
+
+        self.solver = pypardiso.PyPardisoSolver()
+        self.solver.set_matrix_type(2)  # real symmetric positive definite
+        self.matrix = scipy.sparse.triu(matrix, format="csr")
+        self.solver.factorize(self.matrix)
+
+    def solve(self, rhs):
+        return self.solver.solve(self.matrix, rhs)
+
+
+def sparse_solver() -> str:
+    """"pardiso" when pypardiso imports (measured: docs/performance.md), else "splu"."""
+    try:
+        import pypardiso  # noqa: F401
+    except ImportError:
+        return "splu"
+    return "pardiso"
+
+
+def factorise(mesh, e_mpa: float, nu: float, clamped=CLAMPED, solver: str | None = None) -> Elastic:
+    """Assemble K (:func:`stiffness`), clamp the named surfaces ``clamped``, factor K[free, free]."""
+    import time
+
+    t0 = time.perf_counter()
+    K = stiffness(mesh, e_mpa, nu)
+    node_dofs = 3 * np.arange(mesh.nodes.shape[0])[:, None] + np.arange(3)
+    t1 = time.perf_counter()
+    fixed = np.unique(np.concatenate([node_dofs[mesh.node_sets[name]].ravel() for name in clamped]))
+    free = np.setdiff1d(np.arange(K.shape[0]), fixed)
+    Kf = K[free][:, free]
+    solver = solver or sparse_solver()
+    if solver == "pardiso":
+        lu = PardisoFactor(Kf)
+    else:
+        lu = scipy.sparse.linalg.splu(Kf.tocsc(), permc_spec="MMD_AT_PLUS_A")
+    t2 = time.perf_counter()
+    return Elastic(mesh, node_dofs, free, K.shape[0], float(e_mpa), float(nu), lu,
+                   {"assemble_s": t1 - t0, "factor_s": t2 - t1, "free_dofs": int(free.size), "solver": solver})
+
+
+@dataclass(frozen=True)
+class Located:
+    """Points located in the mesh: the tet of each and its barycentric coordinates (clipped to it)."""
+
+    tet: np.ndarray  # (n,)
+    bary: np.ndarray  # (n, 4)
+    outside_mm: np.ndarray  # (n,) how far the point lay outside its tet (scaled barycentric excess)
+
+
+def _barycentric(corners, x):
+    """(..., 4) barycentric coordinates of points x (..., 3) in tets corners (..., 4, 3)."""
+    a = corners[..., 1:, :] - corners[..., :1, :]
+    lam = np.linalg.solve(np.swapaxes(a, -1, -2), (x - corners[..., 0, :])[..., None])[..., 0]
+    return np.concatenate([1.0 - lam.sum(axis=-1, keepdims=True), lam], axis=-1)
+
+
+def locate(mesh, points) -> Located:
+    """The tet holding each point (or, for a point on a curved face just outside the straight tets,
+    the nearest one) among the :data:`_CANDIDATES` tets whose centres are nearest."""
+    pts = np.atleast_2d(np.asarray(points, dtype=float))
+    corners = mesh.nodes[mesh.tets[:, :4]]
+    tree = cKDTree(corners.mean(axis=1))
+    _, cand = tree.query(pts, k=min(_CANDIDATES, len(corners)))
+    bary = _barycentric(corners[cand], pts[:, None, :])
+    worst = bary.min(axis=-1)
+    best = np.argmax(worst, axis=1)
+    tet = cand[np.arange(len(pts)), best]
+    b = bary[np.arange(len(pts)), best]
+    edge = np.linalg.norm(corners[tet, 1] - corners[tet, 0], axis=-1)
+    clipped = np.clip(b, 0.0, None)
+    return Located(tet, clipped / clipped.sum(axis=1, keepdims=True), np.maximum(-worst[np.arange(len(pts)), best],
+                                                                                 0.0) * edge)
+
+
+def shape_values(bary) -> np.ndarray:
+    """(..., 10) P2 shape functions at barycentric coordinates (..., 4), gmsh order."""
+    lam = np.asarray(bary, dtype=float)
+    out = [lam[..., i] * (2 * lam[..., i] - 1) for i in range(4)]
+    out += [4 * lam[..., a] * lam[..., b] for a, b in EDGES]
+    return np.stack(out, axis=-1)
+
+
+def shape_gradients(corners, bary) -> np.ndarray:
+    """(..., 10, 3) gradients (1/mm) of the P2 shape functions in straight tets (..., 4, 3)."""
+    a = corners[..., 1:, :] - corners[..., :1, :]  # (..., 3, 3) rows: edge vectors
+    inv = np.linalg.inv(a)  # columns: gradients of lambda_1..3
+    g123 = np.swapaxes(inv, -1, -2)
+    grad = np.concatenate([-g123.sum(axis=-2, keepdims=True), g123], axis=-2)  # (..., 4, 3)
+    lam = np.asarray(bary, dtype=float)[..., None]
+    out = [(4 * lam[..., i, :] - 1) * grad[..., i, :] for i in range(4)]
+    out += [4 * (lam[..., a, :] * grad[..., b, :] + lam[..., b, :] * grad[..., a, :]) for a, b in EDGES]
+    return np.stack(out, axis=-2)
+
+
+def displacement_operator(elastic: Elastic, located: Located, directions) -> scipy.sparse.csr_matrix:
+    """(n, ndofs): the displacement along ``directions`` (n, 3) at the located points.  Its transpose
+    maps unit forces along the directions at the points to consistent load vectors."""
+    n = located.tet.size
+    nodes = elastic.mesh.tets[located.tet]  # (n, 10)
+    w = shape_values(located.bary)  # (n, 10)
+    d = np.asarray(directions, dtype=float)
+    vals = w[:, :, None] * d[:, None, :]
+    cols = elastic.node_dofs[nodes]  # (n, 10, 3)
+    rows = np.broadcast_to(np.arange(n)[:, None, None], cols.shape)
+    return scipy.sparse.csr_matrix((vals.ravel(), (rows.ravel(), cols.ravel())), shape=(n, elastic.ndofs))
+
+
+def stress_operator(elastic: Elastic, node_ids) -> scipy.sparse.csr_matrix:
+    """(6 n, ndofs): the stress (MPa; xx, yy, zz, xy, yz, zx, point-major) at mesh nodes, the mean over
+    the tets that share each node of the P2 field's stress there."""
+    mesh = elastic.mesh
+    node_ids = np.asarray(node_ids)
+    want = np.full(mesh.nodes.shape[0], -1, dtype=np.int64)
+    want[node_ids] = np.arange(node_ids.size)
+    tet_local = np.argwhere(want[mesh.tets] >= 0)  # (k, 2): tet, local node
+    tets, local = tet_local[:, 0], tet_local[:, 1]
+    bary = np.zeros((tets.size, 4))
+    for i in range(4):
+        bary[local == i, i] = 1.0
+    for m, (a, b) in enumerate(EDGES, start=4):
+        bary[local == m, a] = 0.5
+        bary[local == m, b] = 0.5
+    grads = shape_gradients(mesh.nodes[mesh.tets[tets, :4]], bary)  # (k, 10, 3)
+    lam_, mu = _lame(elastic.e_mpa, elastic.nu)
+    # stress from grad u: sigma_ij = lam div u delta_ij + mu (u_i,j + u_j,i); dof c of node q:
+    # u_c,j = g_qj, so d sigma / d u_qc
+    k = tets.size
+    sig = np.zeros((k, 10, 3, 6))  # per (node q, component c): 6 stress components
+    for c in range(3):
+        g = grads  # (k, 10, 3)
+        sig[:, :, c, 0] = lam_ * g[..., c] + (2 * mu * g[..., 0] if c == 0 else 0.0)
+        sig[:, :, c, 1] = lam_ * g[..., c] + (2 * mu * g[..., 1] if c == 1 else 0.0)
+        sig[:, :, c, 2] = lam_ * g[..., c] + (2 * mu * g[..., 2] if c == 2 else 0.0)
+        sig[:, :, c, 3] = mu * (g[..., 1] if c == 0 else g[..., 0] if c == 1 else 0.0)
+        sig[:, :, c, 4] = mu * (g[..., 2] if c == 1 else g[..., 1] if c == 2 else 0.0)
+        sig[:, :, c, 5] = mu * (g[..., 0] if c == 2 else g[..., 2] if c == 0 else 0.0)
+    share = np.bincount(want[mesh.tets[tets, local]], minlength=node_ids.size).astype(float)
+    point = want[mesh.tets[tets, local]]
+    weight = 1.0 / share[point]
+    cols = elastic.node_dofs[mesh.tets[tets]]  # (k, 10, 3)
+    rows = 6 * point[:, None, None, None] + np.arange(6)[None, None, None, :]
+    vals = sig * weight[:, None, None, None]
+    cols4 = np.broadcast_to(cols[..., None], sig.shape)
+    rows4 = np.broadcast_to(rows, sig.shape)
+    return scipy.sparse.csr_matrix((vals.ravel(), (rows4.ravel(), cols4.ravel())),
+                                   shape=(6 * node_ids.size, elastic.ndofs))
+
+
+def _lame(e, nu):
+    return e * nu / ((1 + nu) * (1 - 2 * nu)), e / (2 * (1 + nu))
+
+
+def principal_stresses(voigt) -> np.ndarray:
+    """(..., 3) ascending principal stresses of (..., 6) stresses (xx, yy, zz, xy, yz, zx)."""
+    s = np.asarray(voigt, dtype=float)
+    t = np.stack([np.stack([s[..., 0], s[..., 3], s[..., 5]], -1), np.stack([s[..., 3], s[..., 1], s[..., 4]], -1),
+                  np.stack([s[..., 5], s[..., 4], s[..., 2]], -1)], -2)
+    return np.linalg.eigvalsh(t)

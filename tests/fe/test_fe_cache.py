@@ -1,0 +1,83 @@
+"""The FE data cache: hit, miss, stale and corrupt entries (beveloid.fe.cache)."""
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from beveloid.fe import cache, tooth
+
+pytestmark = pytest.mark.xdist_group(name="fe_case1")
+
+
+@pytest.fixture
+def counted(monkeypatch, tmp_path, coarse_teeth):
+    """The cache in tmp_path (BEVELOID_CACHE_DIR); the FE computation replaced by the session's
+    coarse data, counting its calls (the cache's logic is what is tested here)."""
+    monkeypatch.setenv("BEVELOID_CACHE_DIR", str(tmp_path))
+    calls = []
+
+    def compute(pair, member, e_mpa, nu, refinement=1, progress=None, coarsen=1.0):
+        calls.append(member)
+        return coarse_teeth[member]
+
+    monkeypatch.setattr(tooth, "tooth_data", compute)
+    return calls
+
+
+def _get(case1, member="pinion", e=2.06e5):
+    return cache.cached_tooth_data(case1, member, e, 0.3, 1)
+
+
+def test_miss_then_hit_in_the_folder_named_by_the_environment(counted, case1, tmp_path):
+    data, how = _get(case1)
+    assert how == "miss" and counted == ["pinion"]
+    files = list((tmp_path / "fe").glob("pinion-*.npz"))
+    assert len(files) == 1
+    again, how = _get(case1)
+    assert how == "hit" and counted == ["pinion"]
+    assert np.array_equal(again.compliance_mm_per_n, data.compliance_mm_per_n)
+    assert np.array_equal(again.stress_mpa_per_n, data.stress_mpa_per_n)
+
+
+def test_every_input_is_in_the_key(counted, case1):
+    _get(case1)
+    _get(case1, e=2.0e5)  # another material: another entry
+    _get(case1, member="gear")
+    assert counted == ["pinion", "pinion", "gear"]
+    key = json.loads(cache.cache_key(case1, "pinion", 2.06e5, 0.3, 2))
+    assert key["refinement"] == 2 and key["version"] and key["surface_params"] and key["fillet_params"]
+
+
+def test_a_stale_entry_is_recomputed_not_used(counted, case1):
+    _get(case1)
+    path = cache.entry_path(cache.cache_key(case1, "pinion", 2.06e5, 0.3, 1))
+    with np.load(path) as z:
+        stored = {k: z[k] for k in z.files}
+    stored["key"] = np.array(str(stored["key"]).replace('"fe_data_version": ', '"fe_data_version": -'))
+    stored["compliance_mm_per_n"] = stored["compliance_mm_per_n"] * 0 + 1.0  # what a stale entry would hold
+    np.savez(path, **stored)
+    data, how = _get(case1)
+    assert how == "stale" and counted == ["pinion", "pinion"]
+    assert not np.all(data.compliance_mm_per_n == 1.0)
+    assert _get(case1)[1] == "hit"
+
+
+@pytest.mark.parametrize("damage", ["truncate", "garbage", "nan"])
+def test_a_corrupt_entry_is_recomputed_not_used(counted, case1, damage):
+    _get(case1)
+    path = cache.entry_path(cache.cache_key(case1, "pinion", 2.06e5, 0.3, 1))
+    if damage == "truncate":
+        path.write_bytes(path.read_bytes()[:1000])
+    elif damage == "garbage":
+        path.write_bytes(b"not an npz file")
+    else:
+        with np.load(path) as z:
+            stored = {k: z[k] for k in z.files}
+        stored["stress_mpa_per_n"] = stored["stress_mpa_per_n"] * np.nan
+        np.savez(path, **stored)
+    data, how = _get(case1)
+    assert how == "corrupt" and counted == ["pinion", "pinion"]
+    assert np.all(np.isfinite(data.stress_mpa_per_n))
+    assert _get(case1)[1] == "hit"

@@ -1,0 +1,90 @@
+"""The loaded contact with the FE tooth: the JSON keys of issue 31, root stress, FE against plate."""
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from beveloid import ltca
+from beveloid.fe import cache
+
+pytestmark = pytest.mark.xdist_group(name="fe_case1")
+
+
+@pytest.fixture(scope="module")
+def results(case1, coarse_teeth):
+    mp = pytest.MonkeyPatch()
+    # the session's coarse FE data stands for the cached data of the default mesh
+    mp.setattr(cache, "cached_tooth_data", lambda pair, member, *a, **k: (coarse_teeth[member], "hit"))
+    try:
+        out = {m: ltca.analyze(case1, ltca.Options(torque_nm=300.0, positions=4, tooth_model=m))
+               for m in ("fe", "plate")}
+    finally:
+        mp.undo()
+    return out
+
+
+def test_json_has_the_fe_keys_and_is_strict(results, case1):
+    d = ltca.to_json_dict(results["fe"], case1.geometry)
+    json.dumps(d, allow_nan=False)
+    assert d["tooth_model"] == "fe" and d["fe_refinement"] == 1
+    for m in ("pinion", "gear"):
+        rows = d["pair_root_stress_mpa"][m]
+        assert len(rows) == 4 and all(len(r) == 3 for r in rows)
+        assert d["root_stress_max_mpa"][m] == pytest.approx(max(v for r in rows for v in r if v is not None))
+        loc = d["root_stress_location"][m]
+        assert set(loc) == {"position", "pair", "z_mm", "height_mm", "flank"} and loc["flank"] == "right"
+        assert rows[loc["position"]][list(d["tooth_pairs"]).index(loc["pair"])] == d["root_stress_max_mpa"][m]
+        lo, hi = sorted(case1.geometry.member(m).face_limits)
+        assert lo - 1e-6 <= loc["z_mm"] <= hi + 1e-6 and loc["height_mm"] >= -1e-6
+    assert all(v > 0 for v in d["mesh_stiffness_n_per_um"])
+    plate = ltca.to_json_dict(results["plate"], case1.geometry)
+    json.dumps(plate, allow_nan=False)
+    assert plate["tooth_model"] == "plate" and plate["pair_root_stress_mpa"] is None
+
+
+def test_root_stress_is_tension_where_loaded_and_zero_where_not(results):
+    r = results["fe"]
+    for m in ("pinion", "gear"):
+        s = r.pair_root_stress_mpa[m]
+        c = r.pair_root_compressive_stress_mpa[m]
+        loaded = r.pair_load_n > 0
+        assert np.all(s[loaded] > 0) and np.all(c[loaded] < 0)
+        assert np.all(s[~loaded] == 0)
+
+
+def test_the_order_of_the_root_stress_is_that_of_a_cantilever(results, case1):
+    # the bending stress at the root of a cantilever of the tooth's height and root thickness under the
+    # largest pair load spread over the face: 6 F h / (b s^2); the FE peak (concentration, a point of
+    # the face) lies between 0.5 and 4 times that
+    r = results["fe"]
+    g = case1.geometry
+    m = g.member("pinion")
+    h = m.tip_height_mm + m.cutter_addendum_mm
+    s = 2.2 * g.normal_module_mm  # root chord thickness of a 20 deg rack tooth, about
+    nominal = 6 * np.nanmax(r.pair_load_n) * np.cos(g.normal_pressure_angle) * h / (m.face_width_mm * s ** 2)
+    assert 0.5 * nominal < np.nanmax(r.pair_root_stress_mpa["pinion"]) < 4 * nominal
+
+
+def test_fe_and_plate_agree_on_the_loads_and_te_to_within_their_model_difference(results):
+    fe, plate = results["fe"], results["plate"]
+    assert fe.converged.all() and plate.converged.all()
+    te_fe = fe.loaded_te - fe.unloaded_te
+    te_plate = plate.loaded_te - plate.unloaded_te
+    assert np.allclose(te_fe, te_plate, rtol=0.3)
+    share = lambda r: r.pair_load_n / r.pair_load_n.sum(axis=1, keepdims=True)  # noqa: E731
+    assert np.max(np.abs(share(fe) - share(plate))) < 0.15
+
+
+def test_plot_has_the_root_stress_panel(results, case1, tmp_path):
+    from beveloid.ltca.plots import ltca_summary
+
+    r = results["fe"]
+    for m in ("pinion", "gear"):
+        z, s = r.root_stress_along_face[m]
+        lo, hi = sorted(case1.geometry.member(m).face_limits)
+        assert np.all((z > lo) & (z < hi)) and np.nanmax(s) == pytest.approx(r.root_stress_max_mpa()[m])
+    out = tmp_path / "ltca.png"
+    ltca_summary(r, case1.geometry, out)
+    assert out.read_bytes().startswith(b"\x89PNG")

@@ -1,0 +1,75 @@
+"""The FE solver (beveloid.fe.solve) against closed forms and against scikit-fem's assembly."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from beveloid.fe import solve
+from beveloid.fe.box import box_mesh
+
+E, NU = 2.0e5, 0.3
+L, B, H = 100.0, 10.0, 10.0
+P = 100.0
+
+
+@pytest.fixture(scope="module")
+def cantilever():
+    mesh = box_mesh((L, B, H), 3.4)
+    elastic = solve.factorise(mesh, E, NU, clamped=("x0",))
+    # the tip load spread evenly over a 10 x 10 grid of points of the end face (a uniform shear traction)
+    yy, zz = np.meshgrid(np.linspace(0.5, B - 0.5, 10), np.linspace(0.5, H - 0.5, 10))
+    tip = np.column_stack([np.full(yy.size, L), yy.ravel(), zz.ravel()])
+    down = np.tile([0.0, 0.0, -1.0], (len(tip), 1))
+    op = solve.displacement_operator(elastic, solve.locate(mesh, tip), down)
+    u = elastic.solve((op.T @ np.full(len(tip), P / len(tip)))[:, None])[:, 0]
+    return mesh, elastic, op, u
+
+
+def test_cantilever_tip_deflection_within_2_percent_of_timoshenko(cantilever):
+    _, _, op, u = cantilever
+    inertia = B * H ** 3 / 12
+    shear_modulus = E / (2 * (1 + NU))
+    k = 10 * (1 + NU) / (12 + 11 * NU)  # Cowper's shear coefficient of a rectangle
+    closed = P * L ** 3 / (3 * E * inertia) + P * L / (k * shear_modulus * B * H)
+    assert np.mean(op @ u) == pytest.approx(closed, rel=0.02)
+
+
+def test_cantilever_root_bending_stress_within_2_percent_of_beam_theory(cantilever):
+    mesh, elastic, _, u = cantilever
+    x = mesh.nodes[:, 0]
+    # the top fibre between 0.2 L and 0.4 L from the clamp (clear of its local constraint)
+    top = np.flatnonzero((x > 0.2 * L) & (x < 0.4 * L) & (np.abs(mesh.nodes[:, 2] - H) < 1e-9))
+    sigma = (solve.stress_operator(elastic, top) @ u).reshape(-1, 6)
+    beam = P * (L - x[top]) * (H / 2) / (B * H ** 3 / 12)
+    assert np.max(np.abs(sigma[:, 0] / beam - 1)) < 0.02
+    # and the principal stress there is that bending stress (tension on top under a downward load)
+    assert np.max(np.abs(solve.principal_stresses(sigma)[:, 2] / beam - 1)) < 0.02
+
+
+def test_stiffness_equals_scikit_fem_assembly():
+    from skfem import Basis, ElementTetP2, ElementVector, MeshTet, asm
+    from skfem.models.elasticity import lame_parameters, linear_elasticity
+
+    mesh = box_mesh((4.0, 3.0, 2.0), 1.5)
+    ours = solve.stiffness(mesh, E, NU)
+    corners = np.unique(mesh.tets[:, :4])
+    vertex = np.full(len(mesh.nodes), -1)
+    vertex[corners] = np.arange(corners.size)
+    sk = MeshTet(mesh.nodes[corners].T.copy(), vertex[mesh.tets[:, :4]].T.copy())
+    basis = Basis(sk, ElementVector(ElementTetP2()), intorder=2)
+    K = asm(linear_elasticity(*lame_parameters(E, NU)), basis).toarray()
+    # skfem's dofs of every node: a corner's nodal dofs, a mid-node's dofs on the edge of its corners
+    edge_of = {tuple(sorted(e)): i for i, e in enumerate(sk.edges.T.tolist())}
+    perm = np.empty(3 * len(mesh.nodes), dtype=int)
+    for n in range(len(mesh.nodes)):
+        rows, cols = np.nonzero(mesh.tets == n)
+        t, c = rows[0], cols[0]
+        if c < 4:
+            perm[3 * n: 3 * n + 3] = basis.nodal_dofs[:, vertex[n]]
+        else:
+            a, b = solve.EDGES[c - 4]
+            edge = edge_of[tuple(sorted((vertex[mesh.tets[t, a]], vertex[mesh.tets[t, b]])))]
+            perm[3 * n: 3 * n + 3] = basis.edge_dofs[:, edge]
+    theirs = K[np.ix_(perm, perm)]
+    assert np.allclose(ours.toarray(), theirs, atol=1e-9 * np.abs(theirs).max())
+
