@@ -5,7 +5,7 @@ flank, torque and refinement; the table gives per quantity FE / LTCA.  Results a
 JSON lines to OUT (default fe_check_runs.jsonl) so that a long series can be resumed.
 
     python benchmarks/fe_check_validation.py [--designs case1:right,case2:right] [--torques 100,400]
-        [--refinements 1,2] [--coarsen 1.0] [--out fe_check_runs.jsonl] [--table-only]
+        [--refinements 1,2] [--coarsen 1.0] [--tooth-model fe|plate] [--out fe_check_runs.jsonl] [--table-only]
 """
 import argparse
 import json
@@ -17,10 +17,11 @@ from beveloid.fecheck.check import CheckOptions, fe_check
 from beveloid.pair import Pair
 
 
-def run(design, flank, torque, refinement, coarsen):
+def run(design, flank, torque, refinement, coarsen, tooth_model=None):
     pair = Pair.example(design)
     t0 = time.perf_counter()
-    out = fe_check(pair, CheckOptions(torque_nm=torque, flank=flank, refinement=refinement, coarsen=coarsen),
+    out = fe_check(pair, CheckOptions(torque_nm=torque, flank=flank, refinement=refinement, coarsen=coarsen,
+                                      ltca_tooth_model=tooth_model),
                    progress=lambda s: print(s, file=sys.stderr, flush=True) if not s.startswith("ccx") else None)
     out.update(design=design, total_s=time.perf_counter() - t0, coarsen=coarsen)
     return out
@@ -39,7 +40,7 @@ def table(rows):
         pairs = lambda key, f: "; ".join(f"{fmt(a, f)} / {fmt(b, f)}" for a, b in zip(c[key], lt[key])  # noqa: E731
                                          if (a or 0) > 0 or (b or 0) > 0)
         lines.append(
-            f"| {r['design']} {r['flank']} (pos. {r['position']}) | {r['torque_nm']:g} | {r['refinement']}"
+            f"| {r['design']} {r['flank']} (pos. {r['position']}, {r.get('ltca_tooth_model', 'plate')}) | {r['torque_nm']:g} | {r['refinement']}"
             f"{'' if r.get('coarsen', 1.0) == 1.0 else ' (x' + format(r['coarsen'], 'g') + ')'} | {r['elements']} / {r['dof']}"
             f" | {r['calculix_wall_s']:.0f} | {pairs('pair_normal_load_n', '.0f')} | {pairs('pair_max_pressure_mpa', '.0f')}"
             f" | {pairs('contact_area_mm2', '.1f')} | {fmt(c['loaded_transmission_error_urad'], '.1f')} / "
@@ -57,6 +58,7 @@ def main():
     ap.add_argument("--coarsen", type=float, default=1.0)
     ap.add_argument("--out", default="fe_check_runs.jsonl")
     ap.add_argument("--table-only", action="store_true")
+    ap.add_argument("--tooth-model", default=None, help="the LTCA's tooth model (fe, plate; default: its default)")
     a = ap.parse_args()
     path = Path(a.out)
     done = [json.loads(s) for s in path.read_text().splitlines()] if path.exists() else []
@@ -69,7 +71,7 @@ def main():
                     if any((r["design"], r["flank"], r["torque_nm"], r["refinement"], r.get("coarsen", 1.0)) == key
                            for r in done):
                         continue
-                    r = run(design, flank, t, n, a.coarsen)
+                    r = run(design, flank, t, n, a.coarsen, a.tooth_model)
                     done.append(r)
                     with path.open("a") as fh:
                         fh.write(json.dumps(r, allow_nan=False) + "\n")

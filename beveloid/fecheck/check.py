@@ -35,6 +35,7 @@ class CheckOptions:
     out_dir: str | None = None
     ltca_positions: int = 20
     coarsen: float = 1.0  #: multiplies every element size (tests and quick looks; beveloid.fe.mesh's coarsen)
+    ltca_tooth_model: str | None = None  #: the LTCA's tooth model ("fe", "plate"; None: its default)
 
     def __post_init__(self):
         from ..ltca.options import check_positions, check_torque
@@ -70,6 +71,13 @@ def choose_position(result) -> int:
     return best
 
 
+def _root(result, member, j):
+    """The LTCA's largest root stress of the position's pairs (its FE tooth), None without one (plate)."""
+    a = getattr(result, "pair_root_stress_mpa", {}).get(member)
+    row = None if a is None else np.asarray(a)[j]
+    return float(np.nanmax(row)) if row is not None and np.isfinite(row).any() else None
+
+
 def _ltca_block(result, geom, j, ratio) -> dict:
     num = lambda v: float(v) if v is not None and np.isfinite(v) else None  # noqa: E731
     cells = result.cell_area_mm2[j]
@@ -78,7 +86,7 @@ def _ltca_block(result, geom, j, ratio) -> dict:
             "pair_max_pressure_mpa": [num(v) for v in result.pair_max_pressure_mpa[j]],
             "contact_area_mm2": [num(v) for v in area],
             "loaded_transmission_error_urad": num(result.loaded_te[j] * 1e6),
-            "root_stress_max_mpa": {"pinion": None, "gear": None},
+            "root_stress_max_mpa": {m: _root(result, m, j) for m in ("pinion", "gear")},
             "moment_about_pinion_axis_nm": num(result.pinion_moment_nmm[j] * 1e-3)}
 
 
@@ -100,7 +108,8 @@ def fe_check(pair, options: CheckOptions, progress=print, solver=None) -> dict:
     say = progress or (lambda s: None)
     say(f"fe-check: LTCA at {options.torque_nm:g} N m over {options.ltca_positions} positions")
     result = ltca.analyze(pair, ltca.Options(torque_nm=options.torque_nm, flank=options.flank,
-                                             positions=options.ltca_positions), Solver.of(solver))
+                                             positions=options.ltca_positions,
+                                             tooth_model=options.ltca_tooth_model), Solver.of(solver))
     j = choose_position(result) if options.position is None else options.position
     if result.status[j] != "ok" or not np.isfinite(result.unloaded_te[j]):
         raise UserError(f"--position = {j}: the LTCA has no converged contact there ({result.status[j]}); choose "
@@ -142,8 +151,9 @@ def fe_check(pair, options: CheckOptions, progress=print, solver=None) -> dict:
              "contact (slope 50 E per mm), gear rim fixed, pinion rim a rigid body under the moment; pair loads "
              "and areas are CalculiX's contact totals (CF), peak pressure the largest nodal CPRESS on the gear "
              "flank",
-             "root_stress_max_mpa: the largest principal stress on each member's fillet faces (calculix); the "
-             "LTCA has no root stress (null)",
+             "root_stress_max_mpa: the largest principal stress on each member's fillet faces (calculix, all three "
+             "teeth); the LTCA's largest pair root stress at the position (its FE tooth; null with the plate "
+             f"tooth), tooth model here: {getattr(result, 'tooth_model', 'plate')}",
              "loaded_transmission_error_urad: unloaded TE + (N1/N2) x the pinion's rotation under the moment "
              "(calculix); the LTCA's loaded TE",
              f"mesh {mesh_s:.1f} s, CalculiX {run.wall_s:.1f} s wall ({run.cpu_s:.1f} s CPU), {model.elements} "
@@ -151,7 +161,8 @@ def fe_check(pair, options: CheckOptions, progress=print, solver=None) -> dict:
     notes += [f"tooth pair {k}: outside the three-tooth sectors (null)" for k, p in zip(model.tooth_pairs,
                                                                                          model.pairs) if p is None]
     return {"calculix_version": run.version or ccx_version(), "position": int(j), "pinion_angle_rad": phi1,
-            "torque_nm": options.torque_nm, "flank": options.flank, "refinement": options.refinement,
+            "torque_nm": options.torque_nm, "flank": options.flank,
+            "ltca_tooth_model": getattr(result, "tooth_model", "plate"), "refinement": options.refinement,
             "tooth_pairs": list(model.tooth_pairs),
             "unloaded_transmission_error_urad": float(result.unloaded_te[j] * 1e6), "elements": model.elements, "dof": model.dof,
             "calculix_wall_s": run.wall_s, "calculix_cpu_s": run.cpu_s, "mesh_s": mesh_s,
