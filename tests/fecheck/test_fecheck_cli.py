@@ -32,13 +32,15 @@ def test_bad_flags_are_one_line_naming_the_flag(capsys, argv, key):
 @pytest.mark.long_running
 @pytest.mark.skipif(ccx_path() is None, reason="needs CalculiX (ccx, Debian package calculix-ccx)")
 def test_coarse_fe_check_of_case1_balances_the_torque_and_agrees_with_the_ltca(tmp_path):
-    """A very coarse model (every element size x 4, 5 LTCA positions): the contact forces balance
+    """A very coarse model (every element size x 4, 5 LTCA positions, the LTCA's plate tooth: cheaper than its
+    FE tooth, which tests/fe checks): the contact forces balance
     the applied moment, the loads share the torque like the LTCA's, and the files are kept."""
     from beveloid.fecheck.check import CheckOptions, fe_check
     from beveloid.pair import Pair
 
     out = fe_check(Pair.example("case1"), CheckOptions(torque_nm=200.0, flank="right", out_dir=str(tmp_path),
-                                                       coarsen=COARSEN, ltca_positions=5), progress=None)
+                                                       coarsen=COARSEN, ltca_positions=5, ltca_tooth_model="plate"),
+                 progress=None)
     json.dumps(out, allow_nan=False)
     fe, lt = out["calculix"], out["ltca"]
     # statics: the moment of the contact forces about the pinion axis is the applied torque
