@@ -10,6 +10,7 @@ stress on each member's root fillets; the moment of the contact forces about the
 """
 from __future__ import annotations
 
+import contextlib
 import math
 import tempfile
 import time
@@ -128,13 +129,15 @@ def fe_check(pair, options: CheckOptions, progress=print, solver=None) -> dict:
                        options.refinement)
     model = pair_model(req, meshes)
     mesh_s = time.perf_counter() - t0
-    folder = Path(options.out_dir) if options.out_dir else Path(tempfile.mkdtemp(prefix="beveloid_fecheck_"))
-    folder.mkdir(parents=True, exist_ok=True)
-    deck_path = folder / "fe_check.inp"
-    info = write_deck(model.deck, deck_path)
-    say(f"fe-check: {model.elements} C3D10 elements, {model.dof} degrees of freedom; running ccx in {folder}")
-    run = run_ccx(deck_path, progress=lambda line: say(f"ccx: {line.strip()}"))
-    fe = read_pair_results(run, model, info, folder / "fe_check.vtu" if options.out_dir else None)
+    with contextlib.ExitStack() as stack:
+        folder = Path(options.out_dir) if options.out_dir else Path(
+            stack.enter_context(tempfile.TemporaryDirectory(prefix="beveloid_fecheck_")))
+        folder.mkdir(parents=True, exist_ok=True)
+        deck_path = folder / "fe_check.inp"
+        info = write_deck(model.deck, deck_path)
+        say(f"fe-check: {model.elements} C3D10 elements, {model.dof} degrees of freedom; running ccx in {folder}")
+        run = run_ccx(deck_path, progress=lambda line: say(f"ccx: {line.strip()}"))
+        fe = read_pair_results(run, model, info, folder / "fe_check.vtu" if options.out_dir else None)
     te_fe = float(result.unloaded_te[j]) + ratio * model.phi_sign * fe.rotation_rad
     num = lambda v: float(v) if v is not None and math.isfinite(v) else None  # noqa: E731
     calculix = {"pair_normal_load_n": [num(v) for v in fe.pair_load_n],

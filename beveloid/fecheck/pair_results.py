@@ -5,6 +5,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .deck import ccx_name
 from .results import contact_pressure, max_principal, read_dat, read_frd, write_vtu
 
 __all__ = ["PairResults", "read_pair_results"]
@@ -34,16 +35,14 @@ def read_pair_results(run, model, info, vtu_path=None) -> PairResults:
     n = info["nodes"]
     pressure = contact_pressure(frd)
     p_all = pressure.on(n)[:, 0] if pressure is not None else np.zeros(n)
-    forces = list(dat.contact)
+    forces = {cf.slave.upper(): cf for cf in dat.contact}
     P = len(model.pairs)
     load, peak, area = np.full(P, np.nan), np.full(P, np.nan), np.full(P, np.nan)
     moment = 0.0
-    i = 0
     for k, names in enumerate(model.pairs):
         if names is None:
             continue
-        cf = forces[i] if i < len(forces) else None
-        i += 1
+        cf = forces.get("S" + ccx_name(names[0]))
         body, fset = names[0].split(".", 1)
         b = bodies[body]
         nodes = np.unique(b.facet_sets[fset]) + offset[body]

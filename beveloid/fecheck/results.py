@@ -86,6 +86,7 @@ class DatResults:
 
 
 _NUM = r"[-+]?\d*\.?\d+(?:[eE][-+]?\d+)?"
+_HEADER = re.compile(r"[a-df-zA-DF-Z]")  #: a line with letters other than an exponent's e is a heading
 
 
 def read_dat(path) -> DatResults:
@@ -109,8 +110,8 @@ def read_dat(path) -> DatResults:
             section = "disp"
         elif low.startswith("total force"):
             section = "total"
-        elif low and not nums:
-            section = None if not low.startswith("statistics") else section
+        elif _HEADER.search(line):
+            section = None  # another print block (energies, ...)
         elif nums:
             if section == "cf_force" and len(nums) >= 6 and current is not None:
                 contact[current]["fm"] = nums[-6:]
@@ -122,6 +123,7 @@ def read_dat(path) -> DatResults:
                 disp[int(nums[0])] = np.array(nums[1:4])
             elif section == "total" and len(nums) >= 3:
                 total = np.array(nums[-3:])
+                section = None
     out = tuple(ContactForce(k, np.array(v["fm"][:3]), np.array(v["fm"][3:]), v["area"])
                 for k, v in contact.items() if v["fm"] is not None)
     return DatResults(out, disp, total)
