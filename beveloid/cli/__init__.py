@@ -46,12 +46,12 @@ USER_ERRORS = (SpecError, UserError)
 #: The commands, in the order ``beveloid --help`` lists them; each is the module
 #: ``beveloid.cli.<name>`` with ``configure(parser)`` and ``run(args) -> int``.
 COMMANDS: tuple[str, ...] = ("verify", "derive", "design", "tca", "ltca", "paper", "sweep", "example", "export",
-                             "explore", "rating", "models")
+                             "explore", "rating", "fe-check", "models")
 
 
 def command(name: str):
     """The module of the command ``name`` (imported on first use)."""
-    return importlib.import_module(f"{__name__}.{name}")
+    return importlib.import_module(f"{__name__}.{name.replace('-', '_')}")  # fe-check: cli/fe_check.py
 
 
 def _help_text(run) -> str:

@@ -1,0 +1,89 @@
+"""``beveloid fe-check FILE --torque-nm T [--position K] [--flank left|right] [--refinement N] [--out DIR]
+[--json]``.
+
+An independent check of the loaded contact: both members' sectors meshed as second-order
+tetrahedra, frictionless contact found by CalculiX (``ccx``, Debian's package ``calculix-ccx``),
+beside the LTCA at the same position and torque.  The JSON: {"calculix_version", "position",
+"pinion_angle_rad", "calculix": BLOCK, "ltca": BLOCK, "files", "notes", ...} with BLOCK =
+{"pair_normal_load_n" [P], "pair_max_pressure_mpa" [P], "contact_area_mm2" [P],
+"loaded_transmission_error_urad", "root_stress_max_mpa" {"pinion", "gear"},
+"moment_about_pinion_axis_nm"}, the tooth pairs in the same order in both blocks; a number that
+could not be computed is null.  --out DIR keeps the deck, CalculiX's output and a VTU (ParaView)
+of displacement, stress and contact pressure.  See docs/fe_check.md.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+
+from .common import add_error_flags, apply_error_flags
+
+__all__ = ["configure", "run", "format_summary"]
+
+
+def configure(p: argparse.ArgumentParser) -> None:
+    p.add_argument("file", metavar="FILE", help="TOML design spec (`beveloid example case1` prints one)")
+    p.add_argument("--torque-nm", type=float, required=True, metavar="T", help="pinion torque (N m), > 0")
+    p.add_argument("--position", type=int, default=None, metavar="K",
+                   help="the LTCA's position (0-19) to check (default: the one with the most tooth pairs in contact)")
+    p.add_argument("--flank", choices=("left", "right"), default="right", help="flank pair (default right)")
+    p.add_argument("--refinement", type=int, default=1, metavar="N",
+                   help="mesh refinement 1-4 (every element size divided by N; default 1)")
+    p.add_argument("--out", metavar="DIR", default=None,
+                   help="keep the deck, CalculiX's output and the VTU in this folder")
+    add_error_flags(p)
+    p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
+
+
+def run(args: argparse.Namespace) -> int:
+    """Check the loaded contact by full-contact finite elements (CalculiX) beside the LTCA.
+
+    Needs CalculiX's ccx (Debian: apt-get install calculix-ccx).  Progress goes to stderr.
+    """
+    from ..errors import UserError
+    from ..fecheck.check import CheckOptions, fe_check
+    from ..fecheck.run import CCX_MISSING, ccx_path
+    from ..pair import Pair
+    from ..spec import load_spec
+    from .paths import check_output_dir
+
+    options = CheckOptions(torque_nm=args.torque_nm, flank=args.flank, position=args.position,
+                           refinement=args.refinement, out_dir=args.out)
+    if args.out is not None:
+        check_output_dir(args.out, "--out")
+    if ccx_path() is None:
+        raise UserError(CCX_MISSING)
+    spec = apply_error_flags(load_spec(args.file), args)
+    pair = Pair.from_spec(spec)
+    out = fe_check(pair, options, progress=lambda s: print(s, file=sys.stderr, flush=True))
+    if args.json:
+        print(json.dumps(out, allow_nan=False))
+    else:
+        print(format_summary(out))
+    return 0
+
+
+def format_summary(out: dict) -> str:
+    fmt = lambda v, f: "-" if v is None or not math.isfinite(v) else format(v, f)  # noqa: E731
+    c, lt = out["calculix"], out["ltca"]
+    lines = [f"fe-check at position {out['position']} (pinion angle {out['pinion_angle_rad']:.6f} rad), "
+             f"{out['flank']} flank, pinion torque {out['torque_nm']:g} N m; CalculiX {out['calculix_version']}",
+             "", f"{'quantity':36s}{'CalculiX':>14s}{'LTCA':>14s}"]
+    for i, k in enumerate(out["tooth_pairs"]):
+        for key, label, f in (("pair_normal_load_n", "normal load (N)", ".1f"),
+                              ("pair_max_pressure_mpa", "peak pressure (MPa)", ".0f"),
+                              ("contact_area_mm2", "contact area (mm2)", ".2f")):
+            lines.append(f"{'pair ' + str(k) + ' ' + label:36s}{fmt(c[key][i], f):>14s}{fmt(lt[key][i], f):>14s}")
+    lines.append(f"{'loaded TE (urad)':36s}{fmt(c['loaded_transmission_error_urad'], '.1f'):>14s}"
+                 f"{fmt(lt['loaded_transmission_error_urad'], '.1f'):>14s}")
+    for m in ("pinion", "gear"):
+        lines.append(f"{m + ' root stress max (MPa)':36s}{fmt(c['root_stress_max_mpa'][m], '.0f'):>14s}"
+                     f"{fmt(lt['root_stress_max_mpa'][m], '.0f'):>14s}")
+    lines.append(f"{'moment about pinion axis (N m)':36s}{fmt(c['moment_about_pinion_axis_nm'], '.2f'):>14s}"
+                 f"{fmt(lt['moment_about_pinion_axis_nm'], '.2f'):>14s}")
+    lines += [""] + [f"note: {n}" for n in out["notes"]]
+    if out["files"]:
+        lines.append("files: " + ", ".join(f"{k} {v}" for k, v in out["files"].items()))
+    return "\n".join(lines)

@@ -1,0 +1,14 @@
+"""An independent check of the loaded contact by full-contact finite elements (CalculiX).
+
+``deck`` writes a CalculiX input deck of elastic solids in frictionless contact; ``run`` starts
+``ccx`` (Debian's package ``calculix-ccx``) with its output streamed; ``results`` reads its .frd /
+.dat and writes a VTU; ``sphere_block`` is the closed-form check of that pipeline (Hertz);
+``pair_model`` builds the pair's contact model from the FE tooth's sector meshes and ``check``
+runs it beside the LTCA (``beveloid fe-check``).
+"""
+from __future__ import annotations
+
+from .deck import Body, ContactDeck, RigidLoad, write_deck
+from .run import CCX_MISSING, ccx_path, ccx_version, run_ccx
+
+__all__ = ["Body", "CCX_MISSING", "ContactDeck", "RigidLoad", "ccx_path", "ccx_version", "run_ccx", "write_deck"]

@@ -1,0 +1,172 @@
+"""``beveloid fe-check``: the pair's full-contact FE model (CalculiX) beside the LTCA at one position.
+
+The LTCA (``beveloid.ltca.analyze``) runs over a mesh cycle at the torque; the position is the
+one with the most loaded tooth pairs (the first of those with the largest smallest pair load) or
+the one asked for.  The FE model (:mod:`beveloid.fecheck.pair_model`) is solved by ``ccx`` and
+read back: per tooth pair the normal load and contact area (CalculiX's contact totals, CF) and the
+peak contact pressure (CPRESS on the gear's flank nodes); the loaded TE (the pinion's rotation under
+the moment, as TE = unloaded TE + (N1/N2) x rotation, the TCA's TE formula); the largest principal
+stress on each member's root fillets; the moment of the contact forces about the pinion axis.
+"""
+from __future__ import annotations
+
+import contextlib
+import math
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import UserError
+
+__all__ = ["CheckOptions", "choose_position", "fe_check"]
+
+
+@dataclass(frozen=True)
+class CheckOptions:
+    """The request: pinion torque (N m), flank, position (None: the most pairs in contact), mesh
+    refinement, the folder to keep (None: a temporary one), the LTCA's positions over the cycle."""
+
+    torque_nm: float
+    flank: str = "right"
+    position: int | None = None
+    refinement: int = 1
+    out_dir: str | None = None
+    ltca_positions: int = 20
+    coarsen: float = 1.0  #: multiplies every element size (tests and quick looks; beveloid.fe.mesh's coarsen)
+    ltca_tooth_model: str | None = None  #: the LTCA's tooth model ("fe", "plate"; None: its default)
+
+    def __post_init__(self):
+        from ..ltca.options import check_positions, check_torque
+
+        try:
+            check_torque(self.torque_nm, key="--torque-nm")
+            check_positions(self.ltca_positions, key="positions")
+        except ValueError as exc:
+            raise UserError(str(exc)) from None
+        if self.flank not in ("left", "right"):
+            raise UserError(f"--flank = {self.flank!r}: must be left or right")
+        if not (isinstance(self.refinement, int) and 1 <= self.refinement <= 4):
+            raise UserError(f"--refinement = {self.refinement!r}: must be an integer from 1 to 4")
+        if self.position is not None and not (isinstance(self.position, int)
+                                              and 0 <= self.position < self.ltca_positions):
+            raise UserError(f"--position = {self.position!r}: must be an integer from 0 to {self.ltca_positions - 1}"
+                            " (the LTCA's positions over one mesh cycle)")
+
+
+def choose_position(result) -> int:
+    """The converged position with the most loaded pairs; among those the largest smallest load."""
+    best, key = None, None
+    for j in range(len(result.status)):
+        if result.status[j] != "ok":
+            continue
+        loads = np.nan_to_num(result.pair_load_n[j])
+        loaded = loads[loads > 1e-6 * max(loads.sum(), 1e-300)]
+        k = (loaded.size, loaded.min() if loaded.size else 0.0)
+        if key is None or k > key:
+            best, key = j, k
+    if best is None:
+        raise UserError("the LTCA converged at no position: fe-check has no position to compare at")
+    return best
+
+
+def _root(result, member, j):
+    """The LTCA's largest root stress of the position's pairs (its FE tooth), None without one (plate)."""
+    a = getattr(result, "pair_root_stress_mpa", {}).get(member)
+    row = None if a is None else np.asarray(a)[j]
+    return float(np.nanmax(row)) if row is not None and np.isfinite(row).any() else None
+
+
+def _ltca_block(result, geom, j, ratio) -> dict:
+    num = lambda v: float(v) if v is not None and np.isfinite(v) else None  # noqa: E731
+    cells = result.cell_area_mm2[j]
+    area = [(result.pressure_mpa[j, k] > 0).sum() * cells[k] for k in range(len(result.tooth_pairs))]
+    return {"pair_normal_load_n": [num(v) for v in result.pair_load_n[j]],
+            "pair_max_pressure_mpa": [num(v) for v in result.pair_max_pressure_mpa[j]],
+            "contact_area_mm2": [num(v) for v in area],
+            "loaded_transmission_error_urad": num(result.loaded_te[j] * 1e6),
+            "root_stress_max_mpa": {m: _root(result, m, j) for m in ("pinion", "gear")},
+            "moment_about_pinion_axis_nm": num(result.pinion_moment_nmm[j] * 1e-3)}
+
+
+def fe_check(pair, options: CheckOptions, progress=print, solver=None) -> dict:
+    """Run the check; returns the JSON dict of the contract (docs/fe_check.md)."""
+    from .. import ltca, tca
+    from ..fe.mesh import sector_mesh
+    from ..solver import Solver
+    from .deck import write_deck
+    from .pair_model import ModelRequest, pair_model
+    from .run import ccx_path, ccx_version, run_ccx
+    from .pair_results import read_pair_results
+
+    if ccx_path() is None:
+        from .run import CCX_MISSING
+
+        raise UserError(CCX_MISSING)
+    geom = pair.geometry
+    say = progress or (lambda s: None)
+    say(f"fe-check: LTCA at {options.torque_nm:g} N m over {options.ltca_positions} positions")
+    result = ltca.analyze(pair, ltca.Options(torque_nm=options.torque_nm, flank=options.flank,
+                                             positions=options.ltca_positions,
+                                             tooth_model=options.ltca_tooth_model), Solver.of(solver))
+    j = choose_position(result) if options.position is None else options.position
+    if result.status[j] != "ok" or not np.isfinite(result.unloaded_te[j]):
+        raise UserError(f"--position = {j}: the LTCA has no converged contact there ({result.status[j]}); choose "
+                        f"one of {[i for i, s in enumerate(result.status) if s == 'ok']}")
+    ratio = geom.pinion.teeth / geom.gear.teeth
+    ref = tca.reference_contact(geom, options.flank)
+    phi1 = float(result.pinion_angle[j])
+    phi2 = float(result.unloaded_te[j] + tca.unknowns(ref.x).gear_angle_rad - ratio * (phi1 - ref.pinion_angle))
+    say(f"fe-check: position {j} (pinion angle {phi1:.6f} rad); meshing both sectors (refinement "
+        f"{options.refinement})")
+    t0 = time.perf_counter()
+    meshes = {m: sector_mesh(pair, m, options.refinement, coarsen=options.coarsen) for m in ("pinion", "gear")}
+    req = ModelRequest(pair, options.flank, options.torque_nm, phi1, phi2,
+                       float(np.nanmax(result.pair_max_pressure_mpa[j])),
+                       float((result.loaded_te[j] - result.unloaded_te[j]) / ratio), tuple(result.tooth_pairs),
+                       options.refinement)
+    model = pair_model(req, meshes)
+    mesh_s = time.perf_counter() - t0
+    with contextlib.ExitStack() as stack:
+        folder = Path(options.out_dir) if options.out_dir else Path(
+            stack.enter_context(tempfile.TemporaryDirectory(prefix="beveloid_fecheck_")))
+        folder.mkdir(parents=True, exist_ok=True)
+        deck_path = folder / "fe_check.inp"
+        info = write_deck(model.deck, deck_path)
+        say(f"fe-check: {model.elements} C3D10 elements, {model.dof} degrees of freedom; running ccx in {folder}")
+        run = run_ccx(deck_path, progress=lambda line: say(f"ccx: {line.strip()}"))
+        fe = read_pair_results(run, model, info, folder / "fe_check.vtu" if options.out_dir else None)
+    te_fe = float(result.unloaded_te[j]) + ratio * model.phi_sign * fe.rotation_rad
+    num = lambda v: float(v) if v is not None and math.isfinite(v) else None  # noqa: E731
+    calculix = {"pair_normal_load_n": [num(v) for v in fe.pair_load_n],
+                "pair_max_pressure_mpa": [num(v) for v in fe.pair_max_pressure_mpa],
+                "contact_area_mm2": [num(v) for v in fe.pair_area_mm2],
+                "loaded_transmission_error_urad": num(te_fe * 1e6),
+                "root_stress_max_mpa": {m: num(v) for m, v in fe.root_stress_mpa.items()},
+                "moment_about_pinion_axis_nm": num(fe.moment_nmm * 1e-3)}
+    files = {"deck": str(deck_path), "frd": str(run.file("frd")), "dat": str(run.file("dat")),
+             "vtu": str(folder / "fe_check.vtu")} if options.out_dir else {}
+    notes = [f"position {j} of {options.ltca_positions} over one mesh cycle, {options.flank} flank, pinion torque "
+             f"{options.torque_nm:g} N m; tooth pairs {list(model.tooth_pairs)} in the LTCA's order in both blocks",
+             "calculix: C3D10 sectors of 3 teeth (beveloid.fe.mesh), frictionless surface-to-surface penalty "
+             "contact (slope 50 E per mm), gear rim fixed, pinion rim a rigid body under the moment; pair loads "
+             "and areas are CalculiX's contact totals (CF), peak pressure the largest nodal CPRESS on the gear "
+             "flank",
+             "root_stress_max_mpa: the largest principal stress on each member's fillet faces (calculix, all three "
+             "teeth); the LTCA's largest pair root stress at the position (its FE tooth; null with the plate "
+             f"tooth), tooth model here: {getattr(result, 'tooth_model', 'plate')}",
+             "loaded_transmission_error_urad: unloaded TE + (N1/N2) x the pinion's rotation under the moment "
+             "(calculix); the LTCA's loaded TE",
+             f"mesh {mesh_s:.1f} s, CalculiX {run.wall_s:.1f} s wall ({run.cpu_s:.1f} s CPU), {model.elements} "
+             f"elements, {model.dof} DOF"]
+    notes += [f"tooth pair {k}: outside the three-tooth sectors (null)" for k, p in zip(model.tooth_pairs,
+                                                                                         model.pairs) if p is None]
+    return {"calculix_version": run.version or ccx_version(), "position": int(j), "pinion_angle_rad": phi1,
+            "torque_nm": options.torque_nm, "flank": options.flank,
+            "ltca_tooth_model": getattr(result, "tooth_model", "plate"), "refinement": options.refinement,
+            "tooth_pairs": list(model.tooth_pairs),
+            "unloaded_transmission_error_urad": float(result.unloaded_te[j] * 1e6), "elements": model.elements, "dof": model.dof,
+            "calculix_wall_s": run.wall_s, "calculix_cpu_s": run.cpu_s, "mesh_s": mesh_s,
+            "calculix": calculix, "ltca": _ltca_block(result, geom, j, ratio), "files": files, "notes": notes}

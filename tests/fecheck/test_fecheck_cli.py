@@ -1,0 +1,59 @@
+"""``beveloid fe-check``: a very coarse check of case 1 through the command line (CalculiX), and its
+one-line refusals (no ccx, bad flags) that need no CalculiX."""
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from beveloid import cli
+from beveloid.fecheck import ccx_path
+
+CASE1 = "beveloid/data/case1.toml"
+COARSEN = 4.0  #: every element size x 4: about 3000 elements
+
+
+def test_missing_ccx_is_one_line_naming_the_package(monkeypatch, capsys, tmp_path):
+    monkeypatch.setenv("BEVELOID_CCX", str(tmp_path / "no-such-ccx"))
+    assert cli.main(["fe-check", CASE1, "--torque-nm", "100"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "calculix-ccx" in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize("argv, key", [(["--refinement", "9"], "--refinement"), (["--position", "20"], "--position"),
+                                       (["--torque-nm", "-1"], "--torque-nm")])
+def test_bad_flags_are_one_line_naming_the_flag(capsys, argv, key):
+    base = ["fe-check", CASE1, "--torque-nm", "100"]
+    assert cli.main(base + argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and key in err
+
+
+@pytest.mark.long_running
+@pytest.mark.skipif(ccx_path() is None, reason="needs CalculiX (ccx, Debian package calculix-ccx)")
+def test_coarse_fe_check_of_case1_balances_the_torque_and_agrees_with_the_ltca(tmp_path):
+    """A very coarse model (every element size x 4, 5 LTCA positions, the LTCA's plate tooth: cheaper than its
+    FE tooth, which tests/fe checks): the contact forces balance
+    the applied moment, the loads share the torque like the LTCA's, and the files are kept."""
+    from beveloid.fecheck.check import CheckOptions, fe_check
+    from beveloid.pair import Pair
+
+    out = fe_check(Pair.example("case1"), CheckOptions(torque_nm=200.0, flank="right", out_dir=str(tmp_path),
+                                                       coarsen=COARSEN, ltca_positions=5, ltca_tooth_model="plate"),
+                 progress=None)
+    json.dumps(out, allow_nan=False)
+    fe, lt = out["calculix"], out["ltca"]
+    # statics: the moment of the contact forces about the pinion axis is the applied torque
+    assert fe["moment_about_pinion_axis_nm"] == pytest.approx(200.0, rel=0.02)
+    assert len(fe["pair_normal_load_n"]) == len(lt["pair_normal_load_n"]) == len(out["tooth_pairs"])
+    fe_total = sum(v or 0.0 for v in fe["pair_normal_load_n"])
+    lt_total = sum(v or 0.0 for v in lt["pair_normal_load_n"])
+    assert fe_total == pytest.approx(lt_total, rel=0.10)
+    # the pinion lags under load in both, by a comparable amount (the coarse FE sector is stiffer)
+    unloaded = out["unloaded_transmission_error_urad"]
+    fe_lag = fe["loaded_transmission_error_urad"] - unloaded
+    lt_lag = lt["loaded_transmission_error_urad"] - unloaded
+    assert 0.5 < fe_lag / lt_lag < 2.0
+    assert fe["root_stress_max_mpa"]["pinion"] > 0 and fe["root_stress_max_mpa"]["gear"] > 0
+    for key in ("deck", "frd", "dat", "vtu"):
+        assert (tmp_path / out["files"][key].split("/")[-1]).exists()
