@@ -29,10 +29,10 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
-if TYPE_CHECKING:  # annotations only: design imports this module, not the other way round
-    from .members import DesignResult, MemberDesign
+# Annotations name beveloid.design's DesignResult and MemberDesign as strings (noqa: F821 there):
+# design imports this module, not the other way round.
 
 __all__ = ["format_table1", "design_json", "TABLE1_ROWS"]
 
@@ -68,11 +68,11 @@ def _d(x: float) -> str:
     return _f(math.degrees(x))
 
 
-def _helix(m: "MemberDesign") -> str:
+def _helix(m: "MemberDesign") -> str:  # noqa: F821
     return f"{_d(m.helix_angle)} ({m.hand})" if m.hand else _d(m.helix_angle)
 
 
-def format_table1(result: DesignResult) -> str:
+def format_table1(result: DesignResult) -> str:  # noqa: F821
     """The design as a plain-text table laid out like Table 1 of the paper."""
     p, g = result.pinion, result.gear
     values: dict[str, tuple[str, ...]] = {
@@ -130,7 +130,7 @@ def _member_json(m: "MemberDesign") -> dict[str, Any]:  # noqa: F821
     return out
 
 
-def design_json(result: DesignResult) -> dict[str, Any]:
+def design_json(result: DesignResult) -> dict[str, Any]:  # noqa: F821
     """The design as a JSON-ready dict (see the module docstring for the key contract)."""
     deg = math.degrees
     return {

@@ -134,3 +134,10 @@ def test_derive_model_out_follows_the_folder_rule(tmp_path, capsys):
     _one_line_exit_2(capsys, ["derive", "--model", str(model), "--name", "shifted", "--out", str(deep)],
                      "--out = ", "does not exist")
     assert not (tmp_path / "no").exists()
+
+
+def test_fe_check_out_follows_the_folder_rule(tmp_path, capsys):
+    """`fe-check --out DIR` is refused before any work (CalculiX or not) when DIR's parent is missing."""
+    deep = tmp_path / "no" / "such" / "dir"
+    _one_line_exit_2(capsys, ["fe-check", C1, "--torque-nm", "100", "--out", str(deep)], "--out = ", "does not exist")
+    assert not (tmp_path / "no").exists()

@@ -301,8 +301,9 @@ def test_every_output_flag_of_every_command_is_checked():
     outputs = {(name, opt) for name, p in sub.choices.items() for a in p._actions for opt in a.option_strings
                if opt in ("--plot", "--out", "--output", "-o", "--png", "--csv")}
     assert outputs == {("tca", "--plot"), ("ltca", "--plot"), ("paper", "--out"), ("export", "--out"),
-                       ("explore", "--out"), ("design", "--plot"), ("rating", "--plot"), ("derive", "--out")}
-    # export: tests/export, explore: tests/explore, rating: tests/rating, derive: tests/cli/test_cli_outputs.py
+                       ("explore", "--out"), ("design", "--plot"), ("rating", "--plot"), ("derive", "--out"),
+                       ("fe-check", "--out")}
+    # export: tests/export, explore: tests/explore, rating: tests/rating, derive: tests/cli/test_cli_outputs.py, fe-check: tests/fecheck
 
 
 # ---------------------------------------------------------------------------------------------
