@@ -55,8 +55,8 @@ def _loops():
         w = scratch()
         s = 0.0
         for i in range(n):
-            evaluate(problem, x, phi + 1e-12 * i, e, w)
-            s += w.F[0]
+            evaluate(problem, x, phi + 1e-12 * i, e, w.system)
+            s += w.system.F[0]
         return s
 
     @numba.njit
@@ -64,8 +64,8 @@ def _loops():
         es = edge_scratch()
         s = 0.0
         for i in range(n):
-            candidate(problem, first, second, x, phi + 1e-12 * i, e, es)
-            s += es.F[0]
+            candidate(problem, first, second, x, phi + 1e-12 * i, e, es.system)
+            s += es.system.F[0]
         return s
 
     @numba.njit
@@ -81,11 +81,11 @@ def _loops():
     @numba.njit
     def margins(problem, x, phi, e, n):
         w = scratch()
-        evaluate(problem, x, phi, e, w)
+        evaluate(problem, x, phi, e, w.system)
         s = 0.0
         for _ in range(n):
             x[0] += 1e-12
-            m, _ = margin_fn(x, problem.pinion_blank, problem.gear_blank, w.ws)
+            m, _ = margin_fn(x, problem.pinion_blank, problem.gear_blank, w.system.ws)
             s += m
         return s
 

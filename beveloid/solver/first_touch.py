@@ -24,16 +24,23 @@ TRACK_H1, TRACK_H2, TRACK_VALID = 2 * N_UNKNOWNS, 2 * N_UNKNOWNS + 1, 2 * N_UNKN
 TRACK_SIZE = 2 * N_UNKNOWNS + 3
 
 
-class EdgeScratch(typing.NamedTuple):
-    """Work arrays of the first-touch search and of the edge followed along a path (one thread)."""
+class CandidateSystem(typing.NamedTuple):
+    """One evaluation of a candidate system: what :func:`evaluate_candidate` writes (only these
+    are passed per evaluation, as newton.System)."""
 
-    ws: Workspace  # the candidates' surface jets (the tangency's stay in newton.Scratch.ws)
+    ws: Workspace  # the candidates' surface jets (the tangency's stay in newton.Scratch)
     ews: EdgeWorkspace  # the candidate systems' jets (generated tca_kernels_scalar.EdgeWorkspace)
     margins: np.ndarray  # (N_MARGINS,) both points' flank margins
     F: np.ndarray  # (N_UNKNOWNS,) the candidate system's residual
     J: np.ndarray  # (N_UNKNOWNS, N_UNKNOWNS)
     Je: np.ndarray  # (N_UNKNOWNS, N_ERRORS)
     Jp: np.ndarray  # (N_UNKNOWNS,)
+
+
+class EdgeScratch(typing.NamedTuple):
+    """Work arrays of the first-touch search and of the edge followed along a path (one thread)."""
+
+    system: CandidateSystem  # the last candidate evaluation
     step: np.ndarray  # (N_UNKNOWNS,)
     y: np.ndarray  # (N_UNKNOWNS,) the multipliers' solve
     rhs: np.ndarray  # (N_UNKNOWNS,)
@@ -47,9 +54,10 @@ class EdgeScratch(typing.NamedTuple):
 
 def edge_scratch():
     """An :class:`EdgeScratch` (allocate once per thread)."""
-    return EdgeScratch(ws=workspace(), ews=edge_workspace(), margins=np.zeros(N_MARGINS), F=np.empty(N_UNKNOWNS),
-                       J=np.empty((N_UNKNOWNS, N_UNKNOWNS)), Je=np.empty((N_UNKNOWNS, N_ERRORS)),
-                       Jp=np.empty(N_UNKNOWNS), step=np.empty(N_UNKNOWNS), y=np.empty(N_UNKNOWNS),
+    system = CandidateSystem(ws=workspace(), ews=edge_workspace(), margins=np.zeros(N_MARGINS),
+                             F=np.empty(N_UNKNOWNS), J=np.empty((N_UNKNOWNS, N_UNKNOWNS)),
+                             Je=np.empty((N_UNKNOWNS, N_ERRORS)), Jp=np.empty(N_UNKNOWNS))
+    return EdgeScratch(system=system, step=np.empty(N_UNKNOWNS), y=np.empty(N_UNKNOWNS),
                        rhs=np.empty(N_UNKNOWNS), JT=np.empty((N_UNKNOWNS, N_UNKNOWNS)), x=np.empty(N_UNKNOWNS),
                        x_prev=np.empty(N_UNKNOWNS), trial=np.empty(N_UNKNOWNS), tangent=np.empty(N_UNKNOWNS),
                        track=np.zeros(TRACK_SIZE))
@@ -57,7 +65,7 @@ def edge_scratch():
 
 def evaluate_candidate(problem, first, second, x, phi1, e, es):
     """The candidate system of the active boundaries (first, second) at x (tca_kernels_scalar)
-    into the :class:`EdgeScratch` es.  May raise, as evaluate_unchecked: newton_candidate catches
+    into the :class:`CandidateSystem` es.  May raise, as evaluate_unchecked: newton_candidate catches
     it around its loop."""
     candidate_system_point(problem.pinion_model, problem.gear_model, problem.flank, first, second, x, phi1, e,
                            problem.pinion_params, problem.gear_params, problem.pair, problem.pinion_blank,
@@ -66,23 +74,25 @@ def evaluate_candidate(problem, first, second, x, phi1, e, es):
 
 def newton_candidate(problem, first, second, x, phi1, e, settings, es):
     """Newton in place on x for one candidate system; (converged, iterations).  es.F, J, Je, Jp
-    and margins hold the last evaluation (as in :func:`newton`)."""
+    and margins (es.system) hold the last evaluation (as in :func:`newton`)."""
     scale = settings.scale_mm
     tol = settings.tol_mm
     max_iter = settings.max_iter
     n_mm = 3 + (1 if first >= 0 else 0) + (1 if second >= 0 else 0)
+    system = es.system
     done = 0
     try:
         for it in range(max_iter + 1):
             done = it
-            evaluate_candidate(problem, first, second, x, phi1, e, es)
-            s = newton_update(es.F, es.J, x, es.step, residual_norm(es.F, scale, n_mm), tol, it == max_iter, scale)
+            evaluate_candidate(problem, first, second, x, phi1, e, system)
+            s = newton_update(system.F, system.J, x, es.step, residual_norm(system.F, scale, n_mm), tol, it == max_iter,
+                              scale)
             if s == 2:
                 return True, it + 1
             if s != 0:
                 return s > 0, it
     except Exception:  # as in newton: the same verdict on both backends
-        es.F[0] = math.nan
+        system.F[0] = math.nan
         return False, done
     return False, max_iter
 
@@ -126,11 +136,11 @@ def worst_inactive(margins, first, second, patch_tol):
 
 def first_touch(problem, x, first, second, phi1, e, settings, es):
     """Active-set search for the first touch from x with the active set (first, second).  In
-    place on x; returns (found, first, second, Newton iterations).  J, Jp of ``es`` hold the final
+    place on x; returns (found, first, second, Newton iterations).  J, Jp of ``es.system`` hold the final
     system."""
     sign = settings.first_touch_sign
     patch_tol = settings.patch_tol_mm
-    margins, J, y, rhs, JT = es.margins, es.J, es.y, es.rhs, es.JT
+    margins, J, y, rhs, JT = es.system.margins, es.system.J, es.y, es.rhs, es.JT
     a = first
     b = second
     its = 0
@@ -193,7 +203,7 @@ def enumerate_candidates(problem, x_start, x, phi1, e, settings, es):
     sign * phi'_2 is written to x.  Returns (found, first, second, Newton iterations)."""
     sign = settings.first_touch_sign
     patch_tol = settings.patch_tol_mm
-    margins, xt = es.margins, es.trial
+    margins, xt = es.system.margins, es.trial
     best = -math.inf
     ba = -1
     bb = -1
@@ -238,8 +248,8 @@ def follow_edge(problem, prev_first, prev_second, phi1, phi_prev, e, settings, e
     copy_into(x_prev, xe)
     h = phi1 - phi_prev
     for i in range(n):
-        rhs[i] = -es.Jp[i]
-    if solve_linear(es.J, rhs, dx):
+        rhs[i] = -es.system.Jp[i]
+    if solve_linear(es.system.J, rhs, dx):
         valid = track[TRACK_VALID]
         h1 = track[TRACK_H1]
         h2 = track[TRACK_H2]

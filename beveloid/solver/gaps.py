@@ -102,7 +102,7 @@ def _normal_gap_point(problem, request, m, out, w, warm):
     rotation, tol, max_iter = request.rotation, request.tol_mm, request.max_iter
     s, x, pt, nm, dp, dn = w.s, w.x, w.point, w.normal, w.point_D_lu, w.normal_D_lu
     nf, A, g = w.normal_f, w.matrix, w.rhs
-    F, J, Jp, dx = s.F, s.J, s.Jp, s.dx
+    F, J, Jp, dx = s.system.F, s.system.J, s.system.Jp, s.dx
     for i in range(N_UNKNOWNS):
         if not warm or i == GEAR_ANGLE:
             x[i] = start[q, i]
@@ -145,7 +145,7 @@ def _normal_gap_point(problem, request, m, out, w, warm):
     last = 1e300
     if ok1:
         for it in range(max_iter + 1):
-            evaluate(problem, x, request.pinion_angle[q], s.e, s)
+            evaluate(problem, x, request.pinion_angle[q], s.e, s.system)
             for r in range(3):
                 g[r] = -(F[r] + gap * nf[r])
             err = max(abs(g[0]), max(abs(g[1]), abs(g[2])))
@@ -176,10 +176,10 @@ def _normal_gap_point(problem, request, m, out, w, warm):
         out.ok[m] = 1
         out.rates[m, 0] = dx[2]
         out.rates[m, 1] = nf[0] * Jp[0] + nf[1] * Jp[1] + nf[2] * Jp[2]
-        margin, _ = contact_margin_point(x, problem.pinion_blank, problem.gear_blank, s.ws)
+        margin, _ = contact_margin_point(x, problem.pinion_blank, problem.gear_blank, s.system.ws)
         out.margin[m] = margin
-        p1 = s.ws.pinion_point
-        p2 = s.ws.gear_point
+        p1 = s.system.ws.pinion_point
+        p2 = s.system.ws.gear_point
         for i in range(3):
             out.pinion_point[m, i] = p1[i]
             out.gear_point[m, i] = p2[i]

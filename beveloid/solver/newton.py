@@ -28,14 +28,21 @@ FINAL_STEP_RESIDUAL_MM = 1e-4
 GEAR_ANGLE = UNKNOWNS.index("gear_angle_rad")
 
 
-class Scratch(typing.NamedTuple):
-    """Work arrays of one solver thread."""
+class System(typing.NamedTuple):
+    """One evaluation of Eq 38: what :func:`evaluate` writes (the record passed per evaluation
+    holds only these: a bigger record costs its fields' copies on every call, compiled)."""
 
     ws: Workspace  # the surface jets of the last evaluation (generated tca_kernels_scalar.Workspace)
     F: np.ndarray  # (N_UNKNOWNS,) Eq 38 residual
     J: np.ndarray  # (N_UNKNOWNS, N_UNKNOWNS) d F / d unknowns
     Je: np.ndarray  # (N_UNKNOWNS, N_ERRORS) d F / d errors
     Jp: np.ndarray  # (N_UNKNOWNS,) d F / d pinion angle
+
+
+class Scratch(typing.NamedTuple):
+    """Work arrays of one solver thread."""
+
+    system: System  # the last evaluation
     step: np.ndarray  # (N_UNKNOWNS,) a Newton step
     dx: np.ndarray  # (N_UNKNOWNS,) a predictor
     rhs: np.ndarray  # (N_UNKNOWNS,) a right-hand side
@@ -44,13 +51,14 @@ class Scratch(typing.NamedTuple):
 
 def scratch():
     """A :class:`Scratch` (allocate once per thread)."""
-    return Scratch(ws=workspace(), F=np.empty(N_UNKNOWNS), J=np.empty((N_UNKNOWNS, N_UNKNOWNS)),
-                   Je=np.empty((N_UNKNOWNS, N_ERRORS)), Jp=np.empty(N_UNKNOWNS), step=np.empty(N_UNKNOWNS),
+    system = System(ws=workspace(), F=np.empty(N_UNKNOWNS), J=np.empty((N_UNKNOWNS, N_UNKNOWNS)),
+                    Je=np.empty((N_UNKNOWNS, N_ERRORS)), Jp=np.empty(N_UNKNOWNS))
+    return Scratch(system=system, step=np.empty(N_UNKNOWNS),
                    dx=np.empty(N_UNKNOWNS), rhs=np.empty(N_UNKNOWNS), e=np.empty(N_ERRORS))
 
 
 def evaluate_unchecked(problem, x, phi1, e, s):
-    """Eq 38 at unknowns x, pinion angle phi1 and errors e into the :class:`Scratch` s: residual
+    """Eq 38 at unknowns x, pinion angle phi1 and errors e into the :class:`System` s: residual
     s.F, d/d unknowns s.J, d/d errors s.Je, d/d pinion angle s.Jp, the surface jets s.ws.  May
     raise on a runaway iterate (math domain error, division by zero): callers catch it once
     around their loop (a try per evaluation cost ~15 % of an evaluation, compiled)."""
@@ -91,23 +99,25 @@ def newton_update(F, J, x, step, r, tol, last, scale):
 
 def newton(problem, x, phi1, e, settings, s):
     """Newton in place on x (records.Settings: scale_mm, tol_mm, max_iter).  Returns (converged,
-    iterations); the :class:`Scratch` s holds the last evaluation (F, J, Je, Jp, ws): at the
+    iterations); the :class:`Scratch` s holds the last evaluation (s.system): at the
     returned x, or one final small step before it (FINAL_STEP_K)."""
     scale = settings.scale_mm
     tol = settings.tol_mm
     max_iter = settings.max_iter
+    system = s.system
     done = 0
     try:
         for it in range(max_iter + 1):
             done = it
-            evaluate_unchecked(problem, x, phi1, e, s)
-            decision = newton_update(s.F, s.J, x, s.step, residual_norm(s.F, scale), tol, it == max_iter, scale)
+            evaluate_unchecked(problem, x, phi1, e, system)
+            decision = newton_update(system.F, system.J, x, s.step, residual_norm(system.F, scale), tol, it == max_iter,
+                                     scale)
             if decision == 2:
                 return True, it + 1
             if decision != 0:
                 return decision > 0, it
     except Exception:  # an evaluation failed (see evaluate): not converged
-        s.F[0] = math.nan
+        system.F[0] = math.nan
         return False, done
     return False, max_iter
 
@@ -137,18 +147,18 @@ def homotopy(problem, x, phi_ref, target, settings, s):
     equal steps, each predicted along d x / d errors and corrected by Newton.  In place; True if
     every step converged.  On return s.e == target."""
     steps = settings.homotopy_steps
-    Je, dx, e, rhs = s.Je, s.dx, s.e, s.rhs
+    Je, dx, e, rhs = s.system.Je, s.dx, s.e, s.rhs
     ok = True
     for i in range(e.shape[0]):
         e[i] = 0.0
     for h in range(1, steps + 1):
-        evaluate(problem, x, phi_ref, e, s)
+        evaluate(problem, x, phi_ref, e, s.system)
         for i in range(rhs.shape[0]):
             r = 0.0
             for c in range(e.shape[0]):
                 r -= Je[i, c] * target[c] / steps
             rhs[i] = r
-        if solve_linear(s.J, rhs, dx):
+        if solve_linear(s.system.J, rhs, dx):
             for i in range(x.shape[0]):
                 x[i] += dx[i]
         for c in range(e.shape[0]):
@@ -163,4 +173,4 @@ def solve_point(problem, x, phi1, errors, settings):
     s = scratch()
     xs = x.copy()
     conv, it = newton(problem, xs, phi1, errors, settings, s)
-    return xs, conv, it, residual_norm(s.F, settings.scale_mm)
+    return xs, conv, it, residual_norm(s.system.F, settings.scale_mm)

@@ -69,7 +69,7 @@ def solve_paths(problem, request, settings, out):
         j0 += 1
     for k in prange(K):
         s = scratch()
-        J, Jp, dx, rhs, e = s.J, s.Jp, s.dx, s.rhs, s.e
+        J, Jp, dx, rhs, e = s.system.J, s.system.Jp, s.dx, s.rhs, s.e
         es = edge_scratch()
         cs = clearance_scratch()
         xe = es.x  # the edge contact found or followed
@@ -151,7 +151,7 @@ def solve_paths(problem, request, settings, out):
                 active_out[k, j, 0] = -1
                 active_out[k, j, 1] = -1
                 if conv and ok_all:
-                    margin, which = contact_margin_point(x, problem.pinion_blank, problem.gear_blank, s.ws)
+                    margin, which = contact_margin_point(x, problem.pinion_blank, problem.gear_blank, s.system.ws)
                     code = classify(True, margin, settings.patch_tol_mm)
                     boundary_out[k, j] = which
                     if code == OUTSIDE:
