@@ -214,28 +214,28 @@ def _solve_in_place(task: ChunkTask, errors):
     return sol.x, sol.status, sol.iterations
 
 
-def sweep(geom, flank="right", samples=1000, positions=50, seed=0, ranges=None, backend="auto",
-          options=None, progress=None, chunk=2000, nominal=None, executor=None):
-    """Run the sweep; ``progress`` is a callable(done, total, t0) or None (beveloid.progress).
+def sweep(geom, flank="right", **keywords):
+    """Deprecated keyword form of :func:`analyze`, kept for scripts written before ``Options``:
+    ``sweep(geom, flank, samples=1000, positions=50, seed=0, ranges=None, nominal=None, chunk=2000,
+    backend="auto", options=None, progress=None, executor=None)``; ``options`` here are the solver's
+    (``SolverOptions``), overriding the backend's."""
+    solver_keys = ("backend", "options", "progress", "executor")
+    unknown = set(keywords) - set(solver_keys) - {"samples", "positions", "seed", "ranges", "nominal", "chunk"}
+    if unknown:
+        raise TypeError(f"sweep() got an unexpected argument {sorted(unknown)[0]!r}")
+    given = {k: v for k, v in keywords.items() if k not in solver_keys and v is not None}
+    solver = tca.as_solver(keywords.get("backend", "auto"), keywords.get("options"))
+    return analyze(geom, Options(flank=flank, **given), solver, keywords.get("executor"), keywords.get("progress"))
 
-    ``geom``: a :class:`beveloid.pair.Pair` or its PairGeometry; ``backend``: a
-    :class:`beveloid.solver.Solver` or a backend name (``options`` override its SolverOptions).
-    The positions lie on a lattice of whole fractions of a pinion pitch over the aligned
-    engagement (:func:`position_lattice`), so that the TE peak-to-peak is the mesh TE envelope's
-    (as tca's), the neighbouring pairs being the same path a pitch earlier or later.
 
-    ``executor`` (beveloid.parallel.executor(workers, scheduler)) solves the chunks of ``chunk``
-    error sets on local processes or a Dask cluster (:func:`solve_chunk`), each chunk drawing its own
-    sets (the same as without it: :func:`draw_errors` from the chunk's start).
-
-    Error sets are drawn uniformly within ``ranges`` (half-widths) about ``nominal`` (mm / deg dicts).
-    """
-    check_sweep_size(samples, positions)
+def _run(geom, options: "Options", solver, executor, progress):
+    """The sweep itself (:func:`analyze`)."""
+    flank, samples, positions, seed = options.flank, options.samples, options.positions, options.seed
+    ranges, nominal, chunk = options.ranges, options.nominal, options.chunk
     t_start = time.perf_counter()
     geom = tca.geometry_of(geom)
     errors = draw_errors(samples, ranges, seed, nominal)
     ref = tca.reference_contact(geom, flank)
-    solver = tca.as_solver(backend, options)
     lo, hi = engagement_window(geom, flank, ref, backend=solver)
     grid, per_pitch, first = position_lattice(ref.pinion_angle, lo, hi, positions, geom.pitch_angles[0])
     # aligned path (the shift reference)
@@ -343,5 +343,4 @@ def analyze(pair, options: Options = Options(), solver: "tca.Solver | str" = "au
     one worker, N workers and a cluster); ``progress``: callable(done, total, t0) or None."""
     if not isinstance(options, Options):
         raise TypeError(f"sweep.analyze needs a sweep.Options, not {type(options).__name__}")
-    return sweep(pair, options.flank, options.samples, options.positions, options.seed, options.ranges, solver,
-                 progress=progress, chunk=options.chunk, nominal=options.nominal, executor=executor)
+    return _run(pair, options, tca.as_solver(solver, None), executor, progress)

@@ -21,16 +21,9 @@ PACKAGE = ROOT / "beveloid"
 MAX_PARAMETERS = 8
 
 #: (file relative to the checkout, function) still over MAX_PARAMETERS, owned by other work items
-PENDING_PARAMETERS = {
-    ("beveloid/explore/contact.py", "_aligned_contacts"),
-    ("beveloid/explore/rows.py", "monte_carlo"),
-    ("beveloid/ltca/lcp.py", "solve_contact"),
-    ("beveloid/parallel.py", "sweep_chunks"),
-    ("beveloid/sweep.py", "sweep"),
-}
+PENDING_PARAMETERS: set = set()
 #: packages (folders relative to the checkout) that do not declare __all__ yet
-PENDING_ALL = {"beveloid", "beveloid/cli", "beveloid/explore", "beveloid/export", "beveloid/studies",
-               "beveloid/tooth"}
+PENDING_ALL: set = set()
 
 
 def _sources():
@@ -99,6 +92,9 @@ def test_every_package_declares_all():
                                      if _declares_all(p / "__init__.py")])
 def test_every_name_in_all_exists(package):
     module = importlib.import_module(package.replace("/", "."))
-    absent = [name for name in module.__all__ if not hasattr(module, name)]
+    folder = ROOT / package
+    # a submodule is a public name too (``from package import *`` imports it)
+    absent = [name for name in module.__all__ if not hasattr(module, name)
+              and not (folder / f"{name}.py").is_file() and not (folder / name / "__init__.py").is_file()]
     assert not absent, f"{package}.__all__ names what it does not define: {absent}"
     assert len(set(module.__all__)) == len(module.__all__)

@@ -158,12 +158,12 @@ def run(args: argparse.Namespace) -> int:
         # CLI removes the folder once empty)
         _discard(out, runner)
         print(f"beveloid explore: stopped ({why}) before any design finished; nothing written", file=sys.stderr)
-        return 130 if "Ctrl-C" in why else 1
+        return 130 if stop is StopReason.INTERRUPTED else 1
     base_plan = Plan(req.plan.base, (), seed=req.plan.seed)
     base_cols = rows.compute(base_plan, 0, 1, req.tolerances, req.backend)
     if req.mc:
-        rows.monte_carlo(base_cols, base_plan, 0, 1, req.tolerances, req.mc, req.mc_positions, req.mc_flank,
-                         req.plan.seed, req.backend)
+        rows.monte_carlo(base_cols, base_plan, slice(0, 1), req.tolerances, rows.monte_carlo_request(req),
+                         req.backend)
     base_row = report.records(base_cols)[0]
     values = Plan(req.plan.base, ()).base_values()
     base_row.update({k: values[k] for k in req.plan.keys})

@@ -122,12 +122,11 @@ def _warm_up(pair, flank, solver) -> float:
     calls, the serial and the parallel paths, so the sweep's own time is the solve alone."""
     import time
 
-    from .. import tca
-    from ..sweep import sweep
+    from .. import sweep, tca
 
     t0 = time.perf_counter()
     try:
-        sweep(pair, flank, tca.SERIAL_MAX_SETS + 1, 2, 0, None, solver)
+        sweep.analyze(pair, sweep.Options(flank=flank, samples=tca.SERIAL_MAX_SETS + 1, positions=2), solver)
     except tca.NoContactError:
         pass  # the real sweep reports it
     return time.perf_counter() - t0

@@ -61,8 +61,37 @@ def geometry(values: dict, q: dict, idx: np.ndarray, models: dict) -> PairGeomet
     return PairGeometry(m_n, alpha_n, sub["pair.offset_mm"], np.radians(sub["pair.shaft_angle_deg"]), *members)
 
 
-def _aligned_contacts(pm, gm, flank, pp, gp, pair, pb, gb, x0, phi, scale, tol, max_iter, steps, patch_tol, x_out,
-                      code_out):
+class Batch(NamedTuple):
+    """The designs of one call of :func:`_aligned_contacts`, one row each: the members' surface
+    parameters and blanks, the placement, the Newton start ``x0`` and the pinion angle ``phi`` at P."""
+
+    pinion_params: np.ndarray
+    gear_params: np.ndarray
+    pair: np.ndarray
+    pinion_blank: np.ndarray
+    gear_blank: np.ndarray
+    x0: np.ndarray
+    phi: np.ndarray
+
+
+class BatchLimits(NamedTuple):
+    """Per design ``scale_mm`` and ``tol_mm``; the solver's iteration, homotopy and patch settings."""
+
+    scale_mm: np.ndarray
+    tol_mm: np.ndarray
+    max_iter: int
+    homotopy_steps: int
+    patch_tol_mm: float
+
+
+class BatchOutput(NamedTuple):
+    """What :func:`_aligned_contacts` writes: the contact's unknowns and its status code (-1: none)."""
+
+    x: np.ndarray
+    code: np.ndarray
+
+
+def _aligned_contacts(pm, gm, flank, batch, limits, out):
     """Per design: the aligned contact at P (solve_point) and its status at P (solve_paths_serial)."""
     cover = np.zeros((0, 8))
     zeros = np.zeros(5)
@@ -73,21 +102,23 @@ def _aligned_contacts(pm, gm, flank, pp, gp, pair, pb, gb, x0, phi, scale, tol, 
     io = np.empty((1, 1), dtype=np.int64)
     bo = np.empty((1, 1), dtype=np.int64)
     ao = np.empty((1, 1, 2), dtype=np.int64)
-    for i in range(x0.shape[0]):
-        problem = Problem(pinion_model=pm, gear_model=gm, flank=flank, pinion_params=pp[i], gear_params=gp[i],
-                          pair=pair[i], pinion_blank=pb[i], gear_blank=gb[i])
-        limits = Settings(scale_mm=scale[i], tol_mm=tol[i], max_iter=max_iter, patch_tol_mm=patch_tol,
-                          homotopy_steps=steps, first_touch_sign=1.0)
-        x, conv, _, _ = solve_point(problem, x0[i], phi[i], zeros, limits)  # noqa: F821
+    for i in range(batch.x0.shape[0]):
+        problem = Problem(pinion_model=pm, gear_model=gm, flank=flank, pinion_params=batch.pinion_params[i],
+                          gear_params=batch.gear_params[i], pair=batch.pair[i], pinion_blank=batch.pinion_blank[i],
+                          gear_blank=batch.gear_blank[i])
+        settings = Settings(scale_mm=limits.scale_mm[i], tol_mm=limits.tol_mm[i], max_iter=limits.max_iter,
+                            patch_tol_mm=limits.patch_tol_mm, homotopy_steps=limits.homotopy_steps,
+                            first_touch_sign=1.0)
+        x, conv, _, _ = solve_point(problem, batch.x0[i], batch.phi[i], zeros, settings)  # noqa: F821
         if not conv:
-            code_out[i] = -1
+            out.code[i] = -1
             continue
-        grid[0] = phi[i]
-        solve_paths_serial(problem, PathRequest(pinion_cover=cover, x_ref=x, phi_ref=phi[i], errors=errors,  # noqa: F821
-                                                phi_grid=grid),
-                           limits, PathOutput(x=xo, status=co, iterations=io, boundary=bo, active=ao))
-        code_out[i] = co[0, 0]
-        x_out[i, :] = xo[0, 0, :]
+        grid[0] = batch.phi[i]
+        solve_paths_serial(problem, PathRequest(pinion_cover=cover, x_ref=x, phi_ref=batch.phi[i],  # noqa: F821
+                                                errors=errors, phi_grid=grid),
+                           settings, PathOutput(x=xo, status=co, iterations=io, boundary=bo, active=ao))
+        out.code[i] = co[0, 0]
+        out.x[i, :] = xo[0, 0, :]
 
 
 @functools.lru_cache(maxsize=None)
@@ -141,9 +172,13 @@ def sensitivities(values: dict, q: dict, idx: np.ndarray, models: dict, backend:
             axis=-1))
         x = np.full((n, 5), np.nan)
         code = np.empty(n, dtype=np.int64)
-        _kernel(backend)(tca_kernels.model_id(pm), tca_kernels.model_id(gm), tca_kernels.flank_id(flank), pp, gp, pair,
-                         pb, gb, x0, phi1, scale, tol, DEFAULT_OPTIONS.max_iter, DEFAULT_OPTIONS.homotopy_steps,
-                         DEFAULT_OPTIONS.patch_tol_mm, x, code)
+        _kernel(backend)(tca_kernels.model_id(pm), tca_kernels.model_id(gm), tca_kernels.flank_id(flank),
+                         Batch(pinion_params=pp, gear_params=gp, pair=pair, pinion_blank=pb, gear_blank=gb, x0=x0,
+                               phi=phi1),
+                         BatchLimits(scale_mm=scale, tol_mm=tol, max_iter=DEFAULT_OPTIONS.max_iter,
+                                     homotopy_steps=DEFAULT_OPTIONS.homotopy_steps,
+                                     patch_tol_mm=DEFAULT_OPTIONS.patch_tol_mm),
+                         BatchOutput(x=x, code=code))
         res = {"status": code, "pinion_contact_D_errors": np.full((n, 3, 5), np.nan),
                "gear_contact_D_errors": np.full((n, 3, 5), np.nan), "gear_angle_D_errors": np.full((n, 5), np.nan),
                "unknowns_D_errors": np.full((n, 5, 5), np.nan)}

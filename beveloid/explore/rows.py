@@ -14,6 +14,7 @@ a surface contact, carries its status and no number (NaN in the arrays, empty in
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -181,9 +182,23 @@ def _scalar_status(plan, values, j, flank) -> str:
         return Status.FAILED.label
 
 
-def monte_carlo(cols: dict, plan, start: int, stop: int, tolerances: dict, samples: int, positions: int, flank: str,
-                seed: int, backend: str = "auto") -> None:
-    """The sweep of ``samples`` error sets inside the tolerance box, per ok design (columns MC_COLUMNS).
+class MonteCarloRequest(NamedTuple):
+    """Each design's Monte Carlo sweep: ``samples`` error sets x ``positions`` on ``flank``, seeded from ``seed``."""
+
+    samples: int
+    positions: int
+    flank: str
+    seed: int
+
+
+def monte_carlo_request(req) -> MonteCarloRequest:
+    """The Monte Carlo part of an explore request (``--mc``, ``--mc-positions``, ``--mc-flank``, ``--seed``)."""
+    return MonteCarloRequest(samples=req.mc, positions=req.mc_positions, flank=req.mc_flank, seed=req.plan.seed)
+
+
+def monte_carlo(cols: dict, plan, rows: slice, tolerances: dict, mc: MonteCarloRequest, backend: str = "auto") -> None:
+    """The sweep of ``mc.samples`` error sets inside the tolerance box, per ok design of the plan's
+    ``rows`` (columns MC_COLUMNS).
 
     Error sets are uniform within the tolerance half-widths about the design's [misalignment]; the
     seed of design i is derived from (seed, i) alone, so a design's sets do not depend on its chunk.
@@ -191,6 +206,8 @@ def monte_carlo(cols: dict, plan, start: int, stop: int, tolerances: dict, sampl
     from ..pair import Pair
     from .. import sweep
 
+    start, stop = rows.start, rows.stop
+    samples, positions, flank, seed = mc.samples, mc.positions, mc.flank, mc.seed
     n = stop - start
     for c in MC_COLUMNS:
         cols[c] = np.full(n, np.nan)

@@ -93,8 +93,8 @@ def compute_chunk(task: ChunkTask) -> dict:
     stop = min(req.plan.count, start + req.chunk)
     cols = rows.compute(req.plan, start, stop, req.tolerances, req.backend)
     if req.mc:
-        rows.monte_carlo(cols, req.plan, start, stop, req.tolerances, req.mc, req.mc_positions, req.mc_flank,
-                         req.plan.seed, req.backend)
+        rows.monte_carlo(cols, req.plan, slice(start, stop), req.tolerances, rows.monte_carlo_request(req),
+                         req.backend)
     return {k: (np.asarray(v, dtype=str) if np.asarray(v).dtype == object else np.asarray(v)) for k, v in cols.items()}
 
 

@@ -28,12 +28,14 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Sequence
 
+import typing
+
 import numpy as np
 import scipy.linalg
 
 from . import checks
 
-__all__ = ["Compliance", "ContactSolution", "prepare_compliance", "solve_contact"]
+__all__ = ["Compliance", "ContactSolution", "SolveLimits", "prepare_compliance", "solve_contact"]
 
 
 @dataclass(frozen=True)
@@ -67,6 +69,14 @@ class ContactSolution:
     @property
     def max_pressure_mpa(self) -> float:
         return float(self.pressure_mpa.max()) if self.pressure_mpa.size else 0.0
+
+
+class SolveLimits(typing.NamedTuple):
+    """When :func:`solve_contact` stops: the complementarity residual's relative ``tolerance`` and
+    the most active-set ``max_iterations``."""
+
+    tolerance: float = 1e-10
+    max_iterations: int = 200
 
 
 @dataclass(frozen=True)
@@ -170,8 +180,7 @@ def solve_contact(
     load_weight=None,
     *,
     initial_contact=None,
-    tolerance: float = 1e-10,
-    max_iterations: int = 200,
+    limits: "SolveLimits | None" = None,
 ) -> ContactSolution:
     """Solve the contact problem of the module docstring.
 
@@ -180,8 +189,9 @@ def solve_contact(
     (checked once; use it when solving many positions on one grid).  ``gap_mm``, ``area_mm2``, ``approach_weight`` (w),
     ``load_weight`` (t): one entry per cell; w defaults to 1, t defaults to w; both must
     be > 0.  ``initial_contact``: optional boolean start set (e.g. the previous mesh
-    position); by default an uncoupled-spring estimate.  ``tolerance``: relative tolerance
-    of the complementarity residual (the load residual is held to 1e-9 at most).
+    position); by default an uncoupled-spring estimate.  ``limits``: :class:`SolveLimits`, the
+    relative tolerance of the complementarity residual (the load residual is held to 1e-9 at most)
+    and the most active-set iterations.
     """
     h = checks.finite_array("gap_mm", gap_mm)
     n = h.size
@@ -191,7 +201,8 @@ def solve_contact(
     load = checks.positive("load_n", load_n)
     w = np.ones(n) if approach_weight is None else checks.finite_array("approach_weight", approach_weight, n, True)
     t = w if load_weight is None else checks.finite_array("load_weight", load_weight, n, True)
-    tol = checks.positive("tolerance", tolerance)
+    limits = SolveLimits() if limits is None else limits
+    tol, max_iterations = checks.positive("tolerance", limits.tolerance), limits.max_iterations
     if not (isinstance(max_iterations, int) and max_iterations >= 1):
         raise ValueError(f"max_iterations = {max_iterations!r}: must be an integer >= 1")
     ops = prepare_compliance(compliance_mm_per_mpa)

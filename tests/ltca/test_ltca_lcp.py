@@ -12,7 +12,7 @@ from scipy.optimize import minimize
 
 from beveloid.ltca.halfspace import reduced_modulus_mpa, tensor_grid, tensor_influence_matrix_mm_per_mpa
 from beveloid.ltca.hertz import hertz_point_contact
-from beveloid.ltca.lcp import prepare_compliance, solve_contact
+from beveloid.ltca.lcp import SolveLimits, prepare_compliance, solve_contact
 
 E_STAR = reduced_modulus_mpa()
 RX_MM, RY_MM, LOAD_N = 20.0, 60.0, 1000.0
@@ -153,7 +153,7 @@ def test_warm_start_and_unconverged_flag():
     # a start far from the answer and a single iteration: reported, not hidden
     start = np.zeros(cells.size, dtype=bool)
     start[np.argmin(h)] = True
-    cut = solve_contact(c, h, cells.area_mm2, LOAD_N, initial_contact=start, max_iterations=1)
+    cut = solve_contact(c, h, cells.area_mm2, LOAD_N, initial_contact=start, limits=SolveLimits(max_iterations=1))
     assert not cut.converged
     assert "not settled" in cut.message
     assert cut.complementarity_residual > 1e-3
@@ -166,8 +166,8 @@ def test_warm_start_and_unconverged_flag():
         ({"gap_mm": np.ones(3), "area_mm2": np.ones(3)}, "compliance covers 4 cells but gap_mm has 3"),
         ({"area_mm2": np.array([1.0, 1.0, 0.0, 1.0])}, "area_mm2 has minimum 0.0"),
         ({"approach_weight": -np.ones(4)}, "approach_weight"),
-        ({"tolerance": -1.0}, "tolerance = -1.0"),
-        ({"max_iterations": 0}, "max_iterations = 0"),
+        ({"limits": SolveLimits(tolerance=-1.0)}, "tolerance = -1.0"),
+        ({"limits": SolveLimits(max_iterations=0)}, "max_iterations = 0"),
         ({"compliance": np.ones((4, 3))}, "must be square"),
         ({"compliance": prepare_compliance(np.eye(5))}, "compliance covers 5 cells but gap_mm has 4"),
     ],

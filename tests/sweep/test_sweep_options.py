@@ -48,7 +48,7 @@ def test_analyze_is_the_sweep_and_runs_anywhere_the_same(pair1):
         serial.samples = 1
     with parallel.executor(workers=1) as ex:  # the chunks through an executor: drawn on their own
         chunked = sweep.analyze(pair1, options, executor=ex)
-    direct = sweep.sweep(pair1, "right", 9, 6, 3, {"dx_mm": 0.2}, chunk=9)
+    direct = sweep.sweep(pair1, "right", samples=9, positions=6, seed=3, ranges={"dx_mm": 0.2}, chunk=9)
     for other in (chunked, direct):
         np.testing.assert_array_equal(other.errors, serial.errors)
         np.testing.assert_array_equal(other.status_codes, serial.status_codes)
