@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import math
 
-from .mesh import MeshSizes, SectorMesh, record_from_gmsh
+from .mesh import MeshSizes, SectorMesh, SectorShape, record_from_gmsh
 
 __all__ = ["box_mesh"]
 
@@ -31,6 +31,8 @@ def box_mesh(size_mm, element_mm: float) -> SectorMesh:
         gmsh.option.setNumber("Mesh.ElementOrder", 2)
         gmsh.model.mesh.generate(3)
         sizes = MeshSizes(element_mm, element_mm, element_mm, math.inf)
-        return record_from_gmsh(gmsh, "box", face_of, (0,), 0.0, 0.0, sizes, 1, (0.0, c))
+        return record_from_gmsh(gmsh, "box", face_of, SectorShape(tooth_indices=(0,), pitch_angle_rad=0.0,
+                                                                  rim_radius_mm=0.0, sizes=sizes, refinement=1,
+                                                                  z_range_mm=(0.0, c)))
     finally:
         gmsh.finalize()

@@ -25,7 +25,7 @@ __all__ = ["CACHE_ENV", "FE_DATA_VERSION", "cache_dir", "cache_key", "cached_too
 
 CACHE_ENV = "BEVELOID_CACHE_DIR"
 #: raise when the FE data's meaning changes without a change of its inputs
-FE_DATA_VERSION = 1
+FE_DATA_VERSION = 2  # 2: isoparametric (curved) P2 tets, stresses from them
 
 
 def cache_dir() -> Path:
@@ -59,7 +59,8 @@ def cache_key(pair, member: str, e_mpa: float, nu: float, refinement: int, coars
         "normal_module_mm": float(geometry.normal_module_mm), "bore_diameter_mm": bore,
         "e_mpa": float(e_mpa), "nu": float(nu), "refinement": int(refinement), "coarsen": float(coarsen),
         "grid": list(tooth.GRID), "depth": [tooth.DEPTH_PER_MODULE, tooth.DEPTH_PER_THICKNESS],
-        "mesh": [mesh.FLANK_SIZE_PER_MODULE, mesh.FAR_SIZE_PER_MODULE, mesh.FILLET_SIZE_PER_RADIUS,
+        "mesh_rules": mesh.MESH_RULES_VERSION,
+        "mesh": [mesh.FLANK_SIZE_PER_MODULE, mesh.FAR_GROWTH, mesh.FILLET_GROWTH, mesh.FAR_SIZE_PER_MODULE, mesh.FILLET_SIZE_PER_RADIUS,
                  mesh.FILLET_SIZE_MIN_PER_MODULE, mesh.RIM_DEPTH_PER_HEIGHT, mesh.SECTIONS, mesh.SEGMENT_POINTS],
     }
     return json.dumps(data, sort_keys=True)

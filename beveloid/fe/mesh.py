@@ -17,27 +17,40 @@ Element size (mm, ``refinement`` N divides every size): on the flanks of the loa
 h_flank = FLANK_SIZE_PER_MODULE m_n / N; in the fillets of the loaded tooth
 h_fillet = min(max(FILLET_SIZE_PER_RADIUS rho_F, FILLET_SIZE_MIN_PER_MODULE m_n), h_flank) (rho_F the smallest radius of curvature of
 the fillet section at mid-face) / N; elsewhere h_far = FAR_SIZE_PER_MODULE m_n / N, grown linearly
-from the fine faces over one module.
+from the fine faces (over FAR_GROWTH times the size difference from the flanks, over FILLET_GROWTH
+times it from the fillets: the fine fillet band stays thin).
 """
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
 from ..export.sampling import ToothSampler
 
 __all__ = ["FACE_KINDS", "SectorMesh", "MeshSizes", "mesh_sizes", "sector_mesh", "fillet_radius_mm",
-           "FLANK_SIZE_PER_MODULE", "FAR_SIZE_PER_MODULE", "FILLET_SIZE_PER_RADIUS", "RIM_DEPTH_PER_HEIGHT", "record_from_gmsh"]
+           "FLANK_SIZE_PER_MODULE", "FAR_SIZE_PER_MODULE", "MESH_RULES_VERSION", "FAR_GROWTH", "FILLET_GROWTH",
+           "FILLET_SIZE_PER_RADIUS", "RIM_DEPTH_PER_HEIGHT", "SectorShape", "record_from_gmsh"]
 
+#: raise when the meshing rules change (it is part of the FE cache's key)
+MESH_RULES_VERSION = 2
 FLANK_SIZE_PER_MODULE = 0.3
 FAR_SIZE_PER_MODULE = 1.0
 FILLET_SIZE_PER_RADIUS = 0.5
 RIM_DEPTH_PER_HEIGHT = 1.2
 #: the fillet's size is kept above this fraction of the module (a sharp rack's trochoid has a radius
-#: of curvature of a few hundredths of a module at its deepest point, where it is not loaded)
-FILLET_SIZE_MIN_PER_MODULE = 0.12
+#: of curvature of a few hundredths of a module at its deepest point, where it is not loaded); the
+#: fillet band is meshed at 0.5 rho_F (case 1: 0.21 mm pinion, 0.24 mm gear at refinement 1): with
+#: the curved P2 tets of fe/solve.py the root stress then moves by a few percent from refinement 1
+#: to 2, where 0.8 rho_F left the pinion's 11 % short (docs/loaded_contact.md 9.6)
+FILLET_SIZE_MIN_PER_MODULE = 0.04
+#: distance (in multiples of the size difference) over which the size grows from a fine face's size
+#: to the far size: from the flanks, and (steeper, so the fine fillet band adds little volume) from
+#: the fillets
+FAR_GROWTH = 1.5
+FILLET_GROWTH = 0.5
 #: transverse sections the solid is lofted through, and points per face segment in a section
 SECTIONS = 9
 SEGMENT_POINTS = 9
@@ -244,7 +257,9 @@ def sector_mesh(pair, member: str, refinement: int = 1, teeth: int = 3, coarsen:
         gmsh.model.mesh.generate(3)
         gmsh.model.mesh.setOrder(2)
         _curve_midnodes(gmsh, face_of)
-        return record_from_gmsh(gmsh, member, face_of, idx, sampler.pitch_angle_rad, r_rim, sizes, refinement, (toe, heel))
+        return record_from_gmsh(gmsh, member, face_of, SectorShape(
+            tooth_indices=idx, pitch_angle_rad=sampler.pitch_angle_rad, rim_radius_mm=r_rim, sizes=sizes,
+            refinement=refinement, z_range_mm=(toe, heel)))
     finally:
         gmsh.finalize()
 
@@ -280,7 +295,7 @@ def _size_field(face_of, sizes: MeshSizes):
 
     f = gmsh.model.mesh.field
     fields = []
-    for kind, h in (("flank", sizes.flank_mm), ("fillet", sizes.fillet_mm)):
+    for kind, h, growth in (("flank", sizes.flank_mm, FAR_GROWTH), ("fillet", sizes.fillet_mm, FILLET_GROWTH)):
         tags = [face_of[f"{kind}_{side}_0"] for side in ("left", "right")]
         d = f.add("Distance")
         f.setNumbers(d, "SurfacesList", tags)
@@ -290,7 +305,7 @@ def _size_field(face_of, sizes: MeshSizes):
         f.setNumber(t, "SizeMin", h)
         f.setNumber(t, "SizeMax", sizes.far_mm)
         f.setNumber(t, "DistMin", 0.5 * h)
-        f.setNumber(t, "DistMax", 0.5 * h + 1.5 * (sizes.far_mm - h))
+        f.setNumber(t, "DistMax", 0.5 * h + growth * (sizes.far_mm - h))
         fields.append(t)
     m = f.add("Min")
     f.setNumbers(m, "FieldsList", fields)
@@ -326,7 +341,18 @@ def _curve_midnodes(gmsh, face_of):
             gmsh.model.mesh.setNode(node, xyz[k], [])
 
 
-def record_from_gmsh(gmsh, member, face_of, idx, pitch, r_rim, sizes, refinement, z_range) -> SectorMesh:
+class SectorShape(NamedTuple):
+    """What a sector is beside its mesh: the :class:`SectorMesh` fields of the same names."""
+
+    tooth_indices: tuple
+    pitch_angle_rad: float
+    rim_radius_mm: float
+    sizes: "MeshSizes"
+    refinement: int
+    z_range_mm: tuple
+
+
+def record_from_gmsh(gmsh, member, face_of, shape: SectorShape) -> SectorMesh:
     """The :class:`SectorMesh` of gmsh's current mesh, faces named by ``face_of`` {name: face tag}."""
     tags, coords, _ = gmsh.model.mesh.getNodes()
     order = np.argsort(tags)
@@ -354,7 +380,7 @@ def record_from_gmsh(gmsh, member, face_of, idx, pitch, r_rim, sizes, refinement
     facets = {k: remap[v] for k, v in facets.items()}
     node_sets = {k: remap[v] for k, v in node_sets.items()}
     facets = _outward(nodes, tets, facets)
-    return SectorMesh(member, nodes, tets, facets, node_sets, idx, pitch, r_rim, sizes, refinement, z_range)
+    return SectorMesh(member=member, nodes=nodes, tets=tets, facets=facets, node_sets=node_sets, **shape._asdict())
 
 
 def _outward(nodes, tets, facets):

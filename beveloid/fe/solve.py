@@ -1,8 +1,9 @@
 """Linear elasticity on a sector mesh: P2 tets, one factorisation, many load cases.
 
-The stiffness is that of 10-node (P2) vector elements on the straight-sided tets through the
-mesh's corner nodes (the curved mid-nodes of the gmsh mesh serve the contact check of issue 33;
-here they take the P2 field's mid-edge values), assembled vectorised (:func:`stiffness`, held equal
+The stiffness is that of isoparametric 10-node (P2) vector elements: the quadratic map through
+all ten nodes, so the curved mid-nodes that fe/mesh.py puts onto the faces (fillets, flanks) shape
+the elements, its Jacobian taken at each quadrature point (a tet whose map would fold keeps
+straight edges: :func:`element_geometry`), assembled vectorised (:func:`stiffness`, held equal
 to scikit-fem's ``linear_elasticity`` by a test).  The rim and both radial cuts are clamped.
 ``Elastic.solve(loads)`` solves all load cases by one factorisation: MKL PARDISO (pypardiso)
 where installed, else scipy's SuperLU (measured in docs/performance.md).
@@ -20,8 +21,8 @@ import scipy.sparse
 import scipy.sparse.linalg
 from scipy.spatial import cKDTree
 
-__all__ = ["CLAMPED", "EDGES", "Elastic", "Located", "PardisoFactor", "QUADRATURE", "displacement_operator",
-           "factorise", "locate", "principal_stresses", "shape_gradients", "shape_values", "sparse_solver",
+__all__ = ["CLAMPED", "EDGES", "Elastic", "MIN_JACOBIAN_RATIO", "element_geometry", "Located", "PardisoFactor", "QUADRATURE", "displacement_operator",
+           "factorise", "iso_gradients", "locate", "principal_stresses", "shape_gradients", "shape_values", "sparse_solver",
            "stiffness", "stress_operator", "tet_volumes"]
 
 #: the surfaces held fixed
@@ -65,23 +66,26 @@ def tet_volumes(mesh) -> np.ndarray:
 
 
 def stiffness(mesh, e_mpa: float, nu: float) -> scipy.sparse.csr_matrix:
-    """The P2 linear-elastic stiffness (N/mm) of straight tets, node n's dofs 3 n + (0, 1, 2):
+    """The P2 linear-elastic stiffness (N/mm) of the isoparametric (curved) 10-node tets, node n's
+    dofs 3 n + (0, 1, 2):
 
-        K[(a,i),(b,j)] = sum_q w_q V (lam g_ai g_bj + mu (g_aj g_bi + delta_ij g_a . g_b))
+        K[(a,i),(b,j)] = sum_q w_q det J_q / 6 (lam g_ai g_bj + mu (g_aj g_bi + delta_ij g_a . g_b))
 
-    (g the shape gradients at the quadrature points).  Vectorised over the tets; it equals
-    scikit-fem's ``linear_elasticity`` assembled on ``ElementVector(ElementTetP2())``
-    (tests/fe/test_fe_solver.py), which took 43 s for 24k tets against about 1 s here."""
+    (g the shape gradients at the quadrature points, J the Jacobian of the quadratic map there:
+    :func:`iso_gradients`).  Vectorised over the tets; on straight tets it equals scikit-fem's
+    ``linear_elasticity`` assembled on ``ElementVector(ElementTetP2())`` (tests/fe/test_fe_solver.py),
+    which took 43 s for 24k tets against about 1 s here."""
     lam, mu = _lame(e_mpa, nu)
-    corners = mesh.nodes[mesh.tets[:, :4]]
-    vol = tet_volumes(mesh)
-    g = np.stack([shape_gradients(corners, np.broadcast_to(q, (len(corners), 4))) for q in QUADRATURE], axis=1)
-    A = np.einsum("eqai,eqbj->eaibj", g, g) * (vol / len(QUADRATURE))[:, None, None, None, None]
+    x = element_geometry(mesh.nodes[mesh.tets])
+    ne = len(x)
+    gd = [iso_gradients(x, np.broadcast_to(q, (ne, 4))) for q in QUADRATURE]
+    g = np.stack([a for a, _ in gd], axis=1)  # (ne, q, 10, 3)
+    w = np.stack([d for _, d in gd], axis=1) / (6.0 * len(QUADRATURE))  # (ne, q)
+    A = np.einsum("eqai,eqbj,eq->eaibj", g, g, w, optimize=True)
     trace = np.einsum("eakbk->eab", A)
     K = lam * A + mu * np.swapaxes(A, 2, 4)
     for i in range(3):
         K[:, :, i, :, i] += mu * trace
-    ne = len(corners)
     dofs = (3 * mesh.tets[:, :, None] + np.arange(3)).reshape(ne, 30).astype(np.int32)
     n = 3 * mesh.nodes.shape[0]
     return scipy.sparse.coo_matrix((K.reshape(-1), (np.repeat(dofs, 30, axis=1).reshape(-1),
@@ -201,6 +205,50 @@ def shape_gradients(corners, bary) -> np.ndarray:
     return np.stack(out, axis=-2)
 
 
+def _reference_derivatives(bary) -> np.ndarray:
+    """(..., 10, 3) derivatives of the P2 shape functions by the reference coordinates
+    (lambda_1, lambda_2, lambda_3), lambda_0 = 1 - their sum, gmsh order."""
+    lam = np.asarray(bary, dtype=float)
+    dl = np.zeros(lam.shape[:-1] + (10, 4))  # d N_a / d lambda_k, the lambdas taken independent
+    for i in range(4):
+        dl[..., i, i] = 4 * lam[..., i] - 1
+    for m, (a, b) in enumerate(EDGES, start=4):
+        dl[..., m, a] = 4 * lam[..., b]
+        dl[..., m, b] = 4 * lam[..., a]
+    return dl[..., 1:] - dl[..., :1]
+
+
+#: a curved tet whose Jacobian determinant falls below this fraction of its straight one at a
+#: quadrature point or a corner (a mid-node moved far onto a strongly curved face) is taken straight
+MIN_JACOBIAN_RATIO = 0.2
+
+
+def element_geometry(nodes10) -> np.ndarray:
+    """The tets' geometry nodes (k, 10, 3) for the isoparametric map: the mesh's curved mid-nodes,
+    except in a tet whose map would fold or nearly so (:data:`MIN_JACOBIAN_RATIO`), which keeps the
+    straight mid-points of its edges (the field's mid-node dofs are shared all the same)."""
+    x = np.array(nodes10, dtype=float)
+    straight = x.copy()
+    for m, (a, b) in enumerate(EDGES, start=4):
+        straight[:, m] = 0.5 * (x[:, a] + x[:, b])
+    pts = np.vstack([QUADRATURE, np.eye(4)])
+    det0 = iso_gradients(straight, np.broadcast_to(pts[0], (len(x), 4)))[1]
+    ratio = np.min([iso_gradients(x, np.broadcast_to(q, (len(x), 4)))[1] for q in pts], axis=0) / det0
+    bad = ~(ratio > MIN_JACOBIAN_RATIO)
+    x[bad] = straight[bad]
+    return x
+
+
+def iso_gradients(nodes10, bary):
+    """(gradients (..., 10, 3) (1/mm), det J (...)) of the P2 shape functions of isoparametric
+    10-node tets with nodes (..., 10, 3) at barycentric coordinates (..., 4): J = sum_a x_a dN_a/dxi
+    at the point, gradients J^-T dN/dxi (on a straight tet, :func:`shape_gradients`)."""
+    dxi = _reference_derivatives(bary)  # (..., 10, 3)
+    jac = np.einsum("...ai,...ak->...ik", nodes10, dxi)  # (..., 3 x, 3 xi)
+    grads = np.einsum("...ak,...ki->...ai", dxi, np.linalg.inv(jac))
+    return grads, np.linalg.det(jac)
+
+
 def displacement_operator(elastic: Elastic, located: Located, directions) -> scipy.sparse.csr_matrix:
     """(n, ndofs): the displacement along ``directions`` (n, 3) at the located points.  Its transpose
     maps unit forces along the directions at the points to consistent load vectors."""
@@ -216,7 +264,8 @@ def displacement_operator(elastic: Elastic, located: Located, directions) -> sci
 
 def stress_operator(elastic: Elastic, node_ids) -> scipy.sparse.csr_matrix:
     """(6 n, ndofs): the stress (MPa; xx, yy, zz, xy, yz, zx, point-major) at mesh nodes, the mean over
-    the tets that share each node of the P2 field's stress there."""
+    the tets that share each node of the P2 field's stress there (isoparametric gradients evaluated
+    at the node itself: no extrapolation from Gauss points)."""
     mesh = elastic.mesh
     node_ids = np.asarray(node_ids)
     want = np.full(mesh.nodes.shape[0], -1, dtype=np.int64)
@@ -229,7 +278,7 @@ def stress_operator(elastic: Elastic, node_ids) -> scipy.sparse.csr_matrix:
     for m, (a, b) in enumerate(EDGES, start=4):
         bary[local == m, a] = 0.5
         bary[local == m, b] = 0.5
-    grads = shape_gradients(mesh.nodes[mesh.tets[tets, :4]], bary)  # (k, 10, 3)
+    grads, _ = iso_gradients(element_geometry(mesh.nodes[mesh.tets[tets]]), bary)  # (k, 10, 3)
     lam_, mu = _lame(elastic.e_mpa, elastic.nu)
     # stress from grad u: sigma_ij = lam div u delta_ij + mu (u_i,j + u_j,i); dof c of node q:
     # u_c,j = g_qj, so d sigma / d u_qc

@@ -74,7 +74,7 @@ def flank_grid(sampler: ToothSampler, flank: str, grid=GRID):
     toe, heel = sampler.z_range_mm
     z = np.linspace(min(toe, heel), max(toe, heel), nz)
     l_tip, u_tip = sampler.flank_tip(flank, z)
-    l0 = sampler.form_limits(flank, z)[0][None, :]  # where the root transition meets the flank, per section
+    l0 = sampler.form_limits(flank, z)[0][None, :]
     l = l0 + s[:, None] * (l_tip[None, :] - l0)
     u = sampler.flank_u(flank, l, z[None, :], u0=u_tip[None, :])
     surf = sampler.geometry.surface(sampler.member, flank, l, u)

@@ -73,3 +73,40 @@ def test_stiffness_equals_scikit_fem_assembly():
     theirs = K[np.ix_(perm, perm)]
     assert np.allclose(ours.toarray(), theirs, atol=1e-9 * np.abs(theirs).max())
 
+
+
+def _curved_tets():
+    """Two 10-node tets sharing a face, their mid-edge nodes moved off the straight edges (curved)."""
+    rng = np.random.default_rng(7)
+    corners = np.array([[0.0, 0, 0], [3, 0, 0], [0, 3, 0], [0, 0, 3], [3, 3, 3]])
+    tets = [[0, 1, 2, 3], [1, 2, 3, 4]]
+    nodes, rows, mids = list(corners), [], {}
+    for t in tets:
+        row = list(t)
+        for a, b in solve.EDGES:
+            key = tuple(sorted((t[a], t[b])))
+            if key not in mids:
+                mids[key] = len(nodes)
+                nodes.append(0.5 * (corners[t[a]] + corners[t[b]]) + rng.uniform(-0.3, 0.3, 3))
+            row.append(mids[key])
+        rows.append(row)
+    return type("M", (), {"nodes": np.array(nodes), "tets": np.array(rows)})()
+
+
+def test_curved_tets_hold_linear_fields_and_rigid_motions():
+    """Isoparametric P2: a linear field through the (curved) nodes has its exact gradient everywhere
+    in the element, and a rigid rotation strains nothing (K u = 0); the straight-sided gradients
+    through the corners would not do either."""
+    mesh = _curved_tets()
+    a = np.array([[1.0, -2.0, 0.5], [0.3, 0.7, -1.1], [2.0, 0.1, 0.4]])  # grad of a vector field
+    bary = np.random.default_rng(3).dirichlet(np.ones(4), size=(2, 5))
+    g, det = solve.iso_gradients(mesh.nodes[mesh.tets][:, None], bary)
+    u_nodes = mesh.nodes @ a.T  # (n, 3)
+    grad = np.einsum("eqai,eac->eqci", g, u_nodes[mesh.tets])
+    assert np.allclose(grad, a, atol=1e-10) and np.all(det > 0)
+    straight = solve.shape_gradients(mesh.nodes[mesh.tets[:, :4]][:, None], bary)
+    assert not np.allclose(np.einsum("eqai,eac->eqci", straight, u_nodes[mesh.tets]), a, atol=1e-3)
+    K = solve.stiffness(mesh, E, NU)
+    w = np.array([0.2, -0.5, 0.3])
+    rot = np.cross(w, mesh.nodes).ravel()
+    assert np.abs(K @ rot).max() < 1e-8 * np.abs(K).max() * np.abs(rot).max()
