@@ -44,7 +44,6 @@ HIGH_HELIX_DEG = 28
 
 def cheap_numbers() -> dict:
     """Numbers computed from the package now (about a second)."""
-    import inspect
 
     from beveloid import sweep, tca
     from beveloid.pair import Pair
@@ -54,7 +53,7 @@ def cheap_numbers() -> dict:
     return {
         "max_contact_points": sweep.MAX_CONTACT_POINTS,
         "approach_um": tca.Options().approach_mm * 1e3,
-        "sweep_chunk": inspect.signature(sweep.sweep).parameters["chunk"].default,
+        "sweep_chunk": sweep.Options().chunk,
         "case1_backlash_um": abs(res.backlash_um),
         "case1_te_ptp_urad": te_ptp_urad,
     }

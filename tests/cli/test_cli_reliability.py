@@ -378,7 +378,7 @@ def test_sweep_without_aligned_contact_is_one_line(capsys, monkeypatch, tmp_path
 def test_other_runtime_errors_are_not_swallowed(monkeypatch, tmp_path):
     def cache_error(*a, **k):
         raise RuntimeError("cannot cache function 'x': no locator available")
-    monkeypatch.setattr("beveloid.sweep.sweep", cache_error)
+    monkeypatch.setattr("beveloid.sweep.analyze", cache_error)
     with pytest.raises(RuntimeError, match="cannot cache"):
         cli.main(["sweep", C1, "--samples", "2", "--positions", "3"])
 

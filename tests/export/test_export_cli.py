@@ -55,12 +55,14 @@ def test_a_bore_through_the_root_exits_2_with_one_line(tmp_path, capsys):
 
 
 def test_without_the_cad_extra_it_says_what_to_install(tmp_path, capsys, monkeypatch):
-    """Run from this checkout, the hint is the checkout's own install command (the package is on no index)."""
+    """Run from a checkout, the hint is the checkout's own install command (the package is on no index)."""
+    root = Path(__file__).resolve().parents[2]
+    # the package as it runs from its checkout (under `pytest` after `pip install .` it runs installed)
+    monkeypatch.setattr(formats, "source_checkout", lambda: root)
     monkeypatch.setitem(sys.modules, "OCP", None)  # `import OCP...` now raises ImportError
     monkeypatch.setitem(sys.modules, "OCP.BRepBuilderAPI", None)
     assert main(["export", str(_spec(tmp_path)), "--out", str(tmp_path)]) == 2
     err = capsys.readouterr().err
-    root = Path(__file__).resolve().parents[2]
     assert err == (f'beveloid: error: beveloid export --format step needs OCP: pip install ".[cad]" in the source'
                    f" checkout {root}\n")
     assert not list(tmp_path.glob("*.st*"))
@@ -81,6 +83,7 @@ def test_the_writer_registry_drives_the_formats_and_the_hint(tmp_path, capsys, m
     vtu = formats.Writer("vtu", "vtu", "fe", ("a_module_that_is_not_installed",), "VTU of the tooth (test)",
                          "chord", None, None, None)
     monkeypatch.setitem(formats.WRITERS, "vtu", vtu)
+    monkeypatch.setattr(formats, "source_checkout", lambda: Path(__file__).resolve().parents[2])
     assert main(["export", "--help"]) == 0
     help_text = " ".join(capsys.readouterr().out.split())
     assert "{step,stl,vtu}" in help_text and "vtu: VTU of the tooth (test)" in help_text
