@@ -32,6 +32,7 @@ import os
 from collections.abc import Callable, Iterable, Iterator
 from typing import Any
 
+from . import interrupts
 from .errors import UserError
 
 
@@ -84,7 +85,9 @@ class _Serial:
 
     def map_unordered(self, fn: Callable, items: Iterable) -> Iterator[tuple[int, Any]]:
         for i, item in enumerate(items):
-            yield i, fn(item)
+            with interrupts.guard():  # a Ctrl-C swallowed inside fn (numba's compile callbacks) stops here
+                result = fn(item)
+            yield i, result
 
 
 class _Local:
@@ -112,6 +115,7 @@ class _Local:
                     result = fut.result()
                 except cf.process.BrokenProcessPool as exc:
                     raise WorkLost(f"a local worker process died ({exc})") from None
+                interrupts.check()
                 yield futures[fut], result
         finally:
             for fut in futures:

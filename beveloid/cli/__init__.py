@@ -35,6 +35,7 @@ import sys
 import unicodedata
 from collections.abc import Sequence
 
+from .. import interrupts
 from ..errors import UserError
 from ..spec import SpecError
 
@@ -212,6 +213,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     interpreter's exit does not walk the ~10^5 objects left, most numba's (~0.05 s of a 0.5 s
     command, docs/performance.md).  The exit still runs as usual (atexit, streams flushed, modules
     torn down); in-process callers, which pass ``argv``, keep a collected heap."""
+    if argv is None:  # the script: a Ctrl-C swallowed by a callback still stops the run (interrupts.py)
+        interrupts.install()
     status = _main(argv)
     if argv is None:
         gc.freeze()
@@ -229,7 +232,8 @@ def _main(argv: Sequence[str] | None) -> int:
     from .paths import remove_empty_created
 
     try:
-        status = args.command_run(args)
+        with interrupts.guard():  # a Ctrl-C that a callback swallowed: the run still says it was interrupted
+            status = args.command_run(args)
         sys.stdout.flush()  # a full or failing output shows here, not at the interpreter's exit
         return status
     except USER_ERRORS as exc:

@@ -26,6 +26,7 @@ import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from .. import interrupts
 from .formats import WRITERS, install_hint
 
 __all__ = ["FORMATS", "MEMBERS", "CHORD_UM", "CadMissing", "require_cad", "ExportOptions", "WrittenFile",
@@ -112,6 +113,7 @@ def export(pair, options: ExportOptions = ExportOptions()) -> ExportResult:
         groups = [(f"{options.stem}_pair", options.members)]
     else:
         groups = [(f"{options.stem}_{m}", (m,)) for m in options.members]
+    interrupts.check()  # a Ctrl-C swallowed during the build (beveloid/interrupts.py): nothing is written
     written = []
     for name, members in groups:
         path = out / f"{name}.{writer.extension}"

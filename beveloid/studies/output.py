@@ -14,6 +14,8 @@ import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 
+from .. import interrupts
+
 #: name prefix of a run's folder while it writes (hidden, removed when the run ends)
 STAGE_PREFIX = ".beveloid-partial-"
 
@@ -46,6 +48,7 @@ def staged_folder(target: str | os.PathLike) -> Iterator[Path]:
     stage = Path(tempfile.mkdtemp(prefix=STAGE_PREFIX, dir=target))
     try:
         yield stage
+        interrupts.check()  # a Ctrl-C swallowed on the way (beveloid/interrupts.py): nothing is moved
         with _locked(target):
             for item in sorted(stage.iterdir()):
                 os.replace(item, target / item.name)

@@ -20,6 +20,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .. import interrupts
+
 DEG = math.pi / 180
 
 
@@ -208,6 +210,7 @@ def write_study(out: Path, positions=200, progress=_progress, tooth_model=None) 
 
     def step(msg):
         nonlocal k
+        interrupts.check()  # a Ctrl-C swallowed by a compile callback in the last step stops here
         k += 1
         progress(f"[{k}/{steps}] {msg}")
 
