@@ -6,8 +6,10 @@ A case-1-like pair made nearly cylindrical and nearly parallel (cone angles 0.05
 3 deg, a spur pinion, a tip round of 0.3 m_n), rated at 1000 N m:
 
 1. the ISO load case on the FE tooth: the full normal force at the outer point of single pair
-   contact (d_en of method B), uniform along the face of the pinion's middle section; the FE root
-   stress (max principal, loaded fillet) against sigma_F0 of the same virtual gear;
+   contact (d_en of method B, at the same depth below the tip on the real section), uniform along
+   the face of each member's middle section; the FE root stress (max principal, loaded fillet: its
+   largest, and the median over 24 face slices of each slice's largest) against sigma_F0 of the same
+   virtual gear, with where the FE peaks and where method B reads (its 30 deg tangent chord);
 2. the loaded contact: ``beveloid rating`` (LTCA with the FE tooth, the root stress maximum over the
    mesh cycle) against ISO sigma_F of each member (K_A = K_v = 1).
 
@@ -16,11 +18,15 @@ The FE data is cached (BEVELOID_CACHE_DIR); the first run builds it (about a min
 from __future__ import annotations
 
 import argparse
+import sys
+from pathlib import Path
 
-from beveloid import rating
-from beveloid.pair import Pair
-from beveloid.rating.fe_check import iso_load_case
-from beveloid.spec import load_example, spec_from_dict, spec_to_dict
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this checkout's beveloid, not an installed one
+
+from beveloid import rating  # noqa: E402
+from beveloid.pair import Pair  # noqa: E402
+from beveloid.rating.fe_check import iso_load_case_detail  # noqa: E402
+from beveloid.spec import load_example, spec_from_dict, spec_to_dict  # noqa: E402
 
 
 def near_parallel_pair(pinion_helix_deg=0.0, face_width_mm=None) -> Pair:
@@ -39,8 +45,13 @@ def main():
     args = ap.parse_args()
     pair = near_parallel_pair()
     for member in ("pinion", "gear"):
-        fe, iso = iso_load_case(pair, member)
-        print(f"1. ISO load case, {member}: FE {fe:.2f} MPa, ISO sigma_F0 {iso:.2f} MPa, FE/ISO {fe / iso:.3f}")
+        d = iso_load_case_detail(pair, member)
+        fe, iso = d.fe_max_mpa, d.sigma_F0_mpa
+        print(f"1. ISO load case, {member}: FE {fe:.2f} MPa, ISO sigma_F0 {iso:.2f} MPa, FE/ISO {fe / iso:.3f}; "
+              f"FE median over the face {d.fe_face_median_mpa:.2f} MPa ({d.fe_face_median_mpa / iso:.3f}); FE max at "
+              f"face z {d.fe_face_z_mm:.1f} mm, {d.fe_height_above_root_mm:.2f} mm above the root "
+              f"(ISO's 30 deg chord: {d.iso_chord_height_above_root_mm:.2f} mm); q_s {d.notch_parameter:.2f}, "
+              f"Y_S {d.Y_S:.3f}")
     r = rating.analyze(pair, rating.Options(torque_nm=1000.0, positions=args.positions, tooth_model="fe"))
     for name, m in r.members.items():
         s = m.sections["middle"]

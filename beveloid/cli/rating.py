@@ -6,7 +6,7 @@ surface peak pressure; the FE root stress where available) at K_A K_v T, with pe
 safety factors S_F and S_H from both, and a verdict.  The torque is the pinion torque; K_A, K_v,
 speed, life and the minimum safeties come from the spec's [rating], the limits from [material].
 The JSON: "torque_nm", "flank", per member "sections" {"toe", "middle", "heel"} (virtual_teeth,
-normal_profile_shift, helix_angle_deg, s_Fn_mm, rho_F_mm, h_Fe_mm, alpha_Fen_deg, Y_F, Y_S, Y_beta,
+normal_profile_shift, helix_angle_deg, s_Fn_mm, rho_F_mm, h_Fe_mm, alpha_Fen_deg, Y_F, Y_S, Y_beta, f_eps,
 sigma_F0_mpa, Z_H, Z_E, Z_eps, Z_beta, sigma_H0_mpa), "root_stress_max_mpa", "contact_pressure_max_mpa",
 "safety_bending", "safety_pitting", "safety_bending_iso", "safety_pitting_iso" (null where not
 computed), "verdict" and "notes".

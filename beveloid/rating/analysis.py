@@ -164,7 +164,7 @@ def rate_section(inp: RateInput, member: str, z_face: float, name: str = "") -> 
         return _rate_section(inp, member, z_face, name)
     except (ValueError, ZeroDivisionError) as exc:
         nan = math.nan
-        bend = iso6336.BendingGeometry(nan, nan, nan, nan, nan, nan, nan, nan, nan, 0)
+        bend = iso6336.BendingGeometry(nan, nan, nan, nan, nan, nan, nan, nan, nan, 0, f_eps=nan)
         return SectionRating(name, float(z_face), nan, nan, nan, bend, nan, nan,
                              iso6336.ContactFactors(nan, nan, nan, nan), nan, nan, nan, nan, nan, nan, nan,
                              status=f"ISO not computed: {exc}")

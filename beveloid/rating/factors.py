@@ -7,6 +7,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from .iso6336 import ISO_EDITION
+
 __all__ = ["Factors", "LIFE_POINTS_CONTACT", "LIFE_POINTS_ROOT", "Y_ST", "face_factor_exponent", "life_factor"]
 
 #: stress correction factor of the reference test gear (ISO 6336-3: sigma_FE = sigma_Flim Y_ST)
@@ -76,7 +78,7 @@ class Factors:
         return self.contact_limit_mpa[member] * self.Z_NT(member)
 
     def notes(self) -> list:
-        out = ["ISO 6336-2:2019 / 6336-3:2019 method B on the virtual helical gear of each section "
+        out = [f"{ISO_EDITION} on the virtual helical gear of each section "
                "(docs/rating.md); Y_B = Y_DT = Z_B = Z_D = K_Falpha = K_Halpha = 1",
                f"K_A = {self.K_A:g} and K_v = {self.K_v:g} are the user's; the local stresses are at K_A K_v T",
                "permissible stresses: sigma_Flim Y_ST Y_NT (Y_ST = 2) and sigma_Hlim Z_NT; size, roughness, "

@@ -1,4 +1,5 @@
-"""ISO 6336 (2019 edition) nominal stresses of a parallel-axis cylindrical gear pair: the yardstick.
+"""ISO 6336 nominal stresses of a parallel-axis cylindrical gear pair: the yardstick (2019 edition;
+the 2006 root-stress helix factors on request, for the worked examples printed to that edition).
 
 Pure functions over plain records; nothing here knows about beveloids.  Implemented:
 
@@ -6,13 +7,16 @@ Pure functions over plain records; nothing here knows about beveloids.  Implemen
   trochoidal fillet of the rack's tip round (``rack_dedendum_mm`` h_fP, ``rack_tip_radius_mm``
   rho_fP; no protuberance, s_pr = 0) on the virtual spur gear z_n, the load at the outer point of
   single pair tooth contact of the virtual spur pair (d_en, alpha_en, alpha_Fen), s_Fn, rho_F, h_Fe,
-  the form factor Y_F = 6 (h_Fe/m_n) cos alpha_Fen / ((s_Fn/m_n)^2 cos alpha_n), the stress
+  the form factor Y_F = 6 (h_Fe/m_n) cos alpha_Fen / ((s_Fn/m_n)^2 cos alpha_n) f_eps, the stress
   correction factor Y_S = (1.2 + 0.13 L) q_s^(1/(1.21 + 2.3/L)), the helix factor
-  Y_beta = 1 - eps_beta beta/120 deg (eps_beta <= 1, beta <= 30 deg) and the nominal root stress
-  sigma_F0 = F_t / (b m_n) Y_F Y_S Y_beta.  Left at 1: the rim factor Y_B, the deep-tooth factor
-  Y_DT (both apply to thin rims / eps_alpha_n > 2.05, which the caller flags).  A gear cut with a
-  tooth thickness allowance has its root (s_Fn, rho_F, gamma_e) at the generating profile shift
-  x_E and its mesh at the nominal x, as STplus (FVA/FZG) rates it (tests/rating/
+  Y_beta = (1 - eps_beta beta/120 deg) / cos^3 beta (eps_beta <= 1, beta <= 30 deg; Clause 8) and the
+  nominal root stress sigma_F0 = F_t / (b m_n) Y_F Y_S Y_beta.  The 2019 edition changed Y_beta and
+  Y_F together (its Foreword): Y_beta gained 1/cos^3 beta, Y_F the load distribution factor f_eps
+  (6.2, Formulae 10-14) over eps_beta and the virtual contact ratio eps_alpha_n.  ``edition="2006"``
+  gives the 2006 pair instead, Y_beta = 1 - eps_beta beta/120 deg and f_eps = 1 (docs/rating.md 3).
+  Left at 1: the rim factor Y_B, the deep-tooth factor Y_DT (both apply to thin rims /
+  eps_alpha_n > 2.05, which the caller flags).  A gear cut with a tooth thickness allowance has its
+  root (s_Fn, rho_F, gamma_e) at the generating profile shift x_E and its mesh at the nominal x, as STplus (FVA/FZG) rates it (tests/rating/
   test_rating_iso_examples.py reproduces its printed FZG-C listing).
 * ISO 6336-2:2019: zone factor Z_H, elasticity factor Z_E, contact ratio factor Z_eps, helix factor
   Z_beta = 1/sqrt(cos beta) and sigma_H0 = Z_H Z_E Z_eps Z_beta sqrt(F_t/(d_1 b) (u+1)/u).  Left at
@@ -28,9 +32,19 @@ from dataclasses import dataclass
 
 __all__ = ["BendingGeometry", "CylindricalGear", "CylindricalPair", "bending_geometry", "contact_factors",
            "ContactFactors", "helix_factor_bending", "nominal_contact_stress_mpa", "nominal_root_stress_mpa",
-           "stress_correction_factor", "form_factor", "ISO_EDITION", "virtual_teeth"]
+           "stress_correction_factor", "form_factor", "ISO_EDITION", "EDITIONS", "load_distribution_factor",
+           "virtual_teeth"]
 
-ISO_EDITION = "ISO 6336-2:2019 and ISO 6336-3:2019 (method B)"
+ISO_EDITION = ("ISO 6336-2:2019 and ISO 6336-3:2019 method B (2019 helix factors: "
+               "Y_beta = (1 - eps_beta beta/120 deg)/cos^3 beta and f_eps in Y_F)")
+#: the editions of ISO 6336-3 whose helix factors (Y_beta, f_eps) are implemented; the rest of
+#: method B is the same in both
+EDITIONS = ("2019", "2006")
+
+
+def _check_edition(edition: str) -> None:
+    if edition not in EDITIONS:
+        raise ValueError(f"ISO 6336-3 edition {edition!r}: expected one of {', '.join(EDITIONS)}")
 
 
 def inv(a: float) -> float:
@@ -142,9 +156,10 @@ class BendingGeometry:
     h_Fe_mm: float
     alpha_Fen: float
     d_en_mm: float
-    Y_F: float
+    Y_F: float  # with f_eps (2019); the 2006 Y_F has f_eps = 1
     Y_S: float
     iterations: int
+    f_eps: float = 1.0  # the load distribution factor inside Y_F (ISO 6336-3:2019, 6.2)
 
 
 def _theta(G: float, H: float, zn: float) -> tuple[float, int]:
@@ -198,8 +213,26 @@ def stress_correction_factor(s_Fn_mm, h_Fe_mm, rho_F_mm) -> float:
     return (1.2 + 0.13 * L) * qs ** (1 / (1.21 + 2.3 / L))
 
 
-def bending_geometry(pair: CylindricalPair) -> BendingGeometry:
-    """ISO 6336-3:2019 method B of ``pair.gear`` loaded at the outer point of single pair contact."""
+def load_distribution_factor(overlap_ratio: float, virtual_contact_ratio: float) -> float:
+    """f_eps of ISO 6336-3:2019, 6.2 (Formulae 10-14), with eps_alpha_n the virtual contact ratio:
+    1 (eps_beta = 0, eps_alpha_n < 2), 0.7 (eps_beta = 0, eps_alpha_n >= 2),
+    sqrt(1 - eps_beta + eps_beta/eps_alpha_n) (0 < eps_beta < 1, eps_alpha_n < 2),
+    sqrt((1 - eps_beta)/2 + eps_beta/eps_alpha_n) (0 < eps_beta < 1, eps_alpha_n >= 2),
+    eps_alpha_n^-1/2 (eps_beta >= 1)."""
+    eb, ean = max(overlap_ratio, 0.0), virtual_contact_ratio
+    if eb >= 1.0:
+        return ean ** -0.5
+    if eb == 0.0:
+        return 1.0 if ean < 2.0 else 0.7
+    if ean < 2.0:
+        return math.sqrt(1.0 - eb + eb / ean)
+    return math.sqrt((1.0 - eb) / 2.0 + eb / ean)
+
+
+def bending_geometry(pair: CylindricalPair, edition: str = "2019") -> BendingGeometry:
+    """ISO 6336-3 method B of ``pair.gear`` loaded at the outer point of single pair contact; Y_F with
+    the 2019 edition's f_eps (``edition="2006"``: without)."""
+    _check_edition(edition)
     g = pair.gear
     mn, an = g.normal_module_mm, g.normal_pressure_angle
     rho, hfp, x = g.rack_tip_radius_mm, g.rack_dedendum_mm, g.root_profile_shift
@@ -225,16 +258,20 @@ def bending_geometry(pair: CylindricalPair) -> BendingGeometry:
     alpha_Fen = alpha_en - gamma_e
     h_Fe = mn / 2 * ((math.cos(gamma_e) - math.sin(gamma_e) * math.tan(alpha_Fen)) * d_en / mn
                      - zn * math.cos(math.pi / 3 - theta) - G / math.cos(theta) + rho / mn)
+    f_eps = load_distribution_factor(pair.overlap_ratio, eps_an) if edition == "2019" else 1.0
     return BendingGeometry(zn, theta, s_Fn, rho_F, h_Fe, alpha_Fen, d_en,
-                           form_factor(h_Fe, alpha_Fen, s_Fn, mn, an), stress_correction_factor(s_Fn, h_Fe, rho_F),
-                           iterations)
+                           form_factor(h_Fe, alpha_Fen, s_Fn, mn, an) * f_eps,
+                           stress_correction_factor(s_Fn, h_Fe, rho_F), iterations, f_eps)
 
 
-def helix_factor_bending(overlap_ratio: float, helix_angle: float) -> float:
-    """Y_beta = 1 - eps_beta beta / 120 deg, eps_beta capped at 1 and beta at 30 deg (ISO 6336-3:2019)."""
+def helix_factor_bending(overlap_ratio: float, helix_angle: float, edition: str = "2019") -> float:
+    """Y_beta of ISO 6336-3, eps_beta capped at 1 and beta at 30 deg: (1 - eps_beta beta/120 deg)/cos^3 beta
+    (2019, Clause 8, Formula 66), 1 - eps_beta beta/120 deg (2006)."""
+    _check_edition(edition)
     eps = min(max(overlap_ratio, 0.0), 1.0)
     beta_deg = min(abs(math.degrees(helix_angle)), 30.0)
-    return 1 - eps * beta_deg / 120.0
+    y = 1 - eps * beta_deg / 120.0
+    return y / math.cos(math.radians(beta_deg)) ** 3 if edition == "2019" else y
 
 
 def nominal_root_stress_mpa(tangential_load_n, face_width_mm, normal_module_mm, Y_F, Y_S, Y_beta) -> float:

@@ -8,7 +8,8 @@ __all__ = ["RatingResult", "SEC_KEYS", "to_json_dict"]
 
 #: the keys of one section in the JSON, in order
 SEC_KEYS = ("virtual_teeth", "normal_profile_shift", "helix_angle_deg", "s_Fn_mm", "rho_F_mm", "h_Fe_mm",
-            "alpha_Fen_deg", "Y_F", "Y_S", "Y_beta", "sigma_F0_mpa", "Z_H", "Z_E", "Z_eps", "Z_beta", "sigma_H0_mpa")
+            "alpha_Fen_deg", "Y_F", "Y_S", "Y_beta", "f_eps", "sigma_F0_mpa", "Z_H", "Z_E", "Z_eps", "Z_beta",
+            "sigma_H0_mpa")
 
 
 def _num(v):
@@ -22,8 +23,8 @@ def _num(v):
 def section_json(s) -> dict:
     b, c = s.bending, s.contact
     values = (s.virtual_teeth, s.normal_profile_shift, s.helix_angle_deg, b.s_Fn_mm, b.rho_F_mm, b.h_Fe_mm,
-              math.degrees(b.alpha_Fen), b.Y_F, b.Y_S, s.Y_beta, s.sigma_F0_mpa, c.Z_H, c.Z_E, c.Z_eps, c.Z_beta,
-              s.sigma_H0_mpa)
+              math.degrees(b.alpha_Fen), b.Y_F, b.Y_S, s.Y_beta, b.f_eps, s.sigma_F0_mpa, c.Z_H, c.Z_E, c.Z_eps,
+              c.Z_beta, s.sigma_H0_mpa)
     return {k: _num(v) for k, v in zip(SEC_KEYS, values)}
 
 

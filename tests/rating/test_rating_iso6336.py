@@ -111,7 +111,10 @@ def test_method_b_closed_forms_reproduce_the_30_degree_construction_on_the_gener
     h_fe, a_fen = load_arm(bg.virtual_teeth, g.normal_module_mm, g.normal_pressure_angle, x, bg.d_en_mm, p, axis)
     assert bg.h_Fe_mm == pytest.approx(h_fe, rel=1e-7)
     assert bg.alpha_Fen == pytest.approx(a_fen, abs=1e-9)
-    assert 1.0 < bg.Y_F < 4.0 and 1.0 < bg.Y_S < 4.0
+    # the 2019 Y_F is the 2006 one times f_eps (<= 1)
+    assert bg.Y_F == pytest.approx(iso.form_factor(h_fe, a_fen, s_fn, g.normal_module_mm, g.normal_pressure_angle)
+                                   * bg.f_eps, rel=1e-6)
+    assert 1.0 < bg.Y_F / bg.f_eps < 4.0 and 1.0 < bg.Y_S < 4.0 and 0.5 < bg.f_eps <= 1.0
 
 
 def test_outer_point_of_single_contact_lies_one_base_pitch_inside_the_mates_end_of_contact():
@@ -144,9 +147,38 @@ def test_tr_6336_30_example_1_centre_distance():
 
 
 def test_helix_factors_follow_their_caps():
-    assert iso.helix_factor_bending(0.5, D(12.0)) == pytest.approx(1 - 0.5 * 12 / 120)
-    assert iso.helix_factor_bending(2.0, D(40.0)) == pytest.approx(0.75)  # eps_beta -> 1, beta -> 30 deg
-    assert iso.helix_factor_bending(0.8, 0.0) == 1.0
+    """2006: Y_beta = 1 - eps_beta beta/120 deg; 2019 (the default): the same over cos^3 beta; both with
+    eps_beta -> 1 above 1 and beta -> 30 deg above 30 deg."""
+    assert iso.helix_factor_bending(0.5, D(12.0), "2006") == pytest.approx(1 - 0.5 * 12 / 120)
+    assert iso.helix_factor_bending(2.0, D(40.0), "2006") == pytest.approx(0.75)
+    assert iso.helix_factor_bending(0.5, D(12.0)) == pytest.approx((1 - 0.5 * 12 / 120) / math.cos(D(12.0)) ** 3)
+    assert iso.helix_factor_bending(2.0, D(40.0)) == iso.helix_factor_bending(1.0, D(30.0))
+    for edition in iso.EDITIONS:
+        assert iso.helix_factor_bending(0.8, 0.0, edition) == 1.0
+    with pytest.raises(ValueError, match="edition"):
+        iso.helix_factor_bending(0.5, D(12.0), "1996")
+
+
+def test_2019_helix_factor_reads_its_printed_figure():
+    """ISO 6336-3:2019 Figure 8 (Y_beta over beta) ends at beta = 30 deg at 1,50 for eps_beta = 0,1 and
+    1,155 for eps_beta = 1 (read from the figure as transcribed in git-akai/gearcalc docs/state.md,
+    "Y_beta, the helix angle factor (Clause 8)"); the 2006 form would give 0.975 and 0.75."""
+    assert round(iso.helix_factor_bending(0.1, D(30.0)), 2) == 1.50
+    assert round(iso.helix_factor_bending(1.0, D(30.0)), 3) == 1.155
+
+
+def test_2019_load_distribution_factor_branches():
+    """f_eps of ISO 6336-3:2019 6.2: 1 (spur, eps_alpha_n < 2), 0.7 (spur, eps_alpha_n >= 2),
+    eps_alpha_n^-1/2 at full overlap, and the partial-overlap forms meet it at eps_beta -> 1."""
+    f = iso.load_distribution_factor
+    assert f(0.0, 1.6) == 1.0 and f(0.0, 2.2) == 0.7
+    assert f(1.0, 1.6) == pytest.approx(1.6 ** -0.5) and f(2.5, 2.2) == pytest.approx(2.2 ** -0.5)
+    for ean in (1.3, 1.9, 2.1, 2.4):
+        assert f(1.0 - 1e-9, ean) == pytest.approx(f(1.0, ean), rel=1e-6)
+    assert f(0.4, 1.5) == pytest.approx(math.sqrt(0.6 + 0.4 / 1.5))
+    assert f(0.4, 2.2) == pytest.approx(math.sqrt(0.3 + 0.4 / 2.2))
+    spur = iso.CylindricalPair(gear(20, 0.0), gear(40, 0.0), 20.0)
+    assert iso.bending_geometry(spur).Y_F == iso.bending_geometry(spur, "2006").Y_F  # f_eps = 1
 
 
 def test_theta_converges_for_a_wide_random_set_of_racks_and_gears():

@@ -40,9 +40,12 @@ gamma_e at d_en, hence alpha_Fen and h_Fe) at the generating profile shift x_E =
 x in place of x_E, the pinion's Y_F is 2.009 instead of 2.087
 (``CylindricalGear.generating_profile_shift``; held by a test below).
 
-Not covered, because no public source found prints them with complete inputs (docs/rating.md,
-"Worked examples"): the bending results of a helical example (Y_F, Y_S, Y_beta, sigma_F0 of the
-TR's example 1).
+3. Helical bending: a KISSsoft 03/2017 report to ISO 6336:2006 method B (beta = 10 deg, eps_beta = 1.42),
+   public in gfsReboucas/Drivetrain, @NREL_5MW/stage_03.rtf (section 3 below).  It prints the 2006
+   Y_beta; the 2019 pair (Y_beta over cos^3 beta, f_eps in Y_F) has no public printed helical
+   example (docs/rating.md 3.1), so the 2019 Y_beta is held to the standard's Figure 8
+   (test_rating_iso6336.py).  alpha_Fen, h_F, the pinion's Y_S and sigma_F0 of that report are held
+   to a stated band, not to the printed digits (under 0.1 % in sigma_F0; the cause is open).
 """
 from __future__ import annotations
 
@@ -251,3 +254,81 @@ def test_example_1_is_in_the_overlap_regime_it_prints():
     pair = _example_1_pair()
     assert pair.overlap_ratio >= 1.0
     assert 1 / 0.8035 ** 2 <= pair.transverse_contact_ratio <= 1 / 0.8025 ** 2
+
+
+# --- 3. helical bending: KISSsoft 03/2017, ISO 6336:2006 method B (NREL 5 MW gearbox, stage 3) --------
+#
+# Source: the KISSsoft report "CALCULATION OF A HELICAL GEAR PAIR" (KISSsoft Release 03/2017 A,
+# "Calculation method ISO 6336:2006 Method B"), public in the repository gfsReboucas/Drivetrain,
+# file @NREL_5MW/stage_03.rtf, sections 1 (geometry), 2 (F_t) and 3 (tooth root strength).  Inputs:
+# z = 24/95, m_n = 14 mm, alpha_n = 20 deg, beta = 10 deg, a = 861 mm, x = 0.4800/0.6691,
+# d_a = 380.747/1395.376 mm, b = 360/360 mm, basic rack h_fP* = 1.25, rho_fP* = 0.38 (ISO 53 profile
+# A, no protuberance), F_t = 240 064.4 N (printed).  The report says the root was "Calculated with
+# profile shift [x] 0.4800 0.6691", i.e. at the nominal x.  Y_beta is the 2006 form (printed 0.917
+# = 1 - 1 x 10/120 with eps_beta = 1.421 capped at 1).
+
+KISS = {"z": (24, 95), "x": (0.4800, 0.6691), "d_a": (380.747, 1395.376), "m_n": 14.0, "beta_deg": 10.0,
+        "b": 360.0, "F_t_n": 240064.4}
+
+
+def _kiss_values():
+    m_n, alpha_n, beta = KISS["m_n"], math.radians(20.0), math.radians(KISS["beta_deg"])
+    gears = [iso.CylindricalGear(KISS["z"][i], m_n, alpha_n, beta, KISS["x"][i], KISS["d_a"][i], 1.25 * m_n,
+                                 0.38 * m_n) for i in (0, 1)]
+    pair = iso.CylindricalPair(gears[0], gears[1], KISS["b"])
+    out = {"common": {"a_mm": pair.center_distance_mm, "alpha_wt_deg": math.degrees(pair.working_pressure_angle),
+                      "eps_alpha": pair.transverse_contact_ratio, "eps_beta": pair.overlap_ratio}}
+    for i, name in enumerate(("pinion", "wheel")):
+        member = iso.CylindricalPair(gears[i], gears[1 - i], KISS["b"])
+        bg = iso.bending_geometry(member, "2006")
+        y_beta = iso.helix_factor_bending(member.overlap_ratio, beta, "2006")
+        out[name] = {"z_n": bg.virtual_teeth, "d_en_mm": bg.d_en_mm, "s_Fn_mm": bg.s_Fn_mm,
+                     "s_Fn_star": bg.s_Fn_mm / m_n, "rho_F_mm": bg.rho_F_mm, "rho_F_star": bg.rho_F_mm / m_n,
+                     "q_s": bg.s_Fn_mm / (2 * bg.rho_F_mm), "alpha_Fen_deg": math.degrees(bg.alpha_Fen),
+                     "h_Fe_mm": bg.h_Fe_mm, "Y_F": bg.Y_F, "Y_S": bg.Y_S, "Y_beta": y_beta,
+                     "sigma_F0_mpa": iso.nominal_root_stress_mpa(KISS["F_t_n"], KISS["b"], m_n, bg.Y_F, bg.Y_S,
+                                                                 y_beta)}
+    return out
+
+
+# to the printed digits (the report's "den" is d_en of the virtual spur gear)
+KISS_PRINTED = _printed(
+    [("a_mm", 861.000, 3), ("alpha_wt_deg", 22.856, 3), ("eps_alpha", 1.463, 3), ("eps_beta", 1.421, 3)],
+    [("z_n", (25.037, 99.104), 3), ("d_en_mm", (369.487, 1415.619), 3), ("s_Fn_mm", (31.18, 32.75), 2),
+     ("s_Fn_star", (2.227, 2.340), 3), ("rho_F_star", (0.425, 0.385), 3), ("q_s", (2.620, 3.036), 3),
+     ("Y_F", (1.18, 1.24), 2), ("Y_beta", (0.917, 0.917), 3)]) + [("pinion", "rho_F_mm", 5.95, 2),
+                                                                  ("wheel", "rho_F_mm", 5.39, 2),
+                                                                  ("wheel", "Y_S", 2.35, 2)]
+# not to the printed digits: (where, quantity, printed, relative band); measured gaps in the docstring below
+KISS_CLOSE = [("pinion", "alpha_Fen_deg", 23.89, 1e-3), ("wheel", "alpha_Fen_deg", 22.20, 1e-3),
+              ("pinion", "h_Fe_mm", 14.06, 3e-3), ("wheel", "h_Fe_mm", 16.11, 3e-3), ("pinion", "Y_S", 2.28, 3e-3),
+              ("pinion", "sigma_F0_mpa", 117.92, 1.5e-3), ("wheel", "sigma_F0_mpa", 127.69, 1.5e-3)]
+
+
+@pytest.fixture(scope="module")
+def kiss():
+    return _kiss_values()
+
+
+@pytest.mark.parametrize("where, name, printed, decimals", KISS_PRINTED,
+                         ids=[f"{w}-{n}" for w, n, _, _ in KISS_PRINTED])
+def test_kisssoft_helical_bending_iso_6336_2006(kiss, where, name, printed, decimals):
+    """A helical pair (beta = 10 deg, eps_beta = 1.42) rated by KISSsoft 03/2017 to ISO 6336-3:2006 method B:
+    the virtual gear, the outer point of single contact, the 30 deg root chord, Y_F and Y_beta round to
+    the printed values."""
+    ours = kiss[where][name]
+    assert _within_printed(ours, printed, decimals), f"{where} {name}: ours {ours!r}, printed {printed}"
+
+
+@pytest.mark.parametrize("where, name, printed, rel", KISS_CLOSE, ids=[f"{w}-{n}" for w, n, _, _ in KISS_CLOSE])
+def test_kisssoft_helical_bending_load_arm_within_a_stated_band(kiss, where, name, printed, rel):
+    """Where ours does not round to the printed digits, it is within the stated band: the printed
+    alpha_Fen is 0.013 / 0.009 deg larger and h_F 0.19 / 0.14 % longer than ISO's closed form at the
+    nominal x and the printed d_en (which ours reproduces to 1e-3 mm), so Y_S (via L = s_Fn/h_F) and
+    sigma_F0 (117.82 / 127.60 against 117.92 / 127.69 N/mm^2) differ by under 0.1 %.  The shift is what
+    a tooth about 0.1 mm thinner at d_en gives (gamma_e at x - 0.009); the report's tooth thickness
+    allowances (-0.130/-0.190 and -0.240/-0.340 mm, section 6) do not fit both members, so the cause
+    stays open (docs/rating.md 3.1)."""
+    ours = kiss[where][name]
+    assert ours == pytest.approx(printed, rel=rel)
+    assert not _within_printed(ours, printed, 2)  # an honest list: these miss the printed digits
