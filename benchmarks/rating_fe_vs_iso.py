@@ -1,6 +1,7 @@
 """FE root stress against ISO 6336-3 method B in the near-cylindrical, near-parallel limit (issue 32).
 
-    python benchmarks/rating_fe_vs_iso.py [--positions N]
+    python benchmarks/rating_fe_vs_iso.py [--positions N] [--offset-mm A] [--gear-tip-round R]
+                                          [--pinion-face-mm B] [--refinement N] [--iso-load-case-only]
 
 A case-1-like pair made nearly cylindrical and nearly parallel (cone angles 0.05 deg, shaft angle
 3 deg, a spur pinion, a tip round of 0.3 m_n), rated at 1000 N m:
@@ -26,14 +27,19 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this checkout's 
 from beveloid import rating  # noqa: E402
 from beveloid.pair import Pair  # noqa: E402
 from beveloid.rating.fe_check import iso_load_case_detail  # noqa: E402
+from beveloid.rating.virtual import section_gear  # noqa: E402
 from beveloid.spec import load_example, spec_from_dict, spec_to_dict  # noqa: E402
 
 
-def near_parallel_pair(pinion_helix_deg=0.0, face_width_mm=None) -> Pair:
+def near_parallel_pair(pinion_helix_deg=0.0, face_width_mm=None, offset_mm=None, gear_tip_round=0.3) -> Pair:
+    """The benchmark's pair; ``offset_mm`` (case 1: 229 mm) sets the gear's profile shift (1.12 at 229 mm),
+    ``gear_tip_round`` the gear's cutter tip radius coefficient."""
     d = spec_to_dict(load_example("case1"))
     d["pair"]["shaft_angle_deg"] = 3.0
+    if offset_mm is not None:
+        d["pair"]["offset_mm"] = offset_mm
     d["pinion"].update(cone_angle_deg=0.05, helix_angle_deg=pinion_helix_deg, cutter_tip_radius_coefficient=0.3)
-    d["gear"].update(cone_angle_deg=0.05, cutter_tip_radius_coefficient=0.3)
+    d["gear"].update(cone_angle_deg=0.05, cutter_tip_radius_coefficient=gear_tip_round)
     if face_width_mm is not None:
         d["pinion"]["face_width_mm"] = face_width_mm
     return Pair.from_spec(spec_from_dict(d))
@@ -42,17 +48,28 @@ def near_parallel_pair(pinion_helix_deg=0.0, face_width_mm=None) -> Pair:
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--positions", type=int, default=20)
+    ap.add_argument("--offset-mm", type=float, default=None, help="the pair's offset (the gear's profile shift)")
+    ap.add_argument("--gear-tip-round", type=float, default=0.3, help="the gear's cutter tip radius coefficient")
+    ap.add_argument("--pinion-face-mm", type=float, default=None, help="the pinion's face width (the test: 20)")
+    ap.add_argument("--refinement", type=int, default=1, help="the FE tooth's mesh refinement")
+    ap.add_argument("--iso-load-case-only", action="store_true", help="skip the LTCA (part 2)")
     args = ap.parse_args()
-    pair = near_parallel_pair()
+    pair = near_parallel_pair(face_width_mm=args.pinion_face_mm, offset_mm=args.offset_mm,
+                              gear_tip_round=args.gear_tip_round)
     for member in ("pinion", "gear"):
-        d = iso_load_case_detail(pair, member)
+        x = section_gear(pair.geometry, member, 0.0, "right").gear.profile_shift
+        d = iso_load_case_detail(pair, member, refinement=args.refinement)
         fe, iso = d.fe_max_mpa, d.sigma_F0_mpa
-        print(f"1. ISO load case, {member}: FE {fe:.2f} MPa, ISO sigma_F0 {iso:.2f} MPa, FE/ISO {fe / iso:.3f}; "
+        print(f"1. ISO load case, {member} (x {x:.2f}, face {pair.geometry.member(member).face_width_mm:g} mm): "
+              f"FE {fe:.2f} MPa, ISO sigma_F0 {iso:.2f} MPa, FE/ISO {fe / iso:.3f}; "
               f"FE median over the face {d.fe_face_median_mpa:.2f} MPa ({d.fe_face_median_mpa / iso:.3f}); FE max at "
               f"face z {d.fe_face_z_mm:.1f} mm, {d.fe_height_above_root_mm:.2f} mm above the root "
               f"(ISO's 30 deg chord: {d.iso_chord_height_above_root_mm:.2f} mm); q_s {d.notch_parameter:.2f}, "
               f"Y_S {d.Y_S:.3f}")
-    r = rating.analyze(pair, rating.Options(torque_nm=1000.0, positions=args.positions, tooth_model="fe"))
+    if args.iso_load_case_only:
+        return
+    r = rating.analyze(pair, rating.Options(torque_nm=1000.0, positions=args.positions, tooth_model="fe",
+                                            fe_refinement=args.refinement))
     for name, m in r.members.items():
         s = m.sections["middle"]
         print(f"2. LTCA + FE, {name}: root stress max {m.root_stress_max_mpa:.1f} MPa ({m.root_stress_location}); "
