@@ -98,6 +98,14 @@ FILES = ["__init__.py"] + [f"{m}.py" for m in MODULES + SCALAR_MODULES + SUPPORT
 FUNCTIONS = [(m, f) for m in MODULES for f in public_functions(committed_module(m))]
 FUNCTION_IDS = [f"{m}.{f}" for m, f in FUNCTIONS]
 
+#: the modules rendered a second time without CSE, for the CSE-vs-plain comparison: those whose plain
+#: text stays small.  The plain renderings of surface_involute, surface_crowned, surface_micro_geometry,
+#: design_equations and root_fillet are 0.5-8 MB each and take ~2 min of CPU to render; every function
+#: of every module, those included, is checked against sympy's own lambdified (non-CSE) outputs by
+#: test_generated_symbolic.py, so CSE is still checked everywhere.
+PLAIN_MODULES = ("placement", "contact_system", "flank_boundaries", "edge_contact", "patch_clearance",
+                 "tooth_sections", "tooth_plate_coupling")
+
 
 def spec_function(specs, module, name):
     (fn,) = [f for f in specs[module].functions if f.name == name]
