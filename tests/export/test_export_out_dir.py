@@ -37,13 +37,13 @@ def recording_writer(monkeypatch):
     return calls
 
 
-def test_a_missing_parent_is_refused_before_building(small_pair, tmp_path, recording_writer):
-    target = tmp_path / "missing" / "deeper" / "out"
+def test_a_missing_parent_is_refused_before_building(small_pair, tmp_path, recording_writer, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # a short relative path: the message shows it whole
     with pytest.raises(OutputError) as err:
-        export(small_pair, ExportOptions(format="stl", members=("pinion",), out_dir=target))
+        export(small_pair, ExportOptions(format="stl", members=("pinion",), out_dir="missing/deeper/out"))
     text = str(err.value)
     assert err.value.code == ErrorCode.OUTPUT and "\n" not in text
-    assert text.startswith("out_dir = ") and f"the folder {target.parent} does not exist" in text, text
+    assert text.startswith("out_dir = missing/deeper/out: the folder missing/deeper does not exist"), text
     assert recording_writer == [] and not (tmp_path / "missing").exists()  # nothing built, no tree made
 
 
