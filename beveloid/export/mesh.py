@@ -157,7 +157,7 @@ def _bore_ring(radius_mm, chord_mm):
 def build_mesh(geometry, member: str, bore_diameter_mm: float = 0.0, chord_um: float = 3.0,
                first=FIRST_GRID) -> MemberMesh:
     """The member's closed mesh in S_i, vertices on the generated surfaces, within chord_um of them."""
-    sampler = ToothSampler(geometry, member, allow_pointed=True)
+    sampler = ToothSampler(geometry, member)
     sampler.check_bore(bore_diameter_mm)
     toe, heel = sampler.z_range_mm
     z_range = (min(toe, heel), max(toe, heel))

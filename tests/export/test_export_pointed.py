@@ -1,0 +1,44 @@
+"""A pointed tooth exports as it really ends (issue 29, item 4): a STEP solid whose flanks meet where they
+cross, with a tip land only where the tooth has one; valid, closed, on the generated surfaces."""
+from __future__ import annotations
+
+import tomllib
+
+import numpy as np
+import pytest
+from export_checks import distances_to_step_faces, off_fit_points
+
+from beveloid.export import ExportOptions, export, occ
+from beveloid.pair import Pair
+from beveloid.spec import example_text
+from beveloid.tooth import tip
+
+pytestmark = pytest.mark.xdist_group("export")
+
+
+@pytest.fixture(scope="module")
+def pointed_pair():
+    """13 pinion teeth of module 2 at a cone angle of 8 deg: pointed from z = 8.35 mm to the heel (10.5 mm)."""
+    d = tomllib.loads(example_text("case1"))
+    d["pair"].update(offset_mm=146.0 / 3, normal_module_mm=2.0)
+    d["pinion"].update(teeth=13, cone_angle_deg=8.0, profile_shift=0.45, face_width_mm=21.0)
+    d["gear"].update(face_width_mm=10.0)
+    return Pair.from_spec(d)
+
+
+def test_a_pointed_pinion_is_one_valid_step_solid_on_the_generated_surfaces(pointed_pair, tmp_path):
+    g = pointed_pair.geometry
+    t = tip.tip_thickness(g, "pinion")
+    assert t.pointed and -10.5 < t.pointed_from_mm < 10.0 and t.pointed_to_mm == 10.5  # a land, then a point
+    (f,) = export(pointed_pair, ExportOptions(format="step", members=("pinion",), out_dir=tmp_path, stem="pt")).files
+    (solid,) = occ.solids_of(occ.read_step(f.path))
+    assert occ.is_valid(solid)
+    assert occ.volume_mm3(solid) == pytest.approx(f.volume_mm3, rel=1e-9)
+    # per tooth: flanks, fillets, tip and root lands where it has a land; no tip land where it is pointed
+    assert len(occ.faces_of(solid)) == 13 * (6 + 5) + 2
+    assert f.max_error_um <= 1.0
+    # points not used for the fit, on every face (the "tip" face's points in the pointed range are on the
+    # line where the flanks cross) and on random teeth
+    worst = {face: float(np.max(distances_to_step_faces(solid, p))) * 1e3
+             for face, p in off_fit_points(g, "pinion", seed=3).items()}
+    assert max(worst.values()) <= 1.0, worst  # um
