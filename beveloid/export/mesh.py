@@ -90,9 +90,9 @@ def _chord_errors(sampler, ring, cells, z):
 
 def axial_grid(breaks, n_z):
     """About n_z sections from breaks[0] to breaks[-1] with every break a section: each piece between two
-    breaks gets its share of the sections by length (at least one cell).  The breaks are where a pointed
-    tooth's tip land begins or ends (ToothSampler.tip_pieces): the flanks' top edges turn there, which a
-    section between two sections would cut across (a chord error that only a fine grid everywhere closes)."""
+    breaks gets its share of the sections by length (at least one cell).  The breaks are where a face changes
+    how it ends (ToothSampler.face_pieces: a pointed tooth's tip land, a flank's undercut): its edge turns
+    there, which a cell between two sections would cut across (a chord error only a fine grid closes)."""
     breaks = np.asarray(breaks, dtype=float)
     span = breaks[-1] - breaks[0]
     parts = [np.linspace(lo, hi, max(2, int(np.ceil((n_z - 1) * (hi - lo) / span)) + 1))[:-1]
@@ -103,7 +103,7 @@ def axial_grid(breaks, n_z):
 def _refined_ring(sampler, z_range, chord_mm, first=FIRST_GRID):
     n_s = {face: first[0] for face, _ in RING}
     n_z = first[1]
-    breaks = [lo for lo, _, _ in sampler.tip_pieces(z_range)] + [z_range[1]]
+    breaks = [lo for lo, _, _ in sampler.face_pieces(z_range)] + [z_range[1]]
     for _ in range(MAX_REFINEMENTS + 1):
         z = axial_grid(breaks, n_z)
         ring, cells = _tooth_ring(sampler, n_s, z)

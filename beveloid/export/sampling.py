@@ -38,6 +38,12 @@ JOIN_TOL_MM = 1e-4
 #: where a pointed range begins, the land narrows to zero and ends in a point, which is built)
 THIN_LAND_MM = 1e-3
 THIN_LAND_SPAN_MM = 0.05
+#: an undercut shallower than this (mm) keeps the junction as the form limit: where the undercut begins (a
+#: section of ToothSampler.face_pieces) the fillet's crossing of the involute is the junction, which the
+#: search for the crossing cannot bracket there; the material it leaves is thinner than this depth
+UNDERCUT_MIN_MM = 1e-6
+#: the shortest piece (mm) the face is cut into where a face changes how it ends (ToothSampler.face_pieces)
+MIN_PIECE_MM = 1e-2
 
 
 class ExportGeometryError(UserError):
@@ -168,6 +174,32 @@ class ToothSampler:
                     " pointed tip, and both export")
         return [(lo, hi, cls == sections.POSITIVE) for lo, hi, cls in pieces]
 
+    def face_pieces(self, z_range, n=41):
+        """[(z_from, z_to, landed)] from the toe to the heel: the face cut wherever one of the tooth's faces
+        changes how it ends -- where the tip land begins or ends (:meth:`tip_pieces`) and where a flank's
+        undercut begins or ends (its form limit turns from the tip round's junction to the fillet's
+        crossing of the involute, :func:`form_limits`) -- so that each face is smooth over each piece
+        (a B-spline fit or a mesh row across such a turn needs a very fine grid).  ``landed``: the piece
+        has a tip land.  Breaks closer than MIN_PIECE_MM to one another or to the face's ends are merged."""
+        from ..tooth import sections
+
+        breaks = [lo for lo, _, _ in self.tip_pieces(z_range, n)[1:]]
+        grid = np.linspace(*z_range, n)
+        for flank in FLANKS:
+            def depth(z, flank=flank):
+                return float(self.undercut_depth(flank, np.array([z]))[0])
+
+            cut = sections.segments(depth, grid, xtol=1e-9, values=self.undercut_depth(flank, grid))
+            breaks += [lo for lo, _, _ in cut[1:]]
+        kept = [float(z_range[0])]
+        for b in sorted(breaks):
+            if b - kept[-1] > MIN_PIECE_MM and z_range[1] - b > MIN_PIECE_MM:
+                kept.append(b)
+        kept.append(float(z_range[1]))
+        mids = np.array([0.5 * (lo + hi) for lo, hi in zip(kept[:-1], kept[1:])])
+        landed = self.angular_width(mids, self.tip_radius_mm(mids), strict=False) > 0
+        return [(lo, hi, bool(c)) for lo, hi, c in zip(kept[:-1], kept[1:], landed)]
+
     def flank_tip(self, flank, z):
         """(l, u) where the flank ends in the sections z (:meth:`top_radius_mm`; tooth.profile.flank_at_radius)."""
         z = np.asarray(z, dtype=float)
@@ -294,7 +326,7 @@ def form_limits(sampler: ToothSampler, flank, z):
     tr = fillet.tip_round(sampler.geometry, sampler.member)
     l, psi = np.full(z.shape, float(tr.junction_l)), np.full(z.shape, float(tr.junction_psi))
     cut = sampler.undercut_depth(flank, z)
-    for k in np.nonzero(cut > 0)[0]:
+    for k in np.nonzero(cut > UNDERCUT_MIN_MM)[0]:
         key = (flank, float(z[k]))
         if key not in sampler._forms:
             form = (profile.form_limit(sampler.geometry, sampler.member, flank, float(z[k]), samples=100)

@@ -7,8 +7,8 @@ refined until the surface lies within :data:`FIT_TOL_UM` of the generated surfac
 the grid cells (points not used for the fit).  The tooth is turned N times about the axis, the faces
 are sewn, the toe and heel are capped by planar faces and the bore is cut.
 
-A pointed tooth is built as it really ends: the face is cut where its tip land begins or ends
-(``ToothSampler.tip_pieces``) and each piece is fitted on its own; a pointed piece has no tip land (five
+A pointed tooth is built as it really ends: the face is cut where its tip land begins or ends (and where
+a flank's undercut does: ``ToothSampler.face_pieces``) and each piece is fitted on its own; a pointed piece has no tip land (five
 faces: its flanks end where they cross, ``ToothSampler.top_radius_mm``, and are sewn to each other), and
 the land of a neighbouring piece narrows to zero width where the point begins (a degenerate edge).
 """
@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import occ
-from .sampling import FACES, ToothSampler
+from .sampling import FACES, ExportGeometryError, ToothSampler
 
 #: the fitted faces lie within this distance of the generated surfaces between the fit points
 #: (the export promises 1 um; the fit aims at a quarter of it)
@@ -90,9 +90,11 @@ def fit_tooth(sampler: ToothSampler, z_range, first=FIRST_GRID, tol_um=FIT_TOL_U
             n_s[face] = 2 * n_s[face] - 1
         n_z = 2 * n_z - 1
     worst = max(fits, key=lambda f: f.max_error_um)
-    raise RuntimeError(f"{sampler.member} {worst.face}: the fitted surface stays {worst.max_error_um:.3f} um from"
-                       f" the generated surface with {worst.samples[0]} x {worst.samples[1]} points (more than"
-                       f" {tol_um} um)")
+    raise ExportGeometryError(
+        f"{sampler.member} {worst.face}: from z = {z_range[0]:.3f} to {z_range[1]:.3f} mm the fitted surface stays"
+        f" {worst.max_error_um:.3f} um from the generated surface with {worst.samples[0]} x {worst.samples[1]} points"
+        f" (more than {tol_um} um): the face is not smooth enough there for a STEP B-spline face; --format stl"
+        " builds it from the generated points")
 
 
 def build_member(geometry, member: str, bore_diameter_mm: float = 0.0, first=FIRST_GRID) -> MemberSolid:
@@ -103,7 +105,7 @@ def build_member(geometry, member: str, bore_diameter_mm: float = 0.0, first=FIR
     z_range = (min(toe, heel), max(toe, heel))
     sampler.check_buildable(np.linspace(*z_range, 21))
     fits = ()
-    for z_from, z_to, landed in sampler.tip_pieces(z_range):  # a pointed range has no tip land
+    for z_from, z_to, landed in sampler.face_pieces(z_range):  # a pointed piece has no tip land
         fits += fit_tooth(sampler, (z_from, z_to), first, faces=FACES if landed else POINTED_FACES)
     tooth = [occ.face(f.surface) for f in fits]
     faces = [occ.transformed(f, occ.rotation_z(k * sampler.pitch_angle_rad)) if k else f

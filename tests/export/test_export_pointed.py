@@ -11,16 +11,18 @@ import trimesh
 from export_checks import distances_to_step_faces, off_fit_points
 
 from beveloid.export import ExportOptions, export, occ
+from beveloid.export.sampling import ToothSampler
 from beveloid.pair import Pair
 from beveloid.spec import example_text
-from beveloid.tooth import tip
+from beveloid.tooth import sections, tip, undercut
 
 pytestmark = pytest.mark.xdist_group("export")
 
 
 @pytest.fixture(scope="module")
 def pointed_pair():
-    """13 pinion teeth of module 2 at a cone angle of 8 deg: pointed from z = 8.35 mm to the heel (10.5 mm)."""
+    """13 pinion teeth of module 2 at a cone angle of 8 deg: pointed from z = 8.35 mm to the heel (10.5 mm),
+    undercut toward the toe (left flank to z = -5.96 mm, right flank to 1.00 mm)."""
     d = tomllib.loads(example_text("case1"))
     d["pair"].update(offset_mm=146.0 / 3, normal_module_mm=2.0)
     d["pinion"].update(teeth=13, cone_angle_deg=8.0, profile_shift=0.45, face_width_mm=21.0)
@@ -44,8 +46,14 @@ def test_a_pointed_pinion_is_one_valid_step_solid_on_the_generated_surfaces(poin
     (solid,) = occ.solids_of(occ.read_step(f.path))
     assert occ.is_valid(solid)
     assert occ.volume_mm3(solid) == pytest.approx(f.volume_mm3, rel=1e-9)
-    # per tooth: flanks, fillets, tip and root lands where it has a land; no tip land where it is pointed
-    assert len(occ.faces_of(solid)) == 13 * (6 + 5) + 2
+    # the face is cut where the land ends (tooth.tip) and where each flank's undercut ends (tooth.undercut):
+    # per tooth and piece, flanks, fillets, tip and root lands, and no tip land where it is pointed
+    pieces = ToothSampler(g, "pinion").face_pieces((-10.5, 10.5))
+    cuts = sorted(float(sections.member_z(g, "pinion", u.to_mm)) for u in undercut.undercut(g)["pinion"].values())
+    cuts.append(float(sections.member_z(g, "pinion", t.pointed_from_mm)))
+    np.testing.assert_allclose([lo for lo, _, _ in pieces[1:]], cuts, atol=1e-6)
+    assert [landed for _, _, landed in pieces] == [True, True, True, False]
+    assert len(occ.faces_of(solid)) == 13 * (3 * 6 + 5) + 2
     assert f.max_error_um <= 1.0
     # points not used for the fit, on every face (the "tip" face's points in the pointed range are on the
     # line where the flanks cross) and on random teeth
