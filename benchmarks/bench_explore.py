@@ -1,11 +1,11 @@
 """Designs per second of `beveloid explore`: the batched path against one design at a time, and
 one local worker against two.
 
-    python benchmarks/bench_explore.py [--designs 2048] [--single 64] [--no-workers] [--tooth 64]
-    python benchmarks/bench_explore.py --against CHECKOUT [--rounds 3]   # before / after in one run
+    python benchmarks/bench_explore.py [--designs 2048] [--single 64] [--no-workers] [--tooth 256]
+    python benchmarks/bench_explore.py --against CHECKOUT [--rounds 3] [--with-tooth]   # before / after in one run
 
-Rows (status, working data, FPD angles, both flanks' sensitivities and worst path shifts; the
-whole-tooth checks of a row timed apart, --tooth) of case 1 with the pinion cone angle and helix angle varied over a grid that includes infeasible
+Rows (status, working data, FPD angles, both flanks' sensitivities and worst path shifts; with and
+without the whole-tooth checks, and their cost per checked design apart, --tooth) of case 1 with the pinion cone angle and helix angle varied over a grid that includes infeasible
 designs.  The batched path is beveloid.explore.rows.compute over chunks of 256 designs in this
 process; the one-design-at-a-time path is what a script does today: Pair.from_spec(spec) (design() and the
 geometry) and tca.sensitivity on both flanks, for the first --single designs of the same grid
@@ -38,14 +38,14 @@ def _plan(n):
                                                       Vary("pinion.helix_angle_deg", 12.0, 34.0, side)))
 
 
-def batched(plan, chunk=256):
-    """Designs per second of the design and the sensitivities (rows.compute without the whole-tooth checks,
-    timed apart by :func:`tooth_cost`): the number the explore's batched path is held to."""
-    rows.compute(plan, 0, min(chunk, plan.count), DEFAULT_RANGES, tooth_checks=False)  # warm-up
+def batched(plan, chunk=256, tooth_checks=False):
+    """Designs per second of the design and the sensitivities (rows.compute; with ``tooth_checks`` the
+    whole-tooth checks too, as explore runs them; without, they are timed apart by :func:`tooth_cost`)."""
+    rows.compute(plan, 0, min(chunk, plan.count), DEFAULT_RANGES, tooth_checks=tooth_checks)  # warm-up
     t, c = time.perf_counter(), time.process_time()
     ok = 0
     for s in range(0, plan.count, chunk):
-        cols = rows.compute(plan, s, min(plan.count, s + chunk), DEFAULT_RANGES, tooth_checks=False)
+        cols = rows.compute(plan, s, min(plan.count, s + chunk), DEFAULT_RANGES, tooth_checks=tooth_checks)
         ok += int((cols["status"] == "ok").sum())
     return plan.count / (time.perf_counter() - t), plan.count / (time.process_time() - c), ok
 
@@ -81,9 +81,11 @@ def one_at_a_time(plan, count):
 def monte_carlo(plan, count, sets=40, positions=20):
     """ms per design of the --mc sweep (sets x positions on the right flank)."""
     cols = rows.compute(plan, 0, count, DEFAULT_RANGES)
-    rows.monte_carlo(cols, plan, 0, 1, DEFAULT_RANGES, sets, positions, "right", 0)  # warm-up
+    mc = rows.MonteCarloRequest(samples=sets, positions=positions, flank="right", seed=0)
+    first = {k: v[:1] for k, v in cols.items()}
+    rows.monte_carlo(first, plan, slice(0, 1), DEFAULT_RANGES, mc)  # warm-up
     t = time.perf_counter()
-    rows.monte_carlo(cols, plan, 0, count, DEFAULT_RANGES, sets, positions, "right", 0)
+    rows.monte_carlo(cols, plan, slice(0, count), DEFAULT_RANGES, mc)
     done = int((cols["mc_status"] == "ok").sum())
     return (time.perf_counter() - t) / max(done, 1) * 1e3, done
 
@@ -122,19 +124,39 @@ def workers(plan, n):
 
 _BATCHED = ("import os, sys; sys.path[:0] = [os.getcwd(), os.path.join(os.getcwd(), 'benchmarks')];"
             " from bench_explore import _plan, batched; r = batched(_plan({designs})); print(r[0], r[1])")
+#: the same timing with explore's whole-tooth checks, written here (not imported from the other checkout,
+#: whose benchmark may predate the option): the rows of the grid of _plan, chunks of 256
+_WITH_TOOTH = """
+import os, sys, time
+sys.path[:0] = [os.getcwd()]
+from beveloid.explore import rows
+from beveloid.explore.grid import Plan, Vary
+from beveloid.spec import load_example, spec_to_dict
+from beveloid.sweep import DEFAULT_RANGES
+side = int(round({designs} ** 0.5))
+plan = Plan(spec_to_dict(load_example("case1")), (Vary("pinion.cone_angle_deg", 0.25, 4.5, side),
+                                                  Vary("pinion.helix_angle_deg", 12.0, 34.0, side)))
+rows.compute(plan, 0, 256, DEFAULT_RANGES)
+t, c = time.perf_counter(), time.process_time()
+for s in range(0, plan.count, 256):
+    rows.compute(plan, s, min(plan.count, s + 256), DEFAULT_RANGES)
+print(plan.count / (time.perf_counter() - t), plan.count / (time.process_time() - c))
+"""
 
 
-def against(other: str, rounds: int, designs: int) -> None:
+def against(other: str, rounds: int, designs: int, with_tooth: bool = False) -> None:
     """:func:`batched` of another checkout (``other``, e.g. a worktree of the commit before a change) and of
-    this one, alternating in one run, each in a fresh process (its own beveloid); the ratios after/before."""
+    this one, alternating in one run, each in a fresh process (its own beveloid); the ratios after/before.
+    ``with_tooth``: the rows with explore's whole-tooth checks (:data:`_WITH_TOOTH`)."""
     import os
     import subprocess
 
     here = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     runs = {"before": [], "after": []}
+    code = (_WITH_TOOTH if with_tooth else _BATCHED).format(designs=designs)
     for i in range(rounds):
         for label, where in (("before", other), ("after", here)):
-            out = subprocess.run([sys.executable, "-c", _BATCHED.format(designs=designs)], cwd=where, check=True,
+            out = subprocess.run([sys.executable, "-c", code], cwd=where, check=True,
                                  capture_output=True, text=True).stdout.split()
             runs[label].append((float(out[-2]), float(out[-1])))
             print(f"round {i + 1} {label:6} ({where}): {runs[label][-1][0]:6.0f} designs/s wall,"
@@ -150,14 +172,16 @@ def main(argv=None):
     ap.add_argument("--designs", type=int, default=2048)
     ap.add_argument("--single", type=int, default=64)
     ap.add_argument("--no-workers", action="store_true")
-    ap.add_argument("--tooth", type=int, default=64, metavar="N",
+    ap.add_argument("--tooth", type=int, default=256, metavar="N",
                     help="time the whole-tooth checks on the first N designs (0: not)")
     ap.add_argument("--against", metavar="CHECKOUT",
                     help="only: the batched rate of CHECKOUT (before) and of this checkout (after), alternating")
     ap.add_argument("--rounds", type=int, default=3, help="with --against: alternations (default 3)")
+    ap.add_argument("--with-tooth", action="store_true",
+                    help="with --against: the rows with the whole-tooth checks, as explore computes them")
     a = ap.parse_args(argv)
     if a.against:
-        against(a.against, a.rounds, a.designs)
+        against(a.against, a.rounds, a.designs, a.with_tooth)
         return 0
     plan = _plan(a.designs)
     import os
@@ -171,10 +195,13 @@ def main(argv=None):
     print(f"one at a time (Pair.from_spec + 2 x tca.sensitivity, first {a.single}): {single:8.0f} designs/s wall,"
           f" {cpu_single:8.0f} per CPU second")
     print(f"speed-up of the batched path: {rate / single:.1f}x wall, {cpu_rate / cpu_single:.1f}x CPU")
+    rate_t, cpu_rate_t, ok_t = batched(plan, tooth_checks=True)
+    print(f"batched with the whole-tooth checks (rows as explore writes them, {ok_t} ok):"
+          f" {rate_t:8.0f} designs/s wall, {cpu_rate_t:8.0f} per CPU second ({cpu_rate_t / cpu_rate:.2f}x without)")
     if a.tooth:
         ms_tooth, passed = tooth_cost(plan, a.tooth)
         print(f"whole-tooth checks (undercut, tip; first {a.tooth} designs, {passed} pass the design's checks):"
-              f" {ms_tooth:.0f} CPU ms per design checked, {1e3 / ms_tooth:.1f} designs/s")
+              f" {ms_tooth:.3f} CPU ms per design checked, {1e3 / ms_tooth:.0f} designs/s")
     ms, done = monte_carlo(plan, 16)
     print(f"--mc 40 --mc-positions 20: {ms:.0f} ms per design ({done} designs)")
     if not a.no_workers:

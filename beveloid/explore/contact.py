@@ -136,15 +136,15 @@ def _kernel(backend: str):
     return numba.njit(cache=True, nogil=True)(fn)
 
 
-def sensitivities(values: dict, q: dict, idx: np.ndarray, models: dict, backend: str = "auto") -> dict:
-    """tca.sensitivity(geom, flank) at the aligned pitch point for the designs idx, both flanks.
+def sensitivities(geom: PairGeometry, backend: str = "auto") -> dict:
+    """tca.sensitivity(geom, flank) at the aligned pitch point for the n designs of a PairGeometry of
+    arrays (:func:`geometry`), both flanks.
 
     Returns per flank a dict: ``status`` (codes, -1: no reference contact), and for the designs
     whose status is OK: ``pinion_contact_D_errors`` (n, 3, 5), ``gear_contact_D_errors`` (n, 3, 5),
     ``gear_angle_D_errors`` (n, 5), ``unknowns_D_errors`` (n, 5, 5); nan elsewhere.
     """
     backend = backends.resolve(backend)
-    geom = geometry(values, q, idx, models)
     p, g = geom.pinion, geom.gear
     pp, gp = geom.surface_params("pinion"), geom.surface_params("gear")
     pair = geom.placement()
@@ -154,7 +154,7 @@ def sensitivities(values: dict, q: dict, idx: np.ndarray, models: dict, backend:
     tol = np.maximum(DEFAULT_OPTIONS.tol_mm, 64 * eps * (np.abs(g.axial_placement_mm) + geom.offset_mm
                                                           + g.working_pitch_radius_mm))
     scale = g.working_pitch_radius_mm
-    n = idx.size
+    n = np.size(geom.normal_module_mm)
     out = {}
     pm, gm = p.tooth_surface, g.tooth_surface
     for flank in tca.FLANKS:

@@ -83,8 +83,7 @@ def compute(plan, start: int, stop: int, tolerances: dict, backend: str = "auto"
     values = {k: np.full(n, v) for k, v in plan.base_values().items()}
     values.update({k: np.asarray(v, dtype=float) for k, v in varied.items()})
     d = design_arrays(values)
-    ok = d.ok
-    status = np.where(ok, 0, 1)  # the sensitivities are of the designs that pass the design's checks
+    ok = d.ok  # the sensitivities and the tooth checks are of the designs that pass the design's checks
     with np.errstate(invalid="ignore"):
         q = {k: np.where(ok, v, np.nan) for k, v in d.q.items()}
     alpha = np.where(ok, d.alpha_nw, np.nan)
@@ -112,9 +111,20 @@ def compute(plan, start: int, stop: int, tolerances: dict, backend: str = "auto"
         cols[f"{name}_pitch_point_angle_deg"] = ppa
         cols[f"{name}_rack_shift_mm"] = (cols[f"{name}_profile_shift"] * values["pair.normal_module_mm"]
                                          * np.cos(q[o["cone_angle"]]) / np.cos(q[o["helix_angle"]]))
-    _sensitivities(cols, plan, values, q, status, tolerances, backend)
-    tooth.whole_tooth(cols, d.outcome, lambda j: design_spec(plan, values, j), check=tooth_checks)
+    groups = [(idx, contact.geometry(values, q, idx, pair_models)) for pair_models, idx in model_groups(plan, values, ok)]
+    _sensitivities(cols, plan, values, groups, tolerances, backend)
+    tooth.whole_tooth(cols, d.outcome, tooth.Designs(lambda j: design_spec(plan, values, j), groups), check=tooth_checks)
     return cols
+
+
+def model_groups(plan, values: dict, ok: np.ndarray) -> list[tuple[dict, np.ndarray]]:
+    """The designs that pass the design's checks, grouped by their (pinion, gear) tooth-surface models:
+    [({"pinion": model, "gear": model}, row indices)], in the models' sorted order."""
+    per_design = models(plan.base, values)
+    rows_ok = np.nonzero(ok)[0]
+    return [(dict(zip(("pinion", "gear"), pair_models)),
+             np.array([i for i in rows_ok if per_design[i] == pair_models], dtype=np.int64))
+            for pair_models in sorted(set(per_design[i] for i in rows_ok))]
 
 
 def _box_max(D, tol):
@@ -126,17 +136,15 @@ def _box_max(D, tol):
     return out
 
 
-def _sensitivities(cols, plan, values, q, status, tolerances, backend):
-    n = status.size
+def _sensitivities(cols, plan, values, groups, tolerances, backend):
+    n = len(cols["design"])
     tol = np.abs(assembly_errors.to_layout(tolerances))
     flank_status = {fl: np.full(n, "", dtype=object) for fl in tca.FLANKS}
     for fl in tca.FLANKS:
         for c in sensitivity_columns(fl):
             cols[c] = np.full(n, np.nan)
-    per_design = models(plan.base, values)
-    for pair_models in sorted(set(per_design[i] for i in np.nonzero(status == 0)[0])):
-        idx = np.array([i for i in np.nonzero(status == 0)[0] if per_design[i] == pair_models], dtype=np.int64)
-        sens = contact.sensitivities(values, q, idx, dict(zip(("pinion", "gear"), pair_models)), backend)
+    for idx, geom in groups:
+        sens = contact.sensitivities(geom, backend)
         for fl, s in sens.items():
             good = s["status"] == int(Status.OK)
             flank_status[fl][idx[good]] = Status.OK.label

@@ -2,7 +2,10 @@
 
 For each design that passes the design's checks, the tooth's own checks (``beveloid.tooth``: undercut
 over the face, ``tooth.undercut.undercut``; tip thickness over the face, ``tooth.tip.tip_thicknesses``)
-run on the designed pair, exactly as ``beveloid design`` runs them.  A pointed or undercut design is
+decide its whole-tooth statuses, as ``beveloid design`` runs them.  First ``tooth.screen.clear`` scans
+the sections of all of a chunk's designs at once (the checks' own grids and generated sections): a
+design clear of both flags by a margin has no whole-tooth status and is done; the others (flagged or
+near a flag) run the checks themselves on the designed pair, which give the statuses and messages.  A pointed or undercut design is
 not ``ok``: its ``status`` is ``pointed`` (first) or ``undercut``, it keeps its numbers (working data,
 sensitivities) and it takes no part in the Pareto front.  ``tooth_status`` lists every whole-tooth
 status of a row, ``reason`` says in words why a row is not ``ok`` (the tooth checks' own messages, or
@@ -14,12 +17,15 @@ chosen row for them.  docs/explore.md gives the cost of the checks per row.
 """
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import NamedTuple
+
 import numpy as np
 
 from ..design import DesignError, Outcome
 from ..names import Member
 
-__all__ = ["FLAGS", "REASONS", "whole_tooth"]
+__all__ = ["FLAGS", "REASONS", "Designs", "whole_tooth"]
 
 #: whole-tooth statuses that take a design off ``ok``, the first one found naming its status
 FLAGS = ("pointed", "undercut")
@@ -57,21 +63,34 @@ def statuses(geometry) -> list[tuple[str, str]]:
     return out
 
 
-def whole_tooth(cols: dict, outcome: np.ndarray, specs, check: bool = True) -> None:
+class Designs(NamedTuple):
+    """A chunk's designs as the checks take them: ``spec(j)`` the DesignSpec of row j, and ``groups`` the rows
+    that pass the design's checks as [(row indices, their PairGeometry of arrays)] (explore.contact.geometry)."""
+
+    spec: Callable
+    groups: list
+
+
+def whole_tooth(cols: dict, outcome: np.ndarray, designs: Designs, check: bool = True) -> None:
     """Add ``tooth_status`` and ``reason`` to a chunk's columns and take flagged designs off ``ok``.
 
-    ``outcome``: the design's Outcome codes of the rows; ``specs(j)`` gives the DesignSpec of row j (called
-    for the rows whose status is ``ok``); ``check=False`` leaves the tooth unchecked (``tooth_status``
-    "not checked": what the design and the sensitivities cost alone, for benchmarks/bench_explore.py)."""
+    ``outcome``: the design's Outcome codes of the rows; ``designs``: the rows' specs and geometries
+    (:class:`Designs`; a spec is built only for a row the screen does not clear); ``check=False`` leaves the
+    tooth unchecked (``tooth_status`` "not checked": what the design and the sensitivities cost alone,
+    for benchmarks/bench_explore.py)."""
     from ..pair import Pair
+    from ..tooth import screen
 
     n = len(cols["status"])
     tooth_status = np.full(n, "" if check else "not checked", dtype=object)
     reason = np.array([REASONS[Outcome(int(c))] for c in outcome], dtype=object)
     status = np.array(cols["status"], dtype=object)
-    for j in np.nonzero(status == "ok")[0] if check else ():
+    unclear = np.zeros(n, dtype=bool)
+    for idx, geometry in designs.groups if check else ():
+        unclear[idx] = ~screen.clear(geometry)
+    for j in np.nonzero(unclear & (status == "ok"))[0]:
         try:
-            found = statuses(Pair.from_spec(specs(j)).geometry)
+            found = statuses(Pair.from_spec(designs.spec(j)).geometry)
         except DesignError as exc:  # design() of the one spec refuses what the chunk passed (a check's boundary)
             status[j] = exc.outcome.label if exc.outcome is not None else "design_refused"
             reason[j] = exc.detail

@@ -27,6 +27,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .. import interrupts
+from ..outputs import check_output_dir
 from .formats import WRITERS, install_hint
 
 __all__ = ["FORMATS", "MEMBERS", "CHORD_UM", "CadMissing", "require_cad", "ExportOptions", "WrittenFile",
@@ -98,14 +99,18 @@ def bore_diameters(spec) -> dict:
 
 
 def export(pair, options: ExportOptions = ExportOptions()) -> ExportResult:
-    """Build the requested members and write them (see the module docstring)."""
+    """Build the requested members and write them (see the module docstring).
+
+    ``options.out_dir`` follows the one output rule (:mod:`beveloid.outputs`): an existing writable folder,
+    or a new one created in its existing, writable parent; a missing parent (or any target that cannot be
+    written) raises :class:`beveloid.outputs.OutputError` before anything is built."""
     require_cad(options.format)
     from . import assembly
 
     writer = WRITERS[options.format]
     bores = bore_diameters(pair.spec)
     out = Path(options.out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    check_output_dir(str(out), "out_dir")  # the one output rule: creates out_dir only, refuses a missing parent
     places = assembly.assembly_placements(pair) if options.assembled else None
     built = {m: writer.build(pair.geometry, m, bores[m], options) for m in options.members}
     shapes = {m: writer.place(built[m], None if places is None else places[m]) for m in options.members}

@@ -30,6 +30,8 @@ FIRST_GRID = (12, 9)
 #: a face that misses the chord tolerance gets GROWTH times the samples (and the axial grid with it)
 GROWTH = 1.4
 MAX_REFINEMENTS = 10
+#: a tip land narrower than this (mm) is a pointed section's: its points are one point of the mesh
+POINT_MM = 1e-4
 
 
 @dataclass(frozen=True)
@@ -58,7 +60,14 @@ def _tooth_ring(sampler, n_s, z):
         cells[face] = (start, s, direction)
         parts.append(pts)
         start += len(pts)
-    return np.concatenate(parts), cells
+    ring = np.concatenate(parts)
+    # a pointed section's tip land has no width: its points (the flanks' ends, where they cross, and the
+    # tip face's) are made one point, which build_mesh then makes one vertex (an STL file stores float32
+    # coordinates: points ~1e-6 mm apart would be merged or not by its reader's rounding)
+    top = slice(cells["tip"][0], cells["flank_right"][0] + 1)
+    pointed = np.linalg.norm(ring[top.start, :] - ring[top.stop - 1, :], axis=-1) <= POINT_MM
+    ring[top, pointed] = ring[top, pointed].mean(axis=0)
+    return ring, cells
 
 
 def _chord_errors(sampler, ring, cells, z):
@@ -79,11 +88,24 @@ def _chord_errors(sampler, ring, cells, z):
     return out
 
 
+def axial_grid(breaks, n_z):
+    """About n_z sections from breaks[0] to breaks[-1] with every break a section: each piece between two
+    breaks gets its share of the sections by length (at least one cell).  The breaks are where a face changes
+    how it ends (ToothSampler.face_pieces: a pointed tooth's tip land, a flank's undercut): its edge turns
+    there, which a cell between two sections would cut across (a chord error only a fine grid closes)."""
+    breaks = np.asarray(breaks, dtype=float)
+    span = breaks[-1] - breaks[0]
+    parts = [np.linspace(lo, hi, max(2, int(np.ceil((n_z - 1) * (hi - lo) / span)) + 1))[:-1]
+             for lo, hi in zip(breaks[:-1], breaks[1:])]
+    return np.concatenate(parts + [breaks[-1:]])
+
+
 def _refined_ring(sampler, z_range, chord_mm, first=FIRST_GRID):
     n_s = {face: first[0] for face, _ in RING}
     n_z = first[1]
+    breaks = [lo for lo, _, _ in sampler.face_pieces(z_range)] + [z_range[1]]
     for _ in range(MAX_REFINEMENTS + 1):
-        z = np.linspace(*z_range, n_z)
+        z = axial_grid(breaks, n_z)
         ring, cells = _tooth_ring(sampler, n_s, z)
         errors = _chord_errors(sampler, ring, cells, z)
         missed = [f for f, e in errors.items() if not e <= chord_mm]
@@ -157,7 +179,7 @@ def _bore_ring(radius_mm, chord_mm):
 def build_mesh(geometry, member: str, bore_diameter_mm: float = 0.0, chord_um: float = 3.0,
                first=FIRST_GRID) -> MemberMesh:
     """The member's closed mesh in S_i, vertices on the generated surfaces, within chord_um of them."""
-    sampler = ToothSampler(geometry, member, allow_pointed=True)
+    sampler = ToothSampler(geometry, member)
     sampler.check_bore(bore_diameter_mm)
     toe, heel = sampler.z_range_mm
     z_range = (min(toe, heel), max(toe, heel))
@@ -207,6 +229,10 @@ def build_mesh(geometry, member: str, bore_diameter_mm: float = 0.0, chord_um: f
         lo1, hi1 = np.roll(lo, -1), np.roll(hi, -1)
         tris += [np.column_stack([lo, hi1, lo1]), np.column_stack([lo, hi, hi1])]
     mesh = trimesh.Trimesh(vertices=np.concatenate(vertices), faces=np.concatenate(tris), process=False)
+    if np.all(ring[top] == ring[top - 1], axis=-1).any():  # pointed sections (_tooth_ring): one vertex per point,
+        mesh.merge_vertices()  # the tip land's cells, now of no area, dropped
+        mesh.update_faces(mesh.nondegenerate_faces())
+        mesh.remove_unreferenced_vertices()
     if not (mesh.is_watertight and mesh.is_winding_consistent and mesh.volume > 0):
         raise RuntimeError(f"{member}: the STL mesh is not closed (watertight {mesh.is_watertight}, consistently"
                            f" wound {mesh.is_winding_consistent})")

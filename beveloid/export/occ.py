@@ -68,11 +68,16 @@ def fit_surface(points):
 
 
 def distances_to_surface(surface, points):
-    """Distances (mm) from points (..., 3) to a surface (orthogonal projection)."""
+    """Distances (mm) from points (..., 3) to a surface (orthogonal projection).  One projector for all
+    points (its sampling of the surface made once): ~6x faster than a new projector per point, the same
+    distances (OpenCASCADE's tree search, Extrema_ExtAlgo_Tree, is ~10x faster again but returned a
+    local minimum for a point of a pointed tooth's fillet: 0.027 um for 0.001)."""
     pts = np.asarray(points, dtype=float).reshape(-1, 3)
     out = np.empty(len(pts))
+    proj = GeomAPI_ProjectPointOnSurf()
+    proj.Init(surface, *surface.Bounds())
     for k, (x, y, z) in enumerate(pts):
-        proj = GeomAPI_ProjectPointOnSurf(gp_Pnt(float(x), float(y), float(z)), surface)
+        proj.Perform(gp_Pnt(float(x), float(y), float(z)))
         out[k] = proj.LowerDistance() if proj.NbPoints() else math.inf
     return out.reshape(np.shape(points)[:-1])
 

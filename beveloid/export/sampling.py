@@ -34,11 +34,21 @@ FLANKS = ("left", "right")
 FACES = ("flank_left", "flank_right", "fillet_left", "fillet_right", "tip", "root")
 #: the largest step (mm) between a flank and its fillet where they meet that the export accepts
 JOIN_TOL_MM = 1e-4
+#: a tip land this thin (mm) is refused where the tooth is not pointed nearby (within THIN_LAND_SPAN_MM of
+#: where a pointed range begins, the land narrows to zero and ends in a point, which is built)
+THIN_LAND_MM = 1e-3
+THIN_LAND_SPAN_MM = 0.05
+#: an undercut shallower than this (mm) keeps the junction as the form limit: where the undercut begins (a
+#: section of ToothSampler.face_pieces) the fillet's crossing of the involute is the junction, which the
+#: search for the crossing cannot bracket there; the material it leaves is thinner than this depth
+UNDERCUT_MIN_MM = 1e-6
+#: the shortest piece (mm) the face is cut into where a face changes how it ends (ToothSampler.face_pieces)
+MIN_PIECE_MM = 1e-2
 
 
 class ExportGeometryError(UserError):
-    """A member whose tooth the export cannot build (no involute up to the tip, pointed, a bore through the
-    root): one line that says why."""
+    """A member whose tooth the export cannot build (no involute up to the tip, a bore through the root, ...):
+    one line that says why."""
 
 
 @dataclass(frozen=True)
@@ -47,8 +57,6 @@ class ToothSampler:
 
     geometry: object  # beveloid.geometry.PairGeometry
     member: str
-    #: end the flanks of a pointed section where they cross (a tip land of zero width), else refuse it
-    allow_pointed: bool = False
     #: (flank, z) -> (l, psi) of the form limit (tooth.profile.form_limit is a search: done once per section)
     _forms: dict = field(default_factory=dict, compare=False, repr=False)
     #: z -> the radius where a pointed section's flanks cross (a root search: once per section)
@@ -121,12 +129,10 @@ class ToothSampler:
         return _signed_angle(*pts)
 
     def top_radius_mm(self, z):
-        """Where the flanks end in the sections z: the tip cone, or, in a pointed section (``allow_pointed``),
-        the radius where the two flanks cross, below the tip cone (the tooth as it really ends)."""
+        """Where the flanks end in the sections z: the tip cone, or, in a pointed section, the radius where
+        the two flanks cross, below the tip cone (the tooth as it really ends: a tip land of zero width)."""
         z = np.asarray(z, dtype=float)
         r = np.array(self.tip_radius_mm(z), dtype=float)
-        if not self.allow_pointed:
-            return r
         flat_z, flat_r = np.atleast_1d(z).ravel(), np.atleast_1d(r).ravel().copy()
         pointed = np.nonzero(np.atleast_1d(self.angular_width(z, r)).ravel() <= 0)[0]
         new = [k for k in pointed if float(flat_z[k]) not in self._tops]
@@ -136,6 +142,63 @@ class ToothSampler:
         for k in pointed:
             flat_r[k] = self._tops[float(flat_z[k])]
         return flat_r.reshape(np.shape(r))
+
+    def tip_pieces(self, z_range, n=41):
+        """[(z_from, z_to, landed)] from the toe to the heel: the face ranges where the tooth has a tip land
+        (``landed``) and where it is pointed (its flanks cross below the tip cone).  The land's sign on n
+        sections, its changes found by the whole-tooth checks' root finder (tooth.sections.segments) on the
+        angle between the flanks at the tip cone; a section where a flank does not reach the tip cone is
+        refused (ExportGeometryError)."""
+        from ..tooth import sections
+
+        def land(z):
+            z = np.array([z])
+            return float(self.angular_width(z, self.tip_radius_mm(z), strict=False)[0])
+
+        grid = np.linspace(*z_range, n)
+        values = self.angular_width(grid, self.tip_radius_mm(grid), strict=False)
+        pieces = sections.segments(land, grid, xtol=1e-9, values=values)
+        for lo, hi, cls in pieces:
+            if cls == sections.INVALID:
+                raise ExportGeometryError(f"{self.member}: from z = {lo:.3f} to {hi:.3f} mm a flank does not reach"
+                                          " the tip cone (no flank point found there)")
+        ends = np.array([lo for lo, _, _ in pieces[1:]])  # where a land begins or ends in the face
+        land_mm = values * self.tip_radius_mm(grid)
+        for zk, w in zip(grid, land_mm):
+            if 0 < w <= THIN_LAND_MM and not np.any(np.abs(ends - zk) <= THIN_LAND_SPAN_MM):
+                raise ExportGeometryError(
+                    f"{self.member}: the tip land is {1e3 * w:.3f} um wide at z = {zk:.3f} mm without the tooth"
+                    f" being pointed there: a tip face under {1e3 * THIN_LAND_MM:g} um is not built (its edges come"
+                    " within the export's accuracy of each other and merge at the sewing tolerance, 0.1 um);"
+                    " a slightly smaller profile shift or addendum gives a wider land, a slightly larger one a"
+                    " pointed tip, and both export")
+        return [(lo, hi, cls == sections.POSITIVE) for lo, hi, cls in pieces]
+
+    def face_pieces(self, z_range, n=41):
+        """[(z_from, z_to, landed)] from the toe to the heel: the face cut wherever one of the tooth's faces
+        changes how it ends -- where the tip land begins or ends (:meth:`tip_pieces`) and where a flank's
+        undercut begins or ends (its form limit turns from the tip round's junction to the fillet's
+        crossing of the involute, :func:`form_limits`) -- so that each face is smooth over each piece
+        (a B-spline fit or a mesh row across such a turn needs a very fine grid).  ``landed``: the piece
+        has a tip land.  Breaks closer than MIN_PIECE_MM to one another or to the face's ends are merged."""
+        from ..tooth import sections
+
+        breaks = [lo for lo, _, _ in self.tip_pieces(z_range, n)[1:]]
+        grid = np.linspace(*z_range, n)
+        for flank in FLANKS:
+            def depth(z, flank=flank):
+                return float(self.undercut_depth(flank, np.array([z]))[0])
+
+            cut = sections.segments(depth, grid, xtol=1e-9, values=self.undercut_depth(flank, grid))
+            breaks += [lo for lo, _, _ in cut[1:]]
+        kept = [float(z_range[0])]
+        for b in sorted(breaks):
+            if b - kept[-1] > MIN_PIECE_MM and z_range[1] - b > MIN_PIECE_MM:
+                kept.append(b)
+        kept.append(float(z_range[1]))
+        mids = np.array([0.5 * (lo + hi) for lo, hi in zip(kept[:-1], kept[1:])])
+        landed = self.angular_width(mids, self.tip_radius_mm(mids), strict=False) > 0
+        return [(lo, hi, bool(c)) for lo, hi, c in zip(kept[:-1], kept[1:], landed)]
 
     def flank_tip(self, flank, z):
         """(l, u) where the flank ends in the sections z (:meth:`top_radius_mm`; tooth.profile.flank_at_radius)."""
@@ -197,8 +260,8 @@ class ToothSampler:
                 f" {root:.3f} mm (0: no bore)")
 
     def check_buildable(self, z):
-        """Refuse a tooth the export cannot build: no involute up to the tip, pointed within the face, a
-        flank that turns back above its form limit, no root land."""
+        """Refuse a tooth the export cannot build: no involute up to the tip, a flank that turns back above
+        its form limit, no root land.  (A pointed tooth is built: its flanks end where they cross.)"""
         z = np.asarray(z, dtype=float)
         s = np.linspace(0.0, 1.0, 41)
         for flank in FLANKS:
@@ -211,14 +274,6 @@ class ToothSampler:
                     f"{self.member}: the {flank} flank and its root fillet are {1e3 * step[k]:.1f} um apart at the form"
                     f" limit (z = {z[k]:.3f} mm): the flank's modification ({self.data.tooth_surface} model) is not"
                     " carried by the root fillet model, so the tooth's surfaces do not close")
-        tips = [self.flank_points(f, np.array([1.0]), z)[0] for f in FLANKS]
-        width = _signed_angle(tips[0], tips[1]) * self.tip_radius_mm(z)
-        if not self.allow_pointed and np.min(width) <= 1e-3:
-            k = int(np.argmin(width))
-            raise ExportGeometryError(
-                f"{self.member}: the tooth is pointed at z = {z[k]:.3f} mm (tip land {width[k]:.4f} mm): a STEP"
-                " solid needs a tip land over the whole face (its tip face would collapse to a curve); STL"
-                " (--format stl) ends the flanks where they cross")
         for flank in FLANKS:
             r = np.hypot(*np.moveaxis(self.flank_points(flank, s, z)[..., :2], -1, 0))
             if np.any(np.diff(r, axis=0) <= 0):
@@ -271,7 +326,7 @@ def form_limits(sampler: ToothSampler, flank, z):
     tr = fillet.tip_round(sampler.geometry, sampler.member)
     l, psi = np.full(z.shape, float(tr.junction_l)), np.full(z.shape, float(tr.junction_psi))
     cut = sampler.undercut_depth(flank, z)
-    for k in np.nonzero(cut > 0)[0]:
+    for k in np.nonzero(cut > UNDERCUT_MIN_MM)[0]:
         key = (flank, float(z[k]))
         if key not in sampler._forms:
             form = (profile.form_limit(sampler.geometry, sampler.member, flank, float(z[k]), samples=100)

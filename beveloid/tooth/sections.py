@@ -5,12 +5,17 @@ The face coordinate ``z_face`` (mm) is measured in the member frame from the fac
 working pitch circle, z = b_c) toward the heel: the toe is at -W/2, the heel at +W/2.  In S_i the
 section lies at z = b_c + z_face when the toe is the lower end (cone angle >= 0), else at
 b_c - z_face.
+
+Every function here takes one design's PairGeometry (floats) or the designs of an exploration (a
+PairGeometry of arrays, ``explore.contact.geometry``): face coordinates then carry the designs on
+their first axis, ``(n, ...)``, and each design's values broadcast over the rest.
 """
 from __future__ import annotations
 
 import numpy as np
 
 from ..generated import layouts, tooth_sections
+from ..geometry import pack_rows
 
 MEMBERS = ("pinion", "gear")
 FLANKS = ("left", "right")
@@ -19,33 +24,56 @@ ENDS = (("toe", -1.0), ("middle", 0.0), ("heel", 1.0))
 
 
 def section_params(geometry, member: str) -> np.ndarray:
-    """The member's ``layouts.ToothSectionParams`` vector."""
+    """The member's ``layouts.ToothSectionParams`` vector ((n, fields) for n designs)."""
     m = geometry.member(member)
     values = dict(geometry.surface_values(member), tip_height_mm=m.tip_height_mm,
                   cutter_tip_radius_mm=m.cutter_tip_radius_mm)
-    return np.asarray(layouts.ToothSectionParams.pack(values), dtype=float)
+    if np.ndim(m.cone_angle):  # n designs
+        return pack_rows(layouts.ToothSectionParams, values)
+    return np.asarray(layouts.ToothSectionParams.pack(values), dtype=float)  # one: the checks' root searches call it often
 
 
-def orientation(geometry, member: str) -> float:
-    """+1 when the toe is the member frame's lower face end, else -1."""
+def _per_design(x, like):
+    """A member's value: a float as it is, the (n,) values of n designs shaped to broadcast against
+    ``like`` (designs on its first axis)."""
+    if np.ndim(x) == 0:
+        return x
+    x = np.asarray(x)
+    return x.reshape(x.shape + (1,) * (np.ndim(like) - x.ndim))
+
+
+def orientation(geometry, member: str):
+    """+1 when the toe is the member frame's lower face end, else -1 (per design for n designs)."""
     toe, heel = geometry.member(member).face_limits
+    if np.ndim(toe):
+        return np.where(heel >= toe, 1.0, -1.0)
     return 1.0 if heel >= toe else -1.0
 
 
 def member_z(geometry, member: str, z_face):
     """Axial position in S_i of the face coordinate(s) z_face."""
     m = geometry.member(member)
-    return m.reference_section_offset_mm + orientation(geometry, member) * np.asarray(z_face, dtype=float)
+    z_face = np.asarray(z_face, dtype=float)
+    return (_per_design(m.reference_section_offset_mm, z_face)
+            + _per_design(orientation(geometry, member), z_face) * z_face)
 
 
 def face_z(geometry, member: str, z):
     """Face coordinate of axial position(s) z of S_i (inverse of member_z)."""
     m = geometry.member(member)
-    return orientation(geometry, member) * (np.asarray(z, dtype=float) - m.reference_section_offset_mm)
+    z = np.asarray(z, dtype=float)
+    return _per_design(orientation(geometry, member), z) * (z - _per_design(m.reference_section_offset_mm, z))
 
 
-def half_face(geometry, member: str) -> float:
+def half_face(geometry, member: str):
     return geometry.member(member).face_width_mm / 2
+
+
+def _params_for(params: np.ndarray, z) -> np.ndarray:
+    """Section parameters (fields,) or (n, fields) shaped to broadcast against the axial positions z."""
+    if params.ndim == 1:
+        return params
+    return params.reshape(params.shape[:1] + (1,) * (np.ndim(z) - 1) + params.shape[1:])
 
 
 def section(geometry, member: str, z_face):
@@ -55,21 +83,23 @@ def section(geometry, member: str, z_face):
     section whose tip circle lies inside a flank's base circle: that flank has no involute there
     (the tooth is all fillet and undercut); the tip check reports it as a status.
     """
+    z = member_z(geometry, member, z_face)
     with np.errstate(invalid="ignore"):
-        return tooth_sections.transverse_section(member_z(geometry, member, z_face), section_params(geometry, member))
+        return tooth_sections.transverse_section(z, _params_for(section_params(geometry, member), z))
 
 
 def thickness_at_radius(geometry, member: str, z_face, radius):
     """``tooth_sections.ThicknessAtRadius`` (angular and arc thickness) at a radius of the section z_face;
     NaN, without a warning, at a radius inside a flank's base circle (no involute there)."""
+    z = member_z(geometry, member, z_face)
     with np.errstate(invalid="ignore"):
-        return tooth_sections.thickness_at_radius(member_z(geometry, member, z_face), radius,
-                                                  section_params(geometry, member))
+        return tooth_sections.thickness_at_radius(z, radius, _params_for(section_params(geometry, member), z))
 
 
 def face_grid(geometry, member: str, n: int = 201) -> np.ndarray:
+    """n face coordinates from toe to heel ((designs, n) for n designs)."""
     w = half_face(geometry, member)
-    return np.linspace(-w, w, n)
+    return np.linspace(-w, w, n, axis=-1)
 
 
 # ------------------------------------------------------------------------------------------------

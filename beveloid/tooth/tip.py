@@ -16,6 +16,10 @@ from scipy.optimize import minimize_scalar
 from . import sections
 
 
+#: sections scanned along the face (the pointed range is looked for between them: sections.segments)
+SCAN_POINTS = 101
+
+
 def _or_none(x) -> float | None:
     return float(x) if np.isfinite(x) else None
 
@@ -100,7 +104,7 @@ def _thinnest(f, grid, values):
     return min(cands)
 
 
-def tip_thickness(geometry, member: str, n: int = 101) -> TipThickness:
+def tip_thickness(geometry, member: str, n: int = SCAN_POINTS) -> TipThickness:
     w = sections.half_face(geometry, member)
     f = lambda zf: float(thickness(geometry, member, zf))  # noqa: E731
     grid = sections.face_grid(geometry, member, n)

@@ -12,10 +12,14 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
+
 from . import sections
 
 #: absolute tolerance (mm) on the face coordinates of the range's ends
 XTOL_MM = 1e-10
+#: sections scanned along the face per flank (the undercut is looked for between them: sections.segments)
+SCAN_POINTS = 41
 
 
 @dataclass(frozen=True)
@@ -42,11 +46,13 @@ def depth(geometry, member: str, flank: str, z_face):
     return getattr(sections.section(geometry, member, z_face), f"undercut_depth_{flank}")
 
 
-def flank_undercut(geometry, member: str, flank: str, n: int = 41) -> Undercut | None:
+def flank_undercut(geometry, member: str, flank: str, n: int = SCAN_POINTS) -> Undercut | None:
     """The undercut range of one flank within the face, or None."""
     f = lambda zf: float(depth(geometry, member, flank, zf))  # noqa: E731
     grid = sections.face_grid(geometry, member, n)
-    ranges = sections.positive_ranges(f, grid, XTOL_MM)
+    with np.errstate(invalid="ignore", divide="ignore"):  # NaN: a section that cannot be computed
+        values = depth(geometry, member, flank, grid)  # the scan, all sections in one call
+    ranges = sections.ranges_of(f, grid, sections.POSITIVE, XTOL_MM, values)
     if not ranges:
         return None
     lo, hi = ranges[0][0], ranges[-1][1]

@@ -50,9 +50,9 @@ def test_a_section_without_involute_up_to_the_tip_is_refused_in_one_line():
 
 
 def test_a_pointed_section_ends_where_the_flanks_cross():
-    """A pinion pointed toward its heel: with allow_pointed (the STL path) both flanks end at the same point,
-    at the radius where the section's involutes cross (tooth.tip, from the derived section: independent of
-    the sampler's Newton on the surfaces), below the tip cone; the STEP path refuses it in one line."""
+    """A pinion pointed toward its heel: both flanks end at the same point, at the radius where the
+    section's involutes cross (tooth.tip, from the derived section: independent of the sampler's Newton on
+    the surfaces), below the tip cone; the tooth has a tip land up to where tooth.tip finds it pointed."""
     import tomllib
 
     from beveloid.pair import Pair
@@ -68,12 +68,13 @@ def test_a_pointed_section_ends_where_the_flanks_cross():
     assert t.pointed and t.pointed_to_mm == 10.5
     z_face = 0.5 * (t.pointed_from_mm + t.pointed_to_mm)
     z = float(sections.member_z(g, "pinion", z_face))
-    sampler = ToothSampler(g, "pinion", allow_pointed=True)
+    sampler = ToothSampler(g, "pinion")
     ends = [sampler.flank_points(f, np.array([1.0]), np.array([z]))[0, 0] for f in ("left", "right")]
     assert np.linalg.norm(ends[0] - ends[1]) <= 1e-6
     radius = float(np.hypot(*ends[0][:2]))
     assert radius == pytest.approx(tip.pointed_tip_radius(g, "pinion", z_face), abs=1e-6)
     assert radius < float(sampler.tip_radius_mm(z)) - 0.01
-    with pytest.raises(ExportGeometryError, match=r"^pinion: the tooth is pointed at z = .*STL \(--format stl\) ends"
-                                                 r" the flanks where they cross$"):
-        ToothSampler(g, "pinion").check_buildable(np.linspace(*sorted(sampler.z_range_mm), 5))
+    pieces = sampler.tip_pieces(sorted(sampler.z_range_mm))
+    assert [landed for _, _, landed in pieces] == [True, False]
+    z_pointed = float(sections.member_z(g, "pinion", t.pointed_from_mm))  # tooth.tip's own root, on the sections
+    assert pieces[0][1] == pieces[1][0] == pytest.approx(z_pointed, abs=1e-6)
