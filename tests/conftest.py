@@ -8,7 +8,8 @@ The suite runs in parallel (pytest-xdist, ``-n auto --dist loadgroup`` in pyproj
 * work built once per process and shared by many tests stays in one process: the tests that
   use ``verification`` form the xdist group "verification", tests/generated/ (their sympy
   models and renderings, ~60 s) the group "generated";
-* tests marked ``long_running`` (tens of seconds each) are collected first, each followed by
+* tests/generated/ is collected first (sympy only: its worker builds the models while the other
+  compiles the solver core); then the tests marked ``long_running`` (tens of seconds each), each followed by
   two ordinary tests (xdist hands a worker another test whenever it has two or fewer left:
   this keeps one worker from queueing all of them), so that the workers start them early
   instead of one finishing the run alone with one of them;
@@ -77,14 +78,23 @@ def verification():
 # ---------------------------------------------------------------------------------------------
 
 
+def _group(item):
+    marker = item.get_closest_marker("xdist_group")
+    return marker.args[0] if marker and marker.args else marker.kwargs.get("name") if marker else None
+
+
 @pytest.hookimpl(tryfirst=True)  # before xdist reads the groups
 def pytest_collection_modifyitems(config, items):
     for item in items:
         if "verification" in item.fixturenames:
             item.add_marker(pytest.mark.xdist_group("verification"))
-    long = [item for item in items if item.get_closest_marker("long_running")]
-    ordinary = [item for item in items if not item.get_closest_marker("long_running")]
-    items[:] = []
+    # tests/generated (sympy only, ~1 min) first: one worker builds its models while the other
+    # compiles the solver core (numba, ~1 min on a fresh install), instead of waiting for its lock
+    first = [item for item in items if _group(item) == "generated"]
+    rest = [item for item in items if _group(item) != "generated"]
+    long = [item for item in rest if item.get_closest_marker("long_running")]
+    ordinary = [item for item in rest if not item.get_closest_marker("long_running")]
+    items[:] = first
     for item in long:
         items.append(item)
         items.extend(ordinary[:2])
