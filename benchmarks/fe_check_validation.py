@@ -5,7 +5,11 @@ flank, torque and refinement; the table gives per quantity FE / LTCA.  Results a
 JSON lines to OUT (default fe_check_runs.jsonl) so that a long series can be resumed.
 
     python benchmarks/fe_check_validation.py [--designs case1:right,case2:right] [--torques 100,400]
-        [--refinements 1,2] [--coarsen 1.0] [--tooth-model fe|plate] [--out fe_check_runs.jsonl] [--table-only]
+        [--refinements 1,2] [--coarsen 1.0] [--tooth-model fe|plate] [--no-local-refinement]
+        [--contact-size-um UM] [--max-strip-elements N] [--out fe_check_runs.jsonl] [--table-only]
+
+DESIGN is an example's name (case1, case2) or a spec file (*.toml).  Runs are local-refined over
+the LTCA's patches (beveloid.fecheck.strips) unless --no-local-refinement.
 """
 import argparse
 import json
@@ -13,18 +17,34 @@ import sys
 import time
 from pathlib import Path
 
+from beveloid.fe.sizes import MAX_STRIP_ELEMENTS
 from beveloid.fecheck.check import CheckOptions, fe_check
 from beveloid.pair import Pair
 
 
-def run(design, flank, torque, refinement, coarsen, tooth_model=None):
-    pair = Pair.example(design)
+def _pair(design):
+    """An example's name (case1, case2) or a spec file."""
+    if design.endswith(".toml"):
+        from beveloid.spec import load_spec
+
+        return Pair.from_spec(load_spec(design))
+    return Pair.example(design)
+
+
+def run(design, flank, torque, refinement, a):
     t0 = time.perf_counter()
-    out = fe_check(pair, CheckOptions(torque_nm=torque, flank=flank, refinement=refinement, coarsen=coarsen,
-                                      ltca_tooth_model=tooth_model),
-                   progress=lambda s: print(s, file=sys.stderr, flush=True) if not s.startswith("ccx") else None)
-    out.update(design=design, total_s=time.perf_counter() - t0, coarsen=coarsen)
+    out = fe_check(_pair(design), CheckOptions(
+        torque_nm=torque, flank=flank, refinement=refinement, coarsen=a.coarsen, ltca_tooth_model=a.tooth_model,
+        local_refinement=not a.no_local_refinement, contact_size_um=a.contact_size_um,
+        max_strip_elements=a.max_strip_elements),
+        progress=lambda s: print(s, file=sys.stderr, flush=True) if not s.startswith("ccx") else None)
+    out.update(design=design, total_s=time.perf_counter() - t0, coarsen=a.coarsen)
     return out
+
+
+def _key(r):
+    local = r.get("local_refinement") is not None
+    return (r["design"], r["flank"], r["torque_nm"], r["refinement"], r.get("coarsen", 1.0), local)
 
 
 def fmt(v, f):
@@ -59,6 +79,9 @@ def main():
     ap.add_argument("--out", default="fe_check_runs.jsonl")
     ap.add_argument("--table-only", action="store_true")
     ap.add_argument("--tooth-model", default=None, help="the LTCA's tooth model (fe, plate; default: its default)")
+    ap.add_argument("--no-local-refinement", action="store_true", help="the face-wide sizes only (runs before issue 33's strips)")
+    ap.add_argument("--contact-size-um", type=float, default=None, help="the strips' element size (default b / 3)")
+    ap.add_argument("--max-strip-elements", type=int, default=MAX_STRIP_ELEMENTS)
     a = ap.parse_args()
     path = Path(a.out)
     done = [json.loads(s) for s in path.read_text().splitlines()] if path.exists() else []
@@ -67,11 +90,10 @@ def main():
             design, flank = item.split(":")
             for t in map(float, a.torques.split(",")):
                 for n in map(int, a.refinements.split(",")):
-                    key = (design, flank, t, n, a.coarsen)
-                    if any((r["design"], r["flank"], r["torque_nm"], r["refinement"], r.get("coarsen", 1.0)) == key
-                           for r in done):
+                    key = (design, flank, t, n, a.coarsen, not a.no_local_refinement)
+                    if any(_key(r) == key for r in done):
                         continue
-                    r = run(design, flank, t, n, a.coarsen, a.tooth_model)
+                    r = run(design, flank, t, n, a)
                     done.append(r)
                     with path.open("a") as fh:
                         fh.write(json.dumps(r, allow_nan=False) + "\n")
