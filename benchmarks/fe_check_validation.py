@@ -38,32 +38,46 @@ def run(design, flank, torque, refinement, a):
         local_refinement=not a.no_local_refinement, contact_size_um=a.contact_size_um,
         max_strip_elements=a.max_strip_elements),
         progress=lambda s: print(s, file=sys.stderr, flush=True) if not s.startswith("ccx") else None)
-    out.update(design=design, total_s=time.perf_counter() - t0, coarsen=a.coarsen)
+    out.update(design=design, total_s=time.perf_counter() - t0, coarsen=a.coarsen,
+               max_strip_elements=a.max_strip_elements, contact_size_um=a.contact_size_um)
     return out
 
 
 def _key(r):
     local = r.get("local_refinement") is not None
-    return (r["design"], r["flank"], r["torque_nm"], r["refinement"], r.get("coarsen", 1.0), local)
+    return (r["design"], r["flank"], r["torque_nm"], r["refinement"], r.get("coarsen", 1.0), local,
+            r.get("max_strip_elements") if local else None, r.get("contact_size_um"))
 
 
 def fmt(v, f):
     return "-" if v is None else format(v, f)
 
 
+def _strips(r):
+    """The refined pairs' element sizes (mm, pinion / gear) or "none" (runs before the strips)."""
+    if r.get("local_refinement") is None:
+        return "none"
+    return "; ".join(f"{e['pinion_element_mm']:.3f} / {e['gear_element_mm']:.3f}" for e in r["local_refinement"])
+
+
 def table(rows):
-    lines = ["| design, flank | T (N m) | N | elements / DOF | ccx (s) | pair loads FE / LTCA (N) | peak p FE / LTCA (MPa)"
-             " | area FE / LTCA (mm²) | loaded TE FE / LTCA (µrad), unloaded | root σ1 pinion / gear FE (MPa)"
-             " | moment FE / LTCA (N m) |", "|" + "---|" * 11]
+    lines = ["| design, flank | T (N m) | N | strip h (mm) | elements / DOF | ccx wall / CPU (s) | pair loads FE / LTCA (N)"
+             " | peak p FE / LTCA / Hertz(LTCA) (MPa) | area FE / LTCA (mm²) | loaded TE FE / LTCA (µrad), unloaded"
+             " | root σ1 pinion / gear FE (MPa) | moment FE / LTCA (N m) |", "|" + "---|" * 12]
     for r in rows:
         c, lt = r["calculix"], r["ltca"]
+        hz = r.get("ltca_hertz_max_pressure_mpa") or [None] * len(c["pair_normal_load_n"])
         pairs = lambda key, f: "; ".join(f"{fmt(a, f)} / {fmt(b, f)}" for a, b in zip(c[key], lt[key])  # noqa: E731
                                          if (a or 0) > 0 or (b or 0) > 0)
+        peaks = "; ".join(f"{fmt(a, '.0f')} / {fmt(b, '.0f')} / {fmt(h, '.0f')}"
+                          for a, b, h in zip(c["pair_max_pressure_mpa"], lt["pair_max_pressure_mpa"], hz)
+                          if (a or 0) > 0 or (b or 0) > 0)
         lines.append(
             f"| {r['design']} {r['flank']} (pos. {r['position']}, {r.get('ltca_tooth_model', 'plate')}) | {r['torque_nm']:g} | {r['refinement']}"
-            f"{'' if r.get('coarsen', 1.0) == 1.0 else ' (x' + format(r['coarsen'], 'g') + ')'} | {r['elements']} / {r['dof']}"
-            f" | {r['calculix_wall_s']:.0f} | {pairs('pair_normal_load_n', '.0f')} | {pairs('pair_max_pressure_mpa', '.0f')}"
-            f" | {pairs('contact_area_mm2', '.1f')} | {fmt(c['loaded_transmission_error_urad'], '.1f')} / "
+            f"{'' if r.get('coarsen', 1.0) == 1.0 else ' (x' + format(r['coarsen'], 'g') + ')'} | {_strips(r)}"
+            f" | {r['elements']} / {r['dof']} | {r['calculix_wall_s']:.0f} / {r['calculix_cpu_s']:.0f}"
+            f" | {pairs('pair_normal_load_n', '.0f')} | {peaks}"
+            f" | {pairs('contact_area_mm2', '.2f')} | {fmt(c['loaded_transmission_error_urad'], '.1f')} / "
             f"{fmt(lt['loaded_transmission_error_urad'], '.1f')}, {r['unloaded_transmission_error_urad']:.1f}"
             f" | {fmt(c['root_stress_max_mpa']['pinion'], '.0f')} / {fmt(c['root_stress_max_mpa']['gear'], '.0f')}"
             f" | {fmt(c['moment_about_pinion_axis_nm'], '.2f')} / {fmt(lt['moment_about_pinion_axis_nm'], '.2f')} |")
@@ -90,7 +104,9 @@ def main():
             design, flank = item.split(":")
             for t in map(float, a.torques.split(",")):
                 for n in map(int, a.refinements.split(",")):
-                    key = (design, flank, t, n, a.coarsen, not a.no_local_refinement)
+                    local = not a.no_local_refinement
+                    key = (design, flank, t, n, a.coarsen, local, a.max_strip_elements if local else None,
+                           a.contact_size_um)
                     if any(_key(r) == key for r in done):
                         continue
                     r = run(design, flank, t, n, a)
