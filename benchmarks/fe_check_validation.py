@@ -5,7 +5,11 @@ flank, torque and refinement; the table gives per quantity FE / LTCA.  Results a
 JSON lines to OUT (default fe_check_runs.jsonl) so that a long series can be resumed.
 
     python benchmarks/fe_check_validation.py [--designs case1:right,case2:right] [--torques 100,400]
-        [--refinements 1,2] [--coarsen 1.0] [--tooth-model fe|plate] [--out fe_check_runs.jsonl] [--table-only]
+        [--refinements 1,2] [--coarsen 1.0] [--tooth-model fe|plate] [--no-local-refinement]
+        [--contact-size-um UM] [--max-strip-elements N] [--out fe_check_runs.jsonl] [--table-only]
+
+DESIGN is an example's name (case1, case2) or a spec file (*.toml).  Runs are local-refined over
+the LTCA's patches (beveloid.fecheck.strips) unless --no-local-refinement.
 """
 import argparse
 import json
@@ -13,37 +17,67 @@ import sys
 import time
 from pathlib import Path
 
+from beveloid.fe.sizes import MAX_STRIP_ELEMENTS
 from beveloid.fecheck.check import CheckOptions, fe_check
 from beveloid.pair import Pair
 
 
-def run(design, flank, torque, refinement, coarsen, tooth_model=None):
-    pair = Pair.example(design)
+def _pair(design):
+    """An example's name (case1, case2) or a spec file."""
+    if design.endswith(".toml"):
+        from beveloid.spec import load_spec
+
+        return Pair.from_spec(load_spec(design))
+    return Pair.example(design)
+
+
+def run(design, flank, torque, refinement, a):
     t0 = time.perf_counter()
-    out = fe_check(pair, CheckOptions(torque_nm=torque, flank=flank, refinement=refinement, coarsen=coarsen,
-                                      ltca_tooth_model=tooth_model),
-                   progress=lambda s: print(s, file=sys.stderr, flush=True) if not s.startswith("ccx") else None)
-    out.update(design=design, total_s=time.perf_counter() - t0, coarsen=coarsen)
+    out = fe_check(_pair(design), CheckOptions(
+        torque_nm=torque, flank=flank, refinement=refinement, coarsen=a.coarsen, ltca_tooth_model=a.tooth_model,
+        local_refinement=not a.no_local_refinement, contact_size_um=a.contact_size_um,
+        max_strip_elements=a.max_strip_elements),
+        progress=lambda s: print(s, file=sys.stderr, flush=True) if not s.startswith("ccx") else None)
+    out.update(design=design, total_s=time.perf_counter() - t0, coarsen=a.coarsen,
+               max_strip_elements=a.max_strip_elements, contact_size_um=a.contact_size_um)
     return out
+
+
+def _key(r):
+    local = r.get("local_refinement") is not None
+    return (r["design"], r["flank"], r["torque_nm"], r["refinement"], r.get("coarsen", 1.0), local,
+            r.get("max_strip_elements") if local else None, r.get("contact_size_um"))
 
 
 def fmt(v, f):
     return "-" if v is None else format(v, f)
 
 
+def _strips(r):
+    """The refined pairs' element sizes (mm, pinion / gear) or "none" (runs before the strips)."""
+    if r.get("local_refinement") is None:
+        return "none"
+    return "; ".join(f"{e['pinion_element_mm']:.3f} / {e['gear_element_mm']:.3f}" for e in r["local_refinement"])
+
+
 def table(rows):
-    lines = ["| design, flank | T (N m) | N | elements / DOF | ccx (s) | pair loads FE / LTCA (N) | peak p FE / LTCA (MPa)"
-             " | area FE / LTCA (mm²) | loaded TE FE / LTCA (µrad), unloaded | root σ1 pinion / gear FE (MPa)"
-             " | moment FE / LTCA (N m) |", "|" + "---|" * 11]
+    lines = ["| design, flank | T (N m) | N | strip h (mm) | elements / DOF | ccx wall / CPU (s) | pair loads FE / LTCA (N)"
+             " | peak p FE / LTCA / Hertz(LTCA) (MPa) | area FE / LTCA (mm²) | loaded TE FE / LTCA (µrad), unloaded"
+             " | root σ1 pinion / gear FE (MPa) | moment FE / LTCA (N m) |", "|" + "---|" * 12]
     for r in rows:
         c, lt = r["calculix"], r["ltca"]
+        hz = r.get("ltca_hertz_max_pressure_mpa") or [None] * len(c["pair_normal_load_n"])
         pairs = lambda key, f: "; ".join(f"{fmt(a, f)} / {fmt(b, f)}" for a, b in zip(c[key], lt[key])  # noqa: E731
                                          if (a or 0) > 0 or (b or 0) > 0)
+        peaks = "; ".join(f"{fmt(a, '.0f')} / {fmt(b, '.0f')} / {fmt(h, '.0f')}"
+                          for a, b, h in zip(c["pair_max_pressure_mpa"], lt["pair_max_pressure_mpa"], hz)
+                          if (a or 0) > 0 or (b or 0) > 0)
         lines.append(
             f"| {r['design']} {r['flank']} (pos. {r['position']}, {r.get('ltca_tooth_model', 'plate')}) | {r['torque_nm']:g} | {r['refinement']}"
-            f"{'' if r.get('coarsen', 1.0) == 1.0 else ' (x' + format(r['coarsen'], 'g') + ')'} | {r['elements']} / {r['dof']}"
-            f" | {r['calculix_wall_s']:.0f} | {pairs('pair_normal_load_n', '.0f')} | {pairs('pair_max_pressure_mpa', '.0f')}"
-            f" | {pairs('contact_area_mm2', '.1f')} | {fmt(c['loaded_transmission_error_urad'], '.1f')} / "
+            f"{'' if r.get('coarsen', 1.0) == 1.0 else ' (x' + format(r['coarsen'], 'g') + ')'} | {_strips(r)}"
+            f" | {r['elements']} / {r['dof']} | {r['calculix_wall_s']:.0f} / {r['calculix_cpu_s']:.0f}"
+            f" | {pairs('pair_normal_load_n', '.0f')} | {peaks}"
+            f" | {pairs('contact_area_mm2', '.2f')} | {fmt(c['loaded_transmission_error_urad'], '.1f')} / "
             f"{fmt(lt['loaded_transmission_error_urad'], '.1f')}, {r['unloaded_transmission_error_urad']:.1f}"
             f" | {fmt(c['root_stress_max_mpa']['pinion'], '.0f')} / {fmt(c['root_stress_max_mpa']['gear'], '.0f')}"
             f" | {fmt(c['moment_about_pinion_axis_nm'], '.2f')} / {fmt(lt['moment_about_pinion_axis_nm'], '.2f')} |")
@@ -59,6 +93,9 @@ def main():
     ap.add_argument("--out", default="fe_check_runs.jsonl")
     ap.add_argument("--table-only", action="store_true")
     ap.add_argument("--tooth-model", default=None, help="the LTCA's tooth model (fe, plate; default: its default)")
+    ap.add_argument("--no-local-refinement", action="store_true", help="the face-wide sizes only (runs before issue 33's strips)")
+    ap.add_argument("--contact-size-um", type=float, default=None, help="the strips' element size (default b / 3)")
+    ap.add_argument("--max-strip-elements", type=int, default=MAX_STRIP_ELEMENTS)
     a = ap.parse_args()
     path = Path(a.out)
     done = [json.loads(s) for s in path.read_text().splitlines()] if path.exists() else []
@@ -67,11 +104,12 @@ def main():
             design, flank = item.split(":")
             for t in map(float, a.torques.split(",")):
                 for n in map(int, a.refinements.split(",")):
-                    key = (design, flank, t, n, a.coarsen)
-                    if any((r["design"], r["flank"], r["torque_nm"], r["refinement"], r.get("coarsen", 1.0)) == key
-                           for r in done):
+                    local = not a.no_local_refinement
+                    key = (design, flank, t, n, a.coarsen, local, a.max_strip_elements if local else None,
+                           a.contact_size_um)
+                    if any(_key(r) == key for r in done):
                         continue
-                    r = run(design, flank, t, n, a.coarsen, a.tooth_model)
+                    r = run(design, flank, t, n, a)
                     done.append(r)
                     with path.open("a") as fh:
                         fh.write(json.dumps(r, allow_nan=False) + "\n")

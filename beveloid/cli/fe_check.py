@@ -1,5 +1,5 @@
-"""``beveloid fe-check FILE --torque-nm T [--position K] [--flank left|right] [--refinement N] [--out DIR]
-[--json]``.
+"""``beveloid fe-check FILE --torque-nm T [--position K] [--flank left|right] [--refinement N]
+[--no-local-refinement] [--contact-size-um UM] [--max-strip-elements N] [--coarsen F] [--out DIR] [--json]``.
 
 An independent check of the loaded contact: both members' sectors meshed as second-order
 tetrahedra, frictionless contact found by CalculiX (``ccx``, Debian's package ``calculix-ccx``),
@@ -18,6 +18,7 @@ import json
 import math
 import sys
 
+from ..fe.sizes import MAX_STRIP_ELEMENTS
 from .common import add_error_flags, apply_error_flags
 
 __all__ = ["configure", "run", "format_summary"]
@@ -31,6 +32,14 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--flank", choices=("left", "right"), default="right", help="flank pair (default right)")
     p.add_argument("--refinement", type=int, default=1, metavar="N",
                    help="mesh refinement 1-4 (every element size divided by N; default 1)")
+    p.add_argument("--no-local-refinement", action="store_true",
+                   help="mesh with the face-wide sizes only (default: refined over the LTCA's loaded patches)")
+    p.add_argument("--contact-size-um", type=float, default=None, metavar="UM",
+                   help="element size over the loaded patches, 10-2000 um (default: b / 3 of each patch)")
+    p.add_argument("--max-strip-elements", type=int, default=MAX_STRIP_ELEMENTS, metavar="N",
+                   help=f"cap on the estimated elements of one sector's refined patches (default {MAX_STRIP_ELEMENTS})")
+    p.add_argument("--coarsen", type=float, default=1.0, metavar="F",
+                   help="multiply every element size by F, 0.25-8 (default 1; > 1 for a quick look)")
     p.add_argument("--out", metavar="DIR", default=None,
                    help="keep the deck, CalculiX's output and the VTU in this folder")
     add_error_flags(p)
@@ -50,7 +59,9 @@ def run(args: argparse.Namespace) -> int:
     from .paths import check_output_dir
 
     options = CheckOptions(torque_nm=args.torque_nm, flank=args.flank, position=args.position,
-                           refinement=args.refinement, out_dir=args.out)
+                           refinement=args.refinement, out_dir=args.out, coarsen=args.coarsen,
+                           local_refinement=not args.no_local_refinement, contact_size_um=args.contact_size_um,
+                           max_strip_elements=args.max_strip_elements)
     if args.out is not None:
         check_output_dir(args.out, "--out")
     if ccx_path() is None:

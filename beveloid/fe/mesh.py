@@ -29,6 +29,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..export.sampling import ToothSampler
+from .sizes import FAR_GROWTH, FILLET_GROWTH, ContactStrips, size_field
 
 __all__ = ["FACE_KINDS", "SectorMesh", "MeshSizes", "mesh_sizes", "sector_mesh", "fillet_radius_mm",
            "FLANK_SIZE_PER_MODULE", "FAR_SIZE_PER_MODULE", "MESH_RULES_VERSION", "FAR_GROWTH", "FILLET_GROWTH",
@@ -46,11 +47,6 @@ RIM_DEPTH_PER_HEIGHT = 1.2
 #: the curved P2 tets of fe/solve.py the root stress then moves by a few percent from refinement 1
 #: to 2, where 0.8 rho_F left the pinion's 11 % short (docs/loaded_contact.md 9.6)
 FILLET_SIZE_MIN_PER_MODULE = 0.04
-#: distance (in multiples of the size difference) over which the size grows from a fine face's size
-#: to the far size: from the flanks, and (steeper, so the fine fillet band adds little volume) from
-#: the fillets
-FAR_GROWTH = 1.5
-FILLET_GROWTH = 0.5
 #: transverse sections the solid is lofted through, and points per face segment in a section
 SECTIONS = 9
 SEGMENT_POINTS = 9
@@ -83,7 +79,8 @@ class SectorMesh:
     * ``node_sets``: {name: sorted unique node indices} of the same surfaces;
     * ``tooth_indices``: the sector's teeth, e.g. (-1, 0, 1): tooth k is the sampled tooth turned
       by k * 2 pi / N about the z axis (the TCA's tooth pairs are counted the same way);
-    * ``pitch_angle_rad`` (2 pi / N), ``sizes`` (:class:`MeshSizes`), ``refinement``, ``member``.
+    * ``pitch_angle_rad`` (2 pi / N), ``sizes`` (:class:`MeshSizes`), ``refinement``, ``member``,
+      ``strip_sizes_mm`` (the contact strips' sizes, ``beveloid.fe.sizes``).
     """
 
     member: str
@@ -97,6 +94,7 @@ class SectorMesh:
     sizes: MeshSizes
     refinement: int
     z_range_mm: tuple = field(default=(0.0, 0.0))
+    strip_sizes_mm: tuple = ()  #: each contact strip's element size (mm), () without strips
 
     @property
     def corner_tets(self) -> np.ndarray:
@@ -182,12 +180,15 @@ def rim_radius(sampler: ToothSampler, bore_diameter_mm: float) -> float:
     return r_root - RIM_DEPTH_PER_HEIGHT * depth
 
 
-def sector_mesh(pair, member: str, refinement: int = 1, teeth: int = 3, coarsen: float = 1.0) -> SectorMesh:
+def sector_mesh(pair, member: str, refinement: int = 1, teeth: int = 3, coarsen: float = 1.0,
+                strips: ContactStrips | None = None) -> SectorMesh:
     """The member's sector meshed by gmsh (see :class:`SectorMesh` for the record's fields).
 
     ``pair``: a :class:`beveloid.pair.Pair` (its spec gives the bore) or a ``PairGeometry``;
     ``refinement`` N divides every element size; ``teeth`` (odd, >= 3) the sector's teeth;
-    ``coarsen`` multiplies every size (> 1: a cheaper mesh for tests and quick looks).
+    ``coarsen`` multiplies every size (> 1: a cheaper mesh for tests and quick looks); ``strips``
+    (:class:`beveloid.fe.sizes.ContactStrips`, member frame) refine about loaded contacts
+    (fe-check only: the FE tooth passes none, its meshes do not depend on it).
     """
     import gmsh
 
@@ -247,7 +248,7 @@ def sector_mesh(pair, member: str, refinement: int = 1, teeth: int = 3, coarsen:
         for name, tag in face_of.items():
             gmsh.model.addPhysicalGroup(2, [tag], name=name)
         gmsh.model.addPhysicalGroup(3, volumes, name="sector")
-        _size_field(face_of, sizes)
+        fine = size_field(face_of, sizes, strips, refinement / coarsen)
         gmsh.option.setNumber("Mesh.Algorithm", 6)  # frontal-Delaunay surfaces
         gmsh.option.setNumber("Mesh.Algorithm3D", 1)  # Delaunay (measured faster than HXT here)
         gmsh.option.setNumber("Mesh.SecondOrderLinear", 1)  # mid-nodes placed by _curve_midnodes
@@ -259,7 +260,7 @@ def sector_mesh(pair, member: str, refinement: int = 1, teeth: int = 3, coarsen:
         _curve_midnodes(gmsh, face_of)
         return record_from_gmsh(gmsh, member, face_of, SectorShape(
             tooth_indices=idx, pitch_angle_rad=sampler.pitch_angle_rad, rim_radius_mm=r_rim, sizes=sizes,
-            refinement=refinement, z_range_mm=(toe, heel)))
+            refinement=refinement, z_range_mm=(toe, heel), strip_sizes_mm=fine))
     finally:
         gmsh.finalize()
 
@@ -288,28 +289,6 @@ def _name_faces(faces, references, z):
     cost = np.linalg.norm(np.asarray(mids)[:, None, :] - np.array([references[n] for n in names])[None], axis=-1)
     rows, cols = linear_sum_assignment(cost)
     return {**out, **{names[c]: lateral[r] for r, c in zip(rows, cols)}}
-
-
-def _size_field(face_of, sizes: MeshSizes):
-    import gmsh
-
-    f = gmsh.model.mesh.field
-    fields = []
-    for kind, h, growth in (("flank", sizes.flank_mm, FAR_GROWTH), ("fillet", sizes.fillet_mm, FILLET_GROWTH)):
-        tags = [face_of[f"{kind}_{side}_0"] for side in ("left", "right")]
-        d = f.add("Distance")
-        f.setNumbers(d, "SurfacesList", tags)
-        f.setNumber(d, "Sampling", 60)
-        t = f.add("Threshold")
-        f.setNumber(t, "InField", d)
-        f.setNumber(t, "SizeMin", h)
-        f.setNumber(t, "SizeMax", sizes.far_mm)
-        f.setNumber(t, "DistMin", 0.5 * h)
-        f.setNumber(t, "DistMax", 0.5 * h + growth * (sizes.far_mm - h))
-        fields.append(t)
-    m = f.add("Min")
-    f.setNumbers(m, "FieldsList", fields)
-    f.setAsBackgroundMesh(m)
 
 
 def _curve_midnodes(gmsh, face_of):
@@ -350,6 +329,7 @@ class SectorShape(NamedTuple):
     sizes: "MeshSizes"
     refinement: int
     z_range_mm: tuple
+    strip_sizes_mm: tuple = ()
 
 
 def record_from_gmsh(gmsh, member, face_of, shape: SectorShape) -> SectorMesh:

@@ -3,8 +3,9 @@
 ``deck`` writes a CalculiX input deck of elastic solids in frictionless contact; ``run`` starts
 ``ccx`` (Debian's package ``calculix-ccx``) with its output streamed; ``results`` reads its .frd /
 .dat and writes a VTU; ``sphere_block`` is the closed-form check of that pipeline (Hertz);
-``pair_model`` builds the pair's contact model from the FE tooth's sector meshes and ``check``
-runs it beside the LTCA (``beveloid fe-check``).
+``pair_model`` builds the pair's contact model from the FE tooth's sector meshes, refined over the
+LTCA's loaded patches (``strips``: ``beveloid.fe.sizes``' contact strips), and ``check`` runs it
+beside the LTCA (``beveloid fe-check``).
 """
 from __future__ import annotations
 

@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import UserError
+from ..fe.sizes import MAX_STRIP_ELEMENTS
 
 __all__ = ["CheckOptions", "choose_position", "fe_check"]
 
@@ -27,7 +28,8 @@ __all__ = ["CheckOptions", "choose_position", "fe_check"]
 @dataclass(frozen=True)
 class CheckOptions:
     """The request: pinion torque (N m), flank, position (None: the most pairs in contact), mesh
-    refinement, the folder to keep (None: a temporary one), the LTCA's positions over the cycle."""
+    refinement, the folder to keep (None: a temporary one), the LTCA's positions over the cycle,
+    the local refinement over the LTCA's patches (docs/fe_check.md)."""
 
     torque_nm: float
     flank: str = "right"
@@ -37,6 +39,9 @@ class CheckOptions:
     ltca_positions: int = 20
     coarsen: float = 1.0  #: multiplies every element size (tests and quick looks; beveloid.fe.mesh's coarsen)
     ltca_tooth_model: str | None = None  #: the LTCA's tooth model ("fe", "plate"; None: its default)
+    local_refinement: bool = True  #: refine the mesh over the LTCA's loaded patches (beveloid.fecheck.strips)
+    contact_size_um: float | None = None  #: the element size there (None: b / 3 of each patch)
+    max_strip_elements: int = MAX_STRIP_ELEMENTS  #: cap on the estimated elements in one sector's strips
 
     def __post_init__(self):
         from ..ltca.options import check_positions, check_torque
@@ -50,6 +55,13 @@ class CheckOptions:
             raise UserError(f"--flank = {self.flank!r}: must be left or right")
         if not (isinstance(self.refinement, int) and 1 <= self.refinement <= 4):
             raise UserError(f"--refinement = {self.refinement!r}: must be an integer from 1 to 4")
+        if self.contact_size_um is not None and not (isinstance(self.contact_size_um, (int, float))
+                                                     and 10 <= self.contact_size_um <= 2000):
+            raise UserError(f"--contact-size-um = {self.contact_size_um!r}: must be a number from 10 to 2000 (um)")
+        if not (isinstance(self.coarsen, (int, float)) and 0.25 <= self.coarsen <= 8):
+            raise UserError(f"--coarsen = {self.coarsen!r}: must be a number from 0.25 to 8")
+        if not (isinstance(self.max_strip_elements, int) and self.max_strip_elements >= 1000):
+            raise UserError(f"--max-strip-elements = {self.max_strip_elements!r}: must be an integer >= 1000")
         if self.position is not None and not (isinstance(self.position, int)
                                               and 0 <= self.position < self.ltca_positions):
             raise UserError(f"--position = {self.position!r}: must be an integer from 0 to {self.ltca_positions - 1}"
@@ -97,7 +109,8 @@ def fe_check(pair, options: CheckOptions, progress=print, solver=None) -> dict:
     from ..fe.mesh import sector_mesh
     from ..solver import Solver
     from .deck import write_deck
-    from .pair_model import ModelRequest, pair_model
+    from .pair_model import ModelRequest, pair_model, sector_teeth
+    from .strips import ltca_strips
     from .run import ccx_path, ccx_version, run_ccx
     from .pair_results import read_pair_results
 
@@ -122,7 +135,16 @@ def fe_check(pair, options: CheckOptions, progress=print, solver=None) -> dict:
     say(f"fe-check: position {j} (pinion angle {phi1:.6f} rad); meshing both sectors (refinement "
         f"{options.refinement})")
     t0 = time.perf_counter()
-    meshes = {m: sector_mesh(pair, m, options.refinement, coarsen=options.coarsen) for m in ("pinion", "gear")}
+    strips, about = {"pinion": None, "gear": None}, []
+    if options.local_refinement:
+        _, teeth = sector_teeth(pair, phi1, phi2, tuple(result.tooth_pairs))
+        size = None if options.contact_size_um is None else options.contact_size_um * 1e-3
+        strips, about = ltca_strips(result, j, geom, teeth, size, options.max_strip_elements)
+    meshes = {m: sector_mesh(pair, m, options.refinement, coarsen=options.coarsen, strips=strips[m])
+              for m in ("pinion", "gear")}
+    for m in ("pinion", "gear"):
+        for entry, h in zip(about, meshes[m].strip_sizes_mm):
+            entry[f"{m}_element_mm"] = h
     req = ModelRequest(pair, options.flank, options.torque_nm, phi1, phi2,
                        float(np.nanmax(result.pair_max_pressure_mpa[j])),
                        float((result.loaded_te[j] - result.unloaded_te[j]) / ratio), tuple(result.tooth_pairs),
@@ -160,7 +182,10 @@ def fe_check(pair, options: CheckOptions, progress=print, solver=None) -> dict:
              "loaded_transmission_error_urad: unloaded TE + (N1/N2) x the pinion's rotation under the moment "
              "(calculix); the LTCA's loaded TE",
              f"mesh {mesh_s:.1f} s, CalculiX {run.wall_s:.1f} s wall ({run.cpu_s:.1f} s CPU), {model.elements} "
-             f"elements, {model.dof} DOF"]
+             f"elements, {model.dof} DOF",
+             "local_refinement: per loaded LTCA pair a strip on each flank (the LTCA's patch: centre line, "
+             "half-width 1.5 b) meshed at b / 3 (or --contact-size-um), graded to the far size; the sizes are "
+             "scaled up together when a sector's strips would exceed the element cap; null: not refined"]
     notes += [f"tooth pair {k}: outside the three-tooth sectors (null)" for k, p in zip(model.tooth_pairs,
                                                                                          model.pairs) if p is None]
     return {"calculix_version": run.version or ccx_version(), "position": int(j), "pinion_angle_rad": phi1,
@@ -169,4 +194,7 @@ def fe_check(pair, options: CheckOptions, progress=print, solver=None) -> dict:
             "tooth_pairs": list(model.tooth_pairs),
             "unloaded_transmission_error_urad": float(result.unloaded_te[j] * 1e6), "elements": model.elements, "dof": model.dof,
             "calculix_wall_s": run.wall_s, "calculix_cpu_s": run.cpu_s, "mesh_s": mesh_s,
-            "calculix": calculix, "ltca": _ltca_block(result, geom, j, ratio), "files": files, "notes": notes}
+            "calculix": calculix, "ltca": _ltca_block(result, geom, j, ratio), "files": files, "notes": notes,
+            "ltca_hertz_max_pressure_mpa": [num(v) for v in result.pair_hertz_max_pressure_mpa[j]],
+            "ltca_patch_semi_axes_mm": [[num(v) for v in ab] for ab in result.patch_semi_axes_mm()[j]],
+            "local_refinement": about if options.local_refinement else None}

@@ -23,7 +23,7 @@ import numpy as np
 from .deck import Body, ContactDeck, RigidLoad
 
 __all__ = ["PRELOAD_FRACTION", "ModelRequest", "PairModel", "TCA_TO_CCX_TET10", "ccx_order", "jacobian_dets", "pair_model",
-           "straighten_inverted"]
+           "sector_teeth", "straighten_inverted"]
 
 PRELOAD_FRACTION = 0.5
 #: a tet10 in gmsh's order (mid-edge nodes 01, 12, 20, 03, 23, 13) to CalculiX's (.., 03, 13, 23)
@@ -136,6 +136,24 @@ class ModelRequest:
     refinement: int = 1
 
 
+def sector_teeth(pair, pinion_angle_rad, gear_angle_rad, tooth_pairs, indices=(-1, 0, 1)):
+    """(s1, [per LTCA pair k: (pinion tooth, gear tooth) of the sectors, or None outside ``indices``]).
+
+    LTCA pair k: pinion tooth 0 at phi1 - k p1, i.e. the sector's pinion tooth -s1 k, with the gear's
+    tooth s2 k (gear tooth 0 at phi2 + k p2); s1, s2 the signs of the placements' turns about +z."""
+    from ..generated import placement
+
+    errors = np.asarray(pair.errors, dtype=float)
+    layout = pair.geometry.placement()
+    s1 = _rotation_sign(placement.pinion_placement, pinion_angle_rad, layout)
+    s2 = _rotation_sign(placement.gear_placement, gear_angle_rad, errors, layout)
+    out = []
+    for k in tooth_pairs:
+        mp, mg = int(round(-s1 * k)), int(round(s2 * k))
+        out.append((mp, mg) if mp in indices and mg in indices else None)
+    return s1, out
+
+
 def pair_model(req: ModelRequest, meshes=None) -> PairModel:
     """The contact model of ``req`` (``meshes``: {member: SectorMesh} to reuse, else meshed here)."""
     from ..fe.mesh import sector_mesh
@@ -148,8 +166,6 @@ def pair_model(req: ModelRequest, meshes=None) -> PairModel:
     layout = geom.placement()
     pp = placement.pinion_placement(req.pinion_angle_rad, layout)
     gp = placement.gear_placement(req.gear_angle_rad, errors, layout)
-    s1 = _rotation_sign(placement.pinion_placement, req.pinion_angle_rad, layout)
-    s2 = _rotation_sign(placement.gear_placement, req.gear_angle_rad, errors, layout)
     pin, gear = meshes["pinion"], meshes["gear"]
     # the model frame: the pinion's frame at the position (pinion nodes as meshed)
     rg = pp.rotation.T @ gp.rotation
@@ -163,15 +179,10 @@ def pair_model(req: ModelRequest, meshes=None) -> PairModel:
     moment_sign = 1.0 if push.mean() > 0 else -1.0
     preload = moment_sign * PRELOAD_FRACTION * abs(req.expected_rotation_rad)
     pin_nodes = pin.nodes @ _rz(preload).T
-    # LTCA pair k: pinion tooth 0 at phi1 - k p1, i.e. the sector's pinion tooth -s1 k, with the
-    # gear's tooth s2 k (gear tooth 0 at phi2 + k p2)
-    pairs = []
-    for k in req.tooth_pairs:
-        mp, mg = int(round(-s1 * k)), int(round(s2 * k))
-        if mp in pin.tooth_indices and mg in gear.tooth_indices:
-            pairs.append((f"GEAR.{side}_{mg}", f"PINION.{side}_{mp}"))
-        else:
-            pairs.append(None)
+    if set(pin.tooth_indices) != set(gear.tooth_indices):
+        raise ValueError("the two sectors must have the same teeth")
+    s1, teeth = sector_teeth(pair, req.pinion_angle_rad, req.gear_angle_rad, req.tooth_pairs, pin.tooth_indices)
+    pairs = [None if t is None else (f"GEAR.{side}_{t[1]}", f"PINION.{side}_{t[0]}") for t in teeth]
     mat = _material(pair)
     bodies = (_body("PINION", pin_nodes, pin, (mat.pinion_e_mpa, mat.pinion_nu)),
               _body("GEAR", gear_nodes, gear, (mat.gear_e_mpa, mat.gear_nu)))

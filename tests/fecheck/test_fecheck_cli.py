@@ -21,7 +21,10 @@ def test_missing_ccx_is_one_line_naming_the_package(monkeypatch, capsys, tmp_pat
 
 
 @pytest.mark.parametrize("argv, key", [(["--refinement", "9"], "--refinement"), (["--position", "20"], "--position"),
-                                       (["--torque-nm", "-1"], "--torque-nm")])
+                                       (["--torque-nm", "-1"], "--torque-nm"),
+                                       (["--contact-size-um", "1"], "--contact-size-um"),
+                                       (["--coarsen", "0"], "--coarsen"),
+                                       (["--max-strip-elements", "10"], "--max-strip-elements")])
 def test_bad_flags_are_one_line_naming_the_flag(capsys, argv, key):
     base = ["fe-check", CASE1, "--torque-nm", "100"]
     assert cli.main(base + argv) == 2
