@@ -7,9 +7,10 @@ callback function ... KeyboardInterrupt" and carries on, and the run that the us
 runs to its end (seen: `beveloid explore` interrupted during its first compile exited 0), or fails
 later on the half-made state (numba: "RuntimeError: no compiled object yet for <Library ...>").
 
-:func:`install` (the CLI calls it) makes the interrupt leave a mark as well as raise, and hides the
-"ignored" report of a KeyboardInterrupt (only that one: every other unraisable exception is reported
-as before).  Long runs call :func:`check` between pieces of work and before they write their
+:func:`install` (the CLI calls it) makes the interrupt leave a mark as well as raise; once it has,
+"Exception ignored" reports are not printed: they are the swallowed interrupt itself, or finalizers
+of work abandoned half-way (CI saw llvmlite's ``ObjectRef.__del__`` fail at the exit after a Ctrl-C
+during a compile).  Before any Ctrl-C every unraisable exception is reported as usual.  Long runs call :func:`check` between pieces of work and before they write their
 results, and run pieces of work under :func:`guard`: an interrupt swallowed inside a callback stops
 the run there, as if it had propagated, and an error that follows it counts as the interrupt.
 Without :func:`install` (the library used from Python) :func:`check` does nothing.
@@ -21,19 +22,20 @@ import signal
 import sys
 import threading
 
-_seen = False
+#: whether a SIGINT arrived since install(); a dict, so that the hook below still reads it while the
+#: interpreter clears this module's globals at its exit (when the finalizers report)
+_state = {"seen": False}
 
 
 def _on_sigint(signum, frame):
-    global _seen
-    _seen = True
+    _state["seen"] = True
     raise KeyboardInterrupt
 
 
-def _unraisable(hook):
+def _unraisable(hook, state=_state):
     def quiet(unraisable):
-        if _seen and isinstance(unraisable.exc_value, KeyboardInterrupt):
-            return  # reported by the CLI's one line once the run stops at the next check()
+        if state["seen"]:
+            return  # the CLI says "interrupted" in its one line
         hook(unraisable)
     return quiet
 
@@ -41,8 +43,7 @@ def _unraisable(hook):
 def install() -> None:
     """Mark every SIGINT (and raise KeyboardInterrupt, as Python's default handler does); from the main
     thread only (elsewhere signals cannot be handled); a SIGINT set to be ignored stays ignored."""
-    global _seen
-    _seen = False
+    _state["seen"] = False
     if threading.current_thread() is not threading.main_thread():
         return
     if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
@@ -55,12 +56,12 @@ def install() -> None:
 
 def seen() -> bool:
     """Whether a SIGINT arrived since :func:`install`."""
-    return _seen
+    return _state["seen"]
 
 
 def check() -> None:
     """Raise KeyboardInterrupt if a SIGINT arrived (and was swallowed on its way)."""
-    if _seen:
+    if _state["seen"]:
         raise KeyboardInterrupt
 
 
@@ -71,7 +72,7 @@ def guard():
     try:
         yield
     except Exception:
-        if _seen:
+        if _state["seen"]:
             raise KeyboardInterrupt from None
         raise
     check()

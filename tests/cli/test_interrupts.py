@@ -100,3 +100,26 @@ def test_errors_are_errors_when_no_interrupt_came():
     with pytest.raises(ValueError):
         with interrupts.guard():
             raise ValueError("a bug")
+
+
+def test_a_finalizer_failing_after_the_interrupt_prints_nothing_and_before_it_is_reported():
+    """After a Ctrl-C, objects of the abandoned work fail in __del__ (llvmlite's at the exit): no
+    report; before any Ctrl-C a failing finalizer is reported as usual."""
+    rc, out, err = _run("""
+        import gc
+        from beveloid import interrupts
+        interrupts.install()
+
+        class Broken:
+            def __del__(self):
+                raise RuntimeError("finalizer failed")
+
+        Broken(); gc.collect()
+        print("before", flush=True)
+        swallowed()
+        keep = Broken()  # finalized at the interpreter's exit
+        Broken(); gc.collect()
+        print("after", flush=True)
+    """)
+    assert rc == 0 and out.split() == ["before", "after"], (out, err)
+    assert err.count("finalizer failed") == 1 and err.count("Exception ignored") == 1, err
