@@ -91,8 +91,9 @@ def equations():
     tanPwL = tan_transverse_pressure_angle(LEFT).subs(sub_w, simultaneous=True)
     tanPwR = tan_transverse_pressure_angle(RIGHT).subs(sub_w, simultaneous=True)
 
-    # Eq 27 pieces
-    st = tooth_thickness_reference().subs(b, pi * m_n / 4)
+    # Eq 27 pieces (the rack's parameter a cancels in s_t; simplified here, it is not carried into
+    # the solve for x_t2, whose own simplification of the uncancelled form took ~10 s)
+    st = sp.simplify(tooth_thickness_reference()).subs(b, pi * m_n / 4)
 
     def normal_working_thickness(n_teeth, xt, al, be, ga, pL, pR, pwL, pwR, mnw, bw):
         r_ = n_teeth * m_n / (2 * cos(be))
@@ -105,8 +106,8 @@ def equations():
     s1 = normal_working_thickness(N1, x_t1, alpha_n, beta1, gamma1, alpha_PL1, alpha_PR1, alpha_PwL1, alpha_PwR1, mnw_sym, bw1)
     s2 = normal_working_thickness(N2, x_t2, alpha_n, beta2, gamma2, alpha_PL2, alpha_PR2, alpha_PwL2, alpha_PwR2, mnw_sym, bw2)
     backlash_free = sp.expand((s1 + s2 - pi * mnw_sym) / mnw_sym)
-    xt2_derived = sp.solve(backlash_free, x_t2)[0]
-    xt2_printed = sp.solve(paper.eq27_lhs - paper.eq27_rhs, x_t2)[0]
+    xt2_derived = sp.solve(backlash_free, x_t2, simplify=False)[0]
+    xt2_printed = sp.together(sp.solve(paper.eq27_lhs - paper.eq27_rhs, x_t2, simplify=False)[0])
 
     def s27(rng):
         d = {alpha_n: uniform_deg(rng, 14, 25), N1: uniform(rng, 12, 100), N2: uniform(rng, 12, 100),
