@@ -138,7 +138,22 @@ def _unpack_line(arg, local, index, scalar):
     return f"{local} = {arg.name}[{idx}]" if scalar else f"{local} = {arg.name}[..., {idx}]"
 
 
-def render_function(fn: Function, cse=True, scalar=False):
+@dataclass(frozen=True)
+class _Reduced:
+    """What a function's numpy kernel and its scalar twin share: the arguments' entries, the
+    outputs' flattened expressions and shapes, the stage levels and the common-subexpression
+    passes (symbolic work, done once for both printings)."""
+
+    entries: list
+    flat: list
+    shapes: list
+    stage_levels: list  # [(prefix, group, (replacements, reduced)) per level]
+    repl: list
+    reduced: list
+    ops: int
+
+
+def _reduce(fn: Function, cse: bool) -> _Reduced:
     entries = [(a, local, sym, idx) for a in fn.inputs for local, sym, idx in a.entries()]
     allowed = {sym for _, _, sym, _ in entries}
     if len(allowed) != len(entries):
@@ -167,30 +182,44 @@ def render_function(fn: Function, cse=True, scalar=False):
     all_exprs = [sp.sympify(e).xreplace(derived).xreplace(rename) for ents in flat for e in ents]
     stages = _needed_stages(fn, all_exprs, allowed)
     stage_exprs = [sp.sympify(e).xreplace(derived).xreplace(rename) for _, e in stages]
+    levels = []
+    for level, group in enumerate(_stage_levels(stages, stage_exprs)):
+        # the intermediate values first, level by level (a level uses only earlier ones), each level
+        # with its own CSE (symbols _y, _y1_, ...)
+        exprs = [e for _, e in group]
+        prefix = "_y" if level == 0 else f"_y{level}_"
+        levels.append((group, sp.cse(exprs, symbols=sp.numbered_symbols(prefix), order="canonical") if cse
+                       else ([], exprs)))
+    if cse:
+        repl, reduced = sp.cse(all_exprs, symbols=sp.numbered_symbols("_x"), order="canonical")
+    else:
+        repl, reduced = [], all_exprs
+    ops = sum(sp.count_ops(v) for _, v in repl) + sum(sp.count_ops(e) for e in reduced)
+    for _group, (srepl, sreduced) in levels:
+        ops += sum(sp.count_ops(v) for _, v in srepl) + sum(sp.count_ops(e) for e in sreduced)
+    return _Reduced(entries, flat, shapes, levels, repl, reduced, ops)
+
+
+def render_function(fn: Function, cse=True, scalar=False, reduced_by=None):
+    """The template's view of one function.  ``reduced_by``: a dict shared by the renderings of
+    one module (its numpy kernels and their scalar twins reduce each function once)."""
+    key = (fn.name, cse)
+    if reduced_by is not None and key in reduced_by:
+        red = reduced_by[key]
+    else:
+        red = _reduce(fn, cse)
+        if reduced_by is not None:
+            reduced_by[key] = red
+    entries, flat, shapes, repl, reduced = red.entries, red.flat, red.shapes, red.repl, red.reduced
     # The committed (CSE) build prints sums in sympy's canonical term order; the plain build exists
     # only to be compared numerically, so it skips that ordering (a third of its printing time).
     order = {} if cse else {"order": "none"}
     printer = _ScalarPrinter(**order) if scalar else _Printer(**order)
     body = []
     stage_lines = []
-    stage_ops = 0
-    for level, group in enumerate(_stage_levels(stages, stage_exprs)):
-        # the intermediate values first, level by level (a level uses only earlier ones), each level
-        # with its own CSE (symbols _y, _y1_, ...)
-        exprs = [e for _, e in group]
-        prefix = "_y" if level == 0 else f"_y{level}_"
-        srepl, sreduced = (sp.cse(exprs, symbols=sp.numbered_symbols(prefix), order="canonical") if cse
-                           else ([], exprs))
+    for group, (srepl, sreduced) in red.stage_levels:
         stage_lines += [f"{s_} = {printer.doprint(v)}" for s_, v in srepl]
         stage_lines += [f"{sym} = {printer.doprint(v)}" for (sym, _), v in zip(group, sreduced)]
-        stage_ops += sum(sp.count_ops(v) for _, v in srepl) + sum(sp.count_ops(e) for e in sreduced)
-    if cse:
-        syms = sp.numbered_symbols("_x")
-        repl, reduced = sp.cse(all_exprs, symbols=syms, order="canonical")
-    else:
-        repl, reduced = [], all_exprs
-    ops = sum(sp.count_ops(v) for _, v in repl) + sum(sp.count_ops(e) for e in reduced)
-    ops += stage_ops
     if not scalar:
         # every output carries the broadcast shape of all inputs, used or not
         def batch(a):
@@ -234,7 +263,7 @@ def render_function(fn: Function, cse=True, scalar=False):
     return dict(name=full_name, doc=fn.doc, signature=_signature(full_name, args),
                 out_names=[f"out_{o.name}" for o in fn.outputs], outputs_class=fn.outputs_class,
                 inputs=[arg_doc(a) for a in fn.inputs],
-                outputs=outs, ops=ops, body=body, returns=", ".join(returns))
+                outputs=outs, ops=red.ops, body=body, returns=", ".join(returns))
 
 
 def _needed_stages(fn, exprs, allowed):
@@ -297,17 +326,18 @@ def _env():
                               trim_blocks=True, lstrip_blocks=False, undefined=jinja2.StrictUndefined)
 
 
-def render_module(spec: ModuleSpec, cse=True) -> str:
+def render_module(spec: ModuleSpec, cse=True, reduced_by=None) -> str:
+    """A module of numpy kernels (``reduced_by``: see :func:`render_function`)."""
     tpl = _env().get_template("module.py.jinja")
-    fns = [render_function(f, cse=cse) for f in spec.functions]
+    fns = [render_function(f, cse=cse, reduced_by=reduced_by) for f in spec.functions]
     return tpl.render(source=spec.source, doc=spec.doc, functions=fns,
                       constants=[(k, repr(v)) for k, v in spec.constants.items()])
 
 
-def render_scalar_module(spec: ModuleSpec, cse=True) -> str:
+def render_scalar_module(spec: ModuleSpec, cse=True, reduced_by=None) -> str:
     """The scalar (one point, math-module) twin of a module, for the compiled path."""
     tpl = _env().get_template("scalar_module.py.jinja")
-    fns = [render_function(f, cse=cse, scalar=True) for f in spec.functions]
+    fns = [render_function(f, cse=cse, scalar=True, reduced_by=reduced_by) for f in spec.functions]
     return tpl.render(source=spec.source, doc=spec.doc, functions=fns, numpy_module=spec.module)
 
 
@@ -343,9 +373,10 @@ def generate(out_dir, specs, cse=True, progress=None, extra=None):
     for spec in specs:
         if progress:
             progress(spec.module)
-        files[f"{spec.module}.py"] = render_module(spec, cse=cse)
+        reduced_by = {}  # the module's functions, reduced once for both of its files
+        files[f"{spec.module}.py"] = render_module(spec, cse=cse, reduced_by=reduced_by)
         if spec.scalar_twin:
-            files[f"{spec.module}_scalar.py"] = render_scalar_module(spec, cse=cse)
+            files[f"{spec.module}_scalar.py"] = render_scalar_module(spec, cse=cse, reduced_by=reduced_by)
     files["layouts.py"] = render_layouts(specs)
     files.update(extra or {})
     files["__init__.py"] = _init_text(specs, extra or {})

@@ -353,7 +353,9 @@ def derive_model(path, name: str, out=None, progress=None) -> Derived:
     spec = kernels.surface_module(name, module)
     if progress:
         progress(spec.module)
-    texts = {f"{spec.module}.py": codegen.render_module(spec), f"{spec.module}_scalar.py": codegen.render_scalar_module(spec),
+    reduced_by = {}  # the two files share the symbolic reduction (codegen.render_function)
+    texts = {f"{spec.module}.py": codegen.render_module(spec, reduced_by=reduced_by),
+             f"{spec.module}_scalar.py": codegen.render_scalar_module(spec, reduced_by=reduced_by),
              "layout.py": codegen.render_layouts([spec])}
     checks = kernel_checks(texts[f"{spec.module}.py"], texts[f"{spec.module}_scalar.py"], texts["layout.py"], entry,
                            member_values)

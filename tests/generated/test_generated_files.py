@@ -149,7 +149,8 @@ _HASHSEED_SCRIPT = (
     "import sys\n"
     "from beveloid.derivations import codegen, kernels\n"
     f"spec = kernels.surface_module({MODEL!r}, kernels.SURFACE_MODELS[{MODEL!r}])\n"
-    f"sys.stdout.write(codegen.render_module(spec) + {_SEPARATOR!r} + codegen.render_scalar_module(spec))\n"
+    "r = {}\n"  # as `derive` renders them: the two files share the symbolic reduction
+    f"sys.stdout.write(codegen.render_module(spec, reduced_by=r) + {_SEPARATOR!r} + codegen.render_scalar_module(spec, reduced_by=r))\n"
 )
 
 
