@@ -28,6 +28,8 @@ envelope of that line: an involute.  In the section (uncrowned rack, with its de
 * the tip cone (flank_boundaries.tip_radius) and the root cone (the rack's tip line x_n = -a + s,
   reached by the round's deepest point): r + (s - a) / cos(gamma) + z tan(gamma).
 """
+import functools
+
 import sympy as sp
 
 from . import flank_boundaries as fb
@@ -59,15 +61,19 @@ def base_radius(sigma):
     return r * sp.cos(pressure_angle(sigma))
 
 
+@functools.cache
 def pitch_crossing(sigma):
-    """y_p(z): where the section's rack line crosses the pitch line x_c = 0."""
+    """y_p(z): where the section's rack line crosses the pitch line x_c = 0 (cached: every
+    thickness needs both flanks'; the solve is linear, simplified once after it)."""
     p = rack_point(sigma)
-    sol = sp.solve([p[0], p[2] - z], [l, u], dict=True)[0]
+    sol = sp.solve([p[0], p[2] - z], [l, u], dict=True, simplify=False)[0]
     return sp.simplify(p[1].xreplace(sol))
 
 
+@functools.cache
 def form_depth(sigma):
-    """d(z): depth of the straight edge's start (l = l_t) below the pitch line in the section z."""
+    """d(z): depth of the straight edge's start (l = l_t) below the pitch line in the section z
+    (cached: the undercut depth and the form radius both need it)."""
     p = rack_point(sigma).xreplace({l: rf.junction_l()})
     (usol,) = sp.solve(p[2] - z, u)
     return -p[0].xreplace({u: usol})
