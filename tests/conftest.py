@@ -139,8 +139,8 @@ def _compile_lock():
 
 def _compile_solver():
     """Run every entry point of the compiled backend once, on case 1 (compiles them, or loads
-    them from numba's cache): the contact paths (TCA, sweep, backlash), the single-point Newton
-    and the loaded TCA's normal gaps.  Once per process, under the lock."""
+    them from numba's cache): the contact paths (TCA, sweep, backlash), the single-point Newton,
+    the loaded TCA's normal gaps and explore's rows.  Once per process, under the lock."""
     global _compiled
     if _compiled:
         return
@@ -148,6 +148,7 @@ def _compile_solver():
     import numpy as np
 
     from beveloid import ltca, tca
+    from beveloid.explore import run as explore_run
     from beveloid.pair import Pair
     from beveloid.solver import backends
     from beveloid.solver.records import settings
@@ -165,6 +166,9 @@ def _compile_solver():
             geom.problem("right"), ref.x.copy(), ref.pinion_angle, np.zeros(5),
             settings(scale_mm=geom.gear.working_pitch_radius_mm, tol_mm=tca.newton_tolerance(geom), max_iter=3)),
         lambda geom, ref: ltca.analyze(geom, 100.0, "right", positions=2, pairs=1, backend="compiled"),
+        # explore's own compiled kernels (its rows over the core): its worker processes then load them
+        # instead of each compiling them at once
+        lambda geom, ref: explore_run.warm_up(),
     )
     # only a head start: whatever fails here, the tests run (and report) the same code themselves
     with _compile_lock(), contextlib.suppress(Exception):
