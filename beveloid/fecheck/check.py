@@ -21,6 +21,7 @@ import numpy as np
 
 from ..errors import UserError
 from ..fe.sizes import MAX_STRIP_ELEMENTS
+from ..outputs import check_output_dir
 
 __all__ = ["CheckOptions", "choose_position", "fe_check"]
 
@@ -114,6 +115,8 @@ def fe_check(pair, options: CheckOptions, progress=print, solver=None) -> dict:
     from .run import ccx_path, ccx_version, run_ccx
     from .pair_results import read_pair_results
 
+    if options.out_dir:  # the one output rule (beveloid/outputs.py), before any work
+        check_output_dir(str(options.out_dir), "out_dir")
     if ccx_path() is None:
         from .run import CCX_MISSING
 
@@ -154,7 +157,6 @@ def fe_check(pair, options: CheckOptions, progress=print, solver=None) -> dict:
     with contextlib.ExitStack() as stack:
         folder = Path(options.out_dir) if options.out_dir else Path(
             stack.enter_context(tempfile.TemporaryDirectory(prefix="beveloid_fecheck_")))
-        folder.mkdir(parents=True, exist_ok=True)
         deck_path = folder / "fe_check.inp"
         info = write_deck(model.deck, deck_path)
         say(f"fe-check: {model.elements} C3D10 elements, {model.dof} degrees of freedom; running ccx in {folder}")

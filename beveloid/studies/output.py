@@ -15,6 +15,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from .. import interrupts
+from ..outputs import check_output_dir
 
 #: name prefix of a run's folder while it writes (hidden, removed when the run ends)
 STAGE_PREFIX = ".beveloid-partial-"
@@ -40,11 +41,12 @@ def _locked(folder: Path) -> Iterator[None]:
 def staged_folder(target: str | os.PathLike) -> Iterator[Path]:
     """A fresh folder to write into; on success its files replace those of the same name in ``target``.
 
-    The folder lies inside ``target`` (created if missing), so the moves stay on one file system and
-    need no more permissions than writing into ``target`` itself.
+    The folder lies inside ``target`` (created if missing, by the one output rule: its parent must
+    exist, beveloid/outputs.py), so the moves stay on one file system and need no more permissions
+    than writing into ``target`` itself.
     """
+    check_output_dir(str(target), "out_dir")
     target = Path(target)
-    target.mkdir(parents=True, exist_ok=True)
     stage = Path(tempfile.mkdtemp(prefix=STAGE_PREFIX, dir=target))
     try:
         yield stage

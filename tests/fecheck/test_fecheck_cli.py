@@ -60,3 +60,18 @@ def test_coarse_fe_check_of_case1_balances_the_torque_and_agrees_with_the_ltca(t
     assert fe["root_stress_max_mpa"]["pinion"] > 0 and fe["root_stress_max_mpa"]["gear"] > 0
     for key in ("deck", "frd", "dat", "vtu"):
         assert (tmp_path / out["files"][key].split("/")[-1]).exists()
+
+
+def test_api_out_dir_with_a_missing_parent_is_refused_before_any_work(tmp_path, monkeypatch):
+    """fe_check()'s out_dir keeps the one output rule (beveloid/outputs.py): a missing tree is refused
+    in one line before the LTCA runs, whether or not CalculiX is installed."""
+    from beveloid import ltca
+    from beveloid.fecheck.check import CheckOptions, fe_check
+    from beveloid.outputs import OutputError
+    from beveloid.pair import Pair
+
+    monkeypatch.setattr(ltca, "analyze", lambda *a, **k: pytest.fail("the LTCA ran before the output was checked"))
+    target = tmp_path / "no" / "such" / "dir"
+    with pytest.raises(OutputError, match="out_dir = .*no/such does not exist"):
+        fe_check(Pair.example("case1"), CheckOptions(torque_nm=100.0, out_dir=str(target)), progress=None)
+    assert not (tmp_path / "no").exists()

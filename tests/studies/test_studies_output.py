@@ -57,7 +57,7 @@ def test_a_failed_run_leaves_the_folder_as_it_was(tmp_path):
 
 
 def test_paper_run_writes_through_the_staged_folder(tmp_path, monkeypatch):
-    target = tmp_path / "a" / "b"
+    target = tmp_path / "b"  # created: its parent exists (a missing tree is refused: below)
     seen = {}
 
     def fake_study(out, positions, progress, tooth_model=None):
@@ -72,3 +72,18 @@ def test_paper_run_writes_through_the_staged_folder(tmp_path, monkeypatch):
     assert seen["in place while writing"] is False
     assert (target / "report.md").read_text() == "run\n" and not seen["folder"].exists()
     assert messages[-1].endswith(f": {target / 'report.md'}")
+
+
+def test_a_missing_parent_is_refused_and_nothing_is_created(tmp_path):
+    """The one output rule (beveloid/outputs.py) on the API's folder too: the named folder is
+    created, a missing tree is not."""
+    from beveloid.outputs import OutputError
+
+    target = tmp_path / "missing" / "deep" / "paper"
+    with pytest.raises(OutputError, match="out_dir = .*missing/deep does not exist"):
+        with output.staged_folder(target):
+            pass
+    assert not (tmp_path / "missing").exists()
+    with output.staged_folder(tmp_path / "made") as stage:
+        _write(stage, "x")
+    assert _files(tmp_path / "made") == {("report.md", "x\n"), ("fig10.png", "x\n"), ("fig10.csv", "x\n")}
