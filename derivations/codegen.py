@@ -366,17 +366,27 @@ def render_template(template, **context) -> str:
     return _env().get_template(template).render(**context)
 
 
-def generate(out_dir, specs, cse=True, progress=None, extra=None):
+def generate(out_dir, specs, cse=True, progress=None, extra=None, rendered_by=None):
     """Render every module; returns {filename: text}.  ``extra``: {filename: text} rendered
-    elsewhere (the glue modules that compose kernels), listed in the package like the others."""
+    elsewhere (the glue modules that compose kernels), listed in the package like the others.
+    ``rendered_by``: a dict kept by the caller across calls; a spec object rendered before (with
+    the same ``cse``) is not rendered again (a registry variant shares every module but its
+    surfaces with the registry)."""
     files = {}
     for spec in specs:
         if progress:
             progress(spec.module)
+        key = (id(spec), cse)
+        if rendered_by is not None and key in rendered_by:
+            files.update(rendered_by[key][1])
+            continue
         reduced_by = {}  # the module's functions, reduced once for both of its files
-        files[f"{spec.module}.py"] = render_module(spec, cse=cse, reduced_by=reduced_by)
+        texts = {f"{spec.module}.py": render_module(spec, cse=cse, reduced_by=reduced_by)}
         if spec.scalar_twin:
-            files[f"{spec.module}_scalar.py"] = render_scalar_module(spec, cse=cse, reduced_by=reduced_by)
+            texts[f"{spec.module}_scalar.py"] = render_scalar_module(spec, cse=cse, reduced_by=reduced_by)
+        if rendered_by is not None:
+            rendered_by[key] = (spec, texts)  # the spec is kept: its id stays its own
+        files.update(texts)
     files["layouts.py"] = render_layouts(specs)
     files.update(extra or {})
     files["__init__.py"] = _init_text(specs, extra or {})

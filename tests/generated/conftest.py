@@ -13,9 +13,15 @@ def specs():
 
 
 @pytest.fixture(scope="session")
-def rendered(specs):
+def rendered_by():
+    """The renderings of the session's spec objects (``codegen.generate(rendered_by=...)``)."""
+    return {}
+
+
+@pytest.fixture(scope="session")
+def rendered(specs, rendered_by):
     """{file name: text} rendered in memory, as ``beveloid derive`` would write it."""
-    return codegen.generate(None, list(specs.values()), extra=kernels.glue_files())
+    return codegen.generate(None, list(specs.values()), extra=kernels.glue_files(), rendered_by=rendered_by)
 
 
 @pytest.fixture(scope="session")

@@ -47,11 +47,17 @@ def _shifted_surface_model():
 
 
 @pytest.fixture(scope="module")
-def variant(tmp_path_factory):
+def variant(tmp_path_factory, specs, rendered, rendered_by):
     """The package `beveloid derive` writes with a "shifted" model registered next to MODEL,
-    rendered through kernels.module_specs / kernels.glue_files and imported from a temp dir."""
+    rendered through kernels.module_specs / kernels.glue_files and imported from a temp dir.
+
+    The specs are kernels.module_specs(models)'s: its surface modules, one per model, then the
+    modules that do not depend on the models (their builders take no registry), which are the
+    session's own spec objects here, so their renderings are the session's (``rendered_by``)."""
     models = {MODEL: kernels.SURFACE_MODELS[MODEL], "shifted": _shifted_surface_model()}
-    files = codegen.generate(None, kernels.module_specs(models), extra=kernels.glue_files(models))
+    shared = list(specs.values())[len(kernels.SURFACE_MODELS):]
+    variant_specs = [specs[f"surface_{MODEL}"], kernels.surface_module("shifted", models["shifted"]), *shared]
+    files = codegen.generate(None, variant_specs, extra=kernels.glue_files(models), rendered_by=rendered_by)
     package = tmp_path_factory.mktemp("variant") / VARIANT_PACKAGE
     codegen.write(package, files)
     with pytest.MonkeyPatch.context() as mp:
