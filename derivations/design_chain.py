@@ -32,14 +32,9 @@ from .symbols import (
 
 sin, cos, tan, asin, acos, atan = sp.sin, sp.cos, sp.tan, sp.asin, sp.acos, sp.atan
 
-_tangency = None
-
-
 def tangency():
-    global _tangency
-    if _tangency is None:
-        _tangency = cones.solve_tangency()
-    return _tangency
+    """The pitch point's closed forms (Eqs 10-11; solved once per process by the pitch-cone model)."""
+    return cones.solve_tangency()
 
 
 def cos_eta():

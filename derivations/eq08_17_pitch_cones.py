@@ -12,6 +12,8 @@ Both normals are the outward normals of Eq 9.  Two cones touching from outside h
 *opposite* outward normals, so the tangency the model solves is R_f1 = R_f2 and
 n_f1 = -n_f2 (the paper prints n_f1 = n_f2, Eq 11: a sign convention it does not state).
 """
+import functools
+
 import sympy as sp
 
 from . import paper
@@ -50,7 +52,13 @@ def placed_cones():
 
 
 def solve_tangency():
-    """Solve Eqs 10-11 for the pitch point: returns dict of derived closed forms."""
+    """Solve Eqs 10-11 for the pitch point: returns dict of derived closed forms (a new dict each
+    call, over one solve per process: the checks of Eqs 10-18 and the design chain all use it)."""
+    return dict(_solve_tangency())
+
+
+@functools.cache
+def _solve_tangency():
     (u1, u2), p1, n1, p2, n2 = placed_cones()
     c1, s1, c2, s2 = sp.symbols("c1 s1 c2 s2", real=True)  # cos/sin theta_i as unknowns
     trig = {cos(theta1): c1, sin(theta1): s1, cos(theta2): c2, sin(theta2): s2}
