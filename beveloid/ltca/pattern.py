@@ -82,22 +82,25 @@ class _Field:
         w = self.p[ok]
         self.centroid = (P * w[:, None]).sum(axis=0) / w.sum() if w.sum() > 0 else self.centre
         self.half_width = 2.0 * max(self.X, 1e-6)
+        yc = np.linspace(-self.Y, self.Y, self.ny + 1)
+        self.yc = 0.5 * (yc[1:] + yc[:-1])  # the along cells' centres
+        self.padded = np.pad(self.p, 1)  # a ring of zero pressure about the grid
 
     def __call__(self, q):
         c = (q - self.centre) @ self.map + self.c0
-        yc = np.linspace(-self.Y, self.Y, self.ny + 1)
-        yc = 0.5 * (yc[1:] + yc[:-1])
-        xu = c[:, 0] - np.interp(c[:, 1], yc, self.shift)
+        xu = c[:, 0] - np.interp(c[:, 1], self.yc, self.shift)
         fi = (xu / self.X + 1.0) * self.nx / 2 - 0.5
         fj = (c[:, 1] / self.Y + 1.0) * self.ny / 2 - 0.5
-        padded = np.pad(self.p, 1)
+        inside = (fi > -1) & (fi < self.nx) & (fj > -1) & (fj < self.ny)
+        out = np.zeros(len(q))  # 0 off the grid; the bilinear pressure only where it is needed
+        fi, fj = fi[inside], fj[inside]
         i0, j0 = np.floor(fi).astype(int), np.floor(fj).astype(int)
         a, b = fi - i0, fj - j0
         i0, j0 = np.clip(i0 + 1, 0, self.nx), np.clip(j0 + 1, 0, self.ny)
-        out = ((1 - a) * (1 - b) * padded[i0, j0] + a * (1 - b) * padded[i0 + 1, j0]
-               + (1 - a) * b * padded[i0, j0 + 1] + a * b * padded[i0 + 1, j0 + 1])
-        inside = (fi > -1) & (fi < self.nx) & (fj > -1) & (fj < self.ny)
-        return np.where(inside, out, 0.0)
+        padded = self.padded
+        out[inside] = ((1 - a) * (1 - b) * padded[i0, j0] + a * (1 - b) * padded[i0 + 1, j0]
+                       + (1 - a) * b * padded[i0, j0 + 1] + a * b * padded[i0 + 1, j0 + 1])
+        return out
 
 
 def flank_pattern(result, geom, member, raster=RASTER) -> FlankPattern:
