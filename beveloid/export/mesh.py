@@ -228,10 +228,22 @@ def build_mesh(geometry, member: str, bore_diameter_mm: float = 0.0, chord_um: f
         lo, hi = bore_rings
         lo1, hi1 = np.roll(lo, -1), np.roll(hi, -1)
         tris += [np.column_stack([lo, hi1, lo1]), np.column_stack([lo, hi, hi1])]
-    mesh = trimesh.Trimesh(vertices=np.concatenate(vertices), faces=np.concatenate(tris), process=False)
-    if np.all(ring[top] == ring[top - 1], axis=-1).any():  # pointed sections (_tooth_ring): one vertex per point,
-        mesh.merge_vertices()  # the tip land's cells, now of no area, dropped
-        mesh.update_faces(mesh.nondegenerate_faces())
+    faces = np.concatenate(tris)
+    tip_start = sum(samples[face][0] - 1 for face, _ in RING[:2])  # the tip land's left end
+    pointed = np.all(ring[tip_start:top + 1] == ring[top], axis=(0, -1))  # per section (_tooth_ring)
+    if pointed.any():
+        # a pointed section's tip land is one point: its ring points become one vertex (that of the
+        # right flank's top) and the land's cells, now edges, are dropped.  Only these: other points
+        # that coincide (the fillet cut by a tip round of zero radius) stay apart, their cells of no
+        # area closing the surface as every other cell does
+        remap = np.arange(count)
+        for k in range(n_t):
+            land = index[k * per_tooth + tip_start:k * per_tooth + top + 1][:, pointed]
+            remap[land] = land[-1]
+        faces = remap[faces]
+        faces = faces[(faces[:, 0] != faces[:, 1]) & (faces[:, 1] != faces[:, 2]) & (faces[:, 2] != faces[:, 0])]
+    mesh = trimesh.Trimesh(vertices=np.concatenate(vertices), faces=faces, process=False)
+    if pointed.any():
         mesh.remove_unreferenced_vertices()
     if not (mesh.is_watertight and mesh.is_winding_consistent and mesh.volume > 0):
         raise RuntimeError(f"{member}: the STL mesh is not closed (watertight {mesh.is_watertight}, consistently"

@@ -72,3 +72,27 @@ def test_the_pointed_pinion_stl_is_watertight_and_agrees_with_the_step_volume(ex
     assert mesh.is_watertight and mesh.is_winding_consistent
     assert abs(mesh.volume - step.volume_mm3) <= 2e-4 * step.volume_mm3
     assert stl.max_error_um <= 5.0 and stl.triangles < 400_000
+
+
+def test_only_the_pointed_land_is_merged_not_other_points_that_nearly_coincide(pointed_pair, monkeypatch):
+    """A pointed section's tip land becomes one vertex; other ring points that nearly coincide (a fillet cut
+    by a tip round of zero radius: ~1e-8 mm apart, found by the in-range fuzz on a 675 mm pinion) stay
+    apart, their cells of no area closing the surface like any other.  Merging every near-coincident
+    vertex left the STL open.  Here the fillet's second point is moved to 1e-9 mm of its first."""
+    from beveloid.export import mesh
+
+    real = mesh._refined_ring
+
+    def refined_ring(*args, **kwargs):
+        ring, z, samples, error = real(*args, **kwargs)
+        ring = ring.copy()
+        ring[1] = ring[0] + 1e-9
+        return ring, z, samples, error
+
+    monkeypatch.setattr(mesh, "_refined_ring", refined_ring)
+    built = mesh.build_mesh(pointed_pair.geometry, "pinion", chord_um=20.0)
+    assert built.mesh.is_watertight and built.mesh.is_winding_consistent and built.mesh.volume > 0
+    from scipy.spatial import cKDTree
+
+    near = cKDTree(built.mesh.vertices).query_pairs(1e-6)  # the moved points, one pair per tooth and section
+    assert len(near) >= 13 * 10 and len(near) % 13 == 0
