@@ -6,7 +6,7 @@ JSON lines to OUT (default fe_check_runs.jsonl) so that a long series can be res
 
     python benchmarks/fe_check_validation.py [--designs case1:right,case2:right] [--torques 100,400]
         [--refinements 1,2] [--coarsen 1.0] [--tooth-model fe|plate] [--no-local-refinement]
-        [--contact-size-um UM] [--max-strip-elements N] [--out fe_check_runs.jsonl] [--table-only]
+        [--contact-size-um UM] [--max-strip-elements N] [--out fe_check_runs.jsonl] [--keep DIR] [--table-only]
 
 DESIGN is an example's name (case1, case2) or a spec file (*.toml).  Runs are local-refined over
 the LTCA's patches (beveloid.fecheck.strips) unless --no-local-refinement.
@@ -31,16 +31,56 @@ def _pair(design):
     return Pair.example(design)
 
 
+def _keep_dir(a, design, flank, torque, refinement):
+    """The folder to keep the run's deck and results in (--keep DIR), None: a temporary one."""
+    if a.keep is None:
+        return None
+    strips = "none" if a.no_local_refinement else f"cap{a.max_strip_elements}"
+    name = f"{Path(design).stem}_{flank}_{torque:g}nm_r{refinement}_x{a.coarsen:g}_{strips}"
+    return str(Path(a.keep) / name)
+
+
 def run(design, flank, torque, refinement, a):
     t0 = time.perf_counter()
     out = fe_check(_pair(design), CheckOptions(
         torque_nm=torque, flank=flank, refinement=refinement, coarsen=a.coarsen, ltca_tooth_model=a.tooth_model,
         local_refinement=not a.no_local_refinement, contact_size_um=a.contact_size_um,
-        max_strip_elements=a.max_strip_elements),
+        max_strip_elements=a.max_strip_elements, out_dir=_keep_dir(a, design, flank, torque, refinement)),
         progress=lambda s: print(s, file=sys.stderr, flush=True) if not s.startswith("ccx") else None)
-    out.update(design=design, total_s=time.perf_counter() - t0, coarsen=a.coarsen,
+    out.update(design=design, total_s=time.perf_counter() - t0, coarsen=a.coarsen, tooth_height_mm=tooth_height_mm(design),
                max_strip_elements=a.max_strip_elements, contact_size_um=a.contact_size_um)
     return out
+
+
+def tooth_height_mm(design):
+    """The pinion's whole depth (tip height + the cutter's addendum), mm: 13.5 for case 1."""
+    member = _pair(design).geometry.pinion
+    return member.tip_height_mm + member.cutter_addendum_mm
+
+
+def hertz_table(rows):
+    """Per run, the pair the LTCA loads most: a/h (the LTCA's patch), its peak pressure in the FE and
+    the LTCA, and Hertz for that pair's curvatures at the LTCA's load and at the FE's (x (F_FE / F_LTCA)^(1/3))."""
+    lines = ["| design, flank | T (N m) | N | elements | main pair | a/h (LTCA) | load FE / LTCA (N) | peak p FE / LTCA (MPa)"
+             " | Hertz at LTCA / FE load (MPa) | FE, LTCA against Hertz at own load |", "|" + "---|" * 10]
+    for r in rows:
+        c, lt = r["calculix"], r["ltca"]
+        loads = [v or 0.0 for v in lt["pair_normal_load_n"]]
+        k = loads.index(max(loads))
+        h = r.get("tooth_height_mm") or tooth_height_mm(r["design"])
+        a_mm = r["ltca_patch_semi_axes_mm"][k][1]
+        f_fe, f_lt = c["pair_normal_load_n"][k], lt["pair_normal_load_n"][k]
+        hz = r["ltca_hertz_max_pressure_mpa"][k]
+        hz_fe = None if hz is None or not f_fe else hz * (f_fe / f_lt) ** (1 / 3)
+        p_fe, p_lt = c["pair_max_pressure_mpa"][k], lt["pair_max_pressure_mpa"][k]
+        dev = lambda p, q: "-" if p is None or q is None else f"{100 * (p / q - 1):+.1f} %"  # noqa: E731
+        lines.append(
+            f"| {r['design']} {r['flank']} (pos. {r['position']}) | {r['torque_nm']:g} | {r['refinement']}"
+            f"{'' if r.get('coarsen', 1.0) == 1.0 else ' (x' + format(r['coarsen'], 'g') + ')'} | {r['elements']}"
+            f" | {r['tooth_pairs'][k]} | {fmt(None if a_mm is None else a_mm / h, '.2f')} ({fmt(a_mm, '.1f')} / {h:.1f})"
+            f" | {fmt(f_fe, '.0f')} / {fmt(f_lt, '.0f')} | {fmt(p_fe, '.0f')} / {fmt(p_lt, '.0f')}"
+            f" | {fmt(hz, '.0f')} / {fmt(hz_fe, '.0f')} | {dev(p_fe, hz_fe)}, {dev(p_lt, hz)} |")
+    return "\n".join(lines)
 
 
 def _key(r):
@@ -92,6 +132,7 @@ def main():
     ap.add_argument("--coarsen", type=float, default=1.0)
     ap.add_argument("--out", default="fe_check_runs.jsonl")
     ap.add_argument("--table-only", action="store_true")
+    ap.add_argument("--keep", default=None, help="keep each run's deck and results under this folder (for fe_check_profile.py)")
     ap.add_argument("--tooth-model", default=None, help="the LTCA's tooth model (fe, plate; default: its default)")
     ap.add_argument("--no-local-refinement", action="store_true", help="the face-wide sizes only (runs before issue 33's strips)")
     ap.add_argument("--contact-size-um", type=float, default=None, help="the strips' element size (default b / 3)")
@@ -115,6 +156,7 @@ def main():
                         fh.write(json.dumps(r, allow_nan=False) + "\n")
                     print(table([r]), flush=True)
     print(table(done))
+    print(hertz_table(done))
 
 
 if __name__ == "__main__":
