@@ -147,7 +147,7 @@ class _Reduced:
     entries: list
     flat: list
     shapes: list
-    stage_levels: list  # [(prefix, group, (replacements, reduced)) per level]
+    stage_levels: list  # [(group of (symbol, expr), (replacements, reduced)) per level]
     repl: list
     reduced: list
     ops: int
