@@ -138,6 +138,8 @@ def main():
     ap.add_argument("--contact-size-um", type=float, default=None, help="the strips' element size (default b / 3)")
     ap.add_argument("--max-strip-elements", type=int, default=MAX_STRIP_ELEMENTS)
     a = ap.parse_args()
+    if a.keep is not None:
+        Path(a.keep).mkdir(parents=True, exist_ok=True)  # fe_check creates only each run's own folder in it
     path = Path(a.out)
     done = [json.loads(s) for s in path.read_text().splitlines()] if path.exists() else []
     if not a.table_only:
