@@ -30,7 +30,9 @@ def solve_off_patch(problem, cells, x_tangency, phi1, e, settings, es, cs):
     if patches_apart(problem, cells, phi1, e, settings.patch_tol_mm, cs):
         return False, -1, -1, 0
     copy_into(xe, x_tangency)
-    found, a, b, its = first_touch(problem, xe, -1, -1, phi1, e, settings, es)
+    # np.int64(-1), not -1: a literal argument makes numba compile a second specialization of
+    # first_touch and everything it calls (~3 s of a fresh install's compile)
+    found, a, b, its = first_touch(problem, xe, np.int64(-1), np.int64(-1), phi1, e, settings, es)
     if found and a >= 0:
         nearest_turn(xe, x_tangency[GEAR_ANGLE])
         return True, a, b, its
@@ -91,8 +93,8 @@ def solve_paths(problem, request, settings, out):
             hprev = 0.0
             have_edge = False
             skipped = False  # points followed on an edge since the tangency was last solved
-            ea = -1
-            eb = -1
+            ea = np.int64(-1)  # not a literal -1: see solve_off_patch
+            eb = np.int64(-1)
             phi_edge = phi_ref
             if direction == 0:
                 j, stop, inc = j0, N, 1
