@@ -1,5 +1,6 @@
 """What `tca --plot` and `ltca --plot` draw (issue 29, item 11): the bearing pattern only on the flank,
-the TE note box clear of the legend, and no matplotlib warnings."""
+the TE note box clear of the legend, and no matplotlib warnings (`ltca --plot`'s own: tests/fe/test_fe_ltca.py,
+on the suite's coarse FE tooth)."""
 from __future__ import annotations
 
 import warnings
@@ -69,12 +70,6 @@ def test_the_pattern_axes_span_the_flank(pair1, tmp_path):
     x0, x1 = ax.get_xlim()
     assert x0 < zb.min() and x1 > zb.max() and (x1 - x0) < 1.2 * np.ptp(zb)
     plt.close(fig)
-
-
-def test_ltca_plot_prints_no_warning(tmp_path):
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")
-        assert cli.main(["ltca", C1, "--torque-nm", "200", "--positions", "3", "--plot", str(tmp_path / "l.png")]) == 0
 
 
 def test_cell_corners_of_a_folded_raster_give_no_warning():

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import json
+import warnings
 
 import numpy as np
 import pytest
@@ -88,6 +89,29 @@ def test_plot_has_the_root_stress_panel(results, case1, tmp_path):
     out = tmp_path / "ltca.png"
     ltca_summary(r, case1.geometry, out)
     assert out.read_bytes().startswith(b"\x89PNG")
+
+
+def test_ltca_plot_prints_no_warning(case1, coarse_teeth, tmp_path, monkeypatch):
+    """`ltca --plot` with the FE tooth (the default, root stress panel included) prints no matplotlib
+    warning (issue 29, item 11); the session's coarse FE data stands for the cached default mesh."""
+    from pathlib import Path
+
+    from beveloid import cli
+
+    used = []
+
+    def cached(pair, member, *a, **k):
+        used.append(member)
+        return coarse_teeth[member], "hit"
+
+    monkeypatch.setattr(cache, "cached_tooth_data", cached)
+    case1_toml = Path(__file__).resolve().parents[2] / "examples" / "case1.toml"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert cli.main(["ltca", str(case1_toml), "--torque-nm", "200", "--positions", "3",
+                         "--plot", str(tmp_path / "l.png")]) == 0
+    assert sorted(set(used)) == ["gear", "pinion"]
+    assert (tmp_path / "l.png").read_bytes().startswith(b"\x89PNG")
 
 
 @pytest.mark.parametrize("flags, names", [(["--fe-refinement", "9"], "--fe-refinement = 9: must be an integer from 1 to 4"),
