@@ -42,6 +42,13 @@ ROOT = Path(__file__).resolve().parents[1]
 # whatever the machine's own holds; tests of user models give theirs to the processes they start.
 os.environ["BEVELOID_MODELS_DIR"] = tempfile.mkdtemp(prefix="beveloid-test-models-")
 
+# The Python processes the tests start (`python -m beveloid.cli ...`, `python -c ...`) import the
+# beveloid these tests import, the installed one: without this, Python puts their working folder
+# (the checkout, pytest's) first on sys.path, so on a non-editable install (CI, the README's test
+# command) they ran the checkout's copy instead (not what was installed) and compiled the solver
+# a second time into it (~45 s of CPU).  PYTHONSAFEPATH: Python 3.11+.
+os.environ["PYTHONSAFEPATH"] = "1"
+
 
 @pytest.fixture(scope="session")
 def pair1():

@@ -30,3 +30,16 @@ def test_script_error_exit_is_unchanged(tmp_path):
     p = subprocess.run([sys.executable, "-m", "beveloid.cli", "tca", str(tmp_path / "missing.toml")],
                        capture_output=True, text=True, timeout=600, cwd=tmp_path)
     assert p.returncode == 2 and len(p.stderr.strip().splitlines()) == 1 and "Traceback" not in p.stderr
+
+
+
+def test_started_pythons_import_the_beveloid_under_test():
+    """A Python the tests start in pytest's own folder (the checkout: `python -m beveloid.cli ...`,
+    `python -c ...`) imports the beveloid these tests import, also on a non-editable install, not the
+    checkout's copy (tests/conftest.py sets PYTHONSAFEPATH: the working folder stays off sys.path)."""
+    import beveloid
+
+    code = "import os, sys, beveloid; print(beveloid.__file__); print(os.getcwd() in sys.path or '' in sys.path)"
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, p.stderr
+    assert p.stdout.split() == [beveloid.__file__, "False"]
