@@ -23,7 +23,12 @@ from ..errors import UserError
 from ..fe.sizes import MAX_STRIP_ELEMENTS
 from ..outputs import check_output_dir
 
-__all__ = ["CheckOptions", "choose_position", "fe_check"]
+__all__ = ["CheckOptions", "PEAK_RESOLVED_PER_SEMI_AXIS", "choose_position", "fe_check"]
+
+#: a pair's peak pressure and contact area count as resolved where the elements over its contact are
+#: at most this many times its half-width b (docs/validation.md section 11: at 0.76-1.1 b the FE's
+#: peak sits 0-5 % below Hertz; at 1.3 b 8 % above the 0.76 b peak, at 2.6 b 2.5 times it)
+PEAK_RESOLVED_PER_SEMI_AXIS = 1.1
 
 
 @dataclass(frozen=True)
@@ -59,8 +64,8 @@ class CheckOptions:
         if self.contact_size_um is not None and not (isinstance(self.contact_size_um, (int, float))
                                                      and 10 <= self.contact_size_um <= 2000):
             raise UserError(f"--contact-size-um = {self.contact_size_um!r}: must be a number from 10 to 2000 (um)")
-        if not (isinstance(self.coarsen, (int, float)) and 0.25 <= self.coarsen <= 8):
-            raise UserError(f"--coarsen = {self.coarsen!r}: must be a number from 0.25 to 8")
+        if not (isinstance(self.coarsen, (int, float)) and 0.125 <= self.coarsen <= 4):
+            raise UserError(f"--coarsen = {self.coarsen!r}: must be a number from 0.125 to 4")
         if not (isinstance(self.max_strip_elements, int) and self.max_strip_elements >= 1000):
             raise UserError(f"--max-strip-elements = {self.max_strip_elements!r}: must be an integer >= 1000")
         if self.position is not None and not (isinstance(self.position, int)
@@ -104,13 +109,28 @@ def _ltca_block(result, geom, j, ratio) -> dict:
             "moment_about_pinion_axis_nm": num(result.pinion_moment_nmm[j] * 1e-3)}
 
 
+def _resolution_notes(about) -> list[str]:
+    """Where the mesh does not resolve a contact's width: its peak pressure and area are mesh numbers."""
+    if about is None:
+        return ["no local refinement: the flank elements are about ten contact half-widths, so the peak "
+                "pressures and contact areas are not resolved; the loads, the TE and the torque balance are"]
+    out = []
+    for e in about:
+        b, h = e["semi_axes_mm"][0], max(e["pinion_element_mm"], e["gear_element_mm"])
+        if h > PEAK_RESOLVED_PER_SEMI_AXIS * b:
+            out.append(f"tooth pair {e['tooth_pair']}: elements of {h:.3f} mm over the contact, {h / b:.1f} x its "
+                       f"half-width b = {b:.3f} mm: its peak pressure and contact area are not resolved (the loads "
+                       "and TE are; docs/validation.md section 11); --refinement 2 or a larger --max-strip-elements "
+                       "resolves them")
+    return out
+
+
 def fe_check(pair, options: CheckOptions, progress=print, solver=None) -> dict:
     """Run the check; returns the JSON dict of the contract (docs/fe_check.md)."""
     from .. import ltca, tca
-    from ..fe.mesh import sector_mesh
     from ..solver import Solver
     from .deck import write_deck
-    from .pair_model import ModelRequest, pair_model, sector_teeth
+    from .pair_model import ModelRequest, pair_model, sector_meshes, sector_teeth
     from .strips import ltca_strips
     from .run import ccx_path, ccx_version, run_ccx
     from .pair_results import read_pair_results
@@ -143,15 +163,13 @@ def fe_check(pair, options: CheckOptions, progress=print, solver=None) -> dict:
         _, teeth = sector_teeth(pair, phi1, phi2, tuple(result.tooth_pairs))
         size = None if options.contact_size_um is None else options.contact_size_um * 1e-3
         strips, about = ltca_strips(result, j, geom, teeth, size, options.max_strip_elements)
-    meshes = {m: sector_mesh(pair, m, options.refinement, coarsen=options.coarsen, strips=strips[m])
-              for m in ("pinion", "gear")}
+    meshes = sector_meshes(pair, options.refinement, options.coarsen, strips)
     for m in ("pinion", "gear"):
         for entry, h in zip(about, meshes[m].strip_sizes_mm):
             entry[f"{m}_element_mm"] = h
     req = ModelRequest(pair, options.flank, options.torque_nm, phi1, phi2,
                        float(np.nanmax(result.pair_max_pressure_mpa[j])),
-                       float((result.loaded_te[j] - result.unloaded_te[j]) / ratio), tuple(result.tooth_pairs),
-                       options.refinement)
+                       float((result.loaded_te[j] - result.unloaded_te[j]) / ratio), tuple(result.tooth_pairs))
     model = pair_model(req, meshes)
     mesh_s = time.perf_counter() - t0
     with contextlib.ExitStack() as stack:
@@ -190,6 +208,7 @@ def fe_check(pair, options: CheckOptions, progress=print, solver=None) -> dict:
              "scaled up together when a sector's strips would exceed the element cap; null: not refined"]
     notes += [f"tooth pair {k}: outside the three-tooth sectors (null)" for k, p in zip(model.tooth_pairs,
                                                                                          model.pairs) if p is None]
+    notes += _resolution_notes(about if options.local_refinement else None)
     return {"calculix_version": run.version or ccx_version(), "position": int(j), "pinion_angle_rad": phi1,
             "torque_nm": options.torque_nm, "flank": options.flank,
             "ltca_tooth_model": getattr(result, "tooth_model", "plate"), "refinement": options.refinement,

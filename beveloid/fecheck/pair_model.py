@@ -133,7 +133,23 @@ class ModelRequest:
     expected_pressure_mpa: float
     expected_rotation_rad: float
     tooth_pairs: tuple
-    refinement: int = 1
+
+
+#: fe-check's ``--refinement N`` meshes each sector at the FE tooth's sizes (``beveloid.fe.mesh``)
+#: x LEVEL_1_COARSEN / N: refinement 1 is the coarse check (case 1 within 5 minutes on 2 cores; its
+#: loads and TE within ~3 % of refinement 2, docs/validation.md section 11), refinement 2 the FE
+#: tooth's own sizes, refinement 4 its refinement 2.
+LEVEL_1_COARSEN = 2.0
+
+
+def sector_meshes(pair, refinement: int, coarsen: float = 1.0, strips=None) -> dict:
+    """{member: SectorMesh} of fe-check's ``refinement`` (see :data:`LEVEL_1_COARSEN`), every size
+    also x ``coarsen``; ``strips``: {member: ContactStrips or None} (the local refinement)."""
+    from ..fe.mesh import sector_mesh
+
+    strips = strips or {}
+    return {m: sector_mesh(pair, m, refinement, coarsen=LEVEL_1_COARSEN * coarsen, strips=strips.get(m))
+            for m in ("pinion", "gear")}
 
 
 def sector_teeth(pair, pinion_angle_rad, gear_angle_rad, tooth_pairs, indices=(-1, 0, 1)):
@@ -154,15 +170,13 @@ def sector_teeth(pair, pinion_angle_rad, gear_angle_rad, tooth_pairs, indices=(-
     return s1, out
 
 
-def pair_model(req: ModelRequest, meshes=None) -> PairModel:
-    """The contact model of ``req`` (``meshes``: {member: SectorMesh} to reuse, else meshed here)."""
-    from ..fe.mesh import sector_mesh
+def pair_model(req: ModelRequest, meshes: dict) -> PairModel:
+    """The contact model of ``req`` on ``meshes`` ({member: SectorMesh}, :func:`sector_meshes`)."""
     from ..generated import placement
 
     pair = req.pair
     geom = pair.geometry
     errors = np.asarray(pair.errors, dtype=float)
-    meshes = meshes or {m: sector_mesh(pair, m, req.refinement) for m in ("pinion", "gear")}
     layout = geom.placement()
     pp = placement.pinion_placement(req.pinion_angle_rad, layout)
     gp = placement.gear_placement(req.gear_angle_rad, errors, layout)

@@ -10,7 +10,7 @@ from beveloid import cli
 from beveloid.fecheck import ccx_path
 
 CASE1 = "beveloid/data/case1.toml"
-COARSEN = 4.0  #: every element size x 4: about 3000 elements
+COARSEN = 2.0  #: refinement 1's sizes x 2 (the FE tooth's x 4): about 3000 elements
 
 
 def test_missing_ccx_is_one_line_naming_the_package(monkeypatch, capsys, tmp_path):
@@ -58,8 +58,21 @@ def test_coarse_fe_check_of_case1_balances_the_torque_and_agrees_with_the_ltca(t
     lt_lag = lt["loaded_transmission_error_urad"] - unloaded
     assert 0.5 < fe_lag / lt_lag < 2.0
     assert fe["root_stress_max_mpa"]["pinion"] > 0 and fe["root_stress_max_mpa"]["gear"] > 0
+    # a mesh this coarse does not resolve the contacts' widths, and says so per refined pair
+    unresolved = [n for n in out["notes"] if "peak pressure and contact area are not resolved" in n]
+    assert len(unresolved) == len(out["local_refinement"]) > 0
     for key in ("deck", "frd", "dat", "vtu"):
         assert (tmp_path / out["files"][key].split("/")[-1]).exists()
+
+
+def test_a_pair_meshed_coarser_than_its_contact_width_is_named_in_the_notes():
+    from beveloid.fecheck.check import PEAK_RESOLVED_PER_SEMI_AXIS, _resolution_notes
+
+    fine = {"tooth_pair": 0, "semi_axes_mm": [0.2, 5.0], "pinion_element_mm": 0.1, "gear_element_mm": 0.2}
+    coarse = dict(fine, tooth_pair=1, gear_element_mm=0.2 * PEAK_RESOLVED_PER_SEMI_AXIS * 1.01)
+    notes = _resolution_notes([fine, coarse])
+    assert len(notes) == 1 and notes[0].startswith("tooth pair 1: elements of 0.222 mm") and "1.1 x" in notes[0]
+    assert "not resolved" in _resolution_notes(None)[0]
 
 
 def test_api_out_dir_with_a_missing_parent_is_refused_before_any_work(tmp_path, monkeypatch):
