@@ -38,7 +38,8 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--contact-size-um", type=float, default=None, metavar="UM",
                    help="element size over the loaded patches, 10-2000 um (default: b / 3 of each patch)")
     p.add_argument("--max-strip-elements", type=int, default=MAX_STRIP_ELEMENTS, metavar="N",
-                   help=f"cap on the estimated elements of one sector's refined patches (default {MAX_STRIP_ELEMENTS})")
+                   help=f"cap on the estimated elements of one sector's refined patches at refinement 2 (default "
+                        f"{MAX_STRIP_ELEMENTS}; refinement 1 doubles their sizes)")
     p.add_argument("--coarsen", type=float, default=1.0, metavar="F",
                    help="multiply every element size by F, 0.125-4 (default 1; > 1 for a quick look)")
     p.add_argument("--out", metavar="DIR", default=None,

@@ -12,8 +12,9 @@ default, from the caller).  The field is a gmsh ``Distance`` from the line's poi
 ``Threshold``: the target size within the half-width, grown linearly (over
 ``STRIP_GROWTH`` times the size difference) to the far size.  The size is bounded below by
 ``STRIP_SIZE_MIN_MM`` and above by what keeps the estimated elements of all strips of one sector
-under ``ContactStrips.max_elements`` (the cap at refinement 1, coarsen 1; x (refinement / coarsen)^3
-otherwise: every strip's size is scaled up by the same factor until the estimate fits).
+under ``ContactStrips.max_elements`` at refinement 1, coarsen 1 (every strip's size is scaled up by
+the same factor until the estimate fits); a sector refined or coarsened by a factor divides or
+multiplies those sizes by it, as every other size (:func:`strip_sizes`).
 """
 from __future__ import annotations
 
@@ -98,16 +99,19 @@ def estimated_elements(strips: ContactStrips, scale: float, far_mm: float) -> fl
 
 
 def strip_sizes(strips: ContactStrips, divide: float, far_mm: float) -> tuple:
-    """The size of each strip (mm): its target / ``divide`` (the sector's refinement / coarsen),
-    bounded below by :data:`STRIP_SIZE_MIN_MM`, all scaled up together until the estimate is within
-    the cap x ``divide``^3 (the cap is that of refinement 1, coarsen 1: a coarsened sector's strips
-    are coarsened with it)."""
-    scale, budget = 1.0 / divide, strips.max_elements * divide ** 3
+    """The size of each strip (mm): sized at ``divide`` = 1 (the mesh's refinement 1, coarsen 1;
+    fe-check's refinement 2), its target bounded below by :data:`STRIP_SIZE_MIN_MM`, all scaled up
+    together until the estimate is within the cap; then divided by ``divide`` (the sector's
+    refinement / coarsen) like every other size of the sector, so that a sector refined or
+    coarsened by a factor has every size, the strips' included, divided or multiplied by it (the
+    cap holds at ``divide`` = 1 only).  ``far_mm``: the sector's far size (at ``divide``)."""
+    far_at_one = far_mm * divide
+    scale = 1.0
     for _ in range(100):
-        if estimated_elements(strips, scale, far_mm) <= budget:
+        if estimated_elements(strips, scale, far_at_one) <= strips.max_elements:
             break
         scale *= 1.05
-    return tuple(max(s.size_mm * scale, STRIP_SIZE_MIN_MM) for s in strips.strips)
+    return tuple(max(s.size_mm * scale / divide, STRIP_SIZE_MIN_MM) for s in strips.strips)
 
 
 def _threshold(f, distance, size_min, size_max, dist_min, growth):

@@ -47,7 +47,7 @@ class CheckOptions:
     ltca_tooth_model: str | None = None  #: the LTCA's tooth model ("fe", "plate"; None: its default)
     local_refinement: bool = True  #: refine the mesh over the LTCA's loaded patches (beveloid.fecheck.strips)
     contact_size_um: float | None = None  #: the element size there (None: b / 3 of each patch)
-    max_strip_elements: int = MAX_STRIP_ELEMENTS  #: cap on the estimated elements in one sector's strips
+    max_strip_elements: int = MAX_STRIP_ELEMENTS  #: cap on the estimated elements in one sector's strips at refinement 2 (beveloid.fe.sizes.strip_sizes)
 
     def __post_init__(self):
         from ..ltca.options import check_positions, check_torque

@@ -81,6 +81,16 @@ def test_the_cap_scales_the_sizes_up_and_the_floor_holds(strip):
     assert strip_sizes(ContactStrips((tiny,), max_elements=10**9), 1.0, far) == (STRIP_SIZE_MIN_MM,)
 
 
+def test_a_refined_or_coarsened_sector_scales_the_capped_strips_with_every_other_size(strip):
+    """The cap sizes the strips at divide 1 (fe-check's refinement 2); refinement 1 (divide 1/2) doubles
+    them exactly and divide 2 halves them, as it does the far size: not a new cap x divide^3."""
+    capped = ContactStrips((strip,), max_elements=2000)
+    (h,) = strip_sizes(capped, 1.0, 6.0)
+    assert h > SIZE_MM  # the cap binds
+    assert strip_sizes(capped, 0.5, 12.0) == pytest.approx((2.0 * h,), rel=1e-12)
+    assert strip_sizes(capped, 2.0, 3.0) == pytest.approx((0.5 * h,), rel=1e-12)
+
+
 @pytest.mark.parametrize("kwargs, key", [({"points_mm": np.zeros((3, 2))}, "points_mm"),
                                          ({"half_width_mm": 0.0}, "half_width_mm"),
                                          ({"size_mm": float("nan")}, "size_mm")])

@@ -10,7 +10,8 @@ from beveloid import cli
 from beveloid.fecheck import ccx_path
 
 CASE1 = "beveloid/data/case1.toml"
-COARSEN = 2.0  #: refinement 1's sizes x 2 (the FE tooth's x 4): about 3000 elements
+COARSEN = 3.0  #: refinement 1's sizes x 3 (the FE tooth's x 6)
+STRIP_CAP = 4000  #: with COARSEN: about 4700 elements, ~10 s of CalculiX
 
 
 def test_missing_ccx_is_one_line_naming_the_package(monkeypatch, capsys, tmp_path):
@@ -35,14 +36,15 @@ def test_bad_flags_are_one_line_naming_the_flag(capsys, argv, key):
 @pytest.mark.long_running
 @pytest.mark.skipif(ccx_path() is None, reason="needs CalculiX (ccx, Debian package calculix-ccx)")
 def test_coarse_fe_check_of_case1_balances_the_torque_and_agrees_with_the_ltca(tmp_path):
-    """A very coarse model (every element size x 4, 5 LTCA positions, the LTCA's plate tooth: cheaper than its
+    """A very coarse model (every element size x 3 of refinement 1, a low strip cap, 5 LTCA positions, the LTCA's plate tooth: cheaper than its
     FE tooth, which tests/fe checks): the contact forces balance
     the applied moment, the loads share the torque like the LTCA's, and the files are kept."""
     from beveloid.fecheck.check import CheckOptions, fe_check
     from beveloid.pair import Pair
 
     out = fe_check(Pair.example("case1"), CheckOptions(torque_nm=200.0, flank="right", out_dir=str(tmp_path),
-                                                       coarsen=COARSEN, ltca_positions=5, ltca_tooth_model="plate"),
+                                                       coarsen=COARSEN, ltca_positions=5, ltca_tooth_model="plate",
+                                                       max_strip_elements=STRIP_CAP),
                  progress=None)
     json.dumps(out, allow_nan=False)
     fe, lt = out["calculix"], out["ltca"]
