@@ -35,7 +35,8 @@ FILLET_GROWTH = 0.5
 STRIP_SIZE_MIN_MM = 0.01
 #: distance over which the strip's size grows to the far size, in multiples of the size difference
 STRIP_GROWTH = FAR_GROWTH
-#: the default cap on the estimated elements in (and graded about) the strips of one sector: case 1's
+#: the default cap on the estimated elements in (and graded about) the strips of one sector at fe-check's
+#: refinement 2 (refinement 1 doubles every size): case 1's
 #: main pair at 1.3 b, its peak pressure within 8 % of the 60 000 cap's, 4.4 GB and ~15 min of CPU in
 #: CalculiX (60 000: 0.76 b, 9.4 GB, ~36 min; docs/validation.md 11, docs/performance.md)
 MAX_STRIP_ELEMENTS = 20_000
