@@ -99,7 +99,7 @@ class KeyDoc:
 
 
 _PAIR_DOCS: dict[str, KeyDoc] = {
-    "normal_module_mm": KeyDoc("normal module", "mm", lo=0.0, lo_open=True, hi=100.0),
+    "normal_module_mm": KeyDoc("normal module", "mm", lo=0.001, hi=100.0),
     "normal_pressure_angle_deg": KeyDoc(
         "normal pressure angle of the generating rack", "deg", lo=10.0, hi=35.0
     ),

@@ -89,9 +89,12 @@ BAD_CASES = [
     ("teeth_list", {"pinion.teeth": [29]}, "pinion.teeth", "[29]", "integer"),
     ("teeth_none", {"pinion.teeth": None}, "pinion.teeth", "None", "integer"),
     # --- pair
-    ("module_negative", {"pair.normal_module_mm": -1.0}, "pair.normal_module_mm", "-1.0", "> 0"),
-    ("module_zero", {"pair.normal_module_mm": 0}, "pair.normal_module_mm", "= 0:", "> 0"),
-    ("module_huge", {"pair.normal_module_mm": 101.0}, "pair.normal_module_mm", "101.0", "<= 100"),
+    ("module_negative", {"pair.normal_module_mm": -1.0}, "pair.normal_module_mm", "-1.0", "from 0.001 to 100"),
+    ("module_zero", {"pair.normal_module_mm": 0}, "pair.normal_module_mm", "= 0:", "from 0.001 to 100"),
+    # a module whose square underflows (found by the fuzz test's rotating seed: warnings, garbage)
+    ("module_subnormal", {"pair.normal_module_mm": 2.75e-264}, "pair.normal_module_mm", "2.75e-264",
+     "from 0.001 to 100"),
+    ("module_huge", {"pair.normal_module_mm": 101.0}, "pair.normal_module_mm", "101.0", "from 0.001 to 100"),
     ("module_string", {"pair.normal_module_mm": "6"}, "pair.normal_module_mm", '"6"', "number"),
     ("module_bool", {"pair.normal_module_mm": True}, "pair.normal_module_mm", "true", "number"),
     ("pressure_low", {"pair.normal_pressure_angle_deg": 9.9}, "pair.normal_pressure_angle_deg", "9.9", "from 10 to 35"),
