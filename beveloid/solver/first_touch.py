@@ -183,7 +183,7 @@ def first_touch(problem, x, first, second, phi1, e, settings, es):
         if la < 0.0 or lb < 0.0:
             if la < lb:
                 a = b
-            b = -1
+            b = np.int64(-1)  # not a literal -1: numba would compile newton_candidate for it too
             continue
         return True, a, b, its
     return False, a, b, its
@@ -205,8 +205,8 @@ def enumerate_candidates(problem, x_start, x, phi1, e, settings, es):
     patch_tol = settings.patch_tol_mm
     margins, xt = es.system.margins, es.trial
     best = -math.inf
-    ba = -1
-    bb = -1
+    ba = np.int64(-1)  # not literal -1s (see first_touch)
+    bb = np.int64(-1)
     its = 0
     for a in range(N_MARGINS):
         for b in range(-1, N_MARGINS):
