@@ -12,8 +12,8 @@ default, from the caller).  The field is a gmsh ``Distance`` from the line's poi
 ``Threshold``: the target size within the half-width, grown linearly (over
 ``STRIP_GROWTH`` times the size difference) to the far size.  The size is bounded below by
 ``STRIP_SIZE_MIN_MM`` and above by what keeps the estimated elements of all strips of one sector
-under ``ContactStrips.max_elements`` at refinement 1, coarsen 1 (every strip's size is scaled up by
-the same factor until the estimate fits); a sector refined or coarsened by a factor divides or
+under ``ContactStrips.max_elements`` at the mesh's refinement 1, coarsen 1 (fe-check's refinement 2;
+every strip's size is scaled up by the same factor until the estimate fits); a sector refined or coarsened by a factor divides or
 multiplies those sizes by it, as every other size (:func:`strip_sizes`).
 """
 from __future__ import annotations

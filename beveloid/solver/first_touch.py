@@ -16,6 +16,10 @@ from .linalg import copy_into, residual_norm, solve_linear
 from .newton import GEAR_ANGLE, newton_update, on_patch
 
 #: Active-set rounds of first_touch before it falls back to solving every candidate.
+#: "no boundary" in an active set, typed int64: a literal -1 there makes numba compile a second
+#: specialization of the function it is passed to and of everything that calls on (~5 s of a fresh
+#: install's compile)
+NO_BOUNDARY = np.int64(-1)
 MAX_ROUNDS = 8
 #: the edge path's memory (follow_edge): tangents at the last two points before the previous one,
 #: the two steps between them, and how many of the tangents are valid
@@ -183,7 +187,7 @@ def first_touch(problem, x, first, second, phi1, e, settings, es):
         if la < 0.0 or lb < 0.0:
             if la < lb:
                 a = b
-            b = np.int64(-1)  # not a literal -1: numba would compile newton_candidate for it too
+            b = NO_BOUNDARY
             continue
         return True, a, b, its
     return False, a, b, its
@@ -205,8 +209,8 @@ def enumerate_candidates(problem, x_start, x, phi1, e, settings, es):
     patch_tol = settings.patch_tol_mm
     margins, xt = es.system.margins, es.trial
     best = -math.inf
-    ba = np.int64(-1)  # not literal -1s (see first_touch)
-    bb = np.int64(-1)
+    ba = NO_BOUNDARY
+    bb = NO_BOUNDARY
     its = 0
     for a in range(N_MARGINS):
         for b in range(-1, N_MARGINS):

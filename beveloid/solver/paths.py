@@ -10,7 +10,7 @@ import numpy as np
 from ..generated.tca_kernels_scalar import N_UNKNOWNS, contact_margin_point, surface_point
 from .linalg import copy_into, solve_linear
 from .newton import EDGE, FAILED, GEAR_ANGLE, OK, OUTSIDE, classify, homotopy, newton, scratch
-from .first_touch import TRACK_VALID, edge_scratch, enumerate_candidates, first_touch, follow_edge, nearest_turn
+from .first_touch import NO_BOUNDARY, TRACK_VALID, edge_scratch, enumerate_candidates, first_touch, follow_edge, nearest_turn
 from .clearance import clearance_scratch, patches_apart
 
 try:
@@ -30,9 +30,7 @@ def solve_off_patch(problem, cells, x_tangency, phi1, e, settings, es, cs):
     if patches_apart(problem, cells, phi1, e, settings.patch_tol_mm, cs):
         return False, -1, -1, 0
     copy_into(xe, x_tangency)
-    # np.int64(-1), not -1: a literal argument makes numba compile a second specialization of
-    # first_touch and everything it calls (~3 s of a fresh install's compile)
-    found, a, b, its = first_touch(problem, xe, np.int64(-1), np.int64(-1), phi1, e, settings, es)
+    found, a, b, its = first_touch(problem, xe, NO_BOUNDARY, NO_BOUNDARY, phi1, e, settings, es)
     if found and a >= 0:
         nearest_turn(xe, x_tangency[GEAR_ANGLE])
         return True, a, b, its
@@ -93,8 +91,8 @@ def solve_paths(problem, request, settings, out):
             hprev = 0.0
             have_edge = False
             skipped = False  # points followed on an edge since the tangency was last solved
-            ea = np.int64(-1)  # not a literal -1: see solve_off_patch
-            eb = np.int64(-1)
+            ea = NO_BOUNDARY
+            eb = NO_BOUNDARY
             phi_edge = phi_ref
             if direction == 0:
                 j, stop, inc = j0, N, 1

@@ -32,7 +32,6 @@ def test_script_error_exit_is_unchanged(tmp_path):
     assert p.returncode == 2 and len(p.stderr.strip().splitlines()) == 1 and "Traceback" not in p.stderr
 
 
-
 def test_started_pythons_import_the_beveloid_under_test():
     """A Python the tests start in pytest's own folder (the checkout: `python -m beveloid.cli ...`,
     `python -c ...`) imports the beveloid these tests import, also on a non-editable install, not the
