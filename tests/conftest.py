@@ -166,7 +166,7 @@ def _compile_solver():
 
     runs = (
         lambda geom, ref: tca.solve_grid(geom, "right", np.zeros(5), [ref.pinion_angle], backend="compiled"),  # serial
-        # more error sets than tca.SERIAL_MAX_SETS: the parallel solve_paths (sweeps)
+        # more error sets than tca.SERIAL_MAX_SETS: solve_paths on threads (sweeps; the same compiled function)
         lambda geom, ref: tca.solve_grid(geom, "right", np.zeros((tca.SERIAL_MAX_SETS + 1, 5)), [ref.pinion_angle],
                                          backend="compiled"),
         lambda geom, ref: backends.namespace("compiled").solve_point(

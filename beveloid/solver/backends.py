@@ -2,8 +2,8 @@
 
 * ``"numpy"``: the core's functions as they are, over the generated scalar kernels: the
   reference, needs nothing beyond numpy, slow (interpreted).
-* ``"compiled"``: the same functions and kernels compiled by numba (``nogil``, the sweep in
-  parallel over error sets, reference counting only where arrays are allocated; how the same
+* ``"compiled"``: the same functions and kernels compiled by numba (``nogil``, the sweep on
+  threads over error sets: :mod:`beveloid.solver.threads`; reference counting only where arrays are allocated; how the same
   source is compiled: :mod:`beveloid.solver.compiled`), with numba's
   on-disk cache: next to the sources, or in the folder named by ``BEVELOID_CACHE_DIR`` (or
   numba's own ``NUMBA_CACHE_DIR``).  Where the sources' folder cannot be written (a read-only
@@ -137,11 +137,11 @@ def _use_cache_dir(numba, folder):
     numba.config.CACHE_DIR = folder
 
 
-def _jit(fn, parallel, inline="never", nrt=True):
+def _jit(fn, inline="never", nrt=True):
     global _cache_warned, _cache_redirected
     import numba
 
-    opts = dict(nogil=True, parallel=parallel, inline=inline)
+    opts = dict(nogil=True, inline=inline)
     if _nrt_option():
         # numba's reference counting, off for the functions that allocate nothing (core.ALLOCATING);
         # set explicitly either way, as a callee otherwise inherits its caller's setting
@@ -193,8 +193,8 @@ def core_stamp() -> str:
 def _compile(modules):
     """The core's namespace on the compiled backend: the compiled twins of ``modules``
     (:mod:`beveloid.solver.compiled`), each function jit-compiled by :func:`_jit` with its options
-    by name (``core.PARALLEL``, ``core.ALLOCATING``)."""
-    from . import compiled, core
+    by name (``core.ALLOCATING``; ``core.PARALLEL`` on threads)."""
+    from . import compiled, core, threads
 
     stamp = sources_stamp(modules)
 
@@ -206,22 +206,21 @@ def _compile(modules):
         # dispatches to them (tca_kernels_scalar: small, unpacks the work tuples) is, which made the
         # first compilation faster too (docs/performance.md)
         inline = "always" if module.__name__.endswith(".tca_kernels_scalar") else "never"
-        return _jit(fn, parallel=name in core.PARALLEL, inline=inline, nrt=name in core.ALLOCATING)
+        return _jit(fn, inline=inline, nrt=name in core.ALLOCATING)
 
     twins = compiled.load(modules, jit)
     twin_core = twins[core]
     # the core's functions and the kernels it imports, as the core sees them (by the core's names)
     funcs = {name: getattr(twin_core, name) for name, fn in vars(core).items() if isinstance(fn, types.FunctionType)}
-    # a serial twin of each parallel function: a parallel call costs ~8 ms to start its threads
-    # here (measured: docs/performance.md), more than a mesh study's whole solve.  The same
-    # function compiled once more without parallel=True, under its own cache entry (numba names
-    # the entry, when the dispatcher is made, after the function's __qualname__)
-    for name in core.PARALLEL:
-        fn = getattr(funcs[name], "py_func", funcs[name])
-        fn.__qualname__ = f"{name}_serial__{stamp}"
-        funcs[name + "_serial"] = _jit(fn, parallel=False)
     # where numba runs nothing compiled (NUMBA_DISABLE_JIT=1) the functions are the interpreted core
     funcs = {name: fn if hasattr(fn, "py_func") else _quiet(fn) for name, fn in funcs.items()}
+    # each parallel function: the compiled serial one (its "_serial" name) run over slices of its
+    # error sets on threads (beveloid.solver.threads); where numba compiles nothing, the serial one
+    for name in core.PARALLEL:
+        serial = funcs[name]
+        funcs[name + "_serial"] = serial
+        if hasattr(serial, "py_func"):
+            funcs[name] = threads.over_error_sets(serial)
     return types.SimpleNamespace(**funcs, compiled=True)
 
 
@@ -231,7 +230,7 @@ def needs_compiling(ns) -> bool:
     if not getattr(ns, "compiled", False):
         return False
     try:
-        cache = ns.solve_paths._cache
+        cache = ns.solve_paths_serial._cache
         if not hasattr(cache, "_cache_file"):  # compiled in memory: it compiles on every run
             return True
         return not cache._cache_file._load_index()  # empty when absent or stale (the sources changed)

@@ -36,7 +36,7 @@ from ..generated.tca_kernels_scalar import (  # noqa: F401  (the kernels the cor
     blank_margins_point, candidate_system_point, contact_margin_point, contact_system_point, edge_workspace,
     pinion_in_gear_frame_point, surface_jet_point, surface_point, workspace,
 )
-from .linalg import copy_into, solve_linear, residual_norm  # noqa: F401
+from .linalg import copy_into, copy_matrix_into, solve_linear, residual_norm  # noqa: F401
 from .newton import (  # noqa: F401
     OK, EDGE, OUTSIDE, FAILED, FINAL_STEP_K, FINAL_STEP_RESIDUAL_MM, GEAR_ANGLE, scratch, evaluate_unchecked,
     evaluate, newton_update, newton, on_patch, classify, homotopy, solve_point,
@@ -54,7 +54,8 @@ from .paths import solve_off_patch, solve_paths, contact_points  # noqa: F401
 from .gaps import PINION_L, PINION_U, GEAR_L, GEAR_U, normal_gaps  # noqa: F401
 from .chord import ellipse_chords  # noqa: F401
 
-#: Functions compiled with numba's parallel=True by the compiled backend.
+#: Functions the compiled backend runs on threads over their error sets (beveloid.solver.threads);
+#: ``<name>_serial`` is the function itself, on the calling thread.
 PARALLEL = ("solve_paths",)
 #: Functions that allocate arrays (here and in the generated glue).  The compiled backend keeps
 #: numba's reference counting (NRT) for them only: every other function just works on arrays its

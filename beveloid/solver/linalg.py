@@ -8,9 +8,18 @@ import math
 from ..generated.tca_kernels_scalar import N_UNKNOWNS
 
 def copy_into(dst, src):
-    """dst[:] = src for vectors, in the subset numba compiles without reference counting."""
+    """dst[:] = src for vectors, in the subset numba compiles without reference counting (and
+    without numba's shape check of a slice assignment, whose error message alone cost ~2 s of the
+    first compilation: docs/performance.md)."""
     for i in range(src.shape[0]):
         dst[i] = src[i]
+
+
+def copy_matrix_into(dst, src):
+    """dst[:, :] = src, as :func:`copy_into`."""
+    for i in range(src.shape[0]):
+        for j in range(src.shape[1]):
+            dst[i, j] = src[i, j]
 
 
 def solve_linear(A, b, out):

@@ -8,15 +8,10 @@ import math
 import numpy as np
 
 from ..generated.tca_kernels_scalar import N_UNKNOWNS, contact_margin_point, surface_point
-from .linalg import copy_into, solve_linear
+from .linalg import copy_into, copy_matrix_into, solve_linear
 from .newton import EDGE, FAILED, GEAR_ANGLE, OK, OUTSIDE, classify, homotopy, newton, scratch
 from .first_touch import NO_BOUNDARY, TRACK_VALID, edge_scratch, enumerate_candidates, first_touch, follow_edge, nearest_turn
 from .clearance import clearance_scratch, patches_apart
-
-try:
-    from numba import prange
-except ImportError:  # pragma: no cover - numba-free installs
-    prange = range
 
 
 def solve_off_patch(problem, cells, x_tangency, phi1, e, settings, es, cs):
@@ -67,7 +62,7 @@ def solve_paths(problem, request, settings, out):
     j0 = 0
     while j0 < N and phi_grid[j0] < phi_ref:
         j0 += 1
-    for k in prange(K):
+    for k in range(K):  # on threads over slices of the error sets: beveloid.solver.threads
         s = scratch()
         J, Jp, dx, rhs, e = s.system.J, s.system.Jp, s.dx, s.rhs, s.e
         es = edge_scratch()
@@ -82,9 +77,9 @@ def solve_paths(problem, request, settings, out):
         Jpst = Jp.copy()
         tprev = np.empty(N_UNKNOWNS)  # tangent at the previous converged point
         for direction in range(2):
-            x[:] = xs
-            J[:, :] = Jst
-            Jp[:] = Jpst
+            copy_into(x, xs)
+            copy_matrix_into(J, Jst)
+            copy_into(Jp, Jpst)
             prev = phi_ref
             good = ok_all
             curved = False  # tprev and hprev hold the last step's tangent and length
@@ -122,11 +117,11 @@ def solve_paths(problem, request, settings, out):
                     # the tangency was left unsolved for a while: start from the last edge contact,
                     # which meets the tangency where the edge stops carrying (a stale prediction
                     # over many steps can make Newton wander, even by whole turns of the gear)
-                    xt[:] = x
-                    x[:] = xp
+                    copy_into(xt, x)
+                    copy_into(x, xp)
                     conv, it = newton(problem, x, phi, e, settings, s)
                     if not conv:  # then from the tangency where it was last solved
-                        x[:] = xt
+                        copy_into(x, xt)
                         conv, it = newton(problem, x, phi, e, settings, s)
                     nearest_turn(x, xp[GEAR_ANGLE])
                     skipped = False
@@ -143,7 +138,7 @@ def solve_paths(problem, request, settings, out):
                     conv, it = newton(problem, x, phi, e, settings, s)
                 curved = conv and predicted
                 if curved:
-                    tprev[:] = dx
+                    copy_into(tprev, dx)
                     hprev = h
                 for i in range(N_UNKNOWNS):
                     x_out[k, j, i] = x[i]
@@ -172,7 +167,7 @@ def solve_paths(problem, request, settings, out):
                     code_out[k, j] = FAILED
                     boundary_out[k, j] = -1
                     have_edge = False
-                    x[:] = xs  # restart the next point from the reference
+                    copy_into(x, xs)  # restart the next point from the reference
                 good = conv
                 prev = phi
                 j += inc

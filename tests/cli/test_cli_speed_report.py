@@ -19,7 +19,7 @@ pytestmark = pytest.mark.skipif(not backends.AVAILABLE, reason="numba is not ins
 
 @pytest.fixture
 def slow_first_parallel_solve(monkeypatch):
-    """The first solve of more than SERIAL_MAX_SETS error sets (numba's parallel entry point, compiled
+    """The first solve of more than SERIAL_MAX_SETS error sets (the sweep on threads; the solver compiled
     on its first use) takes 1 s longer, as a first compilation would."""
     real = tca.solve_grid
     state = {"first": True}

@@ -349,7 +349,7 @@ def test_read_only_install_caches_in_a_user_folder(monkeypatch, tmp_path, capsys
     monkeypatch.setenv(backends.CACHE_ENV, folder)
     monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
     calls = _unwritable_numba(monkeypatch, {folder})
-    g = backends._jit(_double, parallel=False)
+    g = backends._jit(_double)
     assert calls == [(True, folder)]  # the named folder first, and it works
     assert g(1.5) == 3.0
     assert capsys.readouterr().err == ""
@@ -361,12 +361,12 @@ def test_compiled_backend_runs_without_any_writable_cache(monkeypatch, capsys):
     monkeypatch.delenv(backends.CACHE_ENV, raising=False)
     monkeypatch.setattr(backends, "fallback_cache_dir", lambda: None)
     calls = _unwritable_numba(monkeypatch, set())
-    g = backends._jit(_double, parallel=False)
+    g = backends._jit(_double)
     assert [c for c, _ in calls] == [True, False]
     assert g(1.5) == 3.0
     err = capsys.readouterr().err
     assert len(err.splitlines()) == 1 and "compiled in memory" in err and backends.CACHE_ENV in err
-    h = backends._jit(_double, parallel=False)  # said once only
+    h = backends._jit(_double)  # said once only
     assert h(2.0) == 4.0 and capsys.readouterr().err == ""
 
 
