@@ -118,7 +118,8 @@ def _aligned_contacts(pm, gm, flank, batch, limits, out):
                                                 errors=errors, phi_grid=grid),
                            settings, PathOutput(x=xo, status=co, iterations=io, boundary=bo, active=ao))
         out.code[i] = co[0, 0]
-        out.x[i, :] = xo[0, 0, :]
+        for j in range(xo.shape[2]):  # (a loop: numba's slice assignment compiles a shape-check message, ~1 s)
+            out.x[i, j] = xo[0, 0, j]
 
 
 @functools.lru_cache(maxsize=None)
