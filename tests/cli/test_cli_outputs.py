@@ -4,7 +4,6 @@ a run interrupted by Ctrl-C lists only the files it wrote and removes a folder i
 The interruptions are real SIGINTs sent to a `python -m beveloid.cli` process."""
 from __future__ import annotations
 
-import os
 import signal
 import subprocess
 import sys
@@ -83,8 +82,10 @@ def test_a_failed_run_leaves_no_folder_it_made(tmp_path, capsys):
 
 def _interrupt(argv, tmp_path, ready, wait_s=1.0):
     """Start `beveloid ARGV`, send SIGINT once ``ready()`` holds (and ``wait_s`` more), return the process."""
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(REPO), os.environ.get("PYTHONPATH", "")])}
-    proc = subprocess.Popen([sys.executable, "-m", "beveloid.cli", *argv], cwd=tmp_path, env=env,
+    # the installed beveloid, as every started Python of the suite (tests/conftest.py); it loads the
+    # solver the suite compiled (``compiled_solver``): a Ctrl-C inside numba's first compilation
+    # waits for it (~30 s: numba swallows the interrupt, beveloid.interrupts re-raises it after)
+    proc = subprocess.Popen([sys.executable, "-m", "beveloid.cli", *argv], cwd=tmp_path,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 240
     while not ready() and proc.poll() is None and time.monotonic() < deadline:
@@ -98,7 +99,7 @@ def _interrupt(argv, tmp_path, ready, wait_s=1.0):
 @pytest.mark.parametrize("argv", [["paper", "--positions", "10", "--out", "{out}"],
                                   ["export", C1, "--format", "stl", "--out", "{out}"]],
                          ids=["paper", "export"])
-def test_ctrl_c_removes_the_folder_it_made_and_left_empty(tmp_path, argv):
+def test_ctrl_c_removes_the_folder_it_made_and_left_empty(tmp_path, argv, compiled_solver):
     out = tmp_path / "run_out"
     rc, _, err = _interrupt([a.format(out=out) for a in argv], tmp_path, out.exists, wait_s=0.3)
     # 130, or ended by the signal itself after the clean-up (a shell shows 130 for both; seen under
@@ -108,7 +109,7 @@ def test_ctrl_c_removes_the_folder_it_made_and_left_empty(tmp_path, argv):
     assert not out.exists(), sorted(p.name for p in out.iterdir())
 
 
-def test_ctrl_c_in_explore_lists_only_the_files_written(tmp_path):
+def test_ctrl_c_in_explore_lists_only_the_files_written(tmp_path, compiled_solver):
     out = tmp_path / "explore_out"
     # ~2000 designs with a 200-set Monte Carlo each: tens of seconds even on a quiet machine, so the
     # SIGINT (1 s after the chunk folder appears) always lands in the middle of the run

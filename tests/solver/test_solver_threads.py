@@ -51,10 +51,14 @@ def test_threads_give_the_serial_numbers_bit_for_bit(geom1, monkeypatch, thread_
     errors = _errors(37)
     serial = _call(geom1, errors, ns.solve_paths_serial)
     seen = set()
+    two = threading.Event()  # the first chunk waits for a second thread (else one fast thread may take all)
     real = ns.solve_paths_serial
 
     def counting(*args):
         seen.add(threading.get_ident())
+        if len(seen) > 1:
+            two.set()
+        two.wait(timeout=30)
         return real(*args)
 
     monkeypatch.setattr(threads, "_threads", lambda: thread_count)
