@@ -23,6 +23,7 @@ The suite runs in parallel (pytest-xdist, ``-n auto --dist loadgroup`` in pyproj
 from __future__ import annotations
 
 import contextlib
+import gc
 import hashlib
 import os
 import tempfile
@@ -48,6 +49,25 @@ os.environ["BEVELOID_MODELS_DIR"] = tempfile.mkdtemp(prefix="beveloid-test-model
 # command) they ran the checkout's copy instead (not what was installed) and compiled the solver
 # a second time into it (~45 s of CPU).  PYTHONSAFEPATH: Python 3.11+.
 os.environ["PYTHONSAFEPATH"] = "1"
+
+
+# The test processes collect young objects less often, as the script does (beveloid/cli/__init__.py:
+# GC_YOUNG_THRESHOLD): numba's first compilation and the sympy models make millions of objects that
+# live on (measured: the compile ~10 % less CPU; the suite's: docs/performance.md, "Test suite").
+gc.set_threshold(50_000, *gc.get_threshold()[1:])
+
+
+def pytest_collection_finish(session):
+    """After collection: every object made so far (modules, test items) out of the collector's
+    reach (``gc.freeze``): its full collections then walk only what the tests make.  And in a worker
+    of ``--dist loadgroup``, xdist has tagged the node id of each grouped test with "@group" by now;
+    say so when it has not (the tests still run, each worker building the shared work it needs)."""
+    gc.collect()
+    gc.freeze()
+    if getattr(session.config.option, "loadgroup", False) and any(
+            item.get_closest_marker("xdist_group") and "@" not in item.nodeid for item in session.items):
+        warnings.warn("the xdist groups are not in effect (tests that share an expensive fixture are spread over "
+                      "the workers and build it in each): see the pytest pin in pyproject.toml", stacklevel=1)
 
 
 @pytest.fixture(scope="session")
@@ -107,16 +127,6 @@ def pytest_collection_modifyitems(config, items):
         items.extend(ordinary[:2])
         del ordinary[:2]
     items.extend(ordinary)
-
-
-def pytest_collection_finish(session):
-    """In a worker of ``--dist loadgroup``, xdist has tagged the node id of each grouped test with
-    "@group" by now; say so when it has not (the tests still run, each worker building the
-    shared work it needs)."""
-    if getattr(session.config.option, "loadgroup", False) and any(
-            item.get_closest_marker("xdist_group") and "@" not in item.nodeid for item in session.items):
-        warnings.warn("the xdist groups are not in effect (tests that share an expensive fixture are spread over "
-                      "the workers and build it in each): see the pytest pin in pyproject.toml", stacklevel=1)
 
 
 # ---------------------------------------------------------------------------------------------

@@ -205,6 +205,12 @@ def _drop_stdout() -> None:
         sys.stdout = _ClosedStdout()
 
 
+#: the script's threshold of young objects between collections (Python's default: 700): its imports,
+#: numba's cache loading and a first compilation make ~10^6 objects that live to the end, and
+#: each young collection walks the ones made since the last (docs/performance.md)
+GC_YOUNG_THRESHOLD = 50_000
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``beveloid`` script; returns the exit status.
 
@@ -215,6 +221,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     torn down); in-process callers, which pass ``argv``, keep a collected heap."""
     if argv is None:  # the script: a Ctrl-C swallowed by a callback still stops the run (interrupts.py)
         interrupts.install()
+        gc.set_threshold(GC_YOUNG_THRESHOLD, *gc.get_threshold()[1:])
     status = _main(argv)
     if argv is None:
         gc.freeze()

@@ -2,7 +2,8 @@
 number of threads and chunks, numba's thread count obeyed, and a forked child starts its own pool."""
 from __future__ import annotations
 
-import multiprocessing
+import subprocess
+import sys
 import threading
 
 import numpy as np
@@ -84,27 +85,40 @@ def test_one_numba_thread_runs_on_the_calling_thread(geom1):
     assert seen == [threading.get_ident()]
 
 
-def _child(queue):
-    from beveloid.pair import Pair
+_FORK_SCRIPT = r"""
+import hashlib, os, sys
+import numpy as np
+from beveloid.pair import Pair
+from beveloid.solver import backends, threads
+from beveloid.tca import grid
+threads._threads = lambda: 2
+geom = Pair.example("case1").geometry
+ns = backends.namespace("compiled")
+errors = np.ascontiguousarray(np.random.default_rng(5).normal(0.0, 0.01, (9, 5)))
+def digest():
+    sol = grid.solve_grid(geom, "right", errors, np.linspace(-0.2, 0.2, 7) + grid.reference_contact(geom, "right").pinion_angle)
+    return hashlib.sha1(sol.x.tobytes() + sol.status.tobytes()).hexdigest()
+grid.SERIAL_MAX_SETS = 4  # 9 error sets: on threads
+parent = digest()
+assert threads._pool is not None, "no pool in the parent"
+read, write = os.pipe()
+pid = os.fork()
+if pid == 0:
+    os.close(read)
+    os.write(write, digest().encode())
+    os._exit(0)
+os.close(write)
+child = os.read(read, 100).decode()
+_, status = os.waitpid(pid, 0)
+print(parent, child, status)
+"""
 
-    out = _call(Pair.example("case1").geometry, _errors(9), backends.namespace("compiled").solve_paths)
-    queue.put(out.x.tobytes())
 
-
-def test_a_forked_child_solves_on_threads_of_its_own(geom1, monkeypatch):
-    """The parent's pool has threads; a forked child has none of them (it would wait forever on them)."""
-    ns = backends.namespace("compiled")
-    monkeypatch.setattr(threads, "_threads", lambda: 2)
-    parent = _call(geom1, _errors(9), ns.solve_paths)  # the pool now exists in this process
-    assert threads._pool is not None
-    ctx = multiprocessing.get_context("fork")
-    queue = ctx.Queue()
-    proc = ctx.Process(target=_child, args=(queue,))
-    proc.start()
-    try:
-        child = queue.get(timeout=120)
-    finally:
-        proc.join(timeout=30)
-        if proc.is_alive():
-            proc.kill()
-    assert child == parent.x.tobytes()
+def test_a_forked_child_solves_on_threads_of_its_own(compiled_solver, tmp_path):
+    """The parent's pool has threads; a forked child has none of them (it would wait forever on
+    them).  In a Python of its own: the test process's other threads (xdist's, BLAS's) are not the
+    solver's to make fork-safe."""
+    proc = subprocess.run([sys.executable, "-c", _FORK_SCRIPT], capture_output=True, text=True, timeout=120, cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    parent, child, status = proc.stdout.split()
+    assert status == "0" and child == parent
