@@ -1,4 +1,5 @@
-"""Fixtures of tests/generated: the sympy specs and the renderings, built once per process."""
+"""Fixtures of tests/generated: the sympy specs and the renderings, built once per process (each on a
+fresh stack: tests/conftest.py ``on_a_fresh_stack``)."""
 from __future__ import annotations
 
 import pytest
@@ -8,8 +9,8 @@ from generated_support import PLAIN_MODULES, exec_module, module_specs
 
 
 @pytest.fixture(scope="session")
-def specs():
-    return module_specs()
+def specs(fresh_stack):
+    return fresh_stack(module_specs)
 
 
 @pytest.fixture(scope="session")
@@ -19,14 +20,15 @@ def rendered_by():
 
 
 @pytest.fixture(scope="session")
-def rendered(specs, rendered_by):
+def rendered(specs, rendered_by, fresh_stack):
     """{file name: text} rendered in memory, as ``beveloid derive`` would write it."""
-    return codegen.generate(None, list(specs.values()), extra=kernels.glue_files(), rendered_by=rendered_by)
+    return fresh_stack(codegen.generate, None, list(specs.values()), extra=kernels.glue_files(),
+                       rendered_by=rendered_by)
 
 
 @pytest.fixture(scope="session")
-def nocse_texts(specs):
-    return {name: codegen.render_module(specs[name], cse=False) for name in PLAIN_MODULES}
+def nocse_texts(specs, fresh_stack):
+    return fresh_stack(lambda: {name: codegen.render_module(specs[name], cse=False) for name in PLAIN_MODULES})
 
 
 @pytest.fixture(scope="session")
