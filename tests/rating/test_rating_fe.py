@@ -24,7 +24,8 @@ from beveloid.spec import load_example, spec_from_dict, spec_to_dict
 
 
 @pytest.mark.long_running
-def test_fe_root_stress_matches_iso_sigma_f0_in_the_near_cylindrical_near_parallel_limit():
+def test_fe_root_stress_matches_iso_sigma_f0_in_the_near_cylindrical_near_parallel_limit(monkeypatch, tmp_path):
+    monkeypatch.setenv("BEVELOID_CACHE_DIR", str(tmp_path))  # its FE data: not into the user's cache folder
     d = spec_to_dict(load_example("case1"))
     d["pair"]["shaft_angle_deg"] = 3.0
     d["pinion"].update(cone_angle_deg=0.05, helix_angle_deg=0.0, cutter_tip_radius_coefficient=0.3,
