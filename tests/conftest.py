@@ -1,22 +1,23 @@
 """Shared fixtures, and how the suite shares its expensive work when it runs in parallel.
 
 ``verification`` runs ``registry.verify()`` (the 50-digit check of all 38 equations,
-~20-30 s) once per test process; every test that needs results uses it.
+~7 s) once per test process; every test that needs results uses it.
 
 The suite runs in parallel (pytest-xdist, ``-n auto --dist loadgroup`` in pyproject.toml):
 
 * work built once per process and shared by many tests stays in one process: the tests that
   use ``verification`` form the xdist group "verification", tests/generated/ (their sympy
-  models and renderings, ~60 s) the group "generated";
+  models and renderings, ~40 s) the group "generated";
 * tests/generated/ is collected first (sympy only: its worker builds the models while the other
   compiles the solver core); then the tests marked ``long_running`` (tens of seconds each), each followed by
   two ordinary tests (xdist hands a worker another test whenever it has two or fewer left:
   this keeps one worker from queueing all of them), so that the workers start them early
   instead of one finishing the run alone with one of them;
-* numba compiles the solver core on its first use after a fresh install (~50 s) and caches it
-  on disk.  Two workers compiling at once would each spend those 50 s, so the first use of the
+* numba compiles the solver core on its first use after a fresh install (~25 s) and caches it
+  on disk.  Two workers compiling at once would each spend those 25 s, so the first use of the
   compiled backend in a process compiles everything the backend runs under a lock shared by
-  every process of this install (the others then load numba's cache).  The fixture
+  every process of this install (the others then load numba's cache), on a fresh stack
+  (:func:`on_a_fresh_stack`: so are the sympy work of tests/generated and the verification).  The fixture
   ``compiled_solver`` does it up front, for a test that must not compile in the middle (the
   CLI fuzz test, whose examples have a hang guard).
 """
