@@ -34,6 +34,8 @@ from pathlib import Path
 
 import pytest
 
+from beveloid.cli import GC_YOUNG_THRESHOLD
+
 try:
     import fcntl
 except ImportError:  # not POSIX: no lock, each process compiles (or loads the cache) by itself
@@ -53,10 +55,10 @@ os.environ["BEVELOID_MODELS_DIR"] = tempfile.mkdtemp(prefix="beveloid-test-model
 os.environ["PYTHONSAFEPATH"] = "1"
 
 
-# The test processes collect young objects less often, as the script does (beveloid/cli/__init__.py:
-# GC_YOUNG_THRESHOLD): numba's first compilation and the sympy models make millions of objects that
-# live on (measured: the compile ~10 % less CPU; the suite's: docs/performance.md, "Test suite").
-gc.set_threshold(50_000, *gc.get_threshold()[1:])
+# The test processes collect young objects less often, as the script does (GC_YOUNG_THRESHOLD):
+# numba's first compilation and the sympy models make millions of objects that live on (measured:
+# the compile ~10 % less CPU; docs/performance.md, "Test suite").
+gc.set_threshold(GC_YOUNG_THRESHOLD, *gc.get_threshold()[1:])
 
 
 def pytest_collection_finish(session):

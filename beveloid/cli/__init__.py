@@ -205,9 +205,9 @@ def _drop_stdout() -> None:
         sys.stdout = _ClosedStdout()
 
 
-#: the script's threshold of young objects between collections (Python's default: 700): its imports,
-#: numba's cache loading and a first compilation make ~10^6 objects that live to the end, and
-#: each young collection walks the ones made since the last (docs/performance.md)
+#: the script's threshold of young objects between collections (Python's default: 700): its imports
+#: and numba's cache loading make ~10^5 objects that live to the end (a first compilation, millions),
+#: and each young collection walks the ones made since the last (docs/performance.md)
 GC_YOUNG_THRESHOLD = 50_000
 
 

@@ -68,7 +68,7 @@ def _solve_once(geom, flank, errors, phi_grid, solver, homotopy_steps):
                      active=np.empty((K, N, 2), dtype=np.int64))
     core = solver.announced_core()
     cover = patch_cover.patch_cover(geom, "pinion", flank, options.patch_tol_mm).cells
-    # a parallel call costs ~8 ms to start its threads (docs/performance.md): few error sets run serially
+    # few error sets (a mesh study, a backlash) on the calling thread; more on threads (solver/threads.py)
     solve_paths = core.solve_paths if K > SERIAL_MAX_SETS else core.solve_paths_serial
     request = PathRequest(pinion_cover=cover, x_ref=np.ascontiguousarray(ref.x), phi_ref=float(ref.pinion_angle),
                           errors=errors, phi_grid=grid)
