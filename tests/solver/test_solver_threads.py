@@ -94,6 +94,8 @@ from beveloid.tca import grid
 threads._threads = lambda: 2
 geom = Pair.example("case1").geometry
 ns = backends.namespace("compiled")
+if not hasattr(ns.solve_paths_serial, "py_func"):  # NUMBA_DISABLE_JIT=1: the interpreted core, on threads too
+    ns.solve_paths = threads.over_error_sets(ns.solve_paths_serial)
 errors = np.ascontiguousarray(np.random.default_rng(5).normal(0.0, 0.01, (9, 5)))
 def digest():
     sol = grid.solve_grid(geom, "right", errors, np.linspace(-0.2, 0.2, 7) + grid.reference_contact(geom, "right").pinion_angle)
