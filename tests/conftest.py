@@ -27,6 +27,7 @@ import contextlib
 import gc
 import hashlib
 import os
+import signal
 import tempfile
 import threading
 import warnings
@@ -53,6 +54,13 @@ os.environ["BEVELOID_MODELS_DIR"] = tempfile.mkdtemp(prefix="beveloid-test-model
 # command) they ran the checkout's copy instead (not what was installed) and compiled the solver
 # a second time into it (~45 s of CPU).  PYTHONSAFEPATH: Python 3.11+.
 os.environ["PYTHONSAFEPATH"] = "1"
+
+# The Ctrl-C tests (tests/cli/test_interrupts.py, test_cli_outputs.py) send SIGINT to the Pythons they
+# start.  A suite started in the background of a script (`cmd &` in a non-interactive shell) inherits
+# SIGINT ignored, and so would every Python it starts: the signal would never arrive (seen: the runs
+# went on to the end).  Caught here, it is back to the default in every program the tests start.
+if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+    signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 # The test processes collect young objects less often, as the script does (GC_YOUNG_THRESHOLD):
