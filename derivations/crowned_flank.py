@@ -126,12 +126,20 @@ def tooth_surface_late(sigma):
     phi_lu = roll_angle(pc, nn)
     w_lu = 1 / sp.sqrt(1 + late[d_l] ** 2 + late[d_u] ** 2)
 
+    derivatives = {}  # (f, variables) -> its explicit derivative: each taken once for all the substitutions
+
+    def derivative(f, explicit, variables):
+        key = (f, variables)
+        if key not in derivatives:
+            derivatives[key] = explicit.diff(*variables)
+        return derivatives[key]
+
     def substitute(expr):
         out = expr
         for f, explicit in ((_phi, phi_lu), (_w, w_lu)):
             derivs = sorted({d for d in out.atoms(sp.Derivative) if d.expr == f},
                             key=lambda d: -sum(c for _, c in d.variable_count))
-            reps = {d: explicit.diff(*d.variables) for d in derivs}
+            reps = {d: derivative(f, explicit, d.variables) for d in derivs}
             out = out.xreplace(reps).xreplace({f: explicit})
         return out
 

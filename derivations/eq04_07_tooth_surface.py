@@ -11,6 +11,8 @@ surface is its envelope: the relative velocity dR_i/dphi is normal to the cutter
 (n . v = 0).  That condition is linear in phi and is solved for phi(l, u) (Eq 7), which
 makes the tooth surface explicit in (l, u).
 """
+import functools
+
 import sympy as sp
 
 from . import paper
@@ -26,8 +28,11 @@ def generated_family(point):
     return (M_ic * hom(point))[:3, 0]
 
 
+@functools.lru_cache(maxsize=None)
 def meshing_equation():
-    """Solve n_c . dR/dphi = 0 for phi, with a generic cutter point and normal (Eq 7)."""
+    """Solve n_c . dR/dphi = 0 for phi, with a generic cutter point and normal (Eq 7).  Solved
+    once per process (a trigsimp and a solve, ~0.1 s; every surface model starts from it): the
+    results are immutable sympy expressions."""
     pc = sp.Matrix([x_c, y_c, z_c])
     nc = sp.Matrix([n_xc, n_yc, n_zc])
     rel_velocity = generated_family(pc).diff(phi)
