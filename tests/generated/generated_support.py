@@ -9,7 +9,7 @@ generator and the symbolic models.
   sibling generated modules), an ``# ops:`` count per function;
 * interfaces: documented input and output shapes, the generated NamedTuple outputs and
   parameter layouts;
-* maths: generated == lambdified symbolic outputs at seeded random points; Jacobians ==
+* maths: generated == the symbolic outputs evaluated node by node at seeded random points; Jacobians ==
   complex-step derivatives (also of the composed Eq 38 system of the glue); CSE build ==
   non-CSE build; scalar twins == numpy kernels; batches broadcast;
 * the generator's validation (free symbols, duplicate argument names), the registry's
@@ -101,8 +101,8 @@ FUNCTION_IDS = [f"{m}.{f}" for m, f in FUNCTIONS]
 #: the modules rendered a second time without CSE, for the CSE-vs-plain comparison: those whose plain
 #: text stays small.  The plain renderings of surface_involute, surface_crowned, surface_micro_geometry,
 #: design_equations and root_fillet are 0.5-8 MB each and take ~2 min of CPU to render; every function
-#: of every module, those included, is checked against sympy's own lambdified (non-CSE) outputs by
-#: test_generated_symbolic.py, so CSE is still checked everywhere.
+#: of every module, those included, is checked against its symbolic outputs evaluated node by node (no
+#: CSE, no printing) by test_generated_symbolic.py, so CSE is still checked everywhere.
 PLAIN_MODULES = ("placement", "contact_system", "flank_boundaries", "edge_contact", "patch_clearance",
                  "tooth_sections", "tooth_plate_coupling")
 
