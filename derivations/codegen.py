@@ -19,6 +19,7 @@ import sympy as sp
 from sympy.printing.numpy import NumPyPrinter
 from sympy.printing.pycode import PythonCodePrinter
 
+from .common import free_symbols_of, xreplace_all
 from .interface import Field, Layout  # noqa: F401  (the models' interface; re-exported)
 
 TEMPLATE_DIR = Path(__file__).parent / "templates"
@@ -138,53 +139,6 @@ def _unpack_line(arg, local, index, scalar):
     return f"{local} = {arg.name}[{idx}]" if scalar else f"{local} = {arg.name}[..., {idx}]"
 
 
-# ---------------------------------------------------------------------------------------------
-# walks over an expression as the DAG it is
-# ---------------------------------------------------------------------------------------------
-# A derived jet is a tree in which the same subexpression appears many times (the chain rule
-# repeats the inner derivatives): sympy's ``xreplace`` and ``free_symbols`` walk every appearance.
-# These walk each distinct subexpression once, shared over all the expressions of a function, and
-# give exactly what sympy's give.
-
-
-def _free_symbols(exprs, memo=None) -> set:
-    """The union of ``e.free_symbols`` over ``exprs``."""
-    memo = {} if memo is None else memo
-    default = sp.Basic.free_symbols
-
-    def walk(node):
-        got = memo.get(node)
-        if got is None:
-            if type(node).free_symbols is default:  # the union over the arguments (sympy's Basic)
-                got = set().union(*(walk(a) for a in node.args))
-            else:  # a symbol, or a node that binds its own variables (Derivative, Lambda, ...)
-                got = node.free_symbols
-            memo[node] = got
-        return got
-
-    return set().union(*(walk(sp.sympify(e)) for e in exprs))
-
-
-def _xreplace_all(exprs, rule) -> list:
-    """``[e.xreplace(rule) for e in exprs]``."""
-    if not rule:
-        return [sp.sympify(e) for e in exprs]
-    memo = {}
-
-    def walk(node):
-        got = memo.get(node)
-        if got is None:
-            if node in rule:
-                got = rule[node]
-            else:
-                args = tuple(walk(a) if isinstance(a, sp.Basic) else a for a in node.args)
-                got = node.func(*args) if any(x is not y for x, y in zip(args, node.args)) else node
-            memo[node] = got
-        return got
-
-    return [walk(sp.sympify(e)) for e in exprs]
-
-
 @dataclass(frozen=True)
 class _Reduced:
     """What a function's numpy kernel and its scalar twin share: the arguments' entries, the
@@ -209,7 +163,7 @@ def _reduce(fn: Function, cse: bool) -> _Reduced:
     memo = {}
     for o in fn.outputs:
         ents, shape = _entries(o.expr)
-        free = _free_symbols(ents, memo) - allowed
+        free = free_symbols_of(ents, memo) - allowed
         free -= {sym for sym, _ in fn.stages}
         if free:
             raise GenerationError(f"{fn.name}: output {o.name} has free symbols {sorted(map(str, free))} "
@@ -227,9 +181,9 @@ def _reduce(fn: Function, cse: bool) -> _Reduced:
     rename = {sym: sp.Symbol(local, real=True) for _, local, sym, _ in entries}
     # derived layout entries (a layout's trig setting) replace the expressions they hold
     derived = {f.derived: f.symbol for a in fn.inputs if isinstance(a.symbol, Layout) for f in a.symbol.derived_fields()}
-    all_exprs = _xreplace_all(_xreplace_all([e for ents in flat for e in ents], derived), rename)
+    all_exprs = xreplace_all(xreplace_all([e for ents in flat for e in ents], derived), rename)
     stages = _needed_stages(fn, all_exprs, allowed)
-    stage_exprs = _xreplace_all(_xreplace_all([e for _, e in stages], derived), rename)
+    stage_exprs = xreplace_all(xreplace_all([e for _, e in stages], derived), rename)
     levels = []
     for level, group in enumerate(_stage_levels(stages, stage_exprs)):
         # the intermediate values first, level by level (a level uses only earlier ones), each level
@@ -320,11 +274,11 @@ def _needed_stages(fn, exprs, allowed):
         return []
     names = {sym for sym, _ in fn.stages}
     memo = {}
-    need = _free_symbols(exprs, memo) & names
+    need = free_symbols_of(exprs, memo) & names
     out = []
     for sym, expr in reversed(fn.stages):
         if sym in need:
-            free = _free_symbols([expr], memo)
+            free = free_symbols_of([expr], memo)
             if free - allowed - names:
                 raise GenerationError(f"{fn.name}: stage {sym} has free symbols {sorted(map(str, free - allowed - names))}")
             need |= free & names
@@ -338,7 +292,7 @@ def _stage_levels(stages, exprs):
     level = {}
     memo = {}
     for (sym, _), e in zip(stages, exprs):
-        deps = _free_symbols([e], memo) & names
+        deps = free_symbols_of([e], memo) & names
         level[sym] = 1 + max((level[d] for d in deps), default=-1)
     groups = [[] for _ in range(1 + max(level.values(), default=-1))]
     for (sym, _), e in zip(stages, exprs):

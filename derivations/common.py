@@ -50,6 +50,69 @@ class CheckResult:
     note: str = ""
 
 
+# ---------------------------------------------------------------------------------------------
+# walks over an expression as the DAG it is
+# ---------------------------------------------------------------------------------------------
+# A derived jet is a tree in which the same subexpression appears many times (the chain rule
+# repeats the inner derivatives): sympy's ``xreplace``, ``free_symbols`` and ``atoms`` walk every
+# appearance.  These walk each distinct subexpression once, shared over a list of expressions, and
+# give exactly what sympy's give (the generator and the staged models use them).
+
+
+def free_symbols_of(exprs, memo=None) -> set:
+    """The union of ``e.free_symbols`` over ``exprs``."""
+    memo = {} if memo is None else memo
+    default = sp.Basic.free_symbols
+
+    def walk(node):
+        got = memo.get(node)
+        if got is None:
+            if type(node).free_symbols is default:  # the union over the arguments (sympy's Basic)
+                got = set().union(*(walk(a) for a in node.args))
+            else:  # a symbol, or a node that binds its own variables (Derivative, Lambda, ...)
+                got = node.free_symbols
+            memo[node] = got
+        return got
+
+    return set().union(*(walk(sp.sympify(e)) for e in exprs))
+
+
+def xreplace_all(exprs, rule) -> list:
+    """``[e.xreplace(rule) for e in exprs]``."""
+    if not rule:
+        return [sp.sympify(e) for e in exprs]
+    memo = {}
+
+    def walk(node):
+        got = memo.get(node)
+        if got is None:
+            if node in rule:
+                got = rule[node]
+            else:
+                args = tuple(walk(a) if isinstance(a, sp.Basic) else a for a in node.args)
+                got = node.func(*args) if any(x is not y for x, y in zip(args, node.args)) else node
+            memo[node] = got
+        return got
+
+    return [walk(sp.sympify(e)) for e in exprs]
+
+
+
+def atoms_of(exprs, kind) -> set:
+    """The union of ``e.atoms(kind)`` over ``exprs``: every subexpression of that type."""
+    seen, out = set(), set()
+    stack = [sp.sympify(e) for e in exprs]
+    while stack:
+        node = stack.pop()
+        if id(node) in seen:
+            continue
+        seen.add(id(node))
+        if isinstance(node, kind):
+            out.add(node)
+        stack.extend(a for a in node.args if isinstance(a, sp.Basic))
+    return out
+
+
 def _as_list(x):
     if x is None:
         return []

@@ -36,6 +36,7 @@ then by their explicit forms.
 import sympy as sp
 
 from . import crowned_flank as base
+from .common import xreplace_all
 from .interface import Field
 from .flank_boundaries import tip_height, tip_radius
 from .symbols import l, u
@@ -173,8 +174,11 @@ def tooth_surface_staged(sigma):
     phi_explicit = base_sub(bphi)
 
     def substitute(expr):
-        out = sp.sympify(expr).xreplace(delta).xreplace(jets)
-        return out.xreplace({bphi: phi_explicit}) if isinstance(bphi, sp.Basic) else out
+        matrix = isinstance(expr, sp.MatrixBase)
+        out = xreplace_all(xreplace_all(list(expr) if matrix else [expr], delta), jets)
+        if isinstance(bphi, sp.Basic):
+            out = xreplace_all(out, {bphi: phi_explicit})
+        return type(expr)(expr.rows, expr.cols, out) if matrix else out[0]
 
     return point, normal, bphi, substitute, stages
 
