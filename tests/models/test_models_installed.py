@@ -34,7 +34,8 @@ import pytest
 ROOT = Path(__file__).resolve().parents[2]
 
 SCRIPT = r"""
-import json, sys
+import gc, json, sys
+gc.set_threshold(50_000, 50, 100)  # as the test processes (tests/conftest.py): its numba compilation ~20 % faster
 import numpy as np
 from beveloid import ltca, tca
 from beveloid.generated import surface_models
