@@ -134,7 +134,7 @@ def _stl_write(shapes, path):
 
     joined = mesh.joined(list(shapes))
     mesh.write(joined, path)
-    return float(joined.volume), len(joined.faces)
+    return mesh.enclosed_volume_mm3(joined), len(joined.faces)
 
 
 register(Writer("stl", "stl", "cad", ("trimesh",), "STL (a closed mesh within 5 um, trimesh)", "chord",
