@@ -5,9 +5,9 @@
 
 The suite runs in parallel (pytest-xdist, ``-n auto --dist loadgroup`` in pyproject.toml):
 
-* work built once per process and shared by many tests stays in one process: the tests that
-  use ``verification`` form the xdist group "verification", tests/generated/ (their sympy
-  models and renderings, ~40 s) the group "generated";
+* work built once per process and shared by many tests stays in one process: tests/generated/
+  (their sympy models and renderings, ~20 s) and the tests that use ``verification`` form the
+  xdist group "generated" (the derivations' cached solves serve both);
 * tests/generated/ is collected first (sympy only: its worker builds the models while the other
   compiles the solver core); then the tests marked ``long_running`` (tens of seconds each), each followed by
   two ordinary tests (xdist hands a worker another test whenever it has two or fewer left:
@@ -161,7 +161,9 @@ def _group(item):
 def pytest_collection_modifyitems(config, items):
     for item in items:
         if "verification" in item.fixturenames:
-            item.add_marker(pytest.mark.xdist_group("verification"))
+            # with tests/generated: the derivations' solves and simplifications that both the specs and
+            # registry.verify() run are cached per process (Eq 7, the tangency, the FPD angle: ~3 s)
+            item.add_marker(pytest.mark.xdist_group("generated"))
     # tests/generated (sympy only, ~1 min) first: one worker builds its models while the other
     # compiles the solver core (numba, ~1 min on a fresh install), instead of waiting for its lock
     first = [item for item in items if _group(item) == "generated"]
