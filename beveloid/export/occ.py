@@ -146,17 +146,13 @@ def is_valid(shape) -> bool:
     return bool(BRepCheck_Analyzer(shape).IsValid())
 
 
-#: the relative error asked of each face's volume integral (volume_mm3)
-VOLUME_EPS = 1e-5
-
-
 def volume_mm3(shape) -> float:
-    """The volume of a solid (mm^3): OpenCASCADE's adaptive Gauss-Kronrod integration over each
-    B-spline face's spans, the volume only.  On the paper's teeth within ~3e-8 of the converged
-    value (asked 1e-7), as the default Gauss integration (~6e-8), in half its time: that one
-    computes the centre of mass and the inertia too (docs/performance.md, "Export")."""
+    """The volume of a solid (mm^3), OpenCASCADE's Gauss integration over its faces.  Its adaptive
+    Gauss-Kronrod variant (volume only) at a face tolerance of 1e-5 took half the time on the paper's
+    teeth but was 1.5e-6 off on the pointed pinion of benchmarks/bench_export.py (this one: 9e-9);
+    at 1e-6 it was as accurate and as slow (docs/performance.md, "Export")."""
     props = GProp_GProps()
-    static(BRepGProp, "VolumePropertiesGK")(shape, props, VOLUME_EPS, False, True, False, False, False)
+    static(BRepGProp, "VolumeProperties")(shape, props)
     return float(props.Mass())
 
 
