@@ -23,7 +23,7 @@ from beveloid.derivations import codegen, kernels
 from generated_support import *  # noqa: F401,F403  (the shared samplers and comparisons)
 
 
-# One xdist worker runs these modules: their sympy models and renderings (~60 s) are built once per process.
+# One xdist worker runs these modules: their sympy models and renderings (~15 s) are built once per process.
 pytestmark = pytest.mark.xdist_group("generated")
 
 # ---------------------------------------------------------------------------------------
