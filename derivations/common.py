@@ -97,7 +97,6 @@ def xreplace_all(exprs, rule) -> list:
     return [walk(sp.sympify(e)) for e in exprs]
 
 
-
 def atoms_of(exprs, kind) -> set:
     """The union of ``e.atoms(kind)`` over ``exprs``: every subexpression of that type."""
     seen, out = set(), set()
