@@ -97,6 +97,14 @@ def xreplace_all(exprs, rule) -> list:
     return [walk(sp.sympify(e)) for e in exprs]
 
 
+def on_entries(expr, fn):
+    """``fn`` (a list of expressions -> a list) applied to the entries of a Matrix (kept in its shape
+    and type) or to a single expression: how the staged models run the walks above on either."""
+    if isinstance(expr, sp.MatrixBase):
+        return type(expr)(expr.rows, expr.cols, fn(list(expr)))
+    return fn([expr])[0]
+
+
 def atoms_of(exprs, kind) -> set:
     """The union of ``e.atoms(kind)`` over ``exprs``: every subexpression of that type."""
     seen, out = set(), set()

@@ -31,7 +31,7 @@ phi(l, u) = (n_xc y_c - n_yc x_c) / (r n_xc) with the displaced point and normal
 import sympy as sp
 
 from . import eq04_07_tooth_surface as involute
-from .common import atoms_of, xreplace_all
+from .common import atoms_of, on_entries, xreplace_all
 from .interface import Field
 from .eq01_03_rack_cutter import rack_normal, rack_point
 from .symbols import a, alpha_n, l, m_n, n_xc, n_yc, phi, u, x_c, y_c
@@ -135,15 +135,16 @@ def tooth_surface_late(sigma):
             derivatives[key] = explicit.diff(*variables)
         return derivatives[key]
 
-    def substitute(expr):
-        matrix = isinstance(expr, sp.MatrixBase)
-        out = list(expr) if matrix else [expr]
+    def substitute_all(out):
         for f, explicit in ((_phi, phi_lu), (_w, w_lu)):
             derivs = sorted({d for d in atoms_of(out, sp.Derivative) if d.expr == f},
                             key=lambda d: -sum(c for _, c in d.variable_count))
             reps = {d: derivative(f, explicit, d.variables) for d in derivs}
             out = xreplace_all(xreplace_all(out, reps), {f: explicit})
-        return type(expr)(expr.rows, expr.cols, out) if matrix else out[0]
+        return out
+
+    def substitute(expr):
+        return on_entries(expr, substitute_all)
 
     return point, normal, _phi, substitute
 

@@ -36,7 +36,7 @@ then by their explicit forms.
 import sympy as sp
 
 from . import crowned_flank as base
-from .common import xreplace_all
+from .common import on_entries, xreplace_all
 from .interface import Field
 from .flank_boundaries import tip_height, tip_radius
 from .symbols import l, u
@@ -173,12 +173,12 @@ def tooth_surface_staged(sigma):
         stages += ((sym, (explicit_d.diff(*v) if v else explicit_d).xreplace(jets)),)
     phi_explicit = base_sub(bphi)
 
+    def substitute_all(out):
+        out = xreplace_all(xreplace_all(out, delta), jets)
+        return xreplace_all(out, {bphi: phi_explicit}) if isinstance(bphi, sp.Basic) else out
+
     def substitute(expr):
-        matrix = isinstance(expr, sp.MatrixBase)
-        out = xreplace_all(xreplace_all(list(expr) if matrix else [expr], delta), jets)
-        if isinstance(bphi, sp.Basic):
-            out = xreplace_all(out, {bphi: phi_explicit})
-        return type(expr)(expr.rows, expr.cols, out) if matrix else out[0]
+        return on_entries(expr, substitute_all)
 
     return point, normal, bphi, substitute, stages
 
