@@ -164,8 +164,8 @@ def pytest_collection_modifyitems(config, items):
             # with tests/generated: the derivations' solves and simplifications that both the specs and
             # registry.verify() run are cached per process (Eq 7, the tangency, the FPD angle: ~3 s)
             item.add_marker(pytest.mark.xdist_group("generated"))
-    # tests/generated (sympy only, ~1 min) first: one worker builds its models while the other
-    # compiles the solver core (numba, ~1 min on a fresh install), instead of waiting for its lock
+    # tests/generated (sympy only, ~20 s) first: one worker builds its models while the other
+    # compiles the solver core (numba, ~20 s on a fresh install), instead of waiting for its lock
     first = [item for item in items if _group(item) == "generated"]
     rest = [item for item in items if _group(item) != "generated"]
     long = [item for item in rest if item.get_closest_marker("long_running")]
