@@ -45,6 +45,8 @@ def configure(p: argparse.ArgumentParser) -> None:
                         "(default; its data is cached per design), plate = the fast equivalent-spur-tooth plate")
     p.add_argument("--fe-refinement", type=int, default=1, metavar="N",
                    help="FE tooth mesh refinement, 1-4 (default 1; 2 halves every element size)")
+    p.add_argument("--fe-coarsen", type=float, default=1.0, metavar="F",
+                   help="every FE tooth element size times F, 1-8 (default 1; 2-4: a quick, rougher tooth)")
     p.add_argument("--plot", metavar="OUT.png", help="write the contact patterns, loaded TE and load sharing here "
                                                      "(and the per-position pressure maps beside it)")
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
@@ -82,6 +84,7 @@ def run(args: argparse.Namespace) -> int:
         ltca.options.check_positions(args.positions, key="--positions")
         ltca.options.check_pairs(args.pairs, key="--pairs")
         ltca.options.check_fe_refinement(args.fe_refinement, key="--fe-refinement")
+        ltca.options.check_fe_coarsen(args.fe_coarsen, key="--fe-coarsen")
     except OptionError as exc:
         raise UserError(exc.for_flag(exc.key)) from None
     if args.plot is not None:
@@ -92,7 +95,8 @@ def run(args: argparse.Namespace) -> int:
     pair = Pair.from_spec(spec)
     options = ltca.Options(torque_nm=args.torque_nm, flank=args.flank, positions=args.positions, pairs=args.pairs,
                            grid=grid, errors=tuple(error_vector(spec)), material=ltca.Material.from_spec(spec),
-                           tooth_model=args.tooth_model, fe_refinement=args.fe_refinement)
+                           tooth_model=args.tooth_model, fe_refinement=args.fe_refinement,
+                           fe_coarsen=args.fe_coarsen)
     try:
         options.check_memory()
     except OptionError as exc:

@@ -31,6 +31,8 @@ def configure(p: argparse.ArgumentParser) -> None:
                         "scikit-fem are installed; its data is cached per design), plate = fast, no root stress")
     p.add_argument("--fe-refinement", type=int, default=1, metavar="N",
                    help="FE tooth mesh refinement, 1-4 (default 1)")
+    p.add_argument("--fe-coarsen", type=float, default=1.0, metavar="F",
+                   help="every FE tooth element size times F, 1-8 (default 1; 2-4: a quick, rougher tooth)")
     p.add_argument("--plot", metavar="OUT.png", help="write S_F and S_H along the face of both members here")
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
 
@@ -46,10 +48,11 @@ def run(args: argparse.Namespace) -> int:
 
     try:
         options = rating.Options(torque_nm=args.torque_nm, flank=args.flank, positions=args.positions,
-                                 tooth_model=args.tooth_model, fe_refinement=args.fe_refinement)
+                                 tooth_model=args.tooth_model, fe_refinement=args.fe_refinement,
+                                 fe_coarsen=args.fe_coarsen)
     except ValueError as exc:
         text = str(exc)
-        for key in ("torque_nm", "positions", "fe_refinement"):
+        for key in ("torque_nm", "positions", "fe_refinement", "fe_coarsen"):
             text = text.replace(key, "--" + key.replace("_", "-"))
         raise UserError(text) from None
     if args.plot is not None:

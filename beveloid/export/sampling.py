@@ -6,7 +6,8 @@ in the toe and heel planes and neighbouring faces share their boundary rows poin
 
 * ``flank_left``, ``flank_right``: the generated flank (``geometry.surface``) from the form limit
   (s = 0, where the fillet meets it) to the tip cone (s = 1); l runs linearly in s, u is solved so
-  that the point lies in the section z;
+  that the point lies in the section z; a modification the root fillet does not carry (tip and end
+  relief, lead slope, a user model) is run into the fillet over the lowest ``BLEND_FRACTION`` of s;
 * ``fillet_left``, ``fillet_right``: the root transition, from the root cone (s = 0) to the form
   limit (s = 1): :func:`root_transition`, the one place that says where it comes from;
 * the form limit of a section (:func:`form_limits`) is where the fillet meets the flank: the tip
@@ -28,6 +29,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import UserError
+from ..tooth.body import is_body
 
 FLANKS = ("left", "right")
 #: the faces of one tooth and the gap after it, in the order the solid is built from
@@ -44,6 +46,16 @@ THIN_LAND_SPAN_MM = 0.05
 UNDERCUT_MIN_MM = 1e-6
 #: the shortest piece (mm) the face is cut into where a face changes how it ends (ToothSampler.face_pieces)
 MIN_PIECE_MM = 1e-2
+#: a modified flank that does not meet its root fillet at the form limit is run into it over this
+#: fraction of the flank's profile parameter s (ToothSampler.flank_points): the step, micrometres,
+#: fades out smoothly (C1) below the active profile, which starts higher on any working tooth
+BLEND_FRACTION = 0.1
+
+
+def _smoothstep(t):
+    """0 for t <= 0, 1 for t >= 1, C1 between (3 t^2 - 2 t^3)."""
+    t = np.clip(t, 0.0, 1.0)
+    return t * t * (3.0 - 2.0 * t)
 
 
 class ExportGeometryError(UserError):
@@ -212,13 +224,31 @@ class ToothSampler:
         return form_limits(self, flank, np.asarray(z, dtype=float))
 
     def flank_points(self, flank, s, z):
-        """Flank points on the grid s (n_s,) x z (n_z,): shape (n_s, n_z, 3)."""
+        """Flank points on the grid s (n_s,) x z (n_z,): shape (n_s, n_z, 3).  A modified flank that does
+        not meet its root fillet (:meth:`flank_blend_mm`) is run into it over s < BLEND_FRACTION."""
         s, z = np.asarray(s, dtype=float), np.asarray(z, dtype=float)
+        points = self._generated_flank_points(flank, s, z)
+        if is_body(self.geometry, self.member):
+            return points
+        weight = 1.0 - _smoothstep(s / BLEND_FRACTION)  # 1 at the form limit, 0 from BLEND_FRACTION up
+        if not np.any(weight > 0):
+            return points
+        return points + weight[:, None, None] * self.flank_blend_mm(flank, z)[None]
+
+    def _generated_flank_points(self, flank, s, z):
         l_tip, u_tip = self.flank_tip(flank, z)
         l0 = self.form_limits(flank, z)[0][None, :]
         l = l0 + s[:, None] * (l_tip[None, :] - l0)
         u = self.flank_u(flank, l, z[None, :], u0=u_tip[None, :])
         return self.geometry.surface(self.member, flank, l, u).point
+
+    def flank_blend_mm(self, flank, z):
+        """(n_z, 3) the step from the generated flank to its root fillet at the form limit of the sections z:
+        zero where the fillet model carries the flank's modification (involute, crowned flanks) or cuts
+        into it (undercut); a tip or end relief, a lead slope or a user model's twist leave a step of
+        micrometres there, which :meth:`flank_points` closes (a relieved flank runs into the fillet)."""
+        z = np.asarray(z, dtype=float)
+        return self.fillet_points(flank, np.array([1.0]), z)[0] - self._generated_flank_points(flank, np.array([0.0]), z)[0]
 
     # ------------------------------------------------------------------ root transition and lands
     def fillet_points(self, flank, s, z):

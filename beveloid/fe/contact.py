@@ -58,11 +58,15 @@ class FeTooth:
         self.counted = dist > near  # (2, nf)
 
     def weights(self, points) -> np.ndarray:
-        """(n, G) bilinear weights of the load grid's nodes (profile-major) for points (n, 3)."""
+        """(n, G) bilinear weights of the load grid's nodes (profile-major) for points (n, 3); a row of
+        zeros for a point that is not finite."""
         p = np.asarray(points, dtype=float).reshape(-1, 3)
         ns, nz = self.radius_mm.shape
         W = np.zeros((p.shape[0], ns * nz))
+        # a point off the surfaces (NaN: a cell of a pair without contact) carries no load: a zero row,
+        # placed anywhere finite so that no index is made of a NaN
         ok = np.all(np.isfinite(p), axis=1)
+        p = np.where(ok[:, None], p, self.data.points_mm[self.index][0, 0])
         z = np.clip(p[:, 2], self.z_mm[0], self.z_mm[-1])
         fz = np.interp(z, self.z_mm, np.arange(nz))
         jz = np.minimum(fz.astype(int), nz - 2)

@@ -38,12 +38,12 @@ def run(geom, errors, options: Options, material: Material, solver, pair=None) -
     """The LTCA of ``geom`` (a PairGeometry) with the assembly ``errors``; see the module docstring.
     ``pair``: the Pair when known (the FE tooth reads the bores from its spec)."""
     options.check_memory()
-    teeth = member_teeth(pair, geom, options, material)
+    teeth, body_notes = member_teeth(pair, geom, options, material)
     with _one_blas_thread(), np.errstate(all="ignore"):
-        return _run(geom, errors, options, material, solver, teeth)
+        return _run(geom, errors, options, material, solver, teeth, body_notes)
 
 
-def _run(geom, errors, options, material, solver, teeth):
+def _run(geom, errors, options, material, solver, teeth, body_notes=()):
     T, N, P = options.torque_nm, options.positions, options.pairs
     e_star = material.e_star_mpa
     setup = Setup(geom, options.flank, errors, N, P, solver)
@@ -73,7 +73,7 @@ def _run(geom, errors, options, material, solver, teeth):
     reach = grids.loaded_along_mm(first) * grids.PATCH_MARGIN
     g = g._replace(along_half_mm=np.where(np.isfinite(reach), np.minimum(g.along_half_mm, reach), g.along_half_mm))
     sol = solve(setup, g, need, T, e_star, teeth)
-    notes = []
+    notes = list(body_notes)
     for attempt in range(grids.MAX_GROWTHS + 1):
         hit = grids.reaches_edge(sol.pressure_mpa, sol.gap.in_flank, *fine) & sol.converged[:, None, None]
         hit[..., 1] &= sol.grid.along_half_mm < setup.max_along_mm
@@ -164,6 +164,7 @@ def _result(setup, options, sol, check, e_star, notes, hertz_ref, teeth):
         gap=sol.gap, axes=setup.frame.axes, tangency_unknowns=np.where(setup.solved[..., None], setup.x, np.nan),
         pair_pinion_angle=setup.pair_phi1, notes=tuple(notes), tooth_model=options.tooth_model,
         fe_refinement=options.fe_refinement if options.tooth_model == "fe" else None,
+        fe_coarsen=options.fe_coarsen if options.tooth_model == "fe" else None,
         pair_root_stress_mpa=root["tension"], pair_root_compressive_stress_mpa=root["compression"],
         pair_root_stress_where=root["where"], root_stress_along_face=root["along"],
         mesh_stiffness_n_per_um=np.where(ok & (sol.approach_mm > 0), total / (1e3 * sol.approach_mm), np.nan))

@@ -90,9 +90,24 @@ def tooth_line_compliance(tooth: MemberTooth, points) -> np.ndarray:
 def pair_tooth_compliance(tooth_p, tooth_g, pinion_points, gear_points) -> np.ndarray:
     """(ny, ny) tooth compliance (mm/N) of both members along one grid's centre line; symmetrised
     (Maxwell reciprocity: the beam model is symmetric up to the coupling's cell averaging).  A tooth
-    is any object with ``line_compliance(points)``: :class:`MemberTooth` (plate) or the FE tooth."""
-    t = tooth_p.line_compliance(pinion_points) + tooth_g.line_compliance(gear_points)
+    is any object with ``line_compliance(points)``: :class:`MemberTooth` (plate) or the FE tooth.
+    A centre-line point off the surfaces (NaN: the line leaves the flank there, while cells of the
+    same along index across the line may still touch) bends as its nearest point on the surfaces
+    (:func:`on_surface_line`)."""
+    t = tooth_p.line_compliance(on_surface_line(pinion_points)) + tooth_g.line_compliance(on_surface_line(gear_points))
     return 0.5 * (t + t.T)
+
+
+def on_surface_line(points) -> np.ndarray:
+    """Points (n, 3) along a line with each non-finite point replaced by the nearest finite one along
+    the line (linear between two, the end one beyond them); unchanged when none is finite (a pair
+    without contact: never loaded)."""
+    p = np.asarray(points, dtype=float)
+    ok = np.all(np.isfinite(p), axis=1)
+    if ok.all() or not ok.any():
+        return p
+    i = np.arange(p.shape[0])
+    return np.stack([np.interp(i, i[ok], p[ok, c]) for c in range(3)], axis=1)
 
 
 def halfspace_matrix(across_half_mm, along_half_mm, nx, ny, e_star_mpa):

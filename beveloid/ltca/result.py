@@ -60,9 +60,11 @@ class LTCAResult:
     tangency_unknowns: np.ndarray  # (N, P, 5) each pair's rigid-body tangency (tca_kernels.UNKNOWNS)
     pair_pinion_angle: np.ndarray  # (N, P) the pinion angle of each pair's tangency (pair 0 frame)
     notes: tuple = ()
-    #: how the teeth bent: "fe" (beveloid.fe, mesh refinement ``fe_refinement``) or "plate"
+    #: how the teeth bent: "fe" (beveloid.fe, mesh refinement ``fe_refinement``, sizes times
+    #: ``fe_coarsen``) or "plate"
     tooth_model: str = "plate"
     fe_refinement: int | None = None
+    fe_coarsen: float | None = None
     #: {member: (N, P)} the largest max-principal (tensile) stress in the loaded side's root fillet
     #: of each pair's tooth (MPa), nan where not ok; empty with the plate (it has no fillet)
     pair_root_stress_mpa: dict = field(default_factory=dict)
@@ -193,6 +195,7 @@ def _tooth_json(r: LTCAResult, num) -> dict:
     return {
         "tooth_model": r.tooth_model,
         "fe_refinement": r.fe_refinement if fe else None,
+        "fe_coarsen": r.fe_coarsen if fe else None,
         "pair_root_stress_mpa": {m: rows(a) for m, a in r.pair_root_stress_mpa.items()} if fe else None,
         "pair_root_compressive_stress_mpa": ({m: rows(a) for m, a in r.pair_root_compressive_stress_mpa.items()}
                                              if fe else None),

@@ -20,19 +20,26 @@ def _progress(stream=None):
 
 
 def member_teeth(pair, geom, options, material) -> tuple:
-    """(pinion, gear) tooth objects with ``line_compliance(points)``: the options' tooth model."""
+    """((pinion, gear) tooth objects with ``line_compliance(points)``: the options' tooth model, notes).
+    The FE tooth is each member's body (:mod:`beveloid.tooth.body`), loaded at the modified flank's
+    points; a note names a member whose flank departs from its body enough to matter."""
     moduli = {"pinion": (material.pinion_e_mpa, material.pinion_nu), "gear": (material.gear_e_mpa, material.gear_nu)}
     if options.tooth_model == "plate":
-        return tuple(member_tooth(geom, m, *moduli[m]) for m in MEMBERS)
+        return tuple(member_tooth(geom, m, *moduli[m]) for m in MEMBERS), ()
     from ..fe.cache import cached_tooth_data
     from ..fe.contact import FeTooth
+    from ..tooth.body import flank_departure
 
-    out = []
+    source = pair if pair is not None else geom
+    out, notes = [], []
     for m in MEMBERS:
-        data, _ = cached_tooth_data(pair if pair is not None else geom, m, *moduli[m], options.fe_refinement,
-                                    progress=_progress())
+        data, _ = cached_tooth_data(source, m, *moduli[m], options.fe_refinement, progress=_progress(),
+                                    coarsen=options.fe_coarsen)
         out.append(FeTooth(data, options.flank))
-    return tuple(out)
+        note = flank_departure(source, m, data.points_mm, data.normals).note(m)
+        if note:
+            notes.append(note)
+    return tuple(out), tuple(notes)
 
 
 def root_stresses(teeth, sol, ok) -> dict:

@@ -32,6 +32,7 @@ class Options:
     pairs: int = 3
     tooth_model: str | None = None  # the LTCA's: None = "fe" when gmsh and scikit-fem import (root stress)
     fe_refinement: int = 1
+    fe_coarsen: float = 1.0  # the FE tooth's element sizes times this (ltca.Options)
 
     def __post_init__(self):
         self.ltca_options(1.0)  # the LTCA's own range table checks the request
@@ -41,7 +42,8 @@ class Options:
         from ..ltca.options import Options as LTCAOptions
 
         return LTCAOptions(torque_nm=self.torque_nm * load_factor, flank=self.flank, positions=self.positions,
-                           pairs=self.pairs, tooth_model=self.tooth_model, fe_refinement=self.fe_refinement)
+                           pairs=self.pairs, tooth_model=self.tooth_model, fe_refinement=self.fe_refinement,
+                           fe_coarsen=self.fe_coarsen)
 
 
 @dataclass(frozen=True)
