@@ -9,7 +9,7 @@ from .. import mesh
 from ..generated import tca_kernels
 from ..geometry import PairGeometry
 from ..solver import Solver
-from ..solver.options import SolverOptions
+from ..solver.options import DEFAULT_OPTIONS, SolverOptions
 from ..status import Status, carries_numbers
 from .contact import (ERROR_NAMES, as_solver, contact_boundary_names, contact_margins, contact_points,
                       errors_array, rotate_z, unknowns)
@@ -81,10 +81,11 @@ class FlankResult:
         }
 
 
-def mesh_angles(geom, flank, positions, pairs, window_pitches=None):
+def mesh_angles(geom, flank, positions, pairs, window_pitches=None, options=DEFAULT_OPTIONS):
     """The pinion angles of a mesh study: ``positions`` points over ``window_pitches`` (default
-    ``pairs``) pinion pitches centred on the reference contact; one position: the reference angle."""
-    ref = reference_contact(geom, flank)
+    ``pairs``) pinion pitches centred on the reference contact (solved with the solver ``options``);
+    one position: the reference angle."""
+    ref = reference_contact(geom, flank, options)
     if positions == 1:
         return np.array([ref.pinion_angle])
     window = (window_pitches or pairs) * geom.pitch_angles[0]
@@ -102,9 +103,9 @@ def mesh_flank(geom: PairGeometry, flank: str, errors=(0, 0, 0, 0, 0), positions
     """
     solver = as_solver(backend, options)
     e = errors_array(errors).reshape(1, len(ERROR_NAMES))
-    ref = reference_contact(geom, flank)
+    ref = reference_contact(geom, flank, solver.options)
     p1, p2 = geom.pitch_angles
-    phi1 = mesh_angles(geom, flank, positions, pairs, window_pitches)
+    phi1 = mesh_angles(geom, flank, positions, pairs, window_pitches, solver.options)
     ks, shifted = mesh.pair_angles(phi1, pairs, p1)
     sol = solve_grid(geom, flank, e, shifted.ravel(), solver)
     x, code, iterations, boundary = sol.x[0], sol.status[0], sol.iterations[0], sol.boundary[0]
