@@ -22,7 +22,7 @@ import typing
 
 import numpy as np
 
-from ..export.sampling import FLANKS
+from ..names import FLANKS
 from .solve import principal_stresses
 
 __all__ = ["FeTooth", "RootStress"]

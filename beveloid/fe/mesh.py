@@ -1,7 +1,7 @@
 """A sector of one member meshed by gmsh as second-order (10-node) tetrahedra.
 
 ``sector_mesh(pair, member, refinement=1, teeth=3)`` builds the sector from OUR geometry: the
-transverse sections of the tooth faces that the export samples (``export.sampling.ToothSampler``:
+transverse sections of the tooth faces that the export samples (``tooth.sampling.ToothSampler``:
 the generated flanks, the generated root fillets, tip and root cones) are closed into one planar
 profile per section z, and gmsh's OpenCASCADE kernel lofts a solid through the sections
 (``addThruSections``).  Every segment of the profile becomes one lateral face of the solid, so each
@@ -28,7 +28,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..export.sampling import ToothSampler
+from ..tooth.sampling import ToothSampler
 from .sizes import FAR_GROWTH, FILLET_GROWTH, ContactStrips, size_field
 
 __all__ = ["FACE_KINDS", "SectorMesh", "MeshSizes", "mesh_sizes", "sector_mesh", "fillet_radius_mm",

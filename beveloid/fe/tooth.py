@@ -28,7 +28,8 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
-from ..export.sampling import FLANKS, ToothSampler
+from ..names import FLANKS
+from ..tooth.sampling import ToothSampler
 from ..tooth.body import body_pair, flank_thickness_mm
 from . import solve
 from .mesh import sector_mesh

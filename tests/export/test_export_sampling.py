@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from beveloid.export.sampling import ExportGeometryError, ToothSampler, rotate_z
+from beveloid.tooth.sampling import ExportGeometryError, ToothSampler, rotate_z
 
 S = np.linspace(0.0, 1.0, 7)
 
@@ -86,7 +86,7 @@ def test_a_relieved_flank_runs_into_its_root_fillet():
     generated flank above."""
     import tomllib
 
-    from beveloid.export.sampling import BLEND_FRACTION
+    from beveloid.tooth.sampling import BLEND_FRACTION
     from beveloid.pair import Pair
     from beveloid.spec import example_text
 

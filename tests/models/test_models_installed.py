@@ -173,7 +173,7 @@ def test_a_model_of_ones_own_in_an_installed_package(tmp_path):
     assert run["max_diff_backends"] < 1e-9 and run["max_diff_paths_gear_angle"] < 1e-9, run
     # export: the gear's solid (STL: its vertices lie on the generated surfaces), and the involute gear's.
     # A 0.2 um shift: the flank then meets the rack's root fillet within export's join tolerance
-    # (export/sampling.py JOIN_TOL_MM; 10 um leaves a 1.8 um step, refused in one line: docs/models.md, Limits)
+    # (tooth/sampling.py JOIN_TOL_MM; 10 um leaves a 1.8 um step, refused in one line: docs/models.md, Limits)
     (lab / "small.toml").write_text(plug.replace("axial_shift_mm = 0.2", "axial_shift_mm = 0.0002"))
     for name in ("small", "base"):
         proc = _run([python, "-m", "beveloid.cli", "export", f"{name}.toml", "--format", "stl", "--member", "gear",

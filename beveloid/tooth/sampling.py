@@ -29,9 +29,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import UserError
-from ..tooth.body import is_body
+from ..names import FLANKS
+from .body import is_body
 
-FLANKS = ("left", "right")
 #: the faces of one tooth and the gap after it, in the order the solid is built from
 FACES = ("flank_left", "flank_right", "fillet_left", "fillet_right", "tip", "root")
 #: the largest step (mm) between a flank and its fillet where they meet that the export accepts
@@ -103,7 +103,7 @@ class ToothSampler:
 
     def undercut_depth(self, flank, z):
         """How far the rack's form point reaches below the involute's start in the sections z (> 0: undercut)."""
-        from ..tooth import sections
+        from . import sections
 
         return getattr(sections.section(self.geometry, self.member, sections.face_z(self.geometry, self.member, z)),
                        f"undercut_depth_{flank}")
@@ -161,7 +161,7 @@ class ToothSampler:
         sections, its changes found by the whole-tooth checks' root finder (tooth.sections.segments) on the
         angle between the flanks at the tip cone; a section where a flank does not reach the tip cone is
         refused (ExportGeometryError)."""
-        from ..tooth import sections
+        from . import sections
 
         def land(z):
             z = np.array([z])
@@ -193,7 +193,7 @@ class ToothSampler:
         crossing of the involute, :func:`form_limits`) -- so that each face is smooth over each piece
         (a B-spline fit or a mesh row across such a turn needs a very fine grid).  ``landed``: the piece
         has a tip land.  Breaks closer than MIN_PIECE_MM to one another or to the face's ends are merged."""
-        from ..tooth import sections
+        from . import sections
 
         breaks = [lo for lo, _, _ in self.tip_pieces(z_range, n)[1:]]
         grid = np.linspace(*z_range, n)
@@ -323,7 +323,7 @@ def _crossing_radii(sampler: ToothSampler, z, tip_radius, scan=24, halvings=45):
     """The radii where pointed sections' two flanks cross (the tooth's angular width is zero), between the
     larger base circle and the tip cone, for the sections z at once: a scan of radii, then bisection on the
     last bracket from a positive width to a crossed one (NaN, a point Newton did not find, is skipped)."""
-    from ..tooth import sections
+    from . import sections
 
     sec = sections.section(sampler.geometry, sampler.member, sections.face_z(sampler.geometry, sampler.member, z))
     lo = np.minimum(np.maximum(sec.base_radius_left, sec.base_radius_right) * (1 + 1e-9), tip_radius)
@@ -351,7 +351,7 @@ def form_limits(sampler: ToothSampler, flank, z):
     transition meets the flank.  The tip round's junction (l_t, psi_J); in an undercut section the
     crossing of the fillet and the flank (``tooth.profile.form_limit``), below which the generated
     tooth is the fillet surface and above which it is the flank."""
-    from ..tooth import fillet, profile
+    from . import fillet, profile
 
     tr = fillet.tip_round(sampler.geometry, sampler.member)
     l, psi = np.full(z.shape, float(tr.junction_l)), np.full(z.shape, float(tr.junction_psi))
@@ -377,7 +377,7 @@ def root_transition(sampler: ToothSampler, flank, s, z):
     The generated root fillet (``beveloid.tooth.fillet``: the envelope of the rack's tip round, a
     trochoidal surface for a sharp rack), sampled in the transverse sections z.
     """
-    from ..tooth.profile import NoSolution, fillet_in_section
+    from .profile import NoSolution, fillet_in_section
 
     geometry, member = sampler.geometry, sampler.member
     z2 = np.broadcast_to(z[None, :], (s.size, z.size))
