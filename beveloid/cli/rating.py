@@ -3,13 +3,16 @@
 Strength rating (docs/rating.md): ISO 6336-2/-3:2019 (method B) on the virtual cylindrical gear of the
 toe, middle and heel sections of each member, and the local stresses of the loaded contact (LTCA
 surface peak pressure; the FE root stress where available) at K_A K_v T, with permissible stresses,
-safety factors S_F and S_H from both, and a verdict.  The torque is the pinion torque; K_A, K_v,
-speed, life and the minimum safeties come from the spec's [rating], the limits from [material].
-The JSON: "torque_nm", "flank", per member "sections" {"toe", "middle", "heel"} (virtual_teeth,
-normal_profile_shift, helix_angle_deg, s_Fn_mm, rho_F_mm, h_Fe_mm, alpha_Fen_deg, Y_F, Y_S, Y_beta, f_eps,
-sigma_F0_mpa, Z_H, Z_E, Z_eps, Z_beta, sigma_H0_mpa), "root_stress_max_mpa", "contact_pressure_max_mpa",
-"safety_bending", "safety_pitting", "safety_bending_iso", "safety_pitting_iso" (null where not
-computed), "verdict" and "notes".
+safety factors S_F and S_H from both, and a verdict (with the edge-contact rule: a flank edge loaded
+above its limit makes it conditional).  The torque is the pinion torque; K_A, K_v (else ISO 6336-1
+method B from the speed and the LTCA's mesh stiffness), speed, life, accuracy grade and the minimum
+safeties come from the spec's [rating], the material types, qualities and limits from [material].
+The JSON: "torque_nm", "flank", "K_A", "K_v", "K_v_source", "dynamic_factor", per member "sections"
+{"toe", "middle", "heel"} (virtual_teeth, normal_profile_shift, helix_angle_deg, s_Fn_mm, rho_F_mm,
+h_Fe_mm, alpha_Fen_deg, Y_F, Y_S, Y_beta, f_eps, sigma_F0_mpa, Z_H, Z_E, Z_eps, Z_beta, sigma_H0_mpa),
+"root_stress_max_mpa", "contact_pressure_max_mpa", "safety_bending", "safety_pitting",
+"safety_bending_iso", "safety_pitting_iso" (null where not computed), "K_H_beta", "K_F_beta",
+"face_load", "material", "verdict" and "notes" (docs/rating.md 7).
 """
 from __future__ import annotations
 

@@ -214,8 +214,24 @@ def check_rating_life(values: dict[str, dict[str, Any]]) -> None:
                         "(a number > 0, rpm) for the load cycles; give both or neither", key="rating.life_hours")
 
 
+def check_material_hardness(values: dict[str, dict[str, Any]]) -> None:
+    """A surface hardness only for a material type whose ISO 6336-5 limits take it, and within
+    ISO 6336-5's range for that type and quality (beveloid/rating/materials.py)."""
+    from ..rating.materials import check_member
+
+    mat = values["material"]
+    for member in ("pinion", "gear"):
+        try:
+            check_member(member, mat[f"{member}_material"], mat[f"{member}_material_quality"],
+                         mat[f"{member}_surface_hardness_hv"], mat[f"{member}_surface_hardness_hbw"])
+        except ValueError as exc:
+            key = str(exc).split(" = ")[0]
+            raise SpecError(str(exc), key=key) from None
+
+
 CROSS_CHECKS: tuple[Callable[[dict[str, dict[str, Any]]], None], ...] = (check_clearance, check_relief_extent,
-                                                                          check_tip_round, check_rating_life)
+                                                                          check_tip_round, check_rating_life,
+                                                                          check_material_hardness)
 
 #: section -> the dataclass holding its keys
 SECTION_TYPES: dict[str, type] = {
