@@ -45,11 +45,13 @@ _SAMPLES = 40
 
 
 def check_approach(approach_mm, name="--approach-um", scale=1e3, unit="um"):
-    """The approach in mm, or ValueError naming ``name`` and what is valid."""
+    """The approach in mm, or :class:`beveloid.errors.OptionError` naming ``name`` and what is valid."""
+    from .errors import OptionError
+
     lo, hi = APPROACH_RANGE_MM
     v = float(approach_mm)
     if not (math.isfinite(v) and lo <= v <= hi):
-        raise ValueError(f"{name} = {v * scale:g}: must be a number from {lo * scale:g} to {hi * scale:g} {unit}")
+        raise OptionError(name, v * scale, f"must be a number from {lo * scale:g} to {hi * scale:g} {unit}")
     return v
 
 

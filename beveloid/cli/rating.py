@@ -19,7 +19,7 @@ from __future__ import annotations
 import argparse
 import json
 
-from ..errors import UserError
+from ..errors import OptionError, UserError
 from .paths import check_output_file
 
 
@@ -53,11 +53,8 @@ def run(args: argparse.Namespace) -> int:
         options = rating.Options(torque_nm=args.torque_nm, flank=args.flank, positions=args.positions,
                                  tooth_model=args.tooth_model, fe_refinement=args.fe_refinement,
                                  fe_coarsen=args.fe_coarsen)
-    except ValueError as exc:
-        text = str(exc)
-        for key in ("torque_nm", "positions", "fe_refinement", "fe_coarsen"):
-            text = text.replace(key, "--" + key.replace("_", "-"))
-        raise UserError(text) from None
+    except OptionError as exc:  # named by its fields: the flag of the key (not a replace in the text)
+        raise UserError(exc.for_flag("--" + exc.key.replace("_", "-"))) from None
     if args.plot is not None:
         check_output_file(args.plot, "--plot", ".png")
     pair = Pair.from_spec(load_spec(args.file))

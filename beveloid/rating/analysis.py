@@ -11,6 +11,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from ..names import MEMBERS
 from ..tooth import sections
 from . import dynamic, iso6336, materials
 from .face_load import face_load
@@ -20,7 +21,6 @@ from .virtual import mate_gear, section_gear
 __all__ = ["LoadedContact", "Options", "SectionRating", "MemberRating", "analyze", "loaded_contact",
            "rate_section"]
 
-MEMBERS = ("pinion", "gear")
 
 
 @dataclass(frozen=True)
@@ -416,8 +416,8 @@ def dynamic_factor(pair, options: Options, factors: Factors, lc: LoadedContact, 
     relief = max(dict(getattr(spec, m).surface_options).get("tip_relief_um", 0.0) for m in MEMBERS)
     c_a = relief if relief > 0 else sum(dynamic.tip_relief_running_in_um(factors.contact_limit_mpa[m])
                                         for m in MEMBERS) / 2
-    return dynamic.dynamic_factor(n1, z1, c_gamma, c_prime, m_red, factors.K_A * f_t / b, f_pb - y_p, f_fa - y_f,
-                                  c_a, eps_a + eps_b)
+    return dynamic.dynamic_factor(dynamic.MeshDynamics(n1, z1, c_gamma, c_prime, m_red, factors.K_A * f_t / b,
+                                                       f_pb - y_p, f_fa - y_f, c_a, eps_a + eps_b))
 
 
 def dynamic_notes(d: dynamic.DynamicFactor) -> list:

@@ -24,9 +24,10 @@ Pure functions of plain numbers (no beveloid types), so a hand computation can h
 from __future__ import annotations
 
 import math
+import typing
 from dataclasses import asdict, dataclass
 
-__all__ = ["DynamicFactor", "accuracy_deviations_um", "c_v", "dynamic_factor", "reduced_mass_kg_per_mm",
+__all__ = ["DynamicFactor", "MeshDynamics", "accuracy_deviations_um", "c_v", "dynamic_factor", "reduced_mass_kg_per_mm",
            "running_in_um", "tip_relief_running_in_um"]
 
 
@@ -101,9 +102,25 @@ class DynamicFactor:
         return asdict(self)
 
 
-def dynamic_factor(pinion_speed_rpm, pinion_teeth, c_gamma_alpha, c_prime, m_red, line_load_n_per_mm,
-                   f_pb_eff_um, f_f_eff_um, C_a_um, eps_gamma) -> DynamicFactor:
-    """ISO 6336-1 method B (module docstring); stiffness in N/(mm um), m_red kg/mm, line load K_A F_t/b."""
+class MeshDynamics(typing.NamedTuple):
+    """What method B reads of the pair (stiffness in N/(mm um), m_red kg/mm, line load K_A F_t/b)."""
+
+    pinion_speed_rpm: float
+    pinion_teeth: int
+    c_gamma_alpha: float  # mesh stiffness per face width, N/(mm um)
+    c_prime: float  # single pair stiffness, N/(mm um)
+    m_red: float  # reduced mass per face width, kg/mm
+    line_load_n_per_mm: float  # K_A F_t / b
+    f_pb_eff_um: float  # effective base pitch deviation (after running-in)
+    f_f_eff_um: float  # effective profile form deviation (after running-in)
+    C_a_um: float  # tip relief
+    eps_gamma: float  # total contact ratio
+
+
+def dynamic_factor(mesh: MeshDynamics) -> DynamicFactor:
+    """ISO 6336-1 method B (module docstring) of the pair ``mesh``."""
+    (pinion_speed_rpm, pinion_teeth, c_gamma_alpha, c_prime, m_red, line_load_n_per_mm, f_pb_eff_um, f_f_eff_um, C_a_um,
+     eps_gamma) = mesh
     n_e1 = 30000.0 / (math.pi * pinion_teeth) * math.sqrt(c_gamma_alpha / m_red)
     N = pinion_speed_rpm / n_e1
     w = line_load_n_per_mm

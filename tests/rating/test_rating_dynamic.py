@@ -23,7 +23,7 @@ BP, BF, BK = 140 / 300, 112 / 300, 1 - 28 / 300
 
 
 def kv(n1, eps_gamma=1.8):
-    return dynamic.dynamic_factor(n1, 20, 20.0, 14.0, 0.01, 300.0, 10.0, 8.0, 2.0, eps_gamma)
+    return dynamic.dynamic_factor(dynamic.MeshDynamics(n1, 20, 20.0, 14.0, 0.01, 300.0, 10.0, 8.0, 2.0, eps_gamma))
 
 
 def test_resonance_speed_and_ratio():
@@ -63,7 +63,7 @@ def test_intermediate_range_joins_its_neighbours():
 
 def test_light_load_lowers_the_sub_critical_limit():
     """K_A F_t / b < 100 N/mm: N_S = 0.5 + 0.35 sqrt(K_A F_t / (100 b)); at 36 N/mm 0.5 + 0.35 * 0.6 = 0.71."""
-    d = dynamic.dynamic_factor(1000.0, 20, 20.0, 14.0, 0.01, 36.0, 10.0, 8.0, 2.0, 1.8)
+    d = dynamic.dynamic_factor(dynamic.MeshDynamics(1000.0, 20, 20.0, 14.0, 0.01, 36.0, 10.0, 8.0, 2.0, 1.8))
     assert d.N_S == pytest.approx(0.71, rel=1e-12)
 
 
