@@ -230,7 +230,7 @@ def monte_carlo(cols: dict, plan, rows: slice, tolerances: dict, mc: MonteCarloR
             continue
         spec = design_spec(plan, values, j)
         nominal = {k: float(getattr(spec.misalignment, k)) for k in assembly_errors.KEYS}
-        design_seed = int(np.random.SeedSequence([seed, start + j]).generate_state(1, np.uint64)[0] >> 1)
+        design_seed = int(np.random.SeedSequence([seed, start + j]).generate_state(1, np.uint64)[0]) >> 1
         options = sweep.Options(flank=flank, samples=samples, positions=positions, seed=design_seed,
                                 ranges=dict(tolerances), nominal=nominal)
         try:
