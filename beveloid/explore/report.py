@@ -64,16 +64,6 @@ class CsvRows(NamedTuple):
     text: np.ndarray
     ends: np.ndarray
 
-    @classmethod
-    def join(cls, parts) -> "CsvRows":
-        """Rows of several parts, one after the other."""
-        parts = list(parts)
-        if not parts:
-            return cls(np.zeros(0, dtype=np.uint8), np.zeros(0, dtype=np.int64))
-        offsets = np.cumsum([0] + [p.text.size for p in parts[:-1]])
-        return cls(np.concatenate([p.text for p in parts]),
-                   np.concatenate([p.ends + o for p, o in zip(parts, offsets)]).astype(np.int64))
-
 
 def csv_rows(cols: dict) -> CsvRows:
     """The CSV text of rows (every column of ``cols``, in its order)."""
@@ -84,21 +74,28 @@ def csv_rows(cols: dict) -> CsvRows:
     return CsvRows(np.frombuffer(text, dtype=np.uint8), ends)
 
 
-def csv_pieces(keys, rows: CsvRows, on_front: np.ndarray, keep: np.ndarray | None = None):
-    """A CSV file as pieces of bytes: the header (``keys`` and ``pareto``), then the text of each row (of
-    the rows ``keep``, a boolean mask, if given) with its ``pareto`` cell (``on_front``) at its end."""
+def csv_pieces(keys, parts, on_front: np.ndarray, keep: np.ndarray | None = None):
+    """A CSV file as pieces of bytes: the header (``keys`` and ``pareto``), then the text of each row
+    (``parts``: CsvRows of the rows in order, in parts; of the rows ``keep``, a boolean mask, if given)
+    with its ``pareto`` cell (``on_front``) at its end."""
     yield (",".join(map(_quoted, [*keys, "pareto"])) + ROW_END.decode()).encode()
-    idx = np.arange(rows.ends.size) if keep is None else np.nonzero(keep)[0]
-    starts = np.concatenate([[0], rows.ends[:-1]])[idx]
-    view = memoryview(np.ascontiguousarray(rows.text))
-    bodies = map(view.__getitem__, map(slice, starts.tolist(), (rows.ends[idx] - len(ROW_END)).tolist()))
-    cells = np.where(np.asarray(on_front, dtype=bool)[idx], b",true" + ROW_END, b",false" + ROW_END).tolist()
-    yield from itertools.chain.from_iterable(zip(bodies, cells))
+    on_front = np.asarray(on_front, dtype=bool)
+    keep = np.ones(on_front.size, dtype=bool) if keep is None else np.asarray(keep, dtype=bool)
+    first = 0
+    for part in parts:
+        n = part.ends.size
+        idx = np.nonzero(keep[first:first + n])[0]
+        starts = np.concatenate([[0], part.ends[:-1]])[idx]
+        view = memoryview(np.ascontiguousarray(part.text))
+        bodies = map(view.__getitem__, map(slice, starts.tolist(), (part.ends[idx] - len(ROW_END)).tolist()))
+        cells = np.where(on_front[first:first + n][idx], b",true" + ROW_END, b",false" + ROW_END).tolist()
+        yield from itertools.chain.from_iterable(zip(bodies, cells))
+        first += n
 
 
-def csv_bytes(keys, rows: CsvRows, on_front: np.ndarray, keep: np.ndarray | None = None) -> bytes:
+def csv_bytes(keys, parts, on_front: np.ndarray, keep: np.ndarray | None = None) -> bytes:
     """The CSV file of :func:`csv_pieces` in one piece."""
-    return b"".join(csv_pieces(keys, rows, on_front, keep))
+    return b"".join(csv_pieces(keys, parts, on_front, keep))
 
 
 def json_values(column) -> list:
@@ -168,7 +165,7 @@ def _save(fig, path: str) -> None:
     """The figure as a PNG at ``path``, written under a temporary name and renamed (whole or absent)."""
     tmp = path + ".tmp.png"
     try:
-        fig.savefig(tmp, dpi=90)
+        fig.savefig(tmp, dpi=90, pil_kwargs={"compress_level": 1})  # (small files either way)
         os.replace(tmp, path)
     finally:
         if os.path.exists(tmp):
@@ -309,12 +306,13 @@ def _write_atomic(path: str, pieces) -> None:
             os.remove(tmp)
 
 
-def write_data(out_dir: str, table: dict, rows: CsvRows, summ: dict) -> list[str]:
-    """explore.csv, pareto.csv and summary.json of a finished (or stopped) run; their paths."""
+def write_data(out_dir: str, table: dict, parts: list, summ: dict) -> list[str]:
+    """explore.csv, pareto.csv and summary.json of a finished (or stopped) run (``parts``: the CSV text of
+    the table's rows, CsvRows in order); their paths."""
     paths = [os.path.join(out_dir, name) for name in DATA_FILES]
     keys = [k for k in table if k != "pareto"]
-    _write_atomic(paths[0], csv_pieces(keys, rows, table["pareto"]))
-    _write_atomic(paths[1], csv_pieces(keys, rows, table["pareto"], keep=table["pareto"]))
+    _write_atomic(paths[0], csv_pieces(keys, parts, table["pareto"]))
+    _write_atomic(paths[1], csv_pieces(keys, parts, table["pareto"], keep=table["pareto"]))
     _write_atomic(paths[2], [json.dumps(summ, indent=1, allow_nan=False).encode()])
     return paths
 

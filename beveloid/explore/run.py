@@ -234,15 +234,14 @@ class Chunks:
             return {}
         return {k: np.concatenate([p[k] for p in parts]) for k in parts[0] if k not in (TEXT, ROW_ENDS)}
 
-    def csv_rows(self):
-        """The CSV text of the finished rows in design order (report.CsvRows): as the workers made it (a
-        chunk written by an older version, without it: made here)."""
+    def csv_rows(self) -> list:
+        """The CSV text of the finished rows, a report.CsvRows per chunk in design order: as the workers
+        made it (for a chunk written by an older version, without it: made here)."""
         from . import report
 
-        return report.CsvRows.join(
-            report.CsvRows(p[TEXT], p[ROW_ENDS]) if TEXT in p
-            else report.csv_rows({k: v for k, v in p.items() if k not in (TEXT, ROW_ENDS)})
-            for p in (self.parts[i] for i in sorted(self.parts)))
+        return [report.CsvRows(p[TEXT], p[ROW_ENDS]) if TEXT in p
+                else report.csv_rows({k: v for k, v in p.items() if k not in (TEXT, ROW_ENDS)})
+                for p in (self.parts[i] for i in sorted(self.parts))]
 
 
 def load_table(out_dir: str, req: Request) -> dict:

@@ -69,13 +69,12 @@ def test_the_csv_text_is_a_plain_csv_writers():
     on_front = np.array([True, False, False, True, False, True, False])
     # the rows in two chunks, each made into text on its own, then joined
     parts = [report.csv_rows({k: v[s] for k, v in table.items()}) for s in (slice(0, 4), slice(4, 7))]
-    rows = report.CsvRows.join(parts)
     keys = list(table)
     full = dict(table, pareto=on_front)
-    assert report.csv_bytes(keys, rows, on_front) == reference_csv(full)
-    assert report.csv_bytes(keys, rows, on_front, keep=on_front) == reference_csv(full, np.nonzero(on_front)[0])
+    assert report.csv_bytes(keys, parts, on_front) == reference_csv(full)
+    assert report.csv_bytes(keys, parts, on_front, keep=on_front) == reference_csv(full, np.nonzero(on_front)[0])
     none = np.zeros(7, dtype=bool)
-    assert report.csv_bytes(keys, rows, none, keep=none) == reference_csv(full, [])
+    assert report.csv_bytes(keys, parts, none, keep=none) == reference_csv(full, [])
 
 
 def test_the_pareto_front_of_three_objectives_is_every_undominated_row():
