@@ -256,8 +256,8 @@ def _print(summ, out):
                      f" {b['worst_path_shift_mm']:.3f} mm")
     from pathlib import Path
 
-    names = ("explore.csv", "pareto.csv", "summary.json", "heatmap_fpd.png", "heatmap_sensitivity.png", "pareto.png",
-             "pareto_table.png")
-    written = [n for n in names if (Path(out) / n).is_file()]  # an interrupted run may have written none
+    from ..explore.report import DATA_FILES, FIGURES
+
+    written = [n for n in DATA_FILES + FIGURES if (Path(out) / n).is_file()]  # an interrupted run may have written none
     lines.append(f"Files in {out}: {', '.join(written)}" if written else f"No result files written in {out}")
     print("\n".join(lines))
