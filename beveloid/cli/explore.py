@@ -20,7 +20,7 @@ TOLERANCE_NAMES = {"dx": "dx_mm", "dy": "dy_mm", "dz": "dz_mm", "vertical": "ver
 
 def configure(p: argparse.ArgumentParser) -> None:
     from ..solver.backends import BACKENDS
-    from ..sweep import DEFAULT_RANGES
+    from ..assembly_errors import DEFAULT_RANGES
 
     p.add_argument("file", metavar="FILE", nargs="?", help="TOML design spec: the base design (not with --resume)")
     p.add_argument("--vary", action="append", default=[], metavar="KEY=START:STOP:COUNT",
@@ -51,7 +51,7 @@ def configure(p: argparse.ArgumentParser) -> None:
 def parse_tolerances(text: str) -> dict:
     """``dx=0.5,vertical=0.2`` -> {dx_mm: 0.5, ..., vertical_deg: 0.2} (unnamed ones: the sweep's defaults)."""
     from .. import assembly_errors
-    from ..sweep import DEFAULT_RANGES
+    from ..assembly_errors import DEFAULT_RANGES
 
     out = dict(DEFAULT_RANGES)
     for part in filter(None, (s.strip() for s in text.split(","))):

@@ -120,7 +120,7 @@ def compute_chunk(task: ChunkTask) -> dict:
 def warm_up() -> None:
     """Run one design of the packaged case 1: loads (or compiles) every compiled function a chunk uses."""
     from ..spec import load_example, spec_to_dict
-    from ..sweep import DEFAULT_RANGES
+    from ..assembly_errors import DEFAULT_RANGES
 
     plan = Plan(spec_to_dict(load_example("case1")), ())
     compute_chunk(ChunkTask(Request(plan, dict(DEFAULT_RANGES)).to_json(), 0))
