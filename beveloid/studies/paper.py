@@ -253,18 +253,14 @@ def _crowning_task(case, positions, out):
                               progress=_progress)
 
 
-def compile_first(geom, progress=_progress) -> float:
+def compile_first(geom) -> float:
     """Seconds to make ready every compiled function the studies run (numba compiles them on the first
     run after an installation and caches them; later runs load them): small runs of each analysis, so
     that the worker processes load numba's cache instead of each compiling the same functions."""
     from .. import ltca, tca
     from ..contact_ellipse import attach
-    from ..solver import backends
 
-    t0 = time.perf_counter()
-    ns = backends.namespace(backends.resolve("auto"))
-    if backends.needs_compiling(ns):
-        progress("   compiling the contact solver with numba: the first run after an installation (cached after)")
+    t0 = time.perf_counter()  # the first solve says when numba compiles (beveloid/solver/backends.py)
     r = tca.analyze(geom, np.zeros(5), positions=12)  # paths, statuses, backlash
     attach(r)  # the contact ellipses of the bearing patterns
     tca.contact_margins(geom, FLANK, tca.mesh_flank(geom, FLANK, positions=4, pairs=1, window_pitches=3).unknowns)
@@ -310,7 +306,7 @@ def write_study(out: Path, positions=200, progress=_progress, tooth_model=None, 
              f"process{'es' if tasks.workers > 1 else ''}")
         fe = loaded_study.submit_fe_teeth(tasks, CASES, model)  # the longest pieces first: numba not needed
         step("the compiled solver")
-        seconds = compile_first(geoms["case1"], progress)
+        seconds = compile_first(geoms["case1"])
         progress(f"   ready in {seconds:.1f} s")
         step("Figs 10-21 (error studies), edge-contact onset, crowning study: TCA")
         o = str(out)
