@@ -22,6 +22,7 @@ from __future__ import annotations
 import multiprocessing
 import os
 import signal
+import threading
 
 from .. import interrupts
 
@@ -62,9 +63,16 @@ class Tasks:
         if self.workers > 1:
             saved = {k: os.environ.get(k) for k in ONE_THREAD}
             os.environ.update(ONE_THREAD)  # read by the libraries as the workers import them
+            # started with SIGINT ignored, the workers ignore it from their first instruction (an ignored
+            # signal stays ignored across exec, and Python then installs no handler of its own): a Ctrl-C
+            # at the terminal prints no traceback from a worker that is still starting
+            ignore = threading.current_thread() is threading.main_thread()
+            handler = signal.signal(signal.SIGINT, signal.SIG_IGN) if ignore else None
             try:
                 self._pool = multiprocessing.get_context("spawn").Pool(self.workers, initializer=_worker_start)
             finally:
+                if ignore:
+                    signal.signal(signal.SIGINT, handler)
                 for k, v in saved.items():
                     if v is None:
                         os.environ.pop(k, None)
