@@ -32,9 +32,9 @@ FE_FIRST_TIME_S = 30
 
 
 def _say(text):
-    from .paper import _progress
+    from .tasks import say
 
-    _progress(f"   {text}")
+    say(f"   {text}")
 
 
 def _fe_source(case):

@@ -174,9 +174,9 @@ def _csv(path, header, rows):
 def case_task(case):
     """:func:`case_data` of a paper case (``beveloid paper`` runs each on a worker process)."""
     from ..pair import Pair
-    from .paper import _progress
+    from .tasks import say
 
-    return case_data(Pair.example(case).geometry, case, _progress)
+    return case_data(Pair.example(case).geometry, case, say)
 
 
 def case_data(g, case, progress=lambda msg: None, grids=GRIDS):

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import csv
 import math
-import sys
 import time
 import tomllib
 from dataclasses import dataclass
@@ -24,6 +23,7 @@ import numpy as np
 from .. import interrupts
 from . import PAPER_CONTENTS as CONTENTS
 from .crowning import PAPER_ALIGNED_TE_URAD
+from .tasks import say as _progress
 
 DEG = math.pi / 180
 
@@ -104,12 +104,6 @@ def table1_comparison(results):
                 (case, "beta_w (deg)", member, p["beta_w_deg"], math.degrees(m.working_helix_angle)),
             ]
     return [(c, q, m, p, v, _within_last_digit(p, v)) for c, q, m, p, v in rows]
-
-
-def _progress(msg):
-    """A line on stderr, in one write (the worker processes' lines interleave whole)."""
-    sys.stderr.write(f"{msg}\n")
-    sys.stderr.flush()
 
 
 def _write_csv(path, study, geom_results):

@@ -22,6 +22,7 @@ from __future__ import annotations
 import multiprocessing
 import os
 import signal
+import sys
 import threading
 
 from .. import interrupts
@@ -29,6 +30,12 @@ from .. import interrupts
 #: the thread counts the workers start with (the processes are the parallelism)
 ONE_THREAD = {name: "1" for name in ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS",
                                      "NUMBA_NUM_THREADS")}
+
+
+def say(msg) -> None:
+    """A progress line on stderr, in one write: the processes' lines interleave whole."""
+    sys.stderr.write(f"{msg}\n")
+    sys.stderr.flush()
 
 
 def _worker_start() -> None:
