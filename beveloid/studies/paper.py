@@ -247,17 +247,21 @@ def _crowning_task(case, positions, out):
                               progress=_progress)
 
 
-def compile_first(geom) -> float:
+def compile_first(geom, then=None) -> float:
     """Seconds to make ready every compiled function the studies run (numba compiles them on the first
     run after an installation and caches them; later runs load them): small runs of each analysis, so
-    that the worker processes load numba's cache instead of each compiling the same functions."""
+    that the worker processes load numba's cache instead of each compiling the same functions.  The
+    solver core first (the error studies need only it until their bearing patterns): ``then()``, when
+    given, runs as soon as it is ready (the studies are handed to the workers meanwhile)."""
     from .. import ltca, tca
     from ..contact_ellipse import attach
 
     t0 = time.perf_counter()  # the first solve says when numba compiles (beveloid/solver/backends.py)
     r = tca.analyze(geom, np.zeros(5), positions=12)  # paths, statuses, backlash
-    attach(r)  # the contact ellipses of the bearing patterns
     tca.contact_margins(geom, FLANK, tca.mesh_flank(geom, FLANK, positions=4, pairs=1, window_pitches=3).unknowns)
+    if then is not None:
+        then()
+    attach(r)  # the contact ellipses of the bearing patterns
     ltca.analyze(geom, ltca.Options(torque_nm=100.0, flank=FLANK, positions=2, tooth_model="plate"))
     return time.perf_counter() - t0
 
@@ -275,7 +279,7 @@ def write_study(out: Path, positions=200, progress=_progress, tooth_model=None, 
     t0 = time.perf_counter()
     workers = min(MAX_WORKERS, default_workers()) if workers is None else workers
     model = ltca.Options(torque_nm=1.0, tooth_model=tooth_model).tooth_model
-    steps = 8  # Table 1, the FE teeth, compile, the error studies, Fig 22 and sensitivity, onset and crowning, loaded, report
+    steps = 6  # Table 1, the FE teeth, compile and the TCA studies, Fig 22 and sensitivity, the LTCA studies, report
     k = 0
 
     def step(msg):
@@ -299,14 +303,17 @@ def write_study(out: Path, positions=200, progress=_progress, tooth_model=None, 
         step(f"the FE teeth of the loaded contact ({model} tooth model), on {tasks.workers} "
              f"process{'es' if tasks.workers > 1 else ''}")
         fe = loaded_study.submit_fe_teeth(tasks, CASES, model)  # the longest pieces first: numba not needed
-        step("the compiled solver")
-        seconds = compile_first(geoms["case1"])
-        progress(f"   ready in {seconds:.1f} s")
-        step("Figs 10-21 (error studies), edge-contact onset, crowning study: TCA")
-        o = str(out)
-        crowned = {c: tasks.submit(_crowning_task, c, positions, o) for c in CASES}
-        studies = {st.figure: tasks.submit(_study_task, st.figure, positions, o) for st in STUDIES}
-        onsets = {c: tasks.submit(_onset_task, c) for c in CASES}
+        step("the compiled solver, then Figs 10-21 (error studies), edge-contact onset, crowning study: TCA")
+        o, handles = str(out), {}
+
+        def submit_tca():  # the crowning first: it draws no bearing pattern (their compile comes last)
+            handles["crowned"] = {c: tasks.submit(_crowning_task, c, positions, o) for c in CASES}
+            handles["studies"] = {st.figure: tasks.submit(_study_task, st.figure, positions, o) for st in STUDIES}
+            handles["onsets"] = {c: tasks.submit(_onset_task, c) for c in CASES}
+
+        seconds = compile_first(geoms["case1"], then=submit_tca)
+        progress(f"   compiled solver ready in {seconds:.1f} s")
+        crowned, studies, onsets = handles["crowned"], handles["studies"], handles["onsets"]
 
         step("Fig 22 (aligned TE of both cases) and the sensitivity of the path")
         aligned = [tca.analyze(geoms[c], np.zeros(5), positions=positions) for c in CASES]
