@@ -300,7 +300,8 @@ def write_study(out: Path, positions=200, progress=_progress, tooth_model=None, 
             w.writerow([row[0], row[1], row[2], row[3], repr(float(row[4])), row[5]])
 
     with Tasks(workers) as tasks:
-        step(f"the FE teeth of the loaded contact ({model} tooth model), on {tasks.workers} "
+        step(f"the loaded contact's FE teeth, on {tasks.workers} process{'es' if tasks.workers > 1 else ''}"
+             if model == "fe" else f"the loaded contact's tooth: {model} (no FE data); {tasks.workers} "
              f"process{'es' if tasks.workers > 1 else ''}")
         fe = loaded_study.submit_fe_teeth(tasks, CASES, model)  # the longest pieces first: numba not needed
         step("the compiled solver, then Figs 10-21 (error studies), edge-contact onset, crowning study: TCA")
