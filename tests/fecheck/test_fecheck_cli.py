@@ -115,11 +115,17 @@ def test_ctrl_c_while_calculix_runs_keeps_nothing_and_says_so(tmp_path):
     out = tmp_path / "out"
     out.mkdir()
     (out / "mine.txt").write_text("kept\n")
-    # the LTCA's plate tooth (the FE tooth's data would cost a minute here; tests/fe checks it)
-    code = ("import sys; from beveloid.ltca import options; options.default_tooth_model = lambda: 'plate'; "
-            "from beveloid import cli; sys.exit(cli.main())")
+    # the check up to CalculiX: its deck written into --out, then ccx run by the real runner (the LTCA and
+    # the meshes before it are the coarse test's above: here they would cost seconds and change nothing)
+    code = ("import sys; from pathlib import Path; from beveloid import cli; from beveloid.fecheck import check, run\n"
+            "def fe_check(pair, options, progress=None):\n"
+            "    deck = Path(options.out_dir) / 'fe_check.inp'\n"
+            "    deck.write_text('*HEADING\\n')\n"
+            "    run.run_ccx(deck, progress)\n"
+            "check.fe_check = fe_check\n"
+            "sys.exit(cli.main())")
     proc = subprocess.run([sys.executable, "-c", code, "fe-check", os.path.abspath(CASE1), "--torque-nm", "200",
-                           "--coarsen", "4", "--max-strip-elements", "2000", "--out", str(out)],
+                           "--out", str(out)],
                           capture_output=True, text=True, timeout=600, env=dict(os.environ, BEVELOID_CCX=str(ccx)))
     assert proc.returncode in (130, -signal.SIGINT), proc.stderr
     assert "Traceback" not in proc.stderr, proc.stderr
