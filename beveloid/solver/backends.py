@@ -241,14 +241,24 @@ def needs_compiling(ns) -> bool:
 _notified = False
 
 
+#: what every command says on stderr before numba compiles the solver (a minute or more, without output)
+COMPILING = ("beveloid: compiling the contact solver with numba: the first run after an installation or a change of"
+             " the models (derive --model) takes a minute or more; cached afterwards")
+
+
 def notify_compiling(ns, stream=None):
-    """Say on a terminal that numba is about to compile (nothing otherwise); the cache is looked
-    at once per process (reading its index costs ~1 ms, more than a mesh study's solve)."""
+    """Say on stderr that numba is about to compile (nothing when its cache serves), terminal or not:
+    every command that solves a contact (tca, design, ltca, sweep, paper, ...) reaches it through
+    :meth:`beveloid.solver.Solver.announced_core`.  The cache is looked at once per process (reading
+    its index costs ~1 ms, more than a mesh study's solve)."""
     global _notified
     stream = stream or sys.stderr
-    if _notified or not getattr(ns, "compiled", False) or not getattr(stream, "isatty", lambda: False)():
+    if _notified or not getattr(ns, "compiled", False):
         return
     _notified = True
     if needs_compiling(ns):
-        stream.write("beveloid: compiling the contact solver with numba (first use only; cached afterwards)...\n")
-        stream.flush()
+        try:
+            stream.write(COMPILING + "\n")
+            stream.flush()
+        except (OSError, ValueError):  # a closed stderr: nothing can be said
+            pass
