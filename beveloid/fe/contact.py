@@ -23,7 +23,6 @@ import typing
 import numpy as np
 
 from ..export.sampling import FLANKS
-from .solve import principal_stresses
 
 __all__ = ["FeTooth", "RootStress"]
 
@@ -86,15 +85,23 @@ class FeTooth:
         W = self.weights(points)
         return W @ self.compliance_mm_per_n @ W.T
 
-    def _principal(self, points, forces_n):
-        f = np.nan_to_num(np.asarray(forces_n, dtype=float).ravel())
-        g = self.weights(points).T @ f  # (G,)
-        return (principal_stresses(self.stress[self.index] @ g), principal_stresses(self.stress[1 - self.index] @ g))
+    def loads(self, points, forces_n) -> np.ndarray:
+        """(Q, G) the load-grid node forces g = W^T f of Q load sets: ``points`` (Q, n, 3), ``forces_n``
+        (Q, n) (a non-finite force is none)."""
+        p = np.asarray(points, dtype=float)
+        f = np.nan_to_num(np.asarray(forces_n, dtype=float)).reshape(p.shape[0], -1)
+        W = self.weights(p.reshape(-1, 3)).reshape(p.shape[0], -1, self.stress.shape[-1])
+        return np.einsum("qng,qn->qg", W, f)
+
+    def _tensors(self, side, g):
+        """(nf, 6, Q) the fillet stress tensors of ``side`` (0 the loaded flank's fillet) under loads g (Q, G)."""
+        return self.stress[self.index if side == 0 else 1 - self.index] @ g.T
 
     def along_face(self, points, forces_n, bins: int = 24):
         """(z_mm (bins,), stress (bins,)): the loaded fillet's largest max-principal stress in each of
         ``bins`` equal slices of the face (nan where a slice holds no counted node)."""
-        loaded, _ = self._principal(points, forces_n)
+        g = self.loads(np.asarray(points, dtype=float)[None], np.asarray(forces_n, dtype=float)[None])
+        loaded = extreme_principal(self._tensors(0, g)[..., 0].T, largest=True)
         z = self.data.fillet_points_mm[self.index][:, 2]
         edges = np.linspace(self.z_mm[0], self.z_mm[-1], bins + 1)
         slot = np.clip(np.searchsorted(edges, z) - 1, 0, bins - 1)
@@ -102,13 +109,57 @@ class FeTooth:
         for b in range(bins):
             sel = (slot == b) & self.counted[self.index]
             if sel.any():
-                out[b] = float(np.max(loaded[sel, 2]))
+                out[b] = float(np.max(loaded[sel]))
         return 0.5 * (edges[1:] + edges[:-1]), out
 
     def root_stress(self, points, forces_n) -> RootStress:
         """The root stress of this tooth under normal forces (N) at flank points (see the module docstring)."""
-        loaded, other = self._principal(points, forces_n)
-        k = int(np.argmax(np.where(self.counted[self.index], loaded[:, 2], -np.inf)))
+        r = self.root_stresses(np.asarray(points, dtype=float)[None], np.asarray(forces_n, dtype=float)[None])
+        return RootStress(*(float(v[0]) for v in r))
+
+    def root_stresses(self, points, forces_n) -> RootStress:
+        """:meth:`root_stress` of Q load sets at once (``points`` (Q, n, 3), ``forces_n`` (Q, n)): a
+        RootStress of (Q,) arrays.  One product of the fillet stress operator with every set's node
+        forces; the principal stresses in closed form (:func:`extreme_principal`), only at the nodes
+        whose bounds can reach the extreme (:func:`fillet_extreme`)."""
+        g = self.loads(points, forces_n)
+        k, tension = fillet_extreme(self._tensors(0, g), self.counted[self.index], largest=True)
+        _, compression = fillet_extreme(self._tensors(1, g), self.counted[1 - self.index], largest=False)
         where = self.data.fillet_points_mm[self.index][k]
-        return RootStress(float(loaded[k, 2]), float(where[2]), float(self.data.fillet_height_mm[self.index][k]),
-                          float(np.min(np.where(self.counted[1 - self.index], other[:, 0], np.inf))))
+        return RootStress(tension, where[:, 2], np.asarray(self.data.fillet_height_mm[self.index])[k], compression)
+
+
+def extreme_principal(t, largest: bool) -> np.ndarray:
+    """The largest (or smallest) principal stress of symmetric tensors ``t`` (6, ...) (xx, yy, zz, xy,
+    yz, zx), in closed form (the trigonometric solution of the characteristic cubic)."""
+    xx, yy, zz, xy, yz, zx = t
+    q = (xx + yy + zz) / 3.0
+    off = xy * xy + yz * yz + zx * zx
+    a, b, c = xx - q, yy - q, zz - q
+    p = np.sqrt((a * a + b * b + c * c + 2.0 * off) / 6.0)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        inv = np.where(p > 0, 1.0 / p, 0.0)
+        det = (a * (b * c - yz * yz) - xy * (xy * c - yz * zx) + zx * (xy * yz - b * zx)) * inv ** 3
+    phi = np.arccos(np.clip(0.5 * det, -1.0, 1.0)) / 3.0
+    return q + 2.0 * p * (np.cos(phi) if largest else np.cos(phi + 2.0 * np.pi / 3.0))
+
+
+def fillet_extreme(tensors, counted, largest: bool):
+    """(node (Q,), value (Q,)): the counted node with the largest max-principal (``largest``) or the
+    smallest min-principal stress of ``tensors`` (nf, 6, Q).  A node is solved only where its
+    Gershgorin bound (diagonal +- the row's off-diagonal magnitudes) can reach the best diagonal entry
+    of any counted node: the others cannot hold the extreme."""
+    s = 1.0 if largest else -1.0
+    Q = tensors.shape[-1]
+    if not np.any(counted):
+        return np.zeros(Q, dtype=int), np.full(Q, np.nan)
+    t = tensors[counted] * s  # the largest principal of -t: minus the smallest of t
+    xx, yy, zz, xy, yz, zx = np.moveaxis(t, 1, 0)
+    axy, ayz, azx = np.abs(xy), np.abs(yz), np.abs(zx)
+    low = np.maximum(np.maximum(xx, yy), zz).max(axis=0)  # (Q,) a lower bound of the extreme
+    high = np.maximum(np.maximum(xx + axy + azx, yy + axy + ayz), zz + azx + ayz)  # (nc, Q)
+    node, col = np.nonzero(high >= low)
+    value = np.full(high.shape, -np.inf)
+    value[node, col] = extreme_principal(t[node, :, col].T, largest=True)
+    best = np.argmax(value, axis=0)
+    return np.flatnonzero(counted)[best], s * value[best, np.arange(value.shape[1])]
