@@ -23,6 +23,7 @@ import typing
 import numpy as np
 
 from ..export.sampling import FLANKS
+from . import principal
 
 __all__ = ["FeTooth", "RootStress"]
 
@@ -55,6 +56,12 @@ class FeTooth:
         fp = np.asarray(data.fillet_points_mm)
         dist = np.min(np.linalg.norm(fp[:, :, None, :] - grid[None, None], axis=-1), axis=-1)
         self.counted = dist > near  # (2, nf)
+        # the counted nodes' stress operators (rows node-major, 6 components, G columns) of the loaded
+        # side's fillet (0) and the other's (1)
+        sides = (self.index, 1 - self.index)
+        self.nodes = tuple(np.flatnonzero(self.counted[s]) for s in sides)
+        self.operators = tuple(np.ascontiguousarray(self.stress[s][n].reshape(-1, self.stress.shape[-1]))
+                               for s, n in zip(sides, self.nodes))
 
     def weights(self, points) -> np.ndarray:
         """(n, G) bilinear weights of the load grid's nodes (profile-major) for points (n, 3); a row of
@@ -78,12 +85,17 @@ class FeTooth:
         ts = np.clip((r - lo) / (hi - lo), 0.0, 1.0)
         for da, wa in ((0, 1 - ts), (1, ts)):
             for dz, wz in ((0, 1 - tz), (1, tz)):
-                np.add.at(W, (rows, (js + da) * nz + jz + dz), np.where(ok, wa * wz, 0.0))
+                W[rows, (js + da) * nz + jz + dz] = np.where(ok, wa * wz, 0.0)  # four distinct nodes a row
         return W
 
     def line_compliance(self, points) -> np.ndarray:
-        W = self.weights(points)
-        return W @ self.compliance_mm_per_n @ W.T
+        return self.line_compliances(np.asarray(points, dtype=float)[None])[0]
+
+    def line_compliances(self, points) -> np.ndarray:
+        """(Q, n, n) W C W^T of Q point sets (Q, n, 3) in one product."""
+        p = np.asarray(points, dtype=float)
+        W = self.weights(p.reshape(-1, 3)).reshape(p.shape[0], p.shape[1], -1)
+        return (W @ self.compliance_mm_per_n) @ np.swapaxes(W, 1, 2)
 
     def loads(self, points, forces_n) -> np.ndarray:
         """(Q, G) the load-grid node forces g = W^T f of Q load sets: ``points`` (Q, n, 3), ``forces_n``
@@ -94,20 +106,22 @@ class FeTooth:
         return np.einsum("qng,qn->qg", W, f)
 
     def _tensors(self, side, g):
-        """(nf, 6, Q) the fillet stress tensors of ``side`` (0 the loaded flank's fillet) under loads g (Q, G)."""
-        return self.stress[self.index if side == 0 else 1 - self.index] @ g.T
+        """(Q, nc, 6) the counted fillet nodes' stress tensors of ``side`` (0 the loaded flank's fillet)
+        under loads g (Q, G)."""
+        return (g @ self.operators[side].T).reshape(g.shape[0], -1, 6)
 
     def along_face(self, points, forces_n, bins: int = 24):
         """(z_mm (bins,), stress (bins,)): the loaded fillet's largest max-principal stress in each of
         ``bins`` equal slices of the face (nan where a slice holds no counted node)."""
         g = self.loads(np.asarray(points, dtype=float)[None], np.asarray(forces_n, dtype=float)[None])
-        loaded = extreme_principal(self._tensors(0, g)[..., 0].T, largest=True)
-        z = self.data.fillet_points_mm[self.index][:, 2]
+        loaded = np.empty(self.nodes[0].size)
+        principal.functions().each_node(self._tensors(0, g)[0], 1.0, loaded)
+        z = self.data.fillet_points_mm[self.index][self.nodes[0], 2]
         edges = np.linspace(self.z_mm[0], self.z_mm[-1], bins + 1)
         slot = np.clip(np.searchsorted(edges, z) - 1, 0, bins - 1)
         out = np.full(bins, np.nan)
         for b in range(bins):
-            sel = (slot == b) & self.counted[self.index]
+            sel = slot == b
             if sel.any():
                 out[b] = float(np.max(loaded[sel]))
         return 0.5 * (edges[1:] + edges[:-1]), out
@@ -119,47 +133,17 @@ class FeTooth:
 
     def root_stresses(self, points, forces_n) -> RootStress:
         """:meth:`root_stress` of Q load sets at once (``points`` (Q, n, 3), ``forces_n`` (Q, n)): a
-        RootStress of (Q,) arrays.  One product of the fillet stress operator with every set's node
-        forces; the principal stresses in closed form (:func:`extreme_principal`), only at the nodes
-        whose bounds can reach the extreme (:func:`fillet_extreme`)."""
+        RootStress of (Q,) arrays.  One product of the counted fillet nodes' stress operator with every
+        set's node forces; the extreme principal stresses by :func:`beveloid.fe.principal.extreme`."""
         g = self.loads(points, forces_n)
-        k, tension = fillet_extreme(self._tensors(0, g), self.counted[self.index], largest=True)
-        _, compression = fillet_extreme(self._tensors(1, g), self.counted[1 - self.index], largest=False)
+        Q = g.shape[0]
+        fn = principal.functions()
+        out = []
+        for side, sign in ((0, 1.0), (1, -1.0)):
+            node, value = np.zeros(Q, dtype=np.int64), np.full(Q, np.nan)
+            if self.nodes[side].size:
+                fn.extreme(self._tensors(side, g), sign, node, value)
+            out.append((self.nodes[side][node] if self.nodes[side].size else node, value))
+        (k, tension), (_, compression) = out
         where = self.data.fillet_points_mm[self.index][k]
         return RootStress(tension, where[:, 2], np.asarray(self.data.fillet_height_mm[self.index])[k], compression)
-
-
-def extreme_principal(t, largest: bool) -> np.ndarray:
-    """The largest (or smallest) principal stress of symmetric tensors ``t`` (6, ...) (xx, yy, zz, xy,
-    yz, zx), in closed form (the trigonometric solution of the characteristic cubic)."""
-    xx, yy, zz, xy, yz, zx = t
-    q = (xx + yy + zz) / 3.0
-    off = xy * xy + yz * yz + zx * zx
-    a, b, c = xx - q, yy - q, zz - q
-    p = np.sqrt((a * a + b * b + c * c + 2.0 * off) / 6.0)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        inv = np.where(p > 0, 1.0 / p, 0.0)
-        det = (a * (b * c - yz * yz) - xy * (xy * c - yz * zx) + zx * (xy * yz - b * zx)) * inv ** 3
-    phi = np.arccos(np.clip(0.5 * det, -1.0, 1.0)) / 3.0
-    return q + 2.0 * p * (np.cos(phi) if largest else np.cos(phi + 2.0 * np.pi / 3.0))
-
-
-def fillet_extreme(tensors, counted, largest: bool):
-    """(node (Q,), value (Q,)): the counted node with the largest max-principal (``largest``) or the
-    smallest min-principal stress of ``tensors`` (nf, 6, Q).  A node is solved only where its
-    Gershgorin bound (diagonal +- the row's off-diagonal magnitudes) can reach the best diagonal entry
-    of any counted node: the others cannot hold the extreme."""
-    s = 1.0 if largest else -1.0
-    Q = tensors.shape[-1]
-    if not np.any(counted):
-        return np.zeros(Q, dtype=int), np.full(Q, np.nan)
-    t = tensors[counted] * s  # the largest principal of -t: minus the smallest of t
-    xx, yy, zz, xy, yz, zx = np.moveaxis(t, 1, 0)
-    axy, ayz, azx = np.abs(xy), np.abs(yz), np.abs(zx)
-    low = np.maximum(np.maximum(xx, yy), zz).max(axis=0)  # (Q,) a lower bound of the extreme
-    high = np.maximum(np.maximum(xx + axy + azx, yy + axy + ayz), zz + azx + ayz)  # (nc, Q)
-    node, col = np.nonzero(high >= low)
-    value = np.full(high.shape, -np.inf)
-    value[node, col] = extreme_principal(t[node, :, col].T, largest=True)
-    best = np.argmax(value, axis=0)
-    return np.flatnonzero(counted)[best], s * value[best, np.arange(value.shape[1])]
