@@ -60,8 +60,9 @@ class FeTooth:
         # side's fillet (0) and the other's (1)
         sides = (self.index, 1 - self.index)
         self.nodes = tuple(np.flatnonzero(self.counted[s]) for s in sides)
-        self.operators = tuple(np.ascontiguousarray(self.stress[s][n].reshape(-1, self.stress.shape[-1]))
-                               for s, n in zip(sides, self.nodes))
+        self.operators = tuple(np.ascontiguousarray(self.stress[s][n]) for s, n in zip(sides, self.nodes))
+        fn = principal.functions()
+        self.bounds = tuple(fn.bounds(op, sign) for op, sign in zip(self.operators, (1.0, -1.0)))
 
     def weights(self, points) -> np.ndarray:
         """(n, G) bilinear weights of the load grid's nodes (profile-major) for points (n, 3); a row of
@@ -108,7 +109,8 @@ class FeTooth:
     def _tensors(self, side, g):
         """(Q, nc, 6) the counted fillet nodes' stress tensors of ``side`` (0 the loaded flank's fillet)
         under loads g (Q, G)."""
-        return (g @ self.operators[side].T).reshape(g.shape[0], -1, 6)
+        op = self.operators[side]
+        return (g @ op.reshape(-1, op.shape[-1]).T).reshape(g.shape[0], -1, 6)
 
     def along_face(self, points, forces_n, bins: int = 24):
         """(z_mm (bins,), stress (bins,)): the loaded fillet's largest max-principal stress in each of
@@ -133,16 +135,16 @@ class FeTooth:
 
     def root_stresses(self, points, forces_n) -> RootStress:
         """:meth:`root_stress` of Q load sets at once (``points`` (Q, n, 3), ``forces_n`` (Q, n)): a
-        RootStress of (Q,) arrays.  One product of the counted fillet nodes' stress operator with every
-        set's node forces; the extreme principal stresses by :func:`beveloid.fe.principal.extreme`."""
-        g = self.loads(points, forces_n)
+        RootStress of (Q,) arrays: the extreme principal stresses by :func:`beveloid.fe.principal.extreme`
+        (each set's tensors over its non-zero node loads, only at the nodes whose bound can reach them)."""
+        g = np.ascontiguousarray(self.loads(points, forces_n))
         Q = g.shape[0]
         fn = principal.functions()
         out = []
         for side, sign in ((0, 1.0), (1, -1.0)):
             node, value = np.zeros(Q, dtype=np.int64), np.full(Q, np.nan)
             if self.nodes[side].size:
-                fn.extreme(self._tensors(side, g), sign, node, value)
+                fn.extreme(self.operators[side], self.bounds[side], g, sign, node, value)
             out.append((self.nodes[side][node] if self.nodes[side].size else node, value))
         (k, tension), (_, compression) = out
         where = self.data.fillet_points_mm[self.index][k]

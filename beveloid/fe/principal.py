@@ -3,9 +3,10 @@ by :func:`beveloid.solver.backends.compiled_module`; interpreted where numba is 
 
 The eigenvalues of a symmetric 3 x 3 tensor in closed form: the trigonometric solution of its
 characteristic cubic (q the mean normal stress, p the deviator's norm / sqrt 6, phi from det of the
-scaled deviator).  A fillet node is solved only where its Gershgorin bound (a diagonal entry plus its
-row's off-diagonal magnitudes) can still beat the best value found: every other node cannot hold the
-extreme, so the answer is that of solving every node.
+scaled deviator).  A fillet node is solved only where a bound of its Gershgorin bound (a diagonal
+entry plus its row's off-diagonal magnitudes), linear in the node loads because they are >= 0, can
+still reach the best value found: every other node cannot hold the extreme, so the answer is that
+of solving every node.
 """
 from __future__ import annotations
 
@@ -38,24 +39,64 @@ def each_node(t, sign, out):
                                            sign * t[i, YZ], sign * t[i, ZX])
 
 
-def extreme(t, sign, node, value):
-    """For each load set q of t (Q, nf, 6): the node with the largest principal stress (sign +1) or the
-    smallest (sign -1), into node[q], value[q] (module docstring)."""
-    Q, nf = t.shape[0], t.shape[1]
+def bounds(op, sign):
+    """(G, nc) per load column and node the largest over the rows r of sign a_rr + sum_c |a_rc| (op (nc,
+    6, G) the nodes' stress per unit column load): with loads g >= 0, g @ bounds is at least every row's
+    Gershgorin bound of sign x the node's tensor, so at least its largest eigenvalue."""
+    nc, _, G = op.shape
+    out = np.empty((G, nc))
+    for i in range(nc):
+        for c in range(G):
+            axy, ayz, azx = abs(op[i, XY, c]), abs(op[i, YZ, c]), abs(op[i, ZX, c])
+            out[c, i] = max(sign * op[i, XX, c] + axy + azx, sign * op[i, YY, c] + axy + ayz,
+                            sign * op[i, ZZ, c] + azx + ayz)
+    return out
+
+
+def _exact(op, i, g, q, cols, m, sign, t):
+    for r in range(6):
+        t[r] = 0.0
+    for a in range(m):
+        c = cols[a]
+        for r in range(6):
+            t[r] += op[i, r, c] * g[q, c]
+    return largest_eigenvalue(sign * t[XX], sign * t[YY], sign * t[ZZ], sign * t[XY], sign * t[YZ], sign * t[ZX])
+
+
+def extreme(op, bound, g, sign, node, value):
+    """For each load set q of g (Q, G) (node loads >= 0): the node of op (nc, 6, G) (bound: :func:`bounds`) with the largest
+    principal stress (sign +1) or the smallest (sign -1), into node[q], value[q] (the lowest node among
+    equal values).  The tensors are summed over the set's non-zero loads only; a node is solved only
+    where its bound (:func:`bounds` @ g) can still reach the best value found, starting from the node of
+    the largest bound: every other node cannot hold the extreme (module docstring)."""
+    Q, G = g.shape
+    nc = op.shape[0]
+    cols = np.empty(G, dtype=np.int64)
+    b = np.empty(nc)
+    t = np.empty(6)
     for q in range(Q):
-        low = -np.inf  # the best diagonal entry: the extreme is at least this
-        for i in range(nf):
-            low = max(low, sign * t[q, i, XX], sign * t[q, i, YY], sign * t[q, i, ZZ])
-        best = -np.inf
-        k = -1
-        for i in range(nf):
-            xx, yy, zz = sign * t[q, i, XX], sign * t[q, i, YY], sign * t[q, i, ZZ]
-            axy, ayz, azx = abs(t[q, i, XY]), abs(t[q, i, YZ]), abs(t[q, i, ZX])
-            high = max(xx + axy + azx, yy + axy + ayz, zz + azx + ayz)
-            if high < low or high <= best:
+        m = 0
+        for c in range(G):
+            if g[q, c] != 0.0:
+                cols[m] = c
+                m += 1
+        for i in range(nc):
+            b[i] = 0.0
+        for a in range(m):
+            c = cols[a]
+            w = g[q, c]
+            for i in range(nc):
+                b[i] += bound[c, i] * w
+        k = 0
+        for i in range(nc):
+            if b[i] > b[k]:
+                k = i
+        best = _exact(op, k, g, q, cols, m, sign, t)
+        for i in range(nc):
+            if i == k or b[i] < best:
                 continue
-            v = largest_eigenvalue(xx, yy, zz, sign * t[q, i, XY], sign * t[q, i, YZ], sign * t[q, i, ZX])
-            if v > best:
+            v = _exact(op, i, g, q, cols, m, sign, t)
+            if v > best or (v == best and i < k):
                 best = v
                 k = i
         node[q] = k
@@ -68,4 +109,4 @@ def functions():
 
     if not backends.AVAILABLE:
         return sys.modules[__name__]
-    return backends.compiled_module(__name__, ("largest_eigenvalue", "each_node", "extreme"))
+    return backends.compiled_module(__name__, ("largest_eigenvalue", "each_node", "bounds", "_exact", "extreme"))

@@ -28,6 +28,7 @@ class Setup:
 
     def __init__(self, geom, flank, errors, positions, pairs, solver):
         self.geom, self.flank, self.solver = geom, flank, solver
+        self.problem = geom.problem(flank)  # the packed surfaces of the gap solves, once
         self.errors = tca.errors_array(errors)
         # the Solver itself, its tolerances with its backend (issue 42)
         fr = tca.mesh_flank(geom, flank, self.errors, positions=positions, pairs=pairs, window_pitches=1,
@@ -88,7 +89,8 @@ class Setup:
         jj, kk = np.nonzero(ok)
         frames = gaps.Frames(self.start[jj, kk], self.pair_phi1[jj, kk], self.frame.origin[jj, kk],
                              self.frame.axes[jj, kk])
-        cg = gaps.cell_gaps(self.geom, self.flank, self.errors, frames, np.zeros((jj.size, 1, 2)), self.solver)
+        cg = gaps.cell_gaps(self.geom, self.flank, self.errors, frames, np.zeros((jj.size, 1, 2)), self.solver,
+                            self.problem)
         on = cg.on_flanks[:, 0] if cg.on_flanks.any() else np.isfinite(cg.gap_mm[:, 0])
         if not on.any():
             return 1.0, 1.0

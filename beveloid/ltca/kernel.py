@@ -25,6 +25,22 @@ TINY = 2.2250738585072014e-308  # numpy.finfo(float).tiny
 LOAD_TOL = 1e-9
 
 
+def _dot(a, i, j, n):
+    """sum_k<n a[i, k] a[j, k], in four running sums (the order is fixed: the same on every backend)."""
+    s0 = s1 = s2 = s3 = 0.0
+    k = 0
+    while k + 4 <= n:
+        s0 += a[i, k] * a[j, k]
+        s1 += a[i, k + 1] * a[j, k + 1]
+        s2 += a[i, k + 2] * a[j, k + 2]
+        s3 += a[i, k + 3] * a[j, k + 3]
+        k += 4
+    while k < n:
+        s0 += a[i, k] * a[j, k]
+        k += 1
+    return (s0 + s1) + (s2 + s3)
+
+
 def _factor_solve(blocks, o, s, idx, m, sym, rhs, out, work):
     """out[:m, :] = C[idx, idx]^-1 rhs[:m, :] (2 right-hand sides) for the block at offset o (size s)."""
     for a in range(m):
@@ -34,19 +50,14 @@ def _factor_solve(blocks, o, s, idx, m, sym, rhs, out, work):
     if sym:
         ok = True
         for j in range(m):  # Cholesky, lower triangle in place
-            d = work[j, j]
-            for k in range(j):
-                d -= work[j, k] * work[j, k]
+            d = work[j, j] - _dot(work, j, j, j)
             if not d > 0.0:
                 ok = False
                 break
             d = math.sqrt(d)
             work[j, j] = d
             for i in range(j + 1, m):
-                v = work[i, j]
-                for k in range(j):
-                    v -= work[i, k] * work[j, k]
-                work[i, j] = v / d
+                work[i, j] = (work[i, j] - _dot(work, i, j, j)) / d
         if ok:
             for c in range(2):
                 for i in range(m):
@@ -143,10 +154,10 @@ def initial_set(h, w, diag, at, load, active):
         active[order[r]] = r <= j
 
 
-def active_set(blocks, off, start, size, sym, h, w, at, load, tol, max_iterations, active, p, result):
+def active_set(blocks, off, start, size, sym, h, w, at, load, tol, max_iterations, active, p, result, seen):
     """Solve one problem (module docstring) from the start set ``active`` (changed in place); the
     pressures into ``p``, and into ``result``: approach, iterations, status code, complementarity
-    and load residuals."""
+    and load residuals.  ``seen`` (max_iterations, n) booleans: room for the sets tried (any content)."""
     n = h.size
     nb = off.size
     big = 0
@@ -160,7 +171,6 @@ def active_set(blocks, off, start, size, sym, h, w, at, load, tol, max_iteration
     xw = np.zeros(n)
     cp = np.zeros(n)
     g = np.zeros(n)
-    seen = np.zeros((max_iterations, n), dtype=np.bool_)
     single = False
     settled = False
     code = 1
@@ -293,6 +303,7 @@ def solve_positions(blocks, off, start, size, sym, h, w, at, load, tol, max_iter
     N, n = h.shape
     active = np.zeros(n, dtype=np.bool_)
     diag = np.empty(n)
+    seen = np.empty((max_iterations, n), dtype=np.bool_)
     for j in range(N):
         if not todo[j]:
             continue
@@ -301,7 +312,7 @@ def solve_positions(blocks, off, start, size, sym, h, w, at, load, tol, max_iter
                 diag[start[b] + i] = blocks[off[j, b] + i * size[b] + i]
         initial_set(h[j], w[j], diag, at[j], load[j], active)
         active_set(blocks, off[j], start, size, sym[j], h[j], w[j], at[j], load[j], tol, max_iterations, active,
-                   p[j], result[j])
+                   p[j], result[j], seen)
 
 
 def assemble(d, tooth, area, loaded, nx, ny, out):
@@ -332,5 +343,5 @@ def kernels(solver):
         return sys.modules[__name__]
     from ..solver import backends
 
-    return backends.compiled_module(__name__, ("_factor_solve", "_matvec", "initial_set", "active_set",
+    return backends.compiled_module(__name__, ("_dot", "_factor_solve", "_matvec", "initial_set", "active_set",
                                                "solve_positions", "assemble"))

@@ -188,7 +188,8 @@ def solve_contact(
             k.initial_set(h, w, ops.diagonal(), at, load, active)
     p = np.zeros(n)
     result = np.zeros(5)
-    k.active_set(*ops.flat(), h, w, at, float(load), float(tol), int(max_iterations), active, p, result)
+    k.active_set(*ops.flat(), h, w, at, float(load), float(tol), int(max_iterations), active, p, result,
+                 np.empty((int(max_iterations), n), dtype=bool))
     delta, it, code, comp, load_res = result
     code = int(code)
     elastic = np.concatenate([b @ p[sl] for b, sl in zip(ops.blocks, ops.slices)])
