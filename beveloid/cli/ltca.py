@@ -1,5 +1,10 @@
-"""``beveloid ltca FILE --torque-nm T [--positions N] [--pairs K] [--flank left|right] [--dx MM] [--dy MM]
-[--dz MM] [--vertical DEG] [--horizontal DEG] [--grid ACROSSxALONG] [--plot OUT.png] [--json]``.
+"""``beveloid ltca FILE --torque-nm T[,T...] [--positions N] [--pairs K] [--flank left|right] [--dx MM] [--dy MM]
+[--dz MM] [--vertical DEG] [--horizontal DEG] [--grid ACROSSxALONG] [--samples K] [--seed S] [--tolerances ...]
+[--workers N | --scheduler ADDRESS] [--csv DIR] [--plot OUT.png] [--json]``.
+
+A torque list is the torque map (JSON ``map`` + ``torque_map``), ``--samples`` the tolerance box under
+load (JSON ``tolerance``); every run reports ``te_harmonics_urad`` / ``te_harmonics_um`` and the mesh
+stiffness's mean and peak-to-peak (docs/commands.md, docs/loaded_contact.md 8.6).
 
 Loaded tooth contact analysis (approximate: half-space + thin-slice teeth, frictionless; see
 docs/loaded_contact.md).  The torque is the pinion torque.  The JSON holds "torque_nm",

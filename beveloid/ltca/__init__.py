@@ -7,10 +7,13 @@ its limits are in docs/loaded_contact.md.
     from beveloid.solver import Solver
     result = analyze(Pair.example("case1"), Options(torque_nm=200.0, flank="left"), Solver())
 
+``analyze_many(pair, options, torques_nm, error_sets, solver)`` -> :class:`Batch`: N positions x T
+torques x K error sets in one call, the one engine of ``analyze`` (``batch``).
+
 Modules: ``options`` (the request and its range table), ``gaps`` (the unloaded gap from the
 generated surfaces), ``grid`` (each pair's grid, sized from Hertz), ``compliance`` (the beveloid
-compliance operator: half-space + tooth beams), ``cycle`` (the reference and one solve per
-position), ``analysis`` (the passes), ``result`` (the result and its JSON), ``pattern`` (the
+compliance operator: half-space + tooth beams), ``cycle`` (the reference and the solves of
+every position), ``kernel`` (the compiled active-set solve), ``analysis`` (the passes), ``result`` (the result and its JSON), ``pattern`` (the
 pattern over the cycle), ``plots``; the mechanics: ``halfspace``, ``lcp``, ``hertz``,
 ``tooth_compliance``, ``checks``.
 """
