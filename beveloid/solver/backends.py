@@ -224,6 +224,27 @@ def _compile(modules):
     return types.SimpleNamespace(**funcs, compiled=True)
 
 
+@functools.lru_cache(maxsize=None)
+def compiled_module(module_name: str, names: tuple):
+    """A plain module outside the core (in numba's subset, importing nothing of the package) with its
+    functions ``names`` compiled: the module executed again from its file as a twin (numba finds each
+    function's callees, compiled, in its globals), each function jit-compiled by :func:`_jit` and cached
+    on disk under the digest of that file.  None of the core is involved: its compile stays as it is."""
+    module = importlib.import_module(module_name)
+    name = module_name.replace(".", "_") + "__compiled"
+    if name not in sys.modules:
+        spec = importlib.util.spec_from_file_location(name, module.__file__)
+        twin = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(twin)
+        stamp = sources_stamp([module])
+        for attr in names:
+            fn = getattr(twin, attr)
+            fn.__qualname__ = f"{attr}__{stamp}"  # its cache entry belongs to this source
+            setattr(twin, attr, _jit(fn, nrt=True))
+        sys.modules[name] = twin
+    return sys.modules[name]
+
+
 def needs_compiling(ns) -> bool:
     """True when the compiled sweep has no usable cache on disk (none yet, or one written for
     other sources): the first run compiles, ~10-60 s."""
