@@ -130,7 +130,7 @@ def fe_check(pair, options: CheckOptions, progress=print, solver=None) -> dict:
     from .. import ltca, tca
     from ..solver import Solver
     from .deck import write_deck
-    from .pair_model import ModelRequest, pair_model, sector_meshes, sector_teeth
+    from .pair_model import SECTOR_TEETH, ModelRequest, pair_model, sector_meshes, sector_teeth
     from .strips import ltca_strips
     from .run import ccx_path, ccx_version, run_ccx
     from .pair_results import read_pair_results
@@ -159,11 +159,11 @@ def fe_check(pair, options: CheckOptions, progress=print, solver=None) -> dict:
         f"{options.refinement})")
     t0 = time.perf_counter()
     strips, about = {"pinion": None, "gear": None}, []
+    _, teeth = sector_teeth(pair, phi1, phi2, tuple(result.tooth_pairs))
     if options.local_refinement:
-        _, teeth = sector_teeth(pair, phi1, phi2, tuple(result.tooth_pairs))
         size = None if options.contact_size_um is None else options.contact_size_um * 1e-3
         strips, about = ltca_strips(result, j, geom, teeth, size, options.max_strip_elements)
-    meshes = sector_meshes(pair, options.refinement, options.coarsen, strips)
+    meshes = sector_meshes(pair, options.refinement, options.coarsen, strips, teeth)
     for m in ("pinion", "gear"):
         for entry, h in zip(about, meshes[m].strip_sizes_mm):
             entry[f"{m}_element_mm"] = h
@@ -192,12 +192,13 @@ def fe_check(pair, options: CheckOptions, progress=print, solver=None) -> dict:
              "vtu": str(folder / "fe_check.vtu")} if options.out_dir else {}
     notes = [f"position {j} of {options.ltca_positions} over one mesh cycle, {options.flank} flank, pinion torque "
              f"{options.torque_nm:g} N m; tooth pairs {list(model.tooth_pairs)} in the LTCA's order in both blocks",
-             "calculix: C3D10 sectors of 3 teeth (beveloid.fe.mesh), frictionless surface-to-surface penalty "
+             f"calculix: C3D10 sectors of {SECTOR_TEETH} teeth (beveloid.fe.mesh; the teeth of the tooth pairs "
+             "at the loaded tooth's sizes, the radial cuts free), frictionless surface-to-surface penalty "
              "contact (slope 50 E per mm), gear rim fixed, pinion rim a rigid body under the moment; pair loads "
              "and areas are CalculiX's contact totals (CF), peak pressure the largest nodal CPRESS on the gear "
              "flank",
-             "root_stress_max_mpa: the largest principal stress on each member's fillet faces (calculix, all three "
-             "teeth); the LTCA's largest pair root stress at the position (its FE tooth; null with the plate "
+             "root_stress_max_mpa: the largest principal stress on each member's fillet faces (calculix, the "
+             "teeth of the tooth pairs); the LTCA's largest pair root stress at the position (its FE tooth; null with the plate "
              f"tooth), tooth model here: {getattr(result, 'tooth_model', 'plate')}",
              "loaded_transmission_error_urad: unloaded TE + (N1/N2) x the pinion's rotation under the moment "
              "(calculix); the LTCA's loaded TE",
@@ -206,7 +207,7 @@ def fe_check(pair, options: CheckOptions, progress=print, solver=None) -> dict:
              "local_refinement: per loaded LTCA pair a strip on each flank (the LTCA's patch: centre line, "
              "half-width 1.5 b) meshed at b / 3 (or --contact-size-um), graded to the far size; the sizes are "
              "scaled up together when a sector's strips would exceed the element cap; null: not refined"]
-    notes += [f"tooth pair {k}: outside the three-tooth sectors (null)" for k, p in zip(model.tooth_pairs,
+    notes += [f"tooth pair {k}: outside the {SECTOR_TEETH}-tooth sectors (null)" for k, p in zip(model.tooth_pairs,
                                                                                          model.pairs) if p is None]
     notes += _resolution_notes(about if options.local_refinement else None)
     return {"calculix_version": run.version or ccx_version(), "position": int(j), "pinion_angle_rad": phi1,
