@@ -47,7 +47,7 @@ class CheckOptions:
     ltca_tooth_model: str | None = None  #: the LTCA's tooth model ("fe", "plate"; None: its default)
     local_refinement: bool = True  #: refine the mesh over the LTCA's loaded patches (beveloid.fecheck.strips)
     contact_size_um: float | None = None  #: the element size there (None: b / 3 of each patch)
-    max_strip_elements: int = MAX_STRIP_ELEMENTS  #: cap on the estimated elements in one sector's strips at refinement 2 (beveloid.fe.sizes.strip_sizes)
+    max_strip_elements: int = MAX_STRIP_ELEMENTS  #: cap on the estimated elements in one sector's strips at refinement 3, the FE tooth's sizes (beveloid.fe.sizes.strip_sizes)
 
     def __post_init__(self):
         from ..ltca.options import check_positions, check_torque
@@ -64,8 +64,8 @@ class CheckOptions:
         if self.contact_size_um is not None and not (isinstance(self.contact_size_um, (int, float))
                                                      and 10 <= self.contact_size_um <= 2000):
             raise UserError(f"--contact-size-um = {self.contact_size_um!r}: must be a number from 10 to 2000 (um)")
-        if not (isinstance(self.coarsen, (int, float)) and 0.125 <= self.coarsen <= 4):
-            raise UserError(f"--coarsen = {self.coarsen!r}: must be a number from 0.125 to 4")
+        if not (isinstance(self.coarsen, (int, float)) and 0.125 <= self.coarsen <= 2.5):
+            raise UserError(f"--coarsen = {self.coarsen!r}: must be a number from 0.125 to 2.5")
         if not (isinstance(self.max_strip_elements, int) and self.max_strip_elements >= 1000):
             raise UserError(f"--max-strip-elements = {self.max_strip_elements!r}: must be an integer >= 1000")
         if self.position is not None and not (isinstance(self.position, int)
@@ -120,7 +120,7 @@ def _resolution_notes(about) -> list[str]:
         if h > PEAK_RESOLVED_PER_SEMI_AXIS * b:
             out.append(f"tooth pair {e['tooth_pair']}: elements of {h:.3f} mm over the contact, {h / b:.1f} x its "
                        f"half-width b = {b:.3f} mm: its peak pressure and contact area are not resolved (the loads "
-                       "and TE are; docs/validation.md section 11); --refinement 2 or a larger --max-strip-elements "
+                       "and TE are; docs/validation.md section 11.2); a higher --refinement or a larger --max-strip-elements "
                        "resolves them")
     return out
 

@@ -28,7 +28,7 @@ __all__ = ["PRELOAD_FRACTION", "SECTOR_TEETH", "ModelRequest", "PairModel", "TCA
 PRELOAD_FRACTION = 0.5
 #: the sectors' teeth, the radial cuts free: the LTCA's pairs -1, 0, 1 on teeth -1, 0, 1, two more teeth
 #: beside each outer one (docs/validation.md 11.0, ``benchmarks/fe_check_sector_bcs.py``: against a
-#: 9-tooth sector an outer loaded tooth is 40-47 % too compliant in a free 3-tooth sector, 17-20 % too
+#: 9-tooth sector an outer loaded tooth is 41-47 % too compliant in a free 3-tooth sector, 17-20 % too
 #: stiff with the cuts clamped, 3-4 % too compliant in a free 5-tooth sector, within 0.1 % in a 7-tooth
 #: one, for 2 % more elements than 5 teeth: the added teeth are meshed at the far size)
 SECTOR_TEETH = 7
@@ -143,10 +143,10 @@ class ModelRequest:
 
 
 #: fe-check's ``--refinement N`` meshes each sector at the FE tooth's sizes (``beveloid.fe.mesh``)
-#: x LEVEL_1_COARSEN / N: refinement 1 is the coarse check (case 1 within 5 minutes on 2 cores; its
-#: loads and TE within ~3 % of refinement 2, docs/validation.md section 11), refinement 2 the FE
-#: tooth's own sizes, refinement 4 its refinement 2.
-LEVEL_1_COARSEN = 2.0
+#: x LEVEL_1_COARSEN / N: refinement 1 is the coarse check (the loads, the TE, the root stress: case 1's
+#: seven-tooth sectors at 181 000 DOF, the size of the three-tooth sectors' at x 2; docs/fe_check.md,
+#: Limits), refinement 3 the FE tooth's own sizes.
+LEVEL_1_COARSEN = 3.0
 
 
 def sector_meshes(pair, refinement: int, coarsen: float = 1.0, strips=None, teeth=None) -> dict:

@@ -10,7 +10,7 @@ from beveloid import cli
 from beveloid.fecheck import ccx_path
 
 CASE1 = "beveloid/data/case1.toml"
-COARSEN = 3.0  #: refinement 1's sizes x 3 (the FE tooth's x 6)
+COARSEN = 2.0  #: refinement 1's sizes x 2 (the FE tooth's x 6)
 STRIP_CAP = 4000  #: with COARSEN: about 11 800 elements (seven-tooth sectors), ~45 s of CalculiX CPU
 
 
@@ -55,14 +55,14 @@ def test_coarse_fe_check_of_case1_agrees_with_the_ltca(tmp_path):
     # the pair the LTCA loads most (4.5 x either side pair's load) is the one the FE loads most
     fe_loads, lt_loads = ([v or 0.0 for v in b["pair_normal_load_n"]] for b in (fe, lt))
     assert fe_loads.index(max(fe_loads)) == lt_loads.index(max(lt_loads))
-    # the pinion's lag under load.  Upper bound: a displacement-based FE mesh is stiffer than the converged
-    # model, never softer, and converged the FE lags at most a few percent more than the LTCA
-    # (docs/validation.md 11.1); lower bound: elements 20 contact half-widths wide miss most of the
-    # contact's own approach, which is about a quarter of the lag at 200 N m (measured 0.75 here)
+    # the pinion's lag under load.  Upper bound: at refinement 1 (sizes half of these) the FE lags 0.99 x the
+    # FE-tooth LTCA's (docs/validation.md 11.1), whose lag is 3.5 % below the plate's (docs/loaded_contact.md
+    # 9.7), and a coarser displacement-based mesh is only stiffer; lower bound: strips 20 contact
+    # half-widths wide miss most of the contact's own approach, about a quarter of the lag (measured 0.75)
     unloaded = out["unloaded_transmission_error_urad"]
     fe_lag = fe["loaded_transmission_error_urad"] - unloaded
     lt_lag = lt["loaded_transmission_error_urad"] - unloaded
-    assert 0.65 < fe_lag / lt_lag < 1.10
+    assert 0.65 < fe_lag / lt_lag < 1.05
     assert fe["root_stress_max_mpa"]["pinion"] > 0 and fe["root_stress_max_mpa"]["gear"] > 0
     # a mesh this coarse does not resolve the contacts' widths, and says so per refined pair
     unresolved = [n for n in out["notes"] if "peak pressure and contact area are not resolved" in n]

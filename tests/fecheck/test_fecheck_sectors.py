@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from beveloid.fe.mesh import sector_mesh
-from beveloid.fecheck.pair_model import SECTOR_TEETH, sector_meshes
+from beveloid.fecheck.pair_model import LEVEL_1_COARSEN, SECTOR_TEETH, sector_meshes
 from beveloid.pair import Pair
 
 
@@ -25,7 +25,7 @@ def test_the_sectors_refine_the_teeth_of_the_tooth_pairs(monkeypatch):
     monkeypatch.setattr(beveloid.fe.mesh, "sector_mesh", lambda pair, m, n, **k: calls.setdefault(m, (n, k)))
     sector_meshes("pair", 1, coarsen=1.5, teeth=[(1, -1), None, (0, 0), (-1, 1)])
     assert {m: (n, k["teeth"], k["fine_teeth"], k["coarsen"]) for m, (n, k) in calls.items()} == {
-        "pinion": (1, SECTOR_TEETH, (-1, 0, 1), 3.0), "gear": (1, SECTOR_TEETH, (-1, 0, 1), 3.0)}
+        m: (1, SECTOR_TEETH, (-1, 0, 1), 1.5 * LEVEL_1_COARSEN) for m in ("pinion", "gear")}
 
 
 def test_the_fine_teeth_are_meshed_as_the_loaded_tooth():
