@@ -1,4 +1,4 @@
-"""FE (CalculiX) against the LTCA, the runs of docs/validation.md "Full-contact FE check (issue 33)".
+"""FE (CalculiX) against the LTCA, the runs of docs/validation.md 11 (full-contact FE check).
 
 Each run is ``beveloid.fecheck.check.fe_check`` (what ``beveloid fe-check`` runs) on one design,
 flank, torque and refinement; the table gives per quantity FE / LTCA.  Results are appended as
@@ -9,7 +9,9 @@ JSON lines to OUT (default fe_check_runs.jsonl) so that a long series can be res
         [--contact-size-um UM] [--max-strip-elements N] [--out fe_check_runs.jsonl] [--keep DIR] [--table-only]
 
 DESIGN is an example's name (case1, case2) or a spec file (*.toml).  Runs are local-refined over
-the LTCA's patches (beveloid.fecheck.strips) unless --no-local-refinement.
+the LTCA's patches (beveloid.fecheck.strips) unless --no-local-refinement.  The page's tables are
+``table`` and ``hertz_table`` of the runs docs/readme_numbers.py records (``--record fe_check
+--fe-check-runs OUT``).
 """
 import argparse
 import json
@@ -103,7 +105,7 @@ def _strips(r):
 def table(rows):
     lines = ["| design, flank | T (N m) | N | strip h (mm) | elements / DOF | ccx wall / CPU (s) | pair loads FE / LTCA (N)"
              " | peak p FE / LTCA / Hertz(LTCA) (MPa) | area FE / LTCA (mm²) | loaded TE FE / LTCA (µrad), unloaded"
-             " | root σ1 pinion / gear FE (MPa) | moment FE / LTCA (N m) |", "|" + "---|" * 12]
+             " | root σ1 pinion / gear FE; LTCA (MPa) | total s (mesh, ccx wall) |", "|" + "---|" * 12]
     for r in rows:
         c, lt = r["calculix"], r["ltca"]
         hz = r.get("ltca_hertz_max_pressure_mpa") or [None] * len(c["pair_normal_load_n"])
@@ -119,8 +121,9 @@ def table(rows):
             f" | {pairs('pair_normal_load_n', '.0f')} | {peaks}"
             f" | {pairs('contact_area_mm2', '.2f')} | {fmt(c['loaded_transmission_error_urad'], '.1f')} / "
             f"{fmt(lt['loaded_transmission_error_urad'], '.1f')}, {r['unloaded_transmission_error_urad']:.1f}"
-            f" | {fmt(c['root_stress_max_mpa']['pinion'], '.0f')} / {fmt(c['root_stress_max_mpa']['gear'], '.0f')}"
-            f" | {fmt(c['moment_about_pinion_axis_nm'], '.2f')} / {fmt(lt['moment_about_pinion_axis_nm'], '.2f')} |")
+            f" | {fmt(c['root_stress_max_mpa']['pinion'], '.1f')} / {fmt(c['root_stress_max_mpa']['gear'], '.1f')};"
+            f" {fmt(lt['root_stress_max_mpa']['pinion'], '.1f')} / {fmt(lt['root_stress_max_mpa']['gear'], '.1f')}"
+            f" | {r['total_s']:.0f} ({r['mesh_s']:.0f}, {r['calculix_wall_s']:.0f}) |")
     return "\n".join(lines)
 
 

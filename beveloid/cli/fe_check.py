@@ -34,17 +34,18 @@ def configure(p: argparse.ArgumentParser) -> None:
                    help="the LTCA's position (0-19) to check (default: the one with the most tooth pairs in contact)")
     p.add_argument("--flank", choices=("left", "right"), default="right", help="flank pair (default right)")
     p.add_argument("--refinement", type=int, default=1, metavar="N",
-                   help="mesh refinement 1-4 (default 1, the coarse check: loads and TE; 2 halves every size, for "
-                        "the peak pressure where that reaches the contact's half-width: several GB of memory)")
+                   help="mesh refinement 1-4 (default 1, the coarse check: loads, TE, root stress; N divides every "
+                        "size, 3 is the FE tooth's own sizes, for the peak pressure where that reaches the contact's "
+                        "half-width: several GB of memory)")
     p.add_argument("--no-local-refinement", action="store_true",
                    help="mesh with the face-wide sizes only (default: refined over the LTCA's loaded patches)")
     p.add_argument("--contact-size-um", type=float, default=None, metavar="UM",
                    help="element size over the loaded patches, 10-2000 um (default: b / 3 of each patch)")
     p.add_argument("--max-strip-elements", type=int, default=MAX_STRIP_ELEMENTS, metavar="N",
-                   help=f"cap on the estimated elements of one sector's refined patches at refinement 2 (default "
-                        f"{MAX_STRIP_ELEMENTS}; refinement 1 doubles their sizes)")
+                   help=f"cap on the estimated elements of one sector's refined patches at refinement 3 (default "
+                        f"{MAX_STRIP_ELEMENTS}; refinement N multiplies their sizes by 3 / N)")
     p.add_argument("--coarsen", type=float, default=1.0, metavar="F",
-                   help="multiply every element size by F, 0.125-4 (default 1; > 1 for a quick look)")
+                   help="multiply every element size by F, 0.125-2.5 (default 1; > 1 for a quick look)")
     p.add_argument("--out", metavar="DIR", default=None,
                    help="keep the deck, CalculiX's output and the VTU in this folder (a Ctrl-C removes what the run"
                         " wrote there)")

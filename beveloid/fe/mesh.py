@@ -181,14 +181,16 @@ def rim_radius(sampler: ToothSampler, bore_diameter_mm: float) -> float:
 
 
 def sector_mesh(pair, member: str, refinement: int = 1, teeth: int = 3, coarsen: float = 1.0,
-                strips: ContactStrips | None = None) -> SectorMesh:
+                strips: ContactStrips | None = None, fine_teeth: tuple = (0,)) -> SectorMesh:
     """The member's sector meshed by gmsh (see :class:`SectorMesh` for the record's fields).
 
     ``pair``: a :class:`beveloid.pair.Pair` (its spec gives the bore) or a ``PairGeometry``;
     ``refinement`` N divides every element size; ``teeth`` (odd, >= 3) the sector's teeth;
     ``coarsen`` multiplies every size (> 1: a cheaper mesh for tests and quick looks); ``strips``
     (:class:`beveloid.fe.sizes.ContactStrips`, member frame) refine about loaded contacts
-    (fe-check only: the FE tooth passes none, its meshes do not depend on it).
+    (fe-check only: the FE tooth passes none, its meshes do not depend on it); ``fine_teeth``: the
+    teeth whose flanks and fillets are meshed at the loaded tooth's sizes (fe-check: every tooth that
+    carries a load; the FE tooth loads tooth 0 only).
     """
     import gmsh
 
@@ -205,6 +207,8 @@ def sector_mesh(pair, member: str, refinement: int = 1, teeth: int = 3, coarsen:
     sampler.check_buildable(np.linspace(zlo, zhi, 11))
     sampler.check_bore(bore)
     idx = tuple(range(-(teeth // 2), teeth // 2 + 1))
+    if not (0 in fine_teeth and set(fine_teeth) <= set(idx)):
+        raise ValueError(f"fine_teeth = {fine_teeth!r}: must hold tooth 0 and only teeth of {idx}")
     if not (isinstance(coarsen, (int, float)) and 0.25 <= coarsen <= 8):
         raise ValueError(f"coarsen = {coarsen!r}: must be a number from 0.25 to 8")
     sizes = mesh_sizes(sampler, geometry.normal_module_mm, refinement / coarsen)
@@ -249,6 +253,7 @@ def sector_mesh(pair, member: str, refinement: int = 1, teeth: int = 3, coarsen:
             gmsh.model.addPhysicalGroup(2, [tag], name=name)
         gmsh.model.addPhysicalGroup(3, volumes, name="sector")
         fine = size_field(face_of, sizes, strips, refinement / coarsen)
+        _fine_teeth(face_of, sizes, fine_teeth)
         gmsh.option.setNumber("Mesh.Algorithm", 6)  # frontal-Delaunay surfaces
         gmsh.option.setNumber("Mesh.Algorithm3D", 1)  # Delaunay (measured faster than HXT here)
         gmsh.option.setNumber("Mesh.SecondOrderLinear", 1)  # mid-nodes placed by _curve_midnodes
@@ -263,6 +268,26 @@ def sector_mesh(pair, member: str, refinement: int = 1, teeth: int = 3, coarsen:
             refinement=refinement, z_range_mm=(toe, heel), strip_sizes_mm=fine))
     finally:
         gmsh.finalize()
+
+
+def _fine_teeth(face_of, sizes, fine_teeth):
+    """Mesh the flanks and fillets of every tooth in ``fine_teeth`` as tooth 0's: the size field of
+    each (:func:`beveloid.fe.sizes.size_field` on that tooth's faces) and the background field the
+    smallest of them and of tooth 0's (the current one, strips included)."""
+    import gmsh
+
+    others = [k for k in fine_teeth if k != 0]
+    if not others:
+        return
+    f = gmsh.model.mesh.field
+    fields = [max(f.list())]  # the Min field size_field made the background
+    for k in others:
+        size_field({f"{kind}_{side}_0": face_of[f"{kind}_{side}_{k}"] for kind in ("flank", "fillet")
+                    for side in ("left", "right")}, sizes)
+        fields.append(max(f.list()))
+    m = f.add("Min")
+    f.setNumbers(m, "FieldsList", fields)
+    f.setAsBackgroundMesh(m)
 
 
 def _name_faces(faces, references, z):

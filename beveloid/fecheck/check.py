@@ -47,7 +47,7 @@ class CheckOptions:
     ltca_tooth_model: str | None = None  #: the LTCA's tooth model ("fe", "plate"; None: its default)
     local_refinement: bool = True  #: refine the mesh over the LTCA's loaded patches (beveloid.fecheck.strips)
     contact_size_um: float | None = None  #: the element size there (None: b / 3 of each patch)
-    max_strip_elements: int = MAX_STRIP_ELEMENTS  #: cap on the estimated elements in one sector's strips at refinement 2 (beveloid.fe.sizes.strip_sizes)
+    max_strip_elements: int = MAX_STRIP_ELEMENTS  #: cap on the estimated elements in one sector's strips at refinement 3, the FE tooth's sizes (beveloid.fe.sizes.strip_sizes)
 
     def __post_init__(self):
         from ..ltca.options import check_positions, check_torque
@@ -61,8 +61,8 @@ class CheckOptions:
         if self.contact_size_um is not None and not (isinstance(self.contact_size_um, (int, float))
                                                      and 10 <= self.contact_size_um <= 2000):
             raise UserError(f"--contact-size-um = {self.contact_size_um!r}: must be a number from 10 to 2000 (um)")
-        if not (isinstance(self.coarsen, (int, float)) and 0.125 <= self.coarsen <= 4):
-            raise UserError(f"--coarsen = {self.coarsen!r}: must be a number from 0.125 to 4")
+        if not (isinstance(self.coarsen, (int, float)) and 0.125 <= self.coarsen <= 2.5):
+            raise UserError(f"--coarsen = {self.coarsen!r}: must be a number from 0.125 to 2.5")
         if not (isinstance(self.max_strip_elements, int) and self.max_strip_elements >= 1000):
             raise UserError(f"--max-strip-elements = {self.max_strip_elements!r}: must be an integer >= 1000")
         if self.position is not None and not (isinstance(self.position, int)
@@ -117,7 +117,7 @@ def _resolution_notes(about) -> list[str]:
         if h > PEAK_RESOLVED_PER_SEMI_AXIS * b:
             out.append(f"tooth pair {e['tooth_pair']}: elements of {h:.3f} mm over the contact, {h / b:.1f} x its "
                        f"half-width b = {b:.3f} mm: its peak pressure and contact area are not resolved (the loads "
-                       "and TE are; docs/validation.md section 11); --refinement 2 or a larger --max-strip-elements "
+                       "and TE are; docs/validation.md section 11.2); a higher --refinement or a larger --max-strip-elements "
                        "resolves them")
     return out
 
@@ -127,7 +127,7 @@ def fe_check(pair, options: CheckOptions, progress=print, solver=None) -> dict:
     from .. import ltca, tca
     from ..solver import Solver
     from .deck import write_deck
-    from .pair_model import ModelRequest, pair_model, sector_meshes, sector_teeth
+    from .pair_model import SECTOR_TEETH, ModelRequest, pair_model, sector_meshes, sector_teeth
     from .strips import ltca_strips
     from .run import ccx_path, ccx_version, run_ccx
     from .pair_results import read_pair_results
@@ -156,11 +156,11 @@ def fe_check(pair, options: CheckOptions, progress=print, solver=None) -> dict:
         f"{options.refinement})")
     t0 = time.perf_counter()
     strips, about = {"pinion": None, "gear": None}, []
+    _, teeth = sector_teeth(pair, phi1, phi2, tuple(result.tooth_pairs))
     if options.local_refinement:
-        _, teeth = sector_teeth(pair, phi1, phi2, tuple(result.tooth_pairs))
         size = None if options.contact_size_um is None else options.contact_size_um * 1e-3
         strips, about = ltca_strips(result, j, geom, teeth, size, options.max_strip_elements)
-    meshes = sector_meshes(pair, options.refinement, options.coarsen, strips)
+    meshes = sector_meshes(pair, options.refinement, options.coarsen, strips, teeth)
     for m in ("pinion", "gear"):
         for entry, h in zip(about, meshes[m].strip_sizes_mm):
             entry[f"{m}_element_mm"] = h
@@ -189,12 +189,13 @@ def fe_check(pair, options: CheckOptions, progress=print, solver=None) -> dict:
              "vtu": str(folder / "fe_check.vtu")} if options.out_dir else {}
     notes = [f"position {j} of {options.ltca_positions} over one mesh cycle, {options.flank} flank, pinion torque "
              f"{options.torque_nm:g} N m; tooth pairs {list(model.tooth_pairs)} in the LTCA's order in both blocks",
-             "calculix: C3D10 sectors of 3 teeth (beveloid.fe.mesh), frictionless surface-to-surface penalty "
+             f"calculix: C3D10 sectors of {SECTOR_TEETH} teeth (beveloid.fe.mesh; the teeth of the tooth pairs "
+             "at the loaded tooth's sizes, the radial cuts free), frictionless surface-to-surface penalty "
              "contact (slope 50 E per mm), gear rim fixed, pinion rim a rigid body under the moment; pair loads "
              "and areas are CalculiX's contact totals (CF), peak pressure the largest nodal CPRESS on the gear "
              "flank",
-             "root_stress_max_mpa: the largest principal stress on each member's fillet faces (calculix, all three "
-             "teeth); the LTCA's largest pair root stress at the position (its FE tooth; null with the plate "
+             "root_stress_max_mpa: the largest principal stress on each member's fillet faces (calculix, the "
+             "teeth of the tooth pairs); the LTCA's largest pair root stress at the position (its FE tooth; null with the plate "
              f"tooth), tooth model here: {getattr(result, 'tooth_model', 'plate')}",
              "loaded_transmission_error_urad: unloaded TE + (N1/N2) x the pinion's rotation under the moment "
              "(calculix); the LTCA's loaded TE",
@@ -203,7 +204,7 @@ def fe_check(pair, options: CheckOptions, progress=print, solver=None) -> dict:
              "local_refinement: per loaded LTCA pair a strip on each flank (the LTCA's patch: centre line, "
              "half-width 1.5 b) meshed at b / 3 (or --contact-size-um), graded to the far size; the sizes are "
              "scaled up together when a sector's strips would exceed the element cap; null: not refined"]
-    notes += [f"tooth pair {k}: outside the three-tooth sectors (null)" for k, p in zip(model.tooth_pairs,
+    notes += [f"tooth pair {k}: outside the {SECTOR_TEETH}-tooth sectors (null)" for k, p in zip(model.tooth_pairs,
                                                                                          model.pairs) if p is None]
     notes += _resolution_notes(about if options.local_refinement else None)
     return {"calculix_version": run.version or ccx_version(), "position": int(j), "pinion_angle_rad": phi1,

@@ -1,7 +1,7 @@
 """The pair's contact model at one mesh position, from the FE tooth's sector meshes.
 
-Both sectors (``beveloid.fe.mesh.sector_mesh``: three teeth, the loaded tooth in the middle) are
-placed as the TCA places the members (the generated placement, Eqs 30-35, with the assembly
+Both sectors (``beveloid.fe.mesh.sector_mesh``: ``SECTOR_TEETH`` teeth, tooth 0 in the middle,
+every tooth of a modelled tooth pair meshed at the loaded tooth's sizes) are placed as the TCA places the members (the generated placement, Eqs 30-35, with the assembly
 errors): the pinion at the position's pinion angle, the gear at the angle of the rigid envelope
 there (the first pair to touch), the same angles the LTCA holds.  The model frame is the
 pinion's frame at that angle: the pinion's axis is z through the origin.
@@ -22,10 +22,17 @@ import numpy as np
 
 from .deck import Body, ContactDeck, RigidLoad
 
-__all__ = ["PRELOAD_FRACTION", "ModelRequest", "PairModel", "TCA_TO_CCX_TET10", "ccx_order", "jacobian_dets", "pair_model",
+__all__ = ["PRELOAD_FRACTION", "SECTOR_TEETH", "ModelRequest", "PairModel", "TCA_TO_CCX_TET10", "ccx_order", "jacobian_dets", "pair_model",
            "sector_teeth", "straighten_inverted"]
 
 PRELOAD_FRACTION = 0.5
+#: the sectors' teeth, the radial cuts free: the LTCA's pairs -1, 0, 1 on teeth -1, 0, 1, two more teeth
+#: beside each outer one (docs/validation.md 11.0, ``benchmarks/fe_check_sector_bcs.py``: against a
+#: 9-tooth sector an outer loaded tooth is 41-47 % too compliant in a free 3-tooth sector, 17-20 % too
+#: stiff with the cuts clamped, 3-4 % too compliant in a free 5-tooth sector, within 0.1 % in a 7-tooth
+#: one, for 2 % more elements than 5 teeth: the added teeth are meshed at the far size)
+SECTOR_TEETH = 7
+SECTOR_INDICES = tuple(range(-(SECTOR_TEETH // 2), SECTOR_TEETH // 2 + 1))
 #: a tet10 in gmsh's order (mid-edge nodes 01, 12, 20, 03, 23, 13) to CalculiX's (.., 03, 13, 23)
 TCA_TO_CCX_TET10 = np.array([0, 1, 2, 3, 4, 5, 6, 7, 9, 8])
 
@@ -136,23 +143,28 @@ class ModelRequest:
 
 
 #: fe-check's ``--refinement N`` meshes each sector at the FE tooth's sizes (``beveloid.fe.mesh``)
-#: x LEVEL_1_COARSEN / N: refinement 1 is the coarse check (case 1 within 5 minutes on 2 cores; its
-#: loads and TE within ~3 % of refinement 2, docs/validation.md section 11), refinement 2 the FE
-#: tooth's own sizes, refinement 4 its refinement 2.
-LEVEL_1_COARSEN = 2.0
+#: x LEVEL_1_COARSEN / N: refinement 1 is the coarse check (the loads, the TE, the root stress: case 1's
+#: seven-tooth sectors at 181 000 DOF, the size of the three-tooth sectors' at x 2; docs/fe_check.md,
+#: Limits), refinement 3 the FE tooth's own sizes.
+LEVEL_1_COARSEN = 3.0
 
 
-def sector_meshes(pair, refinement: int, coarsen: float = 1.0, strips=None) -> dict:
+def sector_meshes(pair, refinement: int, coarsen: float = 1.0, strips=None, teeth=None) -> dict:
     """{member: SectorMesh} of fe-check's ``refinement`` (see :data:`LEVEL_1_COARSEN`), every size
-    also x ``coarsen``; ``strips``: {member: ContactStrips or None} (the local refinement)."""
+    also x ``coarsen``, :data:`SECTOR_TEETH` teeth; ``strips``: {member: ContactStrips or None} (the
+    local refinement); ``teeth``: per tooth pair (pinion tooth, gear tooth) or None
+    (:func:`sector_teeth`): those teeth are meshed at the loaded tooth's sizes (None: tooth 0 only)."""
     from ..fe.mesh import sector_mesh
 
     strips = strips or {}
-    return {m: sector_mesh(pair, m, refinement, coarsen=LEVEL_1_COARSEN * coarsen, strips=strips.get(m))
+    fine = {m: tuple(sorted({0} | {t[i] for t in (teeth or ()) if t is not None}))
+            for i, m in enumerate(("pinion", "gear"))}
+    return {m: sector_mesh(pair, m, refinement, teeth=SECTOR_TEETH, coarsen=LEVEL_1_COARSEN * coarsen,
+                           strips=strips.get(m), fine_teeth=fine[m])
             for m in ("pinion", "gear")}
 
 
-def sector_teeth(pair, pinion_angle_rad, gear_angle_rad, tooth_pairs, indices=(-1, 0, 1)):
+def sector_teeth(pair, pinion_angle_rad, gear_angle_rad, tooth_pairs, indices=SECTOR_INDICES):
     """(s1, [per LTCA pair k: (pinion tooth, gear tooth) of the sectors, or None outside ``indices``]).
 
     LTCA pair k: pinion tooth 0 at phi1 - k p1, i.e. the sector's pinion tooth -s1 k, with the gear's
@@ -204,8 +216,9 @@ def pair_model(req: ModelRequest, meshes: dict) -> PairModel:
                        contact_pairs=tuple(p for p in pairs if p is not None), fixed=("GEAR.rim",),
                        rigid=RigidLoad("PINION", "rim", moment_nmm=moment_sign * req.torque_nm * 1e3),
                        expected_pressure_mpa=req.expected_pressure_mpa)
-    fillets = {m: [name for name in meshes[m].node_sets if name.startswith("fillet_")]
-               for m in ("pinion", "gear")}
+    # the root stress is read on the fillets of the teeth in contact pairs (meshed at the loaded tooth's sizes)
+    fillets = {m: [f"fillet_{side}_{t[i]}" for t in sorted({t for t in teeth if t is not None})
+                   for side in ("left", "right")] for i, m in enumerate(("pinion", "gear"))}
     n_nodes = len(pin.nodes) + len(gear.nodes)
     return PairModel(deck, tuple(pairs), tuple(int(k) for k in req.tooth_pairs), moment_sign, s1, preload,
                      req.pinion_angle_rad, req.gear_angle_rad, fillets, len(pin.tets) + len(gear.tets),

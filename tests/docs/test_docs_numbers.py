@@ -1,9 +1,11 @@
-"""The numbers the docs quote are the numbers the code gives now (issue 29, item 9).
+"""The numbers the docs quote are the numbers the code gives now (issue 29, item 9; issue 41, 5).
 
 docs/readme_numbers.py lists every quoted number with its page.  The cheap ones are computed here
 (package constants, one TCA of case 1); the expensive ones (the worked exploration, the
-verification's counts) come from docs/numbers.json, which `python docs/readme_numbers.py --record`
-writes by running the commands it names."""
+verification's counts, the FE tooth against the plate, the ratings, the CalculiX runs) come from
+docs/numbers.json, which `python docs/readme_numbers.py --record [GROUPS]` writes by running the
+commands it names.  Whether the FE records are still the code's is tests/fe/test_fe_docs_canary.py's
+check (on the session's coarse FE data); the CalculiX records are checked for presence and format."""
 from __future__ import annotations
 
 import importlib.util
@@ -26,6 +28,8 @@ def numbers():
 
 def test_every_quoted_number_is_current(numbers):
     rec = numbers.recorded()
+    # the FE groups' quotes (docs/loaded_contact.md 9.7, docs/validation.md 10 and 11) come from their records
+    assert {"rating", "fe_tooth", "fe_check", "fe_sectors"} <= set(rec)
     wrong = []
     for page, text, holds in numbers.quotes(numbers.cheap_numbers(), rec):
         if text not in (REPO / page).read_text(encoding="utf-8") or not holds:
@@ -40,6 +44,15 @@ def test_the_record_names_the_commands_that_made_it(numbers):
     assert rec["verify"]["command"] == "beveloid verify --json"
     assert rec["paper"]["command"] == "beveloid " + " ".join(numbers.PAPER_ARGS) + " --out paper_out"
     assert rec["verify"]["verified"] + rec["verify"]["definitions"] == rec["verify"]["equations"] == 38
+    assert rec["rating"]["command"] == numbers.RATING_COMMAND
+    assert rec["fe_tooth"]["command"] == "python -m benchmarks.bench_fe_tooth compare"
+    # the CalculiX runs are the page's runs, each converged to numbers (null only where a pair is unloaded)
+    runs = rec["fe_check"]["runs"]
+    assert [(r["design"], r["flank"], r["torque_nm"], r["refinement"], r["coarsen"]) for r in runs] == \
+        [tuple(run) for run in numbers.FE_CHECK_RUNS]
+    for r in runs:
+        assert r["calculix"]["loaded_transmission_error_urad"] > r["unloaded_transmission_error_urad"]
+        assert all(v > 0 for v in r["calculix"]["root_stress_max_mpa"].values())
 
 
 def test_readme_quotes_no_number_without_a_source():

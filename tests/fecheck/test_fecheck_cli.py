@@ -10,8 +10,8 @@ from beveloid import cli
 from beveloid.fecheck import ccx_path
 
 CASE1 = "beveloid/data/case1.toml"
-COARSEN = 3.0  #: refinement 1's sizes x 3 (the FE tooth's x 6)
-STRIP_CAP = 4000  #: with COARSEN: about 4700 elements, ~10 s of CalculiX
+COARSEN = 2.0  #: refinement 1's sizes x 2 (the FE tooth's x 6)
+STRIP_CAP = 4000  #: with COARSEN: about 11 800 elements (seven-tooth sectors), ~45 s of CalculiX CPU
 
 
 def test_missing_ccx_is_one_line_naming_the_package(monkeypatch, capsys, tmp_path):
@@ -35,10 +35,10 @@ def test_bad_flags_are_one_line_naming_the_flag(capsys, argv, key):
 
 @pytest.mark.long_running
 @pytest.mark.skipif(ccx_path() is None, reason="needs CalculiX (ccx, Debian package calculix-ccx)")
-def test_coarse_fe_check_of_case1_balances_the_torque_and_agrees_with_the_ltca(tmp_path):
-    """A very coarse model (every element size x 3 of refinement 1, a low strip cap, 5 LTCA positions, the LTCA's plate tooth: cheaper than its
-    FE tooth, which tests/fe checks): the contact forces balance
-    the applied moment, the loads share the torque like the LTCA's, and the files are kept."""
+def test_coarse_fe_check_of_case1_agrees_with_the_ltca(tmp_path):
+    """A very coarse model (every element size x 3 of refinement 1, a low strip cap, 5 LTCA positions, the
+    LTCA's plate tooth: cheaper than its FE tooth, which tests/fe checks): the loads share the torque like
+    the LTCA's, the pinion lags like the LTCA's, and the files are kept."""
     from beveloid.fecheck.check import CheckOptions, fe_check
     from beveloid.pair import Pair
 
@@ -48,17 +48,21 @@ def test_coarse_fe_check_of_case1_balances_the_torque_and_agrees_with_the_ltca(t
                  progress=None)
     json.dumps(out, allow_nan=False)
     fe, lt = out["calculix"], out["ltca"]
-    # statics: the moment of the contact forces about the pinion axis is the applied torque
-    assert fe["moment_about_pinion_axis_nm"] == pytest.approx(200.0, rel=0.02)
+    # (the moment of the contact forces equals the torque in any converged solution: it checks nothing, and
+    # is not asserted; the model is checked by the cantilever, the Hertz block and docs/validation.md 11)
     assert len(fe["pair_normal_load_n"]) == len(lt["pair_normal_load_n"]) == len(out["tooth_pairs"])
-    fe_total = sum(v or 0.0 for v in fe["pair_normal_load_n"])
-    lt_total = sum(v or 0.0 for v in lt["pair_normal_load_n"])
-    assert fe_total == pytest.approx(lt_total, rel=0.10)
-    # the pinion lags under load in both, by a comparable amount (the coarse FE sector is stiffer)
+    # (nor is the sum of the pair loads: both balance the same torque through lever arms a few percent apart)
+    # the pair the LTCA loads most (4.5 x either side pair's load) is the one the FE loads most
+    fe_loads, lt_loads = ([v or 0.0 for v in b["pair_normal_load_n"]] for b in (fe, lt))
+    assert fe_loads.index(max(fe_loads)) == lt_loads.index(max(lt_loads))
+    # the pinion's lag under load.  Upper bound: at refinement 1 (sizes half of these) the FE lags 0.99 x the
+    # FE-tooth LTCA's (docs/validation.md 11.1), whose lag is 3.5 % below the plate's (docs/loaded_contact.md
+    # 9.7), and a coarser displacement-based mesh is only stiffer; lower bound: strips 20 contact
+    # half-widths wide miss most of the contact's own approach, about a quarter of the lag (measured 0.75)
     unloaded = out["unloaded_transmission_error_urad"]
     fe_lag = fe["loaded_transmission_error_urad"] - unloaded
     lt_lag = lt["loaded_transmission_error_urad"] - unloaded
-    assert 0.5 < fe_lag / lt_lag < 2.0
+    assert 0.65 < fe_lag / lt_lag < 1.05
     assert fe["root_stress_max_mpa"]["pinion"] > 0 and fe["root_stress_max_mpa"]["gear"] > 0
     # a mesh this coarse does not resolve the contacts' widths, and says so per refined pair
     unresolved = [n for n in out["notes"] if "peak pressure and contact area are not resolved" in n]
