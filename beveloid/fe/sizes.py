@@ -12,7 +12,7 @@ default, from the caller).  The field is a gmsh ``Distance`` from the line's poi
 ``Threshold``: the target size within the half-width, grown linearly (over
 ``STRIP_GROWTH`` times the size difference) to the far size.  The size is bounded below by
 ``STRIP_SIZE_MIN_MM`` and above by what keeps the estimated elements of all strips of one sector
-under ``ContactStrips.max_elements`` at the mesh's refinement 1, coarsen 1 (fe-check's refinement 2;
+under ``ContactStrips.max_elements`` at the mesh's refinement 1, coarsen 1 (fe-check's refinement 3;
 every strip's size is scaled up by the same factor until the estimate fits); a sector refined or coarsened by a factor divides or
 multiplies those sizes by it, as every other size (:func:`strip_sizes`).
 """
@@ -35,10 +35,10 @@ FILLET_GROWTH = 0.5
 STRIP_SIZE_MIN_MM = 0.01
 #: distance over which the strip's size grows to the far size, in multiples of the size difference
 STRIP_GROWTH = FAR_GROWTH
-#: the default cap on the estimated elements in (and graded about) the strips of one sector at fe-check's
-#: refinement 2 (refinement 1 doubles every size): case 1's
-#: main pair at 1.3 b, its peak pressure within 8 % of the 60 000 cap's, 4.4 GB and ~15 min of CPU in
-#: CalculiX (60 000: 0.76 b, 9.4 GB, ~36 min; docs/validation.md 11, docs/performance.md)
+#: the default cap on the estimated elements in (and graded about) the strips of one sector at the FE
+#: tooth's sizes (fe-check's refinement 3; refinement 1 triples every size); measured on the earlier
+#: three-tooth sectors at those sizes: case 1's main pair at 1.3 b, its peak pressure within 8 % of the
+#: 60 000 cap's (docs/validation.md 11.2)
 MAX_STRIP_ELEMENTS = 20_000
 #: tetrahedra per unit volume at size h: 1 / (h^3 / (6 sqrt 2)), the regular tetrahedron's volume
 TETS_PER_H3 = 6.0 * math.sqrt(2.0)
@@ -101,7 +101,7 @@ def estimated_elements(strips: ContactStrips, scale: float, far_mm: float) -> fl
 
 def strip_sizes(strips: ContactStrips, divide: float, far_mm: float) -> tuple:
     """The size of each strip (mm): sized at ``divide`` = 1 (the mesh's refinement 1, coarsen 1;
-    fe-check's refinement 2), its target bounded below by :data:`STRIP_SIZE_MIN_MM`, all scaled up
+    fe-check's refinement 3), its target bounded below by :data:`STRIP_SIZE_MIN_MM`, all scaled up
     together until the estimate is within the cap; then divided by ``divide`` (the sector's
     refinement / coarsen) like every other size of the sector, so that a sector refined or
     coarsened by a factor has every size, the strips' included, divided or multiplied by it (the
