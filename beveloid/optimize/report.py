@@ -300,7 +300,7 @@ def figures(out_dir: str, req, records: list, base: dict, on: np.ndarray) -> lis
 def knee_pattern(out_dir: str, req, rec: dict) -> list:
     """The knee's contact pattern on both flanks at the highest torque, at the file's errors."""
     from .. import ltca
-    from ..ltca.plots import ltca_pattern, surface_scale_mpa
+    from ..ltca.plots import PRESSURE_LABEL, _colorbar, ltca_pattern, surface_scale_mpa
     from ..pair import Pair
     from ..plots import _plt
 
@@ -311,7 +311,9 @@ def knee_pattern(out_dir: str, req, rec: dict) -> list:
     fig, axes = plt.subplots(1, 2, figsize=(10, 4))
     vmax = surface_scale_mpa(result)
     for ax, member in zip(axes, ("pinion", "gear")):
-        ltca_pattern(ax, result, pair.geometry, member, vmax=vmax)
+        sc, clipped = ltca_pattern(ax, result, pair.geometry, member, vmax=vmax)
+        if sc is not None:
+            _colorbar(fig, sc, ax, PRESSURE_LABEL, clipped)
     vals = ", ".join(f"{k} = {v:.4g}" for k, v in rec["values"].items())
     fig.suptitle(f"knee (candidate {rec['candidate']}: {vals}) at {max(req.torques_nm):g} N m", fontsize=9)
     fig.tight_layout()
