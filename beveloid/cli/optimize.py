@@ -184,7 +184,9 @@ def _print(summ, out):
     lines = [f"Optimised {', '.join(v['key'] for v in summ['varied'])} of {summ['file']}: {summ['evaluated']}"
              f" candidates in {summ['seconds']:.1f} s ({summ['executor']}), objectives {', '.join(q)}"]
     b = summ["baseline"]
-    lines.append("  unmodified: " + ", ".join(f"{k} {number(b['objectives'].get(k), '.4g')}" for k in q))
+    lines.append("  unmodified: " + ", ".join(f"{k} {number(b['objectives'].get(k), '.4g')}" for k in q)
+                 + ("" if b["dominated_by"] is None else
+                    f"; beaten on every objective by {len(b['dominated_by'])} candidates"))
     lines.append(f"Pareto front: {len(summ['pareto'])} candidates")
     for e in summ["pareto"][:12]:
         lines.append(f"  {e['spec_file']}: " + ", ".join(f"{k} = {v:.4g}" for k, v in e["values"].items()) + " -> "

@@ -132,6 +132,20 @@ def reproduce_commands(req, spec_file: str) -> list:
     return out
 
 
+def dominating(req, records: list, base: dict) -> list:
+    """The candidates (numbers) that beat the unmodified design on every objective, or None when it has none."""
+    if base["status"] != "ok":
+        return None
+    b = np.array([base["objectives"][q] for q in req.quantities])
+    out = []
+    for rec in records:
+        if eligible(rec):
+            f = np.array([rec["objectives"][q] for q in req.quantities])
+            if (f <= b).all() and (f < b).any():
+                out.append(rec["candidate"])
+    return out
+
+
 def front_order(req, records: list, on: np.ndarray) -> list:
     """The front candidates' indices sorted by the objectives (the first, then the next)."""
     return sorted((int(i) for i in np.flatnonzero(on)), key=lambda i: [records[i]["objectives"][q]
@@ -208,7 +222,7 @@ def summary(req, records: list, base: dict, info: RunInfo, fr: Front) -> dict:
                                                    "budget": req.budget, "initial": "Latin hypercube (scipy.stats.qmc)"},
         "evaluated": len(records), "complete": info.complete, "stopped": info.why or None,
         "status_counts": statuses, "seconds": info.seconds, "executor": info.where,
-        "baseline": _entry(req, base),
+        "baseline": dict(_entry(req, base), dominated_by=dominating(req, records, base)),
         "pareto": [_entry(req, records[i], specs.get(i)) for i in order],
         "picks": {k: (None if i is None else records[i]["candidate"]) for k, i in pk.items()},
         "reproduce": reproduce_commands(req, "pareto_<n>.toml"),
@@ -218,7 +232,8 @@ def summary(req, records: list, base: dict, info: RunInfo, fr: Front) -> dict:
 def json_output(summ: dict) -> dict:
     """The --json dict: the issue's shape (objectives, baseline, pareto, evaluated) and the picks."""
     strip = lambda e: {k: e[k] for k in ("values", "objectives", "safety", "spec_file") if k in e}  # noqa: E731
-    return {"objectives": summ["objectives"], "baseline": strip(summ["baseline"]),
+    base = dict(strip(summ["baseline"]), dominated_by=summ["baseline"]["dominated_by"])
+    return {"objectives": summ["objectives"], "baseline": base,
             "pareto": [strip(e) for e in summ["pareto"]], "evaluated": summ["evaluated"], "picks": summ["picks"],
             "complete": summ["complete"]}
 

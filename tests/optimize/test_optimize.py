@@ -79,6 +79,7 @@ def test_the_best_candidate_is_the_brute_force_optimum_within_the_scan_resolutio
     assert result["evaluated"] == 8
     # the unmodified design (no crowning: the edge peak) is beaten
     assert f_best < result["baseline"]["objectives"]["max_pressure_mpa"]
+    assert len(result["baseline"]["dominated_by"]) >= 1
 
 
 def test_a_pareto_spec_reproduces_its_objectives_through_ltca(run, result, capsys):
