@@ -17,13 +17,14 @@ from __future__ import annotations
 
 import argparse
 import time
+import tomllib
 
 import numpy as np
 
 from beveloid.optimize import evaluate
 from beveloid.optimize.request import Request, Vary
 from beveloid.pair import Pair
-from beveloid.spec import load_example, spec_to_dict
+from beveloid.spec import example_text
 
 TORQUES = (100.0, 200.0, 400.0)
 TARGET = {"candidates": 128, "samples": 16, "seconds": 300.0, "cores": 2}
@@ -36,7 +37,7 @@ def main():
     ap.add_argument("--positions", type=int, default=20)
     ap.add_argument("--fe-coarsen", type=float, default=1.0)
     a = ap.parse_args()
-    base = spec_to_dict(load_example("case1"))
+    base = tomllib.loads(example_text("case1"))  # the file as written: tooth_surface chosen per candidate
     base["misalignment"]["vertical_deg"] = 0.05
     req = Request(base=base, varies=(Vary("pinion.lead_crowning_um", 0.0, 40.0), Vary("pinion.lead_slope_um", -30, 30)),
                   torques_nm=TORQUES, weights=(0.2, 0.5, 0.3), samples=TARGET["samples"], seed=0,

@@ -298,9 +298,10 @@ def figures(out_dir: str, req, records: list, base: dict, on: np.ndarray) -> lis
         if vals is None:
             continue
         ax.plot(req.torques_nm, [np.nan if v is None else v for v in vals], "o-", label=label)
-    what = "at the file's errors" if req.samples == 0 else f"90th percentile over {req.samples} error sets"
+    what = "at the file's errors" if req.samples == 0 else f"the 90th percentile over {req.samples} error sets"
     ax.set_xlabel("pinion torque (N m)")
-    ax.set_ylabel(f"loaded TE peak-to-peak (urad), {what}")
+    ax.set_ylabel("loaded TE peak-to-peak (urad)")
+    ax.set_title(f"loaded TE peak-to-peak, {what}", fontsize=9)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()

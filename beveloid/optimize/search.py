@@ -139,10 +139,11 @@ class Progress:
         self.done += cached + computed
         self.computed += computed
         dt = time.perf_counter() - self.t0
-        each = dt / self.computed if self.computed else float("nan")
-        left = each * (self.total - self.done)
-        self.stream.write(f"beveloid optimize: {self.done}/{self.total} candidates ({cached} from disk),"
-                          f" {each:.1f} s a candidate, about {left:.0f} s left\n")
+        rate = ""
+        if self.computed:
+            each = dt / self.computed
+            rate = f", {each:.1f} s a candidate, about {each * (self.total - self.done):.0f} s left"
+        self.stream.write(f"beveloid optimize: {self.done}/{self.total} candidates ({cached} from disk){rate}\n")
         self.stream.flush()
 
 
