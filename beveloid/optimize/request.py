@@ -261,14 +261,21 @@ class Request:
                               fe_coarsen=self.fe_coarsen)
 
     def check(self) -> None:
-        """Every varied key's LOW and HIGH pass the spec's rules between keys (one line naming the --vary)."""
+        """Every corner of the ranges passes the spec's rules between keys (a relief's extent needs the
+        relief): one line naming the --vary whose LOW or HIGH is refused."""
+        import itertools
+
         from ..spec import SpecError
 
         base = self.baseline_values()
-        for v in self.varies:
-            for name, x in (("LOW", v.low), ("HIGH", v.high)):
-                try:
-                    self.spec(dict(base, **{v.key: x}))
-                except SpecError as exc:
-                    raise UserError(f"--vary {v.key}={v.low:g}:{v.high:g}: {name} = {x:g} is refused by the spec:"
-                                    f" {exc.detail}") from None
+        for corner in itertools.product(*((v.low, v.high) for v in self.varies)):
+            values = dict(base, **dict(zip(self.keys, corner)))
+            try:
+                self.spec(values)
+            except SpecError as exc:
+                v = next((v for v in self.varies if exc.key and exc.key == v.key), self.varies[0])
+                x = values[v.key]
+                name = "LOW" if x == v.low else "HIGH"
+                others = ", ".join(f"{k} = {values[k]:g}" for k in self.keys if k != v.key)
+                raise UserError(f"--vary {v.key}={v.low:g}:{v.high:g}: {name} = {x:g} is refused by the spec"
+                                f"{' with ' + others if others else ''}: {exc.detail}") from None

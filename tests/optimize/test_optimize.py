@@ -162,13 +162,15 @@ def test_bad_vary_keys_and_ranges_get_one_line_and_exit_2(tmp_path, capsys, vary
 
 
 @pytest.mark.parametrize("extra, words", [
+    (["--vary", "pinion.tip_relief_height_mm=1:20"], "pinion.tip_relief_height_mm=1:20: HIGH = 20 is refused by the"
+                                                    " spec with pinion.lead_crowning_um = 0"),
     (["--weights", "1,2"], "2 weights for 1 torques"),
     (["--objectives", "root"], "needs the FE tooth"),
     (["--objectives", "noise"], "not an objective"),
     (["--budget", "0"], "--budget = 0"),
 ])
 def test_bad_options_get_one_line_and_exit_2(tmp_path, capsys, extra, words):
-    status = main(["optimize", str(CASE1), "--vary", f"{KEY}=0:10", "--torque-nm", "100", "--out",
+    status = main(["optimize", str(CASE1), "--vary", f"{KEY}=0:10", "--vary", "pinion.tip_relief_um=1:5", "--torque-nm", "100", "--out",
                    str(tmp_path / "never"), *QUICK, *extra])
     err = capsys.readouterr().err
     assert status == 2 and len(err.strip().splitlines()) == 1 and words in err
