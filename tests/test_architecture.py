@@ -120,7 +120,7 @@ PENDING_BACKEND_PARAMETERS = {
     ("beveloid/tooth/contact.py", "__init__"), ("beveloid/tooth/contact.py", "_pair0"),
     ("beveloid/tooth/contact.py", "flank_contact")}
 #: files that still reach a function's code object (a clone of compiled code), owned by other work items
-PENDING_CODE_OBJECTS = {"beveloid/explore/contact.py"}
+PENDING_CODE_OBJECTS: set = set()
 
 
 def _vocabulary_definitions():

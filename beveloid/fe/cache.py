@@ -14,6 +14,7 @@ again and replaced, never used.  Entries are written to a temporary file and ren
 """
 from __future__ import annotations
 
+import collections
 import functools
 import hashlib
 import json
@@ -135,18 +136,44 @@ def _write(path: Path, key: str, data) -> None:
         raise
 
 
+#: the data of the last few keys read or computed in this process ("compute once per pair and reuse":
+#: an analysis repeated on the same macro geometry does not read the file again; ~80 MB an entry)
+_KEPT: "collections.OrderedDict" = collections.OrderedDict()
+KEPT_ENTRIES = 4
+
+
 def cached_tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: int = 1, progress=None,
                       coarsen: float = 1.0):
     """(ToothData, how: "hit" | "miss" | "stale" | "corrupt") from the cache, computing on a miss.
-    A cache folder that cannot be written is not an error: the data is then computed each time."""
+    A cache folder that cannot be written is not an error: the data is then computed each time.
+    The data of a key already read in this process is returned again ("hit") while its file is
+    unchanged (same size and modification time)."""
     key = cache_key(pair, member, e_mpa, nu, refinement, coarsen)
     path = entry_path(key)
+    stamp = _stamp(path)
+    kept = _KEPT.get((path, key))
+    if kept is not None and stamp is not None and kept[0] == stamp:
+        _KEPT.move_to_end((path, key))
+        return kept[1], "hit"
     data, how = _read(path, key)
-    if data is not None:
-        return data, how
-    data = tooth.tooth_data(pair, member, e_mpa, nu, refinement, progress=progress, coarsen=coarsen)
-    try:
-        _write(path, key, data)
-    except OSError:
-        pass
+    if data is None:
+        data = tooth.tooth_data(pair, member, e_mpa, nu, refinement, progress=progress, coarsen=coarsen)
+        try:
+            _write(path, key, data)
+        except OSError:
+            pass
+    stamp = _stamp(path)
+    if stamp is not None:
+        _KEPT[path, key] = (stamp, data)
+        while len(_KEPT) > KEPT_ENTRIES:
+            _KEPT.popitem(last=False)
     return data, how
+
+
+def _stamp(path: Path):
+    """(size, mtime_ns) of a cache entry, None when it is not there."""
+    try:
+        st = path.stat()
+    except OSError:
+        return None
+    return st.st_size, st.st_mtime_ns

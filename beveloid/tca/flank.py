@@ -117,10 +117,13 @@ def mesh_flank(geom: PairGeometry, flank: str, errors=(0, 0, 0, 0, 0), positions
     phi2 = unknowns(x).gear_angle_rad - kk * p2  # gear tooth k is turned by -k p2 relative to tooth 0
     te = mesh.transmission_error(phi2, phi1_all, unknowns(ref.x).gear_angle_rad, ref.pinion_angle,
                                  geom.pinion.teeth / geom.gear.teeth)
-    # contact points of pair k, back in place in S1 / S2
-    P1, P2 = contact_points(geom, flank, x)
-    P1, P2 = rotate_z(P1, kk * p1), rotate_z(P2, -kk * p2)
     valid = carries_numbers(code)
+    # contact points of pair k and their boundary margins; a diverged iterate's are not used (NaN
+    # below), so its overflow is not news
+    with np.errstate(over="ignore", invalid="ignore"):
+        P1, P2 = contact_points(geom, flank, x)
+        M = contact_margins(geom, flank, x)
+    P1, P2 = rotate_z(P1, kk * p1), rotate_z(P2, -kk * p2)  # back in place in S1 / S2
     te_v = np.where(valid, te, np.nan)
     P1[~valid] = np.nan
     P2[~valid] = np.nan
@@ -129,8 +132,6 @@ def mesh_flank(geom: PairGeometry, flank: str, errors=(0, 0, 0, 0, 0), positions
     step = abs(phi1[1] - phi1[0]) if positions > 1 else 0.0
     complete = mesh.envelope_complete(phi1, ks, active, p1, step)
     ptp = mesh.peak_to_peak(env[complete]) if complete.sum() >= 2 else float("nan")
-    with np.errstate(invalid="ignore"):
-        M = contact_margins(geom, flank, x)
     rows = np.arange(len(x))
     for c in range(2):
         hit = act[:, c] >= 0
