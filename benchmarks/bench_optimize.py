@@ -1,4 +1,4 @@
-"""What `beveloid optimize` costs in the issue's target configuration, with today's per-analysis path.
+"""What `beveloid optimize` costs in the issue's target configuration.
 
     python benchmarks/bench_optimize.py [--tooth-model fe|plate] [--sets 1] [--positions 20] [--fe-coarsen 1]
 
@@ -7,11 +7,12 @@ torques (100, 200, 400 N m), --samples 16, 128 candidates: 128 x 3 x 16 = 6,144 
 positions, plus one rating (its own loaded analysis at the highest torque) per candidate, in at most
 5 minutes on 2 cores with the FE tooth.
 
-Today a candidate is evaluated by beveloid.optimize.evaluate.loaded_quantities, one ``ltca.analyze`` per
-(torque, error set), so the cost is linear in the analyses: this script times one candidate's loop over
-the three torques and ``--sets`` error sets (drawn as the optimiser draws them) and its rating, after a
-warm-up analysis (the compiled solver and the FE tooth data loaded or built), and scales to the target
-(the analyses are independent: two workers at most halve it; the scale assumes they do).
+A candidate is evaluated by beveloid.optimize.evaluate.loaded_quantities, one call of the batched loaded
+engine (ltca.analyze_many) for its torques and error sets: this script times that call for the three
+torques and ``--sets`` error sets (drawn as the optimiser draws them) and the candidate's rating, after a
+warm-up analysis (the compiled solver and the FE tooth data loaded or built), and scales it linearly to
+16 sets and 128 candidates on 2 cores (candidates are independent: two workers at most halve it; the
+scale assumes they do).
 """
 from __future__ import annotations
 

@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import replace
 from typing import NamedTuple
 
 import numpy as np
@@ -28,6 +27,9 @@ import numpy as np
 from .request import OBJECTIVES, PERCENTILE, Request
 
 QUANTITIES = tuple(OBJECTIVES.values())
+#: error sets per call of the batched engine: those of ``beveloid ltca --samples`` (cli/ltca.py CHUNK_SETS),
+#: whose numbers then equal these to the last bit (tests/optimize)
+CHUNK_SETS = 8
 
 
 class LoadedQuantities(NamedTuple):
@@ -41,21 +43,23 @@ class LoadedQuantities(NamedTuple):
 
 def loaded_quantities(pair, torques_nm, error_sets, options) -> LoadedQuantities:
     """The quantities of the loaded analysis of ``pair`` at every torque (N m, pinion) and error set
-    ((K, 5) mm, rad), with ``options`` (an ltca.Options; its torque and errors are replaced).
-
-    Today one ``ltca.analyze`` per (torque, error set); the batched loaded engine (N positions x T
-    torques x K error sets in one call) replaces this body."""
+    ((K, 5) mm, rad), with ``options`` (an ltca.Options; its torque and errors are replaced): one call of
+    the batched loaded engine (``ltca.analyze_many``: N positions x T torques x K error sets) per
+    :data:`CHUNK_SETS` sets, the calls of ``beveloid ltca --samples``, so that it reproduces them exactly."""
     from .. import ltca
     from ..solver import Solver
 
-    solver = Solver()
     shape = (len(torques_nm), len(error_sets))
     te, p, root = np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape, np.nan)
     conv = np.zeros(shape, dtype=int)
-    for i, torque in enumerate(torques_nm):
-        for k, errors in enumerate(error_sets):
-            r = ltca.analyze(pair, replace(options, torque_nm=float(torque), errors=tuple(float(e) for e in errors)),
-                             solver)
+    sets = np.asarray(error_sets, dtype=float)
+    solver = Solver()
+    results = []
+    for start in range(0, len(sets), CHUNK_SETS):
+        results += ltca.analyze_many(pair, options, torques_nm=[float(t) for t in torques_nm],
+                                     error_sets=sets[start:start + CHUNK_SETS], solver=solver).results
+    for k, row in enumerate(results):
+        for i, r in enumerate(row):
             ok = r.converged
             conv[i, k] = int(ok.sum())
             te[i, k] = r.loaded_te_peak_to_peak * 1e6

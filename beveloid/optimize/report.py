@@ -17,7 +17,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..explore.pareto import front
-from ..explore.report import _cell
+from ..spec import spec_to_dict
 from .evaluate import QUANTITIES
 from .request import OBJECTIVES
 
@@ -89,6 +89,17 @@ def row(req, rec: dict, on_front: bool) -> dict:
     return out
 
 
+def _cell(v) -> str:
+    """A CSV cell: "" for a missing or non-finite number, true/false, integers as such, floats by repr."""
+    if v is None or isinstance(v, str):
+        return v or ""
+    if isinstance(v, (bool, np.bool_)):
+        return "true" if v else "false"
+    if isinstance(v, (int, np.integer)):
+        return str(int(v))
+    return repr(float(v)) if math.isfinite(v) else ""
+
+
 def write_csv(path: str, rows: list) -> None:
     import csv
 
@@ -97,7 +108,7 @@ def write_csv(path: str, rows: list) -> None:
         w = csv.writer(f)
         w.writerow(keys)
         for r in rows:
-            w.writerow(["" if r[k] is None else _cell(r[k]) for k in keys])
+            w.writerow([_cell(r[k]) for k in keys])
 
 
 def toml_text(data: dict, header: str = "") -> str:
@@ -119,14 +130,19 @@ def toml_text(data: dict, header: str = "") -> str:
 
 
 def reproduce_commands(req, spec_file: str) -> list:
-    """The commands that reproduce a candidate's numbers at the file's errors."""
+    """The commands that reproduce a candidate's numbers: ``beveloid ltca`` over the duty cycle (with
+    ``--samples``, the same error sets: the "tolerance" blocks' p90) and ``beveloid rating``."""
     grid = "" if req.grid is None else f" --grid {req.grid[0]}x{req.grid[1]}"
     tooth = f" --tooth-model {req.tooth_model}"
     if req.tooth_model == "fe":
         tooth += f" --fe-refinement {req.fe_refinement} --fe-coarsen {req.fe_coarsen:g}"
     common = f" --flank {req.flank} --positions {req.positions}{tooth}"
-    out = [f"beveloid ltca {spec_file} --torque-nm {t:g}{common} --pairs {req.pairs}{grid} --json"
-           for t in req.torques_nm]
+    box = ""
+    if req.samples:
+        tol = ",".join(f"{k.rsplit('_', 1)[0]}={v!r}" for k, v in req.tolerances.items())  # dx_mm -> dx
+        box = f" --samples {req.samples} --seed {req.seed} --tolerances {tol}"
+    torques = ",".join(f"{t:g}" for t in req.torques_nm)
+    out = [f"beveloid ltca {spec_file} --torque-nm {torques}{common} --pairs {req.pairs}{grid}{box} --json"]
     if req.constraints == "rating":
         out.append(f"beveloid rating {spec_file} --torque-nm {max(req.torques_nm):g}{common} --json")
     return out
@@ -154,8 +170,6 @@ def front_order(req, records: list, on: np.ndarray) -> list:
 
 def write_specs(out_dir: str, req, records: list, front_idx: list) -> dict:
     """pareto_<n>.toml for each front candidate (n = 1.. in front order): {candidate index: file name}."""
-    from ..spec import spec_to_dict
-
     names = {}
     for n, i in enumerate(front_idx, start=1):
         rec = records[i]

@@ -112,6 +112,32 @@ def test_resume_recomputes_the_missing_candidates_as_the_first_run_did(run, resu
     assert (copy / "candidates.csv").read_text() == (out / "candidates.csv").read_text()
 
 
+def test_the_tolerance_box_of_ltca_reproduces_a_candidate(tilted, capsys):
+    """--samples: `beveloid ltca --torque-nm T1,T2 --samples K --seed S --tolerances ...` (the command a
+    front candidate's spec names) gives each torque's 90th percentile of the candidate, to the last bit."""
+    import tomllib
+
+    from beveloid.cli.ltca import CHUNK_SETS
+    from beveloid.optimize import report
+
+    assert evaluate.CHUNK_SETS == CHUNK_SETS  # the same calls of the batched engine
+    req = Request(base=tomllib.loads(tilted.read_text()), varies=(Vary(KEY, LOW, HIGH),), torques_nm=(100.0, 300.0),
+                  weights=(1.0, 2.0), samples=3, seed=5, tolerances={"dx_mm": 0.05, "dy_mm": 0.05, "dz_mm": 0.05,
+                                                                     "vertical_deg": 0.05, "horizontal_deg": 0.02},
+                  positions=3, grid=(5, 5), tooth_model="plate", constraints="none")
+    rec = evaluate.evaluate(req, {KEY: 15.0})
+    path = tilted.parent / "boxed.toml"
+    path.write_text(report.toml_text(report.spec_to_dict(req.spec({KEY: 15.0}))))
+    command = report.reproduce_commands(req, str(path))[0].split()
+    assert main(command[1:]) == 0
+    d = json.loads(capsys.readouterr().out)
+    for t, entry in enumerate(d["map"]):
+        assert entry["tolerance"]["te_peak_to_peak_urad"]["p90"] == rec["per_torque"]["te_peak_to_peak_urad"][t]
+        assert entry["tolerance"]["max_pressure_mpa"]["p90"] == rec["per_torque"]["max_pressure_mpa"][t]
+    assert rec["objectives"]["te_peak_to_peak_urad"] == pytest.approx(
+        (rec["per_torque"]["te_peak_to_peak_urad"][0] + 2 * rec["per_torque"]["te_peak_to_peak_urad"][1]) / 3)
+
+
 def test_the_search_is_seeded():
     req = Request(base={}, varies=(Vary(KEY, LOW, HIGH), Vary("pinion.lead_slope_um", -20.0, 20.0)),
                   torques_nm=(TORQUE,), weights=(1.0,), population=6)
