@@ -66,8 +66,7 @@ def main():
     print(f"rating at {max(TORQUES):g} N m: {rating:.1f} s")
     print(f"one target candidate (3 x {TARGET['samples']} analyses + rating): {per_candidate:.0f} s")
     print(f"target run ({TARGET['candidates']} candidates on {TARGET['cores']} cores, perfect scaling): {total:.0f} s"
-          f" = {total / 3600:.2f} h; target {TARGET['seconds']:.0f} s: {total / TARGET['seconds']:.0f}x over"
-          f" (the batched loaded engine has to bring it)")
+          f" = {total / 3600:.2f} h; target {TARGET['seconds']:.0f} s: {total / TARGET['seconds']:.0f}x over")
     print(f"check: te_peak_to_peak_urad {np.round(lq.te_peak_to_peak_urad, 3).tolist()}")
 
 
