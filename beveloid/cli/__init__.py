@@ -48,7 +48,7 @@ USER_ERRORS = (SpecError, UserError)
 #: The commands, in the order ``beveloid --help`` lists them; each is the module
 #: ``beveloid.cli.<name>`` with ``configure(parser)`` and ``run(args) -> int``.
 COMMANDS: tuple[str, ...] = ("verify", "derive", "design", "tca", "ltca", "paper", "sweep", "example", "export",
-                             "explore", "rating", "fe-check", "models")
+                             "explore", "rating", "fe-check", "models", "optimize")
 
 
 def command(name: str):

@@ -1,0 +1,160 @@
+"""One candidate: its loaded quantities over the duty cycle and the error sets, its objectives and the
+rating's local safeties at the highest torque.
+
+The quantities of one loaded analysis (``beveloid ltca`` reports each of them):
+
+* ``te_peak_to_peak_urad``: the loaded TE peak-to-peak (its JSON
+  ``loaded_transmission_error_peak_to_peak_urad``);
+* ``max_pressure_mpa``: the largest pair peak pressure over the cycle, edge peaks included (the
+  largest of ``pair_max_pressure_mpa``);
+* ``root_stress_max_mpa``: the larger member's root stress maximum (the larger of
+  ``root_stress_max_mpa``; FE tooth only).
+
+Each torque's quantity is the value at the file's errors (``--samples 0``) or the 90th percentile
+(``numpy.percentile``, its default method) over the K error sets; an objective is the weighted mean
+over the torques, sum w_i q_i / sum w_i.  A candidate missing any of its quantities (an analysis with
+fewer than 3 converged positions, no root stress) has the status ``incomplete``, null objectives, and
+takes no part in the front.
+"""
+from __future__ import annotations
+
+import math
+import time
+from typing import NamedTuple
+
+import numpy as np
+
+from .request import OBJECTIVES, PERCENTILE, Request
+
+QUANTITIES = tuple(OBJECTIVES.values())
+#: error sets per call of the batched engine: those of ``beveloid ltca --samples`` (cli/ltca.py CHUNK_SETS),
+#: whose numbers then equal these to the last bit (tests/optimize)
+CHUNK_SETS = 8
+
+
+class LoadedQuantities(NamedTuple):
+    """(T, K) arrays over the torques and the error sets; nan where the analysis gives none."""
+
+    te_peak_to_peak_urad: np.ndarray
+    max_pressure_mpa: np.ndarray
+    root_stress_max_mpa: np.ndarray
+    converged_positions: np.ndarray  # (T, K) int
+
+
+def loaded_quantities(pair, torques_nm, error_sets, options) -> LoadedQuantities:
+    """The quantities of the loaded analysis of ``pair`` at every torque (N m, pinion) and error set
+    ((K, 5) mm, rad), with ``options`` (an ltca.Options; its torque and errors are replaced): one call of
+    the batched loaded engine (``ltca.analyze_many``: N positions x T torques x K error sets) per
+    :data:`CHUNK_SETS` sets, the calls of ``beveloid ltca --samples``, so that it reproduces them exactly."""
+    from .. import ltca
+    from ..solver import Solver
+
+    shape = (len(torques_nm), len(error_sets))
+    te, p, root = np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape, np.nan)
+    conv = np.zeros(shape, dtype=int)
+    sets = np.asarray(error_sets, dtype=float)
+    solver = Solver()
+    results = []
+    for start in range(0, len(sets), CHUNK_SETS):
+        results += ltca.analyze_many(pair, options, torques_nm=[float(t) for t in torques_nm],
+                                     error_sets=sets[start:start + CHUNK_SETS], solver=solver).results
+    for k, row in enumerate(results):
+        for i, r in enumerate(row):
+            ok = r.converged
+            conv[i, k] = int(ok.sum())
+            te[i, k] = r.loaded_te_peak_to_peak * 1e6
+            peaks = r.pair_max_pressure_mpa[ok]
+            if np.isfinite(peaks).any():
+                p[i, k] = float(np.nanmax(peaks))
+            tops = [v for v in r.root_stress_max_mpa().values() if v is not None]
+            if tops:
+                root[i, k] = max(tops)
+    return LoadedQuantities(te, p, root, conv)
+
+
+def per_torque(q: np.ndarray, samples: int) -> np.ndarray:
+    """(T,) each torque's quantity: the value at the file's errors, or the 90th percentile over the sets
+    (nan when a set has none)."""
+    q = np.asarray(q, dtype=float)
+    if samples == 0:
+        return q[:, 0]
+    return np.array([np.percentile(row, PERCENTILE) if np.isfinite(row).all() else math.nan for row in q])
+
+
+def objective(q_torque: np.ndarray, weights) -> float:
+    """sum w_i q_i / sum w_i (nan when a torque's quantity is missing)."""
+    w = np.asarray(weights, dtype=float)
+    return float(np.dot(w, q_torque) / w.sum())
+
+
+def _num(v):
+    v = float(v)
+    return v if math.isfinite(v) else None
+
+
+def safeties(req: Request, pair) -> dict:
+    """The rating at the highest torque (``beveloid rating`` with the run's options): the lowest local S_F and
+    S_H over the members, S_Fmin, S_Hmin and whether both are met (``feasible``; a local S_F the plate tooth
+    does not compute is not a constraint)."""
+    from .. import rating
+
+    r = rating.analyze(pair, req.rating_options())
+    sf = [m.safety_bending for m in r.members.values() if m.safety_bending is not None]
+    sh = [m.safety_pitting for m in r.members.values() if m.safety_pitting is not None]
+    s_f, s_h = (min(sf) if sf else None), (min(sh) if sh else None)
+    f = r.factors
+    feasible = (s_f is None or s_f >= f.S_Fmin) and (s_h is not None and s_h >= f.S_Hmin)
+    return {"safety_bending_local": s_f, "safety_pitting_local": s_h, "S_Fmin": f.S_Fmin, "S_Hmin": f.S_Hmin,
+            "torque_nm": max(req.torques_nm), "feasible": bool(feasible), "verdict": r.verdict()["line"]}
+
+
+def evaluate(req: Request, values: dict, error_sets: np.ndarray | None = None) -> dict:
+    """The record of one candidate (JSON-ready): values, status, each quantity per torque and set, the
+    objectives, the safeties."""
+    from ..errors import UserError
+    from ..pair import Pair
+    from ..spec import SpecError
+
+    t0 = time.perf_counter()
+    rec = {"values": {k: float(v) for k, v in values.items()}, "status": "ok", "reason": ""}
+    try:
+        pair = Pair.from_spec(req.spec(values))
+    except (SpecError, UserError) as exc:  # the spec's rules or the design refuse these values
+        return _failed(rec, req, "refused", exc, t0)
+    sets = req.error_sets() if error_sets is None else error_sets
+    try:
+        lq = loaded_quantities(pair, req.torques_nm, sets, req.ltca_options(max(req.torques_nm)))
+        rec["safety"] = safeties(req, pair) if req.constraints == "rating" else None
+    except UserError as exc:  # no contact at all (the flank is turned off its mate)
+        return _failed(rec, req, "failed", exc, t0)
+    rec["quantities"] = {q: [[_num(v) for v in row] for row in getattr(lq, q)] for q in QUANTITIES}
+    rec["converged_positions"] = lq.converged_positions.tolist()
+    tq = {q: per_torque(getattr(lq, q), req.samples) for q in QUANTITIES}
+    rec["per_torque"] = {q: [_num(v) for v in tq[q]] for q in QUANTITIES}
+    rec["objectives"] = {q: _num(objective(tq[q], req.weights)) for q in req.quantities}
+    missing = [q for q in req.quantities if rec["objectives"][q] is None]
+    if missing:
+        least = int(lq.converged_positions.min())
+        rec["status"] = "incomplete"
+        rec["reason"] = (f"no {', '.join(missing)} at some torque or error set (fewest converged positions:"
+                         f" {least} of {req.positions})")
+    rec["seconds"] = time.perf_counter() - t0
+    return rec
+
+
+def _failed(rec: dict, req: Request, status: str, exc: Exception, t0: float) -> dict:
+    rec.update(status=status, reason=f"{type(exc).__name__}: {' '.join(str(exc).split())}", quantities=None,
+               per_torque=None, objectives={q: None for q in req.quantities}, safety=None,
+               seconds=time.perf_counter() - t0)
+    return rec
+
+
+def evaluate_task(task) -> dict:
+    """What a worker runs: (request JSON, candidate index, values) -> the record (module level: pickled)."""
+    from .. import parallel
+
+    parallel.single_threaded()
+    request, index, values = task
+    rec = evaluate(Request.from_json(request), values)
+    rec["candidate"] = index
+    return rec

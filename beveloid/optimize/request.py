@@ -1,0 +1,281 @@
+"""What an optimisation asks (:class:`Request`, kept in DIR/request.json) and how its parts are read
+from the command line, each refusal one line naming the flag, the value and what is valid.
+
+``--vary KEY=LOW:HIGH`` takes a numeric micro-geometry key of either member (the keys of the
+tooth-surface models: ``*_crowning_um``, ``tip_relief_um``, ``tip_relief_height_mm``,
+``end_relief_um``, ``end_relief_length_mm``, ``lead_slope_um``, and those of a user model) over a
+continuous range.  A key that changes the macro geometry (the design, the tooth body and its FE data)
+belongs to ``beveloid explore`` and is refused.
+
+A candidate is the file's tables with the varied keys replaced (:meth:`Request.spec`); a member whose
+file names no ``tooth_surface`` gets the first model that takes every varied key of it (and every
+model key the file gives), so that all candidates of a run share one surface model per member.
+"""
+from __future__ import annotations
+
+import copy
+import math
+import re
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+
+from ..errors import UserError
+from ..names import MEMBERS
+
+#: the objectives: command-line name -> the quantity (and JSON key) it is made of
+OBJECTIVES = {"te": "te_peak_to_peak_urad", "pressure": "max_pressure_mpa", "root": "root_stress_max_mpa"}
+DEFAULT_OBJECTIVES = ("te", "pressure")
+#: each torque's quantity over the K error sets: this percentile (numpy's default method)
+PERCENTILE = 90.0
+#: the default number of candidates: the issue's target configuration (case 1, two variables, three
+#: torques, --samples 16); docs/optimize.md gives what it costs today
+DEFAULT_BUDGET = 128
+MAX_BUDGET = 100_000
+MAX_TORQUES = 32
+MAX_SAMPLES = 10_000
+
+
+def micro_keys() -> dict:
+    """Every numeric micro-geometry key (dotted ``member.key`` -> KeyDoc): a tooth-surface model's own keys."""
+    from ..spec import KEY_DOCS
+
+    return {f"{m}.{k}": doc for m in MEMBERS for k, doc in KEY_DOCS[m].items()
+            if doc.model and doc.kind in ("number", "integer")}
+
+
+def _refusal(key: str, keys: dict) -> str:
+    """One line for a --vary key that is not a micro-geometry key."""
+    from ..explore.grid import numeric_keys
+
+    listed = ", ".join(keys)
+    section = key.partition(".")[0]
+    if key in numeric_keys():
+        if section in MEMBERS or section == "pair":
+            return (f"--vary {key}: changes the macro geometry (the design and the tooth body), not the flank's"
+                    f" micro-geometry: vary it with `beveloid explore`; optimize varies {listed}")
+        return f"--vary {key}: not a flank modification (a [{section}] key); optimize varies {listed}"
+    from ..spec.text import closest
+
+    match = closest(key, list(keys))
+    hint = f"did you mean {match}? " if match else ""
+    return f"--vary {key}: not a numeric micro-geometry key; {hint}optimize varies {listed}"
+
+
+@dataclass(frozen=True)
+class Vary:
+    """One varied key over the continuous range [low, high]."""
+
+    key: str
+    low: float
+    high: float
+
+
+def parse_vary(text: str) -> Vary:
+    """``KEY=LOW:HIGH`` -> Vary, or a one-line UserError."""
+    keys = micro_keys()
+    key, eq, rng = (part.strip() for part in text.partition("="))
+    if not eq:
+        raise UserError(f"--vary {text}: must be KEY=LOW:HIGH, e.g. pinion.lead_crowning_um=0:40")
+    if key not in keys:
+        raise UserError(_refusal(key, keys))
+    doc = keys[key]
+    m = re.fullmatch(r"([^:]*):([^:]*)", rng)
+    if m is None:
+        raise UserError(f"--vary {key}={rng}: must be LOW:HIGH, two numbers with LOW < HIGH (a continuous range)")
+    bounds = []
+    for name, word in zip(("LOW", "HIGH"), m.groups()):
+        try:
+            x = float(word)
+        except ValueError:
+            raise UserError(f"--vary {key}={rng}: LOW and HIGH must be numbers, each {doc.valid_text}") from None
+        if not (math.isfinite(x) and doc.in_range(x)):
+            raise UserError(f"--vary {key}={rng}: {name} = {x:g} must be {doc.valid_text}")
+        bounds.append(x)
+    if not bounds[0] < bounds[1]:
+        raise UserError(f"--vary {key}={rng}: LOW = {bounds[0]:g} must be below HIGH = {bounds[1]:g}")
+    return Vary(key, *bounds)
+
+
+def parse_numbers(text: str, flag: str, what: str) -> tuple:
+    """``"100,200,400"`` -> (100.0, 200.0, 400.0): finite positive numbers, else one line."""
+    parts = [p.strip() for p in str(text).split(",")]
+    out = []
+    for p in parts:
+        try:
+            x = float(p)
+        except ValueError:
+            x = math.nan
+        if not (math.isfinite(x) and x > 0):
+            raise UserError(f"{flag} {text}: {p!r} is not a number > 0; give {what}")
+        out.append(x)
+    if not 1 <= len(out) <= MAX_TORQUES:
+        raise UserError(f"{flag} {text}: give 1 to {MAX_TORQUES} numbers")
+    return tuple(out)
+
+
+def parse_objectives(text: str, tooth_model: str) -> tuple:
+    names = tuple(p.strip() for p in str(text).split(","))
+    for n in names:
+        if n not in OBJECTIVES:
+            raise UserError(f"--objectives {text}: {n!r} is not an objective; valid: {', '.join(OBJECTIVES)}")
+    if len(set(names)) != len(names):
+        raise UserError(f"--objectives {text}: an objective is given twice")
+    if "root" in names and tooth_model != "fe":
+        raise UserError(f"--objectives {text}: root needs the FE tooth (--tooth-model fe); the {tooth_model} tooth "
+                        "has no root fillet")
+    return names
+
+
+def default_population(n_vary: int) -> int:
+    """NSGA-II's population: 8 per varied key, from 8 to 32."""
+    return int(min(32, max(8, 8 * n_vary)))
+
+
+@dataclass(frozen=True)
+class Request:
+    """Everything that defines the candidates and their numbers (DIR/request.json)."""
+
+    base: dict  # the file's tables as it gives them
+    varies: tuple
+    torques_nm: tuple
+    weights: tuple
+    objectives: tuple = DEFAULT_OBJECTIVES
+    samples: int = 0
+    seed: int = 0
+    tolerances: dict = field(default_factory=dict)
+    budget: int = DEFAULT_BUDGET
+    population: int = 8
+    flank: str = "right"
+    positions: int = 20
+    pairs: int = 3
+    grid: tuple | None = None
+    tooth_model: str = "fe"
+    fe_refinement: int = 1
+    fe_coarsen: float = 1.0
+    constraints: str = "rating"  # "rating": the local safeties at the highest torque; "none"
+    source: str = ""
+    code: dict = field(default_factory=dict)
+
+    def to_json(self) -> dict:
+        d = asdict(self)
+        d["varies"] = [asdict(v) for v in self.varies]
+        return d
+
+    @classmethod
+    def from_json(cls, d: dict) -> "Request":
+        d = dict(d)
+        d["varies"] = tuple(Vary(**v) for v in d["varies"])
+        for k in ("torques_nm", "weights", "objectives"):
+            d[k] = tuple(d[k])
+        d["grid"] = None if d.get("grid") is None else tuple(d["grid"])
+        return cls(**d)
+
+    @property
+    def keys(self) -> list:
+        return [v.key for v in self.varies]
+
+    @property
+    def quantities(self) -> list:
+        """The objectives' quantity names, in the request's order."""
+        return [OBJECTIVES[o] for o in self.objectives]
+
+    def surfaces(self) -> dict:
+        """{member: tooth_surface} for each varied member whose file names none."""
+        from ..generated import surface_models
+        from ..spec.keys import model_takes
+
+        out = {}
+        docs = micro_keys()
+        for m in MEMBERS:
+            varied = [k.partition(".")[2] for k in self.keys if k.startswith(m + ".")]
+            raw = self.base.get(m, {})
+            if not varied or "tooth_surface" in raw:
+                continue
+            given = [k for k in raw if f"{m}.{k}" in docs]
+            need = varied + given
+            out[m] = next((s for s in surface_models.MODEL_KEYS if all(model_takes(s, k) for k in need)),
+                          surface_models.DEFAULT_MODEL)
+        return out
+
+    def raw(self, values: dict) -> dict:
+        """The file's tables with ``values`` (dotted keys) in place."""
+        data = copy.deepcopy(self.base)
+        for m, surface in self.surfaces().items():
+            data.setdefault(m, {})["tooth_surface"] = surface
+        for key, v in values.items():
+            section, _, name = key.partition(".")
+            data.setdefault(section, {})[name] = float(v)
+        return data
+
+    def spec(self, values: dict):
+        """The DesignSpec of a candidate (SpecError when its values are refused)."""
+        from ..spec import spec_from_dict
+
+        return spec_from_dict(self.raw(values), source=self.source or "<dict>")
+
+    def base_spec(self):
+        from ..spec import spec_from_dict
+
+        return spec_from_dict(self.base, source=self.source or "<dict>")
+
+    def baseline_values(self) -> dict:
+        """The file's value of each varied key (the model's default where the file gives none)."""
+        spec = self.base_spec()
+        docs = micro_keys()
+        out = {}
+        for key in self.keys:
+            m, _, name = key.partition(".")
+            opts = dict(getattr(spec, m).surface_options)
+            out[key] = float(opts.get(name, docs[key].default))
+        return out
+
+    def error_sets(self) -> np.ndarray:
+        """(K, 5) error sets (mm, rad): the file's [misalignment] alone (``samples`` 0) or K sets drawn as
+        ``beveloid sweep`` draws them about it (sweep.draw_errors: the same for every candidate)."""
+        from .. import assembly_errors
+        from ..sweep import draw_errors
+
+        spec = self.base_spec()
+        if self.samples == 0:
+            return assembly_errors.to_layout(spec.misalignment)[None, :]
+        nominal = {k: float(getattr(spec.misalignment, k)) for k in assembly_errors.KEYS}
+        return draw_errors(self.samples, self.tolerances, self.seed, nominal)
+
+    def ltca_options(self, torque_nm: float):
+        """The loaded analysis of a candidate (errors set per error set; material: the spec's)."""
+        from .. import ltca
+
+        return ltca.Options(torque_nm=torque_nm, flank=self.flank, positions=self.positions, pairs=self.pairs,
+                            grid=self.grid, tooth_model=self.tooth_model, fe_refinement=self.fe_refinement,
+                            fe_coarsen=self.fe_coarsen)
+
+    def rating_options(self):
+        """The rating at the highest torque: what ``beveloid rating FILE --torque-nm T`` runs with the run's
+        --flank, --positions, --tooth-model, --fe-refinement and --fe-coarsen (its default grid and pairs, the file's
+        errors)."""
+        from .. import rating
+
+        return rating.Options(torque_nm=max(self.torques_nm), flank=self.flank, positions=self.positions,
+                              tooth_model=self.tooth_model, fe_refinement=self.fe_refinement,
+                              fe_coarsen=self.fe_coarsen)
+
+    def check(self) -> None:
+        """Every corner of the ranges passes the spec's rules between keys (a relief's extent needs the
+        relief): one line naming the --vary whose LOW or HIGH is refused."""
+        import itertools
+
+        from ..spec import SpecError
+
+        base = self.baseline_values()
+        for corner in itertools.product(*((v.low, v.high) for v in self.varies)):
+            values = dict(base, **dict(zip(self.keys, corner)))
+            try:
+                self.spec(values)
+            except SpecError as exc:
+                v = next((v for v in self.varies if exc.key and exc.key == v.key), self.varies[0])
+                x = values[v.key]
+                name = "LOW" if x == v.low else "HIGH"
+                others = ", ".join(f"{k} = {values[k]:g}" for k in self.keys if k != v.key)
+                raise UserError(f"--vary {v.key}={v.low:g}:{v.high:g}: {name} = {x:g} is refused by the spec"
+                                f"{' with ' + others if others else ''}: {exc.detail}") from None

@@ -1,0 +1,198 @@
+"""The search: pymoo's NSGA-II (ask and tell) over the varied keys, the candidates evaluated on any
+executor (beveloid.parallel) and each kept on disk as it finishes.
+
+The first population is a Latin hypercube sample (scipy.stats.qmc.LatinHypercube, seeded by
+``--seed``) over the ranges; NSGA-II (simulated binary crossover, polynomial mutation, its
+constrained non-dominated sorting and crowding) makes the next from the evaluated ones, seeded too.
+Candidate i is the i-th the algorithm asks for; ``--budget`` stops it after that many (the last
+generation cut short).  A candidate's numbers depend only on the request and its values, never on
+where it ran, so the run is the same on one worker, N workers and a cluster, and a resumed run
+(``--resume DIR``) replays the seeded search, takes every candidate already on disk
+(``DIR/candidates/``) and evaluates only the others.
+
+What the algorithm is told: the objectives of a candidate that is ``ok``, else a large number; the
+constraint g <= 0 the worst relative shortfall of the local safeties, max(1 - S_F / S_Fmin,
+1 - S_H / S_Hmin), and 1e3 for a candidate without numbers.
+"""
+from __future__ import annotations
+
+import json
+import os
+import sys
+import time
+
+import numpy as np
+
+from ..errors import ErrorCode, StopReason, UserError
+from .evaluate import evaluate, evaluate_task
+from .request import Request
+
+REQUEST = "request.json"
+CANDIDATES = "candidates"
+BASELINE = "baseline"
+#: what the algorithm is told for a candidate without numbers
+FAILED_OBJECTIVE = 1e30
+FAILED_CONSTRAINT = 1e3
+
+
+def _path(out_dir: str, name) -> str:
+    stem = name if isinstance(name, str) else f"{int(name):06d}"
+    return os.path.join(out_dir, CANDIDATES, f"{stem}.json")
+
+
+def save(out_dir: str, name, rec: dict) -> None:
+    path = _path(out_dir, name)
+    tmp = path + ".tmp"
+    with open(tmp, "w") as f:
+        json.dump(rec, f, allow_nan=False)
+    os.replace(tmp, path)
+
+
+def load(out_dir: str, name) -> dict | None:
+    try:
+        with open(_path(out_dir, name)) as f:
+            return json.load(f)
+    except (OSError, ValueError):
+        return None
+
+
+def _held(path: str) -> dict | None:
+    """The request a run left (None when there is none)."""
+    if not os.path.exists(path):
+        return None
+    with open(path) as f:
+        return json.load(f)
+
+
+def prepare(out_dir: str, req: Request | None, resume: bool, budget: int | None = None) -> Request:
+    """Create DIR (fresh) or read its request (resume; ``budget`` extends it); refuse to mix two runs."""
+    from ..explore.run import code_version
+
+    path = os.path.join(out_dir, REQUEST)
+    held = _held(path)
+    if resume:
+        if held is None:
+            raise UserError(f"--resume {out_dir}: no {REQUEST} there; start a run with --out {out_dir}")
+        if held.get("code") != code_version():
+            raise UserError(f"--resume {out_dir}: its candidates were computed by another version of beveloid"
+                            f" ({held.get('code')}); start the run again with --out", code=ErrorCode.STALE_RESULTS)
+        req = Request.from_json(held if budget is None else dict(held, budget=budget))
+    else:
+        req = Request.from_json(dict(req.to_json(), code=code_version()))
+        mine = json.loads(json.dumps(req.to_json()))
+        if held is not None and {k: v for k, v in held.items() if k != "budget"} != \
+                {k: v for k, v in mine.items() if k != "budget"}:
+            raise UserError(f"--out {out_dir}: holds another optimisation ({REQUEST}); continue it with --resume"
+                            f" {out_dir} or choose another --out")
+    os.makedirs(os.path.join(out_dir, CANDIDATES), exist_ok=True)
+    with open(path, "w") as f:
+        json.dump(req.to_json(), f, indent=1)
+    return req
+
+
+def told(req: Request, rec: dict) -> tuple:
+    """(F, G) of a record for the algorithm (module docstring)."""
+    if rec["status"] != "ok":
+        return np.full(len(req.objectives), FAILED_OBJECTIVE), np.array([FAILED_CONSTRAINT])
+    F = np.array([rec["objectives"][q] for q in req.quantities], dtype=float)
+    s = rec.get("safety")
+    if s is None:
+        return F, np.array([0.0])
+    short = [1.0 - s["safety_bending_local"] / s["S_Fmin"]] if s["safety_bending_local"] is not None else []
+    short += [1.0 - s["safety_pitting_local"] / s["S_Hmin"]] if s["safety_pitting_local"] is not None \
+        else [FAILED_CONSTRAINT]
+    return F, np.array([max(short)])
+
+
+def initial(req: Request) -> np.ndarray:
+    """The first population: a Latin hypercube sample over the ranges (seeded)."""
+    from scipy.stats import qmc
+
+    lo = np.array([v.low for v in req.varies])
+    hi = np.array([v.high for v in req.varies])
+    u = qmc.LatinHypercube(d=len(req.varies), seed=np.random.default_rng(req.seed)).random(req.population)
+    return lo + u * (hi - lo)
+
+
+def algorithm(req: Request):
+    """NSGA-II set up on the request's problem, seeded."""
+    from pymoo.algorithms.moo.nsga2 import NSGA2
+    from pymoo.core.problem import Problem
+    from pymoo.termination.max_eval import MaximumFunctionCallTermination
+
+    problem = Problem(n_var=len(req.varies), n_obj=len(req.objectives), n_ieq_constr=1,
+                      xl=np.array([v.low for v in req.varies]), xu=np.array([v.high for v in req.varies]))
+    alg = NSGA2(pop_size=req.population, sampling=initial(req), eliminate_duplicates=True)
+    alg.setup(problem, termination=MaximumFunctionCallTermination(10 ** 9), seed=req.seed, verbose=False)
+    return alg
+
+
+class Progress:
+    """Candidates done, the time per candidate and the time left, on stderr (a line per batch)."""
+
+    def __init__(self, total: int, stream=None):
+        self.stream = stream or sys.stderr
+        self.total, self.done, self.computed = total, 0, 0
+        self.t0 = time.perf_counter()
+
+    def update(self, cached: int, computed: int) -> None:
+        self.done += cached + computed
+        self.computed += computed
+        dt = time.perf_counter() - self.t0
+        rate = ""
+        if self.computed:
+            each = dt / self.computed
+            rate = f", {each:.1f} s a candidate, about {each * (self.total - self.done):.0f} s left"
+        self.stream.write(f"beveloid optimize: {self.done}/{self.total} candidates ({cached} from disk){rate}\n")
+        self.stream.flush()
+
+
+def baseline(out_dir: str, req: Request) -> dict:
+    """The file's own design, evaluated in this process (before the workers: its FE tooth data is then on
+    disk for them) and kept as DIR/candidates/baseline.json."""
+    rec = load(out_dir, BASELINE)
+    if rec is None:
+        rec = evaluate(req, req.baseline_values())
+        rec["candidate"] = BASELINE
+        save(out_dir, BASELINE, rec)
+    return rec
+
+
+def run(out_dir: str, req: Request, ex, progress: Progress | None = None) -> tuple:
+    """Ask, evaluate (on ``ex``) and tell until the budget: (records in candidate order, None or a StopReason,
+    a line saying why it stopped)."""
+    from ..parallel import WorkLost
+
+    alg = algorithm(req)
+    payload = req.to_json()
+    records: list = []
+    while len(records) < req.budget:
+        pop = alg.ask()
+        X = pop.get("X")[: req.budget - len(records)]
+        pop = pop[: len(X)]
+        start = len(records)
+        batch: list = [None] * len(X)
+        todo = []
+        for j, x in enumerate(X):
+            rec = load(out_dir, start + j)
+            values = dict(zip(req.keys, (float(v) for v in x)))
+            if rec is not None and rec["values"] == values:
+                batch[j] = rec
+            else:
+                todo.append(j)
+        tasks = [(payload, start + j, dict(zip(req.keys, (float(v) for v in X[j])))) for j in todo]
+        try:
+            for k, rec in ex.map_unordered(evaluate_task, tasks):
+                save(out_dir, start + todo[k], rec)
+                batch[todo[k]] = rec
+        except KeyboardInterrupt:
+            return records + [r for r in batch if r is not None], StopReason.INTERRUPTED, str(StopReason.INTERRUPTED)
+        except WorkLost as exc:
+            return records + [r for r in batch if r is not None], StopReason.WORK_LOST, str(exc)
+        if progress:
+            progress.update(len(X) - len(todo), len(todo))
+        FG = [told(req, r) for r in batch]
+        pop.set("F", np.array([f for f, _ in FG]), "G", np.array([g for _, g in FG]))
+        alg.tell(infills=pop)
+        records += batch
+    return records, None, ""

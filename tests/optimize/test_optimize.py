@@ -1,0 +1,202 @@
+"""beveloid optimize: the optimiser's best against a brute-force scan, a Pareto spec reproduced by `ltca`,
+the safeties by `rating`, resume and determinism, and the one-line refusals of bad --vary keys and ranges.
+
+Cheap by construction: case 1 tilted by vertical_deg = 0.05, the plate tooth, a 5x5 grid, 3 positions,
+one torque, budgets of a few candidates (one run shared by the tests of the group "optimize")."""
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from beveloid.cli import main
+from beveloid.optimize import evaluate, search
+from beveloid.optimize.request import Request, Vary
+
+pytestmark = pytest.mark.xdist_group("optimize")
+
+CASE1 = Path(__file__).resolve().parents[2] / "beveloid" / "data" / "case1.toml"
+KEY = "pinion.lead_crowning_um"
+LOW, HIGH = 0.0, 40.0
+#: the analysis of every test here (cheap: plate tooth, 5x5 cells, 3 positions)
+QUICK = ["--tooth-model", "plate", "--grid", "5x5", "--positions", "3"]
+TORQUE = 200.0
+
+
+@pytest.fixture(scope="module")
+def tilted(tmp_path_factory):
+    """Case 1 with vertical_deg = 0.05: its contact runs onto one face end (an edge peak) unless a lead crowning
+    pulls it back; more crowning than that only narrows the patch and raises the pressure."""
+    text = CASE1.read_text().replace("vertical_deg = 0.0 ", "vertical_deg = 0.05")
+    assert "vertical_deg = 0.05" in text
+    path = tmp_path_factory.mktemp("optimize") / "tilted.toml"
+    path.write_text(text)
+    return path
+
+
+@pytest.fixture(scope="module")
+def run(tilted, tmp_path_factory):
+    """One optimisation of the pinion's lead crowning for the peak pressure (8 candidates, population 4)."""
+    out = tmp_path_factory.mktemp("optimize") / "out"
+    args = [str(tilted), "--vary", f"{KEY}={LOW:g}:{HIGH:g}", "--torque-nm", f"{TORQUE:g}", "--objectives", "pressure",
+            "--budget", "8", "--population", "4", "--seed", "1", "--constraints", "none", "--workers", "1",
+            "--out", str(out), "--json", *QUICK]
+    return out, args
+
+
+@pytest.fixture(scope="module")
+def result(run):
+    out, args = run
+    import contextlib
+    import io
+
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf), contextlib.redirect_stderr(io.StringIO()):
+        assert main(["optimize", *args]) == 0
+    return json.loads(buf.getvalue())
+
+
+def test_the_best_candidate_is_the_brute_force_optimum_within_the_scan_resolution(tilted, run, result):
+    """A scan over the range (step 5 um) through the same evaluation: the optimiser's best lies within one
+    step of the scan's best and is no worse than the scan's points beside it."""
+    import tomllib
+
+    base = tomllib.loads(tilted.read_text())
+    req = Request(base=base, varies=(Vary(KEY, LOW, HIGH),), torques_nm=(TORQUE,), weights=(1.0,),
+                  objectives=("pressure",), positions=3, grid=(5, 5), tooth_model="plate", constraints="none")
+    xs = np.linspace(LOW, HIGH, 9)
+    f = np.array([evaluate.evaluate(req, {KEY: x})["objectives"]["max_pressure_mpa"] for x in xs])
+    i = int(np.argmin(f))
+    assert 0 < i < len(xs) - 1, f"the scan's optimum is not inside the range: {f}"  # a real interior optimum
+    best = result["pareto"][0]
+    assert len(result["pareto"]) == 1  # one objective: the front is the best
+    x_best, f_best = best["values"][KEY], best["objectives"]["max_pressure_mpa"]
+    assert abs(x_best - xs[i]) <= xs[1] - xs[0]
+    assert f_best <= min(f[i - 1], f[i + 1])
+    assert result["evaluated"] == 8
+    # the unmodified design (no crowning: the edge peak) is beaten
+    assert f_best < result["baseline"]["objectives"]["max_pressure_mpa"]
+    assert len(result["baseline"]["dominated_by"]) >= 1
+
+
+def test_a_pareto_spec_reproduces_its_objectives_through_ltca(run, result, capsys):
+    out, _ = run
+    best = result["pareto"][0]
+    spec = out / best["spec_file"]
+    assert main(["ltca", str(spec), "--torque-nm", f"{TORQUE:g}", *QUICK, "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    peak = max(v for row in d["pair_max_pressure_mpa"] for v in row if v is not None)
+    assert peak == best["objectives"]["max_pressure_mpa"]  # exactly: the same analysis of the same spec
+    summary = json.loads((out / "summary.json").read_text())
+    entry = summary["pareto"][0]
+    assert entry["per_torque"]["te_peak_to_peak_urad"][0] == d["loaded_transmission_error_peak_to_peak_urad"]
+    for name in ("candidates.csv", "pareto.csv", "pareto.png", "te_vs_torque.png", "knee_pattern.png"):
+        assert (out / name).is_file()
+
+
+def test_resume_recomputes_the_missing_candidates_as_the_first_run_did(run, result, tmp_path, capsys):
+    """The last generation removed from a copy: --resume replays the seeded search, asks for the same
+    candidates and computes the same numbers (the same candidates.csv)."""
+    out, _ = run
+    copy = tmp_path / "copy"
+    shutil.copytree(out, copy)
+    for i in (5, 6, 7):
+        (copy / "candidates" / f"{i:06d}.json").unlink()
+    (copy / "candidates.csv").unlink()
+    assert main(["optimize", "--resume", str(copy), "--workers", "1"]) == 0
+    err = capsys.readouterr().err
+    assert "4/8 candidates (4 from disk)" in err and "8/8 candidates (1 from disk)" in err
+    assert (copy / "candidates.csv").read_text() == (out / "candidates.csv").read_text()
+
+
+def test_the_tolerance_box_of_ltca_reproduces_a_candidate(tilted, capsys):
+    """--samples: `beveloid ltca --torque-nm T1,T2 --samples K --seed S --tolerances ...` (the command a
+    front candidate's spec names) gives each torque's 90th percentile of the candidate, to the last bit."""
+    import tomllib
+
+    from beveloid.cli.ltca import CHUNK_SETS
+    from beveloid.optimize import report
+
+    assert evaluate.CHUNK_SETS == CHUNK_SETS  # the same calls of the batched engine
+    req = Request(base=tomllib.loads(tilted.read_text()), varies=(Vary(KEY, LOW, HIGH),), torques_nm=(100.0, 300.0),
+                  weights=(1.0, 2.0), samples=3, seed=5, tolerances={"dx_mm": 0.05, "dy_mm": 0.05, "dz_mm": 0.05,
+                                                                     "vertical_deg": 0.05, "horizontal_deg": 0.02},
+                  positions=3, grid=(5, 5), tooth_model="plate", constraints="none")
+    rec = evaluate.evaluate(req, {KEY: 15.0})
+    path = tilted.parent / "boxed.toml"
+    path.write_text(report.toml_text(report.spec_to_dict(req.spec({KEY: 15.0}))))
+    command = report.reproduce_commands(req, str(path))[0].split()
+    assert main(command[1:]) == 0
+    d = json.loads(capsys.readouterr().out)
+    for t, entry in enumerate(d["map"]):
+        assert entry["tolerance"]["te_peak_to_peak_urad"]["p90"] == rec["per_torque"]["te_peak_to_peak_urad"][t]
+        assert entry["tolerance"]["max_pressure_mpa"]["p90"] == rec["per_torque"]["max_pressure_mpa"][t]
+    assert rec["objectives"]["te_peak_to_peak_urad"] == pytest.approx(
+        (rec["per_torque"]["te_peak_to_peak_urad"][0] + 2 * rec["per_torque"]["te_peak_to_peak_urad"][1]) / 3)
+
+
+def test_the_search_is_seeded():
+    req = Request(base={}, varies=(Vary(KEY, LOW, HIGH), Vary("pinion.lead_slope_um", -20.0, 20.0)),
+                  torques_nm=(TORQUE,), weights=(1.0,), population=6)
+    a, b = search.initial(req), search.initial(req)
+    c = search.initial(Request.from_json(dict(req.to_json(), seed=2)))
+    assert np.array_equal(a, b) and not np.array_equal(a, c)
+    assert a.shape == (6, 2) and (a[:, 0] >= LOW).all() and (a[:, 0] <= HIGH).all()
+
+
+def test_the_safeties_are_the_ratings(tilted, capsys):
+    """--constraints rating: a candidate's local S_H is what `beveloid rating` gives for its spec."""
+    import tomllib
+
+    from beveloid.optimize import report
+    from beveloid.spec import spec_to_dict
+
+    req = Request(base=tomllib.loads(tilted.read_text()), varies=(Vary(KEY, LOW, HIGH),), torques_nm=(TORQUE,),
+                  weights=(1.0,), positions=3, grid=(5, 5), tooth_model="plate", constraints="rating")
+    rec = evaluate.evaluate(req, {KEY: 15.0})
+    path = tilted.parent / "rated.toml"
+    path.write_text(report.toml_text(spec_to_dict(req.spec({KEY: 15.0}))))
+    assert main(["rating", str(path), "--torque-nm", f"{TORQUE:g}", "--positions", "3", "--tooth-model", "plate",
+                 "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert rec["safety"]["safety_pitting_local"] == min(d[m]["safety_pitting"] for m in ("pinion", "gear"))
+    assert rec["safety"]["safety_bending_local"] is None  # the plate has no root fillet
+    assert rec["safety"]["feasible"] == (rec["safety"]["safety_pitting_local"] >= rec["safety"]["S_Hmin"])
+
+
+@pytest.mark.parametrize("vary, words", [
+    ("pinion.cone_angle_deg=1:3", "macro geometry"),
+    ("pair.offset_mm=220:230", "macro geometry"),
+    ("misalignment.vertical_deg=0:0.1", "not a flank modification"),
+    ("pinion.lead_crowning=0:40", "did you mean pinion.lead_crowning_um"),
+    ("pinion.lead_crowning_um=40:0", "LOW = 40 must be below HIGH = 0"),
+    ("pinion.lead_crowning_um=0:500", "HIGH = 500 must be"),
+    ("pinion.lead_crowning_um=0:40:5", "LOW:HIGH"),
+    ("pinion.lead_crowning_um=a:40", "must be numbers"),
+    ("pinion.lead_crowning_um", "KEY=LOW:HIGH"),
+])
+def test_bad_vary_keys_and_ranges_get_one_line_and_exit_2(tmp_path, capsys, vary, words):
+    out = tmp_path / "never"
+    status = main(["optimize", str(CASE1), "--vary", vary, "--torque-nm", "100", "--out", str(out), *QUICK])
+    err = capsys.readouterr().err
+    assert status == 2
+    assert len(err.strip().splitlines()) == 1 and words in err and "Traceback" not in err
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("extra, words", [
+    (["--vary", "pinion.tip_relief_height_mm=1:20"], "pinion.tip_relief_height_mm=1:20: HIGH = 20 is refused by the"
+                                                    " spec with pinion.lead_crowning_um = 0"),
+    (["--weights", "1,2"], "2 weights for 1 torques"),
+    (["--objectives", "root"], "needs the FE tooth"),
+    (["--objectives", "noise"], "not an objective"),
+    (["--budget", "0"], "--budget = 0"),
+])
+def test_bad_options_get_one_line_and_exit_2(tmp_path, capsys, extra, words):
+    status = main(["optimize", str(CASE1), "--vary", f"{KEY}=0:10", "--vary", "pinion.tip_relief_um=1:5", "--torque-nm", "100", "--out",
+                   str(tmp_path / "never"), *QUICK, *extra])
+    err = capsys.readouterr().err
+    assert status == 2 and len(err.strip().splitlines()) == 1 and words in err
