@@ -205,7 +205,6 @@ def heatmap(path, req, table, column, label, base_row, log=False):
     g = _grid2(req, table, column)
     fig = _figure(6.0, 4.4)
     ax = fig.add_subplot()
-    ax.set_facecolor("0.85")
     if g is None:  # a sample: scatter over the first two keys (or one key against the value)
         k1 = req.plan.keys[0]
         ok = table["status"] == "ok"
@@ -216,6 +215,7 @@ def heatmap(path, req, table, column, label, base_row, log=False):
         grey = "grey x: no ok design"
     else:  # a grid of equally spaced values: one image, a cell per design
         x1, x2, Z = g
+        ax.set_facecolor("0.85")
         sc = ax.imshow(np.ma.masked_invalid(Z.T), origin="lower", extent=(*_extent(x1), *_extent(x2)),
                        aspect="auto", interpolation="nearest", cmap="viridis", norm=norm)
         ax.set_ylabel(req.plan.keys[1])
