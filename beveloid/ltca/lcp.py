@@ -180,18 +180,17 @@ def solve_contact(
     k = kernel.kernels(Solver.of(solver))
     if initial_contact is None:
         active = np.zeros(n, dtype=bool)
-        k.initial_set(h, w, ops.diagonal(), at, load, active)
     else:
         active = np.asarray(initial_contact, dtype=bool)
         if active.shape != (n,):
             raise ValueError(f"initial_contact has shape {active.shape}: must be ({n},) booleans")
-        active = active.copy()
-        if not active.any():
-            k.initial_set(h, w, ops.diagonal(), at, load, active)
-    p = np.zeros(n)
-    result = np.zeros(5)
-    k.active_set(*ops.flat, h, w, at, float(load), float(tol), int(max_iterations), active, p, result,
-                 np.empty((int(max_iterations), n), dtype=bool))
+    blocks, off, start, size, sym = ops.flat
+    p = np.zeros((1, n))
+    results = np.zeros((1, 5))
+    k.solve_positions(blocks, off[None], start, size, sym[None], h[None], w[None], at[None], np.array([float(load)]),
+                      float(tol), int(max_iterations), np.ascontiguousarray(active[None]),
+                      np.array([initial_contact is not None]), p, results)
+    p, result = p[0], results[0]
     delta, it, code, comp, load_res = result
     code = int(code)
     elastic = np.concatenate([b @ p[sl] for b, sl in zip(ops.blocks, ops.slices)])
