@@ -203,7 +203,8 @@ def solve_many(problems, e_star_mpa, teeth) -> list:
         off = (np.arange(jj.size * P, dtype=np.int64) * n * n).reshape(jj.size, P)
         k.solve_positions(blocks.reshape(-1), off, np.arange(P, dtype=np.int64) * n, np.full(P, n, dtype=np.int64),
                           np.ones((jj.size, P), dtype=np.bool_), h, w, at, pr.torque_nm * 1e3 / r1, limits.tolerance,
-                          limits.max_iterations, np.ones(jj.size, dtype=np.bool_), p[sl], result[sl])
+                          limits.max_iterations, np.zeros((jj.size, 1), dtype=np.bool_), np.zeros(jj.size, dtype=np.bool_),
+                          p[sl], result[sl])
     out, at_row = [], 0
     for (pr, gap, todo, live), jj in zip(parts, rows):
         N = pr.need.shape[0]

@@ -6,8 +6,8 @@ in the flat array ``blocks`` (block b: ``size[b]`` x ``size[b]`` entries row-maj
 its cells ``start[b]`` .. ``start[b] + size[b]`` of the cell vectors), ``sym[b]`` when the block is
 symmetric (Cholesky, else Gaussian elimination with partial pivoting; a symmetric block that is
 not positive definite is solved by elimination too).  :func:`active_set` solves one problem (the
-method: lcp.py's docstring); :func:`solve_positions` solves many problems of equal block layout,
-the LTCA's mesh positions, in one call.
+method: lcp.py's docstring); :func:`solve_positions`, the entry point, solves many problems of
+equal block layout (the LTCA's mesh positions; one for ``lcp.solve_contact``) in one call.
 
 Result codes (``STATUS``): 0 converged, 1 the active set did not settle within the iterations,
 2 settled but the residuals are too large, 3 a singular trial set, 4 an empty contact set.
@@ -296,21 +296,26 @@ def active_set(blocks, off, start, size, sym, h, w, at, load, tol, max_iteration
     result[4] = load_res
 
 
-def solve_positions(blocks, off, start, size, sym, h, w, at, load, tol, max_iterations, todo, p, result):
-    """:func:`active_set` of every problem j with ``todo[j]``: blocks at offsets ``off[j]`` (all of the
-    layout ``start``, ``size``), cells ``h[j]``, ``w[j]``, ``at[j]``, load ``load[j]``, each from its
-    uncoupled start set; pressures into ``p[j]``, results into ``result[j]``."""
+def solve_positions(blocks, off, start, size, sym, h, w, at, load, tol, max_iterations, starts, given, p, result):
+    """:func:`active_set` of every problem j: blocks at offsets ``off[j]`` (all of the layout ``start``,
+    ``size``), cells ``h[j]``, ``w[j]``, ``at[j]``, load ``load[j]``, from the start set ``starts[j]`` where
+    ``given[j]`` (and it holds a cell), else from the uncoupled one (:func:`initial_set`); pressures into
+    ``p[j]``, results into ``result[j]``.  The one compiled entry of the contact solve."""
     N, n = h.shape
     active = np.zeros(n, dtype=np.bool_)
     diag = np.empty(n)
     seen = np.empty((max_iterations, n), dtype=np.bool_)
     for j in range(N):
-        if not todo[j]:
-            continue
-        for b in range(start.size):
-            for i in range(size[b]):
-                diag[start[b] + i] = blocks[off[j, b] + i * size[b] + i]
-        initial_set(h[j], w[j], diag, at[j], load[j], active)
+        any_given = False
+        if given[j]:
+            for i in range(n):
+                active[i] = starts[j, i]
+                any_given = any_given or starts[j, i]
+        if not any_given:
+            for b in range(start.size):
+                for i in range(size[b]):
+                    diag[start[b] + i] = blocks[off[j, b] + i * size[b] + i]
+            initial_set(h[j], w[j], diag, at[j], load[j], active)
         active_set(blocks, off[j], start, size, sym[j], h[j], w[j], at[j], load[j], tol, max_iterations, active,
                    p[j], result[j], seen)
 

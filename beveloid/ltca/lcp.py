@@ -25,6 +25,7 @@ principal pivoting.  The result says whether it converged; nothing is silently c
 """
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from typing import Sequence
 
@@ -98,9 +99,10 @@ class Compliance:
         """The diagonal of C (all blocks, in cell order)."""
         return np.concatenate([np.diag(b) for b in self.blocks])
 
+    @functools.cached_property
     def flat(self):
         """(blocks, off, start, size, sym): the blocks one after the other in one flat array, the
-        layout :mod:`beveloid.ltca.kernel` reads."""
+        layout :mod:`beveloid.ltca.kernel` reads (made once per Compliance)."""
         size = np.array([b.shape[0] for b in self.blocks], dtype=np.int64)
         start = np.array([sl.start for sl in self.slices], dtype=np.int64)
         off = np.concatenate([[0], np.cumsum(size * size)[:-1]]).astype(np.int64)
@@ -178,18 +180,17 @@ def solve_contact(
     k = kernel.kernels(Solver.of(solver))
     if initial_contact is None:
         active = np.zeros(n, dtype=bool)
-        k.initial_set(h, w, ops.diagonal(), at, load, active)
     else:
         active = np.asarray(initial_contact, dtype=bool)
         if active.shape != (n,):
             raise ValueError(f"initial_contact has shape {active.shape}: must be ({n},) booleans")
-        active = active.copy()
-        if not active.any():
-            k.initial_set(h, w, ops.diagonal(), at, load, active)
-    p = np.zeros(n)
-    result = np.zeros(5)
-    k.active_set(*ops.flat(), h, w, at, float(load), float(tol), int(max_iterations), active, p, result,
-                 np.empty((int(max_iterations), n), dtype=bool))
+    blocks, off, start, size, sym = ops.flat
+    p = np.zeros((1, n))
+    results = np.zeros((1, 5))
+    k.solve_positions(blocks, off[None], start, size, sym[None], h[None], w[None], at[None], np.array([float(load)]),
+                      float(tol), int(max_iterations), np.ascontiguousarray(active[None]),
+                      np.array([initial_contact is not None]), p, results)
+    p, result = p[0], results[0]
     delta, it, code, comp, load_res = result
     code = int(code)
     elastic = np.concatenate([b @ p[sl] for b, sl in zip(ops.blocks, ops.slices)])
