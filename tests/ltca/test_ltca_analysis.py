@@ -177,7 +177,7 @@ def test_ltca_json_contract(capsys):
 
 
 @pytest.mark.parametrize("flags, needle", [
-    (["--torque-nm", "0"], "--torque-nm = 0.0: must be"),
+    (["--torque-nm", "0"], "--torque-nm = 0: must be"),  # the value as typed
     (["--torque-nm", "nan"], "--torque-nm = nan: must be"),
     (["--torque-nm", "10", "--grid", "2x40"], "--grid = 2x40: must be"),
     (["--torque-nm", "10", "--positions", "0"], "--positions = 0: must be"),
