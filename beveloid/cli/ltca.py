@@ -29,7 +29,7 @@ import json
 import math
 import re
 
-from .paths import check_output_file
+from .paths import check_output_dir, check_output_file
 from .common import add_error_flags, apply_error_flags, error_vector, errors_label, number
 from ..errors import OptionError, UserError
 
@@ -133,7 +133,7 @@ def run(args: argparse.Namespace) -> int:
     if args.plot is not None:
         check_output_file(args.plot, "--plot", ".png")
     if args.csv is not None:
-        _check_csv_dir(args.csv)
+        check_output_dir(args.csv, "--csv")  # the one output rule (beveloid.outputs)
     from ..spec import load_spec
 
     spec = apply_error_flags(load_spec(args.file), args)
@@ -187,16 +187,6 @@ def run(args: argparse.Namespace) -> int:
         if len(results) > 1:
             print(format_torque_map(out["torque_map"]))
     return 0
-
-
-def _check_csv_dir(path):
-    import os
-
-    if os.path.exists(path) and not os.path.isdir(path):
-        raise UserError(f"--csv = {path}: is a file; give a folder (created if absent)")
-    parent = os.path.dirname(os.path.abspath(path))
-    if not os.path.isdir(parent):
-        raise UserError(f"--csv = {path}: its parent folder {parent} does not exist")
 
 
 def _tolerances(args, spec) -> dict:

@@ -340,13 +340,16 @@ def assemble(d, tooth, area, loaded, nx, ny, out):
                         out[q, r, k * ny + m] = d[q, k - i + nx - 1, m - j + ny - 1] + tooth[q, j, m] * a
 
 
-def kernels(solver):
-    """The module of :func:`active_set` and :func:`solve_positions` for ``solver``'s backend: this one
-    (interpreted) for "numpy", its compiled twin (:func:`beveloid.solver.backends.compiled_module`)
-    for "compiled"."""
-    if not getattr(solver, "compiled", False):
-        return sys.modules[__name__]
+def kernels(solver=None):
+    """The module of :func:`active_set` and :func:`solve_positions`: its compiled twin
+    (:func:`beveloid.solver.backends.compiled_module`) wherever numba is installed, whatever the
+    solver's backend (as fe/principal.py's): the backend chooses how the TCA core runs, and this
+    module interpreted is pure-Python loops over dense blocks, ~100x slower for the same numbers
+    (tests/ltca/test_ltca_batch.py compares the two); this module itself without numba."""
     from ..solver import backends
+
+    if not backends.AVAILABLE:
+        return sys.modules[__name__]
 
     return backends.compiled_module(__name__, ("_dot", "_factor_solve", "_matvec", "initial_set", "active_set",
                                                "solve_positions", "assemble"))

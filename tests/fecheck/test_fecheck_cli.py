@@ -100,6 +100,7 @@ def test_api_out_dir_with_a_missing_parent_is_refused_before_any_work(tmp_path, 
 _INTERRUPTING_CCX = """#!/bin/sh
 touch fe_check.dat fe_check.sta fe_check.cvg
 echo "ccx: started"
+sleep 0.5  # the line is printed whole first (a SIGINT inside print() cut it before its newline)
 kill -INT $PPID
 sleep 60
 """
