@@ -12,6 +12,19 @@ geometry) and tca.sensitivity on both flanks, for the first --single designs of 
 (infeasible ones cost their refused design).  Both after a warm-up (numba's cache loaded).  The
 workers part runs the whole exploration (chunks, files) on 1 and on 2 local worker processes,
 timed after the pools have started and loaded the compiled solver.
+
+The part of a run outside the workers (what more workers do not make faster):
+
+    python benchmarks/bench_explore.py --serial 200 [--against CHECKOUT] [--rounds 2]
+    python benchmarks/bench_explore.py --dask 50 100 200 [--against CHECKOUT]
+
+``--serial SIDE``: the whole `beveloid explore --workers 1` of issue 47's grid (case 1, pinion helix
+angle 15-30 deg x cone angle 1-4 deg, SIDE x SIDE designs) in a fresh process of each checkout,
+alternating: the wall and CPU seconds outside the workers' function (``explore.run.compute_chunk``,
+timed on the side) as a fraction of the command's.  ``--dask SIDE ...``: the same command with
+``--scheduler`` on a local Dask cluster of two single-threaded workers running each checkout: the
+client's time before and after the chunks, and its CPU seconds, per grid.  A CHECKOUT is a folder
+holding another version's tree (``git archive REV | tar -x -C DIR``), run with PYTHONPATH=DIR.
 """
 from __future__ import annotations
 
@@ -167,6 +180,142 @@ def against(other: str, rounds: int, designs: int, with_tooth: bool = False) -> 
               + f"; mean {np.mean(ratios):.3f}")
 
 
+#: the whole command in a fresh process of a checkout (the working directory), with the time inside the
+#: workers' function (compute_chunk: a worker's part of the run) summed on the side and runner.execute (the
+#: run of the chunks) timed: prints the exit status, then wall seconds of the command, inside compute_chunk,
+#: before execute and after it, then the CPU seconds of the process and inside compute_chunk
+_SERIAL = r"""
+import os, sys, tempfile, time
+sys.path.insert(0, os.getcwd())
+from beveloid.cli import main
+from beveloid.explore import run as runner
+spent = {"chunks": 0.0, "chunks_cpu": 0.0}
+chunk, execute = runner.compute_chunk, runner.execute
+
+def timed_chunk(*a, **k):
+    t, c = time.perf_counter(), time.process_time()
+    try:
+        return chunk(*a, **k)
+    finally:
+        spent["chunks"] += time.perf_counter() - t
+        spent["chunks_cpu"] += time.process_time() - c
+
+def timed_execute(*a, **k):
+    spent["execute_start"] = time.perf_counter()
+    try:
+        return execute(*a, **k)
+    finally:
+        spent["execute_end"] = time.perf_counter()
+
+runner.compute_chunk = timed_chunk  # looked up by execute at each call
+runner.execute = timed_execute
+with tempfile.TemporaryDirectory() as tmp:
+    t, c = time.perf_counter(), time.process_time()
+    rc = main(["explore", "examples/case1.toml", *sys.argv[1:], "--out", os.path.join(tmp, "run")])
+    end, cpu = time.perf_counter(), time.process_time() - c
+    print(rc, end - t, spent["chunks"], spent["execute_start"] - t, end - spent["execute_end"], cpu,
+          spent["chunks_cpu"])
+"""
+
+
+def _grid_args(side: int) -> list[str]:
+    """Issue 47's grid: case 1, pinion helix angle 15-30 deg x cone angle 1-4 deg, side x side designs."""
+    return ["--vary", f"pinion.helix_angle_deg=15:30:{side}", "--vary", f"pinion.cone_angle_deg=1:4:{side}"]
+
+
+def _command(where: str, argv: list[str]) -> list[float]:
+    import os
+    import subprocess
+
+    env = dict(os.environ, PYTHONPATH=where)
+    out = subprocess.run([sys.executable, "-c", _SERIAL, *argv], cwd=where, env=env, check=True,
+                         capture_output=True, text=True).stdout.split()
+    return [float(x) for x in out[-7:]]
+
+
+def serial(checkouts: dict, side: int, rounds: int) -> None:
+    """The part of `beveloid explore --workers 1` outside the workers' function (reading the spec,
+    saving the chunks, the base design where the main process computes it, the files and figures) as a
+    fraction of the whole command, for each checkout (label -> folder), alternating, each run in a
+    fresh process."""
+    import os
+
+    for label, where in checkouts.items():  # numba's caches of each checkout loaded once before timing
+        _command(where, [*_grid_args(2), "--workers", "1"])
+    for r in range(rounds):
+        for label, where in checkouts.items():
+            rc, total, chunks, _, after, cpu, chunks_cpu = _command(where, [*_grid_args(side), "--workers", "1"])
+            assert rc == 0
+            outside, outside_cpu = total - chunks, cpu - chunks_cpu
+            print(f"round {r + 1} {label:6} ({where}): {side * side} designs, --workers 1: {total:6.2f} s,"
+                  f" outside the workers' function {outside:5.2f} s = {100 * outside / total:4.1f} % (after the"
+                  f" chunks {after:5.2f} s); CPU {cpu:6.2f} s, outside {outside_cpu:5.2f} s ="
+                  f" {100 * outside_cpu / cpu:4.1f} % (load {os.getloadavg()[0]:.1f})", flush=True)
+
+
+class _Cluster:
+    """A Dask scheduler and ``workers`` single-threaded workers on 127.0.0.1, running a checkout's code."""
+
+    def __init__(self, where: str, workers: int):
+        import os
+        import socket
+        import subprocess
+
+        with socket.socket() as s:
+            s.bind(("127.0.0.1", 0))
+            port = s.getsockname()[1]
+        self.address = f"tcp://127.0.0.1:{port}"
+        env = dict(os.environ, PYTHONPATH=where)
+        self.log = open(os.devnull, "w")  # noqa: SIM115
+        run = [sys.executable, "-m"]
+        self.procs = [subprocess.Popen(run + ["distributed.cli.dask_scheduler", "--host", "127.0.0.1", "--port",
+                                              str(port), "--dashboard-address", ":0"], cwd=where, env=env,
+                                       stdout=self.log, stderr=self.log)]
+        self.procs += [subprocess.Popen(run + ["distributed.cli.dask_worker", self.address, "--nthreads", "1",
+                                               "--no-nanny", "--dashboard-address", ":0"], cwd=where, env=env,
+                                        stdout=self.log, stderr=self.log) for _ in range(workers)]
+        from distributed import Client
+
+        deadline = time.monotonic() + 120
+        while True:
+            try:
+                with Client(self.address, timeout="5s") as client:
+                    client.wait_for_workers(workers, timeout=max(1.0, deadline - time.monotonic()))
+                return
+            except (OSError, TimeoutError):
+                if time.monotonic() > deadline:
+                    raise
+                time.sleep(0.5)
+
+    def close(self):
+        for p in self.procs[::-1]:
+            p.terminate()
+            p.wait(timeout=10)
+        self.log.close()
+
+
+def dask_client(checkouts: dict, sides: list[int], workers: int) -> None:
+    """`beveloid explore --scheduler` on a local cluster of ``workers`` single-threaded workers running each
+    checkout, per grid: the client's time before the chunks (its start, connecting to the cluster) and after
+    them (the outputs), as a fraction of the command's time; and the client's CPU seconds in all."""
+    import os
+
+    for label, where in checkouts.items():
+        cluster = _Cluster(where, workers)
+        try:
+            _command(where, [*_grid_args(2), "--scheduler", cluster.address])  # every worker warmed up
+            for side in sides:
+                rc, total, _, before, after, cpu, _ = _command(where, [*_grid_args(side), "--scheduler",
+                                                                       cluster.address])
+                assert rc == 0
+                print(f"{label:6} ({where}): {side * side:6d} designs on {workers} Dask workers: {total:6.2f} s,"
+                      f" the client before the chunks {before:5.2f} s and after them {after:5.2f} s"
+                      f" ({100 * after / total:4.1f} %), the client's CPU {cpu:6.2f} s ({100 * cpu / total:4.1f} %"
+                      f" of the command's time; load {os.getloadavg()[0]:.1f})", flush=True)
+        finally:
+            cluster.close()
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser()
     ap.add_argument("--designs", type=int, default=2048)
@@ -179,13 +328,27 @@ def main(argv=None):
     ap.add_argument("--rounds", type=int, default=3, help="with --against: alternations (default 3)")
     ap.add_argument("--with-tooth", action="store_true",
                     help="with --against: the rows with the whole-tooth checks, as explore computes them")
+    ap.add_argument("--serial", type=int, metavar="SIDE",
+                    help="only: the time of `beveloid explore --workers 1` outside the workers on issue 47's grid"
+                         " of SIDE x SIDE designs (with --against: CHECKOUT and this checkout, --rounds times)")
+    ap.add_argument("--dask", type=int, nargs="+", metavar="SIDE",
+                    help="only: the client's share of `beveloid explore --scheduler` on a local cluster of two"
+                         " workers, on grids of SIDE x SIDE designs (with --against: CHECKOUT too)")
     a = ap.parse_args(argv)
+    import os
+
+    here = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    checkouts = dict(({"before": a.against} if a.against else {}), after=here)
+    if a.serial:
+        serial(checkouts, a.serial, a.rounds)
+        return 0
+    if a.dask:
+        dask_client(checkouts, a.dask, workers=2)
+        return 0
     if a.against:
         against(a.against, a.rounds, a.designs, a.with_tooth)
         return 0
     plan = _plan(a.designs)
-    import os
-
     print(f"load average before: {os.getloadavg()[0]:.1f} (2 cores)")
     rate, cpu_rate, ok = batched(plan)
     single, cpu_single = one_at_a_time(plan, a.single)

@@ -73,7 +73,7 @@ def main():
     for name, m in r.members.items():
         s = m.sections["middle"]
         print(f"2. LTCA + FE, {name}: root stress max {m.root_stress_max_mpa:.1f} MPa ({m.root_stress_location}); "
-              f"ISO sigma_F middle {s.sigma_F_mpa:.1f} MPa (K_Fbeta {s.K_Fbeta:.3f}); FE/ISO "
+              f"ISO sigma_F middle {s.sigma_F_mpa:.1f} MPa (K_F_beta {s.K_F_beta:.3f}); FE/ISO "
               f"{m.root_stress_max_mpa / s.sigma_F_mpa:.3f}")
 
 

@@ -42,6 +42,9 @@ ERRORS: tuple[AssemblyError, ...] = (
 )
 KEYS = tuple(e.key for e in ERRORS)
 BY_KEY = {e.key: e for e in ERRORS}
+#: Default half-widths of the uniform error ranges (the sweep's, explore's tolerance box), keyed and in
+#: units as ERRORS
+DEFAULT_RANGES = dict(zip(KEYS, (0.5, 0.5, 0.5, 0.2, 0.03)))
 assert tuple(e.field for e in ERRORS) == AssemblyErrors._fields, "ERRORS must follow the generated layout"
 
 

@@ -45,11 +45,13 @@ _SAMPLES = 40
 
 
 def check_approach(approach_mm, name="--approach-um", scale=1e3, unit="um"):
-    """The approach in mm, or ValueError naming ``name`` and what is valid."""
+    """The approach in mm, or :class:`beveloid.errors.OptionError` naming ``name`` and what is valid."""
+    from .errors import OptionError
+
     lo, hi = APPROACH_RANGE_MM
     v = float(approach_mm)
     if not (math.isfinite(v) and lo <= v <= hi):
-        raise ValueError(f"{name} = {v * scale:g}: must be a number from {lo * scale:g} to {hi * scale:g} {unit}")
+        raise OptionError(name, v * scale, f"must be a number from {lo * scale:g} to {hi * scale:g} {unit}")
     return v
 
 
@@ -167,14 +169,13 @@ def _chord(geom, flank, frames, P0, E, v2, cap):
     return out
 
 
-def chord_kernel(backend):
+def chord_kernel(solver):
     """The compiled solver's chord search, or None: on the numpy backend, and where numba runs
-    interpreted (NUMBA_DISABLE_JIT=1: one point at a time in Python would be slower than numpy)."""
-    from .solver import backends
-
-    if backends.resolve(backend) != "compiled":
+    interpreted (NUMBA_DISABLE_JIT=1: one point at a time in Python would be slower than numpy).
+    ``solver``: a :class:`beveloid.solver.Solver`."""
+    if not solver.compiled:
         return None
-    kernel = backends.namespace("compiled").ellipse_chords
+    kernel = solver.core.ellipse_chords
     return kernel if hasattr(kernel, "py_func") else None
 
 
@@ -201,10 +202,14 @@ def classify(lmin, lmax, valid):
 
 
 def ellipses(geom, flank, x, pinion_angle, errors, valid=None, approach_mm=DEFAULT_APPROACH_MM,
-             backend="auto") -> ContactEllipses:
+             solver=None) -> ContactEllipses:
     """Contact ellipses at solved contacts x (n, 5) (tca_kernels.UNKNOWNS) for pinion angles (n,)
     and errors (5,) or (n, 5); ``valid`` (n,) marks the points that are contacts.  The chords are
-    searched by the compiled solver when ``backend`` resolves to it (else vectorised numpy)."""
+    searched by the compiled solver when ``solver`` (a :class:`beveloid.solver.Solver`, None: the
+    default) is compiled (else vectorised numpy)."""
+    from .solver import Solver
+
+    solver = Solver.of(solver)
     x = np.atleast_2d(np.asarray(x, dtype=float))
     n = x.shape[0]
     phi1 = np.broadcast_to(np.asarray(pinion_angle, dtype=float), (n,))
@@ -233,7 +238,7 @@ def ellipses(geom, flank, x, pinion_angle, errors, valid=None, approach_mm=DEFAU
     if has_axis.any():
         idx = np.nonzero(has_axis)[0]
         frames = {k: fr.rows(idx) for k, fr in _member_frames(geom, xs, phi1, errors).items()}
-        kernel = chord_kernel(backend)
+        kernel = chord_kernel(solver)
         for col, sign in ((0, -1.0), (1, 1.0)):
             args = (geom, flank, frames, rc.point[idx], rc.basis[idx], sign * v2[idx], cap[idx])
             trunc[idx, col] = _chord(*args) if kernel is None else _compiled_chord(kernel, *args)
@@ -241,18 +246,18 @@ def ellipses(geom, flank, x, pinion_angle, errors, valid=None, approach_mm=DEFAU
                            np.where(has_axis[:, None], major, np.nan), trunc, lam, rc.point, rc.basis)
 
 
-def flank_ellipses(geom, fr, errors, approach_mm=DEFAULT_APPROACH_MM, backend="auto") -> ContactEllipses:
+def flank_ellipses(geom, fr, errors, approach_mm=DEFAULT_APPROACH_MM, solver=None) -> ContactEllipses:
     """Contact ellipses at every point of a :class:`beveloid.tca.FlankResult` (pair 0's unknowns at
     the shifted pinion angles: the configuration in S_f is the same as pair k's)."""
     phi1 = fr.pinion_angle - fr.tooth_pair * geom.pitch_angles[0]
     valid = carries_numbers(np.asarray([Status[s.upper()] for s in fr.status]))
-    return ellipses(geom, fr.flank, fr.unknowns, phi1, errors, valid, approach_mm, backend)
+    return ellipses(geom, fr.flank, fr.unknowns, phi1, errors, valid, approach_mm, solver)
 
 
-def with_ellipses(result, approach_mm=DEFAULT_APPROACH_MM, backend="auto"):
+def with_ellipses(result, approach_mm=DEFAULT_APPROACH_MM, solver=None):
     """A new :class:`beveloid.tca.TCAResult` whose flanks carry their contact ellipses at the
-    elastic approach (mm); ``result`` is not changed."""
-    flanks = {k: replace(fr, contact_ellipse=flank_ellipses(result.geometry, fr, result.errors, approach_mm, backend))
+    elastic approach (mm), their chords searched by ``solver``; ``result`` is not changed."""
+    flanks = {k: replace(fr, contact_ellipse=flank_ellipses(result.geometry, fr, result.errors, approach_mm, solver))
               for k, fr in result.flanks.items()}
     return replace(result, flanks=flanks, approach_mm=approach_mm)
 

@@ -11,8 +11,9 @@ message: the message is for the user and may change.
 from __future__ import annotations
 
 import enum
+import os
 
-__all__ = ["ErrorCode", "UserError", "OptionError", "StopReason"]
+__all__ = ["ErrorCode", "UserError", "UserCodeError", "OptionError", "StopReason"]
 
 
 class ErrorCode(enum.StrEnum):
@@ -34,6 +35,42 @@ class UserError(ValueError):
         super().__init__(message)
         if code is not None:
             self.code = ErrorCode(code)
+
+
+class UserCodeError(UserError):
+    """An exception raised by the user's own code (a tooth-surface model of theirs), told as theirs.
+
+    The message is ``FILE:LINE: ExceptionType: message (while ...)``; ``frames`` holds the lines the
+    command line prints below it: the traceback's frames in the user's files only (none of
+    beveloid's), or for a syntax error the offending line and its caret."""
+
+    def __init__(self, message: str, frames=()):
+        super().__init__(message)
+        self.frames = tuple(frames)
+
+    @classmethod
+    def from_exception(cls, exc: BaseException, files, doing: str) -> UserCodeError | None:
+        """The error for ``exc`` raised while ``doing`` (e.g. "importing the model") by code in
+        ``files`` (paths); None when neither ``exc`` (a syntax error) nor a frame of its traceback
+        is in them: then the failure is not in the user's code."""
+        import traceback
+
+        mine = {os.path.realpath(f) for f in files}
+
+        def theirs(filename):
+            return filename is not None and os.path.realpath(filename) in mine
+
+        if isinstance(exc, SyntaxError) and theirs(exc.filename):
+            # format_exception_only: '  File "...", line N', the line, the caret, 'SyntaxError: ...'
+            shown = "".join(traceback.format_exception_only(exc)).rstrip("\n").splitlines()[1:-1]
+            return cls(f"{exc.filename}:{exc.lineno}: {type(exc).__name__}: {exc.msg} ({doing})", shown)
+        frames = traceback.StackSummary.from_list(
+            [f for f in traceback.extract_tb(exc.__traceback__) if theirs(f.filename)])
+        if not frames:
+            return None
+        last = frames[-1]
+        return cls(f"{last.filename}:{last.lineno}: {type(exc).__name__}: {exc} ({doing})",
+                   "".join(frames.format()).rstrip("\n").splitlines())
 
 
 class OptionError(UserError):

@@ -18,7 +18,8 @@ from pathlib import Path
 from .errors import ErrorCode, UserError
 from .spec import printable
 
-__all__ = ["OutputError", "check_output_file", "check_output_dir", "created_here", "remove_empty_created"]
+__all__ = ["OutputError", "check_output_file", "check_output_dir", "created_here", "interrupted_files_note",
+           "interrupted_note", "remove_empty_created"]
 
 
 class OutputError(UserError):
@@ -150,3 +151,24 @@ def remove_empty_created() -> list[Path]:
             continue
         removed.append(folder)
     return removed
+
+
+def interrupted_note(path: str | os.PathLike, flag: str) -> str:
+    """What a command says when a Ctrl-C stopped it before it moved its files into the folder ``path``
+    (they are written into a folder of their own first, beveloid/studies/output.py): nothing is kept,
+    and the folder is removed if this process made it (the CLI removes it on its way out)."""
+    shown = printable(str(path), 80)
+    if created_here(path):
+        return f"{flag} = {shown}: nothing written (the folder, made by this run, is removed)"
+    return f"{flag} = {shown}: nothing written (the folder is as it was before the run)"
+
+
+def interrupted_files_note(path: str | os.PathLike, flag: str, removed: list) -> str:
+    """What a command says when a Ctrl-C stopped it after it had written the files ``removed`` (names)
+    into the folder ``path`` and it removed them again (they are partial): nothing is kept."""
+    if not removed:
+        return interrupted_note(path, flag)
+    shown = printable(str(path), 80)
+    where = ("the folder, made by this run, is removed" if created_here(path)
+             else "the folder keeps its other files")
+    return f"{flag} = {shown}: nothing kept: removed the partial {', '.join(removed)} ({where})"

@@ -13,7 +13,8 @@ workers, so one worker, N local workers and a cluster give the same results bit 
 * ``workers=N``: a ``concurrent.futures.ProcessPoolExecutor`` of N spawned processes.  Each loads
   the compiled solver once, in its initializer (:func:`warm_up` with the caller's ``initializer``:
   numba's on-disk cache, written by the first process that compiled it), and runs numba
-  single-threaded (the processes are the parallelism).
+  single-threaded (the processes are the parallelism).  They start with SIGINT blocked: a Ctrl-C
+  at the terminal stops the caller, which stops them.
 * ``scheduler=ADDRESS``: an existing Dask distributed cluster (``dask scheduler`` /
   ``dask worker ADDRESS``), through ``distributed.Client``; Dask's own scheduler places the chunks
   and re-runs those of a lost worker.  A worker plugin (:class:`WarmUp`) loads the compiled solver
@@ -27,8 +28,11 @@ through the same way.  The callers keep what finished.
 from __future__ import annotations
 
 import concurrent.futures as cf
+import contextlib
+import functools
 import multiprocessing
 import os
+import signal
 from collections.abc import Callable, Iterable, Iterator
 from typing import Any
 
@@ -90,6 +94,21 @@ class _Serial:
             yield i, result
 
 
+@contextlib.contextmanager
+def _sigint_blocked():
+    """SIGINT blocked in this thread meanwhile (a Ctrl-C then arrives as soon as it is unblocked): the
+    processes started meanwhile inherit the blocked signal, so the terminal's Ctrl-C, which goes to
+    every process of its group, reaches only this one, which stops them (no traceback from each)."""
+    if not hasattr(signal, "pthread_sigmask"):  # not POSIX
+        yield
+        return
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+
+
 class _Local:
     def __init__(self, workers: int, initializer=None):
         self.workers = workers
@@ -108,7 +127,8 @@ class _Local:
         return False
 
     def map_unordered(self, fn, items):
-        futures = {self._pool.submit(fn, item): i for i, item in enumerate(items)}
+        with _sigint_blocked():  # the first submits start the processes: they never see the terminal's Ctrl-C
+            futures = {self._pool.submit(fn, item): i for i, item in enumerate(items)}
         try:
             for fut in cf.as_completed(futures):
                 try:
@@ -117,27 +137,45 @@ class _Local:
                     raise WorkLost(f"a local worker process died ({exc})") from None
                 interrupts.check()
                 yield futures[fut], result
+        except (KeyboardInterrupt, GeneratorExit):  # Ctrl-C here or in the caller (which then drops this)
+            self._stop_processes()  # they ignore Ctrl-C: the work in progress is abandoned
+            raise
         finally:
             for fut in futures:
                 fut.cancel()
 
+    def _stop_processes(self):
+        # (the pool's own table of its processes: ProcessPoolExecutor has no public way to stop them
+        # before Python 3.14's terminate_workers)
+        for process in list((getattr(self._pool, "_processes", None) or {}).values()):
+            process.terminate()
 
-try:  # Dask is optional (the cluster extra): without it there is no --scheduler
-    from distributed import WorkerPlugin as _PluginBase
-except ImportError:  # pragma: no cover - tested with the test extra, which has it
-    _PluginBase = object
+
+def __getattr__(name: str):
+    """``WarmUp``, made on first use: distributed (~0.6 s to import) is imported only where a cluster is used,
+    not by every command, local worker process or ``import beveloid.parallel``."""
+    if name == "WarmUp":
+        return _warm_up_plugin()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-class WarmUp(_PluginBase):
-    """Dask worker plugin: load the compiled solver once per worker process."""
+@functools.lru_cache(maxsize=None)
+def _warm_up_plugin() -> type:
+    from distributed import WorkerPlugin  # Dask is optional (the cluster extra): without it there is no --scheduler
 
-    name = "beveloid-warm-up"
+    class WarmUp(WorkerPlugin):
+        """Dask worker plugin: load the compiled solver once per worker process."""
 
-    def __init__(self, initializer=None):
-        self.initializer = initializer
+        name = "beveloid-warm-up"
 
-    def setup(self, worker):
-        warm_up(self.initializer)
+        def __init__(self, initializer=None):
+            self.initializer = initializer
+
+        def setup(self, worker):
+            warm_up(self.initializer)
+
+    WarmUp.__module__, WarmUp.__qualname__ = __name__, "WarmUp"  # pickled by reference, as a module-level class
+    return WarmUp
 
 
 def _lost_chunk_errors() -> tuple[type[BaseException], ...]:
@@ -171,7 +209,8 @@ class _Dask:
             raise UserError(f"--scheduler = {self.address}: no Dask scheduler answers there ({exc}); start one with"
                             f" `dask scheduler` and workers with `dask worker ADDRESS`") from None
         try:
-            self._client.register_plugin(WarmUp(self.initializer), name=WarmUp.name)
+            plugin = _warm_up_plugin()
+            self._client.register_plugin(plugin(self.initializer), name=plugin.name)
             workers = len(self._client.scheduler_info()["workers"])
         except BaseException:
             self._client.close()

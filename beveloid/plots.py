@@ -15,6 +15,10 @@ import numpy as np
 TE_ZERO_URAD = 1e-3
 #: Half-height (urad) of the TE axis when the TE is zero to the solver tolerance.
 TE_FLAT_HALF_SPAN_URAD = 1.0
+#: The pinion angle's axis label on every TCA figure: one quantity, one unit (degrees, as the tables)
+PINION_ANGLE_LABEL = "pinion angle phi'_1 (deg)"
+#: the legend's key to the faded TE points
+FADED_LABEL = "faded: the window's ends (a pair beyond those solved may carry)"
 
 
 def te_axis(ax, centre_urad, ptp_urad):
@@ -114,7 +118,7 @@ def transmission_error(results, labels, flank, out_png, title=""):
     """
     plt = _plt()
     fig, ax = plt.subplots(figsize=(7.5, 4.2))
-    ptps = []
+    ptps, faded = [], False
     for res, lab in zip(results, labels):
         fr = res.flanks[flank]
         phi = np.degrees(fr.pinion_angle)
@@ -131,8 +135,11 @@ def transmission_error(results, labels, flank, out_png, title=""):
                         label=f"{lab}: mean {mean:+.1f} urad, peak-to-peak {ptp:.2e} urad from"
                               f" {int((act & complete).sum())} points")
         ax.plot(phi[act & ~complete], te[act & ~complete] - mean, ".", ms=3, color=line.get_color(), alpha=0.25)
+        faded = faded or bool((act & ~complete).any())
+    if faded:  # the key to the faded points, as a legend entry (a sentence as the axis label runs off the figure)
+        ax.plot([], [], ".", ms=3, color="0.5", alpha=0.25, label=FADED_LABEL)
     flat = te_axis(ax, [0.0], ptps)
-    ax.set_xlabel("pinion angle phi'_1 (deg); faded: the window's ends, where a pair beyond those solved may carry")
+    ax.set_xlabel(PINION_ANGLE_LABEL)
     ax.set_ylabel("TE minus its mean (urad)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="upper right" if flat else "best")
@@ -175,7 +182,7 @@ def tca_summary(result, geom, out_png, title=""):
             carry = np.where(act & (fr.tooth_pair == k), te, np.nan)[fr.tooth_pair == k]
             ax.plot(phi[fr.tooth_pair == k], carry, lw=1.6, color=line.get_color(), label=f"pair {k:+d}")
         ax.plot(phi[act], te[act], "k.", ms=2, label="contact (envelope)")
-        ax.set_xlabel("pinion angle phi'_1 (deg)")
+        ax.set_xlabel(PINION_ANGLE_LABEL)
         ax.set_ylabel("TE (urad)")
         ptp = fr.te_peak_to_peak * 1e6
         flat = act.any() and te_axis(ax, te[act], [ptp])
@@ -240,9 +247,12 @@ def draw_bearing_pattern(ax, geom, fr, which, color="tab:orange", label="bearing
                 ring = ring[::-1]
             verts += [ring, ring[:1]]
             codes += [[Path.MOVETO] + [Path.LINETO] * (len(ring) - 1), [Path.CLOSEPOLY]]
-        patch = PathPatch(Path(np.concatenate(verts), np.concatenate(codes)), facecolor=color, alpha=0.35, lw=0,
-                          label=label)
-        ax.add_patch(patch)
+        verts = np.concatenate(verts)
+        patch = PathPatch(Path(verts, np.concatenate(codes)), facecolor=color, alpha=0.35, lw=0, label=label)
+        # add_artist, not add_patch: add_patch finds the data limits by walking the path's segments one by
+        # one in Python (~1 s per thousand ellipses); the vertices' bounds are the same limits here
+        ax.add_artist(patch)
+        ax.update_datalim(verts)
         if outline is not None:
             clip = Polygon(np.column_stack(outline), closed=True, transform=ax.transData, fill=False, lw=0)
             patch.set_clip_path(clip)

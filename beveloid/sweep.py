@@ -17,8 +17,9 @@ import numpy as np
 from . import assembly_errors, mesh, tca
 from .status import Status, carries_numbers
 
-#: Default half-widths of the uniform error ranges, keyed and in units as assembly_errors.ERRORS.
-DEFAULT_RANGES = dict(zip(assembly_errors.KEYS, (0.5, 0.5, 0.5, 0.2, 0.03)))
+#: Default half-widths of the uniform error ranges (defined with the errors, where a command reads them
+#: without importing the sweep)
+DEFAULT_RANGES = assembly_errors.DEFAULT_RANGES
 #: samples x positions above this is refused: the sweep holds ~220 bytes per contact point (~1.1 GB here).
 MAX_CONTACT_POINTS = 5_000_000
 #: (smallest, largest) samples and positions of a sweep: the one range table the CLI reads

@@ -19,7 +19,7 @@ import sympy as sp
 from sympy.printing.numpy import NumPyPrinter
 from sympy.printing.pycode import PythonCodePrinter
 
-from .common import free_symbols_of, xreplace_all
+from .common import atoms_of, free_symbols_of, xreplace_all
 from .interface import Field, Layout  # noqa: F401  (the models' interface; re-exported)
 
 TEMPLATE_DIR = Path(__file__).parent / "templates"
@@ -113,12 +113,60 @@ class ModuleSpec:
 _PRINTER_SETTINGS = {"fully_qualified_modules": True, "inline": True, "allow_unknown_functions": False}
 
 
-class _Printer(NumPyPrinter):
+class _NoCode(GenerationError):
+    """An expression a printer has no code for: one sympy cannot differentiate (``floor``, an
+    undefined function) stays an unevaluated Derivative; the second derivative of ``Abs`` is a
+    ``DiracDelta``.  :func:`_rendered` names it as the model wrote it (the printer sees it after the
+    common-subexpression pass, over ``_x`` symbols)."""
+
+    def __init__(self, node, module):
+        self.node, self.module = node, module
+        super().__init__(self.explain(node))
+
+    def explain(self, node):
+        if isinstance(node, sp.Derivative):
+            return f"sympy cannot differentiate {_short(node.expr)} (its derivative stays unevaluated)"
+        return f"{_short(node)} has no {self.module} code"
+
+    def in_terms_of(self, exprs):
+        """The explanation with the node found in ``exprs`` (those before the reduction)."""
+        found = atoms_of(exprs, type(self.node))
+        return self.explain(min(found, key=sp.default_sort_key) if found else self.node)
+
+
+def _short(expr, limit=100):
+    text = sp.sstr(expr)
+    return text if len(text) <= limit else text[:limit - 3] + "..."
+
+
+class _Strict:
+    """What a printer has no code for raises _NoCode (sympy's strict printing names only a class);
+    the calls it printed into other modules than ``module`` (``erf``: a math form, no numpy one)
+    are :meth:`foreign_calls`."""
+
+    #: the one module the generated code may call (its template imports only that)
+    module = ""
+
+    def _print_not_supported(self, expr):
+        raise _NoCode(expr, self.module)
+
+    def _print_Derivative(self, expr):
+        raise _NoCode(expr, self.module)
+
+    def foreign_calls(self):
+        return sorted(f"{m}.{f}" for m, fs in self.module_imports.items() if m != self.module for f in fs)
+
+
+class _Printer(_Strict, NumPyPrinter):
+    module = "numpy"
+
     def __init__(self, **settings):
         super().__init__({**_PRINTER_SETTINGS, **settings})
 
 
-class _ScalarPrinter(PythonCodePrinter):
+class _ScalarPrinter(_Strict, PythonCodePrinter):
+    module = "math"
+
     def __init__(self, **settings):
         super().__init__({**_PRINTER_SETTINGS, **settings})
 
@@ -217,6 +265,7 @@ def render_function(fn: Function, cse=True, scalar=False, reduced_by=None):
     # only to be compared numerically, so it skips that ordering (a third of its printing time).
     order = {} if cse else {"order": "none"}
     printer = _ScalarPrinter(**order) if scalar else _Printer(**order)
+    full_name = fn.name + ("_point" if scalar else "")
     body = []
     stage_lines = []
     for group, (srepl, sreduced) in red.stage_levels:
@@ -251,10 +300,12 @@ def render_function(fn: Function, cse=True, scalar=False, reduced_by=None):
         else:
             body.append(f"{o.name} = _stack([{', '.join(printed)}], {shape!r}, _shape)")
         returns.append(o.name)
+    if printer.foreign_calls():
+        raise GenerationError(f"{full_name}: {', '.join(printer.foreign_calls())} has no {printer.module} form"
+                              f" (the module calls {printer.module} only)")
     shape_doc = lambda sh: "" if sh == () else ", " + ", ".join(map(str, sh))  # noqa: E731
     outs = [dict(name=o.name, doc=o.doc, unit=o.unit, shape_doc=shape_doc(sh)) for o, sh in zip(fn.outputs, shapes)]
     args = [a.name for a in fn.inputs] + ([f"out_{o.name}" for o in fn.outputs] if scalar else [])
-    full_name = fn.name + ("_point" if scalar else "")
 
     def arg_doc(a):
         if isinstance(a.symbol, Layout):
@@ -330,10 +381,25 @@ def _env():
                               trim_blocks=True, lstrip_blocks=False, undefined=jinja2.StrictUndefined)
 
 
+def _rendered(fn: Function, **options):
+    """render_function; what it fails on names the kernel (a GenerationError's message, else the
+    note ``generating <kernel>`` on sympy's exception)."""
+    try:
+        return render_function(fn, **options)
+    except _NoCode as exc:
+        exprs = [e for o in fn.outputs for e in _entries(o.expr)[0]] + [e for _, e in fn.stages]
+        raise GenerationError(f"{fn.name}: {exc.in_terms_of(exprs)}") from None
+    except GenerationError:
+        raise
+    except Exception as exc:
+        exc.add_note(f"generating {fn.name}")
+        raise
+
+
 def render_module(spec: ModuleSpec, cse=True, reduced_by=None) -> str:
     """A module of numpy kernels (``reduced_by``: see :func:`render_function`)."""
     tpl = _env().get_template("module.py.jinja")
-    fns = [render_function(f, cse=cse, reduced_by=reduced_by) for f in spec.functions]
+    fns = [_rendered(f, cse=cse, reduced_by=reduced_by) for f in spec.functions]
     return tpl.render(source=spec.source, doc=spec.doc, functions=fns,
                       constants=[(k, repr(v)) for k, v in spec.constants.items()])
 
@@ -341,7 +407,7 @@ def render_module(spec: ModuleSpec, cse=True, reduced_by=None) -> str:
 def render_scalar_module(spec: ModuleSpec, cse=True, reduced_by=None) -> str:
     """The scalar (one point, math-module) twin of a module, for the compiled path."""
     tpl = _env().get_template("scalar_module.py.jinja")
-    fns = [render_function(f, cse=cse, scalar=True, reduced_by=reduced_by) for f in spec.functions]
+    fns = [_rendered(f, cse=cse, scalar=True, reduced_by=reduced_by) for f in spec.functions]
     return tpl.render(source=spec.source, doc=spec.doc, functions=fns, numpy_module=spec.module)
 
 

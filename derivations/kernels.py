@@ -128,15 +128,23 @@ def fundamental_forms(jac, hess, normal):
     return first, sp.Matrix([[L, M], [M, N]])
 
 
+def surface_function(model):
+    """The name of the function a model's surface is derived from: ``tooth_surface_staged`` (written
+    over named intermediate values, the base jets), else ``tooth_surface_late`` (abstract forms
+    differentiated, substituted after), else ``tooth_surface``."""
+    return next(f for f in ("tooth_surface_staged", "tooth_surface_late", "tooth_surface") if hasattr(model, f))
+
+
 def surface_module(model_name, model):
     lay = surface_layout(model_name, model)
     params = Arg("params", lay, "", "surface parameters")
     fns = []
+    function = surface_function(model)
     for name, sigma in FLANKS:
         stages = ()
-        if hasattr(model, "tooth_surface_staged"):  # written over named intermediate values (the base jets)
+        if function == "tooth_surface_staged":
             p, n, ph, late, stages = model.tooth_surface_staged(sigma)
-        elif hasattr(model, "tooth_surface_late"):  # differentiate abstract forms, substitute after
+        elif function == "tooth_surface_late":
             p, n, ph, late = model.tooth_surface_late(sigma)
         else:
             (p, n, ph), late = model.tooth_surface(sigma), None

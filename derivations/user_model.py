@@ -32,6 +32,8 @@ from pathlib import Path
 
 import numpy as np
 
+from beveloid.errors import UserCodeError
+
 from . import codegen, kernels
 from .interface import Field
 
@@ -57,7 +59,8 @@ class Derived:
 
 
 def load_module(path: Path, name: str):
-    """Import the derivation module at ``path`` (this runs it)."""
+    """Import the derivation module at ``path`` (this runs it).  Its failure is the user's:
+    UserCodeError (the file, the line, the frames in the file)."""
     stem = path.stem if path.stem.isidentifier() else f"user_model_{name}"
     modname = f"{__package__}.{stem}"
     if modname in sys.modules or importlib.util.find_spec(modname) is not None:
@@ -67,10 +70,40 @@ def load_module(path: Path, name: str):
     sys.modules[modname] = module
     try:
         spec.loader.exec_module(module)
-    except Exception:
+    except Exception as exc:
         del sys.modules[modname]
-        raise
+        raise (UserCodeError.from_exception(exc, [path], "while importing the model")
+               or ModelError(f"{path.name}: importing it failed: {type(exc).__name__}: {exc}")) from exc
     return module
+
+
+def generation_error(exc: Exception, path: Path, module) -> UserCodeError | ModelError:
+    """What to tell of ``exc``, raised while the kernels of the model ``module`` (at ``path``) were
+    derived and printed: the frames in the model's file when it raised there (its tooth_surface),
+    else which function of the model sympy could not derive and what failed."""
+    function = kernels.surface_function(module)
+    err = UserCodeError.from_exception(exc, [path], f"while deriving {function}")
+    if err is not None:
+        return err
+    if isinstance(exc, codegen.GenerationError):  # names the kernel: surface_jet_left, ...
+        return ModelError(f"{path.name}: {function} cannot be derived: {exc}")
+    doing = "; ".join(getattr(exc, "__notes__", ()))  # "generating surface_left" (codegen)
+    return ModelError(f"{path.name}: {function} cannot be derived{f' ({doing})' if doing else ''}:"
+                      f" {type(exc).__name__}: {exc}")
+
+
+def evaluation_failure(exc: Exception) -> Check | None:
+    """A failed check for ``exc`` raised inside a generated kernel of the model during the checks
+    (a square root of a negative, a division by zero at the checked points); None when no
+    generated kernel raised it."""
+    import traceback
+
+    frames = [f for f in traceback.extract_tb(exc.__traceback__) if f.filename.startswith("<surface_")]
+    if not frames:
+        return None
+    where = f"{frames[-1].filename.strip('<>')}.{frames[-1].name}"
+    return Check("kernels evaluate", False, f"{where} raised {type(exc).__name__}: {exc} (case 1's pinion, the keys"
+                 " at a quarter of their range)")
 
 
 def interface_problem(module, name: str, member_values: dict, builtin_keys: dict) -> str | None:
@@ -350,15 +383,24 @@ def derive_model(path, name: str, out=None, progress=None) -> Derived:
     base, builtin = kernels.glue_base(), [kernels.model_entry(k, m) for k, m in kernels.SURFACE_MODELS.items()]
     check_builtin_glue(base, builtin)
     entry = kernels.model_entry(name, module)
-    spec = kernels.surface_module(name, module)
     if progress:
-        progress(spec.module)
-    reduced_by = {}  # the two files share the symbolic reduction (codegen.render_function)
-    texts = {f"{spec.module}.py": codegen.render_module(spec, reduced_by=reduced_by),
-             f"{spec.module}_scalar.py": codegen.render_scalar_module(spec, reduced_by=reduced_by),
-             "layout.py": codegen.render_layouts([spec])}
-    checks = kernel_checks(texts[f"{spec.module}.py"], texts[f"{spec.module}_scalar.py"], texts["layout.py"], entry,
-                           member_values)
+        progress(entry["module"])
+    try:  # runs the model's tooth_surface, then sympy on what it returned
+        spec = kernels.surface_module(name, module)
+        reduced_by = {}  # the two files share the symbolic reduction (codegen.render_function)
+        texts = {f"{spec.module}.py": codegen.render_module(spec, reduced_by=reduced_by),
+                 f"{spec.module}_scalar.py": codegen.render_scalar_module(spec, reduced_by=reduced_by),
+                 "layout.py": codegen.render_layouts([spec])}
+    except Exception as exc:
+        raise generation_error(exc, path, module) from exc
+    try:
+        checks = kernel_checks(texts[f"{spec.module}.py"], texts[f"{spec.module}_scalar.py"], texts["layout.py"],
+                               entry, member_values)
+    except Exception as exc:
+        failed = evaluation_failure(exc)
+        if failed is None:
+            raise
+        checks = [failed]
     try:
         root.mkdir(parents=True, exist_ok=True)
         staging = root / f".staging-{name}-{os.getpid()}"

@@ -9,7 +9,7 @@ Two kinds of numbers:
 * cheap ones, computed here each time (constants of the package, one TCA of case 1: ~1 s);
 * expensive ones, recorded in ``docs/numbers.json`` by ``--record``, which runs the commands named
   there (the worked exploration of docs/explore.md: 216 designs with a Monte Carlo sweep each;
-  ``beveloid verify --json``), and copies the exploration's figures into docs/images/.  A page quoting them must match the JSON; after a change that moves
+  ``beveloid verify --json``; ``beveloid paper`` for the micro-geometry study's pressures), and copies the exploration's figures into docs/images/.  A page quoting them must match the JSON; after a change that moves
   them, rerun ``--record`` and paste what ``--print`` shows.
 
 tests/docs/test_docs_numbers.py checks that every quote is in its page, with the cheap numbers
@@ -108,9 +108,35 @@ def explore_numbers(folder: Path) -> dict:
     }
 
 
+#: the `beveloid paper` run whose micro-geometry study docs/input.md quotes (its loaded studies do not
+#: depend on --positions: the smallest keeps the record cheap)
+PAPER_ARGS = ["paper", "--positions", "20"]
+
+
+def paper_numbers(folder: Path) -> dict:
+    """The micro-geometry study's peak pressures at 600 N m (MPa) from a `beveloid paper` output folder:
+    the unmodified pairs' (edge contact) and the tip-relieved pairs' on the study's grid (the CSV), and
+    the tip-relieved peaks over every grid of the report's convergence table."""
+    import re
+
+    with open(folder / "micro_geometry_loaded.csv", newline="") as f:
+        rows = [r for r in csv.DictReader(f) if float(r["pinion_torque_nm"]) == 600.0]
+    peak = {(r["case"], r["flanks"]): float(r["max_pressure_mpa"]) for r in rows}
+    grid = re.findall(r"^\| (case\d) \| tip relief \| (\d+x\d+) \| (\d+) \|$",
+                      (folder / "report.md").read_text(encoding="utf-8"), flags=re.M)
+    relieved = [float(p) for _, _, p in grid]
+    return {"edge_case1_mpa": peak["case1", "unmodified"], "edge_case2_mpa": peak["case2", "unmodified"],
+            "relieved_case1_mpa": peak["case1", "tip relief"], "relieved_case2_mpa": peak["case2", "tip relief"],
+            "relieved_min_mpa": min(relieved), "relieved_max_mpa": max(relieved), "grids": len(grid) // 2}
+
+
 def record() -> dict:
     """Run the expensive sources and write docs/numbers.json."""
     with tempfile.TemporaryDirectory() as tmp:
+        paper_out = Path(tmp) / "paper_out"
+        subprocess.run([sys.executable, "-m", "beveloid.cli", *PAPER_ARGS, "--out", str(paper_out)], cwd=ROOT,
+                       check=True, stdout=subprocess.DEVNULL)
+        paper = paper_numbers(paper_out)
         out = Path(tmp) / "case1_explore"
         subprocess.run([sys.executable, "-m", "beveloid.cli", *EXPLORE_ARGS, "--out", str(out)], cwd=ROOT,
                        check=True, stdout=subprocess.DEVNULL)
@@ -122,6 +148,7 @@ def record() -> dict:
     numbered = [r for r in verify if r["equation"].isdigit()]
     data = {
         "explore": {"command": "beveloid " + " ".join(EXPLORE_ARGS) + " --out case1_explore", **explore},
+        "paper": {"command": "beveloid " + " ".join(PAPER_ARGS) + " --out paper_out", **paper},
         "verify": {"command": "beveloid verify --json",
                    "verified": sum(r["status"] == "verified" for r in numbered),
                    "definitions": sum(r["status"] == "definition" for r in numbered),
@@ -137,8 +164,13 @@ def recorded() -> dict:
 
 def quotes(cheap: dict, rec: dict) -> list[tuple[str, str, bool]]:
     """(page, text it must contain, whether the number behind it holds) for every quoted number."""
-    e, v, c = rec["explore"], rec["verify"], cheap
+    e, v, c, pp = rec["explore"], rec["verify"], cheap, rec["paper"]
     return [
+        ("docs/input.md", f"the edge peaks of the unmodified pairs at 600 N m ({pp['edge_case1_mpa']:.0f} and\n"
+                          f"{pp['edge_case2_mpa']:.0f} MPa, case 1 and case 2", True),
+        ("docs/input.md", f"down to the surface-contact peak ({pp['relieved_case1_mpa']:.0f} and "
+                          f"{pp['relieved_case2_mpa']:.0f} MPa; {pp['relieved_min_mpa']:.0f}-{pp['relieved_max_mpa']:.0f}"
+                          f" MPa\nover the {pp['grids']} grids of the report's convergence table", True),
         ("docs/commands.md", f"K x N is at most {c['max_contact_points']:,} contact points", True),
         ("docs/commands.md", f"an elastic approach (default {c['approach_um']:.2f} um)", True),
         ("docs/commands.md", f"solve chunks of {c['sweep_chunk']} sets", True),

@@ -98,3 +98,97 @@ def test_every_name_in_all_exists(package):
               and not (folder / f"{name}.py").is_file() and not (folder / name / "__init__.py").is_file()]
     assert not absent, f"{package}.__all__ names what it does not define: {absent}"
     assert len(set(module.__all__)) == len(module.__all__)
+
+
+# ---------------------------------------------------------------------------------------------
+# issue 42: one definition per vocabulary, one Solver below the CLI, no cloned code, layering
+# ---------------------------------------------------------------------------------------------
+
+#: the vocabularies that names.py defines once (an alias, ``FLANKS = names.FLANKS``, is no definition)
+VOCABULARIES = ("MEMBERS", "FLANKS")
+#: (file, name) still defining a vocabulary of its own, owned by other work items
+PENDING_VOCABULARIES = {("beveloid/ltca/options.py", "FLANKS"), ("beveloid/ltca/teeth.py", "MEMBERS")}
+#: (file, function) below cli/ still taking a backend name instead of a Solver (solver/backends.py
+#: resolves the names: it is where a backend name belongs)
+PENDING_BACKEND_PARAMETERS = {
+    ("beveloid/explore/contact.py", "_kernel"), ("beveloid/explore/contact.py", "sensitivities"),
+    ("beveloid/explore/rows.py", "_sensitivities"), ("beveloid/explore/rows.py", "compute"),
+    ("beveloid/explore/rows.py", "monte_carlo"), ("beveloid/sweep.py", "engagement_window"),
+    ("beveloid/tca/backlash.py", "backlash"), ("beveloid/tca/contact.py", "resolve_backend"),
+    ("beveloid/tca/flank.py", "mesh_flank"), ("beveloid/tca/grid.py", "solve_grid"),
+    ("beveloid/tca/grid.py", "solved_contact_points"), ("beveloid/tca/sensitivity.py", "sensitivity"),
+    ("beveloid/tooth/contact.py", "__init__"), ("beveloid/tooth/contact.py", "_pair0"),
+    ("beveloid/tooth/contact.py", "flank_contact")}
+#: files that still reach a function's code object (a clone of compiled code), owned by other work items
+PENDING_CODE_OBJECTS: set = set()
+
+
+def _vocabulary_definitions():
+    found = set()
+    for rel, tree in _sources():
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Assign) and isinstance(node.value, (ast.Tuple, ast.List)):
+                for t in node.targets:
+                    if isinstance(t, ast.Name) and t.id in VOCABULARIES:
+                        found.add((rel, t.id))
+    return found
+
+
+def test_each_vocabulary_is_defined_once_in_names():
+    found = _vocabulary_definitions() - {("beveloid/names.py", v) for v in VOCABULARIES}
+    new = found - PENDING_VOCABULARIES
+    assert not new, f"take these from beveloid.names instead of defining them again: {sorted(new)}"
+    fixed = PENDING_VOCABULARIES - found
+    assert not fixed, f"these use beveloid.names now: remove from PENDING_VOCABULARIES: {sorted(fixed)}"
+
+
+def _backend_parameters():
+    found = set()
+    for rel, tree in _sources():
+        if rel.startswith("beveloid/cli/") or rel == "beveloid/solver/backends.py":
+            continue
+        for node in ast.walk(tree):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and "backend" in parameter_names(node):
+                found.add((rel, node.name))
+    return found
+
+
+def test_below_the_cli_analyses_take_a_solver_not_a_backend_name():
+    found = _backend_parameters()
+    new = found - PENDING_BACKEND_PARAMETERS
+    assert not new, f"take a beveloid.solver.Solver (solver=...), not a backend name: {sorted(new)}"
+    fixed = PENDING_BACKEND_PARAMETERS - found
+    assert not fixed, f"these take a Solver now: remove from PENDING_BACKEND_PARAMETERS: {sorted(fixed)}"
+
+
+def test_no_code_object_is_cloned():
+    found = {rel for rel, tree in _sources() for node in ast.walk(tree)
+             if isinstance(node, ast.Attribute) and node.attr in ("__code__", "CodeType", "co_code")}
+    new = found - PENDING_CODE_OBJECTS
+    assert not new, f"call the compiled core through its namespace, do not clone code objects: {sorted(new)}"
+    fixed = PENDING_CODE_OBJECTS - found
+    assert not fixed, f"no code objects here now: remove from PENDING_CODE_OBJECTS: {sorted(fixed)}"
+
+
+def test_the_sampled_tooth_lies_below_the_analyses_that_build_solids():
+    """tooth/ (the sampled tooth, the body) imports none of export/, fe/, fecheck/: they build on it."""
+    above = ("beveloid.export", "beveloid.fe", "beveloid.fecheck", "beveloid.ltca", "beveloid.rating")
+    bad = []
+    for rel, tree in _sources():
+        if not rel.startswith("beveloid/tooth/"):
+            continue
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom):
+                target = _absolute(rel, node)
+                if any(target == a or target.startswith(a + ".") for a in above):
+                    bad.append(f"{rel}:{node.lineno} imports {target}")
+    assert not bad, bad
+
+
+def _absolute(rel: str, node: ast.ImportFrom) -> str:
+    """The absolute module an ``from ... import`` in file ``rel`` names."""
+    if node.level == 0:
+        return node.module or ""
+    parts = rel[:-3].split("/")
+    base = parts[: len(parts) - node.level]
+    return ".".join(base + ([node.module] if node.module else []))

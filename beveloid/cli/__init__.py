@@ -15,7 +15,8 @@ Exit status: 0 success; 1 the command ran but its result is negative (``verify``
 an equation differs from the print) or its output could not be written (a closed stdout ``>&-``, a
 full device ``>/dev/full``: one line on stderr, as Unix tools do); 2 a usage error (argparse) or a
 user error (:class:`beveloid.spec.SpecError`, :class:`beveloid.errors.UserError`), reported as
-one line ``beveloid: error: <message>`` on stderr without a traceback; 130 Ctrl-C.  A closed pipe
+one line ``beveloid: error: <message>`` on stderr without a traceback (a user's own model code that
+failed: the frames of their file below it, :class:`beveloid.errors.UserCodeError`); 130 Ctrl-C.  A closed pipe
 (``beveloid tca my.toml --json | head``) ends quietly with 0.  However a command ends, the output
 folders it created and left empty are removed (:func:`beveloid.cli.paths.remove_empty_created`).
 
@@ -108,11 +109,15 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
     return parser
 
 
-def _error(message: str, status: int = 2) -> int:
+def _error(message: str, status: int = 2, frames=()) -> int:
+    """``beveloid: error: <message>`` in one line; below it only ``frames``, the traceback lines of a
+    user's own code that failed (:class:`beveloid.errors.UserCodeError`)."""
     from ..spec import printable
 
     one_line = printable(" ".join(str(message).split()))  # no raw control characters on the terminal
     print(f"{PROG}: error: {one_line}", file=sys.stderr)
+    for line in frames:
+        print(printable(line), file=sys.stderr)
     return status
 
 
@@ -244,7 +249,7 @@ def _main(argv: Sequence[str] | None) -> int:
         sys.stdout.flush()  # a full or failing output shows here, not at the interpreter's exit
         return status
     except USER_ERRORS as exc:
-        return _error(str(exc))
+        return _error(str(exc), frames=getattr(exc, "frames", ()))
     except BrokenPipeError:  # e.g. `beveloid tca ... --json | head`
         _drop_stdout()
         return 0

@@ -20,7 +20,7 @@ TOLERANCE_NAMES = {"dx": "dx_mm", "dy": "dy_mm", "dz": "dz_mm", "vertical": "ver
 
 def configure(p: argparse.ArgumentParser) -> None:
     from ..solver.backends import BACKENDS
-    from ..sweep import DEFAULT_RANGES
+    from ..assembly_errors import DEFAULT_RANGES
 
     p.add_argument("file", metavar="FILE", nargs="?", help="TOML design spec: the base design (not with --resume)")
     p.add_argument("--vary", action="append", default=[], metavar="KEY=START:STOP:COUNT",
@@ -51,7 +51,7 @@ def configure(p: argparse.ArgumentParser) -> None:
 def parse_tolerances(text: str) -> dict:
     """``dx=0.5,vertical=0.2`` -> {dx_mm: 0.5, ..., vertical_deg: 0.2} (unnamed ones: the sweep's defaults)."""
     from .. import assembly_errors
-    from ..sweep import DEFAULT_RANGES
+    from ..assembly_errors import DEFAULT_RANGES
 
     out = dict(DEFAULT_RANGES)
     for part in filter(None, (s.strip() for s in text.split(","))):
@@ -128,11 +128,9 @@ def run(args: argparse.Namespace) -> int:
 
     Writes DIR/explore.csv, pareto.csv, summary.json and figures (heat maps, Pareto scatter and table).
     """
-    from .. import parallel
+    from .. import interrupts, parallel
     from .paths import check_output_dir, created_here
-    from ..explore import report, rows
     from ..explore import run as runner
-    from ..explore.grid import Plan
 
     out = args.resume or args.out
     if args.resume:
@@ -143,44 +141,93 @@ def run(args: argparse.Namespace) -> int:
     else:
         req = _request(args)
         check_output_dir(out, "--out")
-        req = runner.prepare(out, req, resume=False, log=lambda line: print(line, file=sys.stderr))
+        req = runner.prepare(out, req, resume=False, log=_say)
+    chunks = runner.Chunks(out, req, log=_say)  # the chunks a run before finished, read once
     t0 = time.perf_counter()
     ex = parallel.executor(args.workers, args.scheduler, initializer=runner.warm_up)
-    done = sum(min(req.chunk, req.plan.count - i * req.chunk) for i in runner.finished(out, req))
-    progress = runner.Progress(req.plan.count, done)
-    with ex:
-        stop, why = runner.execute(out, req, ex, progress)
-        complete = stop is None
-        where = ex.description
-    table = runner.load_table(out, req)
-    if not complete and not table and created_here(out):
+    # after the last chunk a first Ctrl-C lets the outputs be written (a second stops at once)
+    late = interrupts.Deferred(on_first=lambda: _say("beveloid explore: Ctrl-C: writing the outputs of the finished"
+                                                     " designs first (Ctrl-C again to stop at once)"))
+    try:
+        with ex:
+            stop, why = runner.execute(out, req, ex, runner.Progress(req.plan.count, chunks.designs), chunks)
+            where = ex.description
+            late.start()
+        return _finish(args, out, req, chunks, (stop, why, where, time.perf_counter() - t0), late, created_here)
+    except KeyboardInterrupt:  # a second Ctrl-C while the outputs were written (whole files or none)
+        interrupts.reported()
+        if not chunks.parts and created_here(out):
+            _discard(out, runner)
+            _say("beveloid explore: interrupted before any design finished; nothing written")
+        else:
+            more = (f"continue with `beveloid explore --resume {out}`" if chunks.missing()
+                    else f"`beveloid explore --resume {out}` writes the outputs")
+            _say(f"beveloid explore: interrupted; {chunks.designs} of {_designs(req.plan.count)} kept in {out}; {more}")
+        return 130
+    finally:
+        late.stop()
+
+
+def _say(line: str) -> None:
+    print(line, file=sys.stderr)
+
+
+def _designs(n: int) -> str:
+    return f"{n} design{'' if n == 1 else 's'}"
+
+
+def _finish(args, out, req, chunks, ended, late, created_here) -> int:
+    """The outputs of what finished: the base design's row, the Pareto front, the files; the lines that say
+    how the run ended (``ended``: why it stopped, in words, where it ran, seconds)."""
+    from .. import interrupts
+    from ..explore import report, rows
+    from ..explore import run as runner
+    from ..explore.grid import Plan
+
+    stop, why, where, seconds = ended
+    table = chunks.table()
+    if not table and created_here(out):
         # stopped before any design finished, in a folder this run made: leave nothing behind (the
         # CLI removes the folder once empty)
         _discard(out, runner)
-        print(f"beveloid explore: stopped ({why}) before any design finished; nothing written", file=sys.stderr)
+        _say(f"beveloid explore: {why}: stopped before any design finished; nothing written")
+        interrupts.reported()
         return 130 if stop is StopReason.INTERRUPTED else 1
-    base_plan = Plan(req.plan.base, (), seed=req.plan.seed)
-    base_cols = rows.compute(base_plan, 0, 1, req.tolerances, req.backend)
-    if req.mc:
-        rows.monte_carlo(base_cols, base_plan, slice(0, 1), req.tolerances, rows.monte_carlo_request(req),
-                         req.backend)
+    complete = not chunks.missing()
+    base_cols = chunks.base
+    if base_cols is None:  # the run stopped before the base design's task ran: here
+        base_plan = Plan(req.plan.base, (), seed=req.plan.seed)
+        base_cols = rows.compute(base_plan, 0, 1, req.tolerances, req.backend)
+        if req.mc:
+            rows.monte_carlo(base_cols, base_plan, slice(0, 1), req.tolerances, rows.monte_carlo_request(req),
+                             req.backend)
     base_row = report.records(base_cols)[0]
     values = Plan(req.plan.base, ()).base_values()
     base_row.update({k: values[k] for k in req.plan.keys})
     if table:
         report.mark_pareto(table, bool(req.mc))
-    summ = report.summary(req, table, base_row, complete, why, time.perf_counter() - t0, where)
+    summ = report.summary(req, table, base_row, complete, why, seconds, where)
+    figures = []
     if table:
-        report.write(out, req, table, summ)
+        report.write_data(out, table, chunks.csv_rows(), summ)
+        figures = report.write_figures(out, req, table, base_row, go_on=lambda: not late.pressed)
     if args.json:
         print(json.dumps(dict(summ, rows=report.records(table)), allow_nan=False))
     else:
         _print(summ, out)
+    interrupted = stop is StopReason.INTERRUPTED or late.pressed
+    if complete and not interrupted:  # (a worker lost after the last chunk: nothing is missing)
+        return 0
     if not complete:
-        print(f"beveloid explore: stopped ({why}); {summ['designs_done']} of {summ['designs']} designs kept in {out};"
-              f" continue with `beveloid explore --resume {out}`", file=sys.stderr)
-        return 130 if stop is StopReason.INTERRUPTED else 1
-    return 0
+        _say(f"beveloid explore: {why}; {summ['designs_done']} of {_designs(summ['designs'])} kept in {out};"
+             f" continue with `beveloid explore --resume {out}`")
+    elif len(figures) < len(report.FIGURES):
+        _say(f"beveloid explore: interrupted after every design finished; {', '.join(report.DATA_FILES)} written in"
+             f" {out}, not every figure: `beveloid explore --resume {out}` draws them")
+    else:
+        _say(f"beveloid explore: interrupted after every design finished; every output is written in {out}")
+    interrupts.reported()
+    return 130 if interrupted else 1
 
 
 def _discard(out, runner) -> None:
@@ -196,9 +243,9 @@ def _discard(out, runner) -> None:
 
 def _print(summ, out):
     counts = ", ".join(f"{v} {k}" for k, v in sorted(summ["status_counts"].items(), key=lambda kv: -kv[1]))
-    lines = [f"Explored {summ['designs_done']} of {summ['designs']} designs of {summ['file']} in {summ['seconds']:.1f} s"
-             f" ({summ['executor']}): {counts}",
-             f"Pareto front on ({', '.join(summ['objectives'])}): {len(summ['pareto_designs'])} designs"]
+    lines = [f"Explored {summ['designs_done']} of {_designs(summ['designs'])} of {summ['file']} in"
+             f" {summ['seconds']:.1f} s ({summ['executor']}): {counts}",
+             f"Pareto front on ({', '.join(summ['objectives'])}): {_designs(len(summ['pareto_designs']))}"]
     keys = [v["key"] for v in summ["varied"]]
     for row in summ["pareto_designs"][:10]:
         lines.append("  " + ", ".join(f"{k} {row[k]:.4g}" for k in keys)
@@ -209,8 +256,8 @@ def _print(summ, out):
                      f" {b['worst_path_shift_mm']:.3f} mm")
     from pathlib import Path
 
-    names = ("explore.csv", "pareto.csv", "summary.json", "heatmap_fpd.png", "heatmap_sensitivity.png", "pareto.png",
-             "pareto_table.png")
-    written = [n for n in names if (Path(out) / n).is_file()]  # an interrupted run may have written none
+    from ..explore.report import DATA_FILES, FIGURES
+
+    written = [n for n in DATA_FILES + FIGURES if (Path(out) / n).is_file()]  # an interrupted run may have written none
     lines.append(f"Files in {out}: {', '.join(written)}" if written else f"No result files written in {out}")
     print("\n".join(lines))

@@ -23,6 +23,9 @@ from .common import add_error_flags, apply_error_flags
 
 __all__ = ["configure", "run", "format_summary"]
 
+#: the name of the check's files in --out (the deck fe_check.inp, CalculiX's fe_check.frd, .dat, ...)
+JOB = "fe_check"
+
 
 def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("file", metavar="FILE", help="TOML design spec (`beveloid example case1` prints one)")
@@ -43,7 +46,8 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--coarsen", type=float, default=1.0, metavar="F",
                    help="multiply every element size by F, 0.125-4 (default 1; > 1 for a quick look)")
     p.add_argument("--out", metavar="DIR", default=None,
-                   help="keep the deck, CalculiX's output and the VTU in this folder")
+                   help="keep the deck, CalculiX's output and the VTU in this folder (a Ctrl-C removes what the run"
+                        " wrote there)")
     add_error_flags(p)
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
 
@@ -70,12 +74,37 @@ def run(args: argparse.Namespace) -> int:
         raise UserError(CCX_MISSING)
     spec = apply_error_flags(load_spec(args.file), args)
     pair = Pair.from_spec(spec)
-    out = fe_check(pair, options, progress=lambda s: print(s, file=sys.stderr, flush=True))
+    progress = lambda s: print(s, file=sys.stderr, flush=True)  # noqa: E731
+    if args.out is None:
+        out = fe_check(pair, options, progress=progress)
+    else:
+        out = _into_folder(pair, options, progress, args.out)
     if args.json:
         print(json.dumps(out, allow_nan=False))
     else:
         print(format_summary(out))
     return 0
+
+
+def _into_folder(pair, options, progress, folder) -> dict:
+    """The check with its files (deck, CalculiX's output, VTU) kept in ``folder``; a Ctrl-C removes the
+    files this run had written there (a deck without results, CalculiX's partial output) and says so."""
+    import time
+    from pathlib import Path
+
+    from ..fecheck.check import fe_check
+    from ..outputs import interrupted_files_note
+
+    t0 = time.time()
+    try:
+        return fe_check(pair, options, progress=progress)
+    except KeyboardInterrupt:
+        mine = [p for p in sorted(Path(folder).glob(f"{JOB}.*")) if p.is_file() and p.stat().st_mtime >= t0 - 1.0]
+        for p in mine:
+            p.unlink(missing_ok=True)
+        print(f"beveloid fe-check: {interrupted_files_note(folder, '--out', [p.name for p in mine])}",
+              file=sys.stderr, flush=True)
+        raise
 
 
 def format_summary(out: dict) -> str:

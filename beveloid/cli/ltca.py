@@ -1,5 +1,10 @@
-"""``beveloid ltca FILE --torque-nm T [--positions N] [--pairs K] [--flank left|right] [--dx MM] [--dy MM]
-[--dz MM] [--vertical DEG] [--horizontal DEG] [--grid ACROSSxALONG] [--plot OUT.png] [--json]``.
+"""``beveloid ltca FILE --torque-nm T[,T...] [--positions N] [--pairs K] [--flank left|right] [--dx MM] [--dy MM]
+[--dz MM] [--vertical DEG] [--horizontal DEG] [--grid ACROSSxALONG] [--samples K] [--seed S] [--tolerances ...]
+[--workers N | --scheduler ADDRESS] [--csv DIR] [--plot OUT.png] [--json]``.
+
+A torque list is the torque map (JSON ``map`` + ``torque_map``), ``--samples`` the tolerance box under
+load (JSON ``tolerance``); every run reports ``te_harmonics_urad`` / ``te_harmonics_um`` and the mesh
+stiffness's mean and peak-to-peak (docs/commands.md, docs/loaded_contact.md 8.6).
 
 Loaded tooth contact analysis (approximate: half-space + thin-slice teeth, frictionless; see
 docs/loaded_contact.md).  The torque is the pinion torque.  The JSON holds "torque_nm",
@@ -31,7 +36,9 @@ from ..errors import OptionError, UserError
 
 def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("file", metavar="FILE", help="TOML design spec (`beveloid example case1` prints one)")
-    p.add_argument("--torque-nm", type=float, required=True, metavar="T", help="pinion torque (N m), > 0")
+    p.add_argument("--torque-nm", required=True, metavar="T[,T...]",
+                   help="pinion torque (N m), > 0; a comma list (50,100,200,400) gives the torque map: the whole "
+                        "analysis at each torque")
     p.add_argument("--positions", type=int, default=20, metavar="N",
                    help="pinion positions over one mesh cycle (default 20)")
     p.add_argument("--pairs", type=int, default=3, metavar="K", help="neighbouring tooth pairs (default 3)")
@@ -45,9 +52,43 @@ def configure(p: argparse.ArgumentParser) -> None:
                         "(default; its data is cached per design), plate = the fast equivalent-spur-tooth plate")
     p.add_argument("--fe-refinement", type=int, default=1, metavar="N",
                    help="FE tooth mesh refinement, 1-4 (default 1; 2 halves every element size)")
+    p.add_argument("--fe-coarsen", type=float, default=1.0, metavar="F",
+                   help="every FE tooth element size times F, 1-8 (default 1; 2-4: a quick, rougher tooth)")
     p.add_argument("--plot", metavar="OUT.png", help="write the contact patterns, loaded TE and load sharing here "
                                                      "(and the per-position pressure maps beside it)")
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
+    p.add_argument("--csv", metavar="DIR", help="write DIR/ltca.csv: one row per position and torque (pinion angle, "
+                                                "loaded TE, mesh stiffness, pair loads), for a dynamics model")
+    p.add_argument("--samples", type=int, default=0, metavar="K",
+                   help="the tolerance box under load: K error sets drawn about the file's [misalignment] (the "
+                        "draws of sweep and explore), each a full loaded analysis at every torque")
+    p.add_argument("--seed", type=int, default=0, metavar="S", help="seed of the error sets (default 0)")
+    from .explore import TOLERANCE_NAMES
+    from ..sweep import DEFAULT_RANGES
+
+    default = ",".join(f"{k}={DEFAULT_RANGES[v]:g}" for k, v in TOLERANCE_NAMES.items())
+    p.add_argument("--tolerances", default=default, metavar="dx=MM,dy=MM,dz=MM,vertical=DEG,horizontal=DEG",
+                   help=f"half-widths of the assembly-error box (default {default})")
+    where = p.add_mutually_exclusive_group()  # beveloid.parallel: the same numbers on any of them
+    where.add_argument("--workers", type=int, metavar="N", help="analyse chunks of error sets on N local processes")
+    where.add_argument("--scheduler", metavar="ADDRESS", help="analyse them on an existing Dask distributed cluster")
+
+
+def parse_torques(text) -> list:
+    """The torques of ``--torque-nm`` (one or a comma list), each checked as ltca.Options does."""
+    from ..ltca.options import check_torque
+
+    out = []
+    for part in str(text).split(","):
+        try:
+            value = float(part)
+        except ValueError:
+            value = part.strip()
+        try:
+            out.append(check_torque(value, key="--torque-nm"))
+        except OptionError as exc:
+            raise UserError(exc.for_flag("--torque-nm", shown=text)) from None
+    return out
 
 
 def parse_grid(text):
@@ -77,43 +118,257 @@ def run(args: argparse.Namespace) -> int:
     from ..solver import Solver
 
     grid = parse_grid(args.grid)
+    torques = parse_torques(args.torque_nm)
     try:
-        ltca.options.check_torque(args.torque_nm, key="--torque-nm")
         ltca.options.check_positions(args.positions, key="--positions")
         ltca.options.check_pairs(args.pairs, key="--pairs")
         ltca.options.check_fe_refinement(args.fe_refinement, key="--fe-refinement")
+        ltca.options.check_fe_coarsen(args.fe_coarsen, key="--fe-coarsen")
     except OptionError as exc:
         raise UserError(exc.for_flag(exc.key)) from None
+    if not 0 <= args.samples <= 100_000:
+        raise UserError(f"--samples = {args.samples}: must be an integer from 0 (no tolerance box) to 100000")
+    if not 0 <= args.seed < 2 ** 63:
+        raise UserError(f"--seed = {args.seed}: must be an integer from 0 to 2**63 - 1")
     if args.plot is not None:
         check_output_file(args.plot, "--plot", ".png")
+    if args.csv is not None:
+        _check_csv_dir(args.csv)
     from ..spec import load_spec
 
     spec = apply_error_flags(load_spec(args.file), args)
+    tolerances = _tolerances(args, spec) if args.samples else None
     pair = Pair.from_spec(spec)
-    options = ltca.Options(torque_nm=args.torque_nm, flank=args.flank, positions=args.positions, pairs=args.pairs,
+    options = ltca.Options(torque_nm=torques[0], flank=args.flank, positions=args.positions, pairs=args.pairs,
                            grid=grid, errors=tuple(error_vector(spec)), material=ltca.Material.from_spec(spec),
-                           tooth_model=args.tooth_model, fe_refinement=args.fe_refinement)
+                           tooth_model=args.tooth_model, fe_refinement=args.fe_refinement,
+                           fe_coarsen=args.fe_coarsen)
     try:
         options.check_memory()
     except OptionError as exc:
         raise UserError(exc.for_flag("--grid")) from None
-    result = ltca.analyze(pair, options, Solver())
-    geom = pair.geometry
-    if args.plot is not None:
-        from ..ltca.plots import ltca_summary
+    from ..parallel import executor
 
-        try:
-            ltca_summary(result, geom, args.plot, title=f"{spec.source}: pinion torque {args.torque_nm:g} N m, "
-                                                        f"{errors_label(spec)}")
-        except OSError as exc:
-            raise UserError(f"--plot = {args.plot}: cannot write there ({exc.strerror or exc})") from None
-    for w in result.warnings():
-        print(f"beveloid: warning: {w}", file=sys.stderr)
+    if args.workers is not None or args.scheduler is not None:
+        executor(args.workers, args.scheduler)  # checks the flags (one line) before any work
+    solver = Solver()
+    results = list(ltca.analyze_many(pair, options, torques_nm=torques, solver=solver).results[0])
+    box = None
+    if tolerances is not None:
+        from .. import sweep
+
+        nominal = {key: float(getattr(spec.misalignment, key)) for key in tolerances}
+        draws = sweep.draw_errors(args.samples, ranges=tolerances, seed=args.seed, nominal=nominal)
+        box = tolerance_sets(pair, options, torques, draws, args.workers, args.scheduler)
+    geom = pair.geometry
+    label = f"{spec.source}: {errors_label(spec)}"
+    if args.plot is not None:
+        _plot(results, geom, args.plot, label)
+    if args.csv is not None:
+        write_csv(results, geom, args.csv)
+    for r in results:
+        for w in r.warnings():
+            print(f"beveloid: warning: {w if len(results) == 1 else f'{r.torque_nm:g} N m: {w}'}", file=sys.stderr)
+    entries = []
+    for t, r in enumerate(results):
+        d = ltca.to_json_dict(r, geom)
+        if box is not None:
+            d["tolerance"] = tolerance_json(box, t, args.samples, args.seed, tolerances)
+        entries.append(d)
+    out = entries[0] if len(results) == 1 else {"map": entries, "torque_map": torque_map_json(results)}
     if args.json:
-        print(json.dumps(ltca.to_json_dict(result, geom), allow_nan=False))
+        print(json.dumps(out, allow_nan=False))
     else:
-        print(format_summary(result, geom, spec))
+        for r, d in zip(results, entries):
+            print(format_summary(r, geom, spec))
+            if "tolerance" in d:
+                print(format_tolerance(d["tolerance"]))
+            print()
+        if len(results) > 1:
+            print(format_torque_map(out["torque_map"]))
     return 0
+
+
+def _check_csv_dir(path):
+    import os
+
+    if os.path.exists(path) and not os.path.isdir(path):
+        raise UserError(f"--csv = {path}: is a file; give a folder (created if absent)")
+    parent = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(parent):
+        raise UserError(f"--csv = {path}: its parent folder {parent} does not exist")
+
+
+def _tolerances(args, spec) -> dict:
+    """The half-widths of --tolerances (explore's parser), each with the file's misalignment inside the
+    errors' limits."""
+    from .. import assembly_errors
+    from .explore import parse_tolerances
+
+    tol = parse_tolerances(args.tolerances)
+    for key, half in tol.items():
+        centre = abs(float(getattr(spec.misalignment, key)))
+        if centre + half > assembly_errors.BY_KEY[key].limit:
+            raise UserError(f"--tolerances {key}: {half:g} about misalignment.{key} = {centre:g} reaches"
+                            f" {centre + half:g}; |nominal| + half-width must be <= "
+                            f"{assembly_errors.BY_KEY[key].limit:g}")
+    return tol
+
+
+#: error sets per chunk of the tolerance box (the unit of work of --workers; the numbers do not depend on it)
+CHUNK_SETS = 8
+
+
+def _chunk(task):
+    """One chunk of the tolerance box: (pair, options, torques, draws) -> [[summary per torque] per set]."""
+    from .. import ltca
+
+    pair, options, torques, draws = task
+    batch = ltca.analyze_many(pair, options, torques_nm=torques, error_sets=draws)
+    return [[dict(ltca.batch.summary(r), errors=e) for r in row] for e, row in zip(draws, batch.results)]
+
+
+def tolerance_sets(pair, options, torques, draws, workers=None, scheduler=None) -> list:
+    """[[summary (ltca.batch.summary) per torque] per error set] of the draws, in chunks of CHUNK_SETS:
+    here, on local workers or on a Dask cluster (beveloid.parallel); a progress bar on a terminal."""
+    import time
+    from contextlib import nullcontext
+
+    from ..parallel import executor
+    from ..progress import for_terminal
+
+    tasks = [(pair, options, torques, draws[i:i + CHUNK_SETS]) for i in range(0, len(draws), CHUNK_SETS)]
+    out = [None] * len(tasks)
+    progress, t0, done = for_terminal(), time.perf_counter(), 0
+    parallel = workers is not None or scheduler is not None
+    with (executor(workers, scheduler) if parallel else nullcontext()) as ex:
+        items = ex.map_unordered(_chunk, tasks) if parallel else ((i, _chunk(t)) for i, t in enumerate(tasks))
+        for i, res in items:
+            out[i] = res
+            done += len(res)
+            if progress is not None:
+                progress(done, len(draws), t0)
+    return [row for chunk in out for row in chunk]
+
+
+def _stats(values) -> dict:
+    import numpy as np
+
+    v = np.asarray([x for x in values if x is not None and math.isfinite(x)], dtype=float)
+    if v.size == 0:
+        return {"p50": None, "p90": None, "max": None, "sets": 0}
+    return {"p50": float(np.percentile(v, 50)), "p90": float(np.percentile(v, 90)), "max": float(v.max()),
+            "sets": int(v.size)}
+
+
+def tolerance_json(box, t, samples, seed, tolerances) -> dict:
+    """The "tolerance" block of torque index t (issue 43's contract)."""
+    from .. import assembly_errors
+    from ..ltca.teeth import MEMBERS
+
+    num = lambda v: float(v) if v is not None and math.isfinite(v) else None  # noqa: E731
+    rows = [sets[t] for sets in box]
+    return {
+        "samples": samples, "seed": seed,
+        "tolerances": {k: float(v) for k, v in tolerances.items()},
+        "te_peak_to_peak_urad": _stats(r["te_peak_to_peak_urad"] for r in rows),
+        "max_pressure_mpa": _stats(r["max_pressure_mpa"] for r in rows),
+        "root_stress_max_mpa": {m: _stats(r["root_stress_max_mpa"][m] for r in rows) for m in MEMBERS},
+        "edge_contact_fraction": sum(r["edge_contact"] for r in rows) / len(rows),
+        "sets": [{"errors": assembly_errors.from_layout(r["errors"]),
+                  "te_peak_to_peak_urad": num(r["te_peak_to_peak_urad"]),
+                  "max_pressure_mpa": num(r["max_pressure_mpa"]),
+                  "root_stress_max_mpa": {m: num(r["root_stress_max_mpa"][m]) for m in MEMBERS}} for r in rows],
+        "note": "each set a full loaded analysis with that error set in [misalignment] (the draws of sweep and "
+                "explore: uniform in the box about the file's misalignment); p50, p90 and max over the sets "
+                "with a value (sets: how many)",
+    }
+
+
+def torque_map_json(results) -> dict:
+    """The "torque_map" block: per torque the TE peak-to-peak, the largest pair_max_pressure_mpa (edge peaks
+    included), the members' largest root stress and the mean mesh stiffness (null where not known)."""
+    from ..ltca.batch import summary
+    from ..ltca.teeth import MEMBERS
+
+    num = lambda v: float(v) if v is not None and math.isfinite(v) else None  # noqa: E731
+    s = [summary(r) for r in results]
+    return {"torque_nm": [float(r.torque_nm) for r in results],
+            "te_peak_to_peak_urad": [num(x["te_peak_to_peak_urad"]) for x in s],
+            "max_pressure_mpa": [num(x["max_pressure_mpa"]) for x in s],
+            "root_stress_max_mpa": {m: [num(x["root_stress_max_mpa"][m]) for x in s] for m in MEMBERS},
+            "mesh_stiffness_mean_n_per_um": [num(x["mesh_stiffness_mean_n_per_um"]) for x in s]}
+
+
+def write_csv(results, geom, folder):
+    """DIR/ltca.csv: one row per position and torque, units in every column name; empty cells where a
+    position did not converge."""
+    import csv
+    import os
+
+    from ..ltca.batch import gear_base_radius_mm
+
+    os.makedirs(folder, exist_ok=True)
+    rb = gear_base_radius_mm(geom)
+    pairs = results[0].tooth_pairs
+    head = (["torque_nm", "position", "pinion_angle_rad", "status", "loaded_te_urad", "loaded_te_line_of_action_um",
+             "unloaded_te_urad", "mesh_stiffness_n_per_um"] + [f"pair_{k}_load_n" for k in pairs])
+    cell = lambda v: "" if v is None or not math.isfinite(v) else repr(float(v))  # noqa: E731
+    path = os.path.join(folder, "ltca.csv")
+    tmp = path + ".tmp"
+    try:
+        with open(tmp, "w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(head)
+            for r in results:
+                k = r.mesh_stiffness_n_per_um
+                for j, phi in enumerate(r.pinion_angle):
+                    w.writerow([repr(float(r.torque_nm)), j, repr(float(phi)), r.status[j], cell(r.loaded_te[j] * 1e6),
+                                cell(r.loaded_te[j] * rb * 1e3), cell(r.unloaded_te[j] * 1e6),
+                                cell(None if k is None else k[j])] + [cell(v) for v in r.pair_load_n[j]])
+        os.replace(tmp, path)
+    except OSError as exc:
+        raise UserError(f"--csv = {folder}: cannot write there ({exc.strerror or exc})") from None
+    return path
+
+
+def _plot(results, geom, path, label):
+    from ..ltca.plots import ltca_summary, ltca_torques, te_map
+
+    stem = path[:-4] if path.endswith(".png") else path
+    try:
+        if len(results) == 1:
+            r = results[0]
+            ltca_summary(r, geom, path, title=f"{label}, pinion torque {r.torque_nm:g} N m")
+            te_map(results, stem + "_spectrum.png", title=label)
+        else:
+            te_map(results, path, title=label)
+            ltca_torques(results, geom, stem + "_torques.png", title=label)
+    except OSError as exc:
+        raise UserError(f"--plot = {path}: cannot write there ({exc.strerror or exc})") from None
+
+
+def format_tolerance(t) -> str:
+    fmt = number
+    lines = [f"tolerance box: {t['samples']} error sets (seed {t['seed']}), edge contact in "
+             f"{t['edge_contact_fraction'] * 100:.0f} % of them", "                            p50        p90        max"]
+    rows = [("TE peak-to-peak (urad)", t["te_peak_to_peak_urad"]), ("max pressure (MPa)", t["max_pressure_mpa"])]
+    rows += [(f"{m} root stress (MPa)", s) for m, s in t["root_stress_max_mpa"].items()]
+    for name, s in rows:
+        lines.append(f"  {name:<24}" + "".join(f"{fmt(s[q], '.2f'):>11}" for q in ("p50", "p90", "max")))
+    return "\n".join(lines)
+
+
+def format_torque_map(m) -> str:
+    fmt = number
+    lines = ["torque map:", "  torque (N m)  TE p-p (urad)  max pressure (MPa)  root pinion (MPa)  root gear (MPa)"
+             "  mesh stiffness mean (N/um)"]
+    for i, t in enumerate(m["torque_nm"]):
+        lines.append(f"  {t:>12g}  {fmt(m['te_peak_to_peak_urad'][i], '.3f'):>13}  {fmt(m['max_pressure_mpa'][i], '.0f'):>18}"
+                     f"  {fmt(m['root_stress_max_mpa']['pinion'][i], '.1f'):>17}"
+                     f"  {fmt(m['root_stress_max_mpa']['gear'][i], '.1f'):>15}"
+                     f"  {fmt(m['mesh_stiffness_mean_n_per_um'][i], '.1f'):>26}")
+    return "\n".join(lines)
 
 
 def _root_stress_lines(result) -> list:

@@ -1,9 +1,12 @@
-"""``beveloid paper [--out DIR] [--positions N]``: Table 1 and the studies of Figs 10-22 into DIR."""
+"""``beveloid paper [--out DIR] [--positions N]``: every study of :data:`beveloid.studies.PAPER_CONTENTS`
+into DIR (the help's first line is built from it)."""
 from __future__ import annotations
 
 import argparse
+import sys
 
 from ..errors import UserError
+from ..studies import PAPER_CONTENTS
 
 
 def configure(p: argparse.ArgumentParser) -> None:
@@ -15,7 +18,8 @@ def configure(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Reproduce Table 1 and the studies of Figs 10-22 into DIR (PNG, CSV, report.md)."""
+    """Reproduce the paper into DIR (PNG, CSV, report.md): see the first line of --help."""
+    from ..outputs import interrupted_note
     from ..studies.paper import run as reproduce
     from .paths import check_output_dir
 
@@ -24,8 +28,14 @@ def run(args: argparse.Namespace) -> int:
     check_output_dir(args.out, "--out")
     try:
         reproduce(args.out, positions=args.positions, tooth_model=args.tooth_model)
+    except KeyboardInterrupt:  # the files are moved into DIR only at the end (beveloid/studies/output.py)
+        print(f"beveloid paper: {interrupted_note(args.out, '--out')}", file=sys.stderr, flush=True)
+        raise
     except OSError as exc:
         if exc.filename is None:  # not a file of DIR (e.g. a closed stdout): the CLI reports it
             raise
         raise UserError(f"--out = {args.out}: cannot write there ({exc.strerror})") from None
     return 0
+
+
+run.__doc__ = f"Reproduce {PAPER_CONTENTS} into DIR (PNG, CSV, report.md)."

@@ -3,20 +3,23 @@
 Strength rating (docs/rating.md): ISO 6336-2/-3:2019 (method B) on the virtual cylindrical gear of the
 toe, middle and heel sections of each member, and the local stresses of the loaded contact (LTCA
 surface peak pressure; the FE root stress where available) at K_A K_v T, with permissible stresses,
-safety factors S_F and S_H from both, and a verdict.  The torque is the pinion torque; K_A, K_v,
-speed, life and the minimum safeties come from the spec's [rating], the limits from [material].
-The JSON: "torque_nm", "flank", per member "sections" {"toe", "middle", "heel"} (virtual_teeth,
-normal_profile_shift, helix_angle_deg, s_Fn_mm, rho_F_mm, h_Fe_mm, alpha_Fen_deg, Y_F, Y_S, Y_beta, f_eps,
-sigma_F0_mpa, Z_H, Z_E, Z_eps, Z_beta, sigma_H0_mpa), "root_stress_max_mpa", "contact_pressure_max_mpa",
-"safety_bending", "safety_pitting", "safety_bending_iso", "safety_pitting_iso" (null where not
-computed), "verdict" and "notes".
+safety factors S_F and S_H from both, and a verdict (with the edge-contact rule: a flank edge loaded
+above its limit makes it conditional).  The torque is the pinion torque; K_A, K_v (else ISO 6336-1
+method B from the speed and the LTCA's mesh stiffness), speed, life, accuracy grade and the minimum
+safeties come from the spec's [rating], the material types, qualities and limits from [material].
+The JSON: "torque_nm", "flank", "K_A", "K_v", "K_v_source", "dynamic_factor", per member "sections"
+{"toe", "middle", "heel"} (virtual_teeth, normal_profile_shift, helix_angle_deg, s_Fn_mm, rho_F_mm,
+h_Fe_mm, alpha_Fen_deg, Y_F, Y_S, Y_beta, f_eps, sigma_F0_mpa, Z_H, Z_E, Z_eps, Z_beta, sigma_H0_mpa),
+"root_stress_max_mpa", "contact_pressure_max_mpa", "safety_bending", "safety_pitting",
+"safety_bending_iso", "safety_pitting_iso" (null where not computed), "K_H_beta", "K_F_beta",
+"face_load", "material", "verdict" and "notes" (docs/rating.md 7).
 """
 from __future__ import annotations
 
 import argparse
 import json
 
-from ..errors import UserError
+from ..errors import OptionError, UserError
 from .paths import check_output_file
 
 
@@ -31,6 +34,8 @@ def configure(p: argparse.ArgumentParser) -> None:
                         "scikit-fem are installed; its data is cached per design), plate = fast, no root stress")
     p.add_argument("--fe-refinement", type=int, default=1, metavar="N",
                    help="FE tooth mesh refinement, 1-4 (default 1)")
+    p.add_argument("--fe-coarsen", type=float, default=1.0, metavar="F",
+                   help="every FE tooth element size times F, 1-8 (default 1; 2-4: a quick, rougher tooth)")
     p.add_argument("--plot", metavar="OUT.png", help="write S_F and S_H along the face of both members here")
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
 
@@ -46,12 +51,10 @@ def run(args: argparse.Namespace) -> int:
 
     try:
         options = rating.Options(torque_nm=args.torque_nm, flank=args.flank, positions=args.positions,
-                                 tooth_model=args.tooth_model, fe_refinement=args.fe_refinement)
-    except ValueError as exc:
-        text = str(exc)
-        for key in ("torque_nm", "positions", "fe_refinement"):
-            text = text.replace(key, "--" + key.replace("_", "-"))
-        raise UserError(text) from None
+                                 tooth_model=args.tooth_model, fe_refinement=args.fe_refinement,
+                                 fe_coarsen=args.fe_coarsen)
+    except OptionError as exc:  # named by its fields: the flag of the key (not a replace in the text)
+        raise UserError(exc.for_flag("--" + exc.key.replace("_", "-"))) from None
     if args.plot is not None:
         check_output_file(args.plot, "--plot", ".png")
     pair = Pair.from_spec(load_spec(args.file))

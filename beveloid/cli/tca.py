@@ -47,10 +47,7 @@ def run(args: argparse.Namespace) -> int:
     from ..pair import Pair
     from ..spec import load_spec
 
-    try:
-        approach_mm = check_approach(args.approach_um * 1e-3)
-    except ValueError as exc:
-        raise UserError(str(exc)) from None
+    approach_mm = check_approach(args.approach_um * 1e-3)  # an OptionError names --approach-um: one line
     try:
         options = tca.Options(flanks=tca.FLANKS if args.flank == "both" else (args.flank,),
                               positions=args.positions, pairs=args.pairs, approach_mm=approach_mm)

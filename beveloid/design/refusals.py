@@ -60,10 +60,14 @@ def no_working_pressure_angle(spec: DesignSpec, c: dict) -> DesignError:
     span = (f"Eq 17 gives E from {num_text(e_model.min())} to {num_text(e_model.max())} mm for alpha_nw from"
             f" {deg_text(a_ok.min())} to {deg_text(a_ok.max())} deg")
     head = f"pair.offset_mm = {spec.pair.offset_mm!r}: no working normal pressure angle solves Eq 17"
-    if (res[ok] > 0).all():
+    # E(alpha_nw) is 0 at the grid's open lower end (Eq 25's bound): an offset below every other value
+    # of the range is too small (its root, if any, lies at that end, where it cannot be resolved)
+    positive = e_model[e_model > 0]
+    smallest = float(positive.min()) if positive.size else float(e_model.min())
+    if (res[ok] > 0).all() or spec.pair.offset_mm < smallest:
         return DesignError(
             f"{head}: the offset is too small for the given teeth, module and helix angles ({span});"
-            f" increase pair.offset_mm to at least {num_text(e_model.min())} mm or reduce the teeth or module",
+            f" increase pair.offset_mm to at least {num_text(smallest)} mm or reduce the teeth or module",
             keys=("pair.offset_mm",), source=src, outcome=Outcome.NO_WORKING_PRESSURE_ANGLE)
     return DesignError(
         f"{head}: the offset is too large for the given teeth, module and helix angles ({span});"

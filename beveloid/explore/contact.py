@@ -5,8 +5,8 @@ For the designs that :func:`beveloid.design.design_arrays` found ``ok`` this bui
 ``Member.from_design`` on the design's members, the parameter vectors packed by layout field name with a
 leading axis over the designs), finds the pitch point on both members (solver.section.point_at_radius, one 2x2 Newton over all
 designs at once), solves the aligned contact at P and classifies it with the compiled core (one
-compiled loop over the designs calling the core's own ``solve_point`` and ``solve_paths_serial``,
-exactly what ``tca.sensitivity`` calls for one design), then takes the implicit-function
+compiled loop over the designs calling the core's own ``solve_point`` and ``solve_paths``, exactly
+what ``tca.sensitivity`` calls for one design: explore/aligned.py), then takes the implicit-function
 derivatives with the generated numpy contact system over all designs at once.
 
 A design whose aligned contact at P is not a surface contact (edge, outside, failed) needs the
@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import functools
 import math
-import types
 
 import numpy as np
 
@@ -31,8 +30,8 @@ from ..geometry import PairGeometry
 from ..names import Member
 from ..solver import backends, section
 from ..solver.options import DEFAULT_OPTIONS
-from ..solver.records import PathOutput, PathRequest, Problem, Settings
 from ..status import Status
+from . import aligned
 
 _OK = int(Status.OK)
 
@@ -62,7 +61,7 @@ def geometry(values: dict, q: dict, idx: np.ndarray, models: dict) -> PairGeomet
 
 
 class Batch(NamedTuple):
-    """The designs of one call of :func:`_aligned_contacts`, one row each: the members' surface
+    """The designs of one call of :func:`beveloid.explore.aligned.aligned_contacts`, one row each: the members' surface
     parameters and blanks, the placement, the Newton start ``x0`` and the pinion angle ``phi`` at P."""
 
     pinion_params: np.ndarray
@@ -85,55 +84,30 @@ class BatchLimits(NamedTuple):
 
 
 class BatchOutput(NamedTuple):
-    """What :func:`_aligned_contacts` writes: the contact's unknowns and its status code (-1: none)."""
+    """What :func:`beveloid.explore.aligned.aligned_contacts` writes: the contact's unknowns and its status
+    code (-1: none)."""
 
     x: np.ndarray
     code: np.ndarray
 
 
-def _aligned_contacts(pm, gm, flank, batch, limits, out):
-    """Per design: the aligned contact at P (solve_point) and its status at P (solve_paths_serial)."""
-    cover = np.zeros((0, 8))
-    zeros = np.zeros(5)
-    errors = np.zeros((1, 5))
-    grid = np.zeros(1)
-    xo = np.empty((1, 1, 5))
-    co = np.empty((1, 1), dtype=np.int64)
-    io = np.empty((1, 1), dtype=np.int64)
-    bo = np.empty((1, 1), dtype=np.int64)
-    ao = np.empty((1, 1, 2), dtype=np.int64)
-    for i in range(batch.x0.shape[0]):
-        problem = Problem(pinion_model=pm, gear_model=gm, flank=flank, pinion_params=batch.pinion_params[i],
-                          gear_params=batch.gear_params[i], pair=batch.pair[i], pinion_blank=batch.pinion_blank[i],
-                          gear_blank=batch.gear_blank[i])
-        settings = Settings(scale_mm=limits.scale_mm[i], tol_mm=limits.tol_mm[i], max_iter=limits.max_iter,
-                            patch_tol_mm=limits.patch_tol_mm, homotopy_steps=limits.homotopy_steps,
-                            first_touch_sign=1.0)
-        x, conv, _, _ = solve_point(problem, batch.x0[i], batch.phi[i], zeros, settings)  # noqa: F821
-        if not conv:
-            out.code[i] = -1
-            continue
-        grid[0] = batch.phi[i]
-        solve_paths_serial(problem, PathRequest(pinion_cover=cover, x_ref=x, phi_ref=batch.phi[i],  # noqa: F821
-                                                errors=errors, phi_grid=grid),
-                           settings, PathOutput(x=xo, status=co, iterations=io, boundary=bo, active=ao))
-        out.code[i] = co[0, 0]
-        for j in range(xo.shape[2]):  # (a loop: numba's slice assignment compiles a shape-check message, ~1 s)
-            out.x[i, j] = xo[0, 0, j]
-
-
 @functools.lru_cache(maxsize=None)
 def _kernel(backend: str):
-    """_aligned_contacts bound to the solver core of a backend (compiled: numba, cached on disk)."""
-    ns = backends.namespace(backend)
-    glob = dict(globals(), solve_point=ns.solve_point, solve_paths_serial=ns.solve_paths_serial)
-    fn = types.FunctionType(_aligned_contacts.__code__, glob, "_aligned_contacts")
-    fn.__module__ = __name__
-    fn.__qualname__ = f"_aligned_contacts__{backends.core_stamp()}"  # cached per version of the core it calls
+    """aligned.aligned_contacts on a backend: as it is (numpy), or its compiled twin (beveloid.solver.compiled:
+    the module executed again among the core's twins, where the core's functions it imports are numba's
+    dispatchers), compiled by numba and cached on disk per version of the core it calls."""
+    ns = backends.namespace(backend)  # (compiled: the core's twins, loaded before the twin that imports them)
     if not ns.compiled:
-        return fn
+        return aligned.aligned_contacts
+    from ..solver import compiled
+
+    return compiled.load([aligned], _jit)[aligned].aligned_contacts
+
+
+def _jit(fn, module):
     import numba
 
+    fn.__qualname__ = f"{fn.__name__}__{backends.core_stamp()}"  # its cache entry: this version of the core
     return numba.njit(cache=True, nogil=True)(fn)
 
 
@@ -173,13 +147,12 @@ def sensitivities(geom: PairGeometry, backend: str = "auto") -> dict:
             axis=-1))
         x = np.full((n, 5), np.nan)
         code = np.empty(n, dtype=np.int64)
-        _kernel(backend)(tca_kernels.model_id(pm), tca_kernels.model_id(gm), tca_kernels.flank_id(flank),
-                         Batch(pinion_params=pp, gear_params=gp, pair=pair, pinion_blank=pb, gear_blank=gb, x0=x0,
-                               phi=phi1),
-                         BatchLimits(scale_mm=scale, tol_mm=tol, max_iter=DEFAULT_OPTIONS.max_iter,
-                                     homotopy_steps=DEFAULT_OPTIONS.homotopy_steps,
-                                     patch_tol_mm=DEFAULT_OPTIONS.patch_tol_mm),
-                         BatchOutput(x=x, code=code))
+        batch = Batch(pinion_params=pp, gear_params=gp, pair=pair, pinion_blank=pb, gear_blank=gb, x0=x0, phi=phi1)
+        limits = BatchLimits(scale_mm=scale, tol_mm=tol, max_iter=DEFAULT_OPTIONS.max_iter,
+                             homotopy_steps=DEFAULT_OPTIONS.homotopy_steps, patch_tol_mm=DEFAULT_OPTIONS.patch_tol_mm)
+        with np.errstate(all="ignore"):  # (interpreted: a diverging Newton iterate is answered by its status)
+            _kernel(backend)(tca_kernels.model_id(pm), tca_kernels.model_id(gm), tca_kernels.flank_id(flank), batch,
+                             limits, BatchOutput(x=x, code=code))
         res = {"status": code, "pinion_contact_D_errors": np.full((n, 3, 5), np.nan),
                "gear_contact_D_errors": np.full((n, 3, 5), np.nan), "gear_angle_D_errors": np.full((n, 5), np.nan),
                "unknowns_D_errors": np.full((n, 5, 5), np.nan)}

@@ -12,6 +12,8 @@ import numpy as np
 
 OBJECTIVES = ("max_fpd_angle_deg", "worst_path_shift_mm")
 MC_OBJECTIVE = "mc_edge_fraction"
+#: rows compared at once with three or more objectives
+_BLOCK = 512
 
 
 def objectives(mc: bool) -> tuple[str, ...]:
@@ -39,13 +41,15 @@ def front(points: np.ndarray) -> np.ndarray:
         keep = ~((prev < f2) | ((prev == f2) & (f1[at] < f1)))
         on[finite[order[keep]]] = True
         return on
-    kept: list[int] = []
-    for i in order:
-        if kept:
-            F = P[kept]
-            dominated = ((F <= P[i]).all(axis=1) & (F < P[i]).any(axis=1)).any()
-            if dominated:
-                continue
-        kept.append(i)
+    # more objectives: blocks of rows in that order, each row checked against the front so far and its
+    # block (a dominated row is dominated by a row of the front: checking those is enough)
+    kept = np.zeros(0, dtype=np.int64)
+    for start in range(0, order.size, _BLOCK):
+        block = order[start:start + _BLOCK]
+        B = P[block]
+        F = np.concatenate([P[kept], B])
+        le = (F[:, None, :] <= B[None, :, :]).all(axis=2)
+        lt = (F[:, None, :] < B[None, :, :]).any(axis=2)
+        kept = np.concatenate([kept, block[~(le & lt).any(axis=0)]])
     on[finite[kept]] = True
     return on

@@ -19,10 +19,12 @@ from typing import NamedTuple
 import numpy as np
 
 from .. import assembly_errors, tca
-from ..generated import design_equations, surface_models
+from ..generated import design_equations
 from ..status import Status
 from ..design import design_arrays
 from ..names import Member
+from ..spec import KEY_DOCS
+from ..spec.validate import implied_surface_model
 from . import contact, tooth
 
 AXES = ("x", "y", "z")
@@ -55,23 +57,25 @@ def sensitivity_columns(flank: str) -> list[str]:
                    f"{flank}_worst_gear_angle_urad"]
 
 
-def models(base: dict, values: dict) -> list[tuple[str, str]]:
-    """Each design's (pinion, gear) tooth-surface model, by the spec's rule (explicit, else selected
-    by a non-zero model key, else the default)."""
+def models(plan, values: dict) -> list[tuple[str, str]]:
+    """Each design's (pinion, gear) tooth-surface model: the file's ``tooth_surface``, else the spec's rule
+    (``beveloid.spec.validate.implied_surface_model``) on the design's keys (those of the file and the
+    varied ones), once per distinct set of the member's model keys."""
     n = next(iter(values.values())).size
     out = []
-    for member in ("pinion", "gear"):
-        given = base.get(member, {}).get("tooth_surface")
-        if given:
-            out.append(np.full(n, given, dtype=object))
+    for member in Member:
+        section = plan.base.get(member, {})
+        if section.get("tooth_surface"):
+            out.append(np.full(n, section["tooth_surface"], dtype=object))
             continue
-        chosen = np.full(n, surface_models.DEFAULT_MODEL, dtype=object)
-        for model, keys in reversed(list(surface_models.SELECTED_BY.items())):
-            hit = np.zeros(n, dtype=bool)
-            for k in keys:
-                hit |= values[f"{member}.{k}"] != 0
-            chosen[hit] = model
-        out.append(chosen)
+        docs = KEY_DOCS[member]
+        given = [k for k, doc in docs.items() if doc.model and (k in section or f"{member}.{k}" in plan.keys)]
+        numeric = [k for k, doc in docs.items() if doc.model and f"{member}.{k}" in values]
+        fixed = {k: section.get(k, doc.default) for k, doc in docs.items() if doc.model and k not in numeric}
+        rows, which = np.unique(np.stack([values[f"{member}.{k}"] for k in numeric], axis=1), axis=0,
+                                return_inverse=True)
+        chosen = [implied_surface_model({**fixed, **dict(zip(numeric, row))}, given, docs) for row in rows.tolist()]
+        out.append(np.array(chosen, dtype=object)[which.ravel()])
     return list(zip(out[0], out[1]))
 
 
@@ -120,7 +124,7 @@ def compute(plan, start: int, stop: int, tolerances: dict, backend: str = "auto"
 def model_groups(plan, values: dict, ok: np.ndarray) -> list[tuple[dict, np.ndarray]]:
     """The designs that pass the design's checks, grouped by their (pinion, gear) tooth-surface models:
     [({"pinion": model, "gear": model}, row indices)], in the models' sorted order."""
-    per_design = models(plan.base, values)
+    per_design = models(plan, values)
     rows_ok = np.nonzero(ok)[0]
     return [(dict(zip(("pinion", "gear"), pair_models)),
              np.array([i for i in rows_ok if per_design[i] == pair_models], dtype=np.int64))
@@ -230,7 +234,7 @@ def monte_carlo(cols: dict, plan, rows: slice, tolerances: dict, mc: MonteCarloR
             continue
         spec = design_spec(plan, values, j)
         nominal = {k: float(getattr(spec.misalignment, k)) for k in assembly_errors.KEYS}
-        design_seed = int(np.random.SeedSequence([seed, start + j]).generate_state(1, np.uint64)[0] >> 1)
+        design_seed = int(np.random.SeedSequence([seed, start + j]).generate_state(1, np.uint64)[0]) >> 1
         options = sweep.Options(flank=flank, samples=samples, positions=positions, seed=design_seed,
                                 ranges=dict(tolerances), nominal=nominal)
         try:

@@ -27,6 +27,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .. import interrupts
+from ..names import MEMBERS
 from ..outputs import check_output_dir
 from .formats import WRITERS, install_hint
 
@@ -34,7 +35,6 @@ __all__ = ["FORMATS", "MEMBERS", "CHORD_UM", "CadMissing", "require_cad", "Expor
            "ExportResult", "bore_diameters", "export", "WRITERS", "install_hint"]
 
 FORMATS = tuple(WRITERS)
-MEMBERS = ("pinion", "gear")
 #: the STL's chord error aimed at (um) at the cells' centres; 5 um is promised anywhere
 CHORD_UM = 3.0
 

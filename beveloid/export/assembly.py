@@ -13,7 +13,7 @@ import numpy as np
 
 from .. import tca
 from ..status import Status
-from .sampling import ExportGeometryError
+from ..tooth.sampling import ExportGeometryError
 
 
 def assembly_angles(pair):

@@ -1,7 +1,7 @@
 """STL: a closed triangle mesh whose vertices are points of the generated surfaces (trimesh writes it).
 
 Independent of the STEP path: no B-spline fit, no OpenCASCADE.  In every section z of a common axial
-grid the tooth's faces (:mod:`beveloid.export.sampling`) are walked in order round the gear
+grid the tooth's faces (:mod:`beveloid.tooth.sampling`) are walked in order round the gear
 
     fillet_left (root -> form limit), flank_left (-> tip), tip, flank_right (tip -> form limit),
     fillet_right (-> root), root (-> the next tooth's fillet_left)
@@ -22,7 +22,7 @@ import numpy as np
 import trimesh
 from trimesh.triangles import closest_point
 
-from .sampling import ExportGeometryError, ToothSampler, rotate_z
+from ..tooth.sampling import ExportGeometryError, ToothSampler, rotate_z
 
 #: the faces in the order the section walks them, and the direction of s along the walk
 RING = (("fillet_left", 1), ("flank_left", 1), ("tip", 1), ("flank_right", -1), ("fillet_right", -1), ("root", 1))

@@ -2,7 +2,7 @@
 
 One tooth and the gap after it are six faces (:data:`sampling.FACES`): both flanks, both root
 fillets, the tip land (tip cone) and the root land (root cone).  Each is a bicubic B-spline surface
-interpolating the face's points on an (s, z) grid (:mod:`beveloid.export.sampling`); the grid is
+interpolating the face's points on an (s, z) grid (:mod:`beveloid.tooth.sampling`); the grid is
 refined until the surface lies within :data:`FIT_TOL_UM` of the generated surface at the centres of
 the grid cells (points not used for the fit).  The tooth is turned N times about the axis, the faces
 are sewn, the toe and heel are capped by planar faces and the bore is cut.
@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import occ
-from .sampling import FACES, ExportGeometryError, ToothSampler
+from ..tooth.sampling import FACES, ExportGeometryError, ToothSampler
 
 #: the fitted faces lie within this distance of the generated surfaces between the fit points
 #: (the export promises 1 um; the fit aims at a quarter of it)

@@ -4,12 +4,18 @@ Folder: ``$BEVELOID_CACHE_DIR/fe`` when set, else ``platformdirs.user_cache_dir(
 An entry is one ``.npz`` per (member design, material, refinement), named by a SHA-256 digest of
 its key: everything the data depends on (the member's generated-surface and fillet parameters, its
 teeth, face, tip and bore, E and nu, the refinement, the load grid and reading depth constants) plus
-the package version and :data:`FE_DATA_VERSION`.  The key is stored inside the entry and compared on
-reading: an entry whose key differs (stale) or that cannot be read (corrupt, truncated) is computed
+:data:`FE_DATA_VERSION` and :func:`code_digest`, a SHA-256 of the source of every module that can
+produce the data (the package minus :data:`NOT_FE_SOURCES`): a change to the FE code, the sampled
+tooth or the generated kernels invalidates cached data by construction.  The member is its **body**
+(:func:`beveloid.tooth.body.body_pair`): the key holds no flank modification, so one entry serves
+every crowning, relief and user flank model of a macro geometry.  The key is stored inside the entry
+and compared on reading: an entry whose key differs (stale) or that cannot be read (corrupt, truncated) is computed
 again and replaced, never used.  Entries are written to a temporary file and renamed into place.
 """
 from __future__ import annotations
 
+import collections
+import functools
 import hashlib
 import json
 import os
@@ -21,11 +27,39 @@ import numpy as np
 
 from . import tooth
 
-__all__ = ["CACHE_ENV", "FE_DATA_VERSION", "cache_dir", "cache_key", "cached_tooth_data", "entry_path"]
+__all__ = ["CACHE_ENV", "FE_DATA_VERSION", "NOT_FE_SOURCES", "cache_dir", "cache_key", "cached_tooth_data", "code_digest",
+           "entry_path"]
 
 CACHE_ENV = "BEVELOID_CACHE_DIR"
 #: raise when the FE data's meaning changes without a change of its inputs
 FE_DATA_VERSION = 2  # 2: isoparametric (curved) P2 tets, stresses from them
+
+
+#: the package's folders whose code never runs while FE data is made (the analyses above the FE
+#: tooth, the commands, the derivations): left out of :func:`code_digest` so that editing them keeps
+#: the cache; tests/fe holds this list to what a real computation executes
+NOT_FE_SOURCES = ("cli", "derivations", "explore", "fecheck", "ltca", "rating", "studies", "tca", "design")
+
+
+def source_files() -> list:
+    """The package's source files that can produce FE data (sorted, relative to the package)."""
+    from .. import generated
+
+    root = Path(__file__).resolve().parents[1]
+    files = [p for p in root.rglob("*.py") if p.relative_to(root).parts[0] not in NOT_FE_SOURCES]
+    gen = Path(generated.__file__).resolve().parent
+    if not gen.is_relative_to(root):  # a checkout: generated/ beside the package
+        files += list(gen.rglob("*.py"))
+    return sorted(set(files))
+
+
+@functools.lru_cache(maxsize=1)
+def code_digest() -> str:
+    """SHA-256 (hex, 16 digits) over the names and bytes of :func:`source_files`."""
+    h = hashlib.sha256()
+    for p in source_files():
+        h.update(p.name.encode() + b"\0" + p.read_bytes() + b"\0")
+    return h.hexdigest()[:16]
 
 
 def cache_dir() -> Path:
@@ -47,12 +81,15 @@ def cache_key(pair, member: str, e_mpa: float, nu: float, refinement: int, coars
     from ..tooth import fillet
     from . import mesh
 
+    from ..tooth.body import body_pair
+
+    pair = body_pair(pair, member)
     geometry = getattr(pair, "geometry", pair)
     spec = getattr(pair, "spec", None)
     bore = float(getattr(getattr(spec, member, None), "bore_diameter_mm", 0.0) or 0.0) if spec else 0.0
     m = geometry.member(member)
     data = {
-        "version": __version__, "fe_data_version": FE_DATA_VERSION, "member": member,
+        "version": __version__, "fe_data_version": FE_DATA_VERSION, "code": code_digest(), "member": member,
         "tooth_surface": str(m.tooth_surface), "surface_params": _floats(geometry.surface_params(member)),
         "fillet_params": _floats(fillet.fillet_params(geometry, member)), "teeth": int(m.teeth),
         "face_limits_mm": _floats(m.face_limits), "tip_radius_mm": _floats(m.tip_radius(np.array(m.face_limits))),
@@ -99,18 +136,44 @@ def _write(path: Path, key: str, data) -> None:
         raise
 
 
+#: the data of the last few keys read or computed in this process ("compute once per pair and reuse":
+#: an analysis repeated on the same macro geometry does not read the file again; ~80 MB an entry)
+_KEPT: "collections.OrderedDict" = collections.OrderedDict()
+KEPT_ENTRIES = 4
+
+
 def cached_tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: int = 1, progress=None,
                       coarsen: float = 1.0):
     """(ToothData, how: "hit" | "miss" | "stale" | "corrupt") from the cache, computing on a miss.
-    A cache folder that cannot be written is not an error: the data is then computed each time."""
+    A cache folder that cannot be written is not an error: the data is then computed each time.
+    The data of a key already read in this process is returned again ("hit") while its file is
+    unchanged (same size and modification time)."""
     key = cache_key(pair, member, e_mpa, nu, refinement, coarsen)
     path = entry_path(key)
+    stamp = _stamp(path)
+    kept = _KEPT.get((path, key))
+    if kept is not None and stamp is not None and kept[0] == stamp:
+        _KEPT.move_to_end((path, key))
+        return kept[1], "hit"
     data, how = _read(path, key)
-    if data is not None:
-        return data, how
-    data = tooth.tooth_data(pair, member, e_mpa, nu, refinement, progress=progress, coarsen=coarsen)
-    try:
-        _write(path, key, data)
-    except OSError:
-        pass
+    if data is None:
+        data = tooth.tooth_data(pair, member, e_mpa, nu, refinement, progress=progress, coarsen=coarsen)
+        try:
+            _write(path, key, data)
+        except OSError:
+            pass
+    stamp = _stamp(path)
+    if stamp is not None:
+        _KEPT[path, key] = (stamp, data)
+        while len(_KEPT) > KEPT_ENTRIES:
+            _KEPT.popitem(last=False)
     return data, how
+
+
+def _stamp(path: Path):
+    """(size, mtime_ns) of a cache entry, None when it is not there."""
+    try:
+        st = path.stat()
+    except OSError:
+        return None
+    return st.st_size, st.st_mtime_ns

@@ -22,8 +22,8 @@ import typing
 
 import numpy as np
 
-from ..export.sampling import FLANKS
-from .solve import principal_stresses
+from ..names import FLANKS
+from . import principal
 
 __all__ = ["FeTooth", "RootStress"]
 
@@ -56,13 +56,24 @@ class FeTooth:
         fp = np.asarray(data.fillet_points_mm)
         dist = np.min(np.linalg.norm(fp[:, :, None, :] - grid[None, None], axis=-1), axis=-1)
         self.counted = dist > near  # (2, nf)
+        # the counted nodes' stress operators (rows node-major, 6 components, G columns) of the loaded
+        # side's fillet (0) and the other's (1)
+        sides = (self.index, 1 - self.index)
+        self.nodes = tuple(np.flatnonzero(self.counted[s]) for s in sides)
+        self.operators = tuple(np.ascontiguousarray(self.stress[s][n]) for s, n in zip(sides, self.nodes))
+        fn = principal.functions()
+        self.bounds = tuple(fn.bounds(op, sign) for op, sign in zip(self.operators, (1.0, -1.0)))
 
     def weights(self, points) -> np.ndarray:
-        """(n, G) bilinear weights of the load grid's nodes (profile-major) for points (n, 3)."""
+        """(n, G) bilinear weights of the load grid's nodes (profile-major) for points (n, 3); a row of
+        zeros for a point that is not finite."""
         p = np.asarray(points, dtype=float).reshape(-1, 3)
         ns, nz = self.radius_mm.shape
         W = np.zeros((p.shape[0], ns * nz))
+        # a point off the surfaces (NaN: a cell of a pair without contact) carries no load: a zero row,
+        # placed anywhere finite so that no index is made of a NaN
         ok = np.all(np.isfinite(p), axis=1)
+        p = np.where(ok[:, None], p, self.data.points_mm[self.index][0, 0])
         z = np.clip(p[:, 2], self.z_mm[0], self.z_mm[-1])
         fz = np.interp(z, self.z_mm, np.arange(nz))
         jz = np.minimum(fz.astype(int), nz - 2)
@@ -75,36 +86,66 @@ class FeTooth:
         ts = np.clip((r - lo) / (hi - lo), 0.0, 1.0)
         for da, wa in ((0, 1 - ts), (1, ts)):
             for dz, wz in ((0, 1 - tz), (1, tz)):
-                np.add.at(W, (rows, (js + da) * nz + jz + dz), np.where(ok, wa * wz, 0.0))
+                W[rows, (js + da) * nz + jz + dz] = np.where(ok, wa * wz, 0.0)  # four distinct nodes a row
         return W
 
     def line_compliance(self, points) -> np.ndarray:
-        W = self.weights(points)
-        return W @ self.compliance_mm_per_n @ W.T
+        return self.line_compliances(np.asarray(points, dtype=float)[None])[0]
 
-    def _principal(self, points, forces_n):
-        f = np.nan_to_num(np.asarray(forces_n, dtype=float).ravel())
-        g = self.weights(points).T @ f  # (G,)
-        return (principal_stresses(self.stress[self.index] @ g), principal_stresses(self.stress[1 - self.index] @ g))
+    def line_compliances(self, points) -> np.ndarray:
+        """(Q, n, n) W C W^T of Q point sets (Q, n, 3) in one product."""
+        p = np.asarray(points, dtype=float)
+        W = self.weights(p.reshape(-1, 3)).reshape(p.shape[0], p.shape[1], -1)
+        return (W @ self.compliance_mm_per_n) @ np.swapaxes(W, 1, 2)
+
+    def loads(self, points, forces_n) -> np.ndarray:
+        """(Q, G) the load-grid node forces g = W^T f of Q load sets: ``points`` (Q, n, 3), ``forces_n``
+        (Q, n) (a non-finite force is none)."""
+        p = np.asarray(points, dtype=float)
+        f = np.nan_to_num(np.asarray(forces_n, dtype=float)).reshape(p.shape[0], -1)
+        W = self.weights(p.reshape(-1, 3)).reshape(p.shape[0], -1, self.stress.shape[-1])
+        return np.einsum("qng,qn->qg", W, f)
+
+    def _tensors(self, side, g):
+        """(Q, nc, 6) the counted fillet nodes' stress tensors of ``side`` (0 the loaded flank's fillet)
+        under loads g (Q, G)."""
+        op = self.operators[side]
+        return (g @ op.reshape(-1, op.shape[-1]).T).reshape(g.shape[0], -1, 6)
 
     def along_face(self, points, forces_n, bins: int = 24):
         """(z_mm (bins,), stress (bins,)): the loaded fillet's largest max-principal stress in each of
         ``bins`` equal slices of the face (nan where a slice holds no counted node)."""
-        loaded, _ = self._principal(points, forces_n)
-        z = self.data.fillet_points_mm[self.index][:, 2]
+        g = self.loads(np.asarray(points, dtype=float)[None], np.asarray(forces_n, dtype=float)[None])
+        loaded = np.empty(self.nodes[0].size)
+        principal.functions().each_node(self._tensors(0, g)[0], 1.0, loaded)
+        z = self.data.fillet_points_mm[self.index][self.nodes[0], 2]
         edges = np.linspace(self.z_mm[0], self.z_mm[-1], bins + 1)
         slot = np.clip(np.searchsorted(edges, z) - 1, 0, bins - 1)
         out = np.full(bins, np.nan)
         for b in range(bins):
-            sel = (slot == b) & self.counted[self.index]
+            sel = slot == b
             if sel.any():
-                out[b] = float(np.max(loaded[sel, 2]))
+                out[b] = float(np.max(loaded[sel]))
         return 0.5 * (edges[1:] + edges[:-1]), out
 
     def root_stress(self, points, forces_n) -> RootStress:
         """The root stress of this tooth under normal forces (N) at flank points (see the module docstring)."""
-        loaded, other = self._principal(points, forces_n)
-        k = int(np.argmax(np.where(self.counted[self.index], loaded[:, 2], -np.inf)))
+        r = self.root_stresses(np.asarray(points, dtype=float)[None], np.asarray(forces_n, dtype=float)[None])
+        return RootStress(*(float(v[0]) for v in r))
+
+    def root_stresses(self, points, forces_n) -> RootStress:
+        """:meth:`root_stress` of Q load sets at once (``points`` (Q, n, 3), ``forces_n`` (Q, n)): a
+        RootStress of (Q,) arrays: the extreme principal stresses by :func:`beveloid.fe.principal.extreme`
+        (each set's tensors over its non-zero node loads, only at the nodes whose bound can reach them)."""
+        g = np.ascontiguousarray(self.loads(points, forces_n))
+        Q = g.shape[0]
+        fn = principal.functions()
+        out = []
+        for side, sign in ((0, 1.0), (1, -1.0)):
+            node, value = np.zeros(Q, dtype=np.int64), np.full(Q, np.nan)
+            if self.nodes[side].size:
+                fn.extreme(self.operators[side], self.bounds[side], g, sign, node, value)
+            out.append((self.nodes[side][node] if self.nodes[side].size else node, value))
+        (k, tension), (_, compression) = out
         where = self.data.fillet_points_mm[self.index][k]
-        return RootStress(float(loaded[k, 2]), float(where[2]), float(self.data.fillet_height_mm[self.index][k]),
-                          float(np.min(np.where(self.counted[1 - self.index], other[:, 0], np.inf))))
+        return RootStress(tension, where[:, 2], np.asarray(self.data.fillet_height_mm[self.index])[k], compression)

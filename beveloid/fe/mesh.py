@@ -1,7 +1,7 @@
 """A sector of one member meshed by gmsh as second-order (10-node) tetrahedra.
 
 ``sector_mesh(pair, member, refinement=1, teeth=3)`` builds the sector from OUR geometry: the
-transverse sections of the tooth faces that the export samples (``export.sampling.ToothSampler``:
+transverse sections of the tooth faces that the export samples (``tooth.sampling.ToothSampler``:
 the generated flanks, the generated root fillets, tip and root cones) are closed into one planar
 profile per section z, and gmsh's OpenCASCADE kernel lofts a solid through the sections
 (``addThruSections``).  Every segment of the profile becomes one lateral face of the solid, so each
@@ -9,9 +9,9 @@ face of the mesh is known by name without searching.
 
 The sector (member frame S_i, mm): ``teeth`` whole teeth (odd, the loaded tooth 0 in the middle,
 tooth k turned by k pitches from the sampled tooth), the root lands either side cut in their middle
-by a radial surface (``side_lo``, ``side_hi``), down to the inner surface ``rim``: the bore when the
-member has one, else a cylinder of radius r_root,min - RIM_DEPTH_PER_HEIGHT * h (h the tooth depth;
-ISO 6336-3 takes a rim of 1.2 h or more as not weakening the tooth).
+by a radial surface (``side_lo``, ``side_hi``), down to the inner surface ``rim``: a cylinder of radius
+r_root,min - RIM_DEPTH_PER_HEIGHT * h (h the tooth depth; ISO 6336-3 takes a rim of 1.2 h or more as
+not weakening the tooth), or the bore where the member has one outside that cylinder.
 
 Element size (mm, ``refinement`` N divides every size): on the flanks of the loaded tooth
 h_flank = FLANK_SIZE_PER_MODULE m_n / N; in the fillets of the loaded tooth
@@ -28,7 +28,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..export.sampling import ToothSampler
+from ..tooth.sampling import ToothSampler
 from .sizes import FAR_GROWTH, FILLET_GROWTH, ContactStrips, size_field
 
 __all__ = ["FACE_KINDS", "SectorMesh", "MeshSizes", "mesh_sizes", "sector_mesh", "fillet_radius_mm",
@@ -36,7 +36,7 @@ __all__ = ["FACE_KINDS", "SectorMesh", "MeshSizes", "mesh_sizes", "sector_mesh",
            "FILLET_SIZE_PER_RADIUS", "RIM_DEPTH_PER_HEIGHT", "SectorShape", "record_from_gmsh"]
 
 #: raise when the meshing rules change (it is part of the FE cache's key)
-MESH_RULES_VERSION = 2
+MESH_RULES_VERSION = 3  # 3: a bore inside the 1.2 h rim leaves the rim
 FLANK_SIZE_PER_MODULE = 0.3
 FAR_SIZE_PER_MODULE = 1.0
 FILLET_SIZE_PER_RADIUS = 0.5
@@ -171,13 +171,13 @@ def _references(segments, z, r_rim):
 
 
 def rim_radius(sampler: ToothSampler, bore_diameter_mm: float) -> float:
-    """The sector's inner radius (mm): the bore, else the rim of the module docstring."""
-    if bore_diameter_mm > 0:
-        return 0.5 * bore_diameter_mm
+    """The sector's inner radius (mm): the rim of the module docstring, or the bore where it leaves a
+    thinner rim (a bore further in does not weaken the tooth, ISO 6336-3's rim of 1.2 h; and a bore of
+    1e-38 mm is no bore to mesh)."""
     z = np.array(sampler.z_range_mm)
     r_root = float(np.min(sampler.root_radius_mm(z)))
     depth = float(np.max(sampler.tip_radius_mm(z) - sampler.root_radius_mm(z)))
-    return r_root - RIM_DEPTH_PER_HEIGHT * depth
+    return max(r_root - RIM_DEPTH_PER_HEIGHT * depth, 0.5 * bore_diameter_mm)
 
 
 def sector_mesh(pair, member: str, refinement: int = 1, teeth: int = 3, coarsen: float = 1.0,

@@ -157,7 +157,7 @@ class Located:
 
     tet: np.ndarray  # (n,)
     bary: np.ndarray  # (n, 4)
-    outside_mm: np.ndarray  # (n,) how far the point lay outside its tet (scaled barycentric excess)
+    outside_mm: np.ndarray  # (n,) the distance from the point to where it is read (0 inside a tet)
 
 
 def _barycentric(corners, x):
@@ -167,9 +167,13 @@ def _barycentric(corners, x):
     return np.concatenate([1.0 - lam.sum(axis=-1, keepdims=True), lam], axis=-1)
 
 
-def locate(mesh, points) -> Located:
-    """The tet holding each point (or, for a point on a curved face just outside the straight tets,
-    the nearest one) among the :data:`_CANDIDATES` tets whose centres are nearest."""
+def locate(mesh, points, max_outside_mm=None) -> Located:
+    """The tet holding each point among the :data:`_CANDIDATES` tets whose centres are nearest; a point
+    outside every straight tet (on a curved face just outside them, or off the solid) is read in the
+    best of them at its barycentric coordinates clipped to >= 0 (a point of that tet), and
+    ``outside_mm`` is its distance to that reading point (at least its distance to the solid).  ``max_outside_mm``: a point read further than this from where
+    it was asked raises ValueError (one line: the point, the distance, the limit); None reads every
+    point (the caller checks ``outside_mm``)."""
     pts = np.atleast_2d(np.asarray(points, dtype=float))
     corners = mesh.nodes[mesh.tets[:, :4]]
     tree = cKDTree(corners.mean(axis=1))
@@ -177,12 +181,17 @@ def locate(mesh, points) -> Located:
     bary = _barycentric(corners[cand], pts[:, None, :])
     worst = bary.min(axis=-1)
     best = np.argmax(worst, axis=1)
-    tet = cand[np.arange(len(pts)), best]
-    b = bary[np.arange(len(pts)), best]
-    edge = np.linalg.norm(corners[tet, 1] - corners[tet, 0], axis=-1)
-    clipped = np.clip(b, 0.0, None)
-    return Located(tet, clipped / clipped.sum(axis=1, keepdims=True), np.maximum(-worst[np.arange(len(pts)), best],
-                                                                                 0.0) * edge)
+    rows = np.arange(len(pts))
+    tet = cand[rows, best]
+    clipped = np.clip(bary[rows, best], 0.0, None)
+    clipped /= clipped.sum(axis=1, keepdims=True)
+    read = np.einsum("nk,nkd->nd", clipped, corners[tet])
+    outside = np.where(worst[rows, best] < 0.0, np.linalg.norm(read - pts, axis=1), 0.0)
+    if max_outside_mm is not None and np.any(outside > max_outside_mm):
+        i = int(np.argmax(outside))
+        raise ValueError(f"point {np.round(pts[i], 4).tolist()} mm lies {outside[i]:.4f} mm outside the mesh: "
+                         f"must be inside the solid or within {max_outside_mm:g} mm of it")
+    return Located(tet, clipped, outside)
 
 
 def shape_values(bary) -> np.ndarray:

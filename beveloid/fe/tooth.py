@@ -28,9 +28,9 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial import cKDTree
-
-from ..export.sampling import FLANKS, ToothSampler
+from ..names import FLANKS
+from ..tooth.sampling import ToothSampler
+from ..tooth.body import body_pair, flank_thickness_mm
 from . import solve
 from .mesh import sector_mesh
 
@@ -111,7 +111,9 @@ def _say(progress, text):
 
 def tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: int = 1, progress=None, coarsen=1.0
                ) -> ToothData:
-    """Mesh, factor and solve the member's FE tooth (see the module docstring)."""
+    """Mesh, factor and solve the member's FE tooth (see the module docstring): on its body, the member
+    cut by the unmodified rack (:mod:`beveloid.tooth.body`)."""
+    pair = body_pair(pair, member)
     geometry = getattr(pair, "geometry", pair)
     t0 = time.perf_counter()
     _say(progress, f"FE tooth {member}: meshing (refinement {refinement})")
@@ -126,7 +128,7 @@ def tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: int = 1, 
     nrm = np.stack([g[3] for g in grids])
     G = pts.shape[1] * pts.shape[2]
     flat_p, flat_n = pts.reshape(2, G, 3), nrm.reshape(2, G, 3)
-    thick = np.stack([cKDTree(flat_p[1 - f]).query(flat_p[f])[0] for f in range(2)])
+    thick = flank_thickness_mm(flat_p)
     # the other flank's grid is coarse: the thickness is a fraction of it, so an upper bound does
     depth = np.minimum(DEPTH_PER_MODULE * geometry.normal_module_mm, DEPTH_PER_THICKNESS * thick)
     fillet_nodes = [mesh.node_sets[f"fillet_{f}_0"] for f in FLANKS]

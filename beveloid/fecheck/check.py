@@ -52,11 +52,8 @@ class CheckOptions:
     def __post_init__(self):
         from ..ltca.options import check_positions, check_torque
 
-        try:
-            check_torque(self.torque_nm, key="--torque-nm")
-            check_positions(self.ltca_positions, key="positions")
-        except ValueError as exc:
-            raise UserError(str(exc)) from None
+        check_torque(self.torque_nm, key="--torque-nm")  # OptionError: a UserError, one line
+        check_positions(self.ltca_positions, key="positions")
         if self.flank not in ("left", "right"):
             raise UserError(f"--flank = {self.flank!r}: must be left or right")
         if not (isinstance(self.refinement, int) and 1 <= self.refinement <= 4):

@@ -71,11 +71,16 @@ def run_ccx(deck_path, progress=None, threads: int = 2) -> CcxRun:
     lines = []
     with subprocess.Popen([exe, "-i", job], cwd=deck_path.parent, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                           text=True, env=env) as proc:
-        for line in proc.stdout:
-            lines.append(line.rstrip("\n"))
-            if progress is not None and line.strip():
-                progress(line.rstrip("\n"))
-        rc = proc.wait()
+        try:
+            for line in proc.stdout:
+                lines.append(line.rstrip("\n"))
+                if progress is not None and line.strip():
+                    progress(line.rstrip("\n"))
+            rc = proc.wait()
+        except BaseException:  # Ctrl-C (or a failing progress): ccx stops too, before its files are cleaned up
+            proc.kill()
+            proc.wait()
+            raise
     wall = time.perf_counter() - t0
     r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)

@@ -7,10 +7,13 @@ its limits are in docs/loaded_contact.md.
     from beveloid.solver import Solver
     result = analyze(Pair.example("case1"), Options(torque_nm=200.0, flank="left"), Solver())
 
+``analyze_many(pair, options, torques_nm, error_sets, solver)`` -> :class:`Batch`: N positions x T
+torques x K error sets in one call, the one engine of ``analyze`` (``batch``).
+
 Modules: ``options`` (the request and its range table), ``gaps`` (the unloaded gap from the
 generated surfaces), ``grid`` (each pair's grid, sized from Hertz), ``compliance`` (the beveloid
-compliance operator: half-space + tooth beams), ``cycle`` (the reference and one solve per
-position), ``analysis`` (the passes), ``result`` (the result and its JSON), ``pattern`` (the
+compliance operator: half-space + tooth beams), ``cycle`` (the reference and the solves of
+every position), ``kernel`` (the compiled active-set solve), ``analysis`` (the passes), ``result`` (the result and its JSON), ``pattern`` (the
 pattern over the cycle), ``plots``; the mechanics: ``halfspace``, ``lcp``, ``hertz``,
 ``tooth_compliance``, ``checks``.
 """
@@ -20,13 +23,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .batch import Batch
 from .compliance import BeveloidCompliance
 from .options import DEFAULT_GRID, RANGES, Material, Options
 from .pattern import FlankPattern, flank_pattern
 from .result import LTCAResult, to_json_dict
 
-__all__ = ["BeveloidCompliance", "DEFAULT_GRID", "FlankPattern", "GridOptions", "LTCAResult", "Material",
-           "Options", "RANGES", "analyze", "flank_pattern", "to_json_dict"]
+__all__ = ["Batch", "BeveloidCompliance", "DEFAULT_GRID", "FlankPattern", "GridOptions", "LTCAResult", "Material",
+           "Options", "RANGES", "analyze", "analyze_many", "flank_pattern", "to_json_dict"]
 
 
 @dataclass(frozen=True)
@@ -66,6 +70,28 @@ def analyze(pair, options: Options | None = None, solver=None, **legacy) -> LTCA
         spec = getattr(pair, "spec", None)
         material = Material.from_spec(spec) if spec is not None else Material()
     return run(geom, errors, options, material, Solver.of(solver), pair=pair)
+
+
+def analyze_many(pair, options: Options, torques_nm=None, error_sets=None, solver=None) -> Batch:
+    """N positions x T torques x K error sets of one pair in one call: a :class:`Batch` whose
+    ``results[k][t]`` equals ``analyze(pair, options with torque_nm = torques_nm[t] and errors =
+    error_sets[k], solver)``.  ``torques_nm`` None: the options' torque; ``error_sets`` (K, 5) None:
+    the options' errors (else the pair's misalignment).  ``options.material`` None: the pair's."""
+    from ..solver import Solver
+    from .analysis import run_many
+    from .batch import check_error_sets, check_torques
+
+    torques = check_torques([options.torque_nm] if torques_nm is None else torques_nm)
+    if error_sets is None:
+        error_sets = [options.errors if options.errors is not None else getattr(pair, "errors", np.zeros(5))]
+    errors = check_error_sets(error_sets)
+    geom = getattr(pair, "geometry", pair)
+    material = options.material
+    if material is None:
+        spec = getattr(pair, "spec", None)
+        material = Material.from_spec(spec) if spec is not None else Material()
+    results = run_many(geom, list(errors), list(torques), options, material, Solver.of(solver), pair=pair)
+    return Batch(torque_nm=torques, errors=errors, results=tuple(tuple(r) for r in results))
 
 
 def _keyword_form(torque_nm, flank, kwargs):

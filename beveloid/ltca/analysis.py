@@ -18,7 +18,7 @@ import numpy as np
 
 from .. import tca
 from . import grid as grids
-from .cycle import Setup, merge, solve
+from .cycle import Problem, Setup, merge, solve_many
 from .options import Material, Options
 from .result import (MAX_HALF_WIDTH_TIMES_CURVATURE, MAX_PRESSURE_OVER_E_STAR, Convergence, LTCAResult)
 from .teeth import member_teeth, root_stresses
@@ -36,62 +36,101 @@ def _one_blas_thread():
 
 def run(geom, errors, options: Options, material: Material, solver, pair=None) -> LTCAResult:
     """The LTCA of ``geom`` (a PairGeometry) with the assembly ``errors``; see the module docstring.
-    ``pair``: the Pair when known (the FE tooth reads the bores from its spec)."""
+    ``pair``: the Pair when known (the FE tooth reads the bores from its spec).  One case of
+    :func:`run_many`."""
+    return run_many(geom, [errors], [options.torque_nm], options, material, solver, pair)[0][0]
+
+
+def run_many(geom, error_sets, torques_nm, options: Options, material: Material, solver, pair=None) -> list:
+    """``[[LTCAResult of error set k at torque t for t in torques_nm] for k in error_sets]``: every
+    (error set, torque) case of one pair in one batch.  The teeth once (the FE data once per pair);
+    the rigid reference once per error set (it does not depend on the torque); each pass of the module
+    docstring once for every case, its contact problems in one compiled call
+    (:func:`cycle.solve_many`); the root stresses of every loaded (position, pair) of a case at once."""
     options.check_memory()
-    teeth = member_teeth(pair, geom, options, material)
+    teeth, body_notes = member_teeth(pair, geom, options, material)
     with _one_blas_thread(), np.errstate(all="ignore"):
-        return _run(geom, errors, options, material, solver, teeth)
+        setups = [Setup(geom, options.flank, e, options.positions, options.pairs, solver) for e in error_sets]
+        cases = [(s, float(t)) for s in setups for t in torques_nm]
+        results = _run(cases, options, material, teeth, body_notes)
+    T = len(torques_nm)
+    return [results[k * T:(k + 1) * T] for k in range(len(setups))]
 
 
-def _run(geom, errors, options, material, solver, teeth):
-    T, N, P = options.torque_nm, options.positions, options.pairs
+def _run(cases, options, material, teeth, body_notes=()):
+    """The passes of the module docstring over every (setup, torque) case at once."""
+    import dataclasses
+
+    N, P = options.positions, options.pairs
     e_star = material.e_star_mpa
-    setup = Setup(geom, options.flank, errors, N, P, solver)
     fine = options.cells
     coarse = (grids.coarser(fine[0]), grids.coarser(fine[1]))
-    fr = setup.frame
-    line = geom.pinion.face_width_mm / max(math.cos(geom.pinion.helix_angle), 0.3)
-    full = setup.full_load_n(T)
 
-    def sized(cells, load):
+    def sized(setup, cells, load):
+        fr, geom = setup.frame, setup.geom
+        line = geom.pinion.face_width_mm / max(math.cos(geom.pinion.helix_angle), 0.3)
         b, a = grids.hertz_semi_axes(fr.curvature_across, fr.curvature_along, load, e_star, line)
         fb = np.nanmax(np.where(np.isfinite(b), b, np.nan)) if np.isfinite(b).any() else 0.1 * geom.normal_module_mm
         fa = np.nanmax(np.where(np.isfinite(a), a, np.nan)) if np.isfinite(a).any() else setup.max_along_mm
         return grids.sized(cells, b, a, setup.max_along_mm, np.stack(np.broadcast_arrays(fb, fa), -1)
                            * np.ones((N, P, 1)) * [grids.EXTENT_ACROSS, grids.EXTENT_ALONG])
 
-    every = setup.solved & setup.has_reference[:, None]
+    def solve_all(problems):
+        return solve_many(problems, e_star, teeth)
+
+    every = [s.solved & s.has_reference[:, None] for s, _ in cases]
+    full = [s.full_load_n(T) for s, T in cases]
     # 2. first pass: coarse, every pair sized for the whole torque (along: at most the flank's half diagonal)
-    g1 = sized(coarse, full)
-    g1 = g1._replace(along_half_mm=np.minimum(g1.along_half_mm, 0.5 * setup.max_along_mm))
-    first = solve(setup, g1, every, T, e_star, teeth)
-    load1 = np.where(first.converged[:, None], first.pair_load_n(), full)
-    need = every & ~setup.open_pairs(first.rotation_rad) | (load1 > 0) & every
+    g1 = []
+    for (s, _), f in zip(cases, full):
+        g = sized(s, coarse, f)
+        g1.append(g._replace(along_half_mm=np.minimum(g.along_half_mm, 0.5 * s.max_along_mm)))
+    first = solve_all([Problem(s, g, e, T) for (s, T), g, e in zip(cases, g1, every)])
     # 3. result pass, sized from the first pass's loads; along the line no longer than the first
     # pass's loaded patch (a patch cut by the flank ends is shorter than Hertz's)
-    g = sized(fine, np.maximum(load1, grids.LOAD_FLOOR * full))
-    reach = grids.loaded_along_mm(first) * grids.PATCH_MARGIN
-    g = g._replace(along_half_mm=np.where(np.isfinite(reach), np.minimum(g.along_half_mm, reach), g.along_half_mm))
-    sol = solve(setup, g, need, T, e_star, teeth)
-    notes = []
+    need, grids2 = [], []
+    for (s, T), f, e, fst in zip(cases, full, every, first):
+        load1 = np.where(fst.converged[:, None], fst.pair_load_n(), f)
+        need.append(e & ~s.open_pairs(fst.rotation_rad) | (load1 > 0) & e)
+        g = sized(s, fine, np.maximum(load1, grids.LOAD_FLOOR * f))
+        reach = grids.loaded_along_mm(fst) * grids.PATCH_MARGIN
+        grids2.append(g._replace(along_half_mm=np.where(np.isfinite(reach), np.minimum(g.along_half_mm, reach),
+                                                        g.along_half_mm)))
+    sols = solve_all([Problem(s, g, nd, T) for (s, T), g, nd in zip(cases, grids2, need)])
+    notes = [list(body_notes) for _ in cases]
+    active = list(range(len(cases)))
     for attempt in range(grids.MAX_GROWTHS + 1):
-        hit = grids.reaches_edge(sol.pressure_mpa, sol.gap.in_flank, *fine) & sol.converged[:, None, None]
-        hit[..., 1] &= sol.grid.along_half_mm < setup.max_along_mm
-        rows = np.flatnonzero(hit.any(axis=(1, 2)))
-        if rows.size == 0:
+        todo = []
+        for c in active:
+            sol, s = sols[c], cases[c][0]
+            hit = grids.reaches_edge(sol.pressure_mpa, sol.gap.in_flank, *fine) & sol.converged[:, None, None]
+            hit[..., 1] &= sol.grid.along_half_mm < s.max_along_mm
+            rows = np.flatnonzero(hit.any(axis=(1, 2)))
+            if rows.size == 0:
+                continue
+            if attempt == grids.MAX_GROWTHS:
+                notes[c].append(f"the loaded patch still reaches the grid edge at {rows.size} positions after "
+                                f"{grids.MAX_GROWTHS} enlargements: pressures near that edge are truncated")
+                continue
+            grow = np.where(hit, grids.GROWTH, 1.0)
+            g2 = sol.grid._replace(across_half_mm=sol.grid.across_half_mm * grow[..., 0],
+                                   along_half_mm=np.minimum(sol.grid.along_half_mm * grow[..., 1], s.max_along_mm))
+            todo.append((c, g2, rows))
+        if not todo:
             break
-        if attempt == grids.MAX_GROWTHS:
-            notes.append(f"the loaded patch still reaches the grid edge at {rows.size} positions after "
-                         f"{grids.MAX_GROWTHS} enlargements: pressures near that edge are truncated")
-            break
-        grow = np.where(hit, grids.GROWTH, 1.0)
-        g2 = sol.grid._replace(across_half_mm=sol.grid.across_half_mm * grow[..., 0],
-                               along_half_mm=np.minimum(sol.grid.along_half_mm * grow[..., 1], setup.max_along_mm))
-        sol = merge(sol, solve(setup, g2, need, T, e_star, teeth, positions=rows), rows)
+        grown = solve_all([Problem(cases[c][0], g2, need[c], cases[c][1], rows) for c, g2, rows in todo])
+        for (c, _, rows), new in zip(todo, grown):
+            sols[c] = merge(sols[c], new, rows)
+        active = [c for c, _, _ in todo]
     # 4. the convergence indicator
-    check = solve(setup, sol.grid.coarsened(), need, T, e_star, teeth)
-    hertz_ref = grids.hertz_peak_mpa(fr.curvature_across, fr.curvature_along, sol.pair_load_n(), e_star, line)
-    return _result(setup, options, sol, check, e_star, notes, hertz_ref, teeth)
+    checks = solve_all([Problem(s, sol.grid.coarsened(), nd, T) for (s, T), sol, nd in zip(cases, sols, need)])
+    out = []
+    for (s, T), sol, check, nt in zip(cases, sols, checks, notes):
+        fr, geom = s.frame, s.geom
+        line = geom.pinion.face_width_mm / max(math.cos(geom.pinion.helix_angle), 0.3)
+        hertz_ref = grids.hertz_peak_mpa(fr.curvature_across, fr.curvature_along, sol.pair_load_n(), e_star, line)
+        out.append(_result(s, dataclasses.replace(options, torque_nm=T), sol, check, e_star, nt, hertz_ref, teeth))
+    return out
 
 
 def _peaks(sol):
@@ -164,6 +203,7 @@ def _result(setup, options, sol, check, e_star, notes, hertz_ref, teeth):
         gap=sol.gap, axes=setup.frame.axes, tangency_unknowns=np.where(setup.solved[..., None], setup.x, np.nan),
         pair_pinion_angle=setup.pair_phi1, notes=tuple(notes), tooth_model=options.tooth_model,
         fe_refinement=options.fe_refinement if options.tooth_model == "fe" else None,
+        fe_coarsen=options.fe_coarsen if options.tooth_model == "fe" else None,
         pair_root_stress_mpa=root["tension"], pair_root_compressive_stress_mpa=root["compression"],
         pair_root_stress_where=root["where"], root_stress_along_face=root["along"],
         mesh_stiffness_n_per_um=np.where(ok & (sol.approach_mm > 0), total / (1e3 * sol.approach_mm), np.nan))

@@ -16,7 +16,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg
 
 from . import halfspace, lcp, tooth_compliance
 from .grid import edges
@@ -90,9 +89,46 @@ def tooth_line_compliance(tooth: MemberTooth, points) -> np.ndarray:
 def pair_tooth_compliance(tooth_p, tooth_g, pinion_points, gear_points) -> np.ndarray:
     """(ny, ny) tooth compliance (mm/N) of both members along one grid's centre line; symmetrised
     (Maxwell reciprocity: the beam model is symmetric up to the coupling's cell averaging).  A tooth
-    is any object with ``line_compliance(points)``: :class:`MemberTooth` (plate) or the FE tooth."""
-    t = tooth_p.line_compliance(pinion_points) + tooth_g.line_compliance(gear_points)
-    return 0.5 * (t + t.T)
+    is any object with ``line_compliance(points)``: :class:`MemberTooth` (plate) or the FE tooth.
+    A centre-line point off the surfaces (NaN: the line leaves the flank there, while cells of the
+    same along index across the line may still touch) bends as its nearest point on the surfaces
+    (:func:`on_surface_line`)."""
+    return pair_tooth_compliances(tooth_p, tooth_g, np.asarray(pinion_points, float)[None],
+                                  np.asarray(gear_points, float)[None])[0]
+
+
+def pair_tooth_compliances(tooth_p, tooth_g, pinion_points, gear_points) -> np.ndarray:
+    """(Q, ny, ny) :func:`pair_tooth_compliance` of Q lines (points (Q, ny, 3)) at once: a tooth with
+    ``line_compliances(points)`` (the FE tooth) takes them all in one product."""
+    t = sum(_line_compliances(tooth, on_surface_lines(pts)) for tooth, pts in ((tooth_p, pinion_points),
+                                                                                (tooth_g, gear_points)))
+    return 0.5 * (t + np.swapaxes(t, -1, -2))
+
+
+def _line_compliances(tooth, points):
+    many = getattr(tooth, "line_compliances", None)
+    return many(points) if many is not None else np.stack([tooth.line_compliance(q) for q in points])
+
+
+def on_surface_lines(points) -> np.ndarray:
+    """:func:`on_surface_line` of each line (Q, n, 3); only the lines with a point off the surfaces change."""
+    p = np.array(points, dtype=float)
+    ok = np.all(np.isfinite(p), axis=-1)
+    for q in np.flatnonzero(~ok.all(axis=-1) & ok.any(axis=-1)):
+        p[q] = on_surface_line(p[q])
+    return p
+
+
+def on_surface_line(points) -> np.ndarray:
+    """Points (n, 3) along a line with each non-finite point replaced by the nearest finite one along
+    the line (linear between two, the end one beyond them); unchanged when none is finite (a pair
+    without contact: never loaded)."""
+    p = np.asarray(points, dtype=float)
+    ok = np.all(np.isfinite(p), axis=1)
+    if ok.all() or not ok.any():
+        return p
+    i = np.arange(p.shape[0])
+    return np.stack([np.interp(i, i[ok], p[ok, c]) for c in range(3)], axis=1)
 
 
 def halfspace_matrix(across_half_mm, along_half_mm, nx, ny, e_star_mpa):
@@ -104,42 +140,13 @@ def halfspace_matrix(across_half_mm, along_half_mm, nx, ny, e_star_mpa):
 class BeveloidCompliance(lcp.Compliance):
     """C of every tooth pair at one position: that pair's half-space matrix ``halfspace[k]`` plus
     its tooth compliance ``tooth[k][line_a, line_b] area_b`` (``line``: a cell's along index;
-    ``area[k]``: pair k's cell area), cells pair-major."""
+    ``area[k]``: pair k's cell area), cells pair-major, as dense symmetric blocks (the LTCA itself
+    assembles them for every position at once: :func:`beveloid.ltca.cycle.position_blocks`)."""
 
     def __init__(self, halfspace_blocks, tooth, line, area):
         n = line.size
-        P = len(halfspace_blocks)
-        object.__setattr__(self, "blocks", ())
-        object.__setattr__(self, "slices", tuple(slice(k * n, (k + 1) * n) for k in range(P)))
-        object.__setattr__(self, "symmetric", (False,) * P)
-        object.__setattr__(self, "halfspace", tuple(halfspace_blocks))
-        object.__setattr__(self, "tooth", tuple(tooth))
-        object.__setattr__(self, "line", line)
-        object.__setattr__(self, "area", tuple(float(a) for a in area))
-
-    def diagonal(self):
-        return np.concatenate([np.diag(c) + t[self.line, self.line] * a
-                               for c, t, a in zip(self.halfspace, self.tooth, self.area)])
-
-    def solve_active(self, active, rhs):
-        out = np.zeros_like(rhs)
-        for c, t, a, sl in zip(self.halfspace, self.tooth, self.area, self.slices):
-            idx = np.flatnonzero(active[sl])
-            if idx.size:
-                li = self.line[idx]
-                block = c[np.ix_(idx, idx)] + t[np.ix_(li, li)] * a
-                try:  # symmetric positive definite (uniform cells, symmetric T)
-                    out[sl.start + idx] = scipy.linalg.cho_solve(scipy.linalg.cho_factor(block, check_finite=False),
-                                                                 rhs[sl][idx], check_finite=False)
-                except np.linalg.LinAlgError:
-                    out[sl.start + idx] = np.linalg.solve(block, rhs[sl][idx])
-        return out
-
-    def matvec_active(self, active, p):
-        out = np.zeros_like(p)
-        for c, t, a, sl in zip(self.halfspace, self.tooth, self.area, self.slices):
-            idx = np.flatnonzero(active[sl])
-            if idx.size:
-                per_line = np.bincount(self.line[idx], weights=p[sl][idx] * a, minlength=t.shape[0])  # N per line
-                out[sl] = c[:, idx] @ p[sl][idx] + (t @ per_line)[self.line]
-        return out
+        blocks = tuple(np.asarray(c, dtype=float) + np.asarray(t, dtype=float)[np.ix_(line, line)] * float(a)
+                       for c, t, a in zip(halfspace_blocks, tooth, area))
+        object.__setattr__(self, "blocks", blocks)
+        object.__setattr__(self, "slices", tuple(slice(k * n, (k + 1) * n) for k in range(len(blocks))))
+        object.__setattr__(self, "symmetric", (True,) * len(blocks))

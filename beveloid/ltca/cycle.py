@@ -18,8 +18,9 @@ import typing
 import numpy as np
 
 from .. import tca
-from . import gaps, lcp
-from .compliance import BeveloidCompliance, halfspace_matrix, pair_tooth_compliance
+from . import gaps, halfspace, kernel, lcp
+from .compliance import pair_tooth_compliances
+from .grid import edges
 
 
 class Setup:
@@ -27,9 +28,11 @@ class Setup:
 
     def __init__(self, geom, flank, errors, positions, pairs, solver):
         self.geom, self.flank, self.solver = geom, flank, solver
+        self.problem = geom.problem(flank)  # the packed surfaces of the gap solves, once
         self.errors = tca.errors_array(errors)
+        # the Solver itself, its tolerances with its backend (issue 42)
         fr = tca.mesh_flank(geom, flank, self.errors, positions=positions, pairs=pairs, window_pitches=1,
-                            backend=solver.backend)
+                            backend=solver)
         ref = tca.reference_contact(geom, flank)
         self.reference = ref
         ref_gear = tca.unknowns(ref.x).gear_angle_rad
@@ -86,7 +89,8 @@ class Setup:
         jj, kk = np.nonzero(ok)
         frames = gaps.Frames(self.start[jj, kk], self.pair_phi1[jj, kk], self.frame.origin[jj, kk],
                              self.frame.axes[jj, kk])
-        cg = gaps.cell_gaps(self.geom, self.flank, self.errors, frames, np.zeros((jj.size, 1, 2)), self.solver)
+        cg = gaps.cell_gaps(self.geom, self.flank, self.errors, frames, np.zeros((jj.size, 1, 2)), self.solver,
+                            self.problem)
         on = cg.on_flanks[:, 0] if cg.on_flanks.any() else np.isfinite(cg.gap_mm[:, 0])
         if not on.any():
             return 1.0, 1.0
@@ -139,48 +143,118 @@ class Solution(typing.NamedTuple):
         return self.pressure_mpa.sum(axis=-1) * self.grid.cell_area_mm2()
 
 
+class Problem(typing.NamedTuple):
+    """One :func:`solve_many` problem: the positions ``positions`` (None: all) of ``setup`` on
+    ``grid`` under ``torque_nm``; only the pairs in ``need`` (N, P) are gridded."""
+
+    setup: Setup
+    grid: typing.Any  # grid.PairGrid
+    need: np.ndarray
+    torque_nm: float
+    positions: typing.Any = None
+
+
 def solve(setup: Setup, grid, need, torque_nm, e_star_mpa, teeth, positions=None) -> Solution:
     """Solve ``positions`` (default all) on ``grid``; only the pairs in ``need`` (N, P) are gridded."""
-    N, P = need.shape
-    nx, ny = grid.across_cells, grid.along_cells
-    todo = np.zeros(N, dtype=bool)
-    todo[list(range(N)) if positions is None else list(positions)] = True
-    need = need & todo[:, None] & setup.solved & setup.has_reference[:, None]
-    gap = gaps.grid_gaps(setup, grid, need, setup.solver)
-    area = grid.cell_area_mm2()
-    line = np.arange(nx * ny) % ny  # along index of each cell
-    centre = (nx // 2) * ny + np.arange(ny)  # the cells on the grid's along-axis
-    out = dict(p=np.zeros((N, P, nx * ny)), ok=np.zeros(N, bool), none=np.zeros(N, bool),
-               delta=np.full(N, np.nan), approach=np.full(N, np.nan), it=np.zeros(N, int), comp=np.full(N, np.nan), load=np.full(N, np.nan))
-    for j in np.flatnonzero(todo):
-        inside = gap.in_flank[j]
-        if not inside.any():
-            out["none"][j] = True
+    return solve_many([Problem(setup, grid, need, torque_nm, positions)], e_star_mpa, teeth)[0]
+
+
+def solve_many(problems, e_star_mpa, teeth) -> list:
+    """The Solution of each :class:`Problem` (all of one cell count): their gaps one setup at a time,
+    the compliance blocks of every position of every problem at once (:func:`position_blocks`), and
+    every contact problem in one call of the kernel (:func:`beveloid.ltca.kernel.solve_positions`,
+    compiled with the solver's backend)."""
+    parts, rows = [], []
+    for pr in problems:
+        N, P = pr.need.shape
+        todo = np.zeros(N, dtype=bool)
+        todo[list(range(N)) if pr.positions is None else list(pr.positions)] = True
+        need = pr.need & todo[:, None] & pr.setup.solved & pr.setup.has_reference[:, None]
+        gap = gaps.grid_gaps(pr.setup, pr.grid, need, pr.setup.solver)
+        live = todo & gap.in_flank.any(axis=(1, 2))
+        parts.append((pr, gap, todo, live))
+        rows.append(np.flatnonzero(live))
+    nx, ny = problems[0].grid.across_cells, problems[0].grid.along_cells
+    n = nx * ny
+    P = problems[0].need.shape[1]
+    J = sum(r.size for r in rows)
+    solver = problems[0].setup.solver
+    k = kernel.kernels(solver)
+    limits = lcp.SolveLimits()
+    p, result, r2s = np.zeros((J, P * n)), np.zeros((J, 5)), np.ones(J)
+    buffer = np.empty((max((r.size for r in rows), default=0) * P, n, n))  # one problem's blocks at a time
+    at_row = 0
+    for (pr, gap, _, _), jj in zip(parts, rows):
+        if jj.size == 0:
             continue
-        r1 = float(np.median(gap.pinion_arm_mm[j][inside]))
-        r2 = float(np.median(gap.gear_closure_mm[j][inside]))
-        w = np.where(inside, gap.gear_closure_mm[j], r2) / r2
-        t = np.where(inside, gap.pinion_arm_mm[j], r1) / r1
-        blocks, tooth = [], []
-        for k in range(P):
-            blocks.append(halfspace_matrix(grid.across_half_mm[j, k], grid.along_half_mm[j, k], nx, ny, e_star_mpa)
-                          if inside[k].any() else np.eye(nx * ny))
-            tooth.append(pair_tooth_compliance(teeth[0], teeth[1], gap.pinion_point[j, k, centre],
-                                               gap.gear_point[j, k, centre]) if inside[k].any()
-                         else np.zeros((ny, ny)))
-        comp = BeveloidCompliance(blocks, tooth, line, area[j])
-        sol = lcp.solve_contact(comp, gap.gap_mm[j].ravel(), np.repeat(area[j], nx * ny), torque_nm * 1e3 / r1,
-                                w.ravel(), t.ravel())
-        out["p"][j] = sol.pressure_mpa.reshape(P, -1)
-        out["ok"][j] = sol.converged
-        out["delta"][j] = sol.approach_mm / r2
-        out["approach"][j] = sol.approach_mm
-        out["it"][j] = sol.iterations
-        out["comp"][j] = sol.complementarity_residual
-        out["load"][j] = sol.load_residual
-    return Solution(grid=grid, gap=gap, pressure_mpa=out["p"], converged=out["ok"], no_contact=out["none"],
-                    rotation_rad=out["delta"], approach_mm=out["approach"], iterations=out["it"], complementarity_residual=out["comp"],
-                    load_residual=out["load"])
+        sl = slice(at_row, at_row + jj.size)
+        at_row += jj.size
+        inside = gap.in_flank[jj]
+        r1 = masked_median(gap.pinion_arm_mm[jj], inside)
+        r2 = masked_median(gap.gear_closure_mm[jj], inside)
+        area = pr.grid.cell_area_mm2()[jj]
+        w = (np.where(inside, gap.gear_closure_mm[jj], r2[:, None, None]) / r2[:, None, None]).reshape(jj.size, -1)
+        t = np.where(inside, gap.pinion_arm_mm[jj], r1[:, None, None]) / r1[:, None, None]
+        at = (t * area[..., None]).reshape(jj.size, -1)
+        h = np.ascontiguousarray(gap.gap_mm[jj].reshape(jj.size, -1))
+        r2s[sl] = r2
+        blocks = buffer[:jj.size * P]
+        position_blocks(pr.grid, gap, jj, inside.any(axis=-1), e_star_mpa, teeth, solver, blocks)
+        off = (np.arange(jj.size * P, dtype=np.int64) * n * n).reshape(jj.size, P)
+        k.solve_positions(blocks.reshape(-1), off, np.arange(P, dtype=np.int64) * n, np.full(P, n, dtype=np.int64),
+                          np.ones((jj.size, P), dtype=np.bool_), h, w, at, pr.torque_nm * 1e3 / r1, limits.tolerance,
+                          limits.max_iterations, np.ones(jj.size, dtype=np.bool_), p[sl], result[sl])
+    out, at_row = [], 0
+    for (pr, gap, todo, live), jj in zip(parts, rows):
+        N = pr.need.shape[0]
+        sl = slice(at_row, at_row + jj.size)
+        at_row += jj.size
+        pm = np.zeros((N, P, n))
+        pm[jj] = p[sl].reshape(jj.size, P, n)
+        res = result[sl]
+        ok = np.zeros(N, bool)
+        ok[jj] = res[:, 2] == 0
+        rotation, approach = np.full(N, np.nan), np.full(N, np.nan)
+        rotation[jj], approach[jj] = res[:, 0] / r2s[sl], res[:, 0]
+        it = np.zeros(N, int)
+        it[jj] = res[:, 1]
+        comp, lres = np.full(N, np.nan), np.full(N, np.nan)
+        comp[jj], lres[jj] = res[:, 3], res[:, 4]
+        out.append(Solution(grid=pr.grid, gap=gap, pressure_mpa=pm, converged=ok, no_contact=todo & ~live,
+                            rotation_rad=rotation, approach_mm=approach, iterations=it, complementarity_residual=comp,
+                            load_residual=lres))
+    return out
+
+
+def masked_median(values, mask) -> np.ndarray:
+    """(J,) the median of each row's ``values`` where ``mask`` (rows (J, ...), each with one True at least)."""
+    v = np.sort(np.where(mask, values, np.inf).reshape(mask.shape[0], -1), axis=1)
+    m = mask.reshape(mask.shape[0], -1).sum(axis=1)
+    rows = np.arange(v.shape[0])
+    return 0.5 * (v[rows, (m - 1) // 2] + v[rows, m // 2])
+
+
+def position_blocks(grid, gap, jj, loaded, e_star_mpa, teeth, solver, out) -> np.ndarray:
+    """``out`` (J P, n, n): the compliance (mm/MPa) of each pair at positions ``jj``, its grid's
+    half-space matrix plus both teeth's compliance along its centre line applied to every cell of the
+    same along index, C[(i,a),(j,b)] = H + T[a, b] area (:func:`beveloid.ltca.kernel.assemble`).  A pair
+    not in contact (``loaded`` (J, P) false: never loaded, its cells never active) gets only a unit
+    diagonal, all the contact solve reads of it."""
+    nx, ny = grid.across_cells, grid.along_cells
+    J, P = loaded.shape
+    q = np.nonzero(loaded)
+    d = np.zeros((J, P, 2 * nx - 1, 2 * ny - 1))
+    T = np.zeros((J, P, ny, ny))
+    if q[0].size:
+        X, Y = grid.across_half_mm[jj][q], grid.along_half_mm[jj][q]
+        ex, ey = edges(X, nx), edges(Y, ny)  # (cells + 1, Q): the cell size as the grid's edges give it
+        d[q] = halfspace.uniform_influence_table(ex[1] - ex[0], ey[1] - ey[0], nx, ny, e_star_mpa)
+        centre = (nx // 2) * ny + np.arange(ny)  # the cells on the grid's along-axis
+        T[q] = pair_tooth_compliances(teeth[0], teeth[1], gap.pinion_point[jj][q][:, centre],
+                                      gap.gear_point[jj][q][:, centre])
+    kernel.kernels(solver).assemble(d.reshape(J * P, *d.shape[2:]), T.reshape(J * P, ny, ny),
+                                    grid.cell_area_mm2()[jj].ravel(), loaded.ravel(), nx, ny, out)
+    return out
 
 
 def merge(old: Solution, new: Solution, rows) -> Solution:

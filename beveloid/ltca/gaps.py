@@ -46,7 +46,7 @@ class CellGaps(typing.NamedTuple):
     margin_mm: np.ndarray  # the smaller of both points' smallest margins to their blanks (mm)
 
 
-def cell_gaps(geom, flank, errors, frames: Frames, coords, solver) -> CellGaps:
+def cell_gaps(geom, flank, errors, frames: Frames, coords, solver, problem=None) -> CellGaps:
     """The gap of the cells ``coords`` (Q, n, 2) of Q pairs in their ``frames``:
     ``solver.core.normal_gaps`` (one point at a time, each starting from its neighbour's solution)."""
     Q, n = coords.shape[:2]
@@ -62,7 +62,7 @@ def cell_gaps(geom, flank, errors, frames: Frames, coords, solver) -> CellGaps:
                          origin=c(frames.origin, dtype=float), axes=c(frames.axes, dtype=float),
                          rotation=c(rotation, dtype=float), errors=c(errors, dtype=float),
                          tol_mm=float(NEWTON_TOL_MM), max_iter=int(NEWTON_ITERATIONS))
-    core.normal_gaps(geom.problem(flank), request, out)
+    core.normal_gaps(geom.problem(flank) if problem is None else problem, request, out)
     lu, gear, rates, margin, ok, p1, p2 = (out.pinion_lu, out.gear_lu_gap, out.rates, out.margin, out.ok,
                                            out.pinion_point, out.gear_point)
     r = lambda a: a.reshape((Q, n) + a.shape[1:])  # noqa: E731
@@ -155,7 +155,8 @@ def grid_gaps(setup, grid, need, solver) -> PairGap:
     yc = uy[None, :] * Y[:, None]  # (Q, ny)
     probe = np.stack(np.broadcast_arrays((np.array([-1.0, 0.0, 1.0])[None, None, :] * X[:, None, None]),
                                          yc[:, :, None]), axis=-1).reshape(jj.size, 3 * ny, 2)
-    h3 = cell_gaps(setup.geom, setup.flank, setup.errors, frames, probe, solver).gap_mm.reshape(jj.size, ny, 3)
+    h3 = cell_gaps(setup.geom, setup.flank, setup.errors, frames, probe, solver,
+                   setup.problem).gap_mm.reshape(jj.size, ny, 3)
     d = X[:, None]
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         curv = h3[..., 0] - 2 * h3[..., 1] + h3[..., 2]
@@ -165,7 +166,7 @@ def grid_gaps(setup, grid, need, solver) -> PairGap:
     cx = ux[None, :, None] * X[:, None, None] + shift[:, None, :]  # (Q, nx, ny)
     cy = np.broadcast_to(yc[:, None, :], cx.shape)
     coords = np.stack([cx, cy], axis=-1).reshape(jj.size, nx * ny, 2)
-    cg = cell_gaps(setup.geom, setup.flank, setup.errors, frames, coords, solver)
+    cg = cell_gaps(setup.geom, setup.flank, setup.errors, frames, coords, solver, setup.problem)
     closure = -setup.gear_sign * cg.gap_D_gear_angle
     arm = setup.pinion_sign * cg.pinion_arm_mm
     with np.errstate(invalid="ignore"):
@@ -184,7 +185,7 @@ def fill_nan_rows(a):
     """Each row's NaNs replaced by the nearest finite entry of that row (0 if none)."""
     out = a.copy()
     idx = np.arange(a.shape[-1])
-    for r in range(a.shape[0]):
+    for r in np.flatnonzero(~np.isfinite(a).all(axis=-1)):  # the rows with a NaN
         ok = np.isfinite(a[r])
         out[r] = np.interp(idx, idx[ok], a[r, ok]) if ok.any() else 0.0
     return out

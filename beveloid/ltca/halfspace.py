@@ -166,23 +166,37 @@ def tensor_influence_matrix_mm_per_mpa(x_edges_mm, y_edges_mm, e_star_mpa: float
     xe, ye = np.asarray(x_edges_mm, dtype=float), np.asarray(y_edges_mm, dtype=float)
     nx, ny = xe.size - 1, ye.size - 1
     if _is_uniform(xe) and _is_uniform(ye):
-        dx, dy = xe[1] - xe[0], ye[1] - ye[0]
-        # u = x_edge[k'] - x_centre[i] = (k' - i - 1/2) dx for k' - i = -(nx - 1) .. nx
-        u = (np.arange(-(nx - 1), nx + 1) - 0.5) * dx
-        v = (np.arange(-(ny - 1), ny + 1) - 0.5) * dy
-        t = _g(u[:, None], v[None, :])
-        d = t[1:, 1:] - t[:-1, 1:] - t[1:, :-1] + t[:-1, :-1]  # d[a + nx - 1, b + ny - 1] for a = k - i
-        i = np.arange(nx)
-        j = np.arange(ny)
-        a = (i[None, None, :, None] - i[:, None, None, None]) + nx - 1
-        b = (j[None, None, None, :] - j[None, :, None, None]) + ny - 1
-        c = d[a, b]
-    else:
-        xc, yc = 0.5 * (xe[1:] + xe[:-1]), 0.5 * (ye[1:] + ye[:-1])
-        u = xe[None, :] - xc[:, None]  # (nx, nx + 1): target i, edge k'
-        v = ye[None, :] - yc[:, None]  # (ny, ny + 1)
-        t = _g(u[:, :, None, None], v[None, None, :, :])  # (i, k', j, l')
-        d = t[:, 1:, :, 1:] - t[:, :-1, :, 1:] - t[:, 1:, :, :-1] + t[:, :-1, :, :-1]  # (i, k, j, l)
-        c = d.transpose(0, 2, 1, 3)
+        return uniform_influence_blocks(xe[1] - xe[0], ye[1] - ye[0], nx, ny, es)[0]
+    xc, yc = 0.5 * (xe[1:] + xe[:-1]), 0.5 * (ye[1:] + ye[:-1])
+    u = xe[None, :] - xc[:, None]  # (nx, nx + 1): target i, edge k'
+    v = ye[None, :] - yc[:, None]  # (ny, ny + 1)
+    t = _g(u[:, :, None, None], v[None, None, :, :])  # (i, k', j, l')
+    d = t[:, 1:, :, 1:] - t[:, :-1, :, 1:] - t[:, 1:, :, :-1] + t[:, :-1, :, :-1]  # (i, k, j, l)
+    c = d.transpose(0, 2, 1, 3)
     n = cells.size
     return np.ascontiguousarray(c.reshape(n, n)) / (np.pi * es)
+
+
+def uniform_influence_table(dx_mm, dy_mm, nx: int, ny: int, e_star_mpa: float) -> np.ndarray:
+    """(Q, 2 nx - 1, 2 ny - 1) the Toeplitz table of Q uniform nx x ny tensor grids of cell sizes
+    ``dx_mm`` (Q,) x ``dy_mm`` (Q,): entry [a + nx - 1, b + ny - 1] is the closure (mm/MPa) at a cell
+    centre by a unit pressure on the cell a cells across and b cells along from it.  The corner terms
+    G(u, v) are tabulated on the (2 nx) x (2 ny) offsets of each grid only, all grids at once."""
+    dx, dy = np.atleast_1d(np.asarray(dx_mm, dtype=float)), np.atleast_1d(np.asarray(dy_mm, dtype=float))
+    # u = x_edge[k'] - x_centre[i] = (k' - i - 1/2) dx for k' - i = -(nx - 1) .. nx
+    u = (np.arange(-(nx - 1), nx + 1) - 0.5)[None, :] * dx[:, None]
+    v = (np.arange(-(ny - 1), ny + 1) - 0.5)[None, :] * dy[:, None]
+    t = _g(u[:, :, None], v[:, None, :])
+    return (t[:, 1:, 1:] - t[:, :-1, 1:] - t[:, 1:, :-1] + t[:, :-1, :-1]) / (np.pi * e_star_mpa)
+
+
+def uniform_influence_blocks(dx_mm, dy_mm, nx: int, ny: int, e_star_mpa: float) -> np.ndarray:
+    """(Q, n, n) :func:`influence_matrix_mm_per_mpa` of Q uniform nx x ny tensor grids (cells
+    i * ny + j) from :func:`uniform_influence_table`: Toeplitz in both directions."""
+    d = uniform_influence_table(dx_mm, dy_mm, nx, ny, e_star_mpa)
+    i = np.arange(nx)
+    j = np.arange(ny)
+    a = (i[None, None, :, None] - i[:, None, None, None]) + nx - 1
+    b = (j[None, None, None, :] - j[None, :, None, None]) + ny - 1
+    n = nx * ny
+    return d[:, a, b].reshape(d.shape[0], n, n)

@@ -29,6 +29,7 @@ same contact (one equation in a_y), and its approach is delta + g q0.
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -108,6 +109,20 @@ def _ratio(q: float) -> tuple[float, float, float, float]:
     return ((e / (q * q) - k) / (k - e)), k, e, m
 
 
+@functools.lru_cache(maxsize=4096)
+def _shape(target: float) -> tuple:
+    """(b/a, K, E, e^2, (K - E)/e^2) of the contact ellipse of curvature ratio ``target`` >= 1: it does
+    not depend on the load (kept per ratio: the LTCA sizes every pair's grid several times)."""
+    if target - 1.0 < 1e-12:
+        return 1.0, math.pi / 2, math.pi / 2, 0.0, math.pi / 4  # (K - E)/e^2 -> pi/4 as e -> 0
+    # ratio(q) falls monotonically from infinity (q -> 0) to 1 (q = 1)
+    lq = brentq(lambda t: math.log(_ratio(math.exp(t))[0] / target), math.log(1e-8), math.log(1.0 - 1e-9),
+                xtol=1e-15, rtol=1e-14, maxiter=200)
+    q = math.exp(lq)
+    _, k, e, m = _ratio(q)
+    return q, k, e, m, (k - e) / m
+
+
 def hertz_point_contact(
     a_coef_per_mm: float, b_coef_per_mm: float, load_n: float, e_star_mpa: float
 ) -> HertzPointContact:
@@ -123,16 +138,7 @@ def hertz_point_contact(
     target = large / small
     if target > 1e10:
         raise ValueError(f"curvature ratio {target!r}: must be <= 1e10 (use hertz_line_contact beyond)")
-    if target - 1.0 < 1e-12:
-        q, k, e, m = 1.0, math.pi / 2, math.pi / 2, 0.0
-        k_minus_e_over_m = math.pi / 4  # limit of (K - E)/e^2 as e -> 0
-    else:
-        # ratio(q) falls monotonically from infinity (q -> 0) to 1 (q = 1)
-        lq = brentq(lambda t: math.log(_ratio(math.exp(t))[0] / target), math.log(1e-8), math.log(1.0 - 1e-9),
-                    xtol=1e-15, rtol=1e-14, maxiter=200)
-        q = math.exp(lq)
-        _, k, e, m = _ratio(q)
-        k_minus_e_over_m = (k - e) / m
+    q, k, e, m, k_minus_e_over_m = _shape(target)
     a = (3.0 * p * k_minus_e_over_m / (2.0 * math.pi * es * small)) ** (1.0 / 3.0)
     b = q * a
     p0 = 3.0 * p / (2.0 * math.pi * a * b)

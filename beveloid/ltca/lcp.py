@@ -31,9 +31,8 @@ from typing import Sequence
 import typing
 
 import numpy as np
-import scipy.linalg
 
-from . import checks
+from . import checks, kernel
 
 __all__ = ["Compliance", "ContactSolution", "SolveLimits", "prepare_compliance", "solve_contact"]
 
@@ -99,30 +98,14 @@ class Compliance:
         """The diagonal of C (all blocks, in cell order)."""
         return np.concatenate([np.diag(b) for b in self.blocks])
 
-    def solve_active(self, active: np.ndarray, rhs: np.ndarray) -> np.ndarray:
-        """x with C[S, S] x = rhs[S] block by block (rows of rhs outside S are returned 0)."""
-        out = np.zeros_like(rhs)
-        for b, sl, sym in zip(self.blocks, self.slices, self.symmetric):
-            idx = np.flatnonzero(active[sl])
-            if idx.size == 0:
-                continue
-            m = b[np.ix_(idx, idx)]
-            r = rhs[sl][idx]
-            try:
-                x = scipy.linalg.solve(m, r, assume_a="pos" if sym else "gen", check_finite=False)
-            except scipy.linalg.LinAlgError:
-                x = scipy.linalg.solve(m, r, assume_a="gen", check_finite=False)
-            out[sl.start + idx] = x
-        return out
-
-    def matvec_active(self, active: np.ndarray, p: np.ndarray) -> np.ndarray:
-        """C p for p supported on the active set."""
-        out = np.zeros_like(p)
-        for b, sl in zip(self.blocks, self.slices):
-            idx = np.flatnonzero(active[sl])
-            if idx.size:
-                out[sl] = b[:, idx] @ p[sl][idx]
-        return out
+    def flat(self):
+        """(blocks, off, start, size, sym): the blocks one after the other in one flat array, the
+        layout :mod:`beveloid.ltca.kernel` reads."""
+        size = np.array([b.shape[0] for b in self.blocks], dtype=np.int64)
+        start = np.array([sl.start for sl in self.slices], dtype=np.int64)
+        off = np.concatenate([[0], np.cumsum(size * size)[:-1]]).astype(np.int64)
+        return (np.concatenate([b.ravel() for b in self.blocks]), off, start, size,
+                np.array(self.symmetric, dtype=np.bool_))
 
 
 def prepare_compliance(compliance_mm_per_mpa: np.ndarray | Sequence[np.ndarray] | Compliance) -> Compliance:
@@ -150,27 +133,6 @@ def prepare_compliance(compliance_mm_per_mpa: np.ndarray | Sequence[np.ndarray] 
     return Compliance(tuple(out), tuple(slices), tuple(sym))
 
 
-def _initial_set(h: np.ndarray, w: np.ndarray, diag: np.ndarray, at: np.ndarray, load: float) -> np.ndarray:
-    """Contact set of an uncoupled (Winkler) model, p_i = max(0, (delta w_i - h_i))/(k C_ii).
-
-    k = 3 softens the springs for the neighbours' share of the deflection; the set is only
-    a start and the iteration corrects it.  delta follows from the load by sorting.
-    """
-    s = h / w
-    order = np.argsort(s)
-    coef = (at * w / (3.0 * diag))[order]  # load per unit (delta - s_i) from cell i
-    cum_c = np.cumsum(coef)
-    cum_cs = np.cumsum(coef * s[order])
-    # load(delta) with the first j cells active = delta cum_c[j] - cum_cs[j], for s_j <= delta <= s_j+1
-    delta = (load + cum_cs) / cum_c
-    ok = delta >= s[order]
-    nxt = np.append(s[order][1:], np.inf)
-    j = int(np.flatnonzero(ok & (delta <= nxt))[0]) if np.any(ok & (delta <= nxt)) else len(s) - 1
-    active = np.zeros(h.size, dtype=bool)
-    active[order[: j + 1]] = True
-    return active
-
-
 def solve_contact(
     compliance_mm_per_mpa: np.ndarray | Sequence[np.ndarray] | Compliance,
     gap_mm,
@@ -181,6 +143,7 @@ def solve_contact(
     *,
     initial_contact=None,
     limits: "SolveLimits | None" = None,
+    solver=None,
 ) -> ContactSolution:
     """Solve the contact problem of the module docstring.
 
@@ -191,7 +154,8 @@ def solve_contact(
     be > 0.  ``initial_contact``: optional boolean start set (e.g. the previous mesh
     position); by default an uncoupled-spring estimate.  ``limits``: :class:`SolveLimits`, the
     relative tolerance of the complementarity residual (the load residual is held to 1e-9 at most)
-    and the most active-set iterations.
+    and the most active-set iterations.  ``solver``: a :class:`beveloid.solver.Solver` (its backend:
+    the kernel compiled or interpreted), None the default solver.
     """
     h = checks.finite_array("gap_mm", gap_mm)
     n = h.size
@@ -209,86 +173,31 @@ def solve_contact(
     if ops.size != n:
         raise ValueError(f"compliance covers {ops.size} cells but gap_mm has {n}: they must match")
     at = a * t
-    diag = ops.diagonal()
+    from ..solver import Solver
 
+    k = kernel.kernels(Solver.of(solver))
     if initial_contact is None:
-        active = _initial_set(h, w, diag, at, load)
+        active = np.zeros(n, dtype=bool)
+        k.initial_set(h, w, ops.diagonal(), at, load, active)
     else:
         active = np.asarray(initial_contact, dtype=bool)
         if active.shape != (n,):
             raise ValueError(f"initial_contact has shape {active.shape}: must be ({n},) booleans")
-        if not active.any():
-            active = _initial_set(h, w, diag, at, load)
         active = active.copy()
-
-    seen: set[bytes] = set()
-    single_steps = False
-    p = np.zeros(n)
-    delta = 0.0
-    it = 0
-    settled = False
-    message = ""
-    for it in range(1, max_iterations + 1):
-        x = ops.solve_active(active, np.stack([h, w], axis=1))
-        xh, xw = x[:, 0], x[:, 1]
-        denom = float(at @ xw)
-        if not denom > 0.0:
-            message = "singular trial contact set (load weights against approach response <= 0)"
-            break
-        delta = (load + float(at @ xh)) / denom
-        p = np.where(active, delta * xw - xh, 0.0)
-        cp = ops.matvec_active(active, p)
-        g = h - delta * w + cp  # zero on S up to rounding
-        d_scale = max(float(np.max(np.abs(cp))), np.finfo(float).tiny)
-        p_scale = max(float(p.max()), np.finfo(float).tiny)
-        drop = active & (p < 0.0)
-        add = ~active & (g < -tol * d_scale)
-        if not drop.any() and not add.any():
-            settled = True
-            break
-        key = np.packbits(active).tobytes()
-        if key in seen:
-            single_steps = True
-        seen.add(key)
-        if single_steps:
-            if drop.any():
-                i = int(np.argmin(np.where(drop, p / p_scale, np.inf)))
-            else:
-                i = int(np.argmin(np.where(add, g, np.inf)))
-            active[i] = not active[i]
-        else:
-            active = (active & ~drop) | add
         if not active.any():
-            message = "empty contact set"
-            break
-
-    # residuals, measured on the returned numbers
-    cp = ops.matvec_active(p > 0.0, p)
-    g_full = h - delta * w + cp
-    gap = np.where(p > 0.0, 0.0, g_full)
-    d_scale = max(float(np.max(np.abs(cp))), np.finfo(float).tiny)
-    p_scale = max(float(p.max()), np.finfo(float).tiny)
-    comp = max(
-        float(np.max(-p)) / p_scale if n else 0.0,
-        float(np.max(-g_full)) / d_scale,
-        float(np.max(np.abs(p * g_full))) / (p_scale * d_scale),
-        0.0,
-    )
-    load_res = abs(float(at @ p) - load) / load
-    converged = settled and comp <= tol and load_res <= 1e-9
-    if not message:
-        message = "converged" if converged else (
-            f"active set not settled after {max_iterations} iterations" if not settled
-            else f"settled but residuals too large (complementarity {comp:.2e}, load {load_res:.2e})"
-        )
-    return ContactSolution(
-        pressure_mpa=p,
-        gap_mm=gap,
-        approach_mm=float(delta),
-        converged=bool(converged),
-        iterations=it,
-        complementarity_residual=comp,
-        load_residual=load_res,
-        message=message,
-        area_mm2=a,
-    )
+            k.initial_set(h, w, ops.diagonal(), at, load, active)
+    p = np.zeros(n)
+    result = np.zeros(5)
+    k.active_set(*ops.flat(), h, w, at, float(load), float(tol), int(max_iterations), active, p, result,
+                 np.empty((int(max_iterations), n), dtype=bool))
+    delta, it, code, comp, load_res = result
+    code = int(code)
+    elastic = np.concatenate([b @ p[sl] for b, sl in zip(ops.blocks, ops.slices)])
+    message = {0: "converged", 1: f"active set not settled after {max_iterations} iterations",
+               2: f"settled but residuals too large (complementarity {comp:.2e}, load {load_res:.2e})",
+               3: "singular trial contact set (load weights against approach response <= 0)",
+               4: "empty contact set"}[code]
+    return ContactSolution(pressure_mpa=p, gap_mm=np.where(p > 0.0, 0.0, h - delta * w + elastic),
+                           approach_mm=float(delta), converged=code == 0, iterations=int(it),
+                           complementarity_residual=float(comp), load_residual=float(load_res), message=message,
+                           area_mm2=a)

@@ -25,6 +25,7 @@ RANGES = {
     "pairs": (1, 9),
     "grid_cells": (3, 201),  # cells across / along the contact line per tooth pair
     "fe_refinement": FE_REFINEMENTS,  # the FE tooth's mesh: every element size divided by it
+    "fe_coarsen": (1.0, 8.0),  # and multiplied by this (> 1: a cheaper, rougher tooth for quick looks and tests)
 }
 
 #: default cells (across, along the contact line) per tooth pair; the cell size follows the local
@@ -116,6 +117,14 @@ def check_fe_refinement(value, key="fe_refinement"):
     return _check_integer(value, key, "fe_refinement")
 
 
+def check_fe_coarsen(value, key="fe_coarsen"):
+    lo, hi = RANGES["fe_coarsen"]
+    v = float(value) if isinstance(value, (int, float)) and not isinstance(value, bool) else math.nan
+    if not (math.isfinite(v) and lo <= v <= hi):
+        raise OptionError(key, value, f"must be a number from {lo:g} to {hi:g} (1: the converged default mesh)")
+    return v
+
+
 def available_memory_bytes() -> float:
     """What this process may still allocate: the machine's available memory (Linux), else 4 GB."""
     try:
@@ -137,7 +146,8 @@ class Options:
     (their size follows the local Hertz semi-axes in both cases); ``errors``: None = the pair's own
     misalignment; ``material``: None = the pair's ``[material]`` (steel without a spec);
     ``tooth_model``: "fe" or "plate", None = "fe" when gmsh and scikit-fem import
-    (:func:`default_tooth_model`); ``fe_refinement``: the FE tooth's mesh refinement N (1-4)."""
+    (:func:`default_tooth_model`); ``fe_refinement``: the FE tooth's mesh refinement N (1-4);
+    ``fe_coarsen``: every FE element size times this (1-8; > 1 a quick, rougher tooth)."""
 
     torque_nm: float
     flank: str = "right"
@@ -148,12 +158,14 @@ class Options:
     material: Material | None = None
     tooth_model: str | None = None
     fe_refinement: int = 1
+    fe_coarsen: float = 1.0
 
     def __post_init__(self):
         if self.tooth_model is None:
             object.__setattr__(self, "tooth_model", default_tooth_model())
         check_tooth_model(self.tooth_model)
         check_fe_refinement(self.fe_refinement)
+        object.__setattr__(self, "fe_coarsen", check_fe_coarsen(self.fe_coarsen))
         object.__setattr__(self, "torque_nm", check_torque(self.torque_nm))
         if self.flank not in FLANKS:
             raise ValueError(f"flank = {self.flank!r}: must be one of {', '.join(FLANKS)}")

@@ -205,3 +205,27 @@ def ltca_torques(results, geom, out_png, title=""):
         ax.grid(alpha=0.3)
     axes[3, 0].legend(fontsize=7)
     _save(fig, out_png, title)
+
+
+def te_map(results, out_png, title=""):
+    """The loaded TE peak-to-peak against torque (the standard chart) and each torque's TE spectrum (mesh
+    orders 1-6, :func:`beveloid.ltca.batch.te_harmonics`)."""
+    from .batch import MESH_ORDERS, te_harmonics
+
+    plt = _plt()
+    fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4.2))
+    torque = [r.torque_nm for r in results]
+    a.plot(torque, [r.loaded_te_peak_to_peak * 1e6 for r in results], "o-")
+    a.set_xlabel("pinion torque (N m)")
+    a.set_ylabel("loaded TE peak-to-peak (urad)")
+    a.grid(alpha=0.3)
+    width = 0.8 / len(results)
+    for i, r in enumerate(results):
+        b.bar(np.array(MESH_ORDERS) + (i - (len(results) - 1) / 2) * width, te_harmonics(r) * 1e6, width,
+              label=f"{r.torque_nm:g} N m")
+    b.set_xlabel("mesh order")
+    b.set_ylabel("TE amplitude (urad)")
+    b.set_xticks(MESH_ORDERS)
+    b.legend(fontsize=8)
+    b.grid(alpha=0.3, axis="y")
+    _save(fig, out_png, title)

@@ -60,9 +60,11 @@ class LTCAResult:
     tangency_unknowns: np.ndarray  # (N, P, 5) each pair's rigid-body tangency (tca_kernels.UNKNOWNS)
     pair_pinion_angle: np.ndarray  # (N, P) the pinion angle of each pair's tangency (pair 0 frame)
     notes: tuple = ()
-    #: how the teeth bent: "fe" (beveloid.fe, mesh refinement ``fe_refinement``) or "plate"
+    #: how the teeth bent: "fe" (beveloid.fe, mesh refinement ``fe_refinement``, sizes times
+    #: ``fe_coarsen``) or "plate"
     tooth_model: str = "plate"
     fe_refinement: int | None = None
+    fe_coarsen: float | None = None
     #: {member: (N, P)} the largest max-principal (tensile) stress in the loaded side's root fillet
     #: of each pair's tooth (MPa), nan where not ok; empty with the plate (it has no fillet)
     pair_root_stress_mpa: dict = field(default_factory=dict)
@@ -193,6 +195,7 @@ def _tooth_json(r: LTCAResult, num) -> dict:
     return {
         "tooth_model": r.tooth_model,
         "fe_refinement": r.fe_refinement if fe else None,
+        "fe_coarsen": r.fe_coarsen if fe else None,
         "pair_root_stress_mpa": {m: rows(a) for m, a in r.pair_root_stress_mpa.items()} if fe else None,
         "pair_root_compressive_stress_mpa": ({m: rows(a) for m, a in r.pair_root_compressive_stress_mpa.items()}
                                              if fe else None),
@@ -206,7 +209,33 @@ def _tooth_json(r: LTCAResult, num) -> dict:
         "mesh_stiffness_n_per_um": (None if stiff is None else [num(v, o) for v, o in zip(stiff, ok)]),
         "mesh_stiffness_note": "sum of the pair normal loads over the approach of the teeth along the contact "
                                "normal (the loaded TE's displacement at the contact), per position",
+        "mesh_stiffness_mean_n_per_um": num(_stiffness(r)[0]),
+        "mesh_stiffness_peak_to_peak_n_per_um": num(_stiffness(r)[1]),
     }
+
+
+def _stiffness(r) -> tuple:
+    """(mean, peak-to-peak) of the converged positions' mesh stiffness (N/um); nan where unknown (the
+    peak-to-peak: fewer than 3 positions)."""
+    from .batch import summary
+
+    s = summary(r)
+    return s["mesh_stiffness_mean_n_per_um"], s["mesh_stiffness_peak_to_peak_n_per_um"]
+
+
+def _harmonics_json(r, geom, num) -> dict:
+    from .batch import MESH_ORDERS, gear_base_radius_mm, te_harmonics
+
+    h = te_harmonics(r)
+    rb = gear_base_radius_mm(geom)
+    return {"te_harmonics_urad": [num(v * 1e6) for v in h],
+            "te_harmonics_um": [num(v * rb * 1e3) for v in h],
+            "te_harmonics_mesh_orders": list(MESH_ORDERS),
+            "te_harmonics_note": "amplitudes of mesh orders 1-6 of the loaded TE over one mesh cycle (the "
+                                 "positions span exactly one cycle, the repeated end point counted once): gear "
+                                 "rotation (urad) and along the line of action (um, times the gear's base radius "
+                                 f"{rb:.3f} mm); null when a position did not converge or an order reaches half "
+                                 "the samples"}
 
 
 def to_json_dict(result: LTCAResult, geom) -> dict:
@@ -266,6 +295,7 @@ def to_json_dict(result: LTCAResult, geom) -> dict:
                    "moment_residual": [num(abs(m / (r.torque_nm * 1e3) - 1.0), o)
                                        for m, o in zip(r.pinion_moment_nmm, ok)]},
         **_tooth_json(r, num),
+        **_harmonics_json(r, geom, num),
         "warnings": r.warnings(),
         "notes": list(r.notes),
     }

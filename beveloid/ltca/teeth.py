@@ -2,6 +2,7 @@
 and the root stress the FE tooth gives under the solved pressure."""
 from __future__ import annotations
 
+import collections
 import sys
 
 import numpy as np
@@ -20,44 +21,75 @@ def _progress(stream=None):
 
 
 def member_teeth(pair, geom, options, material) -> tuple:
-    """(pinion, gear) tooth objects with ``line_compliance(points)``: the options' tooth model."""
+    """((pinion, gear) tooth objects with ``line_compliance(points)``: the options' tooth model, notes).
+    The FE tooth is each member's body (:mod:`beveloid.tooth.body`), loaded at the modified flank's
+    points; a note names a member whose flank departs from its body enough to matter."""
     moduli = {"pinion": (material.pinion_e_mpa, material.pinion_nu), "gear": (material.gear_e_mpa, material.gear_nu)}
     if options.tooth_model == "plate":
-        return tuple(member_tooth(geom, m, *moduli[m]) for m in MEMBERS)
-    from ..fe.cache import cached_tooth_data
+        return tuple(member_tooth(geom, m, *moduli[m]) for m in MEMBERS), ()
+    from ..tooth.body import flank_departure
+
+    source = pair if pair is not None else geom
+    out, notes = [], []
+    for m in MEMBERS:
+        tooth = fe_tooth(source, m, moduli[m], options)
+        data = tooth.data
+        out.append(tooth)
+        note = flank_departure(source, m, data.points_mm, data.normals).note(m)
+        if note:
+            notes.append(note)
+    return tuple(out), tuple(notes)
+
+
+#: the FE teeth of the last few FE data (by identity: beveloid.fe.cache keeps the data of a key in
+#: this process) and flanks: the compliance's projection and the fillet's distances once per pair
+_FE_TEETH: "collections.OrderedDict" = collections.OrderedDict()
+FE_TEETH_KEPT = 4
+
+
+def fe_tooth(source, member, moduli, options):
+    """The :class:`beveloid.fe.contact.FeTooth` of ``member`` on the options' flank: its data from
+    :func:`beveloid.fe.cache.cached_tooth_data` (the body, not the flank modifications or the
+    assembly errors: computed on a miss, read once per process), the tooth built once per data."""
+    from ..fe import cache
     from ..fe.contact import FeTooth
 
-    out = []
-    for m in MEMBERS:
-        data, _ = cached_tooth_data(pair if pair is not None else geom, m, *moduli[m], options.fe_refinement,
-                                    progress=_progress())
-        out.append(FeTooth(data, options.flank))
-    return tuple(out)
+    data, _ = cache.cached_tooth_data(source, member, *moduli, options.fe_refinement, progress=_progress(),
+                                      coarsen=options.fe_coarsen)
+    key = (id(data), options.flank)  # the entry holds the data: its id is not reused while it lives
+    tooth = _FE_TEETH.get(key)
+    if tooth is None or tooth.data is not data:
+        tooth = _FE_TEETH[key] = FeTooth(data, options.flank)
+        while len(_FE_TEETH) > FE_TEETH_KEPT:
+            _FE_TEETH.popitem(last=False)
+    _FE_TEETH.move_to_end(key)
+    return tooth
 
 
 def root_stresses(teeth, sol, ok) -> dict:
     """{"tension": {member: (N, P)}, "compression": {...}, "where": {member: (N, P, 2)}, "along": {member:
     (z, stress)}} (MPa, mm) for FE teeth, each pair's tooth under its own cells' forces ("along": the
-    loaded fillet along the face at the largest root stress); empty for the plate."""
+    loaded fillet along the face at the largest root stress); empty for the plate.  Every loaded
+    (position, pair) of a member at once (:meth:`beveloid.fe.contact.FeTooth.root_stresses`)."""
     out = {"tension": {}, "compression": {}, "where": {}, "along": {}}
     if not all(hasattr(t, "root_stress") for t in teeth):
         return out
     N, P = sol.pressure_mpa.shape[:2]
     area = sol.grid.cell_area_mm2()
+    forces = np.where(sol.gap.in_flank, sol.pressure_mpa * area[..., None], 0.0)  # (N, P, cells)
+    with np.errstate(invalid="ignore"):
+        loaded = ok[:, None] & (np.nansum(forces, axis=-1) > 0)
+    jj, kk = np.nonzero(loaded)
     for tooth, m in zip(teeth, MEMBERS):
         ten, comp, where = np.full((N, P), np.nan), np.full((N, P), np.nan), np.full((N, P, 2), np.nan)
+        ten[ok], comp[ok] = 0.0, 0.0
         points = sol.gap.pinion_point if m == "pinion" else sol.gap.gear_point
-        for j in np.flatnonzero(ok):
-            for k in range(P):
-                f = np.where(sol.gap.in_flank[j, k], sol.pressure_mpa[j, k] * area[j, k], 0.0)
-                if f.sum() <= 0:
-                    ten[j, k], comp[j, k] = 0.0, 0.0
-                    continue
-                r = tooth.root_stress(points[j, k], f)
-                ten[j, k], comp[j, k], where[j, k] = r.tension_mpa, r.compression_mpa, (r.z_mm, r.height_mm)
+        if jj.size:
+            r = tooth.root_stresses(points[jj, kk], forces[jj, kk])
+            ten[jj, kk], comp[jj, kk] = r.tension_mpa, r.compression_mpa
+            where[jj, kk] = np.stack([r.z_mm, r.height_mm], axis=-1)
         out["tension"][m], out["compression"][m], out["where"][m] = ten, comp, where
         if np.isfinite(ten).any() and np.nanmax(ten) > 0:
             j, k = np.unravel_index(int(np.nanargmax(ten)), ten.shape)
-            f = np.where(sol.gap.in_flank[j, k], sol.pressure_mpa[j, k] * area[j, k], 0.0)
-            out["along"][m] = tooth.along_face(points[j, k], f)
+            out["along"][m] = tooth.along_face(points[j, k], forces[j, k])
     return out

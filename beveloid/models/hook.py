@@ -28,6 +28,7 @@ import os
 import tempfile
 from pathlib import Path
 
+from ..errors import UserCodeError, UserError
 from .discovery import GLUE_TEMPLATES, Catalog, discover
 
 from .names import PACKAGE
@@ -161,7 +162,9 @@ def _compose(pkg, cat: Catalog) -> dict:
 
 class _Loader(importlib.machinery.SourceFileLoader):
     """Loads a served module; before the numpy glue runs, the user models' layout classes join
-    beveloid.generated.layouts (the glue names each model's layout there)."""
+    beveloid.generated.layouts (the glue names each model's layout there).  A module of a user
+    model that fails to load is the model's failure: UserCodeError (its file and line, the frames
+    in its folder's files), whichever analysis loaded it first."""
 
     def exec_module(self, module):
         if module.__name__ == f"{PACKAGE}.tca_kernels":
@@ -169,7 +172,21 @@ class _Loader(importlib.machinery.SourceFileLoader):
             for m in _STATE["catalog"].user:
                 lay = importlib.import_module(f"{PACKAGE}.layout_{m.name}")
                 setattr(layouts, m.entry["layout"], getattr(lay, m.entry["layout"]))
-        super().exec_module(module)
+        try:
+            super().exec_module(module)
+        except UserError:  # a model module that this one imports (the glue imports every model's)
+            raise
+        except Exception as exc:
+            model = next((m for m in _STATE["catalog"].user if Path(self.path).parent == m.folder), None)
+            if model is None:
+                raise
+            files = [f for f in _STATE["files"].values() if f.parent == model.folder]
+            err = UserCodeError.from_exception(
+                exc, files, f"while loading the model \"{model.name}\" ({model.origin}, {model.folder});"
+                            f" regenerate it: {model.regenerate_hint()}")
+            if err is None:
+                raise
+            raise err from exc
 
 
 def served_spec(fullname: str, short: str):

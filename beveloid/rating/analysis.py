@@ -7,19 +7,20 @@ local stresses (docs/rating.md).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from ..names import MEMBERS
 from ..tooth import sections
-from . import iso6336
+from . import dynamic, iso6336, materials
+from .face_load import face_load
 from .factors import Factors, face_factor_exponent
 from .virtual import mate_gear, section_gear
 
 __all__ = ["LoadedContact", "Options", "SectionRating", "MemberRating", "analyze", "loaded_contact",
            "rate_section"]
 
-MEMBERS = ("pinion", "gear")
 
 
 @dataclass(frozen=True)
@@ -32,6 +33,7 @@ class Options:
     pairs: int = 3
     tooth_model: str | None = None  # the LTCA's: None = "fe" when gmsh and scikit-fem import (root stress)
     fe_refinement: int = 1
+    fe_coarsen: float = 1.0  # the FE tooth's element sizes times this (ltca.Options)
 
     def __post_init__(self):
         self.ltca_options(1.0)  # the LTCA's own range table checks the request
@@ -41,7 +43,27 @@ class Options:
         from ..ltca.options import Options as LTCAOptions
 
         return LTCAOptions(torque_nm=self.torque_nm * load_factor, flank=self.flank, positions=self.positions,
-                           pairs=self.pairs, tooth_model=self.tooth_model, fe_refinement=self.fe_refinement)
+                           pairs=self.pairs, tooth_model=self.tooth_model, fe_refinement=self.fe_refinement,
+                           fe_coarsen=self.fe_coarsen)
+
+
+@dataclass(frozen=True)
+class EdgeContact:
+    """The largest edge pressure of the loaded contact and the flank edge it is at."""
+
+    pressure_mpa: float
+    member: str  # whose edge: "pinion" | "gear"
+    edge: str  # "toe" | "heel" | "tip"
+    pinion_angle_rad: float
+    tooth_pair: int
+
+    @property
+    def where(self) -> str:
+        return f"the {self.edge} of the {self.member}"
+
+    @property
+    def relief(self) -> str:
+        return "tip relief" if self.edge == "tip" else "end relief"
 
 
 @dataclass(frozen=True)
@@ -50,16 +72,19 @@ class LoadedContact:
 
     surface_pressure_max_mpa: float | None  # None: no converged position with a surface peak
     edge_pressure_max_mpa: float | None  # None: no edge contact
-    contact_length_mm: float | None  # the shortest loaded length along the face of the most loaded pair
+    face_load: dict  # member -> FaceLoad (K_Hbeta from the line load along the face)
     root_stress_max_mpa: dict  # member -> FE root stress max over the cycle, None when not computed
     root_stress_location: dict  # member -> {face_z_mm, height_above_root_mm, pinion_angle_rad, tooth_pair} or None
     notes: tuple = ()
     peak_where: str = "mesh cycle peak"  # where the surface peak pressure is (pinion angle, tooth pair)
     peak_face_z_mm: dict = field(default_factory=dict)  # member -> face coordinate of that pair's patch centre
+    edge: EdgeContact | None = None
+    mesh_stiffness_n_per_um: float | None = None  # mean over the converged positions
 
 
-def loaded_contact(ltca_result, geometry) -> LoadedContact:
-    """Peak surface / edge pressure and the loaded length from an ``LTCAResult``."""
+def loaded_contact(ltca_result, geometry, face_width_mm: float) -> LoadedContact:
+    """Peak surface / edge pressure, the line load along each face (K_Hbeta) and the mean mesh
+    stiffness from an ``LTCAResult``; ``face_width_mm`` the b of the mean line load."""
     ok = ltca_result.converged
     notes = list(ltca_result.warnings())
     surf = ltca_result.pair_surface_max_pressure_mpa[ok]
@@ -73,15 +98,7 @@ def loaded_contact(ltca_result, geometry) -> LoadedContact:
         where = (f"mesh cycle peak (pinion angle {phi * 1e3:.2f} mrad, tooth pair {int(ltca_result.tooth_pairs[k])}; "
                  f"patch centre at face z {face['pinion']:.1f} mm on the pinion, {face['gear']:.1f} mm on the gear)")
     p_edge = float(np.nanmax(edge)) if np.isfinite(edge).any() else None
-    axes = ltca_result.patch_semi_axes_mm()[ok]  # (N, P, 2): across, along
-    loads = np.where(np.isfinite(ltca_result.pair_load_n[ok]), ltca_result.pair_load_n[ok], -1.0)
-    lengths = []
-    for j in range(loads.shape[0]):
-        k = int(np.argmax(loads[j]))
-        along = axes[j, k, 1]
-        if loads[j, k] > 0 and np.isfinite(along):
-            lengths.append(2.0 * float(along))
-    length = min(lengths) if lengths else None
+    loads = {m: face_load(ltca_result, geometry, m, face_width_mm) for m in MEMBERS}
     if not ok.any():
         notes.append("no LTCA position converged: local stresses are null")
     root = {m: None for m in MEMBERS}
@@ -101,7 +118,39 @@ def loaded_contact(ltca_result, geometry) -> LoadedContact:
         notes.append("local root stress: not computed (the LTCA ran with the plate tooth, which has no root "
                      "fillet; --tooth-model fe): root_stress_max_mpa and safety_bending are null, the ISO "
                      "bending values stand alone")
-    return LoadedContact(p_surf, p_edge, length, root, root_where, tuple(notes), where, face)
+    stiff = ltca_result.mesh_stiffness_n_per_um
+    stiff = None if stiff is None else stiff[ok & np.isfinite(stiff)]
+    k_mesh = float(np.mean(stiff)) if stiff is not None and stiff.size else None
+    return LoadedContact(p_surf, p_edge, loads, root, root_where, tuple(notes), where, face,
+                         _edge_contact(ltca_result, geometry) if p_edge is not None else None, k_mesh)
+
+
+def _edge_contact(result, geometry) -> EdgeContact | None:
+    """The cell carrying the largest edge pressure and the flank edge nearest to it: a face end (toe,
+    heel) or the tip of either member (the form limit of one member meets the other's tip)."""
+    from ..ltca.grid import interior
+
+    g = result.grid
+    p = result.pressure_mpa
+    edge_cells = (p > 0) & ~interior(p, result.gap.in_flank, g.across_cells, g.along_cells).reshape(p.shape)
+    edge_cells &= result.converged[:, None, None]
+    if not edge_cells.any():
+        return None
+    j, k, c = np.unravel_index(int(np.argmax(np.where(edge_cells, p, -1.0))), p.shape)
+    best = None
+    for member, pts in (("pinion", result.gap.pinion_point), ("gear", result.gap.gear_point)):
+        point = pts[j, k, c]
+        if not np.isfinite(point).all():
+            continue
+        z = float(sections.face_z(geometry, member, point[2]))
+        w = float(sections.half_face(geometry, member))
+        tip = float(sections.section(geometry, member, float(np.clip(z, -w, w))).tip_radius)
+        for name, distance in (("toe" if z < 0 else "heel", w - abs(z)), ("tip", tip - float(np.hypot(*point[:2])))):
+            if best is None or distance < best[0]:
+                best = (distance, member, name)
+    if best is None:
+        return None
+    return EdgeContact(float(p[j, k, c]), best[1], best[2], float(result.pinion_angle[j]), int(result.tooth_pairs[k]))
 
 
 def _patch_centre_face_z(geometry, flank, tangency) -> dict:
@@ -130,8 +179,8 @@ class SectionRating:
     sigma_F0_mpa: float
     contact: iso6336.ContactFactors
     sigma_H0_mpa: float
-    K_Hbeta: float
-    K_Fbeta: float
+    K_H_beta: float
+    K_F_beta: float
     sigma_F_mpa: float
     sigma_H_mpa: float
     safety_bending_iso: float
@@ -147,9 +196,27 @@ class RateInput:
     flank: str
     torque_nm: float
     face_width_mm: float
-    loaded_length_mm: float | None
+    face_load: dict  # member -> FaceLoad
     factors: Factors
     elastic: tuple  # (E_pinion MPa, nu_pinion, E_gear MPa, nu_gear)
+
+    @property
+    def face_exponent(self) -> float:
+        """N_F of the pair: ISO 6336-1 takes the smaller b/h of the two members."""
+        g = self.geometry
+        depth = max(g.member(m).tip_height_mm + g.member(m).cutter_addendum_mm for m in MEMBERS)
+        return face_factor_exponent(self.face_width_mm, depth)
+
+    def K_H_beta(self, member: str) -> float:
+        """K_Hbeta of the member's line load (1 without a loaded position; at least 1)."""
+        fl = self.face_load[member]
+        return 1.0 if fl.K_H_beta is None else max(fl.K_H_beta, 1.0)
+
+    def loaded_length_mm(self, member: str) -> float:
+        """The face length the line load covers where it peaks, at most b (the eps_beta of a point contact)."""
+        fl = self.face_load[member]
+        b = self.face_width_mm
+        return b if fl.loaded_length_mm is None else min(fl.loaded_length_mm, b)
 
 
 def _member_torque_nm(geometry, member, pinion_torque_nm):
@@ -175,8 +242,8 @@ def _rate_section(inp: RateInput, member: str, z_face: float, name: str) -> Sect
     sg = section_gear(geom, member, z_face, inp.flank, name)
     gear, mate = sg.gear, mate_gear(geom, sg, inp.flank)
     b = inp.face_width_mm
-    loaded = b if inp.loaded_length_mm is None else min(inp.loaded_length_mm * math.cos(gear.base_helix_angle), b)
-    k_hb = b / loaded
+    loaded = inp.loaded_length_mm(member)
+    k_hb = inp.K_H_beta(member)
     pair_loaded = iso6336.CylindricalPair(gear, mate, loaded)
     bend = iso6336.bending_geometry(pair_loaded)
     ft = 1000.0 * _member_torque_nm(geom, member, inp.torque_nm) / (gear.reference_diameter_mm / 2)
@@ -189,8 +256,7 @@ def _rate_section(inp: RateInput, member: str, z_face: float, name: str) -> Sect
     small = gear if gear.teeth <= mate.teeth else mate
     u = max(gear.teeth, mate.teeth) / min(gear.teeth, mate.teeth)
     sh0 = iso6336.nominal_contact_stress_mpa(cf, ft, small.reference_diameter_mm, b, u)
-    m = geom.member(member)
-    k_fb = k_hb ** face_factor_exponent(b, m.tip_height_mm + m.cutter_addendum_mm)
+    k_fb = k_hb ** inp.face_exponent
     f = inp.factors
     s_f = sf0 * f.K_A * f.K_v * k_fb
     s_h = sh0 * math.sqrt(f.K_A * f.K_v * k_hb)
@@ -257,14 +323,23 @@ def analyze(pair, options: Options, solver=None, ltca_result=None, face_points: 
 
     spec, geom = pair.spec, pair.geometry
     factors = Factors.from_spec(spec)
+    b = min(geom.pinion.face_width_mm, geom.gear.face_width_mm)
+    mat = ltca.Material.from_spec(spec)
+    elastic = (mat.pinion_e_mpa, mat.pinion_nu, mat.gear_e_mpa, mat.gear_nu)
+    dyn = None
     if ltca_result is None:
         from ..solver import Solver
 
-        ltca_result = ltca.analyze(pair, options.ltca_options(factors.K_A * factors.K_v), solver or Solver())
-    lc = loaded_contact(ltca_result, geom)
-    mat = ltca.Material.from_spec(spec)
-    inp = RateInput(geom, options.flank, options.torque_nm, min(geom.pinion.face_width_mm, geom.gear.face_width_mm),
-                    lc.contact_length_mm, factors, (mat.pinion_e_mpa, mat.pinion_nu, mat.gear_e_mpa, mat.gear_nu))
+        solver = solver or Solver()
+        if factors.K_v_source == "method B":
+            # the mesh stiffness at K_A T (ISO's c' is that of the load K_A F_t), then the local stresses at K_A K_v T
+            first = ltca.analyze(pair, options.ltca_options(factors.K_A), solver)
+            dyn, factors = _with_dynamic_factor(pair, options, factors, loaded_contact(first, geom, b), elastic)
+        ltca_result = ltca.analyze(pair, options.ltca_options(factors.K_A * factors.K_v), solver)
+    lc = loaded_contact(ltca_result, geom, b)
+    if factors.K_v_source == "method B" and dyn is None:  # the caller's LTCA: its own stiffness
+        dyn, factors = _with_dynamic_factor(pair, options, factors, lc, elastic)
+    inp = RateInput(geom, options.flank, options.torque_nm, b, lc.face_load, factors, elastic)
     members = {}
     for member in MEMBERS:
         w = sections.half_face(geom, member)
@@ -278,9 +353,79 @@ def analyze(pair, options: Options, solver=None, ltca_result=None, face_points: 
             None if p is None else factors.contact_strength_mpa(member) / p, face)
     notes = factors.notes() + list(lc.notes)
     notes += [f"{m.member} {k}: {s.status}" for m in members.values() for k, s in m.sections.items() if s.status != "ok"]
-    if lc.contact_length_mm is None:
-        notes.append("no loaded contact length from the LTCA: K_Hbeta = K_Fbeta = 1 on the full face width")
-    if lc.edge_pressure_max_mpa is not None:
-        notes.append(f"edge contact: peak edge pressure {lc.edge_pressure_max_mpa:.0f} MPa (grid-dependent, "
-                     "reported apart; not in S_H)")
-    return RatingResult(options.torque_nm, options.flank, members, lc, factors, tuple(notes))
+    for member in MEMBERS:
+        fl = lc.face_load[member]
+        if fl.K_H_beta is None:
+            notes.append(f"{member}: no loaded position in the LTCA: K_H_beta = K_F_beta = 1 on the full face width")
+        elif fl.K_H_beta < 1.0:
+            notes.append(f"{member}: the line load's peak is {fl.K_H_beta:.3f} of its mean over b = {b:g} mm (the "
+                         "contact is longer than the common face width): K_H_beta = 1")
+    if dyn is not None:
+        notes += dynamic_notes(dyn)
+    if lc.edge is not None:
+        notes.append(f"edge contact: peak edge pressure {lc.edge.pressure_mpa:.0f} MPa at {lc.edge.where} "
+                     "(grid-dependent; not in S_H, judged by the edge-contact rule of the verdict)")
+    return RatingResult(options.torque_nm, options.flank, members, lc, factors, tuple(notes), dyn)
+
+
+def _with_dynamic_factor(pair, options, factors, lc, elastic):
+    """(DynamicFactor or None, factors with its K_v); K_v = 1 ("not computed") without a mesh stiffness."""
+    if lc.mesh_stiffness_n_per_um is None:
+        return None, replace(factors, K_v=1.0, K_v_source="not computed")
+    dyn = dynamic_factor(pair, options, factors, lc, elastic)
+    return dyn, replace(factors, K_v=dyn.K_v)
+
+
+def dynamic_factor(pair, options: Options, factors: Factors, lc: LoadedContact, elastic) -> dynamic.DynamicFactor:
+    """K_v by ISO 6336-1 method B (docs/rating.md 4.2) from the pinion speed and the LTCA's mesh stiffness:
+    c_gamma_alpha = (mean normal mesh stiffness) cos^2 beta_b1 / b on the pinion's middle virtual gear (its
+    transverse plane), the gear's mass referred to it through the ratio (d_b2 -> u d_b1)."""
+    spec, geom = pair.spec, pair.geometry
+    flank = options.flank
+    b = min(geom.pinion.face_width_mm, geom.gear.face_width_mm)
+    inp = RateInput(geom, flank, options.torque_nm, b, lc.face_load, factors, elastic)
+    p_sec, g_sec = section_gear(geom, "pinion", 0.0, flank), section_gear(geom, "gear", 0.0, flank)
+    p1 = p_sec.gear
+    pair_v = iso6336.CylindricalPair(p1, mate_gear(geom, p_sec, flank), inp.loaded_length_mm("pinion"))
+    eps_a, eps_b = pair_v.transverse_contact_ratio, pair_v.overlap_ratio
+    c_gamma = lc.mesh_stiffness_n_per_um * math.cos(p1.base_helix_angle) ** 2 / b
+    c_prime = c_gamma / (0.75 * eps_a + 0.25)
+    z1, z2 = geom.pinion.teeth, geom.gear.teeth
+    u = z2 / z1
+    d_m, rho, q = {}, {}, {}
+    for m, sec in (("pinion", p_sec), ("gear", g_sec)):
+        root_d = 2 * float(sections.section(geom, m, 0.0).root_radius)
+        d_m[m] = (sec.gear.tip_diameter_mm + root_d) / 2
+        q[m] = getattr(spec, m).bore_diameter_mm / d_m[m]
+        rho[m] = materials.MATERIALS[factors.material[m]["type"]].density_kg_per_mm3
+    d_b1 = p1.base_diameter_mm
+    m_red = dynamic.reduced_mass_kg_per_mm(d_m["pinion"], d_b1, q["pinion"], rho["pinion"],
+                                           d_m["gear"], u * d_b1, q["gear"], rho["gear"])
+    d1 = p1.reference_diameter_mm
+    f_t = 1000.0 * options.torque_nm / (d1 / 2)
+    n1 = spec.rating.pinion_speed_rpm
+    v = math.pi * d1 * n1 / 60000.0
+    f_pt, f_fa = dynamic.accuracy_deviations_um(spec.rating.accuracy_grade, geom.normal_module_mm,
+                                                max(d1, g_sec.gear.reference_diameter_mm))
+    f_pb = f_pt * math.cos(p1.transverse_pressure_angle)
+    y_p = y_f = 0.0
+    for m in MEMBERS:
+        group = materials.MATERIALS[factors.material[m]["type"]].running_in
+        y_p += dynamic.running_in_um(group, f_pb, factors.contact_limit_mpa[m], v) / 2
+        y_f += dynamic.running_in_um(group, f_fa, factors.contact_limit_mpa[m], v) / 2
+    relief = max(dict(getattr(spec, m).surface_options).get("tip_relief_um", 0.0) for m in MEMBERS)
+    c_a = relief if relief > 0 else sum(dynamic.tip_relief_running_in_um(factors.contact_limit_mpa[m])
+                                        for m in MEMBERS) / 2
+    return dynamic.dynamic_factor(dynamic.MeshDynamics(n1, z1, c_gamma, c_prime, m_red, factors.K_A * f_t / b,
+                                                       f_pb - y_p, f_fa - y_f, c_a, eps_a + eps_b))
+
+
+def dynamic_notes(d: dynamic.DynamicFactor) -> list:
+    out = [f"K_v = {d.K_v:.4f} (ISO 6336-1 method B, {d.region}: N = {d.resonance_ratio:.3f}, n_E1 = "
+           f"{d.resonance_speed_rpm:.0f} rpm, c_gamma_alpha = {d.c_gamma_alpha_n_per_mm_um:.2f} N/(mm um) from the "
+           "LTCA's mesh stiffness)"]
+    if d.region == "main resonance":
+        out.append("the pinion speed is in the main resonance range of ISO 6336-1 (N_S < N <= 1.15): avoid it")
+    if d.K_v < 1.0:
+        out.append(f"K_v = {d.K_v:.3f} < 1 (super-critical range, ISO 6336-1 method B as it stands)")
+    return out

@@ -5,36 +5,21 @@ What is modelled and what is left at 1 is said here once; ``notes(...)`` repeats
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
+from . import materials
 from .iso6336 import ISO_EDITION
+from .materials import life_factor
 
-__all__ = ["Factors", "LIFE_POINTS_CONTACT", "LIFE_POINTS_ROOT", "Y_ST", "face_factor_exponent", "life_factor"]
+__all__ = ["Factors", "Y_ST", "face_factor_exponent", "life_factor"]
 
 #: stress correction factor of the reference test gear (ISO 6336-3: sigma_FE = sigma_Flim Y_ST)
 Y_ST = 2.0
-#: life factor Z_NT of case-hardened steel, ISO 6336-2:2019 Table 2 (no limited pitting): (load cycles, Z_NT),
-#: log-log between the points, constant outside
-LIFE_POINTS_CONTACT = ((1e5, 1.6), (5e7, 1.0), (1e10, 0.85))
-#: life factor Y_NT of case-hardened steel, ISO 6336-3:2019 Table 3: (load cycles, Y_NT)
-LIFE_POINTS_ROOT = ((1e3, 2.5), (3e6, 1.0), (1e10, 0.85))
-
-
-def life_factor(points, cycles: float | None) -> float:
-    """The life factor at ``cycles`` load cycles (None: long life, 1)."""
-    if cycles is None:
-        return 1.0
-    if cycles <= points[0][0]:
-        return points[0][1]
-    for (n0, f0), (n1, f1) in zip(points[:-1], points[1:]):
-        if cycles <= n1:
-            t = math.log(cycles / n0) / math.log(n1 / n0)
-            return math.exp(math.log(f0) + t * (math.log(f1) - math.log(f0)))
-    return points[-1][1]
 
 
 def face_factor_exponent(face_width_mm: float, tooth_depth_mm: float) -> float:
-    """N_F of ISO 6336-1:2019 (K_Fbeta = K_Hbeta^N_F), b/h at least 3."""
+    """N_F = (b/h)^2 / (1 + b/h + (b/h)^2) of ISO 6336-1:2019 (K_Fbeta = K_Hbeta^N_F), b/h at least 3
+    (the caller passes the smaller b/h of the pair)."""
     bh = max(face_width_mm / tooth_depth_mm, 3.0)
     return bh ** 2 / (1 + bh + bh ** 2)
 
@@ -50,6 +35,8 @@ class Factors:
     root_limit_mpa: dict  # member -> sigma_Flim
     contact_limit_mpa: dict  # member -> sigma_Hlim
     cycles: dict  # member -> load cycles N_L, or None (no speed / life given)
+    material: dict = field(default_factory=dict)  # member -> {"type", "quality", "hardness", "limits_from"}
+    K_v_source: str = "user"  # "user" (rating.K_v), "method B" (computed), "static" (no speed: 1), "not computed"
 
     @classmethod
     def from_spec(cls, spec) -> "Factors":
@@ -58,16 +45,39 @@ class Factors:
         if r.pinion_speed_rpm is not None and r.life_hours is not None:
             n1 = 60.0 * r.pinion_speed_rpm * r.life_hours
         ratio = spec.pinion.teeth / spec.gear.teeth
-        return cls(r.K_A, r.K_v, r.S_Fmin, r.S_Hmin,
-                   {"pinion": m.pinion_root_stress_limit_mpa, "gear": m.gear_root_stress_limit_mpa},
-                   {"pinion": m.pinion_contact_stress_limit_mpa, "gear": m.gear_contact_stress_limit_mpa},
-                   {"pinion": n1, "gear": None if n1 is None else n1 * ratio})
+        root, contact, mats = {}, {}, {}
+        for member in ("pinion", "gear"):
+            kind, quality = getattr(m, f"{member}_material"), getattr(m, f"{member}_material_quality")
+            hardness = materials.check_member(member, kind, quality, getattr(m, f"{member}_surface_hardness_hv"),
+                                              getattr(m, f"{member}_surface_hardness_hbw"))
+            iso_h, iso_f = materials.limits_mpa(kind, quality, hardness)
+            user_h = getattr(m, f"{member}_contact_stress_limit_mpa")
+            user_f = getattr(m, f"{member}_root_stress_limit_mpa")
+            contact[member] = iso_h if user_h is None else user_h
+            root[member] = iso_f if user_f is None else user_f
+            unit = materials.MATERIALS[kind].hardness_unit
+            mats[member] = {"type": kind, "iso": materials.MATERIALS[kind].iso, "quality": quality,
+                            f"surface_hardness_{unit or 'hv'}": hardness,
+                            "sigma_Hlim_mpa": contact[member], "sigma_Flim_mpa": root[member],
+                            "sigma_Hlim_from": "ISO 6336-5" if user_h is None else "user",
+                            "sigma_Flim_from": "ISO 6336-5" if user_f is None else "user"}
+        if r.K_v is not None:
+            k_v, source = r.K_v, "user"
+        elif r.pinion_speed_rpm is not None:
+            k_v, source = math.nan, "method B"  # set by the analysis from the loaded contact
+        else:
+            k_v, source = 1.0, "static"
+        return cls(r.K_A, k_v, r.S_Fmin, r.S_Hmin, root, contact,
+                   {"pinion": n1, "gear": None if n1 is None else n1 * ratio}, mats, source)
+
+    def life_curves(self, member: str):
+        return materials.MATERIALS[self.material[member]["type"]]
 
     def Y_NT(self, member: str) -> float:
-        return life_factor(LIFE_POINTS_ROOT, self.cycles[member])
+        return life_factor(self.life_curves(member).y_nt, self.cycles[member])
 
     def Z_NT(self, member: str) -> float:
-        return life_factor(LIFE_POINTS_CONTACT, self.cycles[member])
+        return life_factor(self.life_curves(member).z_nt, self.cycles[member])
 
     def root_strength_mpa(self, member: str) -> float:
         """sigma_Flim Y_ST Y_NT (Y_deltarelT = Y_RrelT = Y_X = 1): what S_F divides by sigma_F."""
@@ -77,15 +87,31 @@ class Factors:
         """sigma_Hlim Z_NT (Z_L = Z_v = Z_R = Z_W = Z_X = 1): what S_H divides by sigma_H."""
         return self.contact_limit_mpa[member] * self.Z_NT(member)
 
+    def material_json(self, member: str) -> dict:
+        out = dict(self.material[member])
+        out.update(Z_NT=self.Z_NT(member), Y_NT=self.Y_NT(member), load_cycles=self.cycles[member])
+        return out
+
     def notes(self) -> list:
+        k_v = {"user": f"K_v = {self.K_v:g} is the user's (rating.K_v)",
+               "method B": f"K_v = {self.K_v:.4g} by ISO 6336-1 method B from the pinion speed and the loaded "
+                           "contact's mesh stiffness (dynamic_factor)",
+               "static": "K_v = 1: no rating.pinion_speed_rpm (static; give the speed for ISO 6336-1 method B)",
+               "not computed": "K_v = 1: method B needs a converged LTCA position with a mesh stiffness, and "
+                               "none converged (give rating.K_v)"}
         out = [f"{ISO_EDITION} on the virtual helical gear of each section "
                "(docs/rating.md); Y_B = Y_DT = Z_B = Z_D = K_Falpha = K_Halpha = 1",
-               f"K_A = {self.K_A:g} and K_v = {self.K_v:g} are the user's; the local stresses are at K_A K_v T",
+               f"K_A = {self.K_A:g} is the user's; {k_v[self.K_v_source]}; the local stresses are at K_A K_v T",
                "permissible stresses: sigma_Flim Y_ST Y_NT (Y_ST = 2) and sigma_Hlim Z_NT; size, roughness, "
                "lubricant, velocity and work-hardening factors (Y_X, Y_deltarelT, Y_RrelT, Z_X, Z_L, Z_v, Z_R, Z_W) = 1"]
+        for member in ("pinion", "gear"):
+            m = self.material[member]
+            out.append(f"{member}: {m['type']} {m['quality']} ({m['iso']}), sigma_Hlim {self.contact_limit_mpa[member]:g} "
+                       f"MPa ({m['sigma_Hlim_from']}), sigma_Flim {self.root_limit_mpa[member]:g} MPa "
+                       f"({m['sigma_Flim_from']})")
         if self.cycles["pinion"] is None:
             out.append("no rating.pinion_speed_rpm / rating.life_hours: life factors Y_NT = Z_NT = 1 (long life)")
         else:
             out.append(f"load cycles N_L: pinion {self.cycles['pinion']:.3g}, gear {self.cycles['gear']:.3g} "
-                       "(life factors of case-hardened steel, ISO 6336-2/-3:2019)")
+                       "(life factors of each member's material, ISO 6336-2/-3:2019, no limited pitting)")
         return out

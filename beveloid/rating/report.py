@@ -28,6 +28,12 @@ def section_json(s) -> dict:
     return {k: _num(v) for k, v in zip(SEC_KEYS, values)}
 
 
+#: the edge-contact rule of the verdict (docs/rating.md 6), quoted in the JSON
+EDGE_RULE = ("edge contact: a pair whose largest edge pressure at K_A K_v T exceeds sigma_Hlim Z_NT / S_Hmin of "
+             "the weaker member does not pass cleanly; it passes only if that edge is relieved (end relief at a "
+             "toe or heel, tip relief at a tip), and fails if it would fail anyway")
+
+
 @dataclass(frozen=True)
 class RatingResult:
     torque_nm: float
@@ -36,6 +42,7 @@ class RatingResult:
     loaded: object  # analysis.LoadedContact
     factors: object  # factors.Factors
     notes: tuple
+    dynamic: object = None  # dynamic.DynamicFactor when K_v came from ISO 6336-1 method B
 
     def safeties(self) -> list:
         """Every safety factor as (value, kind, source, member, where, required)."""
@@ -52,29 +59,67 @@ class RatingResult:
                 out.append((m.safety_pitting, "S_H", "local", name, self.loaded.peak_where, f.S_Hmin))
         return out
 
+    def edge_contact(self) -> dict | None:
+        """The edge-contact rule applied (None without edge contact)."""
+        e = self.loaded.edge
+        if e is None:
+            return None
+        f = self.factors
+        strength = min(f.contact_strength_mpa(m) for m in self.members)
+        safety = strength / e.pressure_mpa
+        return {"rule": EDGE_RULE, "pressure_mpa": _num(e.pressure_mpa), "at": e.where, "member": e.member,
+                "edge": e.edge, "relief": e.relief, "permissible_mpa": _num(strength / f.S_Hmin),
+                "safety": _num(safety), "exceeds": bool(safety < f.S_Hmin),
+                "pinion_angle_rad": _num(e.pinion_angle_rad), "tooth_pair": e.tooth_pair}
+
     def verdict(self) -> dict:
-        """The lowest safety relative to its minimum, and whether every safety meets its minimum; the
-        local values decide where they exist, the ISO ones otherwise."""
+        """The lowest safety relative to its minimum, whether every safety meets its minimum (the local
+        values decide where they exist, the ISO ones otherwise), and the edge-contact rule."""
         all_ = [s for s in self.safeties() if _num(s[0]) is not None]
         local_kinds = {s[1] for s in all_ if s[2] == "local"}
         deciding = [s for s in all_ if s[2] == "local" or s[1] not in local_kinds]
+        edge = self.edge_contact()
         if not deciding:
             return {"lowest": None, "value": None, "source": None, "member": None, "where": None, "required": None,
-                    "meets_S_Fmin": None, "meets_S_Hmin": None, "passes": None,
-                    "line": "no safety factor could be computed (see notes)"}
+                    "meets_S_Fmin": None, "meets_S_Hmin": None, "edge_contact": edge, "status": None,
+                    "condition": None, "passes": None, "line": "no safety factor could be computed (see notes)"}
         low = min(deciding, key=lambda s: s[0] / s[5])
         ok_f = all(s[0] >= s[5] for s in deciding if s[1] == "S_F")
         ok_h = all(s[0] >= s[5] for s in deciding if s[1] == "S_H")
+        line = (f"lowest safety {low[1]} = {low[0]:.3f} ({low[2]}) on the {low[3]} at {low[4]}; "
+                f"S_F {'meets' if ok_f else 'FAILS'} S_Fmin = {self.factors.S_Fmin:g}, "
+                f"S_H {'meets' if ok_h else 'FAILS'} S_Hmin = {self.factors.S_Hmin:g}")
+        status, condition = ("passes" if ok_f and ok_h else "fails"), None
+        if edge is not None and edge["exceeds"]:
+            condition = f"passes only if {edge['at']} is relieved ({edge['relief']})"
+            line += (f"; edge contact at {edge['at']}: {edge['pressure_mpa']:.0f} MPa > sigma_Hlim Z_NT / S_Hmin = "
+                     f"{edge['permissible_mpa']:.0f} MPa (edge-contact rule): ")
+            if status == "passes":
+                status = "conditional"
+                line += f"CONDITIONAL, {condition}"
+            else:
+                line += "FAILS also without it"
         return {"lowest": low[1], "value": _num(low[0]), "source": low[2], "member": low[3], "where": low[4],
-                "required": low[5], "meets_S_Fmin": ok_f, "meets_S_Hmin": ok_h, "passes": ok_f and ok_h,
-                "line": (f"lowest safety {low[1]} = {low[0]:.3f} ({low[2]}) on the {low[3]} at {low[4]}; "
-                         f"S_F {'meets' if ok_f else 'FAILS'} S_Fmin = {self.factors.S_Fmin:g}, "
-                         f"S_H {'meets' if ok_h else 'FAILS'} S_Hmin = {self.factors.S_Hmin:g}")}
+                "required": low[5], "meets_S_Fmin": ok_f, "meets_S_Hmin": ok_h, "edge_contact": edge,
+                "status": status, "condition": condition if status == "conditional" else None,
+                "passes": status == "passes", "line": line}
+
+
+def _face_load_json(fl) -> dict:
+    return {"peak_line_load_n_per_mm": _num(fl.peak_line_load_n_per_mm),
+            "mean_line_load_n_per_mm": _num(fl.mean_line_load_n_per_mm), "face_z_mm": _num(fl.face_z_mm),
+            "loaded_length_mm": _num(fl.loaded_length_mm)}
 
 
 def to_json_dict(r: RatingResult) -> dict:
-    out = {"torque_nm": float(r.torque_nm), "flank": r.flank}
+    f = r.factors
+    out = {"torque_nm": float(r.torque_nm), "flank": r.flank, "K_A": float(f.K_A), "K_v": _num(f.K_v),
+           "K_v_source": f.K_v_source,
+           "dynamic_factor": None if r.dynamic is None else {k: (list(v) if isinstance(v, tuple) else
+                                                                 (v if isinstance(v, str) else _num(v)))
+                                                             for k, v in r.dynamic.as_dict().items()}}
     for name, m in r.members.items():
+        fl = r.loaded.face_load[name]
         out[name] = {
             "sections": {k: section_json(s) for k, s in m.sections.items()},
             "root_stress_max_mpa": _num(m.root_stress_max_mpa),
@@ -84,8 +129,10 @@ def to_json_dict(r: RatingResult) -> dict:
             "safety_pitting": _num(m.safety_pitting),
             "safety_bending_iso": _num(m.safety_bending_iso),
             "safety_pitting_iso": _num(m.safety_pitting_iso),
-            "K_Hbeta": _num(m.sections["middle"].K_Hbeta),
-            "K_Fbeta": _num(m.sections["middle"].K_Fbeta),
+            "K_H_beta": _num(m.sections["middle"].K_H_beta),
+            "K_F_beta": _num(m.sections["middle"].K_F_beta),
+            "face_load": _face_load_json(fl),
+            "material": {k: (_num(v) if isinstance(v, float) else v) for k, v in f.material_json(name).items()},
             "edge_pressure_max_mpa": _num(r.loaded.edge_pressure_max_mpa),
         }
     out["verdict"] = r.verdict()
@@ -93,28 +140,46 @@ def to_json_dict(r: RatingResult) -> dict:
     return out
 
 
+def _fmt(v, spec="{:.1f}", unit=""):
+    """A number with its unit, or "null" (never "null MPa")."""
+    v = _num(v)
+    return "null" if v is None else spec.format(v) + (f" {unit}" if unit else "")
+
+
 def table(r: RatingResult) -> str:
-    rows = [f"rating at pinion torque {r.torque_nm:g} N m ({r.flank} flank); K_A = {r.factors.K_A:g}, "
-            f"K_v = {r.factors.K_v:g}"]
-    head = ("member", "section", "z_n", "x_n", "beta", "s_Fn", "rho_F", "h_Fe", "Y_F", "Y_S", "Y_b", "sF0",
-            "sF", "S_F", "Z_H", "Z_eps", "sH0", "sH", "S_H")
+    f = r.factors
+    k_v = {"method B": " (ISO 6336-1 method B)", "user": " (user's)", "static": " (static: no speed)",
+           "not computed": " (method B not computed)"}[f.K_v_source]
+    rows = [f"rating at pinion torque {r.torque_nm:g} N m ({r.flank} flank); K_A = {f.K_A:g}, "
+            f"K_v = {f.K_v:.4g}{k_v}"]
+    head = ("member", "section", "z_n", "x_n", "beta", "s_Fn", "rho_F", "h_Fe", "Y_F", "Y_S", "Y_b", "K_Fb", "sF0",
+            "sF", "S_F", "Z_H", "Z_eps", "K_Hb", "sH0", "sH", "S_H")
+    units = ("", "", "", "", "deg", "mm", "mm", "mm", "", "", "", "", "MPa", "MPa", "", "", "", "", "MPa", "MPa", "")
     rows.append(" ".join(f"{h:>7}" for h in head))
+    rows.append(" ".join(f"{'[' + u + ']' if u else '':>7}" for u in units))
     for name, m in r.members.items():
         for k, s in m.sections.items():
             b, c = s.bending, s.contact
             vals = (s.virtual_teeth, s.normal_profile_shift, s.helix_angle_deg, b.s_Fn_mm, b.rho_F_mm, b.h_Fe_mm,
-                    b.Y_F, b.Y_S, s.Y_beta, s.sigma_F0_mpa, s.sigma_F_mpa, s.safety_bending_iso, c.Z_H, c.Z_eps,
-                    s.sigma_H0_mpa, s.sigma_H_mpa, s.safety_pitting_iso)
-            rows.append(f"{name:>7} {k:>7} " + " ".join(f"{v:7.3f}" if abs(v) < 100 else f"{v:7.1f}" for v in vals))
+                    b.Y_F, b.Y_S, s.Y_beta, s.K_F_beta, s.sigma_F0_mpa, s.sigma_F_mpa, s.safety_bending_iso, c.Z_H,
+                    c.Z_eps, s.K_H_beta, s.sigma_H0_mpa, s.sigma_H_mpa, s.safety_pitting_iso)
+            rows.append(f"{name:>7} {k:>7} " + " ".join(
+                f"{'null':>7}" if _num(v) is None else (f"{v:7.3f}" if abs(v) < 100 else f"{v:7.1f}") for v in vals))
     rows.append("local (loaded contact at K_A K_v T):")
     for name, m in r.members.items():
-        def fmt(v, f="{:.1f}"):
-            return "null" if v is None else f.format(v)
         at = "" if m.root_stress_location is None else f" ({m.root_stress_where})"
-        rows.append(f"  {name}: root stress max {fmt(m.root_stress_max_mpa)} MPa{at}, S_F {fmt(m.safety_bending, '{:.3f}')}"
-                    f"; contact pressure max {fmt(m.contact_pressure_max_mpa)} MPa, S_H "
-                    f"{fmt(m.safety_pitting, '{:.3f}')}; ISO min S_F {m.safety_bending_iso:.3f}, "
-                    f"S_H {m.safety_pitting_iso:.3f}")
+        fl = r.loaded.face_load[name]
+        mat = f.material[name]
+        rows.append(f"  {name}: root stress max {_fmt(m.root_stress_max_mpa, unit='MPa')}{at}, S_F "
+                    f"{_fmt(m.safety_bending, '{:.3f}')}; contact pressure max "
+                    f"{_fmt(m.contact_pressure_max_mpa, unit='MPa')}, S_H {_fmt(m.safety_pitting, '{:.3f}')}; "
+                    f"ISO min S_F {_fmt(m.safety_bending_iso, '{:.3f}')}, S_H {_fmt(m.safety_pitting_iso, '{:.3f}')}")
+        rows.append(f"    line load along the face: peak {_fmt(fl.peak_line_load_n_per_mm, unit='N/mm')} at face z "
+                    f"{_fmt(fl.face_z_mm, unit='mm')}, mean {_fmt(fl.mean_line_load_n_per_mm, unit='N/mm')}: "
+                    f"K_H_beta {_fmt(m.sections['middle'].K_H_beta, '{:.3f}')}, K_F_beta "
+                    f"{_fmt(m.sections['middle'].K_F_beta, '{:.3f}')}")
+        rows.append(f"    material: {mat['type']} {mat['quality']}, sigma_Hlim {f.contact_limit_mpa[name]:g} MPa, "
+                    f"sigma_Flim {f.root_limit_mpa[name]:g} MPa, Z_NT {f.Z_NT(name):.3f}, Y_NT {f.Y_NT(name):.3f}")
     rows.append("verdict: " + r.verdict()["line"])
     rows += [f"note: {n}" for n in r.notes]
     return "\n".join(rows)

@@ -224,6 +224,27 @@ def _compile(modules):
     return types.SimpleNamespace(**funcs, compiled=True)
 
 
+@functools.lru_cache(maxsize=None)
+def compiled_module(module_name: str, names: tuple):
+    """A plain module outside the core (in numba's subset, importing nothing of the package) with its
+    functions ``names`` compiled: the module executed again from its file as a twin (numba finds each
+    function's callees, compiled, in its globals), each function jit-compiled by :func:`_jit` and cached
+    on disk under the digest of that file.  None of the core is involved: its compile stays as it is."""
+    module = importlib.import_module(module_name)
+    name = module_name.replace(".", "_") + "__compiled"
+    if name not in sys.modules:
+        spec = importlib.util.spec_from_file_location(name, module.__file__)
+        twin = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(twin)
+        stamp = sources_stamp([module])
+        for attr in names:
+            fn = getattr(twin, attr)
+            fn.__qualname__ = f"{attr}__{stamp}"  # its cache entry belongs to this source
+            setattr(twin, attr, _jit(fn, nrt=True))
+        sys.modules[name] = twin
+    return sys.modules[name]
+
+
 def needs_compiling(ns) -> bool:
     """True when the compiled sweep has no usable cache on disk (none yet, or one written for
     other sources): the first run compiles, ~10-60 s."""
@@ -241,14 +262,24 @@ def needs_compiling(ns) -> bool:
 _notified = False
 
 
+#: what every command says on stderr before numba compiles the solver (a minute or more, without output)
+COMPILING = ("beveloid: compiling the contact solver with numba: the first run after an installation or a change of"
+             " the models (derive --model) takes a minute or more; cached afterwards")
+
+
 def notify_compiling(ns, stream=None):
-    """Say on a terminal that numba is about to compile (nothing otherwise); the cache is looked
-    at once per process (reading its index costs ~1 ms, more than a mesh study's solve)."""
+    """Say on stderr that numba is about to compile (nothing when its cache serves), terminal or not:
+    every command that solves a contact (tca, design, ltca, sweep, paper, ...) reaches it through
+    :meth:`beveloid.solver.Solver.announced_core`.  The cache is looked at once per process (reading
+    its index costs ~1 ms, more than a mesh study's solve)."""
     global _notified
     stream = stream or sys.stderr
-    if _notified or not getattr(ns, "compiled", False) or not getattr(stream, "isatty", lambda: False)():
+    if _notified or not getattr(ns, "compiled", False):
         return
     _notified = True
     if needs_compiling(ns):
-        stream.write("beveloid: compiling the contact solver with numba (first use only; cached afterwards)...\n")
-        stream.flush()
+        try:
+            stream.write(COMPILING + "\n")
+            stream.flush()
+        except (OSError, ValueError):  # a closed stderr: nothing can be said
+            pass

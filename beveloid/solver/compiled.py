@@ -57,7 +57,7 @@ def load(modules, jit):
     twins = {}
     for m in modules:
         name = twin_name(m)
-        if name not in sys.modules:
+        if sys.modules.get(name) in (None, m):  # none yet, or the alias of a module not compiled until now
             spec = importlib.util.spec_from_file_location(name, m.__file__)
             twin = importlib.util.module_from_spec(spec)
             sys.modules[name] = twin

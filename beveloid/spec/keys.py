@@ -230,6 +230,11 @@ def _mis_doc(description: str, unit: str, limit: float) -> KeyDoc:
     return KeyDoc(description, unit, lo=-limit, hi=limit, requirement="optional", default=0.0)
 
 
+#: the rating's material types and ISO 6336-5 qualities (beveloid/rating/materials.py holds their data)
+MATERIAL_TYPES = ("case-hardened", "through-hardened", "nitrided", "nitrocarburised", "grey-cast-iron",
+                  "nodular-cast-iron")
+MATERIAL_QUALITIES = ("ML", "MQ", "ME")
+
 _MIS_DOCS: dict[str, KeyDoc] = {e.key: _mis_doc(e.description, e.unit, e.limit) for e in assembly_errors.ERRORS}
 
 
@@ -243,20 +248,37 @@ def _material_docs() -> dict[str, KeyDoc]:
             f"Poisson's ratio of the {member} (loaded TCA)", lo=0.0, hi=0.5, hi_open=True, requirement="optional",
             default=0.3)
     for member in ("pinion", "gear"):
+        out[f"{member}_material"] = KeyDoc(
+            f"material type of the {member} (rating: ISO 6336-2/-3 life curves, ISO 6336-5 limits)", kind="choice",
+            choices=MATERIAL_TYPES, requirement="optional", default="case-hardened")
+        out[f"{member}_material_quality"] = KeyDoc(
+            f"ISO 6336-5 material quality of the {member} (rating: the default limits)", kind="choice",
+            choices=MATERIAL_QUALITIES, requirement="optional", default="MQ")
+        out[f"{member}_surface_hardness_hv"] = KeyDoc(
+            f"surface hardness of the {member} for the ISO 6336-5 limits of \"through-hardened\" and "
+            "\"nitrocarburised\" (rating; default mid-range: 300 and 400 HV)", "HV", lo=50.0, hi=1000.0,
+            requirement="optional")
+        out[f"{member}_surface_hardness_hbw"] = KeyDoc(
+            f"surface hardness of the {member} for the ISO 6336-5 limits of \"grey-cast-iron\" and "
+            "\"nodular-cast-iron\" (rating; default mid-range: 200 and 250 HBW)", "HBW", lo=50.0, hi=700.0,
+            requirement="optional")
         out[f"{member}_root_stress_limit_mpa"] = KeyDoc(
-            f"nominal tooth-root stress limit sigma_Flim of the {member} (rating; default ISO 6336-5 MQ, "
-            "case-hardened steel)", "MPa", lo=0.0, lo_open=True, hi=5000.0, requirement="optional", default=500.0)
+            f"nominal tooth-root stress limit sigma_Flim of the {member} (rating; overrides the ISO 6336-5 value "
+            "of the material and quality)", "MPa", lo=0.0, lo_open=True, hi=5000.0, requirement="optional")
         out[f"{member}_contact_stress_limit_mpa"] = KeyDoc(
-            f"allowable contact stress sigma_Hlim of the {member} (rating; default ISO 6336-5 MQ, "
-            "case-hardened steel)", "MPa", lo=0.0, lo_open=True, hi=10000.0, requirement="optional", default=1500.0)
+            f"allowable contact stress sigma_Hlim of the {member} (rating; overrides the ISO 6336-5 value of the "
+            "material and quality)", "MPa", lo=0.0, lo_open=True, hi=10000.0, requirement="optional")
     return out
 
 
 def _rating_docs() -> dict[str, KeyDoc]:
     return {
         "K_A": KeyDoc("application factor K_A (rating)", lo=1.0, hi=10.0, requirement="optional", default=1.0),
-        "K_v": KeyDoc("dynamic factor K_v, the user's (rating; not computed)", lo=1.0, hi=10.0,
-                      requirement="optional", default=1.0),
+        "K_v": KeyDoc("dynamic factor K_v, the user's (rating; overrides ISO 6336-1 method B, which needs "
+                      "pinion_speed_rpm; without either K_v = 1)", lo=1.0, hi=10.0, requirement="optional"),
+        "accuracy_grade": KeyDoc("ISO 1328-1:1995 accuracy grade of both members (rating: the pitch and profile "
+                                 "deviations of K_v method B)", kind="integer", lo=1, hi=12, requirement="optional",
+                                 default=6),
         "pinion_speed_rpm": KeyDoc("pinion speed for the life factors (rating; without it and life_hours: "
                                    "long-life factors = 1)", "rpm", lo=0.0, lo_open=True, hi=1e6,
                                    requirement="optional"),
@@ -285,7 +307,7 @@ SECTIONS: dict[str, str] = {
     "pinion": "its helix angle and profile shift are design inputs",
     "gear": "its helix angle and profile shift are results of the direct design",
     "misalignment": "assembly errors for tooth contact analysis; optional, default 0",
-    "material": "elastic constants of both members for the loaded TCA; optional, default steel",
+    "material": "elastic constants (loaded TCA) and strength (rating) of both members; optional, default case-hardened steel",
     "rating": "load factors, speed, life and minimum safeties of `beveloid rating`; optional",
 }
 REQUIRED_SECTIONS: tuple[str, ...] = ("pair", "pinion", "gear")

@@ -90,16 +90,25 @@ class MisalignmentSpec:
 
 @dataclass(frozen=True)
 class MaterialSpec:
-    """Elastic constants of both members (the loaded TCA, ``beveloid ltca``)."""
+    """Elastic constants of both members (the loaded TCA, ``beveloid ltca``) and their strength (the
+    rating: material type and quality, ISO 6336-5; explicit limits override; None: from the type)."""
 
     pinion_youngs_modulus_gpa: float = 206.0
     pinion_poisson_ratio: float = 0.3
     gear_youngs_modulus_gpa: float = 206.0
     gear_poisson_ratio: float = 0.3
-    pinion_root_stress_limit_mpa: float = 500.0
-    pinion_contact_stress_limit_mpa: float = 1500.0
-    gear_root_stress_limit_mpa: float = 500.0
-    gear_contact_stress_limit_mpa: float = 1500.0
+    pinion_material: str = "case-hardened"
+    pinion_material_quality: str = "MQ"
+    pinion_surface_hardness_hv: float | None = None
+    pinion_surface_hardness_hbw: float | None = None
+    pinion_root_stress_limit_mpa: float | None = None
+    pinion_contact_stress_limit_mpa: float | None = None
+    gear_material: str = "case-hardened"
+    gear_material_quality: str = "MQ"
+    gear_surface_hardness_hv: float | None = None
+    gear_surface_hardness_hbw: float | None = None
+    gear_root_stress_limit_mpa: float | None = None
+    gear_contact_stress_limit_mpa: float | None = None
 
 
 @dataclass(frozen=True)
@@ -107,7 +116,8 @@ class RatingSpec:
     """Load factors, speed, life and minimum safeties of the strength rating (``beveloid rating``)."""
 
     K_A: float = 1.0
-    K_v: float = 1.0
+    K_v: float | None = None  # None: ISO 6336-1 method B with pinion_speed_rpm, else 1
+    accuracy_grade: int = 6
     pinion_speed_rpm: float | None = None
     life_hours: float | None = None
     S_Fmin: float = 1.4

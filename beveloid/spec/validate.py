@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
 import numpy as np
@@ -124,18 +124,25 @@ def _check_model_name(name: str, raw: Mapping, docs: dict[str, KeyDoc]) -> None:
                             + (f" (did you mean {match}?)" if match else ""), key=f"{name}.tooth_surface")
 
 
+def implied_surface_model(values: Mapping[str, Any], given: Iterable[str], docs: Mapping[str, KeyDoc]) -> str:
+    """The tooth-surface model of a member whose section does not name one: the first model (in
+    ``SELECTED_BY`` order) that a non-zero key selects and that takes every key given away from its
+    default (else the first selected), else the default model.  ``values``: the section's values with
+    the defaults filled in; ``given``: the model keys the section gives; ``docs``: the section's keys.
+    (``beveloid explore`` applies it to each design of a grid.)"""
+    chosen = [m for m, keys in surface_models.SELECTED_BY.items() if any(values.get(k) for k in keys)]
+    moved = [k for k in given if values[k] != docs[k].default]
+    chosen = [m for m in chosen if all(model_takes(m, k) for k in moved)] or chosen
+    return chosen[0] if chosen else surface_models.DEFAULT_MODEL
+
+
 def _resolve_surface_model(name: str, raw: Mapping, out: dict[str, Any], docs: dict[str, KeyDoc]) -> None:
     """Choose the member's tooth-surface model and gather its own keys into ``surface_options``."""
     given = {k for k in raw if isinstance(k, str) and k in docs and docs[k].model}
     if "tooth_surface" in raw:
         model = out["tooth_surface"]
     else:
-        chosen = [m for m, keys in surface_models.SELECTED_BY.items() if any(out.get(k) for k in keys)]
-        # the first selected model that takes every key given away from its default
-        moved = [k for k in given if out[k] != docs[k].default]
-        chosen = [m for m in chosen if all(model_takes(m, k) for k in moved)] or chosen
-        model = chosen[0] if chosen else surface_models.DEFAULT_MODEL
-        out["tooth_surface"] = model
+        model = out["tooth_surface"] = implied_surface_model(out, given, docs)
     for key in sorted(given):
         if not model_takes(model, key) and out[key] != docs[key].default:  # another model's key at its default is moot
             raise SpecError(
@@ -214,8 +221,24 @@ def check_rating_life(values: dict[str, dict[str, Any]]) -> None:
                         "(a number > 0, rpm) for the load cycles; give both or neither", key="rating.life_hours")
 
 
+def check_material_hardness(values: dict[str, dict[str, Any]]) -> None:
+    """A surface hardness only for a material type whose ISO 6336-5 limits take it, and within
+    ISO 6336-5's range for that type and quality (beveloid/rating/materials.py)."""
+    from ..rating.materials import check_member
+
+    mat = values["material"]
+    for member in ("pinion", "gear"):
+        try:
+            check_member(member, mat[f"{member}_material"], mat[f"{member}_material_quality"],
+                         mat[f"{member}_surface_hardness_hv"], mat[f"{member}_surface_hardness_hbw"])
+        except ValueError as exc:
+            key = str(exc).split(" = ")[0]
+            raise SpecError(str(exc), key=key) from None
+
+
 CROSS_CHECKS: tuple[Callable[[dict[str, dict[str, Any]]], None], ...] = (check_clearance, check_relief_extent,
-                                                                          check_tip_round, check_rating_life)
+                                                                          check_tip_round, check_rating_life,
+                                                                          check_material_hardness)
 
 #: section -> the dataclass holding its keys
 SECTION_TYPES: dict[str, type] = {

@@ -89,47 +89,49 @@ def _te_shape(fr):
     return fr.te_peak_to_peak * 1e6, float(env.mean()), float(env[-1] - env[0])
 
 
-def run(out_dir, studies, error_vector, write_csv, positions=200, flank="right", progress=print):
-    """Compute the study, write its figures and CSV into out_dir; return the report's markdown lines.
-
-    ``studies``: the paper's studies (beveloid.studies.paper.STUDIES: case, TE figure, title, error sets in
-    mm and deg), ``error_vector(errors)`` -> the five errors in mm and rad, ``write_csv(path,
-    study, results)`` writes a figure's curves (passed in: studies.paper imports this module).
-    """
+def case_rows(out_dir, case, studies, error_vector, write_csv, positions=200, flank="right", progress=print):
+    """One case of :func:`run` (``beveloid paper`` runs the cases on worker processes): its figures and
+    CSV into out_dir; returns (its rows of crowning_study.csv, {(case, kind): (amount, TE)})."""
     from .. import plots, tca
 
     out = Path(out_dir)
     rows = []  # (case, amount, figure, label, ptp, mean, tilt, backlash, newton its, other flank's ptp)
-    for case in CASES:
-        for amount in AMOUNTS_UM:
-            geom = crowned_geometry(case, amount)
-            progress(f"    crowning study: {case}, C_alpha = C_beta = {amount:g} um")
-            done = {}
-            for st in (st for st in studies if st.case == case):
-                fig, title, errors = st.te_figure, st.title, st.errors
-                results = []
-                for label, e in errors:
-                    if label not in done:
-                        done[label] = tca.analyze(geom, error_vector(e), positions=positions)
-                        r = done[label]
-                        fr = r.flanks[flank]
-                        other = r.flanks["left" if flank == "right" else "right"]
-                        rows.append((case, amount, fig, label, *_te_shape(fr), r.backlash_um,
-                                     fr.newton_iterations_mean, other.te_peak_to_peak * 1e6))
-                    results.append(done[label])
-                plots.transmission_error(
-                    results, [lab for lab, _ in errors], flank,
-                    out / f"crowned_{amount:g}um_fig{fig}_transmission_error.png",
-                    f"Fig {fig} with crowned flanks (C_alpha = C_beta = {amount:g} um) - {title} ({flank} flank)")
-                write_csv(out / f"crowned_{amount:g}um_fig{fig}.csv", st, results)
-    with open(out / "crowning_study.csv", "w", newline="") as f:
+    for amount in AMOUNTS_UM:
+        geom = crowned_geometry(case, amount)
+        progress(f"    crowning study: {case}, C_alpha = C_beta = {amount:g} um")
+        done = {}
+        for st in (st for st in studies if st.case == case):
+            fig, title, errors = st.te_figure, st.title, st.errors
+            results = []
+            for label, e in errors:
+                if label not in done:
+                    done[label] = tca.analyze(geom, error_vector(e), positions=positions)
+                    r = done[label]
+                    fr = r.flanks[flank]
+                    other = r.flanks["left" if flank == "right" else "right"]
+                    rows.append((case, amount, fig, label, *_te_shape(fr), r.backlash_um,
+                                 fr.newton_iterations_mean, other.te_peak_to_peak * 1e6))
+                results.append(done[label])
+            plots.transmission_error(
+                results, [lab for lab, _ in errors], flank,
+                out / f"crowned_{amount:g}um_fig{fig}_transmission_error.png",
+                f"Fig {fig} with crowned flanks (C_alpha = C_beta = {amount:g} um) - {title} ({flank} flank)")
+            write_csv(out / f"crowned_{amount:g}um_fig{fig}.csv", st, results)
+    progress(f"    crowning study: {case}, the crowning that gives the paper's aligned TE")
+    targets = {(case, kind): amount_for_te(case, PAPER_ALIGNED_TE_URAD[case], keys, flank, positions)
+               for kind, keys in KINDS.items()}
+    return rows, targets
+
+
+def finish(out_dir, parts, flank="right", positions=200):
+    """crowning_study.csv and the report's lines from :func:`case_rows`'s results (the cases in order)."""
+    rows = [r for case_rows_, _ in parts for r in case_rows_]
+    targets = {k: v for _, case_targets in parts for k, v in case_targets.items()}
+    with open(Path(out_dir) / "crowning_study.csv", "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["case", "crowning_um", "te_figure", "errors", "te_peak_to_peak_urad", "te_mean_urad",
                     "te_tilt_urad", "backlash_um", "newton_iterations_mean", "other_flank_te_peak_to_peak_urad"])
         w.writerows([r[:4] + tuple(_csv(v) for v in r[4:]) for r in rows])
-    progress("    crowning study: the crowning that gives the paper's aligned TE")
-    targets = {(case, kind): amount_for_te(case, PAPER_ALIGNED_TE_URAD[case], keys, flank, positions)
-               for case in CASES for kind, keys in KINDS.items()}
     return _report(rows, targets, flank, positions)
 
 

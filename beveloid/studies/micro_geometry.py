@@ -171,32 +171,50 @@ def _csv(path, header, rows):
             f.write(",".join(str(v) for v in r) + "\n")
 
 
-def run(out, geoms, progress=lambda msg: None, grids=GRIDS):
-    """Compute the study for both cases; write plots and CSV into ``out``; return report lines."""
+def case_task(case):
+    """:func:`case_data` of a paper case (``beveloid paper`` runs each on a worker process)."""
+    from ..pair import Pair
+    from .tasks import say
+
+    return case_data(Pair.example(case).geometry, case, say)
+
+
+def case_data(g, case, progress=lambda msg: None, grids=GRIDS):
+    """One case of the study: ({(case, flanks): loaded rows}, modification map, error rows, grid rows, seconds)."""
     t0 = time.perf_counter()
-    loaded, maps, edge_rows, grid_rows = {}, {}, [], []
+    loaded, edge_rows, grid_rows = {}, [], []
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # diverging Newton iterates overflow in numpy
-        for case in CASES:
-            g = geoms[case]
-            tip = modified(g, ends=False)
-            progress(f"   micro-geometry {case}: tip relief under load")
-            loaded[case, "unmodified"] = loaded_rows(g, "unmodified")
-            loaded[case, "tip relief"] = loaded_rows(tip, "tip relief")
-            both = modified(g)
-            maps[case] = delta_map(both)
-            progress(f"   micro-geometry {case}: end relief under the largest errors")
-            for label, e in ERRORS[case]:
-                row = [case, label]
-                for name, geom in (("unmodified", g), ("end + tip relief", both)):
-                    share, te = edge_share(geom, _err(e))
-                    pmax = loaded_rows(geom, name, (LOADED_TORQUE_NM,), _err(e))[0][2]
-                    row += [share, te, pmax]
-                edge_rows.append(tuple(row))
-            for grid in grids:
-                for name, geom in (("unmodified", g), ("tip relief", tip)):
-                    grid_rows.append((case, name, f"{grid[0]}x{grid[1]}",
-                                      loaded_rows(geom, name, (600.0,), grid=grid)[0][2]))
+        tip = modified(g, ends=False)
+        progress(f"   micro-geometry {case}: tip relief under load")
+        loaded[case, "unmodified"] = loaded_rows(g, "unmodified")
+        loaded[case, "tip relief"] = loaded_rows(tip, "tip relief")
+        both = modified(g)
+        delta = delta_map(both)
+        progress(f"   micro-geometry {case}: end relief under the largest errors")
+        for label, e in ERRORS[case]:
+            row = [case, label]
+            for name, geom in (("unmodified", g), ("end + tip relief", both)):
+                share, te = edge_share(geom, _err(e))
+                pmax = loaded_rows(geom, name, (LOADED_TORQUE_NM,), _err(e))[0][2]
+                row += [share, te, pmax]
+            edge_rows.append(tuple(row))
+        for grid in grids:
+            for name, geom in (("unmodified", g), ("tip relief", tip)):
+                grid_rows.append((case, name, f"{grid[0]}x{grid[1]}",
+                                  loaded_rows(geom, name, (600.0,), grid=grid)[0][2]))
+    return loaded, delta, edge_rows, grid_rows, time.perf_counter() - t0
+
+
+def finish(out, parts):
+    """Plots, CSV and the report's lines from :func:`case_data`'s results ({case: result}, in order)."""
+    loaded, maps, edge_rows, grid_rows, seconds = {}, {}, [], [], 0.0
+    for case, (case_loaded, delta, case_edges, case_grids, s) in parts.items():
+        loaded.update(case_loaded)
+        maps[case] = delta
+        edge_rows += case_edges
+        grid_rows += case_grids
+        seconds += s
     _plots(out, maps, loaded)
     _csv(out / "micro_geometry_loaded.csv", ["case", "flanks", "pinion_torque_nm", "max_pressure_mpa",
                                               "loaded_te_mean_urad", "loaded_te_ptp_urad", "converged_positions"],
@@ -204,7 +222,7 @@ def run(out, geoms, progress=lambda msg: None, grids=GRIDS):
     _csv(out / "micro_geometry_errors.csv", ["case", "errors", "toe_heel_edge_share_unmodified", "te_ptp_urad_unmodified",
                                               "max_pressure_mpa_unmodified", "toe_heel_edge_share_modified",
                                               "te_ptp_urad_modified", "max_pressure_mpa_modified"], edge_rows)
-    return _report(loaded, edge_rows, grid_rows, time.perf_counter() - t0)
+    return _report(loaded, edge_rows, grid_rows, seconds)
 
 
 def _report(loaded, edge_rows, grid_rows, seconds):
@@ -213,7 +231,8 @@ def _report(loaded, edge_rows, grid_rows, seconds):
          f"Both members: tip relief {tip['tip_relief_um']:g} um over {tip['tip_relief_height_mm']:g} m_n "
          f"({tip['tip_relief_shape']}); end relief {END_RELIEF['end_relief_um']:g} um over "
          f"{END_RELIEF['end_relief_length_mm']:g} of the face width ({END_RELIEF['end_relief_shape']}). "
-         f"LTCA: {FLANK} flank, {POSITIONS} positions over one mesh cycle, {GRID[0]} x {GRID[1]} cells.", "",
+         f"LTCA: {FLANK} flank, {POSITIONS} positions over one mesh cycle (its first and last one pitch apart: "
+         f"{POSITIONS - 1} distinct mesh states), the plate tooth, {GRID[0]} x {GRID[1]} cells.", "",
          "| case | flanks | T1 (N m) | max pressure (MPa) | loaded TE mean (urad) | loaded TE p-p (urad) | converged |",
          "|---|---|---|---|---|---|---|"]
     for (case, _), rows in loaded.items():
@@ -229,5 +248,5 @@ def _report(loaded, edge_rows, grid_rows, seconds):
     L += [f"| {c} | {n} | {g} | {p:.0f} |" for c, n, g, p in grid_rows]
     L += ["", "![modification map](micro_geometry_map.png)", "", "![TE and pressure against torque]"
           "(micro_geometry_torque.png)", "", f"Computed in {seconds:.1f} s (data: micro_geometry_loaded.csv, "
-          "micro_geometry_errors.csv).", ""]
+          "micro_geometry_errors.csv; seconds of the processes' time).", ""]
     return L

@@ -1,5 +1,6 @@
-"""``beveloid paper --out DIR``: Table 1 and the studies of Figs 10-22, with a report (and the
-crowning study of beveloid/studies/crowning.py).
+"""``beveloid paper --out DIR``: Table 1, the unloaded studies of Figs 10-22, the loaded contact of
+Figs 24-25, the crowning and micro-geometry studies (beveloid/studies/crowning.py, loaded.py,
+micro_geometry.py), with a report.
 
 Everything is computed from examples/case1.toml and examples/case2.toml (shipped in the
 package as beveloid/data/) by the design and TCA of this package; the paper's printed values
@@ -11,7 +12,6 @@ from __future__ import annotations
 
 import csv
 import math
-import sys
 import time
 import tomllib
 from dataclasses import dataclass
@@ -21,6 +21,9 @@ from pathlib import Path
 import numpy as np
 
 from .. import interrupts
+from . import PAPER_CONTENTS as CONTENTS
+from .crowning import PAPER_ALIGNED_TE_URAD
+from .tasks import say as _progress
 
 DEG = math.pi / 180
 
@@ -55,6 +58,9 @@ STUDIES = (
 )
 
 FLANK = "right"
+CASES = ("case1", "case2")
+#: the paper's edge-contact onset under dq = dx = dy = dz (mm): printed for case 1 only
+PAPER_EDGE_ONSET_MM = {"case1": 1.0}
 
 
 def _data_path(name):
@@ -98,10 +104,6 @@ def table1_comparison(results):
                 (case, "beta_w (deg)", member, p["beta_w_deg"], math.degrees(m.working_helix_angle)),
             ]
     return [(c, q, m, p, v, _within_last_digit(p, v)) for c, q, m, p, v in rows]
-
-
-def _progress(msg):
-    print(msg, file=sys.stderr, flush=True)
 
 
 def _write_csv(path, study, geom_results):
@@ -180,32 +182,104 @@ def bearing_pattern_figure(geom, results, labels, out_png, title):
     plots.bearing_patterns(results, labels, geom, FLANK, out_png, title)
 
 
-def run(out_dir, positions=200, progress=_progress, tooth_model=None):
+def run(out_dir, positions=200, progress=_progress, tooth_model=None, workers=None):
     """Write figures, CSV and report.md into out_dir; returns the report path.
 
     The files are written into a folder of their own and moved into out_dir at the end
     (:func:`beveloid.studies.output.staged_folder`): two runs into one folder leave one run's files.
+    ``workers``: processes for the studies' pieces (None: the cores this process may use, at most
+    :data:`MAX_WORKERS`; 1: all in this process); the files are the same either way.
     """
     from .output import staged_folder
 
     t0 = time.perf_counter()
     with staged_folder(out_dir) as stage:
-        write_study(stage, positions, progress, tooth_model)
+        write_study(stage, positions, progress, tooth_model, workers=workers)
     report = Path(out_dir) / "report.md"
     progress(f"done in {time.perf_counter() - t0:.1f} s: {report}")
     return report
 
 
-def write_study(out: Path, positions=200, progress=_progress, tooth_model=None) -> None:
-    """Compute every study and write its figures, CSV and report.md into the folder ``out``
-    (``tooth_model``: the loaded contact's, None = the LTCA's default)."""
+#: the most worker processes a run starts (its independent pieces: per case, 4 FE members, 3 error
+#: studies, onset, crowning, loaded contact, micro-geometry)
+MAX_WORKERS = 4
+
+
+def _study_task(figure, positions, out):
+    """One error study (Figs 10-12, 16-18 with their TE figures): its figures and CSV into ``out``;
+    returns its rows of the report's summary table."""
     from .. import plots, tca
-    from ..design import format_table1
     from ..pair import Pair
+
+    st = next(s for s in STUDIES if s.figure == figure)
+    out = Path(out)
+    g = Pair.example(st.case).geometry
+    res = [tca.analyze(g, _err_vec(e), positions=positions) for _, e in st.errors]
+    labels = [lab for lab, _ in st.errors]
+    plots.contact_paths(res, labels, g, FLANK, out / f"fig{st.figure}_contact_path.png",
+                        f"Fig {st.figure} - {st.title} ({FLANK} flank)")
+    plots.transmission_error(res, labels, FLANK, out / f"fig{st.te_figure}_transmission_error.png",
+                             f"Fig {st.te_figure} - {st.title} ({FLANK} flank)")
+    _write_csv(out / f"fig{st.figure}_fig{st.te_figure}.csv", st, res)
+    bearing_pattern_figure(g, res, labels, out / f"fig{st.figure}_bearing_pattern.png",
+                           f"Fig {st.figure} errors - bearing pattern ({FLANK} flank, like Figs 24a/25a)")
+    rows = []
+    for (lab, e), r in zip(st.errors, res):
+        fr = r.flanks[FLANK]
+        pc, gc = mean_contact_z(fr)
+        n_surface, n_edge = (sum(s == status for s in fr.status) for status in ("ok", "edge"))
+        rows.append((st.figure, st.case, lab, pc, gc, n_surface, n_edge, len(fr.status),
+                     fr.te_peak_to_peak * 1e6, r.backlash_um, r.flanks["left"].te_peak_to_peak * 1e6))
+    return rows
+
+
+def _onset_task(case):
+    from ..pair import Pair
+
+    g = Pair.example(case).geometry
+    return edge_onset_offset(g, FLANK, +1), edge_onset_offset(g, FLANK, -1)
+
+
+def _crowning_task(case, positions, out):
     from . import crowning
 
+    return crowning.case_rows(Path(out), case, STUDIES, _err_vec, _write_csv, positions=positions, flank=FLANK,
+                              progress=_progress)
+
+
+def compile_first(geom, then=None) -> float:
+    """Seconds to make ready every compiled function the studies run (numba compiles them on the first
+    run after an installation and caches them; later runs load them): small runs of each analysis, so
+    that the worker processes load numba's cache instead of each compiling the same functions.  The
+    solver core first (the error studies need only it until their bearing patterns): ``then()``, when
+    given, runs as soon as it is ready (the studies are handed to the workers meanwhile)."""
+    from .. import ltca, tca
+    from ..contact_ellipse import attach
+
+    t0 = time.perf_counter()  # the first solve says when numba compiles (beveloid/solver/backends.py)
+    r = tca.analyze(geom, np.zeros(5), positions=12)  # paths, statuses, backlash
+    tca.contact_margins(geom, FLANK, tca.mesh_flank(geom, FLANK, positions=4, pairs=1, window_pitches=3).unknowns)
+    if then is not None:
+        then()
+    attach(r)  # the contact ellipses of the bearing patterns
+    ltca.analyze(geom, ltca.Options(torque_nm=100.0, flank=FLANK, positions=2, tooth_model="plate"))
+    return time.perf_counter() - t0
+
+
+def write_study(out: Path, positions=200, progress=_progress, tooth_model=None, workers=None) -> None:
+    """Compute every study and write its figures, CSV and report.md into the folder ``out``
+    (``tooth_model``: the loaded contact's, None = the LTCA's default; ``workers``: see :func:`run`)."""
+    from .. import ltca, plots, tca
+    from ..design import format_table1
+    from ..pair import Pair
+    from ..parallel import default_workers
+    from . import crowning, loaded as loaded_study, micro_geometry
+    from .tasks import Tasks
+
     t0 = time.perf_counter()
-    steps = 1 + len(STUDIES) + 7  # Table 1, the error studies, Fig 22, sensitivity, onset, crowning, LTCA, micro, report
+    workers = min(MAX_WORKERS, default_workers()) if workers is None else workers
+    model = ltca.Options(torque_nm=1.0, tooth_model=tooth_model).tooth_model
+    steps = 6  # Table 1, the FE teeth, compile and the TCA studies, Fig 22 and sensitivity, the LTCA studies, report
     k = 0
 
     def step(msg):
@@ -215,7 +289,7 @@ def write_study(out: Path, positions=200, progress=_progress, tooth_model=None) 
         progress(f"[{k}/{steps}] {msg}")
 
     step("Table 1: direct design of both cases")
-    pairs = {c: Pair.example(c) for c in ("case1", "case2")}
+    pairs = {c: Pair.example(c) for c in CASES}
     designs = {c: p.design for c, p in pairs.items()}
     geoms = {c: p.geometry for c, p in pairs.items()}
     comparison = table1_comparison(designs)
@@ -225,71 +299,68 @@ def write_study(out: Path, positions=200, progress=_progress, tooth_model=None) 
         for row in comparison:
             w.writerow([row[0], row[1], row[2], row[3], repr(float(row[4])), row[5]])
 
-    study_results = {}
-    summary = []  # (fig, case, label, pinion centre, gear centre, ok count, te ptp urad, backlash um)
-    for st in STUDIES:
-        step(f"Fig {st.figure} / Fig {st.te_figure}: {st.title}")
-        g = geoms[st.case]
-        res = [tca.analyze(g, _err_vec(e), positions=positions) for _, e in st.errors]
-        study_results[st.figure] = res
-        labels = [lab for lab, _ in st.errors]
-        plots.contact_paths(res, labels, g, FLANK, out / f"fig{st.figure}_contact_path.png",
-                            f"Fig {st.figure} - {st.title} ({FLANK} flank)")
-        plots.transmission_error(res, labels, FLANK, out / f"fig{st.te_figure}_transmission_error.png",
-                                 f"Fig {st.te_figure} - {st.title} ({FLANK} flank)")
-        _write_csv(out / f"fig{st.figure}_fig{st.te_figure}.csv", st, res)
-        bearing_pattern_figure(g, res, labels, out / f"fig{st.figure}_bearing_pattern.png",
-                               f"Fig {st.figure} errors - bearing pattern ({FLANK} flank, like Figs 24a/25a)")
-        for (lab, e), r in zip(st.errors, res):
-            fr = r.flanks[FLANK]
-            pc, gc = mean_contact_z(fr)
-            n_ok = sum(s == "ok" for s in fr.status)
-            summary.append((st.figure, st.case, lab, pc, gc, n_ok, len(fr.status), fr.te_peak_to_peak * 1e6,
-                            r.backlash_um, r.flanks["left"].te_peak_to_peak * 1e6))
+    with Tasks(workers) as tasks:
+        step(f"the loaded contact's FE teeth, on {tasks.workers} process{'es' if tasks.workers > 1 else ''}"
+             if model == "fe" else f"the loaded contact's tooth: {model} (no FE data); {tasks.workers} "
+             f"process{'es' if tasks.workers > 1 else ''}")
+        fe = loaded_study.submit_fe_teeth(tasks, CASES, model)  # the longest pieces first: numba not needed
+        step("the compiled solver, then Figs 10-21 (error studies), edge-contact onset, crowning study: TCA")
+        o, handles = str(out), {}
 
-    step("Fig 22: TE of the aligned pairs of both cases")
-    aligned = [tca.analyze(geoms[c], np.zeros(5), positions=positions) for c in ("case1", "case2")]
-    plots.transmission_error(aligned, [f"case 1 (xi_R = {math.degrees(designs['case1'].fpd_angle_right):.4f} deg)",
-                                       f"case 2 (xi_R = {math.degrees(designs['case2'].fpd_angle_right):.4f} deg)"],
-                             FLANK, out / "fig22_transmission_error.png", "Fig 22 - aligned TE of both cases")
+        def submit_tca():  # the crowning first: it draws no bearing pattern (their compile comes last)
+            handles["crowned"] = {c: tasks.submit(_crowning_task, c, positions, o) for c in CASES}
+            handles["studies"] = {st.figure: tasks.submit(_study_task, st.figure, positions, o) for st in STUDIES}
+            handles["onsets"] = {c: tasks.submit(_onset_task, c) for c in CASES}
 
-    step("first-order sensitivity of the contact path to each error")
-    sens = {}
-    for c in ("case1", "case2"):
-        s = tca.sensitivity(geoms[c], FLANK)
-        sens[c] = s
+        seconds = compile_first(geoms["case1"], then=submit_tca)
+        progress(f"   compiled solver ready in {seconds:.1f} s")
+        crowned, studies, onsets = handles["crowned"], handles["studies"], handles["onsets"]
 
-    step("edge-contact onset under dq = dx = dy = dz")
-    onset = {c: (edge_onset_offset(geoms[c], FLANK, +1), edge_onset_offset(geoms[c], FLANK, -1))
-             for c in ("case1", "case2")}
+        step("Fig 22 (aligned TE of both cases) and the sensitivity of the path")
+        aligned = [tca.analyze(geoms[c], np.zeros(5), positions=positions) for c in CASES]
+        plots.transmission_error(aligned, [f"{c.replace('case', 'case ')} (xi_R = "
+                                           f"{math.degrees(designs[c].fpd_angle_right):.4f} deg)" for c in CASES],
+                                 FLANK, out / "fig22_transmission_error.png", "Fig 22 - aligned TE of both cases")
+        sens = {c: tca.sensitivity(geoms[c], FLANK) for c in CASES}
 
-    step("crowning study: TE of crowned pairs (beveloid/studies/crowning.py)")
-    crowned = crowning.run(out, STUDIES, _err_vec, _write_csv, positions=positions, flank=FLANK,
-                           progress=progress)
+        step("Figs 24-25 (loaded contact) and the micro-geometry study: LTCA, once the FE teeth are ready")
+        for handle in fe:
+            handle.get()
+        loaded_parts = {c: tasks.submit(loaded_study.case_task, c, o, model) for c in CASES}
+        micro_parts = {c: tasks.submit(micro_geometry.case_task, c) for c in CASES}
 
-    step("Figs 24-25: loaded contact (approximate LTCA)")
-    from .loaded import run_loaded
-
-    loaded = run_loaded(out, geoms, designs, progress, tooth_model=tooth_model)
-    step("micro-geometry study: tip and end relief (beveloid/studies/micro_geometry.py)")
-    from . import micro_geometry
-
-    loaded += micro_geometry.run(out, geoms, progress)
+        summary = [row for st in STUDIES for row in _done(studies[st.figure], f"Fig {st.figure} / Fig {st.te_figure}",
+                                                          progress)]
+        onset = {c: _done(onsets[c], f"edge-contact onset, {c}", progress) for c in CASES}
+        crowned_rows = [_done(crowned[c], f"crowning study, {c}", progress) for c in CASES]
+        loaded = loaded_study.finish(out, {c: _done(loaded_parts[c], f"loaded contact, {c}", progress) for c in CASES},
+                                     model)
+        loaded += micro_geometry.finish(out, {c: _done(micro_parts[c], f"micro-geometry, {c}", progress)
+                                              for c in CASES})
 
     step("report.md")
-    report = _report(designs, comparison, summary, sens, onset, aligned, time.perf_counter() - t0, positions)
-    report += "\n".join(crowned)
-    (out / "report.md").write_text(report + "\n".join(["", *loaded]))
+    report = _report(designs, comparison, summary, sens, onset, aligned, positions)
+    report += "\n".join([*crowning.finish(out, crowned_rows, FLANK, positions), "", *loaded])
+    report += "\n".join(["", "## This run", "", f"Every section above, the figures and data files included, computed in "
+                          f"{time.perf_counter() - t0:.1f} s on {workers} process{'es' if workers > 1 else ''}.", ""])
+    (out / "report.md").write_text(report)
     (out / "table1_case1.txt").write_text(format_table1(designs["case1"]) + "\n")
     (out / "table1_case2.txt").write_text(format_table1(designs["case2"]) + "\n")
+
+
+def _done(handle, what, progress):
+    """The piece's result, saying so when it has it."""
+    value = handle.get()
+    progress(f"   done: {what}")
+    return value
 
 
 def _fmt(v, f="{:.3f}"):
     return "-" if v is None or not np.isfinite(v) else f.format(v)
 
 
-def _report(designs, comparison, summary, sens, onset, aligned, seconds, positions):
-    L = ["# Reproduction of Zhu, Song, Lim & Peng (MMT 59, 2013): Table 1 and Figs 10-22", "",
+def _report(designs, comparison, summary, sens, onset, aligned, positions):
+    L = [f"# Reproduction of Zhu, Song, Lim & Peng (MMT 59, 2013): {CONTENTS}", "",
          "Generated by `beveloid paper`. Every number below is computed by this package from "
          "examples/case1.toml and examples/case2.toml; the paper's values appear only in the "
          "'printed' column. Conventions (flank names, frames, blank, b_c = 0) are in docs/validation.md.", ""]
@@ -304,12 +375,17 @@ def _report(designs, comparison, summary, sens, onset, aligned, seconds, positio
           "Mean contact z: the mean axial position of tooth pair 0's contact points (mm, toe -> heel) "
           "in each member's frame, i.e. where the path lies (not the path shift of `beveloid sweep`, which "
           "is the change from the aligned path). TE p-p: peak-to-peak of the contact envelope over the "
-          "mesh window.", "",
-          "| figure | case | errors | pinion mean contact z (mm) | gear mean contact z (mm) | points on the flank | "
-          "TE p-p right (urad) | TE p-p left (urad) | backlash (um) |", "|---|---|---|---|---|---|---|---|---|"]
-    for fig, case, lab, pc, gc, n_ok, n, ptp, bl, ptp_l in summary:
-        L.append(f"| {fig} | {case} | {lab} | {_fmt(pc, '{:+.3f}')} | {_fmt(gc, '{:+.3f}')} | {n_ok}/{n} | "
-                 f"{_fmt(ptp, '{:.2e}')} | {_fmt(ptp_l, '{:.2e}')} | {_fmt(bl, '{:.3f}')} |")
+          "mesh window. Surface contacts: pair-positions (pinion positions x tooth pairs) where the two "
+          "flanks touch inside both flank boundaries (status `ok`); edge contacts: pair-positions where a "
+          "boundary of one tooth (its tip, toe, heel or form limit) bears on the other flank (status `edge`). "
+          "The bearing patterns draw an ellipse at both kinds; the other pair-positions have no contact "
+          "(`outside`: the flanks cannot touch there).", "",
+          "| figure | case | errors | pinion mean contact z (mm) | gear mean contact z (mm) | surface contacts | "
+          "edge contacts | TE p-p right (urad) | TE p-p left (urad) | backlash (um) |",
+          "|---|---|---|---|---|---|---|---|---|---|"]
+    for fig, case, lab, pc, gc, n_surface, n_edge, n, ptp, bl, ptp_l in summary:
+        L.append(f"| {fig} | {case} | {lab} | {_fmt(pc, '{:+.3f}')} | {_fmt(gc, '{:+.3f}')} | {n_surface}/{n} | "
+                 f"{n_edge}/{n} | {_fmt(ptp, '{:.2e}')} | {_fmt(ptp_l, '{:.2e}')} | {_fmt(bl, '{:.3f}')} |")
     for st in STUDIES:
         L += ["", f"### Fig {st.figure} and Fig {st.te_figure}: {st.title}", "",
               f"![Fig {st.figure}](fig{st.figure}_contact_path.png)", "",
@@ -320,7 +396,7 @@ def _report(designs, comparison, summary, sens, onset, aligned, seconds, positio
     for c, r in zip(("case1", "case2"), aligned):
         L.append(f"- {c}: TE peak-to-peak {r.flanks['right'].te_peak_to_peak * 1e6:.2e} urad (right), "
                  f"{r.flanks['left'].te_peak_to_peak * 1e6:.2e} urad (left); backlash {r.backlash_um:.2e} um "
-                 f"(paper: 7.5 and 14.3 urad)")
+                 f"(paper, {c}: {PAPER_ALIGNED_TE_URAD[c]:g} urad)")
     L += ["", "## Sensitivity of the path (first order, exact, at the pitch point)", "",
           "Axial shift of the contact point on each member per unit error (implicit-function theorem "
           "with the generated Jacobians), and the shift at the paper's error levels.", "",
@@ -336,7 +412,9 @@ def _report(designs, comparison, summary, sens, onset, aligned, seconds, positio
             L.append(f"| {c} | {nm} | {dp:+.4f} | {dg:+.4f} | {unit} | {dp * levels[c][i]:+.3f} |")
     L += ["", "## Edge contact under dq = dx = dy = dz", ""]
     for c, (up, down) in onset.items():
+        paper = (f"paper, {c}: edge contact begins at dq = {PAPER_EDGE_ONSET_MM[c]:g} mm" if c in PAPER_EDGE_ONSET_MM
+                 else f"the paper gives no onset for {c}")
         L.append(f"- {c}: the path reaches the toe or heel at dq = +{_fmt(up, '{:.3f}')} mm and "
-                 f"dq = -{_fmt(down, '{:.3f}')} mm (paper, case 1: edge contact begins at dq = 1.0 mm).")
-    L += ["", f"Computed with {positions} pinion positions x 3 tooth pairs per error set, in {seconds:.1f} s.", ""]
+                 f"dq = -{_fmt(down, '{:.3f}')} mm ({paper}).")
+    L += ["", f"Unloaded TCA: {positions} pinion positions x 3 tooth pairs per error set (`--positions`).", ""]
     return "\n".join(L)

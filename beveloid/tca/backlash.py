@@ -43,7 +43,7 @@ BACKLASH_PAIRS = 5
 def _raw_play(geom, errors, solver):
     """(play in rad before removing whole pitches, statuses of the left and right contacts)."""
     e = errors_array(errors).reshape(1, len(ERROR_NAMES))
-    phi1 = reference_contact(geom, "left").pinion_angle
+    phi1 = reference_contact(geom, "left", solver.options).pinion_angle
     angles, signs, codes = {}, {}, {}
     for fl in FLANKS:
         sol = solve_grid(geom, fl, e, np.array([phi1]), solver)
@@ -104,7 +104,7 @@ def backlash(geom: PairGeometry, errors=(0, 0, 0, 0, 0), backend: "Solver | str"
     if k is None:
         return Backlash(None, Status.FAILED.label, "the aligned pair has no two-flank contact")
     e = errors_array(errors).reshape(1, len(ERROR_NAMES))
-    start = reference_contact(geom, "left").pinion_angle
+    start = reference_contact(geom, "left", solver.options).pinion_angle
     step = geom.pitch_angles[0] / BACKLASH_POSITIONS
     phi1 = start + step * np.arange(BACKLASH_POSITIONS)
     play, codes = _play(geom, e, phi1, k, solver)

@@ -9,7 +9,7 @@ from .. import mesh
 from ..generated import tca_kernels
 from ..geometry import PairGeometry
 from ..solver import Solver
-from ..solver.options import SolverOptions
+from ..solver.options import DEFAULT_OPTIONS, SolverOptions
 from ..status import Status, carries_numbers
 from .contact import (ERROR_NAMES, as_solver, contact_boundary_names, contact_margins, contact_points,
                       errors_array, rotate_z, unknowns)
@@ -81,10 +81,11 @@ class FlankResult:
         }
 
 
-def mesh_angles(geom, flank, positions, pairs, window_pitches=None):
+def mesh_angles(geom, flank, positions, pairs, window_pitches=None, options=DEFAULT_OPTIONS):
     """The pinion angles of a mesh study: ``positions`` points over ``window_pitches`` (default
-    ``pairs``) pinion pitches centred on the reference contact; one position: the reference angle."""
-    ref = reference_contact(geom, flank)
+    ``pairs``) pinion pitches centred on the reference contact (solved with the solver ``options``);
+    one position: the reference angle."""
+    ref = reference_contact(geom, flank, options)
     if positions == 1:
         return np.array([ref.pinion_angle])
     window = (window_pitches or pairs) * geom.pitch_angles[0]
@@ -102,9 +103,9 @@ def mesh_flank(geom: PairGeometry, flank: str, errors=(0, 0, 0, 0, 0), positions
     """
     solver = as_solver(backend, options)
     e = errors_array(errors).reshape(1, len(ERROR_NAMES))
-    ref = reference_contact(geom, flank)
+    ref = reference_contact(geom, flank, solver.options)
     p1, p2 = geom.pitch_angles
-    phi1 = mesh_angles(geom, flank, positions, pairs, window_pitches)
+    phi1 = mesh_angles(geom, flank, positions, pairs, window_pitches, solver.options)
     ks, shifted = mesh.pair_angles(phi1, pairs, p1)
     sol = solve_grid(geom, flank, e, shifted.ravel(), solver)
     x, code, iterations, boundary = sol.x[0], sol.status[0], sol.iterations[0], sol.boundary[0]
@@ -116,10 +117,13 @@ def mesh_flank(geom: PairGeometry, flank: str, errors=(0, 0, 0, 0, 0), positions
     phi2 = unknowns(x).gear_angle_rad - kk * p2  # gear tooth k is turned by -k p2 relative to tooth 0
     te = mesh.transmission_error(phi2, phi1_all, unknowns(ref.x).gear_angle_rad, ref.pinion_angle,
                                  geom.pinion.teeth / geom.gear.teeth)
-    # contact points of pair k, back in place in S1 / S2
-    P1, P2 = contact_points(geom, flank, x)
-    P1, P2 = rotate_z(P1, kk * p1), rotate_z(P2, -kk * p2)
     valid = carries_numbers(code)
+    # contact points of pair k and their boundary margins; a diverged iterate's are not used (NaN
+    # below), so its overflow is not news
+    with np.errstate(over="ignore", invalid="ignore"):
+        P1, P2 = contact_points(geom, flank, x)
+        M = contact_margins(geom, flank, x)
+    P1, P2 = rotate_z(P1, kk * p1), rotate_z(P2, -kk * p2)  # back in place in S1 / S2
     te_v = np.where(valid, te, np.nan)
     P1[~valid] = np.nan
     P2[~valid] = np.nan
@@ -128,8 +132,6 @@ def mesh_flank(geom: PairGeometry, flank: str, errors=(0, 0, 0, 0, 0), positions
     step = abs(phi1[1] - phi1[0]) if positions > 1 else 0.0
     complete = mesh.envelope_complete(phi1, ks, active, p1, step)
     ptp = mesh.peak_to_peak(env[complete]) if complete.sum() >= 2 else float("nan")
-    with np.errstate(invalid="ignore"):
-        M = contact_margins(geom, flank, x)
     rows = np.arange(len(x))
     for c in range(2):
         hit = act[:, c] >= 0

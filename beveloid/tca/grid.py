@@ -58,7 +58,7 @@ def solve_grid(geom, flank, errors, phi_grid, backend: "Solver | str" = "auto",
 
 def _solve_once(geom, flank, errors, phi_grid, solver, homotopy_steps):
     options = solver.options
-    ref = reference_contact(geom, flank)
+    ref = reference_contact(geom, flank, options)
     phi_grid = np.asarray(phi_grid, dtype=float)
     order = np.argsort(phi_grid, kind="stable")
     grid = np.ascontiguousarray(phi_grid[order])

@@ -10,7 +10,7 @@ import numpy as np
 from ..generated import layouts
 from ..geometry import PairGeometry
 from ..solver import backends, section
-from ..solver.options import DEFAULT_OPTIONS
+from ..solver.options import DEFAULT_OPTIONS, SolverOptions
 from ..solver.records import settings
 from .contact import (ERROR_NAMES, NoContactError, boundary_margins, check_flank, evaluate, newton_tolerance,
                       surface, unknowns)
@@ -32,10 +32,12 @@ class Reference:
 
 
 @functools.lru_cache(maxsize=64)
-def reference_contact(geom: PairGeometry, flank: str) -> Reference:
-    """Contact of the aligned pair at the pitch point P (the TE reference); cached per geometry.
+def reference_contact(geom: PairGeometry, flank: str, options: SolverOptions = DEFAULT_OPTIONS) -> Reference:
+    """Contact of the aligned pair at the pitch point P (the TE reference); cached per geometry and
+    solver tolerances (``options``: the analysis' ``Solver.options``).
 
-    Solved by the numpy backend of the core (one point: no compiled code to load)."""
+    Solved by the numpy backend of the core whatever the analysis' backend: one point, so no
+    compiled code to load, and the same Newton steps (the backends agree to round-off)."""
     check_flank(flank)
     p, g = geom.pinion, geom.gear
     l1, u1, psi1 = point_at_radius(geom, "pinion", flank, p.working_pitch_radius_mm, p.reference_section_offset_mm)
@@ -44,7 +46,7 @@ def reference_contact(geom: PairGeometry, flank: str) -> Reference:
     phi2 = g.pitch_point_angle - psi2
     x0 = np.asarray(layouts.ContactUnknowns(pinion_l_mm=l1, pinion_u_mm=u1, gear_l_mm=l2, gear_u_mm=u2,
                                             gear_angle_rad=phi2), dtype=float)
-    opts = DEFAULT_OPTIONS
+    opts = options
     x, conv, _, res = backends.namespace("numpy").solve_point(
         geom.problem(flank), x0, phi1, np.zeros(len(ERROR_NAMES)),
         settings(scale_mm=geom.gear.working_pitch_radius_mm, tol_mm=newton_tolerance(geom, opts.tol_mm),
@@ -74,11 +76,11 @@ def gap_sign(geom, flank, ref):
     return 1.0 if dgap > 0 else -1.0
 
 
-def pitch_point_notes(geom: PairGeometry, flank: str, patch_tol_mm=DEFAULT_OPTIONS.patch_tol_mm):
+def pitch_point_notes(geom: PairGeometry, flank: str, options: SolverOptions = DEFAULT_OPTIONS):
     """Why an aligned flank may show no contact: the pitch point P lies off a member's active flank."""
-    ref = reference_contact(geom, flank)
+    ref = reference_contact(geom, flank, options)
     margin, which = boundary_margins(geom, flank, ref.x[None])
-    if margin[0] >= -patch_tol_mm:
+    if margin[0] >= -options.patch_tol_mm:
         return []
     return [f"{flank} flank: the pitch point P lies {-margin[0]:.3f} mm beyond the {which[0]} boundary, so the "
             f"aligned contact near P is off the active flank (the working pitch circle is outside the active "

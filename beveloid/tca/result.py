@@ -70,11 +70,11 @@ def run(pair, errors, options: Options, solver: Solver) -> TCAResult:
     for fl in options.flanks:
         flanks[fl] = mesh_flank(geom, fl, e, positions=options.positions, pairs=options.pairs,
                                 window_pitches=options.window_pitches, backend=solver)
-        notes += pitch_point_notes(geom, fl, solver.options.patch_tol_mm)
+        notes += pitch_point_notes(geom, fl, solver.options)
     notes += _notes(flanks, options.positions)
     bl = backlash(geom, e, backend=solver) if set(options.flanks) == set(FLANKS) else None
     result = TCAResult(geom, e, flanks, bl, tuple(notes))
-    return with_ellipses(result, options.approach_mm) if options.approach_mm is not None else result
+    return with_ellipses(result, options.approach_mm, solver) if options.approach_mm is not None else result
 
 
 def analyze(pair, options: Options | None = None, solver: Solver | str | None = None, **legacy) -> TCAResult:

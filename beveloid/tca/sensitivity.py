@@ -6,7 +6,7 @@ import numpy as np
 from ..geometry import PairGeometry
 from ..solver import Solver
 from ..status import Status
-from .contact import ERROR_NAMES, errors_array, geometry_of, surface_jacobian, tangent, unknowns
+from .contact import ERROR_NAMES, as_solver, errors_array, geometry_of, surface_jacobian, tangent, unknowns
 from .grid import solve_grid
 from .reference import reference_contact
 
@@ -23,10 +23,11 @@ def sensitivity(geom: PairGeometry, flank: str, errors=(0, 0, 0, 0, 0), pinion_a
     surface contact ('ok'), 'status' says what it is.
     """
     geom = geometry_of(geom)
+    solver = as_solver(backend)
     e = errors_array(errors).reshape(1, len(ERROR_NAMES))
-    ref = reference_contact(geom, flank)
+    ref = reference_contact(geom, flank, solver.options)
     phi1 = ref.pinion_angle if pinion_angle is None else pinion_angle
-    sol = solve_grid(geom, flank, e, np.array([phi1]), backend)
+    sol = solve_grid(geom, flank, e, np.array([phi1]), solver)
     x = sol.x[0, 0]
     _, derr = tangent(geom, flank, x[None], np.array([phi1]), e)
     derr = derr[0]

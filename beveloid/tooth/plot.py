@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..names import FLANKS, MEMBERS
 from . import fillet as fillet_kernels
 from . import profile, sections
 
@@ -26,7 +27,7 @@ def _flank_curves(geometry, member, z, tip_radius):
     drawn; nor is a fillet the section Newton finds no point of."""
     out = {}
     tr = fillet_kernels.tip_round(geometry, member)
-    for fl in sections.FLANKS:
+    for fl in FLANKS:
         form = profile.form_limit(geometry, member, fl, z)  # the junction, or the top of the undercut
         flank_pts = fillet_pts = None
         try:
@@ -56,7 +57,7 @@ def _panel(ax, geometry, member, label, z_face, tooth):
     curves = _flank_curves(geometry, member, z, r_tip)
     # the tooth's centre line: halfway between the flanks at the tip radius
     ends = [curves[fl][0][-1] if curves[fl][0] is not None else
-            curves[fl][1][-1] if curves[fl][1] is not None else None for fl in sections.FLANKS]
+            curves[fl][1][-1] if curves[fl][1] is not None else None for fl in FLANKS]
     if any(e is None for e in ends):  # nothing of a flank in this section: the tooth's nominal centre
         angles = [0.0, 0.0]
     else:
@@ -68,7 +69,7 @@ def _panel(ax, geometry, member, label, z_face, tooth):
         rr, th = _polar(points)
         return rr * np.sin(centre - th), rr * np.cos(centre - th)
 
-    for fl in sections.FLANKS:
+    for fl in FLANKS:
         fpts, rpts, _ = curves[fl]
         if fpts is not None:
             ax.plot(*local(fpts), color=_COLOURS[fl], lw=1.4, label=f"{fl} flank")
@@ -76,7 +77,7 @@ def _panel(ax, geometry, member, label, z_face, tooth):
             ax.plot(*local(rpts), color=_COLOURS[fl], lw=1.0, ls="--", label=f"{fl} fillet")
     _arc(ax, r_tip, centre, half, color="k", lw=0.8, label="tip" if label == "toe" else None)
     _arc(ax, float(s.root_radius), centre, half, color="0.4", lw=0.8, label="root" if label == "toe" else None)
-    for fl in sections.FLANKS:
+    for fl in FLANKS:
         _arc(ax, float(getattr(s, f"base_radius_{fl}")), centre, half, color=_COLOURS[fl], lw=0.6, ls=":",
              label=f"base ({fl})" if label == "toe" else None)
         cut = float(getattr(s, f"undercut_depth_{fl}"))
@@ -98,7 +99,7 @@ def _panel(ax, geometry, member, label, z_face, tooth):
     else:
         title += f", tip {thick:.3f} mm"
     ax.set_title(title, fontsize=8, color="k" if thick > 0 else "red")
-    drawn = [c for fl in sections.FLANKS for c in curves[fl][:2] if c is not None]
+    drawn = [c for fl in FLANKS for c in curves[fl][:2] if c is not None]
     width = max([abs(local(c)[0]).max() * 1.6 for c in drawn] + [1.0])
     ax.set_xlim(-width, width)
     lo, hi = sorted((float(s.root_radius), r_tip))
@@ -116,7 +117,7 @@ def plot_sections(pair, tooth, path):
 
     geometry = getattr(pair, "geometry", pair)
     fig, axes = plt.subplots(2, 3, figsize=(12, 8.5))
-    for row, member in enumerate(sections.MEMBERS):
+    for row, member in enumerate(MEMBERS):
         w = sections.half_face(geometry, member)
         for col, (label, frac) in enumerate(sections.ENDS):
             _panel(axes[row, col], geometry, member, label, frac * w, tooth)

@@ -16,7 +16,8 @@ from dataclasses import dataclass, field
 
 from ..solver.patch_cover import UnboundedPatch
 from ..tca import NoContactError
-from . import contact, sections, tip, undercut
+from ..names import FLANKS, MEMBERS
+from . import contact, tip, undercut
 
 STATUSES = ("undercut", "pointed", "interference", "tip inside base circle", "no contact", "no form limit")
 
@@ -59,11 +60,11 @@ class ToothResult:
     def to_json_dict(self) -> dict:
         """The whole-tooth JSON: per member its tip thickness and undercut, and the pair's fields
         (what :meth:`add_to` puts into the design JSON)."""
-        return {**{member: self.member_json(member) for member in sections.MEMBERS}, **self.pair_json()}
+        return {**{member: self.member_json(member) for member in MEMBERS}, **self.pair_json()}
 
     def add_to(self, design: dict) -> dict:
         """The design JSON (beveloid design --json) with the whole-tooth fields added."""
-        for member in sections.MEMBERS:
+        for member in MEMBERS:
             design[member].update(self.member_json(member))
         design.update(self.pair_json())
         return design
@@ -71,9 +72,9 @@ class ToothResult:
     def table(self) -> str:
         lines = ["", "Whole tooth (face coordinate z from the face centre, toe at -W/2; mm):",
                  "member | flank | tip thickness toe / middle / heel (transverse arc) | undercut z range (depth)"]
-        for member in sections.MEMBERS:
+        for member in MEMBERS:
             t = self.tip[member]
-            for fl in sections.FLANKS:
+            for fl in FLANKS:
                 u = self.undercut[member][fl]
                 cut = "none" if u is None else f"{u.from_mm:.3f} .. {u.to_mm:.3f} ({u.depth_mm:.4f})"
                 thick = " / ".join(_mm(x) for x in (t.toe_mm, t.middle_mm, t.heel_mm)) if fl == "left" else ""
@@ -91,14 +92,14 @@ def analyze(pair, options: ToothOptions = ToothOptions()) -> ToothResult:
     cut = undercut.undercut(geom)
     tips = tip.tip_thicknesses(geom)
     statuses = []
-    for member in sections.MEMBERS:
+    for member in MEMBERS:
         statuses += [("undercut", u.message()) for u in cut[member].values() if u is not None]
         if tips[member].pointed:
             statuses.append(("pointed", tips[member].message()))
         if tips[member].no_involute:
             statuses.append(("tip inside base circle", tips[member].no_involute_message()))
     flanks = {}
-    for fl in sections.FLANKS:
+    for fl in FLANKS:
         try:
             flanks[fl] = contact.flank_contact(geom, fl, per_pitch=options.contact_per_pitch, backend=options.backend)
         except (contact.NoContact, NoContactError, UnboundedPatch) as err:

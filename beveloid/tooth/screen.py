@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..names import FLANKS, MEMBERS
 from . import sections, tip, undercut
 
 __all__ = ["MARGIN_MM", "clear"]
@@ -28,9 +29,9 @@ MARGIN_MM = 1e-9
 def clear(geometry) -> np.ndarray:
     """(n,) bool: design i of the PairGeometry of arrays has no undercut flank and no pointed tip."""
     ok = np.ones(np.shape(geometry.normal_module_mm), dtype=bool)
-    for member in sections.MEMBERS:
+    for member in MEMBERS:
         s = sections.section(geometry, member, sections.face_grid(geometry, member, undercut.SCAN_POINTS))
-        for flank in sections.FLANKS:
+        for flank in FLANKS:
             ok &= np.all(getattr(s, f"undercut_depth_{flank}") < -MARGIN_MM, axis=-1)  # NaN: not clear
         thickness = tip.thickness(geometry, member, sections.face_grid(geometry, member, tip.SCAN_POINTS))
         ok &= np.all(thickness > MARGIN_MM, axis=-1)

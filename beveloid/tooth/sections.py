@@ -17,8 +17,6 @@ import numpy as np
 from ..generated import layouts, tooth_sections
 from ..geometry import pack_rows
 
-MEMBERS = ("pinion", "gear")
-FLANKS = ("left", "right")
 #: the three sections the JSON reports, by their face coordinate in units of W/2
 ENDS = (("toe", -1.0), ("middle", 0.0), ("heel", 1.0))
 

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import minimize_scalar
 
+from ..names import MEMBERS
 from . import sections
 
 
@@ -123,4 +124,4 @@ def tip_thickness(geometry, member: str, n: int = SCAN_POINTS) -> TipThickness:
 
 
 def tip_thicknesses(geometry) -> dict:
-    return {m: tip_thickness(geometry, m) for m in sections.MEMBERS}
+    return {m: tip_thickness(geometry, m) for m in MEMBERS}

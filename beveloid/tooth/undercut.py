@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..names import FLANKS, MEMBERS
 from . import sections
 
 #: absolute tolerance (mm) on the face coordinates of the range's ends
@@ -63,4 +64,4 @@ def flank_undercut(geometry, member: str, flank: str, n: int = SCAN_POINTS) -> U
 
 def undercut(geometry) -> dict:
     """{member: {flank: Undercut or None}}."""
-    return {m: {fl: flank_undercut(geometry, m, fl) for fl in sections.FLANKS} for m in sections.MEMBERS}
+    return {m: {fl: flank_undercut(geometry, m, fl) for fl in FLANKS} for m in MEMBERS}

@@ -93,3 +93,23 @@ def test_cell_corners_of_a_folded_raster_give_no_warning():
         ax.pcolormesh(lplots._cell_corners(z), lplots._cell_corners(folded), np.ones(z.shape), shading="flat")
         fig.canvas.draw()
     plt.close(fig)
+
+
+def test_the_te_figures_axis_labels_fit_and_name_the_pinion_angle_in_degrees(pair1, tmp_path, kept_figures):
+    """Every TCA figure with a pinion-angle axis labels it the same (degrees, as the tables) and every
+    axis label lies inside its figure: the key to the faded points is in the legend, not the label."""
+    res = tca.analyze(pair1, tca.Options(flanks=("right", "left"), positions=40))
+    plots.transmission_error([res, res], ["aligned", "again"], "right", tmp_path / "te.png", "Fig 13 - a title")
+    plots.tca_summary(res, pair1.geometry, tmp_path / "tca.png")
+    for fig in kept_figures:
+        fig.canvas.draw()
+        renderer = fig.canvas.get_renderer()
+        box = fig.bbox
+        for ax in fig.axes:
+            for label in (ax.xaxis.label, ax.yaxis.label):
+                e = label.get_window_extent(renderer)
+                assert box.x0 <= e.x0 and e.x1 <= box.x1 and box.y0 <= e.y0 and e.y1 <= box.y1, label.get_text()
+    te_axes = [ax for fig in kept_figures for ax in fig.axes if ax.get_xlabel().startswith("pinion angle")]
+    assert len(te_axes) == 3 and {ax.get_xlabel() for ax in te_axes} == {plots.PINION_ANGLE_LABEL}
+    legend = [t.get_text() for t in kept_figures[0].axes[0].get_legend().get_texts()]
+    assert plots.FADED_LABEL in legend

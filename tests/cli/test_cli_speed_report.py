@@ -48,3 +48,16 @@ def test_the_table_says_once_that_compilation_happens_once(capsys):
     text = capsys.readouterr().out
     assert text.count("compiles it once") == 1
     assert "before the sweep (not in the time above)" in text.splitlines()[1]
+
+
+@pytest.mark.parametrize("argv", [["tca", C1, "--positions", "3"], ["design", C1], ["sweep", C1, "--samples", "3",
+                                                                                      "--positions", "3"]])
+def test_every_command_that_solves_says_before_numba_compiles(capsys, monkeypatch, argv):
+    """The first run after an installation or `derive --model` compiles for a minute or more: `tca`,
+    `design` and `sweep` (and every other command that solves a contact, through the one announcement
+    of beveloid/solver/backends.py) say so on stderr first, a terminal or not (here: captured)."""
+    monkeypatch.setattr(backends, "needs_compiling", lambda ns: True)  # as if numba's cache were empty
+    monkeypatch.setattr(backends, "_notified", False)
+    assert cli.main(argv) == 0
+    err = capsys.readouterr().err
+    assert err.count(backends.COMPILING) == 1, err

@@ -474,6 +474,13 @@ def test_offset_too_large_quotes_the_reachable_range():
         design(spec_from_dict(modified(pair__offset_mm=5000.0)))
 
 
+@pytest.mark.parametrize("offset", [1e-262, 1e-9])
+def test_a_tiny_offset_is_too_small_not_too_large(offset):
+    """E(alpha_nw) is 0 at the range's open end: an offset below the rest of the range is too small."""
+    with pytest.raises(DesignError, match=r"offset is too small .* increase pair\.offset_mm to at least \d"):
+        design(spec_from_dict(modified(pair__offset_mm=offset)))
+
+
 def test_error_from_file_is_prefixed_with_the_path(tmp_path):
     text = (EXAMPLES / "case1.toml").read_text().replace("offset_mm = 229.0", "offset_mm = 5000.0")
     path = tmp_path / "far.toml"

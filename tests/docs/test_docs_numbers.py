@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import importlib.util
 import json
+import re
 from pathlib import Path
 
 import pytest
@@ -37,13 +38,13 @@ def test_the_record_names_the_commands_that_made_it(numbers):
     rec = json.loads((REPO / "docs" / "numbers.json").read_text(), parse_constant=lambda c: pytest.fail(c))
     assert rec["explore"]["command"] == "beveloid " + " ".join(numbers.EXPLORE_ARGS) + " --out case1_explore"
     assert rec["verify"]["command"] == "beveloid verify --json"
+    assert rec["paper"]["command"] == "beveloid " + " ".join(numbers.PAPER_ARGS) + " --out paper_out"
     assert rec["verify"]["verified"] + rec["verify"]["definitions"] == rec["verify"]["equations"] == 38
 
 
 def test_readme_quotes_no_number_without_a_source():
     """The README keeps its numbers to the paper's equation range and the commands' names: timings and
     results live on the docs pages, each with its command."""
-    import re
 
     text = (REPO / "README.md").read_text(encoding="utf-8")
     text = re.sub(r"`[^`]*`|\([^)]*\.(png|md)\)|!\[[^\]]*\]", "", text)  # code, links, image captions
@@ -51,3 +52,28 @@ def test_readme_quotes_no_number_without_a_source():
     allowed = {"1–38", "1-38", "1", "10-22", "24-25", "48–64", "59", "2013", "2", "6336"}  # 6336: the ISO standard's number
     found = set(re.findall(r"\d+(?:[.,–-]\d+)*", text)) - allowed
     assert not found, f"numbers in the README without a source: {sorted(found)}"
+
+
+#: a duration in prose: "95 s", "13-19 minutes", "two minutes", "about a minute"
+_DURATION = re.compile(r"(?<![\w.])\d+(?:[.,]\d+)?(?:\s?[-–]\s?\d+(?:[.,]\d+)?)?\s?(?:s|min|minutes|seconds|hours?)\b"
+                       r"|\b(?:a|one|two|three|a few|several) (?:minutes?|hours?)\b|\bminute\b")
+#: how a paragraph states the load its timing was measured under
+_LOAD = re.compile(r"load average|quiet|shared by|beside other work|whatever the\s+load")
+#: the pages (and commands.md's sections) whose timings this test holds; commands.md's ltca, rating and
+#: explore sections are their pages' own
+TIMED_PAGES = ("docs/fe_check.md", "docs/models.md", "docs/input.md", "docs/commands.md")
+
+
+def test_every_timing_states_its_load_and_its_command():
+    """A time a page quotes says under what load it was measured and names the command or script that
+    measured it (in the paragraph, or by docs/performance.md, which gives both); code blocks (a command's
+    output) aside."""
+    wrong = []
+    for page in TIMED_PAGES:
+        text = re.sub(r"^```.*?^```", "", (REPO / page).read_text(encoding="utf-8"), flags=re.M | re.S)
+        if page.endswith("commands.md"):
+            text = re.sub(r"^## (ltca|rating|explore)\n.*?(?=^## )", "", text, flags=re.M | re.S)
+        for para in re.split(r"\n\s*\n|\n(?=\s*[*-] )|\n(?=\d+\. )", text):
+            if _DURATION.search(para) and not (_LOAD.search(para) and ("`" in para or "performance.md" in para)):
+                wrong.append(f"{page}: {' '.join(para.split())[:160]}")
+    assert not wrong, "timings without their load and command:\n" + "\n".join(wrong)

@@ -123,6 +123,20 @@ def test_readme_says_how_to_get_calculix():
     assert "apt-get install -y calculix-ccx" in README and "fe-check" in README
 
 
+def test_readme_rows_name_the_extras_their_commands_need():
+    """After the Quickstart's plain `pip install .`, `beveloid export` needs an extra: its row says which."""
+    import tomllib
+
+    from beveloid.export.formats import WRITERS
+
+    optional = tomllib.loads((REPO / "pyproject.toml").read_text(encoding="utf-8"))["project"]["optional-dependencies"]
+    extras = {w.extra for w in WRITERS.values()}
+    assert extras <= set(optional), extras
+    row = _command_rows()["export"]
+    for extra in extras:
+        assert f"`{extra}` extra" in row and f'pip install ".[{extra}]"' in row, row
+
+
 def test_help_does_not_point_into_a_checkout():
     """An installed user has no examples/ folder: no --help text may send them there."""
     from beveloid import cli

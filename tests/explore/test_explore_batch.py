@@ -1,6 +1,8 @@
 """The batched design and sensitivities equal design() and tca.sensitivity, design by design."""
 from __future__ import annotations
 
+import copy
+
 import numpy as np
 import pytest
 
@@ -133,7 +135,7 @@ def test_flank_modification_keys_choose_the_surface_model():
     cols = rows.compute(plan, 0, 2, DEFAULT_RANGES)
     values = {k: np.full(2, v) for k, v in plan.base_values().items()}
     values.update(plan.values(0, 2))
-    assert [m for _, m in rows.models(plan.base, values)] == ["involute", "crowned"]
+    assert [m for _, m in rows.models(plan, values)] == ["involute", "crowned"]
     first = []
     for j in range(2):
         spec = rows.design_spec(plan, values, j)
@@ -144,6 +146,30 @@ def test_flank_modification_keys_choose_the_surface_model():
         np.testing.assert_allclose(got, D, rtol=0, atol=RTOL * np.abs(D).max())
         first.append(got[2, 0])
     assert abs(first[0] - first[1]) > 1.0  # the crowning changes the path's sensitivity (18.7 -> 6.9 mm/mm)
+
+
+def test_an_implied_micro_geometry_flank_is_the_one_written_out():
+    """Profile crowning and a tip relief without tooth_surface make a micro_geometry flank (the spec's rule:
+    the model that takes every key given): its rows are those of the same spec with the model written out."""
+    implied = spec_to_dict(load_example("case1"))
+    for member in ("pinion", "gear"):
+        implied[member].pop("tooth_surface", None)
+    implied["pinion"].update(profile_crowning_um=6.0, tip_relief_um=8.0)
+    written = copy.deepcopy(implied)
+    written["pinion"]["tooth_surface"] = "micro_geometry"
+    vary = (parse_vary("pinion.helix_angle_deg=20:26:2"),)
+    got, expected = (rows.compute(Plan(base, vary), 0, 2, DEFAULT_RANGES) for base in (implied, written))
+    assert list(got) == list(expected)
+    for k, v in expected.items():
+        np.testing.assert_array_equal(got[k], v, err_msg=k)
+    # per design, as the spec decides it for the design's own keys (here the relief varied from 0: crowned)
+    plan = Plan(implied, (parse_vary("pinion.tip_relief_um=0:8:2"), parse_vary("gear.lead_slope_um=0:3:2")))
+    values = {k: np.full(plan.count, v) for k, v in plan.base_values().items()}
+    values.update(plan.values(0, plan.count))
+    by_spec = [(s.pinion.tooth_surface, s.gear.tooth_surface)
+               for s in (rows.design_spec(plan, values, j) for j in range(plan.count))]
+    assert rows.models(plan, values) == by_spec
+    assert by_spec[0] == ("crowned", "involute") and by_spec[3] == ("micro_geometry", "micro_geometry")
 
 
 @pytest.fixture(scope="module")

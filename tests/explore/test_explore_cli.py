@@ -162,13 +162,14 @@ def test_chunks_of_another_version_are_recomputed_or_refused(case1, tmp_path, ca
 
 
 class _Interrupted:
-    """An executor that finishes the first chunk and then sees Ctrl-C."""
+    """An executor that finishes the first two tasks (the base design and the first chunk) and then sees Ctrl-C."""
 
     description = "test"
 
     def map_unordered(self, fn, items):
         items = list(items)
-        yield 0, fn(items[0])
+        for k in range(2):
+            yield k, fn(items[k])
         raise KeyboardInterrupt
 
 

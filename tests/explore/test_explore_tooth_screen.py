@@ -12,6 +12,7 @@ from beveloid.explore.grid import Plan, parse_vary
 from beveloid.pair import Pair
 from beveloid.spec import load_example, spec_to_dict
 from beveloid.sweep import DEFAULT_RANGES
+from beveloid.names import MEMBERS
 from beveloid.tooth import screen, sections
 
 
@@ -36,7 +37,7 @@ def _batched_geometry(plan, values):
 def test_sections_of_many_designs_equal_each_designs_own(mixed):
     plan, values = mixed
     idx, geom = _batched_geometry(plan, values)
-    for member in sections.MEMBERS:
+    for member in MEMBERS:
         grid = sections.face_grid(geom, member, 7)
         many = sections.section(geom, member, grid)
         assert grid.shape == (idx.size, 7) and many.undercut_depth_left.shape == (idx.size, 7)

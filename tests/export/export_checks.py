@@ -2,7 +2,7 @@
 
 They read the files back (OpenCASCADE for STEP, trimesh for STL) and hold them against points of
 the generated surfaces that were not used to build them: random (s, z) on every face of the tooth
-(beveloid.export.sampling), turned onto random teeth.
+(beveloid.tooth.sampling), turned onto random teeth.
 """
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from beveloid.export.sampling import FACES, ToothSampler, rotate_z
+from beveloid.tooth.sampling import FACES, ToothSampler, rotate_z
 
 
 def off_fit_points(geometry, member, seed=0, per_face=4):

@@ -9,7 +9,7 @@ import trimesh
 from export_checks import distances_to_mesh, distances_to_step_faces, off_fit_points, section_crossings, tooth_probe
 
 from beveloid.export import ExportOptions, export, occ
-from beveloid.export.sampling import ExportGeometryError
+from beveloid.tooth.sampling import ExportGeometryError
 
 MEMBERS = ("pinion", "gear")
 #: one worker builds the small pair's exports (a session fixture) and runs every test that reads them

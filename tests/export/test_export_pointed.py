@@ -11,7 +11,7 @@ import trimesh
 from export_checks import distances_to_step_faces, off_fit_points
 
 from beveloid.export import ExportOptions, export, occ
-from beveloid.export.sampling import ToothSampler
+from beveloid.tooth.sampling import ToothSampler
 from beveloid.pair import Pair
 from beveloid.spec import example_text
 from beveloid.tooth import sections, tip, undercut

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from beveloid.export.sampling import ExportGeometryError, ToothSampler, rotate_z
+from beveloid.tooth.sampling import ExportGeometryError, ToothSampler, rotate_z
 
 S = np.linspace(0.0, 1.0, 7)
 
@@ -78,3 +78,27 @@ def test_a_pointed_section_ends_where_the_flanks_cross():
     assert [landed for _, _, landed in pieces] == [True, False]
     z_pointed = float(sections.member_z(g, "pinion", t.pointed_from_mm))  # tooth.tip's own root, on the sections
     assert pieces[0][1] == pieces[1][0] == pytest.approx(z_pointed, abs=1e-6)
+
+
+def test_a_relieved_flank_runs_into_its_root_fillet():
+    """Issue 48: a flank modification the rack's fillet does not carry (end relief, lead slope) leaves a
+    step of micrometres at the form limit; the sampled flank closes it over s < BLEND_FRACTION and is the
+    generated flank above."""
+    import tomllib
+
+    from beveloid.tooth.sampling import BLEND_FRACTION
+    from beveloid.pair import Pair
+    from beveloid.spec import example_text
+
+    doc = tomllib.loads(example_text("case1"))
+    doc["pinion"].update(end_relief_um=20.0, end_relief_length_mm=6.0, lead_slope_um=15.0)
+    sampler = ToothSampler(Pair.from_spec(doc).geometry, "pinion")
+    z = np.linspace(*sorted(sampler.z_range_mm), 5)
+    for flank in ("left", "right"):
+        step = np.linalg.norm(sampler.flank_blend_mm(flank, z), axis=-1)
+        assert 1e-3 < step.max() < 0.05  # micrometres, not zero: the generated flank does not close
+        flank_pts = sampler.flank_points(flank, S, z)
+        assert np.allclose(flank_pts[0], sampler.fillet_points(flank, np.array([1.0]), z)[0], atol=1e-9)
+        above = S >= BLEND_FRACTION
+        assert np.array_equal(flank_pts[above], sampler._generated_flank_points(flank, S[above], z))
+    sampler.check_buildable(z)  # closes: no refusal

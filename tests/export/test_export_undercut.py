@@ -9,7 +9,7 @@ import trimesh
 from export_checks import distances_to_mesh, distances_to_step_faces
 
 from beveloid.export import ExportOptions, export, occ
-from beveloid.export.sampling import ToothSampler
+from beveloid.tooth.sampling import ToothSampler
 from beveloid.pair import Pair
 from beveloid.spec import load_example, spec_to_dict
 from beveloid.tooth import fillet, profile, undercut

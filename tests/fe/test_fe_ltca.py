@@ -129,3 +129,49 @@ def test_bad_tooth_flags_are_one_line_and_exit_2(capsys, flags, names):
     out, err = capsys.readouterr()
     assert rc == 2 and not out and names in err and "Traceback" not in err
     assert len([line for line in err.splitlines() if line.strip()]) <= 2  # argparse adds its usage line
+
+
+def test_root_stresses_of_many_sets_are_those_of_every_node(coarse_teeth):
+    """The batched root stress (load-linear Gershgorin pruning, closed-form eigenvalues) against numpy's
+    eigenvalues at every counted fillet node, for several load sets at once."""
+    from beveloid.fe.contact import FeTooth
+
+    t = FeTooth(coarse_teeth["pinion"], "right")
+    grid = np.asarray(coarse_teeth["pinion"].points_mm[1]).reshape(-1, 3)
+    rng = np.random.default_rng(3)
+    pts = np.stack([grid[rng.choice(len(grid), 6, replace=False)] for _ in range(5)])
+    forces = rng.uniform(10.0, 400.0, (5, 6))
+    r = t.root_stresses(pts, forces)
+    for q in range(5):
+        g = t.weights(pts[q]).T @ forces[q]
+        for side, sign, got in ((1, 1.0, r.tension_mpa[q]), (0, -1.0, r.compression_mpa[q])):
+            s = t.stress[side] @ g  # (nf, 6): xx, yy, zz, xy, yz, zx
+            m = np.stack([s[:, [0, 3, 5]], s[:, [3, 1, 4]], s[:, [5, 4, 2]]], axis=1)
+            ev = np.linalg.eigvalsh(m)[t.counted[side]]
+            want = ev[:, 2].max() if sign > 0 else ev[:, 0].min()
+            assert got == pytest.approx(want, rel=1e-9)
+    assert all(np.array_equal(a, b) for a, b in zip(r, t.root_stresses(pts, forces)))  # deterministic
+    one = t.root_stress(pts[2], forces[2])
+    assert one.tension_mpa == pytest.approx(r.tension_mpa[2], rel=1e-12) and one.z_mm == r.z_mm[2]
+
+
+def test_locate_reads_inside_and_measures_how_far_outside():
+    from types import SimpleNamespace
+
+    from beveloid.fe import solve
+
+    corners = np.array([[0.0, 0, 0], [2, 0, 0], [0, 2, 0], [0, 0, 2]])
+    mids = np.array([(corners[a] + corners[b]) / 2 for a, b in solve.EDGES])
+    one = np.vstack([corners, mids])
+    # a second tet far away: the nearest tet is chosen among the candidates
+    mesh = SimpleNamespace(nodes=np.vstack([one, one + [10.0, 0, 0]]), tets=np.arange(20).reshape(2, 10))
+    inside, below = [0.3, 0.3, 0.3], [0.3, 0.3, -0.25]
+    loc = solve.locate(mesh, [inside, below])
+    assert np.allclose(loc.bary.sum(axis=1), 1.0) and np.all(loc.bary >= 0) and np.all(loc.tet == 0)
+    read = loc.bary[1] @ corners  # read on the face below the point (inside the solid)
+    assert read[2] == pytest.approx(0.0, abs=1e-15) and loc.outside_mm[0] == 0.0
+    assert loc.outside_mm[1] == pytest.approx(np.linalg.norm(read - below), rel=1e-12)
+    assert 0.25 <= loc.outside_mm[1] < 0.26  # at least the distance to the solid (0.25 mm)
+    solve.locate(mesh, [inside, below], max_outside_mm=0.3)
+    with pytest.raises(ValueError, match=r"lies 0\.25\d* mm outside the mesh: must be inside the solid or within 0\.1"):
+        solve.locate(mesh, [inside, below], max_outside_mm=0.1)

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from scipy.spatial import cKDTree
 
-from beveloid.export.sampling import ToothSampler
+from beveloid.tooth.sampling import ToothSampler
 from beveloid.fe.mesh import FACE_KINDS, sector_mesh
 from beveloid.pair import Pair
 

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy.spatial import cKDTree
 
-from beveloid.export.sampling import ToothSampler
+from beveloid.tooth.sampling import ToothSampler
 from beveloid.fe.mesh import sector_mesh
 from beveloid.fe.sizes import (STRIP_SIZE_MIN_MM, ContactStrip, ContactStrips, TETS_PER_H3, estimated_elements,
                                strip_sizes)

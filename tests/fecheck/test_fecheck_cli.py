@@ -90,3 +90,45 @@ def test_api_out_dir_with_a_missing_parent_is_refused_before_any_work(tmp_path, 
     with pytest.raises(OutputError, match=r"^out_dir = .*: the folder .* does not exist; create it first"):
         fe_check(Pair.example("case1"), CheckOptions(torque_nm=100.0, out_dir=str(target)), progress=None)
     assert not (tmp_path / "no").exists()
+
+
+#: a stand-in for CalculiX: writes the empty files ccx starts with, then the user presses Ctrl-C
+_INTERRUPTING_CCX = """#!/bin/sh
+touch fe_check.dat fe_check.sta fe_check.cvg
+echo "ccx: started"
+kill -INT $PPID
+sleep 60
+"""
+
+
+def test_ctrl_c_while_calculix_runs_keeps_nothing_and_says_so(tmp_path):
+    """Interrupted while ccx runs: the deck and CalculiX's partial files are removed from --out, the
+    folder's other files stay, and one line says what was removed (docs/commands.md, Outputs)."""
+    import os
+    import signal
+    import subprocess
+    import sys
+
+    ccx = tmp_path / "ccx"
+    ccx.write_text(_INTERRUPTING_CCX)
+    ccx.chmod(0o755)
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "mine.txt").write_text("kept\n")
+    # the check up to CalculiX: its deck written into --out, then ccx run by the real runner (the LTCA and
+    # the meshes before it are the coarse test's above: here they would cost seconds and change nothing)
+    code = ("import sys; from pathlib import Path; from beveloid import cli; from beveloid.fecheck import check, run\n"
+            "def fe_check(pair, options, progress=None):\n"
+            "    deck = Path(options.out_dir) / 'fe_check.inp'\n"
+            "    deck.write_text('*HEADING\\n')\n"
+            "    run.run_ccx(deck, progress)\n"
+            "check.fe_check = fe_check\n"
+            "sys.exit(cli.main())")
+    proc = subprocess.run([sys.executable, "-c", code, "fe-check", os.path.abspath(CASE1), "--torque-nm", "200",
+                           "--out", str(out)],
+                          capture_output=True, text=True, timeout=600, env=dict(os.environ, BEVELOID_CCX=str(ccx)))
+    assert proc.returncode in (130, -signal.SIGINT), proc.stderr
+    assert "Traceback" not in proc.stderr, proc.stderr
+    note = [line for line in proc.stderr.splitlines() if line.startswith("beveloid fe-check: --out")]
+    assert len(note) == 1 and "fe_check.inp" in note[0] and "fe_check.dat" in note[0], proc.stderr
+    assert sorted(p.name for p in out.iterdir()) == ["mine.txt"]

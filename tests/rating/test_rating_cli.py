@@ -70,11 +70,11 @@ def test_iso_stresses_carry_the_load_and_life_factors(case1_rating):
     assert f.Y_NT("pinion") == pytest.approx(np.exp(np.log(0.85) * np.log(1.2e8 / 3e6) / np.log(1e10 / 3e6)))
     for member in ("pinion", "gear"):
         for s in result.members[member].sections.values():
-            assert s.sigma_F_mpa == pytest.approx(s.sigma_F0_mpa * 1.25 * 1.1 * s.K_Fbeta)
-            assert s.sigma_H_mpa == pytest.approx(s.sigma_H0_mpa * np.sqrt(1.25 * 1.1 * s.K_Hbeta))
+            assert s.sigma_F_mpa == pytest.approx(s.sigma_F0_mpa * 1.25 * 1.1 * s.K_F_beta)
+            assert s.sigma_H_mpa == pytest.approx(s.sigma_H0_mpa * np.sqrt(1.25 * 1.1 * s.K_H_beta))
             assert s.safety_bending_iso == pytest.approx(
                 f.root_limit_mpa[member] * 2.0 * f.Y_NT(member) / s.sigma_F_mpa)
-            assert s.K_Hbeta >= 1.0 and 1.0 <= s.K_Fbeta <= s.K_Hbeta
+            assert s.K_H_beta >= 1.0 and 1.0 <= s.K_F_beta <= s.K_H_beta
 
 
 def run_cli(capsys, argv):
@@ -146,3 +146,67 @@ def test_plot_and_table(tmp_path, capsys, monkeypatch, case1_rating):
     rc, out, err = run_cli(capsys, ["rating", C1, "--torque-nm", "800", "--plot", target])
     assert rc == 0 and target.stat().st_size > 10_000
     assert "verdict: lowest safety" in out and out.count(" toe ") == 2
+
+
+def test_edge_contact_above_its_limit_makes_the_verdict_conditional(case1_rating):
+    """The edge-contact rule (docs/rating.md 6): case 1 at 1100 N m (K_A K_v T) runs on a flank edge (edge peak
+    853 MPa, surface peak 569 MPa).  With contact strengths sigma_Hlim Z_NT of 0.95 x the edge peak every S_H
+    still meets S_Hmin = 1 but the edge exceeds its limit: the verdict is conditional, not a pass, and names
+    the edge and its relief.  At 1.01 x the edge peak the pair passes."""
+    pair, lt, result = case1_rating
+    edge = result.loaded.edge
+    assert edge is not None and edge.pressure_mpa == pytest.approx(np.nanmax(lt.pair_edge_max_pressure_mpa))
+    assert edge.edge in ("toe", "heel", "tip") and edge.where == f"the {edge.edge} of the {edge.member}"
+    options = rating.Options(torque_nm=800.0, positions=2, tooth_model="plate")
+
+    def verdict(share):
+        d = spec_to_dict(pair.spec)
+        f = result.factors
+        d["material"].update({f"{m}_contact_stress_limit_mpa": share * edge.pressure_mpa / f.Z_NT(m)
+                              for m in ("pinion", "gear")})
+        return rating.analyze(Pair.from_spec(spec_from_dict(d)), options, ltca_result=lt).verdict()
+
+    v = verdict(0.95)
+    assert v["edge_contact"]["exceeds"] and v["edge_contact"]["safety"] == pytest.approx(0.95)
+    assert v["meets_S_Fmin"] and v["meets_S_Hmin"]
+    assert v["status"] == "conditional" and v["passes"] is False
+    assert v["condition"] == f"passes only if {edge.where} is relieved ({edge.relief})"
+    assert "edge-contact rule" in v["line"] and "CONDITIONAL" in v["line"] and edge.where in v["line"]
+    v = verdict(1.01)
+    assert v["edge_contact"]["exceeds"] is False and v["status"] == "passes" and v["passes"] is True
+    assert v["condition"] is None and "edge-contact rule" not in v["line"]
+
+
+def test_the_table_has_units_and_no_null_with_a_unit(capsys, monkeypatch, case1_rating):
+    """Issue 45: a units row under the header; a value that is not computed is "null", never "null MPa"."""
+    pair, lt, _ = case1_rating
+    real = rating.analyze
+    monkeypatch.setattr(rating, "analyze", lambda p, o, **k: real(pair, o, ltca_result=lt, **k))
+    rc, out, _ = run_cli(capsys, ["rating", C1, "--torque-nm", "800", "--tooth-model", "plate"])
+    assert rc == 0
+    lines = out.splitlines()
+    assert "[MPa]" in lines[2] and "[mm]" in lines[2] and "[deg]" in lines[2]
+    assert "root stress max null," in out and "null MPa" not in out
+    assert "K_H_beta" in out and "N/mm" in out and "case-hardened MQ" in out
+
+
+def result_geometry(_result):
+    return Pair.example("case1").geometry
+
+
+def test_json_names_the_face_load_factors_and_the_material(case1_rating):
+    _, _, result = case1_rating
+    out = rating.to_json_dict(result)
+    for member in ("pinion", "gear"):
+        m = out[member]
+        fl = result.loaded.face_load[member]
+        assert m["K_H_beta"] == pytest.approx(max(fl.K_H_beta, 1.0))
+        # K_F_beta = K_H_beta^N_F, N_F = (b/h)^2 / (1 + b/h + (b/h)^2) at the pair's smaller b/h (ISO 6336-1)
+        g = result_geometry(result)
+        bh = min(g.pinion.face_width_mm, g.gear.face_width_mm) / max(
+            g.member(x).tip_height_mm + g.member(x).cutter_addendum_mm for x in ("pinion", "gear"))
+        assert m["K_F_beta"] == pytest.approx(m["K_H_beta"] ** (bh ** 2 / (1 + bh + bh ** 2)), rel=1e-12)
+        assert m["material"]["type"] == "case-hardened" and m["material"]["sigma_Hlim_mpa"] == 1500.0
+        assert m["face_load"]["peak_line_load_n_per_mm"] == pytest.approx(fl.peak_line_load_n_per_mm)
+    assert out["K_v"] == 1.1 and out["K_v_source"] == "user" and out["dynamic_factor"] is None
+    assert out["verdict"]["status"] in ("passes", "conditional", "fails")

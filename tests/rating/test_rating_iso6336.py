@@ -114,7 +114,15 @@ def test_method_b_closed_forms_reproduce_the_30_degree_construction_on_the_gener
     # the 2019 Y_F is the 2006 one times f_eps (<= 1)
     assert bg.Y_F == pytest.approx(iso.form_factor(h_fe, a_fen, s_fn, g.normal_module_mm, g.normal_pressure_angle)
                                    * bg.f_eps, rel=1e-6)
-    assert 1.0 < bg.Y_F / bg.f_eps < 4.0 and 1.0 < bg.Y_S < 4.0 and 0.5 < bg.f_eps <= 1.0
+    # Y_S is ISO's formula at the construction's s_Fn, h_Fe and rho_F (rho_F numerical: 2e-4, Y_S ~ rho^-0.4)
+    assert bg.Y_S == pytest.approx(iso.stress_correction_factor(s_fn, h_fe, rho_f), rel=1e-4)
+    # f_eps: 1 for spur (eps_beta = 0, eps_alpha_n < 2), eps_alpha_n^-1/2 with eps_beta >= 1 (Formulae 10, 14)
+    pair = iso.CylindricalPair(g, m, 100.0)
+    eps_an = pair.transverse_contact_ratio / math.cos(g.base_helix_angle) ** 2
+    if beta == 0.0:
+        assert bg.f_eps == 1.0 and eps_an < 2.0
+    else:
+        assert pair.overlap_ratio >= 1.0 and bg.f_eps == pytest.approx(eps_an ** -0.5, rel=1e-12)
 
 
 def test_outer_point_of_single_contact_lies_one_base_pitch_inside_the_mates_end_of_contact():

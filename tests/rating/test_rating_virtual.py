@@ -80,6 +80,7 @@ def test_iso_section_rating_is_finite_or_null_with_a_reason_over_random_designs(
 
     from beveloid.design import DesignError
     from beveloid.rating.analysis import RateInput, rate_section
+    from beveloid.rating.face_load import FaceLoad
     from beveloid.rating.factors import Factors
     from beveloid.spec import SpecError
 
@@ -97,7 +98,8 @@ def test_iso_section_rating_is_finite_or_null_with_a_reason_over_random_designs(
         except (DesignError, SpecError):
             continue
         g = pair.geometry
-        inp = RateInput(g, "right", 500.0, min(g.pinion.face_width_mm, g.gear.face_width_mm), None,
+        no_ltca = {m: FaceLoad(None, None, None, None, None, None) for m in ("pinion", "gear")}
+        inp = RateInput(g, "right", 500.0, min(g.pinion.face_width_mm, g.gear.face_width_mm), no_ltca,
                         Factors.from_spec(pair.spec), (206000.0, 0.3, 206000.0, 0.3))
         for member in ("pinion", "gear"):
             w = sections.half_face(g, member)

@@ -60,7 +60,7 @@ def test_paper_run_writes_through_the_staged_folder(tmp_path, monkeypatch):
     target = tmp_path / "b"  # created: its parent exists (a missing tree is refused: below)
     seen = {}
 
-    def fake_study(out, positions, progress, tooth_model=None):
+    def fake_study(out, positions, progress, tooth_model=None, workers=None):
         seen["folder"] = out
         seen["in place while writing"] = (target / "report.md").exists()
         _write(out, "run")

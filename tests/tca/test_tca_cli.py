@@ -615,6 +615,7 @@ def test_paper(capsys, tmp_path):
     for c in data_csvs:
         assert (out_dir / c).is_file(), c
     assert "table1.csv" in report
+    _check_report_says_what_it_holds(report)
 
     # Table 1: 28 printed values, each within one unit of its last printed digit -- rechecked here,
     # with the sign (the printed values are signed)
@@ -651,6 +652,42 @@ def test_paper(capsys, tmp_path):
                 assert all(math.isfinite(float(v)) for v in contact), (c, i)
             else:
                 assert all(v == "" for v in contact), (c, i)
+
+
+def _check_report_says_what_it_holds(report):
+    """Each case's line cites that case's paper value; the summary's counts are named for what they
+    count; the whole run's time closes the report; the title (and --help) name every part."""
+    from beveloid.studies import PAPER_CONTENTS
+    from beveloid.studies.crowning import PAPER_ALIGNED_TE_URAD
+    from beveloid.studies.paper import PAPER_EDGE_ONSET_MM
+
+    lines = report.splitlines()
+    assert lines[0].endswith(PAPER_CONTENTS) and "Figs 24-25" in PAPER_CONTENTS and "micro-geometry" in PAPER_CONTENTS
+    assert report.count("\n## ") >= 5 and [x for x in lines if x.startswith("## ")][-1] == "## This run"
+    assert "computed in" in report.split("## This run")[1] and "Computed with" not in report
+    for case in ("case1", "case2"):
+        onset = [x for x in lines if x.startswith(f"- {case}: the path reaches")]
+        assert len(onset) == 1
+        other = "case2" if case == "case1" else "case1"
+        assert f"paper, {other}" not in onset[0], onset[0]
+        if case in PAPER_EDGE_ONSET_MM:
+            assert f"paper, {case}: edge contact begins at dq = {PAPER_EDGE_ONSET_MM[case]:g} mm" in onset[0]
+        aligned = [x for x in lines if x.startswith(f"- {case}: TE peak-to-peak")]
+        assert len(aligned) == 1 and aligned[0].endswith(f"(paper, {case}: {PAPER_ALIGNED_TE_URAD[case]:g} urad)")
+    head = next(x for x in lines if x.startswith("| figure | case | errors"))
+    assert "| surface contacts | edge contacts |" in head and "points on the flank" not in report
+    assert "status `edge`" in report and "status `ok`" in report
+    for row in (x for x in lines if re.match(r"\| 1\d \| case", x)):
+        surface, edge = (re.findall(r"(\d+)/(\d+)", c) for c in row.split("|")[6:8])
+        assert int(surface[0][0]) + int(edge[0][0]) <= int(surface[0][1]) == int(edge[0][1]), row
+
+
+def test_paper_help_names_every_part(capsys):
+    from beveloid.studies import PAPER_CONTENTS
+
+    assert cli.main(["--help"]) == 0
+    text = " ".join(capsys.readouterr().out.split())
+    assert f"paper Reproduce {' '.join(PAPER_CONTENTS.split())}" in text
 
 
 # ------------------------------------------------------------------------------------------

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from beveloid import contact_ellipse, tca
-from beveloid.solver import backends
+from beveloid.solver import Solver, backends
 
 MICRO = dict(profile_crowning_um=10.0, lead_crowning_um=15.0, tip_relief_um=20.0, tip_relief_height_mm=1.5,
              tip_relief_shape="linear", end_relief_um=10.0, end_relief_length_mm=5.0, end_relief_shape="parabolic",
@@ -28,14 +28,14 @@ def test_compiled_chords_are_the_numpy_chords(geom1, compiled_solver, flank, mod
     geom = geom1 if model == "involute" else _micro(geom1)
     errors = np.array([0.1, -0.05, 0.05, 0.0, 0.0005])
     fr = tca.mesh_flank(geom, flank, errors, positions=12, pairs=3, backend="compiled")
-    assert contact_ellipse.chord_kernel("numpy") is None
+    assert contact_ellipse.chord_kernel(Solver("numpy")) is None
     kernel = backends.namespace("compiled").ellipse_chords
     if not hasattr(kernel, "py_func"):  # NUMBA_DISABLE_JIT=1: the same one-point search, interpreted
-        assert contact_ellipse.chord_kernel("compiled") is None
-        monkeypatch.setattr(contact_ellipse, "chord_kernel", lambda backend: None if backend == "numpy" else kernel)
-    assert contact_ellipse.chord_kernel("compiled") is kernel  # the one-point search really runs
-    ref = contact_ellipse.flank_ellipses(geom, fr, errors, backend="numpy")
-    got = contact_ellipse.flank_ellipses(geom, fr, errors, backend="compiled")
+        assert contact_ellipse.chord_kernel(Solver("compiled")) is None
+        monkeypatch.setattr(contact_ellipse, "chord_kernel", lambda solver: None if not solver.compiled else kernel)
+    assert contact_ellipse.chord_kernel(Solver("compiled")) is kernel  # the one-point search really runs
+    ref = contact_ellipse.flank_ellipses(geom, fr, errors, solver=Solver("numpy"))
+    got = contact_ellipse.flank_ellipses(geom, fr, errors, solver=Solver("compiled"))
     assert got.status == ref.status
     chords = np.isfinite(ref.truncated_mm)
     assert chords.sum() >= 10, "too few chords to compare"

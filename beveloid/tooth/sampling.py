@@ -6,7 +6,8 @@ in the toe and heel planes and neighbouring faces share their boundary rows poin
 
 * ``flank_left``, ``flank_right``: the generated flank (``geometry.surface``) from the form limit
   (s = 0, where the fillet meets it) to the tip cone (s = 1); l runs linearly in s, u is solved so
-  that the point lies in the section z;
+  that the point lies in the section z; a modification the root fillet does not carry (tip and end
+  relief, lead slope, a user model) is run into the fillet over the lowest ``BLEND_FRACTION`` of s;
 * ``fillet_left``, ``fillet_right``: the root transition, from the root cone (s = 0) to the form
   limit (s = 1): :func:`root_transition`, the one place that says where it comes from;
 * the form limit of a section (:func:`form_limits`) is where the fillet meets the flank: the tip
@@ -28,8 +29,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import UserError
+from ..names import FLANKS
+from .body import is_body
 
-FLANKS = ("left", "right")
 #: the faces of one tooth and the gap after it, in the order the solid is built from
 FACES = ("flank_left", "flank_right", "fillet_left", "fillet_right", "tip", "root")
 #: the largest step (mm) between a flank and its fillet where they meet that the export accepts
@@ -44,6 +46,16 @@ THIN_LAND_SPAN_MM = 0.05
 UNDERCUT_MIN_MM = 1e-6
 #: the shortest piece (mm) the face is cut into where a face changes how it ends (ToothSampler.face_pieces)
 MIN_PIECE_MM = 1e-2
+#: a modified flank that does not meet its root fillet at the form limit is run into it over this
+#: fraction of the flank's profile parameter s (ToothSampler.flank_points): the step, micrometres,
+#: fades out smoothly (C1) below the active profile, which starts higher on any working tooth
+BLEND_FRACTION = 0.1
+
+
+def _smoothstep(t):
+    """0 for t <= 0, 1 for t >= 1, C1 between (3 t^2 - 2 t^3)."""
+    t = np.clip(t, 0.0, 1.0)
+    return t * t * (3.0 - 2.0 * t)
 
 
 class ExportGeometryError(UserError):
@@ -91,7 +103,7 @@ class ToothSampler:
 
     def undercut_depth(self, flank, z):
         """How far the rack's form point reaches below the involute's start in the sections z (> 0: undercut)."""
-        from ..tooth import sections
+        from . import sections
 
         return getattr(sections.section(self.geometry, self.member, sections.face_z(self.geometry, self.member, z)),
                        f"undercut_depth_{flank}")
@@ -149,7 +161,7 @@ class ToothSampler:
         sections, its changes found by the whole-tooth checks' root finder (tooth.sections.segments) on the
         angle between the flanks at the tip cone; a section where a flank does not reach the tip cone is
         refused (ExportGeometryError)."""
-        from ..tooth import sections
+        from . import sections
 
         def land(z):
             z = np.array([z])
@@ -181,7 +193,7 @@ class ToothSampler:
         crossing of the involute, :func:`form_limits`) -- so that each face is smooth over each piece
         (a B-spline fit or a mesh row across such a turn needs a very fine grid).  ``landed``: the piece
         has a tip land.  Breaks closer than MIN_PIECE_MM to one another or to the face's ends are merged."""
-        from ..tooth import sections
+        from . import sections
 
         breaks = [lo for lo, _, _ in self.tip_pieces(z_range, n)[1:]]
         grid = np.linspace(*z_range, n)
@@ -212,13 +224,31 @@ class ToothSampler:
         return form_limits(self, flank, np.asarray(z, dtype=float))
 
     def flank_points(self, flank, s, z):
-        """Flank points on the grid s (n_s,) x z (n_z,): shape (n_s, n_z, 3)."""
+        """Flank points on the grid s (n_s,) x z (n_z,): shape (n_s, n_z, 3).  A modified flank that does
+        not meet its root fillet (:meth:`flank_blend_mm`) is run into it over s < BLEND_FRACTION."""
         s, z = np.asarray(s, dtype=float), np.asarray(z, dtype=float)
+        points = self._generated_flank_points(flank, s, z)
+        if is_body(self.geometry, self.member):
+            return points
+        weight = 1.0 - _smoothstep(s / BLEND_FRACTION)  # 1 at the form limit, 0 from BLEND_FRACTION up
+        if not np.any(weight > 0):
+            return points
+        return points + weight[:, None, None] * self.flank_blend_mm(flank, z)[None]
+
+    def _generated_flank_points(self, flank, s, z):
         l_tip, u_tip = self.flank_tip(flank, z)
         l0 = self.form_limits(flank, z)[0][None, :]
         l = l0 + s[:, None] * (l_tip[None, :] - l0)
         u = self.flank_u(flank, l, z[None, :], u0=u_tip[None, :])
         return self.geometry.surface(self.member, flank, l, u).point
+
+    def flank_blend_mm(self, flank, z):
+        """(n_z, 3) the step from the generated flank to its root fillet at the form limit of the sections z:
+        zero where the fillet model carries the flank's modification (involute, crowned flanks) or cuts
+        into it (undercut); a tip or end relief, a lead slope or a user model's twist leave a step of
+        micrometres there, which :meth:`flank_points` closes (a relieved flank runs into the fillet)."""
+        z = np.asarray(z, dtype=float)
+        return self.fillet_points(flank, np.array([1.0]), z)[0] - self._generated_flank_points(flank, np.array([0.0]), z)[0]
 
     # ------------------------------------------------------------------ root transition and lands
     def fillet_points(self, flank, s, z):
@@ -293,7 +323,7 @@ def _crossing_radii(sampler: ToothSampler, z, tip_radius, scan=24, halvings=45):
     """The radii where pointed sections' two flanks cross (the tooth's angular width is zero), between the
     larger base circle and the tip cone, for the sections z at once: a scan of radii, then bisection on the
     last bracket from a positive width to a crossed one (NaN, a point Newton did not find, is skipped)."""
-    from ..tooth import sections
+    from . import sections
 
     sec = sections.section(sampler.geometry, sampler.member, sections.face_z(sampler.geometry, sampler.member, z))
     lo = np.minimum(np.maximum(sec.base_radius_left, sec.base_radius_right) * (1 + 1e-9), tip_radius)
@@ -321,7 +351,7 @@ def form_limits(sampler: ToothSampler, flank, z):
     transition meets the flank.  The tip round's junction (l_t, psi_J); in an undercut section the
     crossing of the fillet and the flank (``tooth.profile.form_limit``), below which the generated
     tooth is the fillet surface and above which it is the flank."""
-    from ..tooth import fillet, profile
+    from . import fillet, profile
 
     tr = fillet.tip_round(sampler.geometry, sampler.member)
     l, psi = np.full(z.shape, float(tr.junction_l)), np.full(z.shape, float(tr.junction_psi))
@@ -347,7 +377,7 @@ def root_transition(sampler: ToothSampler, flank, s, z):
     The generated root fillet (``beveloid.tooth.fillet``: the envelope of the rack's tip round, a
     trochoidal surface for a sharp rack), sampled in the transverse sections z.
     """
-    from ..tooth.profile import NoSolution, fillet_in_section
+    from .profile import NoSolution, fillet_in_section
 
     geometry, member = sampler.geometry, sampler.member
     z2 = np.broadcast_to(z[None, :], (s.size, z.size))

@@ -1,0 +1,347 @@
+"""The active-set contact solve of :mod:`beveloid.ltca.lcp`, plain Python in numba's subset: one
+implementation, run interpreted (the numpy backend) or compiled by numba (:func:`kernels`).
+
+A problem is a block-diagonal compliance given as dense square blocks stored one after the other
+in the flat array ``blocks`` (block b: ``size[b]`` x ``size[b]`` entries row-major from ``off[b]``,
+its cells ``start[b]`` .. ``start[b] + size[b]`` of the cell vectors), ``sym[b]`` when the block is
+symmetric (Cholesky, else Gaussian elimination with partial pivoting; a symmetric block that is
+not positive definite is solved by elimination too).  :func:`active_set` solves one problem (the
+method: lcp.py's docstring); :func:`solve_positions` solves many problems of equal block layout,
+the LTCA's mesh positions, in one call.
+
+Result codes (``STATUS``): 0 converged, 1 the active set did not settle within the iterations,
+2 settled but the residuals are too large, 3 a singular trial set, 4 an empty contact set.
+"""
+from __future__ import annotations
+
+import math
+import sys
+
+import numpy as np
+
+STATUS = ("converged", "not settled", "residuals too large", "singular trial contact set", "empty contact set")
+TINY = 2.2250738585072014e-308  # numpy.finfo(float).tiny
+#: the load residual a converged solve holds (relative)
+LOAD_TOL = 1e-9
+
+
+def _dot(a, i, j, n):
+    """sum_k<n a[i, k] a[j, k], in four running sums (the order is fixed: the same on every backend)."""
+    s0 = s1 = s2 = s3 = 0.0
+    k = 0
+    while k + 4 <= n:
+        s0 += a[i, k] * a[j, k]
+        s1 += a[i, k + 1] * a[j, k + 1]
+        s2 += a[i, k + 2] * a[j, k + 2]
+        s3 += a[i, k + 3] * a[j, k + 3]
+        k += 4
+    while k < n:
+        s0 += a[i, k] * a[j, k]
+        k += 1
+    return (s0 + s1) + (s2 + s3)
+
+
+def _factor_solve(blocks, o, s, idx, m, sym, rhs, out, work):
+    """out[:m, :] = C[idx, idx]^-1 rhs[:m, :] (2 right-hand sides) for the block at offset o (size s)."""
+    for a in range(m):
+        for b in range(m):
+            work[a, b] = blocks[o + idx[a] * s + idx[b]]
+    ok = False
+    if sym:
+        ok = True
+        for j in range(m):  # Cholesky, lower triangle in place
+            d = work[j, j] - _dot(work, j, j, j)
+            if not d > 0.0:
+                ok = False
+                break
+            d = math.sqrt(d)
+            work[j, j] = d
+            for i in range(j + 1, m):
+                work[i, j] = (work[i, j] - _dot(work, i, j, j)) / d
+        if ok:
+            for c in range(2):
+                for i in range(m):
+                    v = rhs[i, c]
+                    for k in range(i):
+                        v -= work[i, k] * out[k, c]
+                    out[i, c] = v / work[i, i]
+                for i in range(m - 1, -1, -1):
+                    v = out[i, c]
+                    for k in range(i + 1, m):
+                        v -= work[k, i] * out[k, c]
+                    out[i, c] = v / work[i, i]
+            return True
+        for a in range(m):
+            for b in range(m):
+                work[a, b] = blocks[o + idx[a] * s + idx[b]]
+    for i in range(m):
+        out[i, 0] = rhs[i, 0]
+        out[i, 1] = rhs[i, 1]
+    for j in range(m):  # Gaussian elimination with partial pivoting
+        piv = j
+        big = abs(work[j, j])
+        for i in range(j + 1, m):
+            if abs(work[i, j]) > big:
+                big = abs(work[i, j])
+                piv = i
+        if not big > 0.0:
+            return False
+        if piv != j:
+            for k in range(m):
+                t = work[j, k]
+                work[j, k] = work[piv, k]
+                work[piv, k] = t
+            for c in range(2):
+                t = out[j, c]
+                out[j, c] = out[piv, c]
+                out[piv, c] = t
+        for i in range(j + 1, m):
+            f = work[i, j] / work[j, j]
+            if f != 0.0:
+                for k in range(j, m):
+                    work[i, k] -= f * work[j, k]
+                out[i, 0] -= f * out[j, 0]
+                out[i, 1] -= f * out[j, 1]
+    for c in range(2):
+        for i in range(m - 1, -1, -1):
+            v = out[i, c]
+            for k in range(i + 1, m):
+                v -= work[i, k] * out[k, c]
+            out[i, c] = v / work[i, i]
+    return True
+
+
+def _matvec(blocks, off, start, size, active, p, out):
+    """out = C[:, S] p_S (S the active cells), block by block, over the active columns only."""
+    cols = np.empty(p.size, dtype=np.int64)
+    for b in range(off.size):
+        o, s0, s = off[b], start[b], size[b]
+        m = 0
+        for j in range(s):
+            if active[s0 + j]:
+                cols[m] = j
+                m += 1
+        for i in range(s):
+            v = 0.0
+            row = o + i * s
+            for c in range(m):
+                v += blocks[row + cols[c]] * p[s0 + cols[c]]
+            out[s0 + i] = v
+
+
+def initial_set(h, w, diag, at, load, active):
+    """The contact set of an uncoupled (Winkler) model, p_i = max(0, (delta w_i - h_i))/(k C_ii), into
+    ``active``: k = 3 softens the springs for the neighbours' share of the deflection; the set is
+    only a start and the iteration corrects it.  delta follows from the load by sorting."""
+    n = h.size
+    s = h / w
+    order = np.argsort(s, kind="quicksort")
+    cum_c = 0.0
+    cum_cs = 0.0
+    j = n - 1
+    for r in range(n):
+        i = order[r]
+        c = at[i] * w[i] / (3.0 * diag[i])  # load per unit (delta - s_i) from cell i
+        cum_c += c
+        cum_cs += c * s[i]
+        # load(delta) with the first r cells active = delta cum_c - cum_cs, for s_r <= delta <= s_r+1
+        delta = (load + cum_cs) / cum_c
+        nxt = s[order[r + 1]] if r + 1 < n else np.inf
+        if delta >= s[i] and delta <= nxt:
+            j = r
+            break
+    for r in range(n):
+        active[order[r]] = r <= j
+
+
+def active_set(blocks, off, start, size, sym, h, w, at, load, tol, max_iterations, active, p, result, seen):
+    """Solve one problem (module docstring) from the start set ``active`` (changed in place); the
+    pressures into ``p``, and into ``result``: approach, iterations, status code, complementarity
+    and load residuals.  ``seen`` (max_iterations, n) booleans: room for the sets tried (any content)."""
+    n = h.size
+    nb = off.size
+    big = 0
+    for b in range(nb):
+        big = max(big, size[b])
+    work = np.empty((big, big))
+    rhs = np.empty((big, 2))
+    sol = np.empty((big, 2))
+    idx = np.empty(big, dtype=np.int64)
+    xh = np.zeros(n)
+    xw = np.zeros(n)
+    cp = np.zeros(n)
+    g = np.zeros(n)
+    single = False
+    settled = False
+    code = 1
+    delta = 0.0
+    it = 0
+    for i in range(n):
+        p[i] = 0.0
+    for it in range(1, max_iterations + 1):
+        singular = False
+        for b in range(nb):
+            o, s0, s = off[b], start[b], size[b]
+            m = 0
+            for i in range(s):
+                xh[s0 + i] = 0.0
+                xw[s0 + i] = 0.0
+                if active[s0 + i]:
+                    idx[m] = i
+                    rhs[m, 0] = h[s0 + i]
+                    rhs[m, 1] = w[s0 + i]
+                    m += 1
+            if m == 0:
+                continue
+            if not _factor_solve(blocks, o, s, idx, m, sym[b], rhs, sol, work):
+                singular = True
+                break
+            for a in range(m):
+                xh[s0 + idx[a]] = sol[a, 0]
+                xw[s0 + idx[a]] = sol[a, 1]
+        denom = 0.0
+        num = 0.0
+        for i in range(n):
+            denom += at[i] * xw[i]
+            num += at[i] * xh[i]
+        if singular or not denom > 0.0:
+            code = 3
+            break
+        delta = (load + num) / denom
+        for i in range(n):
+            p[i] = delta * xw[i] - xh[i] if active[i] else 0.0
+        _matvec(blocks, off, start, size, active, p, cp)
+        d_scale = TINY
+        p_scale = TINY
+        for i in range(n):
+            g[i] = h[i] - delta * w[i] + cp[i]
+            d_scale = max(d_scale, abs(cp[i]))
+            p_scale = max(p_scale, p[i])
+        any_drop = False
+        any_add = False
+        for i in range(n):
+            if active[i] and p[i] < 0.0:
+                any_drop = True
+            elif not active[i] and g[i] < -tol * d_scale:
+                any_add = True
+        if not any_drop and not any_add:
+            settled = True
+            break
+        for r in range(it - 1):  # a set seen before: cycling, one cell per iteration from now on
+            same = True
+            for i in range(n):
+                if seen[r, i] != active[i]:
+                    same = False
+                    break
+            if same:
+                single = True
+                break
+        for i in range(n):
+            seen[it - 1, i] = active[i]
+        if single:
+            k = -1
+            best = np.inf
+            if any_drop:
+                for i in range(n):
+                    if active[i] and p[i] < 0.0 and p[i] / p_scale < best:
+                        best = p[i] / p_scale
+                        k = i
+            else:
+                for i in range(n):
+                    if not active[i] and g[i] < -tol * d_scale and g[i] < best:
+                        best = g[i]
+                        k = i
+            active[k] = not active[k]
+        else:
+            for i in range(n):
+                if active[i]:
+                    active[i] = not p[i] < 0.0
+                else:
+                    active[i] = g[i] < -tol * d_scale
+        empty = True
+        for i in range(n):
+            if active[i]:
+                empty = False
+                break
+        if empty:
+            code = 4
+            break
+    # residuals, measured on the returned numbers
+    for i in range(n):
+        active[i] = p[i] > 0.0
+    _matvec(blocks, off, start, size, active, p, cp)
+    d_scale = TINY
+    p_scale = TINY
+    for i in range(n):
+        d_scale = max(d_scale, abs(cp[i]))
+        p_scale = max(p_scale, p[i])
+    neg_p = -np.inf
+    neg_g = -np.inf
+    pg = -np.inf
+    carried = 0.0
+    for i in range(n):
+        gi = h[i] - delta * w[i] + cp[i]
+        neg_p = max(neg_p, -p[i])
+        neg_g = max(neg_g, -gi)
+        pg = max(pg, abs(p[i] * gi))
+        carried += at[i] * p[i]
+    comp = max(max(max(neg_p / p_scale, neg_g / d_scale), pg / (p_scale * d_scale)), 0.0)
+    load_res = abs(carried - load) / load
+    if settled:
+        code = 0 if comp <= tol and load_res <= LOAD_TOL else 2
+    result[0] = delta
+    result[1] = it
+    result[2] = code
+    result[3] = comp
+    result[4] = load_res
+
+
+def solve_positions(blocks, off, start, size, sym, h, w, at, load, tol, max_iterations, todo, p, result):
+    """:func:`active_set` of every problem j with ``todo[j]``: blocks at offsets ``off[j]`` (all of the
+    layout ``start``, ``size``), cells ``h[j]``, ``w[j]``, ``at[j]``, load ``load[j]``, each from its
+    uncoupled start set; pressures into ``p[j]``, results into ``result[j]``."""
+    N, n = h.shape
+    active = np.zeros(n, dtype=np.bool_)
+    diag = np.empty(n)
+    seen = np.empty((max_iterations, n), dtype=np.bool_)
+    for j in range(N):
+        if not todo[j]:
+            continue
+        for b in range(start.size):
+            for i in range(size[b]):
+                diag[start[b] + i] = blocks[off[j, b] + i * size[b] + i]
+        initial_set(h[j], w[j], diag, at[j], load[j], active)
+        active_set(blocks, off[j], start, size, sym[j], h[j], w[j], at[j], load[j], tol, max_iterations, active,
+                   p[j], result[j], seen)
+
+
+def assemble(d, tooth, area, loaded, nx, ny, out):
+    """The dense compliance blocks out (Q, n, n) of Q pairs' uniform grids: the half-space part from its
+    Toeplitz table d[q, k - i + nx - 1, l - j + ny - 1] (cell (i, j) loaded by cell (k, l)) plus the tooth
+    line compliance tooth[q, j, l] times the cell area; where not ``loaded[q]`` only a unit diagonal (a
+    block whose cells are never active: the solve reads nothing else of it)."""
+    n = nx * ny
+    for q in range(out.shape[0]):
+        if not loaded[q]:
+            for r in range(n):
+                out[q, r, r] = 1.0
+            continue
+        a = area[q]
+        for i in range(nx):
+            for j in range(ny):
+                r = i * ny + j
+                for k in range(nx):
+                    for m in range(ny):
+                        out[q, r, k * ny + m] = d[q, k - i + nx - 1, m - j + ny - 1] + tooth[q, j, m] * a
+
+
+def kernels(solver):
+    """The module of :func:`active_set` and :func:`solve_positions` for ``solver``'s backend: this one
+    (interpreted) for "numpy", its compiled twin (:func:`beveloid.solver.backends.compiled_module`)
+    for "compiled"."""
+    if not getattr(solver, "compiled", False):
+        return sys.modules[__name__]
+    from ..solver import backends
+
+    return backends.compiled_module(__name__, ("_dot", "_factor_solve", "_matvec", "initial_set", "active_set",
+                                               "solve_positions", "assemble"))

@@ -1,0 +1,118 @@
+"""The face load factor from the loaded contact (docs/rating.md 2.3): the line load along each member's
+face, from the LTCA's pressure on its contact grids, and ISO 6336-1's K_Hbeta = w_max / w_m.
+
+At each converged position the normal force of every loaded cell of every tooth pair is spread over
+the face coordinate of the member (``sections.face_z`` of the cell's point in the member frame) by
+the cell's own footprint: a cell of widths (dx, dy) on its grid, whose face coordinate varies as
+z = z0 + s_x x + s_y y (least squares over the pair's cells), covers the face interval of the sum of
+two uniform spreads of widths |s_x| dx and |s_y| dy (a trapezoid).  This is the exact face marginal
+of the cell-wise constant pressure field, so a uniform line load gives w = F/L, a Hertz ellipse its
+parabola.  Summed over the pairs this is the mesh's line load w_j(z) (N/mm of face); with the mean
+w_m,j = F_j / b over the common face width b (the b of sigma_H0 and sigma_F0),
+
+    K_Hbeta = max_j max_z w_j(z) / w_m,j      (ISO 6336-1, 7.1: peak over mean line load)
+
+over the converged positions j: the instant and place of the largest line load.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..tooth import sections
+
+__all__ = ["FaceLoad", "face_load", "line_load_on_face"]
+
+#: face bins per smallest cell footprint (the peak of the binned marginal is then within ~1 % of its
+#: continuous peak for a Hertz parabola 10 cells long)
+BINS_PER_FOOTPRINT = 4
+MAX_BINS = 20000
+#: the loaded length is where the line load exceeds this share of its peak
+SUPPORT_SHARE = 0.01
+
+
+@dataclass(frozen=True)
+class FaceLoad:
+    """The largest line load over the face and the cycle, relative to the mean (one member)."""
+
+    K_H_beta: float | None  # None: no converged loaded position
+    peak_line_load_n_per_mm: float | None
+    mean_line_load_n_per_mm: float | None
+    face_z_mm: float | None  # where the peak is (face coordinate, toe < 0 < heel)
+    position: int | None  # the LTCA position index of the peak
+    loaded_length_mm: float | None  # extent of the line load (> 1 % of its peak) at that position
+
+
+def _trapezoid_cdf(t, a, b):
+    """P(X + Y <= t) for X, Y uniform of widths a, b (>= 0) centred on 0 (arrays broadcast)."""
+    a, b = np.maximum(a, b), np.minimum(a, b)
+    b = np.maximum(b, 1e-3 * a + 1e-12)  # a thousandth of a cell's smear: exact enough, no cancellation
+    ramp2 = lambda s: np.maximum(s, 0.0) ** 2  # noqa: E731
+    h, d = (a + b) / 2, (a - b) / 2
+    t = np.clip(t, -h, h)  # 0 and 1 outside the footprint, without the cancellation of large squares
+    return (ramp2(t + h) - ramp2(t + d) - ramp2(t - d) + ramp2(t - h)) / (2 * a * b)
+
+
+def _cell_footprints(result, geometry, member, j, k):
+    """(face z of each loaded cell, its force N, trapezoid widths a, b) of pair k at position j."""
+    p = result.pressure_mpa[j, k]
+    loaded = p > 0
+    pts = (result.gap.pinion_point if member == "pinion" else result.gap.gear_point)[j, k]
+    ok = np.isfinite(pts).all(axis=-1) & result.gap.in_flank[j, k]
+    use = loaded & ok
+    if not use.any():
+        return None
+    z = np.asarray(sections.face_z(geometry, member, pts[..., 2]), dtype=float)
+    x, y = (c.reshape(-1) for c in result.cell_coordinates_mm(j, k))
+    fit = ok if ok.sum() >= 3 else use
+    A = np.stack([np.ones(int(fit.sum())), x[fit], y[fit]], axis=-1)
+    (_, sx, sy), *_ = np.linalg.lstsq(A, z[fit], rcond=None)
+    g = result.grid
+    dx, dy = 2 * g.across_half_mm[j, k] / g.across_cells, 2 * g.along_half_mm[j, k] / g.along_cells
+    force = p[use] * result.cell_area_mm2[j, k]
+    return z[use], force, abs(sx) * dx, abs(sy) * dy
+
+
+def line_load_on_face(result, geometry, member, j):
+    """(bin edges (n+1,) in face mm, line load (n,) N/mm) of the mesh at position j on ``member``'s face,
+    or None when no pair carries load there."""
+    parts = [f for k in range(result.pressure_mpa.shape[1]) if (f := _cell_footprints(result, geometry, member, j, k))]
+    if not parts:
+        return None
+    z, force = np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts])
+    a = np.concatenate([np.full(len(p[0]), p[2]) for p in parts])
+    b = np.concatenate([np.full(len(p[0]), p[3]) for p in parts])
+    reach = 0.51 * (a + b) + 1e-9  # the footprint, and the floor _trapezoid_cdf puts under its smaller width
+    lo, hi = float(np.min(z - reach)), float(np.max(z + reach))
+    width = max(float(np.min(a + b)), 1e-6 * (hi - lo + 1e-3))
+    n = int(min(MAX_BINS, max(50, math.ceil((hi - lo) / width * BINS_PER_FOOTPRINT))))
+    edges = np.linspace(lo - 1e-9, hi + 1e-9, n + 1)
+    cdf = _trapezoid_cdf(edges[None, :] - z[:, None], a[:, None], b[:, None])
+    w = (force[:, None] * np.diff(cdf, axis=1)).sum(axis=0) / np.diff(edges)
+    return edges, w
+
+
+def face_load(result, geometry, member, face_width_mm) -> FaceLoad:
+    """K_Hbeta of ``member`` from an ``LTCAResult`` (module docstring); b = ``face_width_mm``."""
+    best = None
+    for j in np.flatnonzero(result.converged):
+        total = float(np.nansum(result.pair_load_n[j]))
+        if total <= 0:
+            continue
+        line = line_load_on_face(result, geometry, member, j)
+        if line is None:
+            continue
+        edges, w = line
+        i = int(np.argmax(w))
+        mean = total / face_width_mm
+        ratio = float(w[i]) / mean
+        if best is None or ratio > best[0]:
+            centres = 0.5 * (edges[1:] + edges[:-1])
+            loaded = centres[w > SUPPORT_SHARE * w[i]]
+            length = float(loaded.max() - loaded.min() + (edges[1] - edges[0]))
+            best = (ratio, float(w[i]), mean, float(centres[i]), int(j), length)
+    if best is None:
+        return FaceLoad(None, None, None, None, None, None)
+    return FaceLoad(*best)

@@ -1,0 +1,188 @@
+"""The batched loaded engine (ltca.analyze_many), the torque map, the TE harmonics, the CSV and the
+tolerance box of `beveloid ltca` (issue 43); the plate tooth on small grids, few positions."""
+from __future__ import annotations
+
+import csv
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from beveloid import cli, ltca, sweep
+from beveloid.ltca.batch import MESH_ORDERS, gear_base_radius_mm, te_harmonics
+from beveloid.pair import Pair
+
+CASE1 = Path(__file__).resolve().parents[2] / "examples" / "case1.toml"
+SMALL = dict(positions=5, grid=(7, 9), tooth_model="plate")
+
+
+@pytest.fixture(scope="module")
+def pair():
+    return Pair.example("case1")
+
+
+def _same(a, b, rtol=1e-9):
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    assert np.array_equal(np.isfinite(a), np.isfinite(b))
+    m = np.isfinite(a)
+    assert np.allclose(a[m], b[m], rtol=rtol, atol=rtol * np.max(np.abs(a[m]), initial=0.0))
+
+
+def test_a_batch_entry_equals_its_single_run(pair):
+    errors = [(0.0, 0.0, 0.0, 0.0, 0.0), (0.03, -0.02, 0.01, math.radians(0.02), 0.0)]
+    batch = ltca.analyze_many(pair, ltca.Options(torque_nm=100.0, **SMALL), torques_nm=[60.0, 250.0],
+                              error_sets=errors)
+    assert batch.te_peak_to_peak_urad.shape == (2, 2)
+    for k, t in ((1, 0), (0, 1)):
+        one = ltca.analyze(pair, ltca.Options(torque_nm=[60.0, 250.0][t], errors=errors[k], **SMALL))
+        got = batch.results[k][t]
+        assert got.torque_nm == one.torque_nm
+        for name in ("loaded_te", "pair_load_n", "pair_max_pressure_mpa", "mesh_stiffness_n_per_um"):
+            _same(getattr(got, name), getattr(one, name))
+    # the cases differ: a torque or an error set that was not applied would show here
+    assert abs(batch.te_peak_to_peak_urad[0, 1] - batch.te_peak_to_peak_urad[0, 0]) > 0.1
+    assert np.nanmax(np.abs(batch.results[1][0].loaded_te - batch.results[0][0].loaded_te)) > 1e-7
+
+
+def test_near_zero_torque_gives_the_unloaded_te(pair):
+    low = ltca.analyze(pair, ltca.Options(torque_nm=0.01, **SMALL))
+    high = ltca.analyze(pair, ltca.Options(torque_nm=200.0, **SMALL))
+    assert all(s == "ok" for s in low.status)
+    gap_low = np.max(np.abs(low.loaded_te - low.unloaded_te))
+    gap_high = np.max(np.abs(high.loaded_te - high.unloaded_te))
+    # the elastic approach grows like F^(2/3) (Hertz) to F (beams): 2e4 times less torque, < 1/300 of it
+    assert gap_low < gap_high / 300 and gap_low < 0.1e-6
+
+
+class _TE:
+    def __init__(self, te):
+        self.loaded_te = np.asarray(te, float)
+
+
+def test_harmonics_of_a_known_curve_over_one_cycle_with_the_end_repeated():
+    M = 16
+    x = 2 * np.pi * np.arange(M + 1) / M  # the repeated end point is the cycle's start
+    te = 3e-6 + 2e-6 * np.sin(x) + 0.5e-6 * np.cos(3 * x + 0.4) + 0.25e-6 * np.sin(6 * x)
+    h = te_harmonics(_TE(te))
+    assert np.allclose(h, [2e-6, 0, 0.5e-6, 0, 0, 0.25e-6], atol=1e-15)
+    # an order at or above half the samples is aliased: not reported
+    assert np.isnan(te_harmonics(_TE(te[::4]))[1:]).all()
+    assert np.isnan(te_harmonics(_TE(np.where(np.arange(M + 1) == 3, np.nan, te)))).all()  # not converged there
+
+
+def test_harmonics_of_a_run_keep_its_power(pair):
+    """Parseval: the TE's variance over the cycle is the power of orders 1..M/2 - 1 plus the Nyquist term."""
+    r = ltca.analyze(pair, ltca.Options(torque_nm=200.0, positions=13, grid=(7, 9), tooth_model="plate"))
+    te = r.loaded_te[:-1]
+    M = te.size  # 12: orders 1-5 reported, 6 is the Nyquist order
+    h = te_harmonics(r)
+    assert np.all(np.isfinite(h[:5])) and np.isnan(h[5])
+    nyquist = abs(np.sum(te * (-1.0) ** np.arange(M))) / M
+    assert np.sum(h[:5] ** 2) / 2 + nyquist ** 2 == pytest.approx(np.var(te), rel=1e-9)
+    d = r.to_json_dict(pair.geometry)
+    assert d["te_harmonics_mesh_orders"] == list(MESH_ORDERS)
+    assert d["te_harmonics_um"][0] == pytest.approx(h[0] * gear_base_radius_mm(pair.geometry) * 1e3)
+    k = r.mesh_stiffness_n_per_um
+    assert d["mesh_stiffness_mean_n_per_um"] == pytest.approx(np.mean(k))
+    assert d["mesh_stiffness_peak_to_peak_n_per_um"] == pytest.approx(np.ptp(k))
+
+
+def _cli(capsys, *args):
+    rc = cli.main(["ltca", str(CASE1), "--positions", "4", "--grid", "7x9", "--tooth-model", "plate", *args])
+    out, err = capsys.readouterr()
+    return rc, out, err
+
+
+def test_torque_map_entries_are_the_single_runs(capsys, tmp_path):
+    rc, out, _ = _cli(capsys, "--torque-nm", "80,300", "--json", "--csv", str(tmp_path / "dyn"))
+    assert rc == 0
+    d = json.loads(out)
+    m = d["torque_map"]
+    assert m["torque_nm"] == [80.0, 300.0] and len(d["map"]) == 2
+    for i, t in enumerate((80, 300)):
+        rc, single, _ = _cli(capsys, "--torque-nm", str(t), "--json")
+        s = json.loads(single)
+        e = d["map"][i]
+        assert e["loaded_transmission_error_urad"] == pytest.approx(s["loaded_transmission_error_urad"], rel=1e-9)
+        assert m["te_peak_to_peak_urad"][i] == pytest.approx(s["loaded_transmission_error_peak_to_peak_urad"],
+                                                             rel=1e-9)
+        top = max(v for row in s["pair_max_pressure_mpa"] for v in row if v is not None)
+        assert m["max_pressure_mpa"][i] == pytest.approx(top, rel=1e-9)
+        assert m["mesh_stiffness_mean_n_per_um"][i] == pytest.approx(s["mesh_stiffness_mean_n_per_um"], rel=1e-9)
+    assert m["root_stress_max_mpa"] == {"pinion": [None, None], "gear": [None, None]}  # the plate has no fillet
+    with open(tmp_path / "dyn" / "ltca.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    assert len(rows) == 2 * 4
+    assert all(any(name.endswith(u) for u in ("_nm", "_rad", "_urad", "_um", "_n_per_um", "_n"))
+               for name in rows[0] if name not in ("position", "status"))
+    assert float(rows[5]["loaded_te_urad"]) == pytest.approx(d["map"][1]["loaded_transmission_error_urad"][1])
+    assert float(rows[5]["pair_0_load_n"]) == pytest.approx(d["map"][1]["pair_normal_load_n"][1][1])
+
+
+def test_tolerance_sets_are_sweeps_draws_and_equal_plain_runs(capsys, pair):
+    rc, out, _ = _cli(capsys, "--torque-nm", "150", "--samples", "3", "--seed", "5", "--tolerances",
+                      "dx=0.05,dy=0.05,dz=0.05,vertical=0.02,horizontal=0.01", "--json")
+    assert rc == 0
+    t = json.loads(out)["tolerance"]
+    assert t["samples"] == 3 and t["seed"] == 5 and len(t["sets"]) == 3
+    draws = sweep.draw_errors(3, ranges={"dx_mm": 0.05, "dy_mm": 0.05, "dz_mm": 0.05, "vertical_deg": 0.02,
+                                         "horizontal_deg": 0.01}, seed=5, nominal={})
+    for s, e in zip(t["sets"], draws):
+        assert [s["errors"][k] for k in ("dx_mm", "dy_mm", "dz_mm")] == pytest.approx(e[:3], rel=1e-12)
+        assert math.radians(s["errors"]["vertical_deg"]) == pytest.approx(e[3], rel=1e-12)
+    one = ltca.analyze(pair, ltca.Options(torque_nm=150.0, positions=4, grid=(7, 9), tooth_model="plate",
+                                          errors=tuple(draws[2])))
+    assert t["sets"][2]["te_peak_to_peak_urad"] == pytest.approx(one.loaded_te_peak_to_peak * 1e6, rel=1e-9)
+    assert t["sets"][2]["max_pressure_mpa"] == pytest.approx(np.nanmax(one.pair_max_pressure_mpa), rel=1e-9)
+    ptp = [s["te_peak_to_peak_urad"] for s in t["sets"]]
+    assert t["te_peak_to_peak_urad"]["max"] == pytest.approx(max(ptp))
+    assert t["te_peak_to_peak_urad"]["p50"] == pytest.approx(np.median(ptp))
+
+
+@pytest.mark.parametrize("args, words", [
+    (["--torque-nm", "100,abc"], "--torque-nm"),
+    (["--torque-nm", "100,-5"], "--torque-nm"),
+    (["--torque-nm", "100", "--samples", "-1"], "--samples"),
+    (["--torque-nm", "100", "--samples", "2", "--tolerances", "dq=1"], "--tolerances"),
+])
+def test_bad_flags_are_one_line(capsys, args, words):
+    try:
+        rc, _, err = _cli(capsys, *args)
+    except SystemExit as exc:  # argparse's own refusals
+        rc, err = exc.code, capsys.readouterr().err
+    assert rc == 2 and words in err and "Traceback" not in err and len(err.strip().splitlines()) == 1
+
+
+def test_the_rigid_mesh_study_gets_the_solver_itself(monkeypatch, pair):
+    """Issue 42: the Solver (backend and tolerances), not its backend's name."""
+    from beveloid import tca
+    from beveloid.ltca.cycle import Setup
+    from beveloid.solver import Solver, SolverOptions
+
+    seen = []
+    real = tca.mesh_flank
+
+    def spy(*args, **kwargs):
+        seen.append(kwargs.get("backend"))
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(tca, "mesh_flank", spy)
+    solver = Solver(options=SolverOptions(tol_mm=1e-11, max_iter=30))
+    Setup(pair.geometry, "right", np.zeros(5), 3, 3, solver)
+    assert seen == [solver]
+
+
+def test_the_compiled_and_interpreted_contact_kernels_agree():
+    from beveloid.ltca import halfspace
+    from beveloid.ltca.lcp import solve_contact
+    from beveloid.solver import Solver
+
+    cells = halfspace.tensor_grid(np.linspace(-1, 1, 8), np.linspace(-2, 2, 10))
+    c = halfspace.influence_matrix_mm_per_mpa(cells, 1.1e5)
+    h = 0.01 * cells.x_mm ** 2 + 0.002 * cells.y_mm ** 2
+    a, b = (solve_contact([c, c], np.concatenate([h, h + 1e-4]), np.tile(cells.area_mm2, 2), 200.0, solver=Solver(s))
+            for s in ("numpy", "compiled"))
+    assert a.converged and b.converged and a.iterations == b.iterations
+    assert np.allclose(a.pressure_mpa, b.pressure_mpa, rtol=1e-10, atol=1e-10 * a.pressure_mpa.max())

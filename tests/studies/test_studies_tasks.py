@@ -1,0 +1,54 @@
+"""`beveloid paper`'s pieces on worker processes (beveloid/studies/tasks.py) and the FE teeth's first
+computation, announced with its progress (beveloid/studies/loaded.py)."""
+from __future__ import annotations
+
+import math
+import os
+
+import pytest
+
+from beveloid.studies import loaded, tasks
+
+
+def test_pieces_give_the_same_results_on_workers_and_errors_come_back():
+    with tasks.Tasks(2) as pool:
+        far = pool.submit(math.hypot, 3.0, 4.0)
+        bad = pool.submit(math.sqrt, -1.0)
+        threads = pool.submit(os.getenv, "OMP_NUM_THREADS")
+        assert far.get() == 5.0 == tasks.Tasks(1).submit(math.hypot, 3.0, 4.0).get()
+        with pytest.raises(ValueError):
+            bad.get()
+        assert threads.get() == "1"  # the processes are the parallelism
+
+
+def test_the_fe_teeth_not_cached_are_submitted_each_announced_with_its_progress(tmp_path, monkeypatch, capsys):
+    """A fresh cache folder: the four members' FE data are pieces of their own; each says, as it starts,
+    that it is the first time, about how long it takes and that it is cached after, then its progress."""
+    from beveloid.fe import cache
+
+    monkeypatch.setenv(cache.CACHE_ENV, str(tmp_path))
+    submitted = []
+
+    class Record:
+        def submit(self, fn, *args):
+            submitted.append(args)
+
+    loaded.submit_fe_teeth(Record(), ("case1", "case2"), "fe")
+    assert submitted == [("case1", "pinion"), ("case1", "gear"), ("case2", "pinion"), ("case2", "gear")]
+    submitted.clear()
+    loaded.submit_fe_teeth(Record(), ("case1", "case2"), "plate")
+    assert submitted == []
+
+    def computed(*args, progress=None, **kw):  # the FE computation's own lines (beveloid/fe/tooth.py)
+        progress("FE tooth pinion: meshing (refinement 1)")
+        progress("FE tooth pinion: done in 1.0 s")
+        return None, "miss"
+
+    monkeypatch.setattr(cache, "cached_tooth_data", computed)
+    how, seconds = loaded._fe_member("case1", "pinion")
+    err = capsys.readouterr().err.splitlines()
+    assert how == "miss" and seconds >= 0
+    assert err[0] == (f"   FE tooth of the case 1 pinion: first time, about {loaded.FE_FIRST_TIME_S} s of CPU; cached"
+                      f" after ({tmp_path / 'fe'})")
+    assert err[1:] == ["   FE tooth of the case 1 pinion: meshing (refinement 1)",
+                       "   FE tooth of the case 1 pinion: done in 1.0 s"]
