@@ -130,7 +130,7 @@ def _sector_line_load(pair, member, radii_mm, refinement, ends="free", points=20
     the toe and heel ``ends`` "free" (the FE tooth) or held axially (u_z = 0: plane strain in the
     sector); the largest max-principal stress of the loaded fillet's nodes in the middle half of the
     face, MPa per N/mm."""
-    from beveloid.export.sampling import ToothSampler
+    from beveloid.tooth.sampling import ToothSampler
     from beveloid.fe import solve
     from beveloid.fe.mesh import fillet_radius_mm, sector_mesh
     from beveloid.tooth.profile import flank_at_radius

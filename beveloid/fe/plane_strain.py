@@ -6,7 +6,7 @@ side, cut radially in the middle of the outer root lands, down to the same rim; 
 cuts clamped), as 6-node triangles by gmsh, solves plane-strain linear elasticity on isoparametric
 P2 triangles (scikit-fem) under a normal line load on the flank of tooth 0, and reads the stress
 along both root fillets of tooth 0 and the root lands beside them.  The section is the generated one: the flanks and root fillets
-that :class:`beveloid.export.sampling.ToothSampler` samples (the trochoid of a sharp rack, the
+that :class:`beveloid.tooth.sampling.ToothSampler` samples (the trochoid of a sharp rack, the
 envelope of a rounded rack's tip round, undercut where the rack cuts it), closed into one profile
 exactly as the FE tooth's sector (``fe.mesh._section_segments``), with more points a segment
 (:attr:`NotchOptions.points`).  Each load is a point of the loaded flank at a radius (or its tip),
@@ -36,7 +36,8 @@ import numpy as np
 from skfem import Basis, CellBasis, ElementTriP2, ElementVector, MeshTri2, asm
 from skfem.models.elasticity import lame_parameters, linear_elasticity
 
-from ..export.sampling import FLANKS, ToothSampler
+from ..names import FLANKS
+from ..tooth.sampling import ToothSampler
 from . import mesh as sector
 from .solve import CLAMPED
 
