@@ -298,7 +298,7 @@ def helical(args):
                 peaks = _lower_fillet_peaks(pair, lt, member)
                 median = d.fe_face_median_mpa / d.sigma_F0_mpa
                 print(f"| {beta:g} | {name} | {member} | {s.helix_angle_deg:.1f} | {s.Y_beta:.3f} | {s.bending.f_eps:.3f} |"
-                      f" {eps_beta:.2f} | {s.sigma_F0_mpa:.1f} | {s.K_Fbeta:.3f} | "
+                      f" {eps_beta:.2f} | {s.sigma_F0_mpa:.1f} | {s.K_F_beta:.3f} | "
                       f"{m.root_stress_max_mpa / s.sigma_F0_mpa:.3f} ({w.get('face_z_mm', math.nan):.1f}, "
                       f"{w.get('height_above_root_mm', math.nan):.2f}) | "
                       + " | ".join(f"{v / s.sigma_F0_mpa:.3f} ({fz:.1f}, {h:.2f})" for v, fz, h in peaks)
