@@ -20,7 +20,6 @@ TOLERANCE_NAMES = {"dx": "dx_mm", "dy": "dy_mm", "dz": "dz_mm", "vertical": "ver
 
 def configure(p: argparse.ArgumentParser) -> None:
     from ..solver.backends import BACKENDS
-    from ..assembly_errors import DEFAULT_RANGES
 
     p.add_argument("file", metavar="FILE", nargs="?", help="TOML design spec: the base design (not with --resume)")
     p.add_argument("--vary", action="append", default=[], metavar="KEY=START:STOP:COUNT",
@@ -29,9 +28,7 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--samples", type=int, metavar="N",
                    help="N designs from a Latin hypercube sample over the --vary ranges instead of the grid")
     p.add_argument("--seed", type=int, default=0, metavar="S", help="seed of the sample and the Monte Carlo (default 0)")
-    default = ",".join(f"{k}={DEFAULT_RANGES[v]:g}" for k, v in TOLERANCE_NAMES.items())
-    p.add_argument("--tolerances", default=default, metavar="dx=MM,dy=MM,dz=MM,vertical=DEG,horizontal=DEG",
-                   help=f"half-widths of the assembly-error box (default {default})")
+    add_tolerances_flag(p)
     p.add_argument("--mc", type=int, default=0, metavar="K",
                    help="also a Monte Carlo sweep of K error sets in the box per design (edge-contact fraction, TE)")
     p.add_argument("--mc-positions", type=int, default=20, metavar="N", help="contact positions per MC set (default 20)")
@@ -46,6 +43,16 @@ def configure(p: argparse.ArgumentParser) -> None:
                    help="designs per chunk of work (default 256): the unit of resume; the rows do not depend on it")
     p.add_argument("--backend", choices=BACKENDS, default="auto", help="solver backend (default auto)")
     p.add_argument("--json", action="store_true", help="print the summary and every row as JSON on stdout")
+
+
+def add_tolerances_flag(p: argparse.ArgumentParser, about: str = "") -> None:
+    """``--tolerances``, the half-widths of the assembly-error box that explore, ltca and optimize draw
+    in (read by :func:`parse_tolerances`); ``about``: what the box is centred on, for the help."""
+    from ..assembly_errors import DEFAULT_RANGES
+
+    default = ",".join(f"{k}={DEFAULT_RANGES[v]:g}" for k, v in TOLERANCE_NAMES.items())
+    p.add_argument("--tolerances", default=default, metavar="dx=MM,dy=MM,dz=MM,vertical=DEG,horizontal=DEG",
+                   help=f"half-widths of the assembly-error box{about} (default {default})")
 
 
 def parse_tolerances(text: str) -> dict:

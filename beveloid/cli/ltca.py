@@ -63,12 +63,9 @@ def configure(p: argparse.ArgumentParser) -> None:
                    help="the tolerance box under load: K error sets drawn about the file's [misalignment] (the "
                         "draws of sweep and explore), each a full loaded analysis at every torque")
     p.add_argument("--seed", type=int, default=0, metavar="S", help="seed of the error sets (default 0)")
-    from .explore import TOLERANCE_NAMES
-    from ..sweep import DEFAULT_RANGES
+    from .explore import add_tolerances_flag
 
-    default = ",".join(f"{k}={DEFAULT_RANGES[v]:g}" for k, v in TOLERANCE_NAMES.items())
-    p.add_argument("--tolerances", default=default, metavar="dx=MM,dy=MM,dz=MM,vertical=DEG,horizontal=DEG",
-                   help=f"half-widths of the assembly-error box (default {default})")
+    add_tolerances_flag(p)
     where = p.add_mutually_exclusive_group()  # beveloid.parallel: the same numbers on any of them
     where.add_argument("--workers", type=int, metavar="N", help="analyse chunks of error sets on N local processes")
     where.add_argument("--scheduler", metavar="ADDRESS", help="analyse them on an existing Dask distributed cluster")

@@ -16,8 +16,7 @@ from ..errors import OptionError, StopReason, UserError
 
 
 def configure(p: argparse.ArgumentParser) -> None:
-    from ..sweep import DEFAULT_RANGES
-    from .explore import TOLERANCE_NAMES
+    from .explore import add_tolerances_flag
 
     p.add_argument("file", metavar="FILE", nargs="?", help="TOML design spec: the unmodified design (not with --resume)")
     p.add_argument("--vary", action="append", default=[], metavar="KEY=LOW:HIGH",
@@ -29,9 +28,7 @@ def configure(p: argparse.ArgumentParser) -> None:
                    help="error sets drawn in the tolerance box as `beveloid sweep` draws them, the same for every"
                         " candidate (default 0: the file's [misalignment] only)")
     p.add_argument("--seed", type=int, default=0, metavar="S", help="seed of the error sets and the search (default 0)")
-    default = ",".join(f"{k}={DEFAULT_RANGES[v]:g}" for k, v in TOLERANCE_NAMES.items())
-    p.add_argument("--tolerances", default=default, metavar="dx=MM,dy=MM,dz=MM,vertical=DEG,horizontal=DEG",
-                   help=f"half-widths of the error box about the file's [misalignment] (default {default})")
+    add_tolerances_flag(p, " about the file's [misalignment]")
     p.add_argument("--objectives", default="te,pressure", metavar="te,pressure,root",
                    help="minimised: te = loaded TE peak-to-peak, pressure = largest peak pressure (edges included),"
                         " root = larger root stress (FE tooth) (default te,pressure)")
