@@ -203,6 +203,20 @@ def _compile_lock():
             fcntl.flock(fh, fcntl.LOCK_UN)
 
 
+def _principal_stresses():
+    """fe/principal.py's compiled functions called as fe/contact.py calls them (C-contiguous float64
+    operators (nodes, 6, G), loads (Q, G)), on a made-up tensor field."""
+    import numpy as np
+
+    from beveloid.fe import principal
+
+    fn = principal.functions()
+    op = np.ascontiguousarray(np.arange(2 * 6 * 3, dtype=float).reshape(2, 6, 3))
+    bound = fn.bounds(op, 1.0)
+    fn.extreme(op, bound, np.ones((1, 3)), 1.0, np.zeros(1, dtype=np.int64), np.full(1, np.nan))
+    fn.each_node(np.ones((2, 6)), 1.0, np.empty(2))
+
+
 def _compile_solver():
     """Run every entry point of the compiled backend once, on case 1 (compiles them, or loads
     them from numba's cache): the contact paths (TCA, sweep, backlash), the single-point Newton,
@@ -231,7 +245,10 @@ def _compile_solver():
         lambda geom, ref: backends.namespace("compiled").solve_point(
             geom.problem("right"), ref.x.copy(), ref.pinion_angle, np.zeros(5),
             settings(scale_mm=geom.gear.working_pitch_radius_mm, tol_mm=tca.newton_tolerance(geom), max_iter=3)),
+        # the loaded TCA's contact kernel (ltca/kernel.py, compiled whatever the backend) and the FE
+        # tooth's principal stresses (fe/principal.py), with the argument types their callers pass
         lambda geom, ref: ltca.analyze(geom, 100.0, "right", positions=2, pairs=1, backend="compiled"),
+        lambda geom, ref: _principal_stresses(),
         # explore's own compiled kernels (its rows over the core): its worker processes then load them
         # instead of each compiling them at once
         lambda geom, ref: explore_run.warm_up(),
@@ -265,8 +282,17 @@ def _compile_once_under_a_lock():
             _compile_solver()
         return ns
 
+    # the kernels outside the core (ltca/kernel.py, fe/principal.py) are compiled whatever the backend:
+    # their first use compiles them with the rest, under the lock (two workers would each compile them)
+    real_module = backends.compiled_module
+
+    def compiled_module(module_name, names):
+        _compile_solver()
+        return real_module(module_name, names)
+
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(backends, "namespace", namespace)
+        mp.setattr(backends, "compiled_module", compiled_module)
         yield
 
 

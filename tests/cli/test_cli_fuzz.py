@@ -464,6 +464,7 @@ def _check_loaded(data):
             assert problem is None, f"{problem}\nargv: {argv}\nspec:\n{_toml(doc)}"
 
 
+@pytest.mark.slow
 @pytest.mark.long_running
 @pytest.mark.usefixtures("compiled_solver")
 @settings(max_examples=3, derandomize=True, **_IN_RANGE)

@@ -34,6 +34,8 @@ def test_quickstart_is_two_commands_and_ci_runs_the_second():
     assert os.access(ci, os.X_OK), ".ci/run must be executable"
     ci_lines = [line.strip() for line in ci.read_text(encoding="utf-8").splitlines()]
     assert commands[1] in ci_lines, ".ci/run must run the README's second Quickstart command verbatim"
+    # and the end-to-end tests that command leaves out (pyproject.toml's marker "slow"), after it
+    assert ci_lines.index("pytest -m slow") > ci_lines.index(commands[1]), ".ci/run must run `pytest -m slow` too"
 
 
 def test_input_key_table_is_current():

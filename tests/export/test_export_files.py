@@ -92,7 +92,7 @@ def test_a_bore_through_the_root_is_refused_in_one_line(small_pair, tmp_path):
     assert "\n" not in msg and msg.startswith("gear.bore_diameter_mm = 60: must be below the smallest root diameter")
 
 
-@pytest.mark.parametrize("misalignment", [pytest.param({}, marks=pytest.mark.long_running),
+@pytest.mark.parametrize("misalignment", [pytest.param({}, marks=(pytest.mark.long_running, pytest.mark.slow)),
                                           {"dx_mm": 0.05, "vertical_deg": 0.02}], ids=["aligned", "misaligned"])
 def test_assembled_pair_touches_without_interference(small_pair, tmp_path, misalignment):
     """--assembled: the members in mesh as designed (under the spec's [misalignment]): the pinion's

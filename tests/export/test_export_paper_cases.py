@@ -12,6 +12,7 @@ from beveloid.export import ExportOptions, export, occ
 from beveloid.pair import Pair
 
 
+@pytest.mark.slow
 @pytest.mark.long_running
 @pytest.mark.parametrize("case", ["case1", "case2"])
 def test_paper_case_exports_whole_valid_gears(case, tmp_path):

@@ -33,6 +33,7 @@ def test_bad_flags_are_one_line_naming_the_flag(capsys, argv, key):
     assert len(err.splitlines()) == 1 and key in err
 
 
+@pytest.mark.slow
 @pytest.mark.long_running
 @pytest.mark.skipif(ccx_path() is None, reason="needs CalculiX (ccx, Debian package calculix-ccx)")
 def test_coarse_fe_check_of_case1_agrees_with_the_ltca(tmp_path):

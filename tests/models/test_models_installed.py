@@ -120,6 +120,7 @@ def _venv(tmp: Path) -> tuple[Path, Path]:
     return python, site
 
 
+@pytest.mark.slow
 @pytest.mark.long_running
 def test_a_model_of_ones_own_in_an_installed_package(tmp_path):
     python, site = _venv(tmp_path)

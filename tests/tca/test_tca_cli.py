@@ -594,6 +594,7 @@ def _is_int_literal(s):
     return re.fullmatch(r"[+-]?\d+", s) is not None
 
 
+@pytest.mark.slow
 @pytest.mark.long_running
 def test_paper(capsys, tmp_path):
     out_dir = tmp_path / "paper"
