@@ -265,6 +265,28 @@ def _compile_solver():
         on_a_fresh_stack(compile_all)
 
 
+#: a parallel run of at least this many tests (the whole suite, not a few files) compiles up front
+EAGER_COMPILE_MIN_TESTS = 500
+_first_test = True
+
+
+def pytest_runtest_setup(item):
+    """In a parallel run of the whole suite, a worker whose first test is not of the group "generated"
+    (sympy only) compiles the solver at once, under the lock: the worker that builds the sympy models
+    meanwhile then loads numba's cache when it needs it, instead of waiting for a compilation that a
+    test of the other worker started late (measured on a fresh install: ~20 s of one worker idle)."""
+    global _first_test
+    if not _first_test:
+        return
+    _first_test = False
+    if (os.environ.get("PYTEST_XDIST_WORKER") and len(item.session.items) >= EAGER_COMPILE_MIN_TESTS
+            and _group(item) != "generated"):
+        from beveloid.solver import backends
+
+        if backends.AVAILABLE:
+            _compile_solver()
+
+
 @pytest.fixture(scope="session", autouse=True)
 def _compile_once_under_a_lock():
     """The first ``backends.namespace("compiled")`` of the process compiles the solver first

@@ -37,6 +37,7 @@ def exported(pointed_pair, tmp_path_factory):
             for fmt in ("step", "stl")}
 
 
+@pytest.mark.slow
 @pytest.mark.long_running
 def test_a_pointed_pinion_is_one_valid_step_solid_on_the_generated_surfaces(pointed_pair, exported):
     g = pointed_pair.geometry
@@ -62,6 +63,7 @@ def test_a_pointed_pinion_is_one_valid_step_solid_on_the_generated_surfaces(poin
     assert max(worst.values()) <= 1.0, worst  # um
 
 
+@pytest.mark.slow
 @pytest.mark.long_running
 def test_the_pointed_pinion_stl_is_watertight_and_agrees_with_the_step_volume(exported):
     """The STL is built without OpenCASCADE (beveloid.export.mesh): two independent builds of one tooth.  Its

@@ -32,6 +32,7 @@ def exported(undercut_pair, tmp_path_factory):
             for fmt in ("step", "stl")}
 
 
+@pytest.mark.slow
 @pytest.mark.long_running
 def test_undercut_pinion_is_a_valid_step_solid_and_a_watertight_stl(undercut_pair, exported):
     g = undercut_pair.geometry
@@ -49,6 +50,7 @@ def test_undercut_pinion_is_a_valid_step_solid_and_a_watertight_stl(undercut_pai
     assert abs(mesh.volume - step.volume_mm3) <= 2e-3 * step.volume_mm3
 
 
+@pytest.mark.slow
 @pytest.mark.long_running
 def test_the_solid_follows_the_generated_tooth_through_the_undercut(undercut_pair, exported):
     """In a section at mid-face: the flank above the crossing and the fillet below it are on the exported

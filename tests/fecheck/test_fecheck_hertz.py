@@ -14,6 +14,7 @@ needs_ccx = pytest.mark.skipif(ccx_path() is None, reason="needs CalculiX (ccx, 
 CASE = SphereBlock(fine_mm=0.15, far_over_fine=10.0, cap_mm=1.5, block_half_mm=3.0, block_depth_mm=3.0)
 
 
+@pytest.mark.slow
 @needs_ccx
 def test_sphere_on_block_matches_hertz(tmp_path):
     deck = sphere_block_deck(CASE)

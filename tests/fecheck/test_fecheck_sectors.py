@@ -28,6 +28,7 @@ def test_the_sectors_refine_the_teeth_of_the_tooth_pairs(monkeypatch):
         m: (1, SECTOR_TEETH, (-1, 0, 1), 1.5 * LEVEL_1_COARSEN) for m in ("pinion", "gear")}
 
 
+@pytest.mark.slow
 def test_the_fine_teeth_are_meshed_as_the_loaded_tooth():
     # the pinion at the FE tooth's sizes x 8 (the coarsest sector_mesh makes), teeth -1, 0, 1 fine
     mesh = sector_mesh(Pair.example("case1"), "pinion", teeth=SECTOR_TEETH, coarsen=8.0, fine_teeth=(-1, 0, 1))
