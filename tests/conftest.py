@@ -249,6 +249,8 @@ def _compile_solver():
         # tooth's principal stresses (fe/principal.py), with the argument types their callers pass
         lambda geom, ref: ltca.analyze(geom, 100.0, "right", positions=2, pairs=1, backend="compiled"),
         lambda geom, ref: _principal_stresses(),
+        # a mesh study with its contact ellipses (the chord search) and both flanks (the backlash)
+        lambda geom, ref: tca.analyze(geom, tca.Options(positions=3), "compiled"),
         # explore's own compiled kernels (its rows over the core): its worker processes then load them
         # instead of each compiling them at once
         lambda geom, ref: explore_run.warm_up(),

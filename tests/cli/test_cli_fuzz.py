@@ -233,12 +233,29 @@ def _call(argv):
     return rc, out.getvalue(), err.getvalue(), [str(w.message) for w in caught]
 
 
+_DOCUMENTS = dict(deadline=None, derandomize=True, database=None,
+                  suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large, HealthCheck.filter_too_much])
+
+
 @pytest.mark.long_running
 @pytest.mark.usefixtures("compiled_solver")  # not inside an example's hang guard
-@settings(max_examples=120, deadline=None, derandomize=True, database=None,
-          suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large, HealthCheck.filter_too_much])
+@settings(max_examples=30, **_DOCUMENTS)
 @given(data=st.data())
 def test_cli_fuzz_success_or_one_line_exit_2(data):
+    _check_document(data)
+
+
+@pytest.mark.slow
+@pytest.mark.long_running
+@pytest.mark.usefixtures("compiled_solver")
+@settings(max_examples=120, **_DOCUMENTS)
+@given(data=st.data())
+def test_cli_fuzz_success_or_one_line_exit_2_more_examples(data):
+    _check_document(data)
+
+
+def _check_document(data):
+    """A drawn document and command line: success with output, or exit 2 with one line."""
     tmp = _TMP.name
     path = str(Path(tmp) / "spec.toml")
     plausible = data.draw(st.sampled_from([True, True, True, False, False]), label="plausible")
@@ -402,6 +419,7 @@ _IN_RANGE = dict(deadline=None, database=None, suppress_health_check=[HealthChec
                                                                       HealthCheck.filter_too_much])
 
 
+@pytest.mark.slow
 @pytest.mark.long_running
 @pytest.mark.usefixtures("compiled_solver")
 @settings(max_examples=8, derandomize=True, **_IN_RANGE)

@@ -39,6 +39,7 @@ def test_the_plain_build_covers_the_contact_system_and_the_boundaries():
     assert set(PLAIN_MODULES) <= set(MODULES)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("module, function", PLAIN_FUNCTIONS, ids=[f"{m}.{f}" for m, f in PLAIN_FUNCTIONS])
 def test_cse_and_plain_builds_agree(nocse, module, function):
     f = getattr(committed_module(module), function)
@@ -50,6 +51,7 @@ def test_cse_and_plain_builds_agree(nocse, module, function):
                      f"{function}.{name} (CSE vs no CSE)")
 
 
+@pytest.mark.slow
 def test_plain_build_differs_from_cse_build_only_in_bodies(nocse_texts, rendered):
     for module in PLAIN_MODULES:
         cse_text = rendered[f"{module}.py"]
@@ -76,6 +78,7 @@ def _module_docstring(text):
     return ast.get_docstring(ast.parse("".join(head)))
 
 
+@pytest.mark.slow
 def test_cse_reduces_the_op_count_of_the_contact_system(nocse_texts):
     cse_ops = ops_counts((GENERATED / "contact_system.py").read_text())
     plain_ops = ops_counts(nocse_texts["contact_system"])

@@ -99,6 +99,7 @@ def _cli(args, env=None, cwd=None):
                           env=dict(os.environ, **(env or {})), cwd=cwd, timeout=300)
 
 
+@pytest.mark.slow
 def test_derive_refuses_bad_requests_in_one_line(tmp_path):
     import site
 
@@ -170,6 +171,7 @@ def test_models_of_an_installed_package_are_found_by_entry_point(tmp_path, monke
     assert [(m.name, m.origin) for m in discover(BUILTIN).user] == [("labflank", "user folder")]
 
 
+@pytest.mark.slow
 def test_derive_refuses_a_model_that_fails_a_check(tmp_path):
     """A normal that is not the surface's: exit 1, the failed check named, nothing written."""
     model = tmp_path / "wrong_normal_model.py"
