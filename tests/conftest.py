@@ -157,6 +157,11 @@ def _group(item):
     return marker.args[0] if marker and marker.args else marker.kwargs.get("name") if marker else None
 
 
+#: test folders none of whose tests runs the compiled solver (measured: every compiled entry point made to
+#: raise, these folders passed)
+WITHOUT_SOLVER = ("tests/derivations/", "tests/spec/", "tests/export/", "tests/pair/")
+
+
 @pytest.hookimpl(tryfirst=True)  # before xdist reads the groups
 def pytest_collection_modifyitems(config, items):
     for item in items:
@@ -167,7 +172,11 @@ def pytest_collection_modifyitems(config, items):
     # tests/generated (sympy only, ~20 s) first: one worker builds its models while the other
     # compiles the solver core (numba, ~20 s on a fresh install), instead of waiting for its lock
     first = [item for item in items if _group(item) == "generated"]
-    rest = [item for item in items if _group(item) != "generated"]
+    # then the folders that run no compiled solver code: the worker that built the sympy models
+    # takes them while the other compiles (pytest_runtest_setup), instead of waiting for its lock
+    # (xdist keeps this order: --no-loadscope-reorder in pyproject.toml)
+    first += [item for item in items if _group(item) != "generated" and item.nodeid.startswith(WITHOUT_SOLVER)]
+    rest = [item for item in items if item not in set(first)]
     long = [item for item in rest if item.get_closest_marker("long_running")]
     ordinary = [item for item in rest if not item.get_closest_marker("long_running")]
     items[:] = first
