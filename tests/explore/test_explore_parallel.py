@@ -62,6 +62,7 @@ def test_executor_input_checks():
         parallel.executor(0)
 
 
+@pytest.mark.slow
 @pytest.mark.long_running
 def test_local_workers_equal_one_worker(case1, tmp_path, capsys):
     one = _explore(case1, tmp_path / "one", capsys, "--workers", "1")

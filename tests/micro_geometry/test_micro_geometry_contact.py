@@ -101,6 +101,7 @@ def _modified_toml(tmp_path):
     return path
 
 
+@pytest.mark.slow
 @pytest.mark.long_running
 def test_cli_commands_run_on_a_modified_pair(tmp_path):
     path = _modified_toml(tmp_path)
