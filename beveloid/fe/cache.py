@@ -15,22 +15,31 @@ again and replaced, never used.  Entries are written to a temporary file and ren
 from __future__ import annotations
 
 import collections
+import contextlib
 import functools
 import hashlib
 import json
 import os
 import tempfile
+import time
 from dataclasses import fields
 from pathlib import Path
 
 import numpy as np
 
+from ..errors import UserError
 from . import tooth
 
-__all__ = ["CACHE_ENV", "FE_DATA_VERSION", "NOT_FE_SOURCES", "cache_dir", "cache_key", "cached_tooth_data", "code_digest",
-           "entry_path"]
+__all__ = ["CACHE_ENV", "DEFAULT_LIMIT_MB", "FE_DATA_VERSION", "LIMIT_ENV", "NOT_FE_SOURCES", "cache_dir", "cache_key",
+           "cached_tooth_data", "code_digest", "entry_path", "limit_bytes", "prune"]
 
 CACHE_ENV = "BEVELOID_CACHE_DIR"
+#: the FE cache folder's size limit in MB, when set (default :data:`DEFAULT_LIMIT_MB`)
+LIMIT_ENV = "BEVELOID_FE_CACHE_MB"
+#: an entry of the default mesh is ~80 MB: room for about 25 member designs
+DEFAULT_LIMIT_MB = 2000
+#: a temporary file of an interrupted write older than this (s) is removed when the folder is pruned
+ORPHAN_AGE_S = 3600.0
 #: raise when the FE data's meaning changes without a change of its inputs
 FE_DATA_VERSION = 2  # 2: isoparametric (curved) P2 tets, stresses from them
 
@@ -148,6 +157,7 @@ def cached_tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: in
     A cache folder that cannot be written is not an error: the data is then computed each time.
     The data of a key already read in this process is returned again ("hit") while its file is
     unchanged (same size and modification time)."""
+    limit_bytes()  # a bad $BEVELOID_FE_CACHE_MB: one line before any work
     key = cache_key(pair, member, e_mpa, nu, refinement, coarsen)
     path = entry_path(key)
     stamp = _stamp(path)
@@ -160,14 +170,66 @@ def cached_tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: in
         data = tooth.tooth_data(pair, member, e_mpa, nu, refinement, progress=progress, coarsen=coarsen)
         try:
             _write(path, key, data)
+            prune(keep=path)
         except OSError:
             pass
+    else:
+        with contextlib.suppress(OSError):
+            os.utime(path)  # used now: the last to go when the folder is pruned
     stamp = _stamp(path)
     if stamp is not None:
         _KEPT[path, key] = (stamp, data)
         while len(_KEPT) > KEPT_ENTRIES:
             _KEPT.popitem(last=False)
     return data, how
+
+
+def limit_bytes() -> int:
+    """The folder's size limit: ``$BEVELOID_FE_CACHE_MB`` (a number of MB >= 0) or :data:`DEFAULT_LIMIT_MB`."""
+    text = os.environ.get(LIMIT_ENV, "").strip()
+    if not text:
+        return DEFAULT_LIMIT_MB * 10**6
+    try:
+        mb = float(text)
+    except ValueError:
+        mb = -1.0
+    if not mb >= 0.0:
+        raise UserError(f"{LIMIT_ENV} = {text!r}: must be a number of MB >= 0 (the FE cache folder's size limit)")
+    return int(mb * 10**6)
+
+
+def prune(keep: Path | None = None) -> list:
+    """Remove the least recently used entries (by modification time: written or read) until the
+    folder's ``.npz`` files fit in :func:`limit_bytes`, never ``keep`` (the entry just written), and
+    the temporary files of interrupted writes older than :data:`ORPHAN_AGE_S`.  Entries made by
+    other code (another :func:`code_digest`) are never read again by this install and age out this
+    way.  Returns the paths removed."""
+    folder = cache_dir()
+    removed = []
+    now = time.time()
+    entries = []
+    for p in folder.glob("*"):
+        try:
+            st = p.stat()
+        except OSError:
+            continue
+        if p.suffix == ".tmp" and now - st.st_mtime > ORPHAN_AGE_S:
+            with contextlib.suppress(OSError):
+                p.unlink()
+                removed.append(p)
+        elif p.suffix == ".npz":
+            entries.append((st.st_mtime, st.st_size, p))
+    total, limit = sum(e[1] for e in entries), limit_bytes()
+    for _, size, p in sorted(entries, key=lambda e: e[0]):
+        if total <= limit:
+            break
+        if keep is not None and p == keep:
+            continue
+        with contextlib.suppress(OSError):
+            p.unlink()
+            removed.append(p)
+            total -= size
+    return removed
 
 
 def _stamp(path: Path):

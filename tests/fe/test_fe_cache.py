@@ -81,3 +81,41 @@ def test_a_corrupt_entry_is_recomputed_not_used(counted, case1, damage):
     assert how == "corrupt" and counted == ["pinion", "pinion"]
     assert np.all(np.isfinite(data.stress_mpa_per_n))
     assert _get(case1)[1] == "hit"
+
+
+def test_the_folder_keeps_to_its_size_limit_dropping_the_least_recently_used(counted, case1, monkeypatch, tmp_path):
+    """Each entry written prunes the folder to $BEVELOID_FE_CACHE_MB: the entries used longest ago go
+    first (a read counts as a use), never the one just written; an orphaned temporary file goes too."""
+    import os
+    import time
+
+    folder = tmp_path / "fe"
+    _get(case1, "pinion")
+    (entry,) = folder.glob("pinion-*.npz")
+    size_mb = entry.stat().st_size / 1e6
+    monkeypatch.setenv(cache.LIMIT_ENV, f"{2.5 * size_mb:.6f}")  # room for two of these entries
+    orphan = folder / "x.tmp"
+    orphan.write_bytes(b"half")
+    old = time.time() - 2 * cache.ORPHAN_AGE_S
+    os.utime(orphan, (old, old))
+    os.utime(entry, (old, old))
+    _get(case1, "pinion", e=2.1e5)  # a second entry: both fit
+    assert len(list(folder.glob("*.npz"))) == 2 and not orphan.exists()
+    _get(case1, "pinion")  # read: the first entry is now the most recently used
+    assert entry.stat().st_mtime > old + 1
+    _get(case1, "pinion", e=2.2e5)  # a third: the least recently used (the second) goes
+    names = {p.name for p in folder.glob("*.npz")}
+    assert len(names) == 2 and entry.name in names
+    assert cache.entry_path(cache.cache_key(case1, "pinion", 2.1e5, 0.3, 1)).name not in names
+    monkeypatch.setenv(cache.LIMIT_ENV, "0")  # even a limit of 0 keeps the entry just written
+    _get(case1, "gear")
+    assert [p.name.split("-")[0] for p in folder.glob("*.npz")] == ["gear"]
+
+
+def test_a_bad_size_limit_is_one_line_naming_the_variable(counted, case1, monkeypatch):
+    from beveloid.errors import UserError
+
+    monkeypatch.setenv(cache.LIMIT_ENV, "lots")
+    with pytest.raises(UserError, match=r"^BEVELOID_FE_CACHE_MB = 'lots': must be a number of MB >= 0"):
+        _get(case1)
+    assert counted == []
