@@ -153,7 +153,7 @@ def run(args: argparse.Namespace) -> int:
     base = search.baseline(out, req)
     ex = parallel.executor(args.workers, args.scheduler)
     with ex:
-        records, stop, why = search.run(out, req, ex, search.Progress(req.budget))
+        records, stop, why = search.run(out, req, ex, search.Progress(req.budget), base)
         where = ex.description
     records = sorted(records, key=lambda r: r["candidate"])
     on = report.pareto_mask(req, records)

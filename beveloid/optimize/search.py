@@ -104,25 +104,32 @@ def told(req: Request, rec: dict) -> tuple:
     return F, np.array([max(short)])
 
 
-def initial(req: Request) -> np.ndarray:
-    """The first population: a Latin hypercube sample over the ranges (seeded)."""
+def initial(req: Request, baseline: dict | None = None) -> np.ndarray:
+    """The first population: a Latin hypercube sample over the ranges (seeded), its first row the
+    unmodified design's values (``baseline``) when they lie inside the ranges: the search then starts
+    from the design it is to improve, and its front is never worse than that design (if feasible)."""
     from scipy.stats import qmc
 
     lo = np.array([v.low for v in req.varies])
     hi = np.array([v.high for v in req.varies])
     u = qmc.LatinHypercube(d=len(req.varies), seed=np.random.default_rng(req.seed)).random(req.population)
-    return lo + u * (hi - lo)
+    X = lo + u * (hi - lo)
+    if baseline is not None:
+        x0 = np.array([baseline[k] for k in req.keys], dtype=float)
+        if np.all((x0 >= lo) & (x0 <= hi)):
+            X[0] = x0
+    return X
 
 
-def algorithm(req: Request):
-    """NSGA-II set up on the request's problem, seeded."""
+def algorithm(req: Request, baseline: dict | None = None):
+    """NSGA-II set up on the request's problem, seeded (``baseline``: see :func:`initial`)."""
     from pymoo.algorithms.moo.nsga2 import NSGA2
     from pymoo.core.problem import Problem
     from pymoo.termination.max_eval import MaximumFunctionCallTermination
 
     problem = Problem(n_var=len(req.varies), n_obj=len(req.objectives), n_ieq_constr=1,
                       xl=np.array([v.low for v in req.varies]), xu=np.array([v.high for v in req.varies]))
-    alg = NSGA2(pop_size=req.population, sampling=initial(req), eliminate_duplicates=True)
+    alg = NSGA2(pop_size=req.population, sampling=initial(req, baseline), eliminate_duplicates=True)
     alg.setup(problem, termination=MaximumFunctionCallTermination(10 ** 9), seed=req.seed, verbose=False)
     return alg
 
@@ -158,12 +165,13 @@ def baseline(out_dir: str, req: Request) -> dict:
     return rec
 
 
-def run(out_dir: str, req: Request, ex, progress: Progress | None = None) -> tuple:
+def run(out_dir: str, req: Request, ex, progress: Progress | None = None, base: dict | None = None) -> tuple:
     """Ask, evaluate (on ``ex``) and tell until the budget: (records in candidate order, None or a StopReason,
-    a line saying why it stopped)."""
+    a line saying why it stopped).  ``base``: the unmodified design's record (:func:`baseline`), the first
+    candidate when its values lie inside the ranges (its numbers are taken, not computed again)."""
     from ..parallel import WorkLost
 
-    alg = algorithm(req)
+    alg = algorithm(req, None if base is None else base["values"])
     payload = req.to_json()
     records: list = []
     while len(records) < req.budget:
@@ -176,6 +184,9 @@ def run(out_dir: str, req: Request, ex, progress: Progress | None = None) -> tup
         for j, x in enumerate(X):
             rec = load(out_dir, start + j)
             values = dict(zip(req.keys, (float(v) for v in x)))
+            if rec is None and base is not None and base["values"] == values:
+                rec = dict(base, candidate=start + j)
+                save(out_dir, start + j, rec)
             if rec is not None and rec["values"] == values:
                 batch[j] = rec
             else:

@@ -82,6 +82,20 @@ def test_the_best_candidate_is_the_brute_force_optimum_within_the_scan_resolutio
     assert len(result["baseline"]["dominated_by"]) >= 1
 
 
+def test_the_first_candidate_is_the_unmodified_design(run, result):
+    """The search starts from the design it is to improve (its values inside the ranges: here no
+    crowning, the range's low end), taken from the baseline's record, not computed twice."""
+    out, _ = run
+    first = json.loads((out / "candidates" / "000000.json").read_text())
+    base = json.loads((out / "candidates" / "baseline.json").read_text())
+    assert first["values"] == base["values"] == {KEY: LOW} == result["baseline"]["values"]
+    assert first["objectives"] == base["objectives"] and first["candidate"] == 0
+    # outside the ranges it is not a candidate: the first row is the Latin hypercube's
+    req = Request(base={}, varies=(Vary(KEY, 5.0, HIGH),), torques_nm=(TORQUE,), weights=(1.0,), population=4)
+    assert np.array_equal(search.initial(req, {KEY: LOW}), search.initial(req))
+    assert search.initial(req, {KEY: 7.0})[0, 0] == 7.0
+
+
 def test_a_pareto_spec_reproduces_its_objectives_through_ltca(run, result, capsys):
     out, _ = run
     best = result["pareto"][0]
