@@ -4,10 +4,6 @@ from __future__ import annotations
 
 import json
 import os
-import socket
-import subprocess
-import sys
-import time
 
 import numpy as np
 import pytest
@@ -70,53 +66,6 @@ def test_local_workers_equal_one_worker(case1, tmp_path, capsys):
     assert one == two
     assert "mc_edge_fraction" in one.splitlines()[0]
     assert _sweep(case1, capsys, "--workers", "2") == _sweep(case1, capsys) == _sweep(case1, capsys, "--workers", "1")
-
-
-def _free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
-@pytest.fixture
-def cluster(tmp_path):
-    """A real Dask cluster on 127.0.0.1: `dask scheduler` and two `dask worker` processes, torn down after."""
-    pytest.importorskip("distributed")  # in the test extra: never skipped where the extras are installed
-    from distributed import Client
-
-    port = _free_port()
-    address = f"tcp://127.0.0.1:{port}"
-    dask = [sys.executable, "-m", "distributed.cli.dask_scheduler"]
-    worker = [sys.executable, "-m", "distributed.cli.dask_worker"]
-    env = dict(os.environ, PYTHONUNBUFFERED="1")
-    logs = open(tmp_path / "cluster.log", "w")
-    procs = [subprocess.Popen(dask + ["--host", "127.0.0.1", "--port", str(port), "--dashboard-address", ":0"],
-                              stdout=logs, stderr=logs, env=env)]
-    try:
-        for _ in range(2):
-            procs.append(subprocess.Popen(worker + [address, "--nthreads", "1", "--no-nanny",
-                                                    "--dashboard-address", ":0", "--local-directory", str(tmp_path)],
-                                          stdout=logs, stderr=logs, env=env))
-        deadline = time.monotonic() + 90
-        while True:
-            try:
-                with Client(address, timeout="5s") as client:
-                    client.wait_for_workers(2, timeout=max(1.0, deadline - time.monotonic()))
-                break
-            except (OSError, TimeoutError):
-                if time.monotonic() > deadline:
-                    raise
-                time.sleep(0.5)
-        yield address
-    finally:
-        for p in procs[::-1]:
-            p.terminate()
-        for p in procs[::-1]:
-            try:
-                p.wait(timeout=3)
-            except subprocess.TimeoutExpired:
-                p.kill()
-        logs.close()
 
 
 @pytest.mark.long_running

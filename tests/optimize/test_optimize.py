@@ -214,3 +214,20 @@ def test_bad_options_get_one_line_and_exit_2(tmp_path, capsys, extra, words):
                    str(tmp_path / "never"), *QUICK, *extra])
     err = capsys.readouterr().err
     assert status == 2 and len(err.strip().splitlines()) == 1 and words in err
+
+
+@pytest.mark.slow
+def test_a_dask_cluster_gives_the_candidates_of_one_worker(run, result, cluster, tmp_path, capsys):
+    """--scheduler: the same run on a real Dask cluster (two worker processes) evaluates the same
+    candidates to the last digit (the search asks for them in the same order, wherever they ran)."""
+    out, args = run
+    remote = tmp_path / "dask"
+    argv = ["optimize", *args]
+    i = argv.index("--workers")
+    del argv[i:i + 2]
+    argv[argv.index("--out") + 1] = str(remote)
+    assert main([*argv, "--scheduler", cluster]) == 0
+    summary = json.loads((remote / "summary.json").read_text())
+    assert "Dask cluster" in json.dumps(summary)
+    assert (remote / "candidates.csv").read_text() == (out / "candidates.csv").read_text()
+    capsys.readouterr()
