@@ -239,7 +239,7 @@ _DOCUMENTS = dict(deadline=None, derandomize=True, database=None,
 
 @pytest.mark.long_running
 @pytest.mark.usefixtures("compiled_solver")  # not inside an example's hang guard
-@settings(max_examples=30, **_DOCUMENTS)
+@settings(max_examples=20, **_DOCUMENTS)
 @given(data=st.data())
 def test_cli_fuzz_success_or_one_line_exit_2(data):
     _check_document(data)
