@@ -19,7 +19,7 @@ import typing
 import numpy as np
 
 from ..errors import OptionError
-from .teeth import MEMBERS
+from ..names import MEMBERS
 
 __all__ = ["Batch", "summary"]
 

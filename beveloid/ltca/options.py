@@ -10,9 +10,9 @@ import os
 from dataclasses import dataclass
 
 from ..errors import OptionError
+from ..names import FLANKS
 from . import halfspace
 
-FLANKS = ("left", "right")
 #: how the teeth bend: "fe" the finite-element tooth (beveloid.fe), "plate" the Kirchhoff plate over
 #: the equivalent spur tooth (tooth_compliance.py)
 TOOTH_MODELS = ("fe", "plate")

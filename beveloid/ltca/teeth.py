@@ -7,9 +7,9 @@ import sys
 
 import numpy as np
 
+from ..names import MEMBERS
 from .compliance import member_tooth
 
-MEMBERS = ("pinion", "gear")
 
 
 def _progress(stream=None):
