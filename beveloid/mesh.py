@@ -9,6 +9,9 @@ sweep, the backlash and the loaded TCA.
   largest TE when the flank's first-touch sign is +1, the smallest when -1 (:func:`envelope`).
 * The envelope is the mesh's TE only where every pair that can touch was solved
   (:func:`envelope_complete`); its peak-to-peak is taken there (tca and sweep alike).
+* A loaded TCA samples one mesh cycle (one pinion pitch) with both its ends: the last position is the
+  first one's mesh state again, so N positions are N - 1 distinct mesh states (:func:`cycle_positions_text`,
+  said in the output and in ``--help``).
 """
 from __future__ import annotations
 
@@ -83,3 +86,19 @@ def envelope_complete(pinion_angle_rad, ks, active, pinion_pitch_rad, margin_rad
         shifted = phi - k * pinion_pitch_rad
         complete &= ~((shifted >= lo) & (shifted <= hi))
     return complete
+
+
+def cycle_positions_text(positions: int) -> str:
+    """N positions over one mesh cycle in words, with the N - 1 distinct mesh states they are (one
+    position: the reference contact alone)."""
+    if positions == 1:
+        return "1 position: the reference contact"
+    states = positions - 1
+    return (f"{positions} positions over one mesh cycle, its first and last one pitch apart ({states} distinct "
+            f"mesh state{'' if states == 1 else 's'})")
+
+
+def cycle_positions_help(default: int) -> str:
+    """The ``--positions`` help of the commands that run a loaded TCA over one mesh cycle."""
+    return (f"pinion positions over one mesh cycle, its first and last one pitch apart: N positions are N - 1 "
+            f"distinct mesh states (default {default})")

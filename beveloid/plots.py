@@ -15,8 +15,25 @@ import numpy as np
 TE_ZERO_URAD = 1e-3
 #: Half-height (urad) of the TE axis when the TE is zero to the solver tolerance.
 TE_FLAT_HALF_SPAN_URAD = 1.0
-#: The pinion angle's axis label on every TCA figure: one quantity, one unit (degrees, as the tables)
-PINION_ANGLE_LABEL = "pinion angle phi'_1 (deg)"
+#: The pinion angle's axis label and table head on every TCA and LTCA figure and table: one quantity,
+#: one unit (degrees); :func:`pinion_angle_text` writes a value in the same words
+PINION_ANGLE_SYMBOL = "phi'_1"
+PINION_ANGLE_UNIT = "deg"
+PINION_ANGLE_LABEL = f"pinion angle {PINION_ANGLE_SYMBOL} ({PINION_ANGLE_UNIT})"
+
+
+def pinion_angle_deg(phi_rad):
+    """A pinion angle (rad; a number or an array) in the unit of :data:`PINION_ANGLE_LABEL`."""
+    return np.degrees(phi_rad)
+
+
+def pinion_angle_text(phi_rad: float, decimals: int = 2, words: bool = True) -> str:
+    """One pinion angle in the words and unit of :data:`PINION_ANGLE_LABEL`: "pinion angle phi'_1 = 6.43
+    deg" (``words=False``: "phi'_1 = 6.43 deg")."""
+    value = f"{PINION_ANGLE_SYMBOL} = {float(pinion_angle_deg(phi_rad)):.{decimals}f} {PINION_ANGLE_UNIT}"
+    return f"pinion angle {value}" if words else value
+
+
 #: the legend's key to the faded TE points
 FADED_LABEL = "faded: the window's ends (a pair beyond those solved may carry)"
 
@@ -121,7 +138,7 @@ def transmission_error(results, labels, flank, out_png, title=""):
     ptps, faded = [], False
     for res, lab in zip(results, labels):
         fr = res.flanks[flank]
-        phi = np.degrees(fr.pinion_angle)
+        phi = pinion_angle_deg(fr.pinion_angle)
         te = fr.transmission_error * 1e6
         act = fr.active & np.isfinite(te)
         ptp = fr.te_peak_to_peak * 1e6
@@ -171,7 +188,7 @@ def tca_summary(result, geom, out_png, title=""):
             ax.grid(alpha=0.3)
         row[1].legend(fontsize=8)
         ax = row[2]
-        phi = np.degrees(fr.pinion_angle)
+        phi = pinion_angle_deg(fr.pinion_angle)
         te = fr.transmission_error * 1e6
         act = fr.active & np.isfinite(te)
         for k in sorted(set(fr.tooth_pair.tolist())):

@@ -109,9 +109,11 @@ def _into_folder(pair, options, progress, folder) -> dict:
 
 
 def format_summary(out: dict) -> str:
+    from ..plots import pinion_angle_text
+
     fmt = lambda v, f: "-" if v is None or not math.isfinite(v) else format(v, f)  # noqa: E731
     c, lt = out["calculix"], out["ltca"]
-    lines = [f"fe-check at position {out['position']} (pinion angle {out['pinion_angle_rad']:.6f} rad), "
+    lines = [f"fe-check at position {out['position']} ({pinion_angle_text(out['pinion_angle_rad'], 4)}), "
              f"{out['flank']} flank, pinion torque {out['torque_nm']:g} N m; CalculiX {out['calculix_version']}",
              "", f"{'quantity':36s}{'CalculiX':>14s}{'LTCA':>14s}"]
     for i, k in enumerate(out["tooth_pairs"]):

@@ -35,12 +35,13 @@ from ..errors import OptionError, UserError
 
 
 def configure(p: argparse.ArgumentParser) -> None:
+    from ..mesh import cycle_positions_help
+
     p.add_argument("file", metavar="FILE", help="TOML design spec (`beveloid example case1` prints one)")
     p.add_argument("--torque-nm", required=True, metavar="T[,T...]",
                    help="pinion torque (N m), > 0; a comma list (50,100,200,400) gives the torque map: the whole "
                         "analysis at each torque")
-    p.add_argument("--positions", type=int, default=20, metavar="N",
-                   help="pinion positions over one mesh cycle (default 20)")
+    p.add_argument("--positions", type=int, default=20, metavar="N", help=cycle_positions_help(20))
     p.add_argument("--pairs", type=int, default=3, metavar="K", help="neighbouring tooth pairs (default 3)")
     p.add_argument("--flank", choices=("left", "right"), default="right", help="flank pair (default right)")
     add_error_flags(p)
@@ -374,14 +375,16 @@ def _root_stress_lines(result) -> list:
 
 
 def format_summary(result, geom, spec) -> str:
+    from ..plots import PINION_ANGLE_LABEL, pinion_angle_deg
+
     fmt = number
     lines = [f"Loaded TCA of {spec.source}, {result.flank} flank, pinion torque {result.torque_nm:g} N m,"
              f" {errors_label(spec)}", ""]
-    head = ["phi1 (mrad)", "status", "TE loaded (urad)", "TE unloaded (urad)", "area (mm2)"]
+    head = [PINION_ANGLE_LABEL, "status", "TE loaded (urad)", "TE unloaded (urad)", "area (mm2)"]
     head += [f"F pair {k} (N)" for k in result.tooth_pairs] + [f"p_max pair {k} (MPa)" for k in result.tooth_pairs]
     rows = [head]
     for j, phi in enumerate(result.pinion_angle):
-        rows.append([f"{phi * 1e3:.3f}", result.status[j], fmt(result.loaded_te[j] * 1e6, ".3f"),
+        rows.append([f"{pinion_angle_deg(phi):.3f}", result.status[j], fmt(result.loaded_te[j] * 1e6, ".3f"),
                      fmt(result.unloaded_te[j] * 1e6, ".3f"), fmt(result.contact_area_mm2[j], ".2f")]
                     + [fmt(v, ".1f") for v in result.pair_load_n[j]]
                     + [fmt(v, ".0f") + ("*" if math.isfinite(e) and e >= v else "")

@@ -16,6 +16,7 @@ from ..errors import OptionError, StopReason, UserError
 
 
 def configure(p: argparse.ArgumentParser) -> None:
+    from ..mesh import cycle_positions_help
     from .explore import add_tolerances_flag
 
     p.add_argument("file", metavar="FILE", nargs="?", help="TOML design spec: the unmodified design (not with --resume)")
@@ -39,7 +40,7 @@ def configure(p: argparse.ArgumentParser) -> None:
                    help="rating: the local S_F, S_H at the highest torque must meet S_Fmin, S_Hmin (default);"
                         " none: not computed (quicker looks)")
     p.add_argument("--flank", choices=("left", "right"), default="right", help="loaded flank pair (default right)")
-    p.add_argument("--positions", type=int, default=20, metavar="N", help="positions over a mesh cycle (default 20)")
+    p.add_argument("--positions", type=int, default=20, metavar="N", help=cycle_positions_help(20))
     p.add_argument("--pairs", type=int, default=3, metavar="K", help="neighbouring tooth pairs (default 3)")
     p.add_argument("--grid", default=None, metavar="ACROSSxALONG", help="contact cells per tooth pair (default 11x17)")
     p.add_argument("--tooth-model", choices=("fe", "plate"), default=None,

@@ -17,6 +17,7 @@ import math
 import numpy as np
 
 from .. import tca
+from ..mesh import cycle_positions_text
 from . import grid as grids
 from .cycle import Problem, Setup, merge, solve_many
 from .options import Material, Options
@@ -97,7 +98,7 @@ def _run(cases, options, material, teeth, body_notes=()):
         grids2.append(g._replace(along_half_mm=np.where(np.isfinite(reach), np.minimum(g.along_half_mm, reach),
                                                         g.along_half_mm)))
     sols = solve_all([Problem(s, g, nd, T) for (s, T), g, nd in zip(cases, grids2, need)])
-    notes = [list(body_notes) for _ in cases]
+    notes = [[cycle_positions_text(options.positions), *body_notes] for _ in cases]
     active = list(range(len(cases)))
     for attempt in range(grids.MAX_GROWTHS + 1):
         todo = []

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..plots import PINION_ANGLE_LABEL, pinion_angle_deg, pinion_angle_text
+
 PRESSURE_LABEL = "max pressure over the cycle (MPa)"
 
 
@@ -114,18 +116,18 @@ def ltca_summary(result, geom, out_png, title=""):
         sc, clipped = ltca_pattern(ax, result, geom, member)
         if sc is not None:
             _colorbar(fig, sc, ax, PRESSURE_LABEL, clipped)
-    phi = result.pinion_angle * 1e3
+    phi = pinion_angle_deg(result.pinion_angle)
     ax = axes[1, 0]
     ax.plot(phi, result.unloaded_te * 1e6, "--", color="0.5", label="unloaded (rigid) TE")
     ax.plot(phi, result.loaded_te * 1e6, "o-", ms=3, label=f"loaded TE, {result.torque_nm:g} N m")
-    ax.set_xlabel("pinion angle (mrad)")
+    ax.set_xlabel(PINION_ANGLE_LABEL)
     ax.set_ylabel("TE (urad)")
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
     ax = axes[1, 1]
     for k, pair in enumerate(result.tooth_pairs):
         ax.plot(phi, result.pair_load_n[:, k], "o-", ms=3, label=f"tooth pair {pair}")
-    ax.set_xlabel("pinion angle (mrad)")
+    ax.set_xlabel(PINION_ANGLE_LABEL)
     ax.set_ylabel("normal load (N)")
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
@@ -159,7 +161,7 @@ def position_maps(result, geom, out_png, title="", member="pinion"):
         on = (p > 0) & result.converged[j]
         q = pts[j][on]
         sc = ax.scatter(q[:, 2], np.hypot(q[:, 0], q[:, 1]), s=3, c=p[on], cmap="inferno_r", vmin=0, vmax=vmax, lw=0)
-        ax.set_title(f"{result.pinion_angle[j] * 1e3:.2f} mrad: {result.status[j]}", fontsize=8)
+        ax.set_title(f"{pinion_angle_text(result.pinion_angle[j], words=False)}: {result.status[j]}", fontsize=8)
         ax.tick_params(labelsize=6)
         if j % cols == 0:
             ax.set_ylabel("radius (mm)", fontsize=7)
@@ -187,7 +189,7 @@ def ltca_torques(results, geom, out_png, title=""):
             if sc is not None:
                 cb = _colorbar(fig, sc, ax, PRESSURE_LABEL, clipped, fraction=0.05, fontsize=6)
                 cb.ax.tick_params(labelsize=6)
-        phi = res.pinion_angle * 1e3
+        phi = pinion_angle_deg(res.pinion_angle)
         ax = axes[2, c]
         ax.plot(phi, res.unloaded_te * 1e6, "--", color="0.5", lw=1)
         ax.plot(phi, res.loaded_te * 1e6, "o-", ms=2)
@@ -200,7 +202,7 @@ def ltca_torques(results, geom, out_png, title=""):
             ax.plot(phi, res.pair_load_n[:, k], "o-", ms=2, label=f"pair {pair}")
         ax.set_title("pair normal load", fontsize=8)
         ax.set_ylabel("normal load (N)", fontsize=7)
-        ax.set_xlabel("pinion angle (mrad)", fontsize=8)
+        ax.set_xlabel(PINION_ANGLE_LABEL, fontsize=8)
         ax.tick_params(labelsize=7)
         ax.grid(alpha=0.3)
     axes[3, 0].legend(fontsize=7)

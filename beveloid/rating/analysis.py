@@ -12,6 +12,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..names import MEMBERS
+from ..plots import pinion_angle_text
 from ..tooth import sections
 from . import dynamic, iso6336, materials
 from .face_load import face_load
@@ -95,7 +96,7 @@ def loaded_contact(ltca_result, geometry, face_width_mm: float) -> LoadedContact
         j, k = np.unravel_index(int(np.nanargmax(surf)), surf.shape)
         phi = ltca_result.pinion_angle[ok][j]
         face = _patch_centre_face_z(geometry, ltca_result.flank, ltca_result.tangency_unknowns[ok][j, k])
-        where = (f"mesh cycle peak (pinion angle {phi * 1e3:.2f} mrad, tooth pair {int(ltca_result.tooth_pairs[k])}; "
+        where = (f"mesh cycle peak ({pinion_angle_text(phi)}, tooth pair {int(ltca_result.tooth_pairs[k])}; "
                  f"patch centre at face z {face['pinion']:.1f} mm on the pinion, {face['gear']:.1f} mm on the gear)")
     p_edge = float(np.nanmax(edge)) if np.isfinite(edge).any() else None
     loads = {m: face_load(ltca_result, geometry, m, face_width_mm) for m in MEMBERS}
@@ -298,7 +299,7 @@ class MemberRating:
         if w is None:
             return "mesh cycle peak"
         return (f"root fillet at face z {w['face_z_mm']:.1f} mm, {w['height_above_root_mm']:.2f} mm above the root "
-                f"cone (pinion angle {w['pinion_angle_rad'] * 1e3:.2f} mrad, tooth pair {w['tooth_pair']})")
+                f"cone ({pinion_angle_text(w['pinion_angle_rad'])}, tooth pair {w['tooth_pair']})")
 
     @property
     def safety_bending_iso(self) -> float:

@@ -20,6 +20,8 @@ import time
 
 import numpy as np
 
+from ..mesh import cycle_positions_text
+
 TORQUES_NM = (5.0, 200.0, 400.0, 600.0)  #: pinion torques
 POSITIONS = 8
 FIGURES = {"case1": "24", "case2": "25"}
@@ -123,8 +125,8 @@ def finish(out, parts, model):
              "the plate tooth (thin slices of the equivalent spur tooth with the plate's face coupling)")
     lines = ["## Loaded contact (Figs 24-25), approximate LTCA", "",
              "Pinion torques T1 (the captions of Figs 24-25 mix pinion and gear torque; here all are pinion "
-             f"torques, the gear torque is T2 = T1 N2/N1). Right flank, {POSITIONS} positions over one mesh cycle, "
-             f"its first and last one pitch apart ({POSITIONS - 1} distinct mesh states), the default grid (cells "
+             f"torques, the gear torque is T2 = T1 N2/N1). Right flank, {cycle_positions_text(POSITIONS)}, the "
+             "default grid (cells "
              "sized from each pair's Hertz semi-axes), steel. "
              "Pattern area: the share of the flank (between form limit, tip, toe and heel) that carries "
              "pressure somewhere in the cycle. Model and limits: docs/loaded_contact.md; checks: "

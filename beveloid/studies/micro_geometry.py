@@ -24,6 +24,8 @@ import warnings
 
 import numpy as np
 
+from ..mesh import cycle_positions_text
+
 DEG = math.pi / 180
 CASES = ("case1", "case2")
 FLANK = "right"
@@ -231,8 +233,8 @@ def _report(loaded, edge_rows, grid_rows, seconds):
          f"Both members: tip relief {tip['tip_relief_um']:g} um over {tip['tip_relief_height_mm']:g} m_n "
          f"({tip['tip_relief_shape']}); end relief {END_RELIEF['end_relief_um']:g} um over "
          f"{END_RELIEF['end_relief_length_mm']:g} of the face width ({END_RELIEF['end_relief_shape']}). "
-         f"LTCA: {FLANK} flank, {POSITIONS} positions over one mesh cycle (its first and last one pitch apart: "
-         f"{POSITIONS - 1} distinct mesh states), the plate tooth, {GRID[0]} x {GRID[1]} cells.", "",
+         f"LTCA: {FLANK} flank, {cycle_positions_text(POSITIONS)}, the plate tooth, {GRID[0]} x {GRID[1]} cells.",
+         "",
          "| case | flanks | T1 (N m) | max pressure (MPa) | loaded TE mean (urad) | loaded TE p-p (urad) | converged |",
          "|---|---|---|---|---|---|---|"]
     for (case, _), rows in loaded.items():

@@ -261,3 +261,94 @@ def test_pattern_colour_scale_is_the_surface_peak_not_the_edge_spike(geom1, load
         assert np.ma.max(sc.get_array()) > surface  # the raster itself keeps the spikes
     finally:
         plt.close(fig)
+
+
+@pytest.fixture
+def no_patterns(monkeypatch):
+    """The flank patterns (over (z, radius); the costly part of the LTCA's figures and table, 0.5 s a
+    member) left out: no pattern is drawn and the table's flank shares are "-"."""
+    from beveloid.ltca import plots
+    from beveloid.ltca.result import LTCAResult
+
+    monkeypatch.setattr(plots, "ltca_pattern", lambda *a, **k: (None, False))
+    monkeypatch.setattr(LTCAResult, "pattern", lambda *a, **k: type("Pattern", (), {"area_fraction": None})())
+
+
+@pytest.fixture
+def drawn_figures(monkeypatch):
+    """The figures beveloid.ltca.plots draws, kept open and not rendered (savefig records them)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
+
+    figs = []
+    monkeypatch.setattr(Figure, "savefig", lambda fig, *a, **k: figs.append(fig))
+    monkeypatch.setattr(Figure, "tight_layout", lambda fig, *a, **k: None)
+    yield figs
+    for fig in figs:
+        plt.close(fig)
+
+
+def test_the_pinion_angle_is_in_degrees_in_every_ltca_output(geom1, loaded200, tmp_path, drawn_figures, no_patterns):
+    """One unit for the pinion angle across the product: the LTCA figures' axes (labelled as the TCA
+    figures', their points at the angles in degrees), the per-position panels, the `ltca` table, the
+    rating's text and fe-check's line all say degrees, as the TCA figures do."""
+    from beveloid import plots as tca_plots
+    from beveloid.cli import fe_check
+    from beveloid.cli.ltca import format_summary
+    from beveloid.ltca import plots
+    from beveloid.rating.analysis import MemberRating, loaded_contact
+    from beveloid.spec import load_spec
+
+    r = loaded200
+    deg = np.degrees(r.pinion_angle)
+    plots.ltca_summary(r, geom1, tmp_path / "l.png")
+    plots.ltca_torques([r], geom1, tmp_path / "t.png")
+    angle_axes = [ax for fig in drawn_figures for ax in fig.axes if "pinion angle" in ax.get_xlabel()]
+    assert len(angle_axes) == 3  # the summary's TE and load sharing, the torques' load sharing
+    assert {ax.get_xlabel() for ax in angle_axes} == {tca_plots.PINION_ANGLE_LABEL} == {"pinion angle phi'_1 (deg)"}
+    for ax in angle_axes:
+        assert all(np.allclose(line.get_xdata(), deg) for line in ax.lines)
+    titles = [ax.get_title() for ax in drawn_figures[1].axes if ax.get_title()]  # the per-position panels
+    assert titles == [f"phi'_1 = {d:.2f} deg: {s}" for d, s in zip(deg, r.status)]
+
+    table = format_summary(r, geom1, load_spec(CASE1)).splitlines()
+    head = next(i for i, line in enumerate(table) if "status" in line)
+    assert table[head].split("  ")[0].strip() == tca_plots.PINION_ANGLE_LABEL
+    assert [float(row.split()[0]) for row in table[head + 1:head + 1 + len(deg)]] == pytest.approx(deg, abs=6e-4)
+
+    ok = r.converged
+    surf = r.pair_surface_max_pressure_mpa[ok]
+    j, k = np.unravel_index(int(np.nanargmax(surf)), surf.shape)
+    where = loaded_contact(r, geom1, geom1.pinion.face_width_mm).peak_where
+    assert f"(pinion angle phi'_1 = {deg[ok][j]:.2f} deg, tooth pair {r.tooth_pairs[k]};" in where
+    root = {"face_z_mm": 1.0, "height_above_root_mm": 2.0, "pinion_angle_rad": 0.1, "tooth_pair": 0}
+    assert "(pinion angle phi'_1 = 5.73 deg, tooth pair 0)" in MemberRating.root_stress_where.fget(
+        type("Member", (), {"root_stress_location": root})())
+    block = {"loaded_transmission_error_urad": None, "root_stress_max_mpa": {"pinion": None, "gear": None},
+             "moment_about_pinion_axis_nm": None}
+    line = fe_check.format_summary({"position": 3, "pinion_angle_rad": -0.05, "flank": "right", "torque_nm": 200.0,
+                                    "calculix_version": "2.21", "calculix": block, "ltca": block, "tooth_pairs": [],
+                                    "notes": [], "files": {}}).splitlines()[0]
+    assert line.startswith("fe-check at position 3 (pinion angle phi'_1 = -2.8648 deg), right flank")
+    assert not any("mrad" in text for text in (*table, where, line))
+
+
+def test_the_positions_span_one_cycle_and_the_output_says_how_many_states_they_are(geom1, loaded200, capsys,
+                                                                                   no_patterns):
+    """N positions over one mesh cycle include both its ends (one pitch apart: the same mesh state), so
+    they are N - 1 distinct states: the notes (the table's footer and JSON "notes") and --help say it."""
+    from beveloid.cli.ltca import format_summary
+    from beveloid.spec import load_spec
+
+    r = loaded200
+    assert r.pinion_angle[-1] - r.pinion_angle[0] == pytest.approx(geom1.pitch_angles[0], rel=1e-12)
+    note = "6 positions over one mesh cycle, its first and last one pitch apart (5 distinct mesh states)"
+    assert note in r.notes and f"note: {note}" in format_summary(r, geom1, load_spec(CASE1)).splitlines()
+    for command in ("ltca", "rating", "optimize"):
+        assert cli.main([command, "--help"]) == 0
+        text = " ".join(capsys.readouterr().out.split())
+        assert "--positions N" in text and "one mesh cycle, its first and last one pitch apart: N positions are " \
+                                           "N - 1 distinct mesh states (default" in text, command
