@@ -20,6 +20,7 @@ def configure(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     """Reproduce the paper into DIR (PNG, CSV, report.md): see the first line of --help."""
     from ..outputs import interrupted_note
+    from ..parallel import WorkLost
     from ..studies.paper import run as reproduce
     from .paths import check_output_dir
 
@@ -31,6 +32,9 @@ def run(args: argparse.Namespace) -> int:
     except KeyboardInterrupt:  # the files are moved into DIR only at the end (beveloid/studies/output.py)
         print(f"beveloid paper: {interrupted_note(args.out, '--out')}", file=sys.stderr, flush=True)
         raise
+    except WorkLost as exc:  # a worker process died (killed by the out-of-memory killer, say): one line, exit 1
+        print(f"beveloid paper: error: {exc}; {interrupted_note(args.out, '--out')}", file=sys.stderr, flush=True)
+        return 1
     except OSError as exc:
         if exc.filename is None:  # not a file of DIR (e.g. a closed stdout): the CLI reports it
             raise

@@ -9,9 +9,15 @@ micro-geometry) while the main process waits for them and writes the report.
 
 * ``workers=1``: each piece runs in this process when its result is asked for (the same code).
 * ``workers=N``: a pool of N spawned processes (:mod:`multiprocessing`, ``spawn``: no state shared
-  with this one).  Each runs numba and the BLAS / MKL libraries on one thread: the processes are the
-  parallelism.  The workers ignore SIGINT: Ctrl-C reaches this process (the terminal sends it to
-  every process of the group), which ends the workers (``terminate``) and passes the interrupt on.
+  with this one), all started when the ``with`` block is entered.  Each runs numba and the BLAS / MKL
+  libraries on one thread: the processes are the parallelism.  The workers ignore SIGINT: Ctrl-C
+  reaches this process (the terminal sends it to every process of the group), which ends the workers
+  (``terminate``) and passes the interrupt on.
+* A worker that dies (killed by the out-of-memory killer, say) takes its piece with it, and a
+  ``multiprocessing.Pool`` would wait for that piece forever: while this process waits for a result
+  it checks every half second that the workers are alive, and raises
+  :class:`beveloid.parallel.WorkLost` naming the worker (its pid and how it ended) and the piece it
+  was running.  The ``with`` block then ends the other workers.
 
 The pieces depend only on their arguments, never on the number of workers: one worker and N give
 the same files and report.  (beveloid/parallel.py runs chunks of one function, results as they
@@ -38,11 +44,39 @@ def say(msg) -> None:
     sys.stderr.flush()
 
 
-def _worker_start() -> None:
+#: a worker's end of the queue on which it says which piece it starts (set by :func:`_worker_start`)
+_started = None
+
+
+def _worker_start(started) -> None:
+    global _started
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the main process's to handle
     from ..parallel import single_threaded
 
+    _started = started
     single_threaded()
+
+
+def _piece_name(fn, args) -> str:
+    """A piece in words for the message of a lost worker: ``module.function(args)``, shortened."""
+    text = f"{fn.__module__}.{fn.__qualname__}({', '.join(map(repr, args))})"
+    return text if len(text) <= 120 else text[:117] + "..."
+
+
+def _run_piece(fn, args):
+    """In a worker: say which piece this process starts (its pid and the piece), then run it."""
+    _started.put((os.getpid(), _piece_name(fn, args)))
+    return fn(*args)
+
+
+def _how_it_ended(exitcode: int) -> str:
+    if exitcode < 0:
+        try:
+            name = signal.Signals(-exitcode).name
+        except ValueError:
+            name = f"signal {-exitcode}"
+        return f"was killed by {name}" + (" (as the out-of-memory killer does)" if -exitcode == signal.SIGKILL else "")
+    return f"exited with status {exitcode}"
 
 
 class _Now:
@@ -65,6 +99,10 @@ class Tasks:
     def __init__(self, workers: int = 1):
         self.workers = max(1, int(workers))
         self._pool = None
+        self._processes = []  # the pool's worker processes as started
+        self._started = None  # the queue on which they say which piece they start
+        self._running = {}  # pid -> the piece that worker started last
+        self._pending = []  # the handles submitted
 
     def __enter__(self):
         if self.workers > 1:
@@ -75,8 +113,13 @@ class Tasks:
             # at the terminal prints no traceback from a worker that is still starting
             ignore = threading.current_thread() is threading.main_thread()
             handler = signal.signal(signal.SIGINT, signal.SIG_IGN) if ignore else None
+            ctx = multiprocessing.get_context("spawn")
             try:
-                self._pool = multiprocessing.get_context("spawn").Pool(self.workers, initializer=_worker_start)
+                before = set(multiprocessing.active_children())
+                self._started = ctx.SimpleQueue()
+                # the pool starts its processes here, under this SIGINT disposition and environment
+                self._pool = ctx.Pool(self.workers, initializer=_worker_start, initargs=(self._started,))
+                self._processes = [p for p in multiprocessing.active_children() if p not in before]
             finally:
                 if ignore:
                     signal.signal(signal.SIGINT, handler)
@@ -88,29 +131,69 @@ class Tasks:
         return self
 
     def __exit__(self, exc_type, *exc):
-        if self._pool is not None:
-            if exc_type is None:
-                self._pool.close()
-            else:  # Ctrl-C or an error: the pieces still running are abandoned
-                self._pool.terminate()
-            self._pool.join()
+        if self._pool is None:
+            return False
+        if exc_type is not None:  # Ctrl-C, an error or a lost worker: the pieces still running are abandoned
+            self._stop()
+            return False
+        try:
+            for handle in self._pending:  # the pieces not asked for: waited for as get() waits (a lost worker raises)
+                handle.wait()
+        except BaseException:
+            self._stop()
+            raise
+        self._pool.close()
+        self._pool.join()
         return False
 
+    def _stop(self) -> None:
+        self._pool.terminate()
+        self._pool.join()
+
     def submit(self, fn, *args):
-        """A handle whose ``get()`` returns ``fn(*args)`` (raises what it raised)."""
+        """A handle whose ``get()`` returns ``fn(*args)`` (raises what it raised, and
+        :class:`~beveloid.parallel.WorkLost` if a worker process died)."""
         if self._pool is None:
             return _Now(fn, args)
-        return _Remote(self._pool.apply_async(fn, args))
+        handle = _Remote(self, self._pool.apply_async(_run_piece, (fn, args)))
+        self._pending.append(handle)
+        self._read_started()
+        return handle
+
+    def _read_started(self) -> None:
+        """The workers' "piece started" lines so far (read often: the pipe holds some 400 of them)."""
+        while not self._started.empty():
+            pid, name = self._started.get()
+            self._running[pid] = name
+
+    def check_workers(self) -> None:
+        """Raise :class:`~beveloid.parallel.WorkLost` if a worker process has ended: the piece it was
+        running is lost, and the pool would wait for it forever."""
+        from ..parallel import WorkLost
+
+        self._read_started()  # (also keeps the pipe from filling)
+        dead = [p for p in self._processes if p.exitcode is not None]
+        if not dead:
+            return
+        self._read_started()  # what it said before it died
+        p = dead[0]
+        piece = self._running.get(p.pid)
+        raise WorkLost(f"a worker process (pid {p.pid}) {_how_it_ended(p.exitcode)} "
+                       + (f"while running {piece}" if piece else "before it started a piece"))
 
 
 class _Remote:
-    def __init__(self, result):
-        self._result = result
+    def __init__(self, tasks, result):
+        self._tasks, self._result = tasks, result
+
+    def wait(self) -> None:
+        while True:  # in steps: a Ctrl-C (or one that numba swallowed) and a lost worker are seen while waiting
+            interrupts.check()
+            self._result.wait(timeout=0.5)
+            if self._result.ready():
+                return
+            self._tasks.check_workers()
 
     def get(self):
-        while True:  # in steps: a Ctrl-C (or one that numba swallowed) is seen while waiting
-            interrupts.check()
-            try:
-                return self._result.get(timeout=0.5)
-            except multiprocessing.TimeoutError:
-                continue
+        self.wait()
+        return self._result.get()

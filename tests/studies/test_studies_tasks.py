@@ -4,21 +4,62 @@ from __future__ import annotations
 
 import math
 import os
+import re
+import signal
 
 import pytest
 
 from beveloid.studies import loaded, tasks
 
+#: a hang guard, not a time limit: the workers start in about a second
+HANG_GUARD_S = 120
 
-def test_pieces_give_the_same_results_on_workers_and_errors_come_back():
-    with tasks.Tasks(2) as pool:
-        far = pool.submit(math.hypot, 3.0, 4.0)
-        bad = pool.submit(math.sqrt, -1.0)
-        threads = pool.submit(os.getenv, "OMP_NUM_THREADS")
-        assert far.get() == 5.0 == tasks.Tasks(1).submit(math.hypot, 3.0, 4.0).get()
-        with pytest.raises(ValueError):
-            bad.get()
-        assert threads.get() == "1"  # the processes are the parallelism
+
+def _die():
+    """A piece whose worker process is killed, as the out-of-memory killer kills it (SIGKILL)."""
+    os.kill(os.getpid(), signal.SIGKILL)
+
+
+def _hang(signum, frame):
+    raise AssertionError(f"no answer within the hang guard ({HANG_GUARD_S} s): waiting for a lost piece")
+
+
+def test_pieces_give_the_same_results_on_workers_errors_come_back_and_a_killed_worker_is_one_line(
+        tmp_path, monkeypatch, capsys):
+    """Pieces on two worker processes give what they give here and raise what they raise; a worker killed
+    while it runs a piece (multiprocessing.Pool alone would wait for that piece forever) ends `beveloid
+    paper` with one line naming the worker and its piece, exit 1, nothing written."""
+    from beveloid import cli
+    from beveloid.studies import paper
+
+    def run(out, **kw):  # `beveloid paper`'s run, its pieces these
+        with tasks.Tasks(2) as pool:
+            far = pool.submit(math.hypot, 3.0, 4.0)
+            bad = pool.submit(math.sqrt, -1.0)
+            threads = pool.submit(os.getenv, "OMP_NUM_THREADS")
+            assert far.get() == 5.0 == tasks.Tasks(1).submit(math.hypot, 3.0, 4.0).get()
+            with pytest.raises(ValueError):
+                bad.get()
+            assert threads.get() == "1"  # the processes are the parallelism
+            lost = pool.submit(_die)
+            ran.append(True)
+            lost.get()
+
+    ran = []
+    monkeypatch.setattr(paper, "run", run)
+    old = signal.signal(signal.SIGALRM, _hang)
+    signal.alarm(HANG_GUARD_S)
+    try:
+        rc = cli.main(["paper", "--out", str(tmp_path / "out")])
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, old)
+    err = capsys.readouterr().err
+    assert ran and rc == 1 and len(err.splitlines()) == 1, err
+    assert re.fullmatch(r"beveloid paper: error: a worker process \(pid \d+\) was killed by SIGKILL \(as the "
+                        r"out-of-memory killer does\) while running \S*test_studies_tasks\._die\(\); --out = \S+: "
+                        r"nothing written \(the folder, made by this run, is removed\)\n", err), err
+    assert not (tmp_path / "out").exists()
 
 
 def test_the_fe_teeth_not_cached_are_submitted_each_announced_with_its_progress(tmp_path, monkeypatch, capsys):
