@@ -31,6 +31,9 @@ from beveloid.spec import KEY_DOCS, example_text
 
 CASE1 = tomllib.loads((Path(__file__).resolve().parents[2] / "examples" / "case1.toml").read_text())
 SECONDS_PER_EXAMPLE = 30  # a hang guard, not a performance target (an example takes well under 1 s)
+#: commands whose example may take longer: the solids, and the loaded path with its FE tooth (its mesh
+#: and factorisation, a few seconds quiet, passed 30 s at a load average of 9 on 2 cores)
+GUARD_FACTOR = {"export": 6, "ltca": 6, "rating": 6}
 
 # ------------------------------------------------------------------------------------ values
 
@@ -214,14 +217,14 @@ class _Hang(Exception):
 
 
 def _alarm(signum, frame):
-    raise _Hang(f"no answer within the hang guard ({SECONDS_PER_EXAMPLE} s, an export six times that)")
+    raise _Hang(f"no answer within the hang guard ({SECONDS_PER_EXAMPLE} s; {', '.join(GUARD_FACTOR)}: six times that)")
 
 
 def _call(argv):
     out, err = io.StringIO(), io.StringIO()
     old = signal.signal(signal.SIGALRM, _alarm)
     # an export of a long or pointed tooth refines its mesh for a while: a hang guard, not a time limit
-    signal.alarm(SECONDS_PER_EXAMPLE * (6 if argv and argv[0] == "export" else 1))
+    signal.alarm(SECONDS_PER_EXAMPLE * GUARD_FACTOR.get(argv[0] if argv else "", 1))
     try:
         with warnings.catch_warnings(record=True) as caught, contextlib.redirect_stdout(out), \
                 contextlib.redirect_stderr(err):
