@@ -28,8 +28,6 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from . import curvature
-from .generated import flank_boundaries, tca_kernels
-from .solver.chord import ChordFrame
 from .solver.core import GEAR_ANGLE, GEAR_L, GEAR_U, PINION_L, PINION_U
 from .solver.records import ChordRequest
 from .status import Status, carries_numbers
@@ -40,8 +38,9 @@ DEFAULT_APPROACH_MM = 0.00632
 FLAT_RATIO = 1e-9
 APPROACH_RANGE_MM = (1e-6, 1.0)
 STATUSES = ("ellipse", "line contact", "no ellipse", "no contact")
-_BISECTIONS = 30
-_SAMPLES = 40
+#: the chord search's samples along the cap and its halvings of the last bracket
+CHORD_SAMPLES = 40
+CHORD_BISECTIONS = 30
 
 
 def check_approach(approach_mm, name="--approach-um", scale=1e3, unit="um"):
@@ -109,88 +108,21 @@ def _member_frames(geom, x, pinion_angle, errors):
             "gear": MemberFrame(rotation=p2.rotation, translation=p2.translation, l=x[:, GEAR_L], u=x[:, GEAR_U])}
 
 
-def _over_tangent(geom, which, flank, frame: ChordFrame, l, u, target, iters=8):
-    """(l, u) and member-frame point of the flank point whose tangent-plane coordinates about
-    frame.origin P0 (basis rows frame.basis E, S_f; the member placed by frame.rotation L and
-    frame.translation t, all (n, ...)) are ``target`` (n, 2); Newton from (l, u)."""
-    m = geom.member(which)
-    params = geom.surface_params(which)
-    L, t, P0, E = frame.rotation, frame.translation, frame.origin, frame.basis
-    Ei = E @ L  # basis in S_i
-    P0i = np.einsum("nji,nj->ni", L, P0 - t)
-    for _ in range(iters):
-        jet = tca_kernels.surface_jet(m.tooth_surface, flank, l, u, params)
-        r = np.einsum("nai,ni->na", Ei, jet.point - P0i) - target
-        J = Ei @ jet.point_D_lu
-        with np.errstate(all="ignore"):
-            d = np.linalg.solve(J, -r[..., None])[..., 0]
-        d = np.where(np.isfinite(d), d, 0.0)
-        l, u = l + d[:, 0], u + d[:, 1]
-    return l, u, tca_kernels.surface(m.tooth_surface, flank, l, u, params).point
-
-
-def _min_margin(geom, which, point, l):
-    return flank_boundaries.flank_margins(point, l, geom.member(which).blank()).margins.min(axis=-1)
-
-
-def _chord(geom, flank, frames, P0, E, v2, cap):
-    """Distance (n,) along tangent direction v2 (n, 2) from the contact to the first flank
-    boundary of either member, at most cap (n,)."""
-    n = P0.shape[0]
-    out = cap.copy()
-    for which, member in frames.items():
-        l0, u0 = member.l, member.u
-        frame = ChordFrame(rotation=member.rotation, translation=member.translation, origin=P0, basis=E)
-        start = _min_margin(geom, which, _over_tangent(geom, which, flank, frame, l0, u0, 0 * v2)[2], l0)
-        thr = np.minimum(start, 0.0) - 1e-9  # an 'edge' contact may sit just outside
-        s_lo = np.zeros(n)
-        s_hi = np.full(n, np.inf)
-        l, u = l0.copy(), u0.copy()
-        lo_lu = (l.copy(), u.copy())
-        for s in np.linspace(0, 1, _SAMPLES + 1)[1:]:
-            open_ = ~np.isfinite(s_hi)
-            l, u, p = _over_tangent(geom, which, flank, frame, l, u, (s * cap)[:, None] * v2, iters=4)
-            bad = (_min_margin(geom, which, p, l) < thr) & open_
-            s_hi = np.where(bad, s * cap, s_hi)
-            keep = open_ & ~bad
-            s_lo = np.where(keep, s * cap, s_lo)
-            lo_lu = (np.where(keep, l, lo_lu[0]), np.where(keep, u, lo_lu[1]))
-        found = np.isfinite(s_hi)
-        if found.any():
-            lo, hi = s_lo.copy(), np.where(found, s_hi, cap)
-            ll, uu = lo_lu
-            for _ in range(_BISECTIONS):
-                mid = 0.5 * (lo + hi)
-                l2, u2, p = _over_tangent(geom, which, flank, frame, ll, uu, mid[:, None] * v2, iters=4)
-                inside = _min_margin(geom, which, p, l2) >= thr
-                lo, hi = np.where(inside, mid, lo), np.where(inside, hi, mid)
-                ll, uu = np.where(inside, l2, ll), np.where(inside, u2, uu)
-            out = np.where(found, np.minimum(out, lo), out)
-    return out
-
-
-def chord_kernel(solver):
-    """The compiled solver's chord search, or None: on the numpy backend, and where numba runs
-    interpreted (NUMBA_DISABLE_JIT=1: one point at a time in Python would be slower than numpy).
-    ``solver``: a :class:`beveloid.solver.Solver`."""
-    if not solver.compiled:
-        return None
-    kernel = solver.core.ellipse_chords
-    return kernel if hasattr(kernel, "py_func") else None
-
-
-def _compiled_chord(kernel, geom, flank, frames, P0, E, v2, cap):
-    """:func:`_chord` by the compiled solver's ``kernel`` (the same search, one point at a time)."""
+def chords(geom, flank, frames, points, bases, directions, caps, solver):
+    """Distances (n,) from the contacts ``points`` (n, 3) along the tangent directions ``directions``
+    (n, 2) in the bases ``bases`` (n, 2, 3) to the first flank boundary of either member, each at most
+    ``caps`` (n,): the solver core's chord search (:func:`beveloid.solver.chord.ellipse_chords`) on
+    ``solver``'s backend.  ``frames``: each member's :class:`MemberFrame` at the contacts."""
     members = ("pinion", "gear")
-    out = np.empty(P0.shape[0])
+    out = np.empty(points.shape[0])
     c = np.ascontiguousarray
     request = ChordRequest(
         rotations=c(np.stack([frames[w].rotation for w in members]), dtype=float),
         translations=c(np.stack([frames[w].translation for w in members]), dtype=float),
         start_lu=c(np.stack([np.stack((frames[w].l, frames[w].u), axis=-1) for w in members]), dtype=float),
-        points=c(P0, dtype=float), bases=c(E, dtype=float), directions=c(v2, dtype=float), caps=c(cap, dtype=float),
-        samples=np.linspace(0, 1, _SAMPLES + 1)[1:], bisections=_BISECTIONS)
-    kernel(geom.problem(flank), request, out)
+        points=c(points, dtype=float), bases=c(bases, dtype=float), directions=c(directions, dtype=float),
+        caps=c(caps, dtype=float), samples=np.linspace(0, 1, CHORD_SAMPLES + 1)[1:], bisections=CHORD_BISECTIONS)
+    solver.core.ellipse_chords(geom.problem(flank), request, out)
     return out
 
 
@@ -205,8 +137,8 @@ def ellipses(geom, flank, x, pinion_angle, errors, valid=None, approach_mm=DEFAU
              solver=None) -> ContactEllipses:
     """Contact ellipses at solved contacts x (n, 5) (tca_kernels.UNKNOWNS) for pinion angles (n,)
     and errors (5,) or (n, 5); ``valid`` (n,) marks the points that are contacts.  The chords are
-    searched by the compiled solver when ``solver`` (a :class:`beveloid.solver.Solver`, None: the
-    default) is compiled (else vectorised numpy)."""
+    searched by the solver core on ``solver``'s backend (a :class:`beveloid.solver.Solver`, None: the
+    default)."""
     from .solver import Solver
 
     solver = Solver.of(solver)
@@ -238,10 +170,9 @@ def ellipses(geom, flank, x, pinion_angle, errors, valid=None, approach_mm=DEFAU
     if has_axis.any():
         idx = np.nonzero(has_axis)[0]
         frames = {k: fr.rows(idx) for k, fr in _member_frames(geom, xs, phi1, errors).items()}
-        kernel = chord_kernel(solver)
         for col, sign in ((0, -1.0), (1, 1.0)):
-            args = (geom, flank, frames, rc.point[idx], rc.basis[idx], sign * v2[idx], cap[idx])
-            trunc[idx, col] = _chord(*args) if kernel is None else _compiled_chord(kernel, *args)
+            trunc[idx, col] = chords(geom, flank, frames, rc.point[idx], rc.basis[idx], sign * v2[idx], cap[idx],
+                                     solver)
     return ContactEllipses(approach_mm, np.array(errors), [str(s) for s in status], np.stack([a, b], axis=-1), ang,
                            np.where(has_axis[:, None], major, np.nan), trunc, lam, rc.point, rc.basis)
 

@@ -1,6 +1,5 @@
-"""Chords of the contact ellipses' major axes inside both flanks, one point at a time (the
-compiled twin of the vectorised search in :mod:`beveloid.contact_ellipse`; the same steps in the
-same order, so the two give the same chords to round-off).
+"""Chords of the contact ellipses' major axes inside both flanks, one point at a time: the one
+chord search, on either backend (:mod:`beveloid.contact_ellipse` builds its request).
 
 From the contact P0 (S_f) along the tangent direction v (in the basis E of the tangent plane),
 each member's flank point whose tangent-plane coordinates about P0 are ``s v`` is found by Newton

@@ -13,8 +13,8 @@ from beveloid.tca import flank as tca_flank
 @pytest.mark.usefixtures("compiled_solver")
 def test_the_ellipses_chord_search_gets_the_analysis_solver(pair1, monkeypatch):
     seen = []
-    real = contact_ellipse.chord_kernel
-    monkeypatch.setattr(contact_ellipse, "chord_kernel", lambda solver: seen.append(solver) or real(solver))
+    real = contact_ellipse.chords
+    monkeypatch.setattr(contact_ellipse, "chords", lambda *a: seen.append(a[-1]) or real(*a))
     solver = Solver("numpy", SolverOptions(tol_mm=1e-11))
     tca.analyze(pair1, tca.Options(flanks=("right",), positions=3), solver)
     assert seen and all(s is solver for s in seen)
