@@ -2,16 +2,29 @@
 
 * no function or method of beveloid/ takes more than MAX_PARAMETERS parameters (self and cls not
   counted; generated code excluded): a longer list is a record to pass (beveloid/solver/records.py);
-* every package of beveloid/ declares its public surface in ``__all__``, and every name there exists.
+* every package of beveloid/ declares its public surface in ``__all__``, and every name there exists;
+* MEMBERS and FLANKS are defined in beveloid/names.py only; below cli/ a function takes a Solver, not a
+  backend name; no code object is cloned; tooth/ imports none of the packages that build on it;
+* the layers: every unit of the runtime (package, top-level module, generated/) has one layer in
+  docs/architecture.md (its lines ``layer N  unit ...``), no import runs up the layers, no units import
+  each other round a loop; derivations/ imports nothing of the runtime but generated/; the runtime never
+  imports sympy and reaches derivations/ only from cli/derive.py and cli/verify.py; no private name
+  crosses a package; the solver imports only itself, the generated kernels and the status codes.
 
-Functions and packages that other work items still have to bring under the rules are listed
+An import inside a function counts as one at module level (it runs all the same); a module loaded by
+``importlib`` from a string is not seen.
+
+Functions, files and packages that other work items still have to bring under the rules are listed
 by name below (PENDING_*): each entry must still exist and still break the rule, so a fix
 fails this test until its entry is removed, and nothing new can join the lists unseen.
 """
 from __future__ import annotations
 
 import ast
+import functools
 import importlib
+import re
+import typing
 from pathlib import Path
 
 import pytest
@@ -29,11 +42,20 @@ PENDING_PARAMETERS: set = {
 PENDING_ALL: set = set()
 
 
-def _sources():
-    for path in sorted(PACKAGE.rglob("*.py")):
+@functools.lru_cache(maxsize=None)
+def _parsed(folder: str) -> tuple:
+    """(file relative to the checkout, its ast) of every module under ``folder``, generated code excluded:
+    parsed once for every rule below."""
+    out = []
+    for path in sorted((ROOT / folder).rglob("*.py")):
         if "generated" in path.relative_to(ROOT).parts:
             continue
-        yield path.relative_to(ROOT).as_posix(), ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
+        out.append((path.relative_to(ROOT).as_posix(), ast.parse(path.read_text(encoding="utf-8"), filename=str(path))))
+    return tuple(out)
+
+
+def _sources():
+    yield from _parsed("beveloid")
 
 
 def parameter_names(node: ast.FunctionDef | ast.AsyncFunctionDef) -> list[str]:
@@ -195,3 +217,201 @@ def _absolute(rel: str, node: ast.ImportFrom) -> str:
     parts = rel[:-3].split("/")
     base = parts[: len(parts) - node.level]
     return ".".join(base + ([node.module] if node.module else []))
+
+
+# ---------------------------------------------------------------------------------------------
+# the layers of docs/architecture.md, imports and names across packages
+# ---------------------------------------------------------------------------------------------
+
+ARCHITECTURE = ROOT / "docs" / "architecture.md"
+#: (file, the unit it imports) that runs up the layers, owned by other work items
+PENDING_UPWARD = {
+    ("beveloid/spec/validate.py", "rating/"),  # the hardness check of a spec reads rating/materials.py
+    ("beveloid/ltca/plots.py", "plots.py"),  # the LTCA's figures draw the flank outline of the top-level plots
+}
+#: groups of units that import each other (an import cycle between packages), owned by other work items
+PENDING_PACKAGE_CYCLES = {frozenset({"spec/", "rating/"})}
+#: files of derivations/ that import the runtime (beyond beveloid.generated)
+PENDING_DERIVATIONS_RUNTIME = {"derivations/user_model.py"}  # it builds a Pair to check a user model
+#: (file, name) importing a private name of another package, owned by other work items
+PENDING_PRIVATE_IMPORTS = {("beveloid/optimize/report.py", "_plt"), ("beveloid/optimize/report.py", "_colorbar")}
+#: what the solver core may import of the package: itself, the generated kernels and the status codes
+SOLVER_IMPORTS = {"solver/", "generated/", "status.py"}
+#: (file, unit) of solver/ importing more, owned by other work items
+PENDING_SOLVER_IMPORTS = {("beveloid/solver/patch_cover.py", "errors.py")}  # UnboundedPatch is a UserError
+#: the only modules of beveloid/ that reach derivations/ (sympy): inside their ``run``
+DERIVATIONS_CALLERS = {"beveloid/cli/derive.py", "beveloid/cli/verify.py"}
+
+
+class Import(typing.NamedTuple):
+    file: str  # relative to the checkout
+    line: int
+    module: str  # absolute
+    name: str | None  # of ``from module import name``
+    in_function: bool
+
+
+def only_pending(found: dict, pending: set, rule: str, name: str) -> None:
+    """``found`` ({finding: where, said in a few words}) breaks ``rule`` only in the entries of the
+    pending list ``name`` (``pending``), and each of those still breaks it."""
+    new = [where for key, where in sorted(found.items(), key=lambda kv: str(kv[0])) if key not in pending]
+    assert not new, f"{rule}: {new}"
+    fixed = pending - set(found)
+    assert not fixed, f"these keep the rule ({rule}) now: remove them from {name}: {sorted(map(str, fixed))}"
+
+
+def _scoped(node, in_function=False):
+    """Every node below ``node`` with whether it lies inside a function."""
+    for child in ast.iter_child_nodes(node):
+        yield child, in_function
+        yield from _scoped(child, in_function or isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef)))
+
+
+@functools.lru_cache(maxsize=None)
+def _imports(folder: str) -> tuple:
+    out = []
+    for rel, tree in _parsed(folder):
+        for node, in_function in _scoped(tree):
+            if isinstance(node, ast.Import):
+                out += [Import(rel, node.lineno, a.name, None, in_function) for a in node.names]
+            elif isinstance(node, ast.ImportFrom):
+                out += [Import(rel, node.lineno, _absolute(rel, node), a.name, in_function) for a in node.names]
+    return tuple(out)
+
+
+def _unit(module: str) -> str | None:
+    """The unit of an absolute module name: "tca/" (beveloid.tca and its modules), "pair.py", "generated/"
+    (beveloid.generated, or generated in a checkout), "derivations/"; None outside the package and for
+    names of the root package itself (``__version__``)."""
+    parts = module.split(".")
+    if parts[0] in ("generated", "derivations"):
+        return parts[0] + "/"
+    if parts[0] != "beveloid" or len(parts) == 1:
+        return None
+    if parts[1] in ("generated", "derivations") or (PACKAGE / parts[1] / "__init__.py").is_file():
+        return parts[1] + "/"
+    return f"{parts[1]}.py" if (PACKAGE / f"{parts[1]}.py").is_file() else None
+
+
+def _target(imp: Import) -> str | None:
+    """The unit an import reaches (``from beveloid import tca``: tca/, not the root package)."""
+    return _unit(f"{imp.module}.{imp.name}") if imp.module == "beveloid" and imp.name else _unit(imp.module)
+
+
+def _unit_of_file(rel: str) -> str | None:
+    return _unit(rel[:-3].replace("/", ".").removesuffix(".__init__"))
+
+
+def _runtime_units() -> set:
+    """generated/, every package of beveloid/ and every top-level module but __init__.py."""
+    packages = {p.parent.name + "/" for p in PACKAGE.glob("*/__init__.py")}
+    modules = {p.name for p in PACKAGE.glob("*.py") if p.name != "__init__.py"}
+    return packages | modules | {"generated/"}
+
+
+def layers() -> dict:
+    """{unit: layer} from the lines ``layer N  unit unit ...`` of docs/architecture.md."""
+    out = {}
+    for line in ARCHITECTURE.read_text(encoding="utf-8").splitlines():
+        m = re.match(r"layer (\d+) +(\S.*)$", line)
+        if m:
+            for unit in m.group(2).split():
+                assert unit not in out, f"docs/architecture.md puts {unit} in two layers"
+                out[unit] = int(m.group(1))
+    return out
+
+
+def test_architecture_places_every_unit_of_the_runtime_in_one_layer():
+    placed, units = set(layers()), _runtime_units()
+    assert units - placed == set(), f"give these a layer in docs/architecture.md: {sorted(units - placed)}"
+    assert placed - units == set(), f"docs/architecture.md places what does not exist: {sorted(placed - units)}"
+
+
+def test_no_import_runs_up_the_layers():
+    """A unit imports units of its own layer or below (in a function too: it runs all the same)."""
+    layer = layers()
+    found = {}
+    for imp in _imports("beveloid"):
+        src, dst = _unit_of_file(imp.file), _target(imp)
+        if src in layer and dst in layer and layer[dst] > layer[src]:
+            found.setdefault((imp.file, dst), f"{imp.file}:{imp.line} imports {dst}")
+    only_pending(found, PENDING_UPWARD, "no import runs up the layers of docs/architecture.md", "PENDING_UPWARD")
+
+
+def _unit_graph() -> dict:
+    graph = {}
+    for imp in _imports("beveloid"):
+        src, dst = _unit_of_file(imp.file), _target(imp)
+        if src and dst and src != dst:
+            graph.setdefault(src, {}).setdefault(dst, f"{imp.file}:{imp.line}")
+    return graph
+
+
+def _cycles(graph: dict) -> set:
+    """The groups of nodes that reach each other (strongly connected, more than one node)."""
+    reach = {}
+    for start in graph:
+        seen, todo = set(), [start]
+        while todo:
+            for nxt in graph.get(todo.pop(), ()):
+                if nxt not in seen:
+                    seen.add(nxt)
+                    todo.append(nxt)
+        reach[start] = seen
+    return {frozenset({a} | {b for b in reach[a] if a in reach.get(b, ())}) for a in graph if a in reach[a]}
+
+
+def test_the_cycle_finder_finds_a_cycle_and_only_it():
+    assert _cycles({"a": {"b": ""}, "b": {"c": ""}, "c": {"a": ""}, "d": {"a": ""}}) == {frozenset("abc")}
+    assert _cycles({"a": {"b": ""}, "b": {}}) == set()
+
+
+def test_no_import_cycle_between_packages():
+    """No two units import each other, directly or round a loop (between modules: tests/docs/test_docs_checkout.py)."""
+    graph = _unit_graph()
+    found = {c: ", ".join(f"{a} -> {b} ({graph[a][b]})" for a in sorted(c) for b in sorted(c) if b in graph.get(a, ()))
+             for c in _cycles(graph)}
+    only_pending(found, PENDING_PACKAGE_CYCLES, "no import cycle between units", "PENDING_PACKAGE_CYCLES")
+
+
+def test_derivations_do_not_import_the_runtime():
+    """derivations/ (sympy, build time) reads nothing of beveloid/ but the kernels it generated."""
+    found = {}
+    for imp in _imports("derivations"):
+        dst = _target(imp)
+        if dst is not None and dst not in ("generated/", "derivations/"):
+            found.setdefault(imp.file, f"{imp.file}:{imp.line} imports {dst}")
+    only_pending(found, PENDING_DERIVATIONS_RUNTIME, "derivations/ imports nothing of the runtime",
+                 "PENDING_DERIVATIONS_RUNTIME")
+
+
+def test_the_runtime_never_imports_sympy_and_reaches_derivations_only_from_derive_and_verify():
+    bad = []
+    for imp in _imports("beveloid"):
+        if imp.module.split(".")[0] == "sympy":
+            bad.append(f"{imp.file}:{imp.line} imports sympy")
+        elif _target(imp) == "derivations/" and not (imp.file in DERIVATIONS_CALLERS and imp.in_function):
+            bad.append(f"{imp.file}:{imp.line} imports {imp.module} (only {sorted(DERIVATIONS_CALLERS)}, in a function)")
+    assert not bad, bad
+    assert {i.file for i in _imports("beveloid") if _target(i) == "derivations/"} == DERIVATIONS_CALLERS
+
+
+def test_no_private_name_crosses_a_package():
+    """``from x import _name`` only within a unit: a private name is not another package's to use."""
+    found = {}
+    for imp in _imports("beveloid"):
+        if imp.name and imp.name.startswith("_") and not imp.name.startswith("__"):
+            if _target(imp) not in (None, _unit_of_file(imp.file)):
+                found.setdefault((imp.file, imp.name), f"{imp.file}:{imp.line} imports {imp.name} of {_target(imp)}")
+    only_pending(found, PENDING_PRIVATE_IMPORTS, "no private name crosses a package", "PENDING_PRIVATE_IMPORTS")
+
+
+def test_the_solver_imports_only_itself_the_generated_kernels_and_the_status_codes():
+    found = {}
+    for imp in _imports("beveloid"):
+        if imp.file.startswith("beveloid/solver/"):
+            dst = _target(imp)
+            if dst is not None and dst not in SOLVER_IMPORTS:
+                found.setdefault((imp.file, dst), f"{imp.file}:{imp.line} imports {dst}")
+    only_pending(found, PENDING_SOLVER_IMPORTS, f"the solver imports only {sorted(SOLVER_IMPORTS)}",
+                 "PENDING_SOLVER_IMPORTS")
