@@ -6,6 +6,7 @@
     python -m benchmarks.bench_fe_tooth compare               # FE vs plate, case 1 and case 2
     python -m benchmarks.bench_fe_tooth startup               # cached FE start-up vs the plate
     python -m benchmarks.bench_fe_tooth meshes [1 2 3]        # case 1 pinion mesh sizes
+    python -m benchmarks.bench_fe_tooth locate                # how far the load / reading points lie outside the mesh
 
 Not a test.  ``cost`` and ``convergence`` compute the FE data into a fresh cache folder of their own
 (removed at the end); ``compare`` and ``startup`` use the user cache (computed once, then cached).
@@ -177,6 +178,51 @@ def meshes(refinements):
     return out
 
 
+#: a design whose pinion's flank elements are longer than its tooth is high at --fe-coarsen 8 (21 teeth,
+#: 100 mm face, rack tip round 0.38 m_n): where the mesh's flank departs most from the flank
+WIDE_PINION = {"pair": {"normal_module_mm": 5.0, "normal_pressure_angle_deg": 20.0, "shaft_angle_deg": 13.0,
+                        "offset_mm": 209.751},
+               "pinion": {"teeth": 21, "cone_angle_deg": 1.0, "helix_angle_deg": 15.0, "profile_shift": 0.2,
+                          "face_width_mm": 100.0, "cutter_tip_radius_coefficient": 0.38},
+               "gear": {"teeth": 60, "cone_angle_deg": 0.5, "face_width_mm": 110.0, "cutter_tip_radius_coefficient": 0.38}}
+
+
+def _outside(values) -> dict:
+    v = np.asarray(values, dtype=float).ravel()
+    return {"max": float(v.max()), "p95": float(np.percentile(v, 95)), "median": float(np.median(v)),
+            "outside": int(np.count_nonzero(v))}
+
+
+def locate():
+    """How far the FE tooth's load points, its reading points and the points read along the normal
+    (x - d n, the reading before the feet of beveloid.fe.tooth.reading_feet) lie from where the mesh
+    reads them (beveloid.fe.solve.locate's outside_mm, mm), per member: case 1 and case 2 at the
+    default mesh and the suite's coarse one (x 3), and WIDE_PINION at x 8 (the pinion)."""
+    from beveloid.fe import solve, tooth
+    from beveloid.fe.mesh import sector_mesh
+    from beveloid.pair import Pair
+    from beveloid.tooth.body import body_pair
+    from beveloid.tooth.sampling import ToothSampler
+
+    runs = [(case, member, coarsen) for coarsen in (1.0, 3.0) for case in ("case1", "case2") for member in ("pinion", "gear")]
+    out = {}
+    for case, member, coarsen in runs + [("wide_pinion", "pinion", 8.0)]:
+        pair = body_pair(Pair.from_spec(WIDE_PINION) if case == "wide_pinion" else _pair(case), member)
+        mesh = sector_mesh(pair, member, coarsen=coarsen)
+        g = tooth.load_grid(ToothSampler(pair.geometry, member), pair.geometry.normal_module_mm)
+        d = g.depth_mm[..., None]
+        where = {"load": g.points_mm, "reading": tooth.reading_points(g.feet_mm, g.feet_normals, d),
+                 "along_normal": g.points_mm - d * g.normals}
+        row = {"flank_element_mm": mesh.sizes.flank_mm, "tets": int(len(mesh.tets))}
+        for name, pts in where.items():
+            row[name] = _outside(solve.locate(mesh, pts.reshape(-1, 3)).outside_mm)
+        row["load_max_per_flank_element"] = row["load"]["max"] / mesh.sizes.flank_mm
+        row["foot_moved_max_mm"] = float(np.max(np.linalg.norm(g.feet_mm - g.points_mm, axis=-1)))
+        out[f"{case}_{member}_x{coarsen:g}"] = row
+        print(case, member, coarsen, row, file=sys.stderr, flush=True)
+    return out
+
+
 def startup():
     """Seconds to the first position: Options + teeth (cached FE data read) for each model."""
     from beveloid import ltca
@@ -195,14 +241,15 @@ def startup():
 
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("what", choices=("cost", "solvers", "convergence", "compare", "startup", "meshes"))
+    p.add_argument("what", choices=("cost", "solvers", "convergence", "compare", "startup", "meshes", "locate"))
     p.add_argument("refinements", nargs="*", type=int, default=[1, 2, 3])
     a = p.parse_args(argv)
     fresh = tempfile.TemporaryDirectory(prefix="beveloid-fe-bench-") if a.what in ("cost", "convergence") else None
     if fresh is not None:
         os.environ["BEVELOID_CACHE_DIR"] = fresh.name
     fn = {"cost": cost, "solvers": solvers, "compare": compare, "startup": startup,
-          "convergence": lambda: convergence(a.refinements), "meshes": lambda: meshes(a.refinements)}[a.what]
+          "convergence": lambda: convergence(a.refinements), "meshes": lambda: meshes(a.refinements),
+          "locate": locate}[a.what]
     try:
         print(json.dumps(fn(), indent=1))
     finally:

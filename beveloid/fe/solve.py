@@ -29,8 +29,19 @@ __all__ = ["CLAMPED", "EDGES", "Elastic", "MIN_JACOBIAN_RATIO", "element_geometr
 CLAMPED = ("rim", "side_lo", "side_hi")
 #: gmsh's mid-node edges of a 10-node tet
 EDGES = ((0, 1), (1, 2), (2, 0), (0, 3), (2, 3), (1, 3))
-#: tets searched around a point (by their centres) to find the one that holds it
+#: the tets nearest a point by their centres, searched besides those whose bounding ball holds it
+#: (the reading of a point outside the mesh)
 _CANDIDATES = 24
+#: a candidate tet is searched when a point's straight barycentric coordinates in it are all above
+#: minus this (a curved tet holds points of its straight one's neighbourhood only; measured: a point
+#: inside a curved tet of case 1's sectors lies at most 0.024 outside its straight tet)
+_STRAIGHT_SLACK = 0.25
+#: the tets searched for a point outside them all: its best by straight barycentric coordinates
+_OUTSIDE_CANDIDATES = 8
+#: Newton steps of the inverse isoparametric map (from the straight tet's coordinates; quadratic)
+_NEWTON_STEPS = 6
+#: a point read nearer than this to where it was asked is inside
+_INSIDE_MM = 1e-9
 
 
 @dataclass(frozen=True)
@@ -153,11 +164,15 @@ def factorise(mesh, e_mpa: float, nu: float, clamped=CLAMPED, solver: str | None
 
 @dataclass(frozen=True)
 class Located:
-    """Points located in the mesh: the tet of each and its barycentric coordinates (clipped to it)."""
+    """Points located in the mesh: the tet of each and its reference (barycentric) coordinates in it,
+    clipped to the tet."""
 
     tet: np.ndarray  # (n,)
     bary: np.ndarray  # (n, 4)
     outside_mm: np.ndarray  # (n,) the distance from the point to where it is read (0 inside a tet)
+
+    def __getitem__(self, rows) -> "Located":
+        return Located(self.tet[rows], self.bary[rows], self.outside_mm[rows])
 
 
 def _barycentric(corners, x):
@@ -167,31 +182,82 @@ def _barycentric(corners, x):
     return np.concatenate([1.0 - lam.sum(axis=-1, keepdims=True), lam], axis=-1)
 
 
-def locate(mesh, points, max_outside_mm=None) -> Located:
-    """The tet holding each point among the :data:`_CANDIDATES` tets whose centres are nearest; a point
-    outside every straight tet (on a curved face just outside them, or off the solid) is read in the
-    best of them at its barycentric coordinates clipped to >= 0 (a point of that tet), and
-    ``outside_mm`` is its distance to that reading point (at least its distance to the solid).  ``max_outside_mm``: a point read further than this from where
-    it was asked raises ValueError (one line: the point, the distance, the limit); None reads every
-    point (the caller checks ``outside_mm``)."""
+def _candidates(mesh, pts):
+    """(point index, tet index) pairs: every tet whose bounding ball holds the point (a ball about the
+    corners' centre through its corners and the Bezier control points of its curved edges, which
+    hold the curved tet), and the :data:`_CANDIDATES` tets whose centres are nearest (for a point
+    outside them all)."""
+    x = mesh.nodes[mesh.tets]
+    centre = x[:, :4].mean(axis=1)
+    control = np.concatenate([x[:, :4], 2.0 * x[:, 4:] - 0.5 * (x[:, [a for a, _ in EDGES]] + x[:, [b for _, b in EDGES]])],
+                             axis=1)
+    radius = np.max(np.linalg.norm(control - centre[:, None, :], axis=-1), axis=1)
+    tree = cKDTree(centre)
+    pairs = cKDTree(pts).sparse_distance_matrix(tree, float(radius.max()), output_type="ndarray")
+    rows, cols = pairs["i"].astype(np.int64), pairs["j"].astype(np.int64)
+    held = pairs["v"] <= radius[cols]
+    _, near = tree.query(pts, k=min(_CANDIDATES, len(centre)))
+    near = np.asarray(near).reshape(len(pts), -1)
+    rows = np.concatenate([rows[held], np.repeat(np.arange(len(pts)), near.shape[1])])
+    cols = np.concatenate([cols[held], near.ravel()])
+    pairs = np.unique(np.stack([rows, cols], axis=1), axis=0)
+    rows, cols = pairs[:, 0], pairs[:, 1]
+    # a curved tet departs from its straight one by a fraction of its size: the pairs whose point is
+    # far outside the straight tet are dropped, but for each point's _OUTSIDE_CANDIDATES best (where
+    # a point outside them all is read: the nearest reading of these)
+    worst = _barycentric(x[cols, :4], pts[rows]).min(axis=1)
+    order = np.lexsort((-worst, rows))
+    start = np.r_[0, np.flatnonzero(np.diff(rows[order])) + 1]
+    rank = np.empty(rows.size, dtype=np.int64)
+    rank[order] = np.arange(rows.size) - np.repeat(start, np.diff(np.r_[start, rows.size]))
+    keep = (rank < _OUTSIDE_CANDIDATES) | (worst >= -_STRAIGHT_SLACK)
+    return rows[keep], cols[keep]
+
+
+def _inverse_map(x10, pts):
+    """(k, 4) reference coordinates of points (k, 3) in isoparametric tets (k, 10, 3): Newton on
+    x(xi) = pts from the straight tet's barycentric coordinates (exact on a straight tet)."""
+    lam = _barycentric(x10[:, :4], pts)
+    with np.errstate(all="ignore"):
+        for _ in range(_NEWTON_STEPS):
+            residual = pts - np.einsum("ka,kai->ki", shape_values(lam), x10)
+            jac = np.einsum("kai,kaj->kij", x10, _reference_derivatives(lam))
+            ok = np.isfinite(jac).all(axis=(1, 2)) & (np.abs(np.linalg.det(np.where(np.isfinite(jac), jac, 0.0))) > 0)
+            step = np.full_like(residual, np.nan)
+            step[ok] = np.linalg.solve(jac[ok], residual[ok][..., None])[..., 0]
+            lam = lam + np.concatenate([-step.sum(axis=1, keepdims=True), step], axis=1)
+    return lam
+
+
+def locate(mesh, points, max_outside_mm=None, label="point") -> Located:
+    """The (curved, isoparametric) tet holding each point and the point's reference coordinates in it,
+    by Newton on the tet's quadratic map (:func:`element_geometry`, as the stiffness takes it), so a
+    point on a curved face is read where it is.  A point outside every tet is read in the tet nearest
+    to it at its coordinates clipped to >= 0 (a point of that tet); ``outside_mm`` is its distance
+    to that reading point (at least its distance to the solid; below 1e-9 mm it counts as inside).
+    ``max_outside_mm``: a point read further than this from where it was asked raises ValueError
+    (one line: ``label`` (one for all points, or one per point), the point, the distance, the limit);
+    None reads every point (the caller checks ``outside_mm``)."""
     pts = np.atleast_2d(np.asarray(points, dtype=float))
-    corners = mesh.nodes[mesh.tets[:, :4]]
-    tree = cKDTree(corners.mean(axis=1))
-    _, cand = tree.query(pts, k=min(_CANDIDATES, len(corners)))
-    bary = _barycentric(corners[cand], pts[:, None, :])
-    worst = bary.min(axis=-1)
-    best = np.argmax(worst, axis=1)
-    rows = np.arange(len(pts))
-    tet = cand[rows, best]
-    clipped = np.clip(bary[rows, best], 0.0, None)
-    clipped /= clipped.sum(axis=1, keepdims=True)
-    read = np.einsum("nk,nkd->nd", clipped, corners[tet])
-    outside = np.where(worst[rows, best] < 0.0, np.linalg.norm(read - pts, axis=1), 0.0)
+    rows, cols = _candidates(mesh, pts)
+    tets, which = np.unique(cols, return_inverse=True)
+    x10 = element_geometry(mesh.nodes[mesh.tets[tets]])[which]
+    lam = _inverse_map(x10, pts[rows])
+    clipped = np.clip(np.nan_to_num(lam, nan=-1.0), 0.0, None)
+    clipped /= np.maximum(clipped.sum(axis=1, keepdims=True), 1e-300)
+    read = np.einsum("ka,kai->ki", shape_values(clipped), x10)
+    dist = np.where(np.isfinite(lam).all(axis=1), np.linalg.norm(read - pts[rows], axis=1), np.inf)
+    dist = np.where(dist < _INSIDE_MM, 0.0, dist)
+    worst = np.nan_to_num(lam.min(axis=1), nan=-np.inf)
+    order = np.lexsort((-worst, dist, rows))  # per point: the nearest reading, then the deepest inside
+    first = order[np.r_[True, rows[order][1:] != rows[order][:-1]]]
+    tet, bary, outside = cols[first], clipped[first], dist[first]
     if max_outside_mm is not None and np.any(outside > max_outside_mm):
         i = int(np.argmax(outside))
-        raise ValueError(f"point {np.round(pts[i], 4).tolist()} mm lies {outside[i]:.4f} mm outside the mesh: "
+        name = label if isinstance(label, str) else label[i]
+        raise ValueError(f"{name} {np.round(pts[i], 4).tolist()} mm lies {outside[i]:.4f} mm outside the mesh: "
                          f"must be inside the solid or within {max_outside_mm:g} mm of it")
-    return Located(tet, clipped, outside)
+    return Located(tet, bary, outside)
 
 
 def shape_values(bary) -> np.ndarray:

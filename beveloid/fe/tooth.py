@@ -6,17 +6,22 @@ load case per node of a fixed flank grid (``GRID`` = profile x face points, on b
 loaded tooth 0): a unit force along the inward flank normal.  From the solutions:
 
 * **Compliance** C[i, j] (mm/N): the displacement along the inward normal at grid point i per unit
-  force at j, **read at a depth** d_i below the surface (the point x_i - d_i n_i) and **minus the
-  Boussinesq half-space displacement** of the same point force at that point:
+  force at j, **read at a depth** d_i below the surface (the point y_i = x'_i - d_i n'_i beneath
+  the node's foot x'_i, normal n'_i: the node itself, or at the face end where its normal leaves
+  the solid a flank point along the face, :func:`reading_feet`) and **minus the Boussinesq
+  half-space displacement** of the same point force at that point:
 
-      C[i, j] = -n_i . u_FE(x_i - d_i n_i; F_j) - (1 + nu) / (2 pi E R) (2 (1 - nu) + d_i^2 / R^2),
-      R^2 = |x_i - x_j|^2 + d_i^2,   d_i = min(DEPTH_PER_MODULE m_n, DEPTH_PER_THICKNESS t_i)
+      C[i, j] = -n_i . u_FE(y_i; F_j) - (1 + nu) / (2 pi E R) (2 (1 - nu) + d_i^2 / R^2),
+      R^2 = |x'_i - x_j|^2 + d_i^2,   d_i = min(DEPTH_PER_MODULE m_n, DEPTH_PER_THICKNESS t_i)
 
   (t_i the tooth's thickness at x_i: the distance to the other flank).  The FE field under a
   point force is singular at the force and, near it, mesh-dependent; read at a depth of several
   elements it has converged, and what remains after the half-space's own displacement there is
   removed is the tooth's bending, shear and rim deflection: the local flattening is left to the
   LTCA's half-space (Boussinesq/Love on the contact grid), so it is counted once.  C is symmetrised.
+  Every load and reading point is located in the curved mesh (:func:`beveloid.fe.solve.locate`);
+  one further than :data:`MAX_OUTSIDE_PER_FLANK_SIZE` of the flank element size from the mesh is
+  an error.
 * **Fillet stress**: the stress tensor (MPa per N) at every node of both root fillets of the
   loaded tooth (mean over the tets sharing it), per load case.  Superposed over a pressure field
   (linear) its principal stresses give the root stress.
@@ -25,6 +30,7 @@ from __future__ import annotations
 
 import math
 import time
+import typing
 from dataclasses import dataclass
 
 import numpy as np
@@ -34,13 +40,25 @@ from ..tooth.body import body_pair, flank_thickness_mm
 from . import solve
 from .mesh import sector_mesh
 
-__all__ = ["DEPTH_PER_MODULE", "DEPTH_PER_THICKNESS", "GRID", "ToothData", "flank_compliance", "flank_grid",
-           "halfspace_at_depth", "tooth_data"]
+__all__ = ["DEPTH_PER_MODULE", "DEPTH_PER_THICKNESS", "GRID", "MAX_OUTSIDE_PER_FLANK_SIZE",
+           "LoadGrid", "ToothData", "flank_at", "load_grid", "flank_compliance", "flank_grid", "halfspace_at_depth", "reading_feet", "reading_points",
+           "tooth_data"]
 
 #: load grid per flank: points along the profile (form limit to tip) x along the face (toe to heel)
 GRID = (7, 9)
 DEPTH_PER_MODULE = 0.35
 DEPTH_PER_THICKNESS = 0.3
+#: a load or reading point further than this fraction of the flank element size from where the mesh
+#: reads it is an error (:func:`beveloid.fe.solve.locate`).  The points lie on the flank or inside
+#: the tooth and the curved P2 tets are located exactly: what remains is the mesh's flank face (a
+#: loft through the sections, quadratic between its nodes) departing from the flank, which grows with
+#: the element size h (about as h^2 from case 1's default to its coarse mesh).  Measured on the load points
+#: (``python -m benchmarks.bench_fe_tooth locate``): at most 1.4e-4 h on case 1 and case 2 at the
+#: default mesh, 5e-4 h at the suite's coarse one, 0.009 h on a 21-tooth, 100 mm wide pinion at
+#: --fe-coarsen 8 (flank elements longer than the tooth is high); 0.05 h keeps 5 x that margin and
+#: is 0.09 mm on case 1's default mesh, where the reading points read along the normal lay up to
+#: 0.88 mm off the mesh.
+MAX_OUTSIDE_PER_FLANK_SIZE = 0.05
 
 
 @dataclass(frozen=True)
@@ -54,6 +72,7 @@ class ToothData:
     normals: np.ndarray  # (2, ns, nz, 3) outward unit normals
     radius_mm: np.ndarray  # (2, ns, nz)
     depth_mm: np.ndarray  # (2, ns, nz) reading depth d_i
+    reading_points_mm: np.ndarray  # (2, ns, nz, 3) where the approach of each node is read (inside the tooth)
     compliance_mm_per_n: np.ndarray  # (2, G, G) corrected, symmetric; G = ns nz, profile-major
     raw_compliance_mm_per_n: np.ndarray  # (2, G, G) the FE reading before the half-space is removed
     fillet_points_mm: np.ndarray  # (2, nf, 3) nodes of the left / right fillet (padded by repeats)
@@ -67,40 +86,124 @@ class ToothData:
         return float(self.stats[self.STATS.index(name)])
 
 
+def flank_at(sampler: ToothSampler, flank: str, s, z):
+    """(points (n, 3), outward normals (n, 3)) of the flank of tooth 0 at profile parameters s (n,)
+    (0 form limit, 1 tip) in the sections z (n,)."""
+    s, z = np.asarray(s, dtype=float).ravel(), np.asarray(z, dtype=float).ravel()
+    l_tip, u_tip = sampler.flank_tip(flank, z)
+    l0 = sampler.form_limits(flank, z)[0]
+    l = l0 + s * (l_tip - l0)
+    u = sampler.flank_u(flank, l, z, u0=u_tip)
+    surf = sampler.geometry.surface(sampler.member, flank, l, u)
+    return np.asarray(surf.point), np.asarray(surf.normal)
+
+
 def flank_grid(sampler: ToothSampler, flank: str, grid=GRID):
     """(s, z, points (ns, nz, 3), outward normals (ns, nz, 3)) of the flank of tooth 0."""
     ns, nz = grid
     s = np.linspace(0.0, 1.0, ns)
     toe, heel = sampler.z_range_mm
     z = np.linspace(min(toe, heel), max(toe, heel), nz)
-    l_tip, u_tip = sampler.flank_tip(flank, z)
-    l0 = sampler.form_limits(flank, z)[0][None, :]
-    l = l0 + s[:, None] * (l_tip[None, :] - l0)
-    u = sampler.flank_u(flank, l, z[None, :], u0=u_tip[None, :])
-    surf = sampler.geometry.surface(sampler.member, flank, l, u)
-    return s, z, np.asarray(surf.point), np.asarray(surf.normal)
+    ss, zz = np.meshgrid(s, z, indexing="ij")
+    points, normals = flank_at(sampler, flank, ss, zz)
+    return s, z, points.reshape(ns, nz, 3), normals.reshape(ns, nz, 3)
 
 
-def halfspace_at_depth(surface_points, depth, e_mpa, nu):
-    """(n, n): Boussinesq's displacement along the load at depth d_i below point i per unit normal
-    point force at point j on the surface of a half-space (mm/N)."""
-    rho2 = np.sum((surface_points[:, None, :] - surface_points[None, :, :]) ** 2, axis=-1)
+def reading_feet(sampler: ToothSampler, flank: str, s, z, depth):
+    """(feet (n, 3), their outward normals (n, 3)): the flank points beneath which the grid nodes
+    (s, z) (n,) are read, at depth (n,) along the foot's inward normal.  A node's foot is the node
+    itself, except where that reading point would leave the face: a helical flank's normal has an
+    axial component n_z, so at one face end (the acute one) the point x - d n lies d |n_z| beyond
+    the end plane, outside the solid.  There the foot moves along the face, on the node's line of
+    constant profile parameter, until the reading point lies on the end plane.
+
+    Why so: the reading point stands for the approach of the flank at the node under the load,
+    beneath the surface by d so that the local flattening, left to the half-space, can be removed
+    (:func:`halfspace_at_depth`: Boussinesq's displacement at depth d beneath a surface point).  The
+    moved point is still at depth d beneath a flank point, its foot, and the half-space term is taken
+    at that foot; the foot is the nearest flank point of the node whose normal stays inside the solid
+    (0.87 mm from the node on case 1's pinion, 0.37 mm on its gear, against a grid spacing of 6.25 mm
+    and a tooth that bends over lengths of its thickness).  Reading along the normal's transverse
+    part instead would move every reading point, not only the face end's, off the normal of its
+    node and change its depth beneath the flank."""
+    s, z, d = (np.asarray(a, dtype=float).ravel() for a in (s, z, depth))
+    toe, heel = sampler.z_range_mm
+    lo, hi = min(toe, heel), max(toe, heel)
+    feet, normals = flank_at(sampler, flank, s, z)
+    zf = z.copy()
+    for _ in range(4):  # the normal's axial part changes little along the face: one step nearly does
+        zr = feet[:, 2] - d * normals[:, 2]
+        move = np.clip(zr, lo, hi) - zr
+        moved = np.abs(move) > 1e-9 * (hi - lo)
+        if not moved.any():
+            break
+        zf[moved] += move[moved]
+        feet[moved], normals[moved] = flank_at(sampler, flank, s[moved], zf[moved])
+    return feet, normals
+
+
+def halfspace_at_depth(surface_points, depth, e_mpa, nu, feet=None):
+    """(n, n): Boussinesq's displacement along the load at depth d_i below point i (below its foot
+    ``feet[i]`` when given: :func:`reading_feet`) per unit normal point force at point j on the
+    surface of a half-space (mm/N)."""
+    feet = surface_points if feet is None else feet
+    rho2 = np.sum((feet[:, None, :] - surface_points[None, :, :]) ** 2, axis=-1)
     d = np.asarray(depth)[:, None]
     r = np.sqrt(rho2 + d * d)
     return (1 + nu) / (2 * math.pi * e_mpa * r) * (2 * (1 - nu) + d * d / (r * r))
 
 
-def flank_compliance(elastic, points, normals, depth, solutions=None):
+def reading_points(feet, feet_normals, depth):
+    """(..., 3) the points where the approach of the grid nodes is read: ``depth`` (..., 1) beneath
+    their feet (..., 3) (:func:`reading_feet`) along the feet's inward normals (..., 3)."""
+    return feet - np.asarray(depth) * feet_normals
+
+
+class LoadGrid(typing.NamedTuple):
+    """Both flanks' load grid (index 0: left, 1: right), its reading depths and the feet of its reading
+    points (:func:`load_grid`)."""
+
+    s: np.ndarray  # (ns,)
+    z_mm: np.ndarray  # (nz,)
+    points_mm: np.ndarray  # (2, ns, nz, 3)
+    normals: np.ndarray  # (2, ns, nz, 3) outward
+    depth_mm: np.ndarray  # (2, ns, nz)
+    feet_mm: np.ndarray  # (2, ns, nz, 3)
+    feet_normals: np.ndarray  # (2, ns, nz, 3) outward
+
+
+def load_grid(sampler: ToothSampler, normal_module_mm: float, grid=GRID) -> LoadGrid:
+    """The load grid of both flanks of tooth 0 (:func:`flank_grid`), the reading depth at each node
+    (the module docstring) and the feet of the reading points (:func:`reading_feet`)."""
+    grids = [flank_grid(sampler, f, grid) for f in FLANKS]
+    s, z = grids[0][0], grids[0][1]
+    pts = np.stack([g[2] for g in grids])
+    # the other flank's grid is coarse: the thickness is a fraction of it, so an upper bound does
+    thick = flank_thickness_mm(pts)
+    depth = np.minimum(DEPTH_PER_MODULE * normal_module_mm, DEPTH_PER_THICKNESS * thick)
+    ss, zz = np.meshgrid(s, z, indexing="ij")
+    feet = [reading_feet(sampler, f, ss, zz, depth[i]) for i, f in enumerate(FLANKS)]
+    return LoadGrid(s, z, pts, np.stack([g[3] for g in grids]), depth,
+                    np.stack([f[0] for f in feet]).reshape(pts.shape), np.stack([f[1] for f in feet]).reshape(pts.shape))
+
+
+def flank_compliance(elastic, points, normals, depth, solutions=None, feet=None, max_outside_mm=None, label="flank"):
     """(raw, corrected) compliance (mm/N) between surface points (G, 3) with outward normals (G, 3):
     unit forces along -normal at the points, the displacement along -normal read at the depths
-    (G,) below them; corrected = raw - :func:`halfspace_at_depth` (the module docstring).  Returns
-    also the solutions (ndofs, G) for the stresses."""
-    mesh = elastic.mesh
-    load = solve.displacement_operator(elastic, solve.locate(mesh, points), -normals)
-    read = solve.displacement_operator(elastic, solve.locate(mesh, points - depth[:, None] * normals), -normals)
+    (G,) below them (below their feet when ``feet`` = (points, outward normals), (G, 3) each, is
+    given: :func:`reading_feet`); corrected = raw - :func:`halfspace_at_depth` (the module
+    docstring).  ``max_outside_mm``: a load or reading point further than this from where the mesh
+    reads it is an error (:func:`beveloid.fe.solve.locate`, named by ``label``).  Returns also the
+    solutions (ndofs, G) for the stresses."""
+    foot, foot_n = (points, normals) if feet is None else feet
+    g = len(points)
+    located = solve.locate(elastic.mesh, np.vstack([points, reading_points(foot, foot_n, depth[:, None])]), max_outside_mm,
+                           label=[f"{label} load point"] * g + [f"{label} reading point"] * g)
+    load = solve.displacement_operator(elastic, located[:g], -normals)
+    read = solve.displacement_operator(elastic, located[g:], -normals)
     u = elastic.solve(load.T.toarray()) if solutions is None else solutions
     raw = read @ u
-    corrected = raw - halfspace_at_depth(points, depth, elastic.e_mpa, elastic.nu)
+    corrected = raw - halfspace_at_depth(points, depth, elastic.e_mpa, elastic.nu, foot)
     return raw, 0.5 * (corrected + corrected.T), u
 
 
@@ -122,15 +225,10 @@ def tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: int = 1, 
     _say(progress, f"FE tooth {member}: {mesh.nodes.shape[0]} nodes, {mesh.tets.shape[0]} tets; factorising")
     elastic = solve.factorise(mesh, e_mpa, nu)
     sampler = ToothSampler(geometry, member)
-    grids = [flank_grid(sampler, f) for f in FLANKS]
-    s, z = grids[0][0], grids[0][1]
-    pts = np.stack([g[2] for g in grids])
-    nrm = np.stack([g[3] for g in grids])
+    grid = load_grid(sampler, geometry.normal_module_mm)
+    s, z, pts, nrm, depth = grid.s, grid.z_mm, grid.points_mm, grid.normals, grid.depth_mm.reshape(2, -1)
     G = pts.shape[1] * pts.shape[2]
     flat_p, flat_n = pts.reshape(2, G, 3), nrm.reshape(2, G, 3)
-    thick = flank_thickness_mm(flat_p)
-    # the other flank's grid is coarse: the thickness is a fraction of it, so an upper bound does
-    depth = np.minimum(DEPTH_PER_MODULE * geometry.normal_module_mm, DEPTH_PER_THICKNESS * thick)
     fillet_nodes = [mesh.node_sets[f"fillet_{f}_0"] for f in FLANKS]
     stress_ops = [solve.stress_operator(elastic, nodes) for nodes in fillet_nodes]
     _say(progress, f"FE tooth {member}: {elastic.timings_s['free_dofs']} dofs factorised in "
@@ -139,8 +237,12 @@ def tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: int = 1, 
     nf = max(len(n) for n in fillet_nodes)
     stress = np.zeros((2, 2, nf, 6, G))
     comp, raw = np.zeros((2, G, G)), np.zeros((2, G, G))
+    reading = reading_points(grid.feet_mm, grid.feet_normals, grid.depth_mm[..., None])
     for f in range(2):
-        raw[f], comp[f], u = flank_compliance(elastic, flat_p[f], flat_n[f], depth[f])
+        feet = (grid.feet_mm[f].reshape(G, 3), grid.feet_normals[f].reshape(G, 3))
+        raw[f], comp[f], u = flank_compliance(elastic, flat_p[f], flat_n[f], depth[f], feet=feet,
+                                              max_outside_mm=MAX_OUTSIDE_PER_FLANK_SIZE * mesh.sizes.flank_mm,
+                                              label=f"FE tooth {member}, {FLANKS[f]} flank")
         for side in range(2):
             sig = (stress_ops[side] @ u).reshape(-1, 6, G)
             stress[f, side, :sig.shape[0]] = sig
@@ -155,6 +257,6 @@ def tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: int = 1, 
     stats = np.array([mesh.nodes.shape[0], mesh.tets.shape[0], elastic.timings_s["free_dofs"], t1 - t0,
                       elastic.timings_s["assemble_s"], elastic.timings_s["factor_s"], t3 - t2], dtype=float)
     return ToothData(s=s, z_mm=z, points_mm=pts, normals=nrm, radius_mm=np.hypot(pts[..., 0], pts[..., 1]),
-                     depth_mm=depth.reshape(2, *pts.shape[1:3]), compliance_mm_per_n=comp,
+                     depth_mm=grid.depth_mm, reading_points_mm=reading, compliance_mm_per_n=comp,
                      raw_compliance_mm_per_n=raw, fillet_points_mm=fp, fillet_height_mm=height,
                      stress_mpa_per_n=stress, stats=stats)

@@ -175,3 +175,85 @@ def test_locate_reads_inside_and_measures_how_far_outside():
     solve.locate(mesh, [inside, below], max_outside_mm=0.3)
     with pytest.raises(ValueError, match=r"lies 0\.25\d* mm outside the mesh: must be inside the solid or within 0\.1"):
         solve.locate(mesh, [inside, below], max_outside_mm=0.1)
+
+
+def _one_tet(corners):
+    """The 10 nodes of a straight tet."""
+    from beveloid.fe import solve
+
+    corners = np.asarray(corners, dtype=float)
+    return np.vstack([corners, [(corners[a] + corners[b]) / 2 for a, b in solve.EDGES]])
+
+
+def test_locate_reads_a_point_of_a_curved_face_where_it_is():
+    from types import SimpleNamespace
+
+    from beveloid.fe import solve
+
+    nodes = _one_tet([[0.0, 0, 0], [2, 0, 0], [0, 2, 0], [0, 0, 2]])
+    nodes[4] = [1.0, -0.2, 0.0]  # the mid-node of edge 01 moved out: the face y = 0 bulges
+    mesh = SimpleNamespace(nodes=nodes, tets=np.arange(10)[None, :])
+    point = np.array([1.0, -0.1, 0.1])  # outside the straight tet (y < 0), inside the curved one
+    assert solve._barycentric(nodes[:4], point).min() < 0
+    loc = solve.locate(mesh, point, max_outside_mm=0.0)
+    assert loc.outside_mm[0] == 0.0 and loc.bary.min() > 0
+    # the isoparametric map of the coordinates found is the point
+    assert solve.shape_values(loc.bary[0]) @ nodes == pytest.approx(point, abs=1e-12)
+
+
+def test_locate_finds_a_large_tet_whose_centre_is_further_than_many_small_ones():
+    from types import SimpleNamespace
+
+    from beveloid.fe import solve
+
+    big = _one_tet([[0.0, 0, 0], [100, 0, 0], [0, 100, 0], [0, 0, 100]])  # centre (25, 25, 25)
+    small = _one_tet([[0.0, 0, -1], [1, 0, -1], [0, 1, -1], [0, 0, -2]])  # below the big one
+    shifts = [[x, y, 0.0] for x in range(6) for y in range(6)]  # 36 small tets nearer the point than 40 mm
+    nodes = np.vstack([big] + [small + s for s in shifts])
+    mesh = SimpleNamespace(nodes=nodes, tets=np.arange(len(nodes)).reshape(-1, 10))
+    point = [3.0, 3.0, 1.0]
+    # more small tets than the search's nearest centres lie nearer the point than the big tet's centre
+    nearer = np.linalg.norm(small[:4].mean(axis=0) + np.array(shifts) - point, axis=1) < np.linalg.norm(big[:4].mean(axis=0) - point)
+    assert nearer.sum() > solve._CANDIDATES
+    loc = solve.locate(mesh, point, max_outside_mm=0.0)
+    assert loc.tet[0] == 0 and loc.outside_mm[0] == 0.0
+    assert loc.bary[0] @ big[:4] == pytest.approx(point, abs=1e-12)
+
+
+def test_a_flank_point_outside_the_tooth_is_an_error_named_by_member_and_kind():
+    import re
+    from types import SimpleNamespace
+
+    from itertools import permutations
+
+    from beveloid.fe.tooth import flank_compliance
+
+    # a 14 x 6 x 10 mm block as six straight tets about its diagonal (Kuhn's split)
+    size = np.array([14.0, 6.0, 10.0])
+    tets = []
+    for axes in permutations(range(3)):
+        corners = [np.zeros(3)]
+        for k in axes:
+            corners.append(corners[-1] + np.eye(3)[k])
+        tets.append(_one_tet(np.array(corners) * size))
+    nodes = np.vstack(tets)
+    mesh = SimpleNamespace(nodes=nodes, tets=np.arange(len(nodes)).reshape(-1, 10))
+    n = len(mesh.nodes)  # the points are located before anything is solved: no factorisation needed
+    elastic = SimpleNamespace(mesh=mesh, node_dofs=3 * np.arange(n)[:, None] + np.arange(3), ndofs=3 * n,
+                              e_mpa=2.06e5, nu=0.3)
+    normal = np.array([[0.0, 1.0, 0.0]])
+    label = "FE tooth pinion, right flank"
+    # on the flank y = 6, read 2 mm beneath: inside
+    flank_compliance(elastic, np.array([[7.0, 6.0, 6.0]]), normal, np.array([2.0]), solutions=np.zeros((3 * n, 1)),
+                     max_outside_mm=0.05, label=label)
+    cases = {"load": ([7.0, 7.0, 6.0], 2.0),  # 1 mm off the flank, its reading point 1 mm inside
+             "reading": ([7.0, 6.0, 6.0], 7.0)}  # read 7 mm deep through the 6 mm thick block
+    for kind, (point, d) in cases.items():
+        with pytest.raises(ValueError) as err:
+            flank_compliance(elastic, np.array([point]), normal, np.array([d]), max_outside_mm=0.05, label=label)
+        text = str(err.value)
+        where = point if kind == "load" else [7.0, 6.0 - d, 6.0]
+        assert text.startswith(f"{label} {kind} point {where} mm lies ") and "\n" not in text
+        assert text.endswith("mm outside the mesh: must be inside the solid or within 0.05 mm of it")
+        # at least its distance to the block (1 mm): it is read at its clipped barycentric coordinates
+        assert 1.0 <= float(re.search(r"lies (\S+) mm", text).group(1)) < 2.0

@@ -78,3 +78,22 @@ def test_the_rim_is_a_cylinder_below_the_root(mesh):
 def test_bad_refinement_is_one_line(pair):
     with pytest.raises(ValueError, match="fe_refinement = 0: must be an integer from 1 to 4"):
         sector_mesh(pair, "pinion", refinement=0)
+
+
+def test_the_fe_tooths_load_and_reading_points_lie_in_the_mesh(mesh, coarse_teeth):
+    from beveloid.fe import solve, tooth
+
+    data = coarse_teeth["pinion"]  # the same case 1 pinion at the same coarse mesh
+    limit = tooth.MAX_OUTSIDE_PER_FLANK_SIZE * mesh.sizes.flank_mm
+    along_normal = data.points_mm - data.depth_mm[..., None] * data.normals
+    lo, hi = min(mesh.z_range_mm), max(mesh.z_range_mm)
+    # read along the normal, the helical flank's reading points would leave the acute face end
+    assert solve.locate(mesh, along_normal.reshape(-1, 3)).outside_mm.max() > 0.5
+    # the reading points are inside the tooth, the load points on its curved flank within a small
+    # fraction of the limit (measured 0.003 mm against 0.27 mm)
+    reading = solve.locate(mesh, data.reading_points_mm.reshape(-1, 3), max_outside_mm=limit)
+    assert reading.outside_mm.max() <= 1e-6
+    assert np.all((data.reading_points_mm[..., 2] >= lo - 1e-6) & (data.reading_points_mm[..., 2] <= hi + 1e-6))
+    assert solve.locate(mesh, data.points_mm.reshape(-1, 3), max_outside_mm=limit).outside_mm.max() < 0.1 * limit
+    # away from the face ends a node is read beneath itself, along its normal
+    assert np.allclose(data.reading_points_mm[:, :, 1:-1], along_normal[:, :, 1:-1], rtol=0, atol=1e-12)
