@@ -377,7 +377,7 @@ def fe_tooth_quotes(rec: dict) -> list:
             (page, row("largest pair load share", "max_pair_share", ".3f", delta=False), True),
             (page, row("surface peak pressure (MPa)", "peak_pressure_mpa", ".1f"), True),
             (page, f"| root stress max pinion / gear (MPa) | {root} |", True),
-            (page, f"| time of the LTCA (s, FE data cached) | {p1['seconds']:.1f} | {f1['seconds']:.1f} | "
+            (page, f"| time of the LTCA (s, FE data cached, warm process) | {p1['seconds']:.1f} | {f1['seconds']:.1f} | "
                    f"{p2['seconds']:.1f} | {f2['seconds']:.1f} |", True),
             (page, f"peak at {hz[0]} of Hertz with the plate and at\n{hz[1]} with the FE tooth", True),
             (page, f"On case 2 the {f2['long_patches']} pairs clear of the flank edges", True)]
