@@ -31,11 +31,12 @@ from beveloid.rating.virtual import section_gear  # noqa: E402
 from beveloid.spec import load_example, spec_from_dict, spec_to_dict  # noqa: E402
 
 
-def near_parallel_pair(pinion_helix_deg=0.0, face_width_mm=None, offset_mm=None, gear_tip_round=0.3) -> Pair:
+def near_parallel_pair(pinion_helix_deg=0.0, face_width_mm=None, offset_mm=None, gear_tip_round=0.3,
+                       shaft_angle_deg=3.0) -> Pair:
     """The benchmark's pair; ``offset_mm`` (case 1: 229 mm) sets the gear's profile shift (1.12 at 229 mm),
     ``gear_tip_round`` the gear's cutter tip radius coefficient."""
     d = spec_to_dict(load_example("case1"))
-    d["pair"]["shaft_angle_deg"] = 3.0
+    d["pair"]["shaft_angle_deg"] = shaft_angle_deg
     if offset_mm is not None:
         d["pair"]["offset_mm"] = offset_mm
     d["pinion"].update(cone_angle_deg=0.05, helix_angle_deg=pinion_helix_deg, cutter_tip_radius_coefficient=0.3)

@@ -15,6 +15,7 @@ from typing import NamedTuple
 import numpy as np
 
 from . import assembly_errors, mesh, tca
+from .solver import threads
 from .status import Status, carries_numbers
 
 #: Default half-widths of the uniform error ranges (defined with the errors, where a command reads them
@@ -61,6 +62,19 @@ def draw_errors(samples, ranges=None, seed=0, nominal=None, start=0):
     return centre + np.random.Generator(bits).uniform(-1.0, 1.0, (samples, len(half))) * half
 
 
+class Aligned(NamedTuple):
+    """What a chunk needs of the aligned pair to reduce its error sets to the sweep's numbers."""
+
+    pinion_z_mm: np.ndarray  # (N,) axial position of the aligned pinion contact at each grid angle (S_1)
+    gear_z_mm: np.ndarray  # (N,) the gear's (S_2)
+    ref_pinion_angle: float  # rad, the aligned contact at the pitch point (the TE reference)
+    ref_gear_angle: float  # rad
+    ratio: float  # N1 / N2
+    per_pitch: int  # grid steps per pinion pitch (position_lattice)
+    first: int  # lattice index of the first grid angle
+    sign: float  # the flank's first-touch sign (mesh.envelope)
+
+
 class ChunkTask(NamedTuple):
     """One chunk of a sweep, as a worker receives it: error sets start .. stop - 1 on the angle grid."""
 
@@ -73,16 +87,20 @@ class ChunkTask(NamedTuple):
     nominal: dict
     grid: np.ndarray
     solver: object
+    aligned: Aligned
 
 
 class ChunkSolution(NamedTuple):
-    """What a worker returns for a chunk: its error sets and, per set and angle, the unknowns, the status
-    codes and the Newton iterations."""
+    """What a worker returns for a chunk: its error sets, per set and angle the status codes, the Newton
+    iterations summed over its points, and per set the mean path shifts (mm) and the mesh TE
+    peak-to-peak (rad), nan for a set without contact."""
 
     errors: np.ndarray
-    x: np.ndarray
     status: np.ndarray
-    iterations: np.ndarray
+    iterations: int
+    pinion_shift_mm: np.ndarray
+    gear_shift_mm: np.ndarray
+    te_peak_to_peak: np.ndarray
 
 
 def solve_chunk(task: ChunkTask) -> ChunkSolution:
@@ -90,9 +108,28 @@ def solve_chunk(task: ChunkTask) -> ChunkSolution:
     from .parallel import single_threaded
 
     single_threaded()
+    return _solve_sets(task)
+
+
+def _solve_sets(task: ChunkTask) -> ChunkSolution:
+    """The chunk's sets drawn, solved and reduced to its per-set numbers: on any worker or thread, the
+    numbers of each set are those of the whole sweep in one piece (every reduction is per set)."""
     errors = draw_errors(task.stop - task.start, task.ranges, task.seed, task.nominal, start=task.start)
-    sol = tca.solve_grid(task.geometry, task.flank, errors, task.grid, task.solver)
-    return ChunkSolution(errors, sol.x, sol.status, sol.iterations)
+    geom, flank, grid, al = task.geometry, task.flank, task.grid, task.aligned
+    sol = tca.solve_grid(geom, flank, errors, grid, task.solver)
+    ok = carries_numbers(sol.status)
+    P1, P2 = tca.solved_contact_points(geom, flank, sol.x, sol.status, task.solver)
+    n_ok = ok.sum(axis=1)
+    has = n_ok > 0
+    shifts = []
+    for P, z in ((P1, al.pinion_z_mm), (P2, al.gear_z_mm)):
+        shift = np.full(errors.shape[0], np.nan)
+        shift[has] = np.where(ok, P[..., 2] - z[None, :], 0.0).sum(axis=1)[has] / n_ok[has]
+        shifts.append(shift)
+    te = mesh.transmission_error(tca.unknowns(sol.x).gear_angle_rad, grid[None, :], al.ref_gear_angle,
+                                 al.ref_pinion_angle, al.ratio)
+    ptp = mesh_te_peak_to_peak(np.where(ok, te, np.nan), al.per_pitch, al.first, al.sign)
+    return ChunkSolution(errors, sol.status, int(sol.iterations.sum()), *shifts, ptp)
 
 
 def engagement_window(geom, flank, ref=None, resolution=400, backend: "tca.Solver | str" = "auto"):
@@ -131,7 +168,7 @@ class SweepResult:
     te_peak_to_peak: np.ndarray  # (K,) rad
     sensitivity: dict
     backend: str
-    seconds: float  # the solve of the K x N points
+    seconds: float  # the K x N points solved and reduced to their per-set numbers (on threads: the parallel part)
     newton_iterations_mean: float
     ranges: dict = field(default_factory=dict)
     #: centre of the error distribution (mm / deg keys like DEFAULT_RANGES); the file's [misalignment] in the CLI
@@ -210,11 +247,6 @@ def mesh_te_peak_to_peak(te, m, first, sign):
     return mesh.peak_to_peak(env)
 
 
-def _solve_in_place(task: ChunkTask, errors):
-    sol = tca.solve_grid(task.geometry, task.flank, errors[task.start:task.stop], task.grid, task.solver)
-    return sol.x, sol.status, sol.iterations
-
-
 def sweep(geom, flank="right", **keywords):
     """Deprecated keyword form of :func:`analyze`, kept for scripts written before ``Options``:
     ``sweep(geom, flank, samples=1000, positions=50, seed=0, ranges=None, nominal=None, chunk=2000,
@@ -229,49 +261,55 @@ def sweep(geom, flank="right", **keywords):
     return analyze(geom, Options(flank=flank, **given), solver, keywords.get("executor"), keywords.get("progress"))
 
 
+def aligned_path(geom, flank, positions, solver: "tca.Solver | str" = "auto") -> tuple[np.ndarray, Aligned]:
+    """(the sweep's pinion angles (positions,), :class:`Aligned`): the lattice over the aligned engagement
+    (:func:`position_lattice`) and the aligned pair's path on it, what every chunk reduces against."""
+    ref = tca.reference_contact(geom, flank)
+    lo, hi = engagement_window(geom, flank, ref, backend=solver)
+    grid, per_pitch, first = position_lattice(ref.pinion_angle, lo, hi, positions, geom.pitch_angles[0])
+    xa = tca.solve_grid(geom, flank, np.zeros((1, len(tca.ERROR_NAMES))), grid, solver).x
+    p_al, g_al = tca.contact_points(geom, flank, xa[0])
+    return grid, Aligned(pinion_z_mm=np.ascontiguousarray(p_al[:, 2]), gear_z_mm=np.ascontiguousarray(g_al[:, 2]),
+                         ref_pinion_angle=float(ref.pinion_angle),
+                         ref_gear_angle=float(tca.unknowns(ref.x).gear_angle_rad),
+                         ratio=geom.pinion.teeth / geom.gear.teeth, per_pitch=per_pitch, first=first,
+                         sign=float(tca.first_touch_sign(geom, flank)))
+
+
 def _run(geom, options: "Options", solver, executor, progress):
     """The sweep itself (:func:`analyze`)."""
     flank, samples, positions, seed = options.flank, options.samples, options.positions, options.seed
     ranges, nominal, chunk = options.ranges, options.nominal, options.chunk
     t_start = time.perf_counter()
     geom = tca.geometry_of(geom)
-    errors = draw_errors(samples, ranges, seed, nominal)
-    ref = tca.reference_contact(geom, flank)
-    lo, hi = engagement_window(geom, flank, ref, backend=solver)
-    grid, per_pitch, first = position_lattice(ref.pinion_angle, lo, hi, positions, geom.pitch_angles[0])
-    # aligned path (the shift reference)
-    xa = tca.solve_grid(geom, flank, np.zeros((1, len(tca.ERROR_NAMES))), grid, solver).x
-    p_al, g_al = tca.contact_points(geom, flank, xa[0])
+    grid, aligned = aligned_path(geom, flank, positions, solver)
     t0 = time.perf_counter()
-    X = np.empty((samples, positions, 5))
+    errors = np.empty((samples, len(tca.ERROR_NAMES)))
     C = np.empty((samples, positions), dtype=np.int64)
-    IT = np.empty((samples, positions), dtype=np.int64)
-    starts = list(range(0, samples, chunk))
-    tasks = [ChunkTask(geom, flank, s, min(samples, s + chunk), dict(DEFAULT_RANGES, **(ranges or {})), seed,
-                       dict(nominal or {}), grid, solver) for s in starts]
-    if executor is None:  # in this process, on the sets drawn above
-        solved = ((k, ChunkSolution(errors[t.start:t.stop], *_solve_in_place(t, errors))) for k, t in enumerate(tasks))
+    ptp, pinion_shift, gear_shift = np.empty(samples), np.empty(samples), np.empty(samples)
+    # in this process on threads (the compiled core releases the GIL, numpy too): whole chunks, each
+    # solved and reduced on its thread; many more chunks than threads, so that none finishes last alone
+    on_threads = executor is None and solver.compiled and samples > tca.SERIAL_MAX_SETS and threads.count() > 1
+    bounds = (threads.pieces(samples, threads.count(), chunk) if on_threads else
+              [(s, min(samples, s + chunk)) for s in range(0, samples, chunk)])
+    tasks = [ChunkTask(geom, flank, a, b, dict(DEFAULT_RANGES, **(ranges or {})), seed, dict(nominal or {}), grid,
+                       solver, aligned) for a, b in bounds]
+    if on_threads:
+        solved = threads.map_unordered(_solve_sets, tasks, threads.count())
+    elif executor is None:  # in this process, in order
+        solved = ((k, _solve_sets(t)) for k, t in enumerate(tasks))
     else:
         solved = executor.map_unordered(solve_chunk, tasks)
-    done = 0
+    done = iterations = 0
     for k, part in solved:
         sl = slice(tasks[k].start, tasks[k].stop)
-        errors[sl], X[sl], C[sl], IT[sl] = part.errors, part.x, part.status, part.iterations
+        errors[sl], C[sl], pinion_shift[sl], gear_shift[sl], ptp[sl] = (
+            part.errors, part.status, part.pinion_shift_mm, part.gear_shift_mm, part.te_peak_to_peak)
+        iterations += part.iterations
         done += sl.stop - sl.start
         if progress:
             progress(done, samples, t0)
     seconds = time.perf_counter() - t0
-    ok = carries_numbers(C)
-    P1, P2 = tca.solved_contact_points(geom, flank, X, C, solver)
-    n_ok = ok.sum(axis=1)
-    has = n_ok > 0
-    pinion_shift = np.full(samples, np.nan)
-    gear_shift = np.full(samples, np.nan)
-    pinion_shift[has] = np.where(ok, P1[..., 2] - p_al[None, :, 2], 0.0).sum(axis=1)[has] / n_ok[has]
-    gear_shift[has] = np.where(ok, P2[..., 2] - g_al[None, :, 2], 0.0).sum(axis=1)[has] / n_ok[has]
-    te = mesh.transmission_error(tca.unknowns(X).gear_angle_rad, grid[None, :], tca.unknowns(ref.x).gear_angle_rad,
-                                 ref.pinion_angle, geom.pinion.teeth / geom.gear.teeth)
-    ptp = mesh_te_peak_to_peak(np.where(ok, te, np.nan), per_pitch, first, tca.first_touch_sign(geom, flank))
     s = tca.sensitivity(geom, flank, backend=solver)
     names = assembly_errors.KEYS
     per = [e.to_layout for e in assembly_errors.ERRORS]
@@ -284,7 +322,8 @@ def _run(geom, options: "Options", solver, executor, progress):
     r = dict(DEFAULT_RANGES, **(ranges or {}))
     return SweepResult(flank=flank, samples=samples, positions=positions, errors=errors, pinion_angles=grid,
                        status_codes=C, pinion_shift_mm=pinion_shift, gear_shift_mm=gear_shift, te_peak_to_peak=ptp,
-                       sensitivity=sens, backend=solver.backend, seconds=seconds, newton_iterations_mean=float(IT.mean()),
+                       sensitivity=sens, backend=solver.backend, seconds=seconds,
+                       newton_iterations_mean=iterations / C.size,
                        ranges=r, nominal_errors={k: 0.0 for k in DEFAULT_RANGES} | dict(nominal or {}),
                        seconds_total=time.perf_counter() - t_start)
 
@@ -298,7 +337,8 @@ class Options:
     """A Monte Carlo sweep: ``samples`` error sets x ``positions`` contact positions on ``flank``; the sets
     uniform within the half-widths ``ranges`` about ``nominal`` (dicts keyed like DEFAULT_RANGES, mm / deg;
     missing range keys take DEFAULT_RANGES, missing nominal keys are 0), drawn from ``seed``; solved in
-    chunks of ``chunk`` sets.  Validates itself: a bad value raises a one-line OptionError (key, value,
+    chunks of at most ``chunk`` sets (in this process on several threads, enough smaller pieces that each
+    thread takes several; the numbers do not depend on the chunks).  Validates itself: a bad value raises a one-line OptionError (key, value,
     what is valid; SweepSizeError for the sizes)."""
 
     flank: str = "right"

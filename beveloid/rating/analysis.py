@@ -377,6 +377,14 @@ def _with_dynamic_factor(pair, options, factors, lc, elastic):
     return dyn, replace(factors, K_v=dyn.K_v)
 
 
+def mesh_stiffness_per_face_width(mesh_stiffness_n_per_um: float, pinion: iso6336.CylindricalGear,
+                                  face_width_mm: float) -> float:
+    """ISO's c_gamma_alpha from the LTCA, N/(mm um): the normal mesh stiffness (normal load over normal
+    approach) k cos^2 beta_b1 / b, ``pinion`` the pinion's middle virtual gear (the normal's moment arm
+    about its axis is r_b1 cos beta_b1: load and approach both go to its transverse plane)."""
+    return mesh_stiffness_n_per_um * math.cos(pinion.base_helix_angle) ** 2 / face_width_mm
+
+
 def dynamic_factor(pair, options: Options, factors: Factors, lc: LoadedContact, elastic) -> dynamic.DynamicFactor:
     """K_v by ISO 6336-1 method B (docs/rating.md 4.2) from the pinion speed and the LTCA's mesh stiffness:
     c_gamma_alpha = (mean normal mesh stiffness) cos^2 beta_b1 / b on the pinion's middle virtual gear (its
@@ -389,8 +397,8 @@ def dynamic_factor(pair, options: Options, factors: Factors, lc: LoadedContact, 
     p1 = p_sec.gear
     pair_v = iso6336.CylindricalPair(p1, mate_gear(geom, p_sec, flank), inp.loaded_length_mm("pinion"))
     eps_a, eps_b = pair_v.transverse_contact_ratio, pair_v.overlap_ratio
-    c_gamma = lc.mesh_stiffness_n_per_um * math.cos(p1.base_helix_angle) ** 2 / b
-    c_prime = c_gamma / (0.75 * eps_a + 0.25)
+    c_gamma = mesh_stiffness_per_face_width(lc.mesh_stiffness_n_per_um, p1, b)
+    c_prime = c_gamma / iso6336.mesh_to_single_stiffness(eps_a)
     z1, z2 = geom.pinion.teeth, geom.gear.teeth
     u = z2 / z1
     d_m, rho, q = {}, {}, {}

@@ -18,6 +18,15 @@ Pure functions over plain records; nothing here knows about beveloids.  Implemen
   eps_alpha_n > 2.05, which the caller flags).  A gear cut with a tooth thickness allowance has its
   root (s_Fn, rho_F, gamma_e) at the generating profile shift x_E and its mesh at the nominal x, as STplus (FVA/FZG) rates it (tests/rating/
   test_rating_iso_examples.py reproduces its printed FZG-C listing).
+* ISO 6336-1 method B, the tooth stiffnesses (solid disc gears, F_t K_A / b >= 100 N/mm): the
+  theoretical single stiffness c'_th = 1/q', q' = C1 + C2/z_n1 + C3/z_n2 + C4 x1 + C5 x1/z_n1 + C6 x2
+  + C7 x2/z_n2 + C8 x1^2 + C9 x2^2 (mm um/N, :data:`Q_COEFFICIENTS`), the single stiffness
+  c' = c'_th C_M C_R C_B cos beta (C_M = 0.8, C_R = 1, C_B = (1 + 0.5 (1.2 - h_fP/m_n))
+  (1 - 0.02 (20 deg - alpha_n)), the mean of the members'), and the mesh stiffness
+  c_gamma_alpha = c' (0.75 eps_alpha + 0.25).  Coefficients and factors as transcribed in
+  gfsReboucas/Drivetrain ``Gear_Set.m`` (its q' repeats x1^2 in the C9 term; the standard's is x2^2),
+  which reproduces ISO/TR 6336-30's first example (c'_th 17.856, c' 12.370, c_gamma_alpha 17.465
+  N/(mm um): tests/rating/test_rating_iso_examples.py).
 * ISO 6336-2:2019: zone factor Z_H, elasticity factor Z_E, contact ratio factor Z_eps, helix factor
   Z_beta = 1/sqrt(cos beta) and sigma_H0 = Z_H Z_E Z_eps Z_beta sqrt(F_t/(d_1 b) (u+1)/u).  Left at
   1: the single pair tooth contact factors Z_B, Z_D.
@@ -33,7 +42,8 @@ from dataclasses import dataclass
 __all__ = ["BendingGeometry", "CylindricalGear", "CylindricalPair", "bending_geometry", "contact_factors",
            "ContactFactors", "helix_factor_bending", "nominal_contact_stress_mpa", "nominal_root_stress_mpa",
            "stress_correction_factor", "form_factor", "ISO_EDITION", "EDITIONS", "load_distribution_factor",
-           "virtual_teeth"]
+           "virtual_teeth", "Q_COEFFICIENTS", "theoretical_single_stiffness_n_per_mm_um", "single_stiffness_n_per_mm_um", "mesh_to_single_stiffness",
+           "mesh_stiffness_n_per_mm_um"]
 
 ISO_EDITION = ("ISO 6336-2:2019 and ISO 6336-3:2019 method B (2019 helix factors: "
                "Y_beta = (1 - eps_beta beta/120 deg)/cos^3 beta and f_eps in Y_F)")
@@ -143,6 +153,42 @@ class CylindricalPair:
 def virtual_teeth(gear: CylindricalGear) -> float:
     """z_n = z / (cos^2 beta_b cos beta)."""
     return gear.teeth / (math.cos(gear.base_helix_angle) ** 2 * math.cos(gear.helix_angle))
+
+
+#: C1 .. C9 of q' (ISO 6336-1 method B), the flexibility of a tooth pair (mm um / N)
+Q_COEFFICIENTS = (0.04723, 0.15551, 0.25791, -0.00635, -0.11654, -0.00193, -0.24188, 0.00529, 0.00182)
+#: C_M: the measured single stiffness over the theoretical one (solid disc gears)
+STIFFNESS_CORRECTION = 0.8
+
+
+def theoretical_single_stiffness_n_per_mm_um(pair: CylindricalPair) -> float:
+    """c'_th = 1/q' of ISO 6336-1 method B, N/(mm um), over the virtual teeth and the profile shifts."""
+    c1, c2, c3, c4, c5, c6, c7, c8, c9 = Q_COEFFICIENTS
+    g, m = pair.gear, pair.mate
+    zn1, zn2, x1, x2 = virtual_teeth(g), virtual_teeth(m), g.profile_shift, m.profile_shift
+    return 1.0 / (c1 + c2 / zn1 + c3 / zn2 + c4 * x1 + c5 * x1 / zn1 + c6 * x2 + c7 * x2 / zn2 + c8 * x1 ** 2
+                  + c9 * x2 ** 2)
+
+
+def single_stiffness_n_per_mm_um(pair: CylindricalPair, blank_factor: float = 1.0) -> float:
+    """c' of ISO 6336-1 method B, N/(mm um): the largest stiffness of one tooth pair per unit face
+    width, c'_th C_M C_R C_B cos beta, for a line load F_t K_A / b of at least 100 N/mm (C_R:
+    ``blank_factor``, 1 for solid disc gears)."""
+    rack = sum((1 + 0.5 * (1.2 - g.rack_dedendum_mm / g.normal_module_mm))
+               * (1 - 0.02 * (20.0 - math.degrees(g.normal_pressure_angle))) for g in (pair.gear, pair.mate)) / 2
+    return (theoretical_single_stiffness_n_per_mm_um(pair) * STIFFNESS_CORRECTION * blank_factor * rack
+            * math.cos(pair.gear.helix_angle))
+
+
+def mesh_to_single_stiffness(eps_alpha: float) -> float:
+    """c_gamma_alpha / c' = 0.75 eps_alpha + 0.25 (ISO 6336-1 method B)."""
+    return 0.75 * eps_alpha + 0.25
+
+
+def mesh_stiffness_n_per_mm_um(pair: CylindricalPair, blank_factor: float = 1.0) -> float:
+    """c_gamma_alpha of ISO 6336-1 method B, N/(mm um): the mean mesh stiffness per unit face width
+    in the transverse plane, c' (0.75 eps_alpha + 0.25)."""
+    return single_stiffness_n_per_mm_um(pair, blank_factor) * mesh_to_single_stiffness(pair.transverse_contact_ratio)
 
 
 @dataclass(frozen=True)

@@ -110,3 +110,42 @@ def test_the_rating_computes_k_v_from_the_ltca_mesh_stiffness():
     # the ISO stresses carry it
     s = result.members["pinion"].sections["middle"]
     assert s.sigma_F_mpa == pytest.approx(s.sigma_F0_mpa * dyn.K_v * s.K_F_beta)
+
+
+def test_the_ltca_mesh_stiffness_of_a_near_parallel_pair_lies_between_iso_and_its_theory():
+    """ISO 6336-1 method B's c_gamma_alpha against the LTCA's (plate tooth) on a near-cylindrical, near-parallel
+    pair (cone angles 0.05 deg, shaft angle 1 deg, spur pinion, the gear's middle profile shift 0 at this offset;
+    benchmarks/ltca_mesh_stiffness_vs_iso.py with 20 positions and the FE tooth, docs/validation.md 7.4).  ISO's c'
+    is its theoretical single stiffness times C_M = 0.8, the measured over the calculated; the LTCA has none of
+    what that factor stands for (shafts, hubs, deviations, roughness), so its stiffness lies between ISO's
+    (ratio 1) and ISO's theoretical one (1.25), widened by 4 % for its rise with the load over ISO's range
+    (+6 % from 115 to 460 N/mm).  Measured: 1.18 here (500 N m, 115 N/mm, 9 positions).  The cycle's mean
+    over its largest single-pair stiffness is ISO's 0.75 eps_alpha + 0.25 to 5 % (measured 1.51 against 1.49;
+    1.46 with 20 positions)."""
+    from beveloid.ltca.batch import summary
+    from beveloid.rating import iso6336
+    from beveloid.rating.analysis import mesh_stiffness_per_face_width
+    from beveloid.rating.virtual import mate_gear
+
+    d = spec_to_dict(load_example("case1"))
+    d["pair"].update(shaft_angle_deg=1.0, offset_mm=221.853)
+    d["pinion"].update(cone_angle_deg=0.05, helix_angle_deg=0.0, cutter_tip_radius_coefficient=0.3)
+    d["gear"].update(cone_angle_deg=0.05, cutter_tip_radius_coefficient=0.3)
+    pair = Pair.from_spec(spec_from_dict(d))
+    g = pair.geometry
+    p_sec = section_gear(g, "pinion", 0.0, "right")
+    pair_v = iso6336.CylindricalPair(p_sec.gear, mate_gear(g, p_sec, "right"), 50.0)
+    assert abs(pair_v.mate.profile_shift) < 1e-3 and pair_v.face_width_mm == min(g.pinion.face_width_mm,
+                                                                                   g.gear.face_width_mm)
+    torque = 500.0
+    assert 2000.0 * torque / p_sec.gear.reference_diameter_mm / 50.0 >= 100.0  # ISO's load range
+    lt = ltca.analyze(pair, ltca.Options(torque_nm=torque, positions=9, tooth_model="plate"), Solver())
+    k = np.asarray(lt.mesh_stiffness_n_per_um)
+    single = (np.nan_to_num(lt.pair_load_n) > 0).sum(axis=1) == 1
+    assert lt.converged.all() and single.any() and not single.all()
+    c_gamma = mesh_stiffness_per_face_width(summary(lt)["mesh_stiffness_mean_n_per_um"], pair_v.gear, 50.0)
+    ratio = c_gamma / iso6336.mesh_stiffness_n_per_mm_um(pair_v)
+    assert 1.0 <= ratio <= 1.04 / iso6336.STIFFNESS_CORRECTION
+    c_single = mesh_stiffness_per_face_width(float(k[single].max()), pair_v.gear, 50.0)
+    assert c_gamma / c_single == pytest.approx(iso6336.mesh_to_single_stiffness(pair_v.transverse_contact_ratio),
+                                               rel=0.05)

@@ -49,6 +49,7 @@ x in place of x_E, the pinion's Y_F is 2.009 instead of 2.087
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import pytest
@@ -254,6 +255,22 @@ def test_example_1_is_in_the_overlap_regime_it_prints():
     pair = _example_1_pair()
     assert pair.overlap_ratio >= 1.0
     assert 1 / 0.8035 ** 2 <= pair.transverse_contact_ratio <= 1 / 0.8025 ** 2
+
+
+def test_iso_tr_6336_30_example_1_tooth_stiffness():
+    """ISO 6336-1 method B stiffnesses of example 1 to the printed digits, as the reference column of
+    ``MATISO_6336.example_01`` transcribes them: c'_th = 17.8558, c' = 12.3705, c_gamma_alpha = 17.4648
+    N/(mm um) (h_fP = 1.4 m_n: C_B = 0.9).  The stiffness lines are those of x1 rounded to the printed
+    0.145 (with x1 = 0.14522, c'_th = 17.8566); eps_alpha is the mesh's (from a_w), as in the pitting lines."""
+    pair = _example_1_pair()
+    printed_x1 = dataclasses.replace(pair, gear=dataclasses.replace(pair.gear, profile_shift=0.145))
+    c_prime = iso.single_stiffness_n_per_mm_um(printed_x1)
+    assert _within_printed(iso.theoretical_single_stiffness_n_per_mm_um(printed_x1), 17.8558, 4)
+    assert _within_printed(c_prime, 12.3705, 4)
+    assert _within_printed(c_prime * iso.mesh_to_single_stiffness(pair.transverse_contact_ratio), 17.4648, 4)
+    # the mesh stiffness of one pair is its c' times the same factor of its own eps_alpha
+    assert iso.mesh_stiffness_n_per_mm_um(pair) == pytest.approx(
+        iso.single_stiffness_n_per_mm_um(pair) * (0.75 * pair.transverse_contact_ratio + 0.25), rel=1e-15)
 
 
 # --- 3. helical bending: KISSsoft 03/2017, ISO 6336:2006 method B (NREL 5 MW gearbox, stage 3) --------

@@ -61,8 +61,12 @@ def test_analyze_is_the_sweep_and_runs_anywhere_the_same(pair1):
 def test_a_chunk_is_a_named_record_of_its_own_sets(pair1):
     options = sweep.Options(samples=5, positions=4, seed=8)
     whole = sweep.analyze(pair1, options)
-    task = sweep.ChunkTask(pair1.geometry, "right", 2, 5, options.ranges, 8, options.nominal, whole.pinion_angles, "auto")
+    grid, aligned = sweep.aligned_path(pair1.geometry, "right", 4)
+    np.testing.assert_array_equal(grid, whole.pinion_angles)
+    task = sweep.ChunkTask(pair1.geometry, "right", 2, 5, options.ranges, 8, options.nominal, grid, "auto", aligned)
     part = sweep.solve_chunk(task)
     assert isinstance(part, sweep.ChunkSolution)
     np.testing.assert_array_equal(part.errors, whole.errors[2:5])
     np.testing.assert_array_equal(part.status, whole.status_codes[2:5])
+    np.testing.assert_array_equal(part.te_peak_to_peak, whole.te_peak_to_peak[2:5])
+    np.testing.assert_array_equal(part.pinion_shift_mm, whole.pinion_shift_mm[2:5])
