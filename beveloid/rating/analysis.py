@@ -108,9 +108,16 @@ def loaded_contact(ltca_result, geometry, face_width_mm: float) -> LoadedContact
         top, at = ltca_result.root_stress_max_mpa(), ltca_result.root_stress_location()
         for m in MEMBERS:
             root[m] = top.get(m)
+            if root[m] is not None and not root[m] > 0.0:  # nothing to divide a strength by
+                notes.append(f"{m}: the FE tooth reads no tensile root stress over the mesh cycle "
+                             f"({root[m]:g} MPa): the local root stress and S_F are null")
+                root[m] = None
+                continue
             if at.get(m) is not None:
-                root_where[m] = {"face_z_mm": float(sections.face_z(geometry, m, at[m]["z_mm"])),
-                                 "height_above_root_mm": float(at[m]["height_mm"]),
+                # a location the FE tooth does not know (a reading node's height or z not finite) stays null
+                z, h = at[m]["z_mm"], at[m]["height_mm"]
+                root_where[m] = {"face_z_mm": None if z is None else float(sections.face_z(geometry, m, z)),
+                                 "height_above_root_mm": None if h is None else float(h),
                                  "pinion_angle_rad": float(ltca_result.pinion_angle[at[m]["position"]]),
                                  "tooth_pair": int(at[m]["pair"])}
         notes.append("local root stress: the FE tooth's largest maximum principal stress in the loaded side's "
@@ -298,8 +305,10 @@ class MemberRating:
         w = self.root_stress_location
         if w is None:
             return "mesh cycle peak"
-        return (f"root fillet at face z {w['face_z_mm']:.1f} mm, {w['height_above_root_mm']:.2f} mm above the root "
-                f"cone ({pinion_angle_text(w['pinion_angle_rad'])}, tooth pair {w['tooth_pair']})")
+        z = "at an unknown face z" if w["face_z_mm"] is None else f"at face z {w['face_z_mm']:.1f} mm"
+        h = ("" if w["height_above_root_mm"] is None
+             else f", {w['height_above_root_mm']:.2f} mm above the root cone")
+        return f"root fillet {z}{h} ({pinion_angle_text(w['pinion_angle_rad'])}, tooth pair {w['tooth_pair']})"
 
     @property
     def safety_bending_iso(self) -> float:
@@ -351,7 +360,7 @@ def analyze(pair, options: Options, solver=None, ltca_result=None, face_points: 
         members[member] = MemberRating(
             member, secs, root, lc.root_stress_location[member], p,
             None if root is None else factors.root_strength_mpa(member) / root,
-            None if p is None else factors.contact_strength_mpa(member) / p, face)
+            None if p is None or not p > 0.0 else factors.contact_strength_mpa(member) / p, face)
     notes = factors.notes() + list(lc.notes)
     notes += [f"{m.member} {k}: {s.status}" for m in members.values() for k, s in m.sections.items() if s.status != "ok"]
     for member in MEMBERS:

@@ -24,7 +24,7 @@ def safety_along_face(result, geometry, path, title=""):
                         ha="center", fontsize=8)
         if m.safety_bending is not None:
             ax.axhline(m.safety_bending, color="C0", ls="--", label="S_F local (FE root stress peak)")
-            if m.root_stress_location is not None:
+            if m.root_stress_location is not None and m.root_stress_location["face_z_mm"] is not None:
                 ax.plot([m.root_stress_location["face_z_mm"]], [m.safety_bending], "C0*", ms=11,
                         label="where the root stress peaks")
         if m.safety_pitting is not None:
