@@ -10,7 +10,8 @@ micro-geometry) while the main process waits for them and writes the report.
 * ``workers=1``: each piece runs in this process when its result is asked for (the same code).
 * ``workers=N``: a pool of N spawned processes (:mod:`multiprocessing`, ``spawn``: no state shared
   with this one), all started when the ``with`` block is entered.  Each runs numba and the BLAS / MKL
-  libraries on one thread: the processes are the parallelism.  The workers ignore SIGINT: Ctrl-C
+  libraries on one thread: the processes are the parallelism.  The workers ignore SIGINT (held
+  blocked while the pool starts, in them and here: a Ctrl-C then is delivered, not lost): Ctrl-C
   reaches this process (the terminal sends it to every process of the group), which ends the workers
   (``terminate``) and passes the interrupt on.
 * A worker that dies (killed by the out-of-memory killer, say) takes its piece with it, and a
@@ -51,6 +52,8 @@ _started = None
 def _worker_start(started) -> None:
     global _started
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the main process's to handle
+    if hasattr(signal, "pthread_sigmask"):  # started with SIGINT blocked (Tasks.__enter__): a held one is dropped now
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
     from ..parallel import single_threaded
 
     _started = started
@@ -108,26 +111,32 @@ class Tasks:
         if self.workers > 1:
             saved = {k: os.environ.get(k) for k in ONE_THREAD}
             os.environ.update(ONE_THREAD)  # read by the libraries as the workers import them
-            # started with SIGINT ignored, the workers ignore it from their first instruction (an ignored
-            # signal stays ignored across exec, and Python then installs no handler of its own): a Ctrl-C
-            # at the terminal prints no traceback from a worker that is still starting
-            ignore = threading.current_thread() is threading.main_thread()
-            handler = signal.signal(signal.SIGINT, signal.SIG_IGN) if ignore else None
+            # started with SIGINT blocked (a blocked signal stays blocked across exec), the workers hold a
+            # Ctrl-C that arrives while they start until their initializer ignores it: no traceback from a
+            # worker that is still starting.  Blocked, not ignored, in this process too: a Ctrl-C that
+            # arrives while the pool starts is held and delivered when it is unblocked, not lost
+            block = threading.current_thread() is threading.main_thread() and hasattr(signal, "pthread_sigmask")
+            mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT}) if block else None
             ctx = multiprocessing.get_context("spawn")
             try:
                 before = set(multiprocessing.active_children())
                 self._started = ctx.SimpleQueue()
-                # the pool starts its processes here, under this SIGINT disposition and environment
+                # the pool starts its processes here, under this signal mask and environment
                 self._pool = ctx.Pool(self.workers, initializer=_worker_start, initargs=(self._started,))
                 self._processes = [p for p in multiprocessing.active_children() if p not in before]
             finally:
-                if ignore:
-                    signal.signal(signal.SIGINT, handler)
                 for k, v in saved.items():
                     if v is None:
                         os.environ.pop(k, None)
                     else:
                         os.environ[k] = v
+                if block:
+                    try:
+                        signal.pthread_sigmask(signal.SIG_SETMASK, mask)  # a Ctrl-C held meanwhile arrives here
+                    except BaseException:
+                        if self._pool is not None:
+                            self._stop()
+                        raise
         return self
 
     def __exit__(self, exc_type, *exc):

@@ -93,3 +93,25 @@ def test_the_fe_teeth_not_cached_are_submitted_each_announced_with_its_progress(
                       f" after ({tmp_path / 'fe'})")
     assert err[1:] == ["   FE tooth of the case 1 pinion: meshing (refinement 1)",
                        "   FE tooth of the case 1 pinion: done in 1.0 s"]
+
+
+def test_a_ctrl_c_while_the_workers_start_is_held_not_lost(monkeypatch):
+    """SIGINT is blocked, not ignored, while the pool starts its processes: a Ctrl-C that arrives then
+    interrupts as soon as they are started (ignored, it was lost and the run went on: seen as
+    `paper` finishing after its Ctrl-C on a fresh install), and no worker is left behind."""
+    import multiprocessing
+    import multiprocessing.context
+
+    real = multiprocessing.context.BaseContext.Pool
+
+    def pool_then_ctrl_c(self, *args, **kwargs):
+        started = real(self, *args, **kwargs)
+        os.kill(os.getpid(), signal.SIGINT)  # arrives while the pool is being started
+        return started
+
+    monkeypatch.setattr(multiprocessing.context.BaseContext, "Pool", pool_then_ctrl_c)
+    before = set(multiprocessing.active_children())
+    with pytest.raises(KeyboardInterrupt):
+        with tasks.Tasks(workers=2):
+            pytest.fail("the with block ran after a Ctrl-C")
+    assert not [p for p in multiprocessing.active_children() if p not in before and p.is_alive()]
