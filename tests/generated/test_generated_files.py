@@ -154,6 +154,7 @@ _HASHSEED_SCRIPT = (
 )
 
 
+@pytest.mark.slow
 def test_rendering_does_not_depend_on_the_hash_seed(rendered, tmp_path):
     """A fresh build under two other PYTHONHASHSEEDs (set iteration order) renders the same bytes."""
     expected = rendered[f"surface_{MODEL}.py"] + _SEPARATOR + rendered[f"surface_{MODEL}_scalar.py"]

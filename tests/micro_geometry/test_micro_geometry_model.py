@@ -185,6 +185,7 @@ def test_derivatives_at_a_linear_kink_are_one_sided(geom1):
     assert np.linalg.norm(pt(hi) - pt(lo)) < 1e-9  # continuous
 
 
+@pytest.mark.slow
 @pytest.mark.long_running
 def test_displacement_is_the_removal_in_50_digits():
     """The derivation itself (derivations/flank_micro_geometry.py: the modified point over its stages,
