@@ -494,6 +494,7 @@ def test_loaded_path_fe_tooth_fixed_seed(data):
     _check_loaded(data)
 
 
+@pytest.mark.slow
 @pytest.mark.long_running
 @pytest.mark.usefixtures("compiled_solver")
 @seed(ROTATING_SEED)

@@ -16,6 +16,7 @@ RELIEFS = ('tip_relief_um = 20.0\ntip_relief_height_mm = 2.0\ntip_relief_shape =
            'end_relief_length_mm = 8.0\nlead_crowning_um = 10.0\n')
 
 
+@pytest.mark.slow
 def test_numpy_backend_on_relieved_flanks_is_silent():
     text = (ROOT / "examples" / "case1.toml").read_text()
     for member in ("pinion", "gear"):
