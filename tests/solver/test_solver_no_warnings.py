@@ -6,6 +6,8 @@ import re
 import warnings
 from pathlib import Path
 
+import pytest
+
 from beveloid import tca
 from beveloid.pair import Pair
 from beveloid.solver import Solver
