@@ -143,13 +143,13 @@ def brute_extreme(geom, flank, phi1, errors, near, n=150, n_edge=4000):
     return sign * max(vals) if vals else None
 
 
-# the first in `pytest`, the other two (each a brute-force scan of both patches) in the slow tier
-ERROR_SETS = [(1.2, 1.2, 1.2, 0.0, 0.0), pytest.param((0.0, 0.0, 0.0, 0.0, 0.03 * DEG), marks=pytest.mark.slow),
-              pytest.param((-0.4, 0.3, 0.2, 0.1 * DEG, -0.02 * DEG), marks=pytest.mark.slow)]
+ERROR_SETS = [(1.2, 1.2, 1.2, 0.0, 0.0), (0.0, 0.0, 0.0, 0.0, 0.03 * DEG), (-0.4, 0.3, 0.2, 0.1 * DEG, -0.02 * DEG)]
+#: the brute-force scans of both patches: the first set in `pytest`, the other two in the slow tier
+SCANNED = [ERROR_SETS[0], *(pytest.param(e, marks=pytest.mark.slow) for e in ERROR_SETS[1:])]
 
 
 @pytest.mark.xdist_group("edge_patch_grids")  # one worker: the patch grids are computed once
-@pytest.mark.parametrize("errors", ERROR_SETS)
+@pytest.mark.parametrize("errors", SCANNED)
 def test_solved_contact_is_the_extreme_over_the_patches(geom1, errors):
     """The brute-force extreme of phi'_2 over grids of both patches never exceeds the solved
     contact (1e-9 rad) and reaches it within the grids' resolution; 'outside' exactly when no
