@@ -150,7 +150,7 @@ def volume_mm3(shape) -> float:
     """The volume of a solid (mm^3), OpenCASCADE's Gauss integration over its faces.  Its adaptive
     Gauss-Kronrod variant (volume only) at a face tolerance of 1e-5 took half the time on the paper's
     teeth but was 1.5e-6 off on the pointed pinion of benchmarks/bench_export.py (this one: 9e-9);
-    at 1e-6 it was as accurate and as slow (docs/performance.md, "Test suite", 2026-11-26 third session)."""
+    at 1e-6 it was as accurate and as slow (docs/performance.md, "Test suite")."""
     props = GProp_GProps()
     static(BRepGProp, "VolumeProperties")(shape, props)
     return float(props.Mass())
