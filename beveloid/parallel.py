@@ -33,6 +33,7 @@ import functools
 import multiprocessing
 import os
 import signal
+import threading
 from collections.abc import Callable, Iterable, Iterator
 from typing import Any
 
@@ -147,8 +148,28 @@ class _Local:
     def _stop_processes(self):
         # (the pool's own table of its processes: ProcessPoolExecutor has no public way to stop them
         # before Python 3.14's terminate_workers)
+        _quiet_broken_pool_race()
         for process in list((getattr(self._pool, "_processes", None) or {}).values()):
             process.terminate()
+
+
+def _quiet_broken_pool_race() -> None:
+    """Stopping the workers breaks the pool on purpose: the executor's manager thread then sets an
+    exception on every pending future, and on Python 3.11 one already cancelled raises
+    ``InvalidStateError`` in that thread, whose traceback printed a dozen lines after the one-line
+    Ctrl-C message (seen under load).  That one error of that thread is not printed; every other
+    thread's exception is, as before."""
+    previous = threading.excepthook
+    if getattr(previous, "_beveloid_quiet", False):
+        return
+
+    def hook(args):
+        if issubclass(args.exc_type, cf.InvalidStateError) and "ExecutorManager" in type(args.thread).__name__:
+            return
+        previous(args)
+
+    hook._beveloid_quiet = True
+    threading.excepthook = hook
 
 
 def __getattr__(name: str):

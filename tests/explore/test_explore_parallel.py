@@ -117,3 +117,29 @@ def test_run_that_loses_a_worker_keeps_its_chunks(tmp_path):
     stop, why = runner.execute(out, req, _LosesWorker())
     assert stop is StopReason.WORK_LOST and "KilledWorker" in why
     assert runner.finished(out, req) == [0]
+
+
+def test_the_broken_pool_race_after_a_ctrl_c_prints_nothing_and_other_thread_errors_still_do(monkeypatch):
+    """Stopping the local workers on Ctrl-C breaks their pool; on Python 3.11 the executor's manager
+    thread may then raise InvalidStateError on a cancelled future (seen: a dozen traceback lines after the
+    one-line message). That error of that thread is quiet; any other thread's error is reported."""
+    import concurrent.futures as cf
+    import threading
+
+    seen = []
+    monkeypatch.setattr(threading, "excepthook", lambda args: seen.append((type(args.thread).__name__, args.exc_type)))
+    parallel._quiet_broken_pool_race()
+
+    class _ExecutorManagerThread(threading.Thread):  # the name of the executor's own thread class
+        def run(self):
+            raise cf.InvalidStateError("CANCELLED: <Future state=cancelled>")
+
+    class Other(threading.Thread):
+        def run(self):
+            raise cf.InvalidStateError("a real one")
+
+    for cls in (_ExecutorManagerThread, Other):
+        t = cls()
+        t.start()
+        t.join()
+    assert seen == [("Other", cf.InvalidStateError)]
