@@ -31,6 +31,7 @@ import os
 import signal
 import sys
 import threading
+import time
 
 from .. import interrupts
 
@@ -49,11 +50,16 @@ def say(msg) -> None:
 _started = None
 
 
+#: how long entering waits for the workers to start (s); a worker not up by then is left to check_workers
+WORKER_START_S = 120.0
+
+
 def _worker_start(started) -> None:
     global _started
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the main process's to handle
     if hasattr(signal, "pthread_sigmask"):  # started with SIGINT blocked (Tasks.__enter__): a held one is dropped now
         signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
+    started.put((os.getpid(), None))  # up: Tasks.__enter__ waits for every worker to say so
     from ..parallel import single_threaded
 
     _started = started
@@ -106,6 +112,7 @@ class Tasks:
         self._started = None  # the queue on which they say which piece they start
         self._running = {}  # pid -> the piece that worker started last
         self._pending = []  # the handles submitted
+        self._up = set()  # the pids of the workers whose initializer has run
 
     def __enter__(self):
         if self.workers > 1:
@@ -124,6 +131,13 @@ class Tasks:
                 # the pool starts its processes here, under this signal mask and environment
                 self._pool = ctx.Pool(self.workers, initializer=_worker_start, initargs=(self._started,))
                 self._processes = [p for p in multiprocessing.active_children() if p not in before]
+                # every worker up (its initializer run) before a Ctrl-C held meanwhile is delivered: a worker
+                # stopped while it unpickles its start-up data prints a traceback (its semaphore is gone)
+                deadline = time.monotonic() + WORKER_START_S
+                while (len(self._up) < len(self._processes) and time.monotonic() < deadline
+                       and all(p.exitcode is None for p in self._processes)):
+                    time.sleep(0.01)
+                    self._read_started()
             finally:
                 for k, v in saved.items():
                     if v is None:
@@ -173,7 +187,10 @@ class Tasks:
         """The workers' "piece started" lines so far (read often: the pipe holds some 400 of them)."""
         while not self._started.empty():
             pid, name = self._started.get()
-            self._running[pid] = name
+            if name is None:
+                self._up.add(pid)
+            else:
+                self._running[pid] = name
 
     def check_workers(self) -> None:
         """Raise :class:`~beveloid.parallel.WorkLost` if a worker process has ended: the piece it was
