@@ -248,9 +248,9 @@ def _lower_fillet_peaks(pair, lt, member):
     tooth = FeTooth(data, FLANK)
     side = tooth.index
     height = data.fillet_height_mm[side]
-    lower = tooth.counted[side] & (height < 0.5 * height.max())
+    lower_half = height < 0.5 * height.max()
     z = data.fillet_points_mm[side][:, 2]
-    inner = lower & (np.abs(z - data.z_mm.mean()) < 0.5 * np.ptp(data.z_mm) - pair.geometry.normal_module_mm)
+    inside = np.abs(z - data.z_mm.mean()) < 0.5 * np.ptp(data.z_mm) - pair.geometry.normal_module_mm
     points = lt.gap.pinion_point if member == "pinion" else lt.gap.gear_point
     area = lt.cell_area_mm2
     best = [(-math.inf, math.nan, math.nan)] * 2
@@ -259,8 +259,10 @@ def _lower_fillet_peaks(pair, lt, member):
             f = np.where(lt.gap.in_flank[j, k], lt.pressure_mpa[j, k] * area[j, k], 0.0)
             if f.sum() <= 0:
                 continue
-            s1 = principal_stresses(tooth.stress[side] @ (tooth.weights(points[j, k]).T @ f))[:, 2]
-            for n, mask in enumerate((lower, inner)):
+            g = tooth.weights(points[j, k]).T @ f
+            s1 = principal_stresses(tooth.stress[side] @ g)[:, 2]
+            lower = tooth.counted(g)[0] & lower_half
+            for n, mask in enumerate((lower, lower & inside)):
                 i = int(np.argmax(np.where(mask, s1, -np.inf)))
                 if s1[i] > best[n][0]:
                     best[n] = (float(s1[i]), float(sections.face_z(pair.geometry, member, z[i])), float(height[i]))

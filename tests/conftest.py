@@ -226,7 +226,8 @@ def _principal_stresses():
     fn = principal.functions()
     op = np.ascontiguousarray(np.arange(2 * 6 * 3, dtype=float).reshape(2, 6, 3))
     bound = fn.bounds(op, 1.0)
-    fn.extreme(op, bound, np.ones((1, 3)), 1.0, np.zeros(1, dtype=np.int64), np.full(1, np.nan))
+    near = np.zeros((3, 2), dtype=np.uint8)
+    fn.extreme(op, bound, near, np.ones((1, 3)), 1.0, np.zeros(1, dtype=np.int64), np.full(1, np.nan))
     fn.each_node(np.ones((2, 6)), 1.0, np.empty(2))
 
 

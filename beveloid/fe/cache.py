@@ -104,7 +104,7 @@ def cache_key(pair, member: str, e_mpa: float, nu: float, refinement: int, coars
         "face_limits_mm": _floats(m.face_limits), "tip_radius_mm": _floats(m.tip_radius(np.array(m.face_limits))),
         "normal_module_mm": float(geometry.normal_module_mm), "bore_diameter_mm": bore,
         "e_mpa": float(e_mpa), "nu": float(nu), "refinement": int(refinement), "coarsen": float(coarsen),
-        "grid": list(tooth.GRID), "depth": [tooth.DEPTH_PER_MODULE, tooth.DEPTH_PER_THICKNESS],
+        "grid": list(tooth.GRID), "face_fractions": list(tooth.FACE_FRACTIONS), "depth": [tooth.DEPTH_PER_MODULE, tooth.DEPTH_PER_THICKNESS],
         "mesh_rules": mesh.MESH_RULES_VERSION,
         "mesh": [mesh.FLANK_SIZE_PER_MODULE, mesh.FAR_GROWTH, mesh.FILLET_GROWTH, mesh.FAR_SIZE_PER_MODULE, mesh.FILLET_SIZE_PER_RADIUS,
                  mesh.FILLET_SIZE_MIN_PER_MODULE, mesh.RIM_DEPTH_PER_HEIGHT, mesh.SECTIONS, mesh.SEGMENT_POINTS],

@@ -13,8 +13,10 @@ z and their radius (bilinear weights W, points x grid nodes; outside the grid: i
 
 C is the FE compliance of :mod:`beveloid.fe.tooth` (local deformation removed) made positive
 semi-definite: its eigenvalues below zero (a load at the root of a tooth on a rim stiffer than
-the half-space subtracted from it) are set to zero.  Fillet nodes nearer a load-grid node than the
-reading depth are left out of the root stress (they see the point force's local stress).
+the half-space subtracted from it) are set to zero.  Fillet nodes nearer than the reading depth to
+a load-grid node that the load set loads are left out of its root stress (they see that point
+force's local stress); a node near only unloaded grid nodes counts, so a short fillet under the
+flank's lowest grid row still reads the stress of loads higher up.
 """
 from __future__ import annotations
 
@@ -49,18 +51,18 @@ class FeTooth:
         self.radius_mm = np.asarray(data.radius_mm[self.index])  # (ns, nz)
         self.z_mm = np.asarray(data.z_mm)
         self.stress = np.asarray(data.stress_mpa_per_n[self.index])  # (2, nf, 6, G)
-        # fillet nodes nearer a load-grid node than the reading depth see that point force's local
-        # (singular) stress, not the tooth's: left out of the root stress
+        # a fillet node nearer a loaded load-grid node than the reading depth sees that point force's
+        # local (singular) stress, not the tooth's: near[s][c, i] marks fillet node i of fillet s within
+        # the reading depth of grid node c, left out of a load set that loads c
         grid = np.asarray(data.points_mm[self.index]).reshape(-1, 3)
-        near = float(np.max(data.depth_mm[self.index]))
+        reach = float(np.max(data.depth_mm[self.index]))
         fp = np.asarray(data.fillet_points_mm)
-        dist = np.min(np.linalg.norm(fp[:, :, None, :] - grid[None, None], axis=-1), axis=-1)
-        self.counted = dist > near  # (2, nf)
-        # the counted nodes' stress operators (rows node-major, 6 components, G columns) of the loaded
-        # side's fillet (0) and the other's (1)
-        sides = (self.index, 1 - self.index)
-        self.nodes = tuple(np.flatnonzero(self.counted[s]) for s in sides)
-        self.operators = tuple(np.ascontiguousarray(self.stress[s][n]) for s, n in zip(sides, self.nodes))
+        self.near = np.ascontiguousarray(
+            (np.linalg.norm(fp[:, None, :, :] - grid[None, :, None, :], axis=-1) <= reach).astype(np.uint8))
+        # the stress operators (rows node-major, 6 components, G columns) of the loaded side's fillet (0)
+        # and the other's (1), their bounds and near-matrices in that order
+        self.sides = (self.index, 1 - self.index)
+        self.operators = tuple(np.ascontiguousarray(self.stress[s]) for s in self.sides)
         fn = principal.functions()
         self.bounds = tuple(fn.bounds(op, sign) for op, sign in zip(self.operators, (1.0, -1.0)))
 
@@ -106,9 +108,15 @@ class FeTooth:
         W = self.weights(p.reshape(-1, 3)).reshape(p.shape[0], -1, self.stress.shape[-1])
         return np.einsum("qng,qn->qg", W, f)
 
+    def counted(self, g) -> np.ndarray:
+        """(2, nf) the fillet nodes (0 the loaded side's fillet, 1 the other's) that count in the root
+        stress of one load set g (G,): those not within the reading depth of a grid node it loads."""
+        loaded = np.asarray(g, dtype=float) != 0.0
+        return np.stack([~np.any(self.near[s][loaded], axis=0) for s in self.sides])
+
     def _tensors(self, side, g):
-        """(Q, nc, 6) the counted fillet nodes' stress tensors of ``side`` (0 the loaded flank's fillet)
-        under loads g (Q, G)."""
+        """(Q, nf, 6) the fillet nodes' stress tensors of ``side`` (0 the loaded flank's fillet) under
+        loads g (Q, G)."""
         op = self.operators[side]
         return (g @ op.reshape(-1, op.shape[-1]).T).reshape(g.shape[0], -1, 6)
 
@@ -116,9 +124,10 @@ class FeTooth:
         """(z_mm (bins,), stress (bins,)): the loaded fillet's largest max-principal stress in each of
         ``bins`` equal slices of the face (nan where a slice holds no counted node)."""
         g = self.loads(np.asarray(points, dtype=float)[None], np.asarray(forces_n, dtype=float)[None])
-        loaded = np.empty(self.nodes[0].size)
+        counted = self.counted(g[0])[0]
+        loaded = np.empty(counted.size)
         principal.functions().each_node(self._tensors(0, g)[0], 1.0, loaded)
-        z = self.data.fillet_points_mm[self.index][self.nodes[0], 2]
+        loaded, z = loaded[counted], self.data.fillet_points_mm[self.index][counted, 2]
         edges = np.linspace(self.z_mm[0], self.z_mm[-1], bins + 1)
         slot = np.clip(np.searchsorted(edges, z) - 1, 0, bins - 1)
         out = np.full(bins, np.nan)
@@ -136,16 +145,18 @@ class FeTooth:
     def root_stresses(self, points, forces_n) -> RootStress:
         """:meth:`root_stress` of Q load sets at once (``points`` (Q, n, 3), ``forces_n`` (Q, n)): a
         RootStress of (Q,) arrays: the extreme principal stresses by :func:`beveloid.fe.principal.extreme`
-        (each set's tensors over its non-zero node loads, only at the nodes whose bound can reach them)."""
+        (each set's tensors over its non-zero node loads, only at the nodes whose bound can reach them);
+        NaN (and no place) for a set whose every fillet node lies within the reading depth of its loads."""
         g = np.ascontiguousarray(self.loads(points, forces_n))
         Q = g.shape[0]
         fn = principal.functions()
         out = []
         for side, sign in ((0, 1.0), (1, -1.0)):
             node, value = np.zeros(Q, dtype=np.int64), np.full(Q, np.nan)
-            if self.nodes[side].size:
-                fn.extreme(self.operators[side], self.bounds[side], g, sign, node, value)
-            out.append((self.nodes[side][node] if self.nodes[side].size else node, value))
+            fn.extreme(self.operators[side], self.bounds[side], self.near[self.sides[side]], g, sign, node, value)
+            out.append((node, value))
         (k, tension), (_, compression) = out
-        where = self.data.fillet_points_mm[self.index][k]
-        return RootStress(tension, where[:, 2], np.asarray(self.data.fillet_height_mm[self.index])[k], compression)
+        found = k >= 0
+        where = np.where(found[:, None], self.data.fillet_points_mm[self.index][np.maximum(k, 0)], np.nan)
+        height = np.where(found, np.asarray(self.data.fillet_height_mm[self.index])[np.maximum(k, 0)], np.nan)
+        return RootStress(tension, where[:, 2], height, compression)

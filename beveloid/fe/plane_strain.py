@@ -449,8 +449,9 @@ def fe_tooth_line_load(data, geometry, member: str, load: SectionLoad, points: i
     centres, along = tooth.along_face(at, forces)
     middle = np.abs(centres - 0.5 * (lo + hi)) <= 0.25 * (hi - lo)
     side = FLANKS.index(load.flank)
-    nodal = principal_stresses(tooth.stress[side] @ (tooth.weights(at).T @ forces))[:, 2]
-    counted = tooth.counted[side]
+    g = tooth.weights(at).T @ forces
+    nodal = principal_stresses(tooth.stress[side] @ g)[:, 2]
+    counted = tooth.counted(g)[0]
     level = fillet_level(data.fillet_height_mm[side][counted], data.fillet_points_mm[side][counted, 2],
                          nodal[counted], (lo, hi), LEVEL_BIN_PER_RADIUS * sector.fillet_radius_mm(sampler))
     return LineLoadReading(top.tension_mpa, float(np.nanmedian(along[middle])), level, top.height_mm, top.z_mm)

@@ -63,16 +63,19 @@ def _exact(op, i, g, q, cols, m, sign, t):
     return largest_eigenvalue(sign * t[XX], sign * t[YY], sign * t[ZZ], sign * t[XY], sign * t[YZ], sign * t[ZX])
 
 
-def extreme(op, bound, g, sign, node, value):
+def extreme(op, bound, near, g, sign, node, value):
     """For each load set q of g (Q, G) (node loads >= 0): the node of op (nc, 6, G) (bound: :func:`bounds`) with the largest
     principal stress (sign +1) or the smallest (sign -1), into node[q], value[q] (the lowest node among
-    equal values).  The tensors are summed over the set's non-zero loads only; a node is solved only
-    where its bound (:func:`bounds` @ g) can still reach the best value found, starting from the node of
-    the largest bound: every other node cannot hold the extreme (module docstring)."""
+    equal values), among the nodes not ``near`` (G, nc, non-zero: within the reading depth) a column
+    the set loads; node -1 and value NaN where every node is near a loaded column.  The tensors are
+    summed over the set's non-zero loads only; a node is solved only where its bound (:func:`bounds` @
+    g) can still reach the best value found, starting from the node of the largest bound: every other
+    node cannot hold the extreme (module docstring)."""
     Q, G = g.shape
     nc = op.shape[0]
     cols = np.empty(G, dtype=np.int64)
     b = np.empty(nc)
+    skip = np.empty(nc, dtype=np.bool_)
     t = np.empty(6)
     for q in range(Q):
         m = 0
@@ -82,18 +85,25 @@ def extreme(op, bound, g, sign, node, value):
                 m += 1
         for i in range(nc):
             b[i] = 0.0
+            skip[i] = False
         for a in range(m):
             c = cols[a]
             w = g[q, c]
             for i in range(nc):
                 b[i] += bound[c, i] * w
-        k = 0
+                if near[c, i] != 0:
+                    skip[i] = True
+        k = -1
         for i in range(nc):
-            if b[i] > b[k]:
+            if not skip[i] and (k < 0 or b[i] > b[k]):
                 k = i
+        if k < 0:
+            node[q] = -1
+            value[q] = np.nan
+            continue
         best = _exact(op, k, g, q, cols, m, sign, t)
         for i in range(nc):
-            if i == k or b[i] < best:
+            if i == k or skip[i] or b[i] < best:
                 continue
             v = _exact(op, i, g, q, cols, m, sign, t)
             if v > best or (v == best and i < k):

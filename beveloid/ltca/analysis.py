@@ -188,6 +188,10 @@ def _result(setup, options, sol, check, e_star, notes, hertz_ref, teeth):
     te_rigid_ref = (setup.gear_angle - tca.unknowns(ref.x).gear_angle_rad
                     + setup.n1_over_n2 * (setup.phi1 - ref.pinion_angle))
     root = root_stresses(teeth, sol, ok)
+    notes = list(notes) + [
+        f"{m}: no root stress at {n} loaded tooth pair(s): every fillet node lies within the FE tooth's reading"
+        f" depth of the load (the contact reaches the fillet); the largest root stress is that of the other pairs"
+        for m, n in root["unread"].items() if n]
     status = tuple("ok" if ok[j] else ("no contact" if sol.no_contact[j] else "not converged") for j in range(N))
     okc = ok[:, None]
     return LTCAResult(

@@ -68,10 +68,12 @@ def fe_tooth(source, member, moduli, options):
 
 def root_stresses(teeth, sol, ok) -> dict:
     """{"tension": {member: (N, P)}, "compression": {...}, "where": {member: (N, P, 2)}, "along": {member:
-    (z, stress)}} (MPa, mm) for FE teeth, each pair's tooth under its own cells' forces ("along": the
-    loaded fillet along the face at the largest root stress); empty for the plate.  Every loaded
+    (z, stress)}, "unread": {member: loaded pairs without a root stress}} (MPa, mm) for FE teeth, each
+    pair's tooth under its own cells' forces ("along": the loaded fillet along the face at the largest
+    root stress; NaN where every fillet node lies within the reading depth of the pair's load); empty
+    for the plate.  Every loaded
     (position, pair) of a member at once (:meth:`beveloid.fe.contact.FeTooth.root_stresses`)."""
-    out = {"tension": {}, "compression": {}, "where": {}, "along": {}}
+    out = {"tension": {}, "compression": {}, "where": {}, "along": {}, "unread": {}}
     if not all(hasattr(t, "root_stress") for t in teeth):
         return out
     N, P = sol.pressure_mpa.shape[:2]
@@ -88,6 +90,7 @@ def root_stresses(teeth, sol, ok) -> dict:
             r = tooth.root_stresses(points[jj, kk], forces[jj, kk])
             ten[jj, kk], comp[jj, kk] = r.tension_mpa, r.compression_mpa
             where[jj, kk] = np.stack([r.z_mm, r.height_mm], axis=-1)
+            out["unread"][m] = int(np.count_nonzero(np.isnan(r.tension_mpa)))
         out["tension"][m], out["compression"][m], out["where"][m] = ten, comp, where
         if np.isfinite(ten).any() and np.nanmax(ten) > 0:
             j, k = np.unravel_index(int(np.nanargmax(ten)), ten.shape)

@@ -397,10 +397,27 @@ def check_run(argv) -> tuple:
     if argv[0] == "export":
         return rc, None if out.strip() else "export: printed nothing"
     try:
-        json.dumps(json.loads(out, parse_constant=lambda c: (_ for _ in ()).throw(ValueError(c))), allow_nan=False)
+        doc = json.loads(out, parse_constant=lambda c: (_ for _ in ()).throw(ValueError(c)))
+        json.dumps(doc, allow_nan=False)
     except ValueError as exc:
         return rc, f"{argv[0]}: not strict JSON ({exc})"
-    return rc, None
+    return rc, _loaded_root_stress_problem(argv[0], doc)
+
+
+def _loaded_root_stress_problem(command, doc):
+    """An FE ltca whose pairs carry load gives each member a root stress above 0, or none with a note
+    saying why (a gear whose short fillet lay near the load grid read exactly 0 MPa)."""
+    if command != "ltca" or not isinstance(doc, dict) or not doc.get("root_stress_max_mpa"):
+        return None
+    loads = [v for row in doc.get("pair_normal_load_n") or [] for v in row if v is not None]
+    if not any(v > 0 for v in loads):
+        return None
+    for member, value in doc["root_stress_max_mpa"].items():
+        if value is not None and not value > 0:
+            return f"ltca: the {member}'s root stress is {value} MPa under {max(loads):.0f} N"
+        if value is None and not any("no root stress" in n for n in doc.get("notes", [])):
+            return f"ltca: the {member}'s root stress is null without a note"
+    return None
 
 
 def _check_spec(data, export_share):

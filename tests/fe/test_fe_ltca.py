@@ -142,17 +142,49 @@ def test_root_stresses_of_many_sets_are_those_of_every_node(coarse_teeth):
     pts = np.stack([grid[rng.choice(len(grid), 6, replace=False)] for _ in range(5)])
     forces = rng.uniform(10.0, 400.0, (5, 6))
     r = t.root_stresses(pts, forces)
+    reach = np.max(coarse_teeth["pinion"].depth_mm[1])
     for q in range(5):
         g = t.weights(pts[q]).T @ forces[q]
         for side, sign, got in ((1, 1.0, r.tension_mpa[q]), (0, -1.0, r.compression_mpa[q])):
             s = t.stress[side] @ g  # (nf, 6): xx, yy, zz, xy, yz, zx
             m = np.stack([s[:, [0, 3, 5]], s[:, [3, 1, 4]], s[:, [5, 4, 2]]], axis=1)
-            ev = np.linalg.eigvalsh(m)[t.counted[side]]
+            # counted: the fillet nodes farther than the reading depth from every grid node this set loads
+            fp = coarse_teeth["pinion"].fillet_points_mm[side]
+            far = np.linalg.norm(fp[:, None] - grid[g != 0][None], axis=-1).min(axis=1) > reach
+            assert far.any()
+            ev = np.linalg.eigvalsh(m)[far]
             want = ev[:, 2].max() if sign > 0 else ev[:, 0].min()
             assert got == pytest.approx(want, rel=1e-9)
     assert all(np.array_equal(a, b) for a, b in zip(r, t.root_stresses(pts, forces)))  # deterministic
     one = t.root_stress(pts[2], forces[2])
     assert one.tension_mpa == pytest.approx(r.tension_mpa[2], rel=1e-12) and one.z_mm == r.z_mm[2]
+
+
+def test_a_fillet_node_is_left_out_only_near_the_grid_nodes_a_set_loads(coarse_teeth):
+    """The reading depth leaves out the fillet nodes near a loaded grid node, not near any grid node:
+    under a load on the top row the upper fillet (within the reading depth of the flank's lowest row)
+    counts, under a load on the lowest row it does not; a set whose loads are near every fillet node has
+    no root stress (NaN, no place), not 0.  (A gear's 0.5 mm fillet under its lowest row read 0 MPa.)"""
+    from beveloid.fe.contact import FeTooth
+
+    data = coarse_teeth["pinion"]
+    t = FeTooth(data, "right")
+    grid = np.asarray(data.points_mm[1])  # (ns, nz, 3): row 0 the flank's lowest
+    fp = np.asarray(data.fillet_points_mm[1])
+    reach = np.max(data.depth_mm[1])
+    near_lowest = np.linalg.norm(fp[:, None] - grid[0][None], axis=-1).min(axis=1) <= reach
+    assert near_lowest.any()
+    mid = grid.shape[1] // 2
+    top = t.loads(grid[-1:, mid][None], np.array([[1000.0]]))[0]
+    low = t.loads(grid[:1, mid][None], np.array([[1000.0]]))[0]
+    assert t.counted(top)[0][near_lowest].all()
+    near_low_node = np.linalg.norm(fp - grid[0, mid], axis=-1) <= reach
+    assert near_low_node.any() and not t.counted(low)[0][near_low_node].any()
+    monkeypatched = FeTooth(data, "right")
+    monkeypatched.near = np.ones_like(t.near)
+    r = monkeypatched.root_stresses(grid[-1:, mid][None], np.array([[1000.0]]))
+    assert np.isnan(r.tension_mpa[0]) and np.isnan(r.z_mm[0]) and np.isnan(r.height_mm[0])
+    assert np.isfinite(t.root_stresses(grid[-1:, mid][None], np.array([[1000.0]])).tension_mpa[0])
 
 
 def test_locate_reads_inside_and_measures_how_far_outside():
