@@ -129,3 +129,20 @@ def test_memory_estimate_refuses_what_does_not_fit():
     with pytest.raises(ValueError, match="needs about"):
         big.check_memory(available=16e9)
     ltca.Options(torque_nm=10.0).check_memory(available=2e9)
+
+
+def test_the_grid_warning_names_each_change_or_says_it_was_not_compared():
+    """A position not converged on its grid because of a pair's load, where the surface peak was not
+    compared (an edge peak): the warning gives the load change and says the peak was not compared,
+    no "up to - %"."""
+    from types import SimpleNamespace
+
+    from beveloid.ltca.result import Convergence, LTCAResult
+
+    fake = SimpleNamespace(convergence=Convergence(np.array([np.nan, 0.01, np.nan]), np.array([0.013, 0.0, 0.002])),
+                           converged=np.array([True, True, True]), status=("ok",) * 3, validity=(None,) * 3,
+                           pair_edge_max_pressure_mpa=np.full((3, 3), np.nan))
+    (line,) = LTCAResult.warnings(fake)
+    assert "grid not converged at 1 of 3 positions" in line
+    assert "peak pressure not compared there" in line and "pair load change up to 1.3 % (tolerance 1 %)" in line
+    assert "- %" not in line
