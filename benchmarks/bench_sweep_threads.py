@@ -34,10 +34,11 @@ def run(pair, samples, positions, threads):
     import numba
 
     from beveloid import sweep
+    from beveloid.solver import Solver
 
     numba.set_num_threads(threads)
     t = time.perf_counter()
-    res = sweep.analyze(pair, sweep.Options(samples=samples, positions=positions), "compiled")
+    res = sweep.analyze(pair, sweep.Options(samples=samples, positions=positions), solver=Solver("compiled"))
     out = res.to_json_dict()
     whole = time.perf_counter() - t
     return res.seconds, whole - res.seconds, {k: v for k, v in out.items() if k not in TIMING}
@@ -50,6 +51,7 @@ def simulate(pair, samples, positions, threads):
     import numba
 
     from beveloid import sweep
+    from beveloid.solver import Solver
     from beveloid.solver import threads as pool
 
     took = []
@@ -63,7 +65,7 @@ def simulate(pair, samples, positions, threads):
 
     numba.set_num_threads(1)
     with mock.patch.object(pool, "count", lambda: threads), mock.patch.object(pool, "map_unordered", one_after_another):
-        sweep.analyze(pair, sweep.Options(samples=samples, positions=positions), "compiled")
+        sweep.analyze(pair, sweep.Options(samples=samples, positions=positions), solver=Solver("compiled"))
     free = [0.0] * threads
     for d in took:  # in the order the pool hands them out
         i = free.index(min(free))
@@ -83,10 +85,11 @@ def main():
     import numba
 
     from beveloid import sweep
+    from beveloid.solver import Solver
     from beveloid.pair import Pair
 
     pair = Pair.from_spec(Path(__file__).resolve().parents[1] / "examples" / "case1.toml")
-    sweep.analyze(pair, sweep.Options(samples=200, positions=a.positions), "compiled")  # numba's cache loaded
+    sweep.analyze(pair, sweep.Options(samples=200, positions=a.positions), solver=Solver("compiled"))  # numba's cache loaded
     counts = (1, min(a.threads, numba.config.NUMBA_NUM_THREADS))
     best = {n: (float("inf"), float("inf")) for n in counts}
     results = {}

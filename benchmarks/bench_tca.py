@@ -79,23 +79,24 @@ def sweep_workload(geom, K=10_000, N=50, with_baseline=True):
     """W2/W3: K random error sets x N positions, right flank, one core, the whole sweep call timed;
     the fsolve baseline on 5 of the error sets, from the same solutions' first points."""
     from beveloid import sweep, tca
-    from beveloid.solver import backends
+    from beveloid.solver import Solver, backends
 
-    backend = tca.resolve_backend("auto")
+    solver = Solver()
+    backend = solver.backend
     if backends.AVAILABLE:
         import numba
 
         numba.set_num_threads(1)
-    sweep.sweep(geom, "right", samples=50, positions=N, seed=1, backend=backend)  # warm-up
+    sweep.analyze(geom, sweep.Options(flank="right", samples=50, positions=N, seed=1), solver=solver)  # warm-up
     t = clock()
-    r = sweep.sweep(geom, "right", samples=K, positions=N, seed=0, backend=backend)
+    r = sweep.analyze(geom, sweep.Options(flank="right", samples=K, positions=N, seed=0), solver=solver)
     wall = clock() - t
     us = wall / r.contact_points_solved * 1e6  # the whole sweep, statistics included
     errs = sweep.draw_errors(5, seed=0)
     grid = r.pinion_angles
     # the baseline marches each path from its first grid point: start it from the nearest solution
     if with_baseline:
-        Xs = tca.solve_grid(geom, "right", errs, grid[:1], "numpy").x
+        Xs = tca.solve_grid(geom, "right", errs, grid[:1], solver=Solver("numpy")).x
         b_us, b_n, b_conv = baseline(geom, "right", errs, grid, Xs[:, 0])
     else:  # (W4: the explicit micro-geometry normal is too large a tree for the lambdify baseline)
         b_us, b_n, b_conv = float("nan"), 0, 0
@@ -108,12 +109,12 @@ def sweep_workload(geom, K=10_000, N=50, with_baseline=True):
     if backends.AVAILABLE:
         numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
         t = clock()
-        r2 = sweep.sweep(geom, "right", samples=K, positions=N, seed=0, backend=backend)
+        r2 = sweep.analyze(geom, sweep.Options(flank="right", samples=K, positions=N, seed=0), solver=solver)
         out["us_per_point_all_threads"] = (clock() - t) / r2.contact_points_solved * 1e6
         out["threads_all"] = numba.config.NUMBA_NUM_THREADS
     # numpy fallback on the same workload, for the record (smaller K: same per-point cost)
     t = clock()
-    rn = sweep.sweep(geom, "right", samples=200, positions=N, seed=0, backend="numpy")
+    rn = sweep.analyze(geom, sweep.Options(flank="right", samples=200, positions=N, seed=0), solver=Solver("numpy"))
     out["numpy_us_per_point"] = (clock() - t) / rn.contact_points_solved * 1e6
     return out
 
@@ -166,7 +167,7 @@ def run(repeats=5, only=None):
     # ---- W1 -------------------------------------------------------------------------------
     def w1():
         g = tca.PairGeometry.from_design(design(spec))
-        return g, tca.analyze(g, positions=200, pairs=3)
+        return g, tca.analyze(g, tca.Options(positions=200, pairs=3, approach_mm=None))
 
     t = clock()
     geom, res = w1()

@@ -7,6 +7,7 @@ import numpy as np
 
 from beveloid import contact_ellipse, tca
 from beveloid.pair import Pair
+from beveloid.solver import Solver
 
 ROOT = Path(__file__).resolve().parents[1]
 errs = {"aligned": (0,0,0,0,0), "dx=0.1mm": (0.1,0,0,0,0), "dy=0.1mm": (0,0.1,0,0,0), "dz=0.1mm": (0,0,0.1,0,0),
@@ -14,7 +15,8 @@ errs = {"aligned": (0,0,0,0,0), "dx=0.1mm": (0.1,0,0,0,0), "dy=0.1mm": (0,0.1,0,
 for case in ("case1","case2"):
     g = Pair.from_spec(ROOT / "examples" / f"{case}.toml").geometry
     for lab, e in errs.items():
-        r = contact_ellipse.attach(tca.analyze(g, e, positions=60, backend="numpy"))
+        r = tca.analyze(g, tca.Options(positions=60, approach_mm=contact_ellipse.DEFAULT_APPROACH_MM, errors=e),
+                        solver=Solver("numpy"))
         for fl in (("left","right") if lab=="aligned" else ("right",)):
             fr = r.flanks[fl]; ce = fr.contact_ellipse
             act = fr.active & (np.array(ce.status)=="ellipse")

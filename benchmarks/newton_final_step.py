@@ -14,7 +14,7 @@ import numpy as np
 from beveloid import sweep, tca
 from beveloid.studies.crowning import crowned_geometry
 from beveloid.design import design
-from beveloid.solver import first_touch, newton
+from beveloid.solver import Solver, first_touch, newton
 from beveloid.spec import load_example
 
 
@@ -33,9 +33,9 @@ def measure(geom):
     for mod in (newton, first_touch):  # the modules whose functions call newton_update
         mod.newton_update = recording
     try:
-        lo, hi = sweep.engagement_window(geom, "right", backend="numpy")
+        lo, hi = sweep.engagement_window(geom, "right", solver=Solver("numpy"))
         steps.clear()
-        tca.solve_grid(geom, "right", sweep.draw_errors(20, seed=0), np.linspace(lo, hi, 50), "numpy")
+        tca.solve_grid(geom, "right", sweep.draw_errors(20, seed=0), np.linspace(lo, hi, 50), solver=Solver("numpy"))
     finally:
         newton.FINAL_STEP_K = saved
         for mod in (newton, first_touch):

@@ -23,7 +23,7 @@ import numba
 import numpy as np
 
 from beveloid import sweep, tca
-from beveloid.solver import backends, core
+from beveloid.solver import Solver, backends, core
 from beveloid.pair import Pair
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -112,7 +112,7 @@ def counts(geom, sets):
         for name, fn in saved.items():
             setattr(core, name, counted(name, fn))
         backends.namespace.cache_clear()
-        sol = tca.solve_grid(geom, "right", errors, grid, "numpy")
+        sol = tca.solve_grid(geom, "right", errors, grid, solver=Solver("numpy"))
     finally:
         for name, fn in saved.items():
             setattr(core, name, fn)
@@ -151,8 +151,8 @@ def main():
         ("5x5 solve (partial pivoting)", _best(solves, (J.copy(), F.copy()), a.repeats)),
         ("flank boundary check (margins of both members)", _best(margins, (problem, x.copy(), phi, e), a.repeats)),
     ]
-    sweep.sweep(geom, "right", samples=100, positions=50)
-    r = sweep.sweep(geom, "right", samples=10_000, positions=50)
+    sweep.analyze(geom, sweep.Options(flank="right", samples=100, positions=50))
+    r = sweep.analyze(geom, sweep.Options(flank="right", samples=10_000, positions=50))
     rows.append(("whole compiled path loop per point", r.seconds / r.contact_points_solved))
     rows.append(("whole sweep per point (window, stats)", r.seconds_total / r.contact_points_solved))
     for name, sec in rows:

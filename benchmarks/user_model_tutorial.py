@@ -22,6 +22,7 @@ BACKLASH = r"""
 import time, tomllib
 from beveloid import tca
 from beveloid.pair import Pair
+from beveloid.solver import Solver
 from beveloid.spec import example_text
 t = time.perf_counter()
 spec = tomllib.loads(example_text("case1"))
@@ -29,7 +30,7 @@ base = Pair.from_spec(spec).geometry
 spec["gear"].update(tooth_surface="thinned", thinning_um=20.0)
 thin = Pair.from_spec(spec).geometry
 for name, g in (("involute gear", base), ("gear thinned by 20 um", thin)):
-    r = tca.analyze(g, positions=20, backend="numpy")
+    r = tca.analyze(g, tca.Options(positions=20, approach_mm=None), solver=Solver("numpy"))
     print(f"{name}: backlash_um {r.backlash_um:.4g} ({r.backlash.status})")
 print(f"both TCAs: {time.perf_counter() - t:.1f} s")
 """

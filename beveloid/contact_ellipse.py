@@ -185,21 +185,12 @@ def flank_ellipses(geom, fr, errors, approach_mm=DEFAULT_APPROACH_MM, solver=Non
     return ellipses(geom, fr.flank, fr.unknowns, phi1, errors, valid, approach_mm, solver)
 
 
-def with_ellipses(result, approach_mm=DEFAULT_APPROACH_MM, solver=None):
+def with_ellipses(result, approach_mm=DEFAULT_APPROACH_MM, *, solver=None):
     """A new :class:`beveloid.tca.TCAResult` whose flanks carry their contact ellipses at the
     elastic approach (mm), their chords searched by ``solver``; ``result`` is not changed."""
     flanks = {k: replace(fr, contact_ellipse=flank_ellipses(result.geometry, fr, result.errors, approach_mm, solver))
               for k, fr in result.flanks.items()}
     return replace(result, flanks=flanks, approach_mm=approach_mm)
-
-
-def attach(result, approach_mm=DEFAULT_APPROACH_MM):
-    """Deprecated (the form before ``tca.Options.approach_mm``; kept for its callers in
-    beveloid/studies and benchmarks/): :func:`with_ellipses`, or ``result`` itself when it already
-    carries them at this approach.  Like it, a new result: ``result`` is not changed."""
-    if result.approach_mm == approach_mm and all(fr.contact_ellipse is not None for fr in result.flanks.values()):
-        return result
-    return with_ellipses(result, approach_mm)
 
 
 def ellipse_outline(ce: ContactEllipses, i, n=48, truncate=True):

@@ -116,9 +116,9 @@ def _solve_sets(task: ChunkTask) -> ChunkSolution:
     numbers of each set are those of the whole sweep in one piece (every reduction is per set)."""
     errors = draw_errors(task.stop - task.start, task.ranges, task.seed, task.nominal, start=task.start)
     geom, flank, grid, al = task.geometry, task.flank, task.grid, task.aligned
-    sol = tca.solve_grid(geom, flank, errors, grid, task.solver)
+    sol = tca.solve_grid(geom, flank, errors, grid, solver=task.solver)
     ok = carries_numbers(sol.status)
-    P1, P2 = tca.solved_contact_points(geom, flank, sol.x, sol.status, task.solver)
+    P1, P2 = tca.solved_contact_points(geom, flank, sol.x, sol.status, solver=task.solver)
     n_ok = ok.sum(axis=1)
     has = n_ok > 0
     shifts = []
@@ -132,12 +132,13 @@ def _solve_sets(task: ChunkTask) -> ChunkSolution:
     return ChunkSolution(errors, sol.status, int(sol.iterations.sum()), *shifts, ptp)
 
 
-def engagement_window(geom, flank, ref=None, resolution=400, backend: "tca.Solver | str" = "auto"):
-    """Pinion-angle interval over which the aligned pair-0 contact is 'ok' (rad)."""
+def engagement_window(geom, flank, ref=None, resolution=400, *, solver: "tca.Solver | None" = None):
+    """Pinion-angle interval over which the aligned pair-0 contact is 'ok' (rad), solved by ``solver``
+    (a :class:`beveloid.solver.Solver`; None: the default)."""
     ref = ref or tca.reference_contact(geom, flank)
     p1, _ = geom.pitch_angles
     grid = ref.pinion_angle + np.linspace(-2.5 * p1, 2.5 * p1, resolution)
-    sol = tca.solve_grid(geom, flank, np.zeros((1, len(tca.ERROR_NAMES))), grid, backend)
+    sol = tca.solve_grid(geom, flank, np.zeros((1, len(tca.ERROR_NAMES))), grid, solver=solver)
     ok = np.nonzero(sol.status[0] == Status.OK)[0]
     if ok.size == 0:
         raise tca.NoContactError(f"the aligned {flank} flank has no contact on the flanks")
@@ -247,27 +248,13 @@ def mesh_te_peak_to_peak(te, m, first, sign):
     return mesh.peak_to_peak(env)
 
 
-def sweep(geom, flank="right", **keywords):
-    """Deprecated keyword form of :func:`analyze`, kept for scripts written before ``Options``:
-    ``sweep(geom, flank, samples=1000, positions=50, seed=0, ranges=None, nominal=None, chunk=2000,
-    backend="auto", options=None, progress=None, executor=None)``; ``options`` here are the solver's
-    (``SolverOptions``), overriding the backend's."""
-    solver_keys = ("backend", "options", "progress", "executor")
-    unknown = set(keywords) - set(solver_keys) - {"samples", "positions", "seed", "ranges", "nominal", "chunk"}
-    if unknown:
-        raise TypeError(f"sweep() got an unexpected argument {sorted(unknown)[0]!r}")
-    given = {k: v for k, v in keywords.items() if k not in solver_keys and v is not None}
-    solver = tca.as_solver(keywords.get("backend", "auto"), keywords.get("options"))
-    return analyze(geom, Options(flank=flank, **given), solver, keywords.get("executor"), keywords.get("progress"))
-
-
-def aligned_path(geom, flank, positions, solver: "tca.Solver | str" = "auto") -> tuple[np.ndarray, Aligned]:
+def aligned_path(geom, flank, positions, *, solver: "tca.Solver | None" = None) -> tuple[np.ndarray, Aligned]:
     """(the sweep's pinion angles (positions,), :class:`Aligned`): the lattice over the aligned engagement
     (:func:`position_lattice`) and the aligned pair's path on it, what every chunk reduces against."""
     ref = tca.reference_contact(geom, flank)
-    lo, hi = engagement_window(geom, flank, ref, backend=solver)
+    lo, hi = engagement_window(geom, flank, ref, solver=solver)
     grid, per_pitch, first = position_lattice(ref.pinion_angle, lo, hi, positions, geom.pitch_angles[0])
-    xa = tca.solve_grid(geom, flank, np.zeros((1, len(tca.ERROR_NAMES))), grid, solver).x
+    xa = tca.solve_grid(geom, flank, np.zeros((1, len(tca.ERROR_NAMES))), grid, solver=solver).x
     p_al, g_al = tca.contact_points(geom, flank, xa[0])
     return grid, Aligned(pinion_z_mm=np.ascontiguousarray(p_al[:, 2]), gear_z_mm=np.ascontiguousarray(g_al[:, 2]),
                          ref_pinion_angle=float(ref.pinion_angle),
@@ -282,7 +269,7 @@ def _run(geom, options: "Options", solver, executor, progress):
     ranges, nominal, chunk = options.ranges, options.nominal, options.chunk
     t_start = time.perf_counter()
     geom = tca.geometry_of(geom)
-    grid, aligned = aligned_path(geom, flank, positions, solver)
+    grid, aligned = aligned_path(geom, flank, positions, solver=solver)
     t0 = time.perf_counter()
     errors = np.empty((samples, len(tca.ERROR_NAMES)))
     C = np.empty((samples, positions), dtype=np.int64)
@@ -310,7 +297,7 @@ def _run(geom, options: "Options", solver, executor, progress):
         if progress:
             progress(done, samples, t0)
     seconds = time.perf_counter() - t0
-    s = tca.sensitivity(geom, flank, backend=solver)
+    s = tca.sensitivity(geom, flank, solver=solver)
     names = assembly_errors.KEYS
     per = [e.to_layout for e in assembly_errors.ERRORS]
     sens = {
@@ -376,12 +363,12 @@ class Options:
         object.__setattr__(self, "nominal", nominal)
 
 
-def analyze(pair, options: Options = Options(), solver: "tca.Solver | str" = "auto", executor=None,
+def analyze(pair, options: Options = Options(), *, solver: "tca.Solver | None" = None, executor=None,
             progress=None) -> SweepResult:
     """The sweep of ``options`` on a :class:`beveloid.pair.Pair` (or its PairGeometry): an immutable
     :class:`SweepResult` (``to_json_dict()`` / ``to_json()``).  ``solver``: a :class:`beveloid.solver.Solver`
-    or a backend name; ``executor``: beveloid.parallel.executor(...) for the chunks (the same numbers on
+    (None: the default); ``executor``: beveloid.parallel.executor(...) for the chunks (the same numbers on
     one worker, N workers and a cluster); ``progress``: callable(done, total, t0) or None."""
     if not isinstance(options, Options):
         raise TypeError(f"sweep.analyze needs a sweep.Options, not {type(options).__name__}")
-    return _run(pair, options, tca.as_solver(solver, None), executor, progress)
+    return _run(pair, options, tca.Solver.of(solver), executor, progress)

@@ -39,6 +39,7 @@ from pathlib import Path
 
 import pytest
 
+from beveloid.solver import Solver
 from beveloid.cli import GC_YOUNG_THRESHOLD
 
 try:
@@ -252,19 +253,19 @@ def _compile_solver():
         return geom, tca.reference_contact(geom, "right")
 
     runs = (
-        lambda geom, ref: tca.solve_grid(geom, "right", np.zeros(5), [ref.pinion_angle], backend="compiled"),  # serial
+        lambda geom, ref: tca.solve_grid(geom, "right", np.zeros(5), [ref.pinion_angle], solver=Solver("compiled")),  # serial
         # more error sets than tca.SERIAL_MAX_SETS: solve_paths on threads (sweeps; the same compiled function)
         lambda geom, ref: tca.solve_grid(geom, "right", np.zeros((tca.SERIAL_MAX_SETS + 1, 5)), [ref.pinion_angle],
-                                         backend="compiled"),
+                                         solver=Solver("compiled")),
         lambda geom, ref: backends.namespace("compiled").solve_point(
             geom.problem("right"), ref.x.copy(), ref.pinion_angle, np.zeros(5),
             settings(scale_mm=geom.gear.working_pitch_radius_mm, tol_mm=tca.newton_tolerance(geom), max_iter=3)),
         # the loaded TCA's contact kernel (ltca/kernel.py, compiled whatever the backend) and the FE
         # tooth's principal stresses (fe/principal.py), with the argument types their callers pass
-        lambda geom, ref: ltca.analyze(geom, 100.0, "right", positions=2, pairs=1, backend="compiled"),
+        lambda geom, ref: ltca.analyze(geom, ltca.Options(torque_nm=100.0, flank="right", positions=2, pairs=1, tooth_model="plate"), solver=Solver("compiled")),
         lambda geom, ref: _principal_stresses(),
         # a mesh study with its contact ellipses (the chord search) and both flanks (the backlash)
-        lambda geom, ref: tca.analyze(geom, tca.Options(positions=3), "compiled"),
+        lambda geom, ref: tca.analyze(geom, tca.Options(positions=3), solver=Solver("compiled")),
         # explore's own compiled kernels (its rows over the core): its worker processes then load them
         # instead of each compiling them at once
         lambda geom, ref: explore_run.warm_up(),

@@ -4,7 +4,9 @@
   counted; generated code excluded): a longer list is a record to pass (beveloid/solver/records.py);
 * every package of beveloid/ declares its public surface in ``__all__``, and every name there exists;
 * MEMBERS and FLANKS are defined in beveloid/names.py only; below cli/ a function takes a Solver, not a
-  backend name; no code object is cloned; tooth/ imports none of the packages that build on it;
+  backend name, and every ``analyze`` / ``analyze_many`` takes it keyword-only (``analyze(pair, options,
+  *, solver=None)``; the older call forms are refused); no code object is cloned; tooth/ imports none of
+  the packages that build on it;
 * the layers: every unit of the runtime (package, top-level module, generated/) has one layer in
   docs/architecture.md (its lines ``layer N  unit ...``), no import runs up the layers, no units import
   each other round a loop; derivations/ imports nothing of the runtime but generated/; the runtime never
@@ -135,15 +137,7 @@ VOCABULARIES = ("MEMBERS", "FLANKS")
 PENDING_VOCABULARIES: set = set()
 #: (file, function) below cli/ still taking a backend name instead of a Solver (solver/backends.py
 #: resolves the names: it is where a backend name belongs)
-PENDING_BACKEND_PARAMETERS = {
-    ("beveloid/explore/contact.py", "_kernel"), ("beveloid/explore/contact.py", "sensitivities"),
-    ("beveloid/explore/rows.py", "_sensitivities"), ("beveloid/explore/rows.py", "compute"),
-    ("beveloid/explore/rows.py", "monte_carlo"), ("beveloid/sweep.py", "engagement_window"),
-    ("beveloid/tca/backlash.py", "backlash"), ("beveloid/tca/contact.py", "resolve_backend"),
-    ("beveloid/tca/flank.py", "mesh_flank"), ("beveloid/tca/grid.py", "solve_grid"),
-    ("beveloid/tca/grid.py", "solved_contact_points"), ("beveloid/tca/sensitivity.py", "sensitivity"),
-    ("beveloid/tooth/contact.py", "__init__"), ("beveloid/tooth/contact.py", "_pair0"),
-    ("beveloid/tooth/contact.py", "flank_contact")}
+PENDING_BACKEND_PARAMETERS: set = set()
 #: files that still reach a function's code object (a clone of compiled code), owned by other work items
 PENDING_CODE_OBJECTS: set = set()
 
@@ -184,6 +178,45 @@ def test_below_the_cli_analyses_take_a_solver_not_a_backend_name():
     assert not new, f"take a beveloid.solver.Solver (solver=...), not a backend name: {sorted(new)}"
     fixed = PENDING_BACKEND_PARAMETERS - found
     assert not fixed, f"these take a Solver now: remove from PENDING_BACKEND_PARAMETERS: {sorted(fixed)}"
+
+
+#: (file, function) named analyze / analyze_many that still takes its solver positionally, owned by other work items
+PENDING_POSITIONAL_SOLVER = {("beveloid/rating/analysis.py", "analyze")}
+ANALYSES = ("analyze", "analyze_many")
+
+
+def _positional_solvers():
+    found = set()
+    for rel, tree in _sources():
+        if rel.startswith("beveloid/cli/"):
+            continue
+        for node in ast.walk(tree):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and node.name in ANALYSES:
+                if "solver" not in [p.arg for p in node.args.kwonlyargs]:
+                    found.add((rel, node.name))
+    return found
+
+
+def test_every_analysis_takes_its_solver_keyword_only():
+    only_pending({k: f"{k[0]}:{k[1]}" for k in _positional_solvers()}, PENDING_POSITIONAL_SOLVER,
+                 "analyze(pair, options, *, solver=None): a keyword-only solver", "PENDING_POSITIONAL_SOLVER")
+
+
+def test_the_older_call_forms_are_refused():
+    """The forms before Options and Solver (errors or a torque in place of the options, keyword options,
+    a backend name for a solver) raise at once, before any work; the deprecated helpers are gone."""
+    import numpy as np
+
+    from beveloid import contact_ellipse, ltca, sweep, tca
+    from beveloid.solver import Solver
+
+    for call in (lambda: tca.analyze(None, np.zeros(5)), lambda: tca.analyze(None, positions=3),
+                 lambda: ltca.analyze(None, 100.0, "right"), lambda: sweep.analyze(None, flank="right"),
+                 lambda: tca.analyze(None, tca.Options(), Solver()), lambda: Solver.of("numpy")):
+        with pytest.raises(TypeError):
+            call()
+    assert not hasattr(sweep, "sweep") and not hasattr(contact_ellipse, "attach")
+    assert not hasattr(ltca, "GridOptions") and not hasattr(tca, "as_solver") and not hasattr(tca, "resolve_backend")
 
 
 def test_no_code_object_is_cloned():

@@ -54,3 +54,15 @@ def number(value, spec: str, missing: str = "-") -> str:
     if text.lstrip().startswith("-") and float(text) == 0.0:
         text = format(0.0, spec)
     return text
+
+
+def solver_of(backend: str):
+    """The :class:`beveloid.solver.Solver` of a ``--backend`` name: the one conversion of a user's backend
+    name (one line naming the flag, the value and what is valid: a UserError)."""
+    from ..solver import Solver
+    from ..solver.backends import BackendError
+
+    try:
+        return Solver(backend)
+    except BackendError as exc:
+        raise UserError(f"--backend = {backend}: {exc.requirement}") from None

@@ -13,6 +13,7 @@ import sys
 import time
 
 from ..errors import StopReason, UserError
+from .common import solver_of
 
 TOLERANCE_NAMES = {"dx": "dx_mm", "dy": "dy_mm", "dz": "dz_mm", "vertical": "vertical_deg",
                    "horizontal": "horizontal_deg"}
@@ -126,6 +127,7 @@ def _request(args):
         if args.mc and centre + half > assembly_errors.BY_KEY[key].limit:
             raise UserError(f"--tolerances {key}: {half:g} about misalignment.{key} = {centre:g} reaches"
                             f" {centre + half:g}; |nominal| + half-width must be <= {assembly_errors.BY_KEY[key].limit:g}")
+    solver_of(args.backend)  # a backend that is not installed: one line here, not in every worker
     return Request(plan, tolerances, args.mc, args.mc_positions, args.mc_flank, chunk=args.chunk, backend=args.backend,
                    source=str(args.file))
 
@@ -204,10 +206,10 @@ def _finish(args, out, req, chunks, ended, late, created_here) -> int:
     base_cols = chunks.base
     if base_cols is None:  # the run stopped before the base design's task ran: here
         base_plan = Plan(req.plan.base, (), seed=req.plan.seed)
-        base_cols = rows.compute(base_plan, 0, 1, req.tolerances, req.backend)
+        base_cols = rows.compute(base_plan, 0, 1, req.tolerances, solver=req.solver)
         if req.mc:
             rows.monte_carlo(base_cols, base_plan, slice(0, 1), req.tolerances, rows.monte_carlo_request(req),
-                             req.backend)
+                             solver=req.solver)
     base_row = report.records(base_cols)[0]
     values = Plan(req.plan.base, ()).base_values()
     base_row.update({k: values[k] for k in req.plan.keys})

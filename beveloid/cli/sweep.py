@@ -12,7 +12,7 @@ import sys
 
 from .. import assembly_errors
 from ..errors import UserError
-from .common import number
+from .common import number, solver_of
 from ..solver.backends import BACKENDS
 from ..sweep import DEFAULT_RANGES, MAX_CONTACT_POINTS
 
@@ -56,8 +56,6 @@ def run(args: argparse.Namespace) -> int:
     from .. import tca
     from ..pair import Pair
     from ..progress import for_terminal
-    from ..solver import Solver
-    from ..solver.backends import BackendError
     from ..spec import load_spec
     from .. import sweep
     from ..sweep import SweepSizeError, check_sweep_size
@@ -68,10 +66,7 @@ def run(args: argparse.Namespace) -> int:
         raise UserError(str(exc)) from None
     if not 0 <= args.seed < 2 ** 63:
         raise UserError(f"--seed = {args.seed}: must be an integer from 0 to 2**63 - 1")
-    try:
-        solver = Solver(args.backend)
-    except BackendError as exc:
-        raise UserError(f"--backend = {args.backend}: {exc.requirement}") from None
+    solver = solver_of(args.backend)
     ranges = {}
     for key in DEFAULT_RANGES:
         v = getattr(args, key)
@@ -102,7 +97,7 @@ def run(args: argparse.Namespace) -> int:
         with (executor(args.workers, args.scheduler) if parallel else nullcontext()) as ex:
             options = sweep.Options(flank=args.flank, samples=args.samples, positions=args.positions, seed=args.seed,
                                     ranges=ranges, nominal=nominal)  # the flags are checked above, one line each
-            res = sweep.analyze(pair, options, solver, executor=ex, progress=progress)
+            res = sweep.analyze(pair, options, solver=solver, executor=ex, progress=progress)
     except tca.NoContactError as exc:
         # the aligned pair has no contact on this flank: the sweep has no engagement to sample
         raise UserError(f"{args.file}: cannot sweep the {args.flank} flank: {exc} (the aligned pair does not"
@@ -126,7 +121,7 @@ def _warm_up(pair, flank, solver) -> float:
 
     t0 = time.perf_counter()
     try:
-        sweep.analyze(pair, sweep.Options(flank=flank, samples=tca.SERIAL_MAX_SETS + 1, positions=2), solver)
+        sweep.analyze(pair, sweep.Options(flank=flank, samples=tca.SERIAL_MAX_SETS + 1, positions=2), solver=solver)
     except tca.NoContactError:
         pass  # the real sweep reports it
     return time.perf_counter() - t0

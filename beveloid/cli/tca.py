@@ -58,7 +58,7 @@ def run(args: argparse.Namespace) -> int:
     spec = apply_error_flags(load_spec(args.file), args)
     pair = Pair.from_spec(spec)
     geom = pair.geometry
-    result = tca.analyze(pair, options, tca.Solver())
+    result = tca.analyze(pair, options, solver=tca.Solver())
     if args.plot is not None:
         from ..plots import tca_summary
 

@@ -28,8 +28,7 @@ from ..generated import layouts, surface_models, tca_kernels
 from ..geometry import Member as GeometryMember
 from ..geometry import PairGeometry
 from ..names import Member
-from ..solver import backends, section
-from ..solver.options import DEFAULT_OPTIONS
+from ..solver import Solver, backends, section
 from ..status import Status
 from . import aligned
 
@@ -92,13 +91,14 @@ class BatchOutput(NamedTuple):
 
 
 @functools.lru_cache(maxsize=None)
-def _kernel(backend: str):
-    """aligned.aligned_contacts on a backend: as it is (numpy), or its compiled twin (beveloid.solver.compiled:
-    the module executed again among the core's twins, where the core's functions it imports are numba's
-    dispatchers), compiled by numba and cached on disk per version of the core it calls."""
-    ns = backends.namespace(backend)  # (compiled: the core's twins, loaded before the twin that imports them)
-    if not ns.compiled:
+def _kernel(compiled: bool):
+    """aligned.aligned_contacts on a solver's backend: as it is (numpy), or its compiled twin
+    (beveloid.solver.compiled: the module executed again among the core's twins, where the core's
+    functions it imports are numba's dispatchers), compiled by numba and cached on disk per version of
+    the core it calls."""
+    if not compiled:
         return aligned.aligned_contacts
+    backends.namespace("compiled")  # the core's twins, loaded before the twin that imports them
     from ..solver import compiled
 
     return compiled.load([aligned], _jit)[aligned].aligned_contacts
@@ -111,22 +111,24 @@ def _jit(fn, module):
     return numba.njit(cache=True, nogil=True)(fn)
 
 
-def sensitivities(geom: PairGeometry, backend: str = "auto") -> dict:
+def sensitivities(geom: PairGeometry, *, solver: Solver | None = None) -> dict:
     """tca.sensitivity(geom, flank) at the aligned pitch point for the n designs of a PairGeometry of
     arrays (:func:`geometry`), both flanks.
 
     Returns per flank a dict: ``status`` (codes, -1: no reference contact), and for the designs
     whose status is OK: ``pinion_contact_D_errors`` (n, 3, 5), ``gear_contact_D_errors`` (n, 3, 5),
-    ``gear_angle_D_errors`` (n, 5), ``unknowns_D_errors`` (n, 5, 5); nan elsewhere.
+    ``gear_angle_D_errors`` (n, 5), ``unknowns_D_errors`` (n, 5, 5); nan elsewhere.  Solved by ``solver``
+    (a :class:`beveloid.solver.Solver`, its backend and tolerances; None: the default).
     """
-    backend = backends.resolve(backend)
+    solver = Solver.of(solver)
+    options = solver.options
     p, g = geom.pinion, geom.gear
     pp, gp = geom.surface_params("pinion"), geom.surface_params("gear")
     pair = geom.placement()
     pb, gb = p.blank(), g.blank()
     alpha_n = geom.normal_pressure_angle
     eps = np.finfo(float).eps
-    tol = np.maximum(DEFAULT_OPTIONS.tol_mm, 64 * eps * (np.abs(g.axial_placement_mm) + geom.offset_mm
+    tol = np.maximum(options.tol_mm, 64 * eps * (np.abs(g.axial_placement_mm) + geom.offset_mm
                                                           + g.working_pitch_radius_mm))
     scale = g.working_pitch_radius_mm
     n = np.size(geom.normal_module_mm)
@@ -148,10 +150,10 @@ def sensitivities(geom: PairGeometry, backend: str = "auto") -> dict:
         x = np.full((n, 5), np.nan)
         code = np.empty(n, dtype=np.int64)
         batch = Batch(pinion_params=pp, gear_params=gp, pair=pair, pinion_blank=pb, gear_blank=gb, x0=x0, phi=phi1)
-        limits = BatchLimits(scale_mm=scale, tol_mm=tol, max_iter=DEFAULT_OPTIONS.max_iter,
-                             homotopy_steps=DEFAULT_OPTIONS.homotopy_steps, patch_tol_mm=DEFAULT_OPTIONS.patch_tol_mm)
+        limits = BatchLimits(scale_mm=scale, tol_mm=tol, max_iter=options.max_iter,
+                             homotopy_steps=options.homotopy_steps, patch_tol_mm=options.patch_tol_mm)
         with np.errstate(all="ignore"):  # (interpreted: a diverging Newton iterate is answered by its status)
-            _kernel(backend)(tca_kernels.model_id(pm), tca_kernels.model_id(gm), tca_kernels.flank_id(flank), batch,
+            _kernel(solver.compiled)(tca_kernels.model_id(pm), tca_kernels.model_id(gm), tca_kernels.flank_id(flank), batch,
                              limits, BatchOutput(x=x, code=code))
         res = {"status": code, "pinion_contact_D_errors": np.full((n, 3, 5), np.nan),
                "gear_contact_D_errors": np.full((n, 3, 5), np.nan), "gear_angle_D_errors": np.full((n, 5), np.nan),

@@ -20,6 +20,7 @@ import numpy as np
 
 from .. import assembly_errors, tca
 from ..generated import design_equations
+from ..solver import Solver
 from ..status import Status
 from ..design import design_arrays
 from ..names import Member
@@ -79,9 +80,12 @@ def models(plan, values: dict) -> list[tuple[str, str]]:
     return list(zip(out[0], out[1]))
 
 
-def compute(plan, start: int, stop: int, tolerances: dict, backend: str = "auto", tooth_checks: bool = True) -> dict:
-    """The rows of designs start..stop-1 of a :class:`beveloid.explore.grid.Plan` (columns by name); the
-    whole-tooth checks (explore/tooth.py) unless ``tooth_checks`` is False."""
+def compute(plan, start: int, stop: int, tolerances: dict, *, solver: Solver | None = None,
+            tooth_checks: bool = True) -> dict:
+    """The rows of designs start..stop-1 of a :class:`beveloid.explore.grid.Plan` (columns by name), their
+    contacts solved by ``solver`` (a :class:`beveloid.solver.Solver`; None: the default); the whole-tooth
+    checks (explore/tooth.py) unless ``tooth_checks`` is False."""
+    solver = Solver.of(solver)
     varied = plan.values(start, stop)
     n = stop - start
     values = {k: np.full(n, v) for k, v in plan.base_values().items()}
@@ -116,7 +120,7 @@ def compute(plan, start: int, stop: int, tolerances: dict, backend: str = "auto"
         cols[f"{name}_rack_shift_mm"] = (cols[f"{name}_profile_shift"] * values["pair.normal_module_mm"]
                                          * np.cos(q[o["cone_angle"]]) / np.cos(q[o["helix_angle"]]))
     groups = [(idx, contact.geometry(values, q, idx, pair_models)) for pair_models, idx in model_groups(plan, values, ok)]
-    _sensitivities(cols, plan, values, groups, tolerances, backend)
+    _sensitivities(cols, plan, values, groups, tolerances, solver)
     tooth.whole_tooth(cols, d.outcome, tooth.Designs(lambda j: design_spec(plan, values, j), groups), check=tooth_checks)
     return cols
 
@@ -140,7 +144,7 @@ def _box_max(D, tol):
     return out
 
 
-def _sensitivities(cols, plan, values, groups, tolerances, backend):
+def _sensitivities(cols, plan, values, groups, tolerances, solver):
     n = len(cols["design"])
     tol = np.abs(assembly_errors.to_layout(tolerances))
     flank_status = {fl: np.full(n, "", dtype=object) for fl in tca.FLANKS}
@@ -148,12 +152,12 @@ def _sensitivities(cols, plan, values, groups, tolerances, backend):
         for c in sensitivity_columns(fl):
             cols[c] = np.full(n, np.nan)
     for idx, geom in groups:
-        sens = contact.sensitivities(geom, backend)
+        sens = contact.sensitivities(geom, solver=solver)
         for fl, s in sens.items():
             good = s["status"] == int(Status.OK)
             flank_status[fl][idx[good]] = Status.OK.label
             for j in idx[~good]:  # the first-touch search decides what it is: the one-design path
-                flank_status[fl][j] = _scalar_status(plan, values, j, fl)
+                flank_status[fl][j] = _scalar_status(plan, values, j, fl, solver)
             k = idx[good]
             for m in ("pinion", "gear"):
                 D = s[f"{m}_contact_D_errors"][good]
@@ -185,11 +189,11 @@ def design_spec(plan, values: dict, j: int):
     return spec_from_dict(data)
 
 
-def _scalar_status(plan, values, j, flank) -> str:
+def _scalar_status(plan, values, j, flank, solver) -> str:
     from ..pair import Pair
 
     try:
-        return tca.sensitivity(Pair.from_spec(design_spec(plan, values, j)).geometry, flank)["status"]
+        return tca.sensitivity(Pair.from_spec(design_spec(plan, values, j)).geometry, flank, solver=solver)["status"]
     except RuntimeError:  # no contact at the pitch point
         return Status.FAILED.label
 
@@ -208,9 +212,10 @@ def monte_carlo_request(req) -> MonteCarloRequest:
     return MonteCarloRequest(samples=req.mc, positions=req.mc_positions, flank=req.mc_flank, seed=req.plan.seed)
 
 
-def monte_carlo(cols: dict, plan, rows: slice, tolerances: dict, mc: MonteCarloRequest, backend: str = "auto") -> None:
+def monte_carlo(cols: dict, plan, rows: slice, tolerances: dict, mc: MonteCarloRequest, *,
+                solver: Solver | None = None) -> None:
     """The sweep of ``mc.samples`` error sets inside the tolerance box, per ok design of the plan's
-    ``rows`` (columns MC_COLUMNS).
+    ``rows`` (columns MC_COLUMNS), solved by ``solver`` (a :class:`beveloid.solver.Solver`; None: the default).
 
     Error sets are uniform within the tolerance half-widths about the design's [misalignment]; the
     seed of design i is derived from (seed, i) alone, so a design's sets do not depend on its chunk.
@@ -238,7 +243,7 @@ def monte_carlo(cols: dict, plan, rows: slice, tolerances: dict, mc: MonteCarloR
         options = sweep.Options(flank=flank, samples=samples, positions=positions, seed=design_seed,
                                 ranges=dict(tolerances), nominal=nominal)
         try:
-            res = sweep.analyze(Pair.from_spec(spec), options, backend).to_json_dict()
+            res = sweep.analyze(Pair.from_spec(spec), options, solver=solver).to_json_dict()
         except RuntimeError:  # the aligned flank has no engagement to sample
             cols["mc_status"][j] = "no_aligned_contact"
             continue

@@ -85,6 +85,13 @@ class Request:
     def chunks(self) -> int:
         return -(-self.plan.count // self.chunk)
 
+    @property
+    def solver(self):
+        """The :class:`beveloid.solver.Solver` of the request's ``backend`` (the name it is stored by)."""
+        from ..solver import Solver
+
+        return Solver(self.backend)
+
 
 class ChunkTask(NamedTuple):
     """What a worker gets: the request (its JSON dict) and the index of the chunk (:data:`BASE`: the base
@@ -108,9 +115,10 @@ def compute_chunk(task: ChunkTask) -> dict:
     else:
         plan, start = req.plan, task.index * req.chunk
         stop = min(req.plan.count, start + req.chunk)
-    cols = rows.compute(plan, start, stop, req.tolerances, req.backend)
+    solver = req.solver
+    cols = rows.compute(plan, start, stop, req.tolerances, solver=solver)
     if req.mc:
-        rows.monte_carlo(cols, plan, slice(start, stop), req.tolerances, rows.monte_carlo_request(req), req.backend)
+        rows.monte_carlo(cols, plan, slice(start, stop), req.tolerances, rows.monte_carlo_request(req), solver=solver)
     cols = {k: (np.asarray(v, dtype=str) if np.asarray(v).dtype == object else np.asarray(v)) for k, v in cols.items()}
     if task.index != BASE:
         cols[TEXT], cols[ROW_ENDS] = report.csv_rows(cols)

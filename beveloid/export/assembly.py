@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import tca
+from ..solver import Solver
 from ..status import Status
 from ..tooth.sampling import ExportGeometryError
 
@@ -24,7 +25,8 @@ def assembly_angles(pair):
     errors = np.asarray(pair.errors, dtype=float)
     if not np.any(errors):
         return ref.pinion_angle, float(tca.unknowns(ref.x).gear_angle_rad)
-    sol = tca.solve_grid(geometry, "left", errors.reshape(1, -1), np.array([ref.pinion_angle]), backend="numpy")
+    sol = tca.solve_grid(geometry, "left", errors.reshape(1, -1), np.array([ref.pinion_angle]),
+                         solver=Solver("numpy"))
     if Status(int(sol.status[0, 0])) == Status.FAILED:
         raise ExportGeometryError("misalignment: no contact of the left flanks found at the reference pinion angle"
                                   " under the file's [misalignment]; --assembled needs one to place the gear")

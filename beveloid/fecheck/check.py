@@ -143,7 +143,7 @@ def fe_check(pair, options: CheckOptions, progress=print, solver=None) -> dict:
     say(f"fe-check: LTCA at {options.torque_nm:g} N m over {options.ltca_positions} positions")
     result = ltca.analyze(pair, ltca.Options(torque_nm=options.torque_nm, flank=options.flank,
                                              positions=options.ltca_positions,
-                                             tooth_model=options.ltca_tooth_model), Solver.of(solver))
+                                             tooth_model=options.ltca_tooth_model), solver=Solver.of(solver))
     j = choose_position(result) if options.position is None else options.position
     if result.status[j] != "ok" or not np.isfinite(result.unloaded_te[j]):
         raise UserError(f"--position = {j}: the LTCA has no converged contact there ({result.status[j]}); choose "

@@ -32,7 +32,7 @@ class Setup:
         self.errors = tca.errors_array(errors)
         # the Solver itself, its tolerances with its backend (issue 42)
         fr = tca.mesh_flank(geom, flank, self.errors, positions=positions, pairs=pairs, window_pitches=1,
-                            backend=solver)
+                            solver=solver)
         ref = tca.reference_contact(geom, flank)
         self.reference = ref
         ref_gear = tca.unknowns(ref.x).gear_angle_rad

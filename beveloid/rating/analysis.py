@@ -343,9 +343,9 @@ def analyze(pair, options: Options, solver=None, ltca_result=None, face_points: 
         solver = solver or Solver()
         if factors.K_v_source == "method B":
             # the mesh stiffness at K_A T (ISO's c' is that of the load K_A F_t), then the local stresses at K_A K_v T
-            first = ltca.analyze(pair, options.ltca_options(factors.K_A), solver)
+            first = ltca.analyze(pair, options.ltca_options(factors.K_A), solver=solver)
             dyn, factors = _with_dynamic_factor(pair, options, factors, loaded_contact(first, geom, b), elastic)
-        ltca_result = ltca.analyze(pair, options.ltca_options(factors.K_A * factors.K_v), solver)
+        ltca_result = ltca.analyze(pair, options.ltca_options(factors.K_A * factors.K_v), solver=solver)
     lc = loaded_contact(ltca_result, geom, b)
     if factors.K_v_source == "method B" and dyn is None:  # the caller's LTCA: its own stiffness
         dyn, factors = _with_dynamic_factor(pair, options, factors, lc, elastic)

@@ -44,11 +44,16 @@ class Solver:
         return ns
 
     @classmethod
-    def of(cls, solver: "Solver | str | None") -> "Solver":
-        """A Solver from a Solver, a backend name or None (the default solver)."""
+    def of(cls, solver: "Solver | None") -> "Solver":
+        """``solver`` itself, or the default solver for None.  A backend name is refused: below the
+        command line every function takes a Solver (``Solver(name)`` is the one converter of a name)."""
         if isinstance(solver, Solver):
             return solver
-        return cls("auto" if solver is None else solver)
+        if solver is None:
+            return cls()
+        raise TypeError(f"expected a beveloid.solver.Solver or None, not {solver!r}: pass Solver({solver!r})"
+                        if isinstance(solver, str) else
+                        f"expected a beveloid.solver.Solver or None, not {type(solver).__name__}")
 
 
 __all__ = ["DEFAULT_OPTIONS", "Solver", "SolverOptions"]

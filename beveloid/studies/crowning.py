@@ -105,7 +105,8 @@ def case_rows(out_dir, case, studies, error_vector, write_csv, positions=200, fl
             results = []
             for label, e in errors:
                 if label not in done:
-                    done[label] = tca.analyze(geom, error_vector(e), positions=positions)
+                    done[label] = tca.analyze(geom, tca.Options(positions=positions, approach_mm=None,
+                                                             errors=error_vector(e)))
                     r = done[label]
                     fr = r.flanks[flank]
                     other = r.flanks["left" if flank == "right" else "right"]

@@ -176,9 +176,9 @@ def bearing_pattern_figure(geom, results, labels, out_png, title):
     """The hook for the bearing patterns: contact ellipses attached to each result, then drawn
     (beveloid/contact_ellipse.py, plots.bearing_patterns)."""
     from .. import plots
-    from ..contact_ellipse import attach
+    from ..contact_ellipse import with_ellipses
 
-    results = [r if r.approach_mm is not None else attach(r) for r in results]
+    results = [r if r.approach_mm is not None else with_ellipses(r) for r in results]
     plots.bearing_patterns(results, labels, geom, FLANK, out_png, title)
 
 
@@ -214,7 +214,7 @@ def _study_task(figure, positions, out):
     st = next(s for s in STUDIES if s.figure == figure)
     out = Path(out)
     g = Pair.example(st.case).geometry
-    res = [tca.analyze(g, _err_vec(e), positions=positions) for _, e in st.errors]
+    res = [tca.analyze(g, tca.Options(positions=positions, approach_mm=None, errors=_err_vec(e))) for _, e in st.errors]
     labels = [lab for lab, _ in st.errors]
     plots.contact_paths(res, labels, g, FLANK, out / f"fig{st.figure}_contact_path.png",
                         f"Fig {st.figure} - {st.title} ({FLANK} flank)")
@@ -254,14 +254,14 @@ def compile_first(geom, then=None) -> float:
     solver core first (the error studies need only it until their bearing patterns): ``then()``, when
     given, runs as soon as it is ready (the studies are handed to the workers meanwhile)."""
     from .. import ltca, tca
-    from ..contact_ellipse import attach
+    from ..contact_ellipse import with_ellipses
 
     t0 = time.perf_counter()  # the first solve says when numba compiles (beveloid/solver/backends.py)
-    r = tca.analyze(geom, np.zeros(5), positions=12)  # paths, statuses, backlash
+    r = tca.analyze(geom, tca.Options(positions=12, approach_mm=None, errors=np.zeros(5)))  # paths, statuses, backlash
     tca.contact_margins(geom, FLANK, tca.mesh_flank(geom, FLANK, positions=4, pairs=1, window_pitches=3).unknowns)
     if then is not None:
         then()
-    attach(r)  # the contact ellipses of the bearing patterns
+    with_ellipses(r)  # the contact ellipses of the bearing patterns
     ltca.analyze(geom, ltca.Options(torque_nm=100.0, flank=FLANK, positions=2, tooth_model="plate"))
     return time.perf_counter() - t0
 
@@ -317,7 +317,8 @@ def write_study(out: Path, positions=200, progress=_progress, tooth_model=None, 
         crowned, studies, onsets = handles["crowned"], handles["studies"], handles["onsets"]
 
         step("Fig 22 (aligned TE of both cases) and the sensitivity of the path")
-        aligned = [tca.analyze(geoms[c], np.zeros(5), positions=positions) for c in CASES]
+        aligned = [tca.analyze(geoms[c], tca.Options(positions=positions, approach_mm=None, errors=np.zeros(5)))
+                   for c in CASES]
         plots.transmission_error(aligned, [f"{c.replace('case', 'case ')} (xi_R = "
                                            f"{math.degrees(designs[c].fpd_angle_right):.4f} deg)" for c in CASES],
                                  FLANK, out / "fig22_transmission_error.png", "Fig 22 - aligned TE of both cases")

@@ -25,7 +25,7 @@ Conventions (the paper is silent on these; see docs/validation.md):
   at the pitch point P of the aligned pair on the same flank.
 
 Shape (as every analysis package): :class:`Options` (frozen, self-validating: the one range
-table the CLI reads; the errors too), ``analyze(pair_or_geometry, options, solver=None) ->
+table the CLI reads; the errors too), ``analyze(pair_or_geometry, options, *, solver=None) ->
 TCAResult`` (immutable, with its contact ellipses at ``options.approach_mm``), its JSON by
 ``TCAResult.to_json_dict()``.  Modules: contact (kernels and unknowns by name), reference (the
 pitch-point contact, first-touch sign), grid (the solver over error sets x angles), flank (one
@@ -39,9 +39,9 @@ from ..generated import tca_kernels  # noqa: F401
 from ..solver import Solver  # noqa: F401
 from ..solver.options import DEFAULT_OPTIONS, SolverOptions  # noqa: F401  (re-exported: tca.SolverOptions)
 from .backlash import BACKLASH_PAIRS, BACKLASH_POSITIONS, Backlash, backlash, whole_pitches  # noqa: F401
-from .contact import (ERROR_NAMES, ERROR_UNITS, FLANKS, NoContactError, as_solver, boundary_margins,  # noqa: F401
+from .contact import (ERROR_NAMES, ERROR_UNITS, FLANKS, NoContactError, boundary_margins,  # noqa: F401
                       check_flank, contact_boundary_names, contact_margins, contact_points, errors_array, evaluate,
-                      geometry_of, newton_tolerance, resolve_backend, surface, surface_jacobian, tangent, unknowns)
+                      geometry_of, newton_tolerance, surface, surface_jacobian, tangent, unknowns)
 from .flank import FlankResult, mesh_angles, mesh_flank  # noqa: F401
 from .grid import SERIAL_MAX_SETS, GridSolution, solve_grid, solved_contact_points  # noqa: F401
 from .options import OptionError, Options  # noqa: F401
@@ -49,11 +49,11 @@ from .reference import Reference, first_touch_sign, gap_sign, pitch_point_notes,
 from .result import TCAResult, analyze, run, to_json_dict, with_ellipses  # noqa: F401
 from .sensitivity import sensitivity  # noqa: F401
 
-__all__ = ["analyze", "as_solver", "Backlash", "backlash", "BACKLASH_PAIRS", "BACKLASH_POSITIONS",
+__all__ = ["analyze", "Backlash", "backlash", "BACKLASH_PAIRS", "BACKLASH_POSITIONS",
            "boundary_margins", "check_flank", "contact_boundary_names", "contact_margins", "contact_points",
            "DEFAULT_OPTIONS", "ERROR_NAMES", "ERROR_UNITS", "errors_array", "evaluate", "first_touch_sign",
            "FlankResult", "FLANKS", "gap_sign", "geometry_of", "GridSolution", "Member", "mesh_angles", "mesh_flank",
            "newton_tolerance", "NoContactError", "OptionError", "Options", "PairGeometry", "pitch_point_notes",
-           "Reference", "reference_contact", "resolve_backend", "run", "sensitivity", "SERIAL_MAX_SETS",
+           "Reference", "reference_contact", "run", "sensitivity", "SERIAL_MAX_SETS",
            "solve_grid", "solved_contact_points", "Solver", "SolverOptions", "surface", "surface_jacobian",
            "tangent", "tca_kernels", "TCAResult", "to_json_dict", "unknowns", "whole_pitches", "with_ellipses"]

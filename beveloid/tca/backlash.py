@@ -10,7 +10,7 @@ from .. import mesh
 from ..geometry import PairGeometry
 from ..solver import Solver
 from ..status import Status, carries_numbers
-from .contact import ERROR_NAMES, FLANKS, as_solver, errors_array, unknowns
+from .contact import ERROR_NAMES, FLANKS, errors_array, unknowns
 from .grid import solve_grid
 from .reference import first_touch_sign, reference_contact
 
@@ -46,7 +46,7 @@ def _raw_play(geom, errors, solver):
     phi1 = reference_contact(geom, "left", solver.options).pinion_angle
     angles, signs, codes = {}, {}, {}
     for fl in FLANKS:
-        sol = solve_grid(geom, fl, e, np.array([phi1]), solver)
+        sol = solve_grid(geom, fl, e, np.array([phi1]), solver=solver)
         angles[fl] = unknowns(sol.x[0, 0]).gear_angle_rad
         codes[fl] = Status(int(sol.status[0, 0]))
         signs[fl] = first_touch_sign(geom, fl)
@@ -71,7 +71,7 @@ def _flank_limit(geom, flank, errors, phi1, solver):
     nan where no pair touches on the flanks), and the status of the pair-0 contact at phi1[0]."""
     p1, p2 = geom.pitch_angles
     ks, shifted = mesh.pair_angles(phi1, BACKLASH_PAIRS, p1)
-    sol = solve_grid(geom, flank, errors, shifted.ravel(), solver)
+    sol = solve_grid(geom, flank, errors, shifted.ravel(), solver=solver)
     phi2 = (unknowns(sol.x[0]).gear_angle_rad - np.repeat(ks, phi1.size) * p2).reshape(ks.size, phi1.size)
     phi2 = np.where(carries_numbers(sol.status[0]).reshape(phi2.shape), phi2, np.nan)
     limit, _ = mesh.envelope(phi2, first_touch_sign(geom, flank))
@@ -87,8 +87,7 @@ def _play(geom, errors, phi1, whole, solver):
     return (limits["right"] - limits["left"]) * sign - whole * geom.pitch_angles[1], codes
 
 
-def backlash(geom: PairGeometry, errors=(0, 0, 0, 0, 0), backend: "Solver | str" = "auto",
-             options=None) -> Backlash:
+def backlash(geom: PairGeometry, errors=(0, 0, 0, 0, 0), *, solver: Solver | None = None) -> Backlash:
     """Functional circumferential backlash (um) at the gear's working pitch radius, from a
     two-flank TCA over one mesh cycle.
 
@@ -96,10 +95,11 @@ def backlash(geom: PairGeometry, errors=(0, 0, 0, 0, 0), backend: "Solver | str"
     play is the gear's free angle between them, less the whole pitches between the two pair-0
     contacts of the aligned pair, times r_w2.  The backlash is the smallest play over one
     pinion pitch (48 angles, the minimum refined twice on a finer grid); never reduced modulo
-    the pitch.  Positive: play; negative: the flanks would interfere.
+    the pitch.  Positive: play; negative: the flanks would interfere.  ``solver``: a
+    :class:`beveloid.solver.Solver` (None: the default).
     """
     geom = getattr(geom, "geometry", geom)
-    solver = as_solver(backend, options)
+    solver = Solver.of(solver)
     k = whole_pitches(geom, solver)
     if k is None:
         return Backlash(None, Status.FAILED.label, "the aligned pair has no two-flank contact")

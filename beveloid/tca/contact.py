@@ -7,8 +7,7 @@ import numpy as np
 from ..errors import UserError
 from ..generated import layouts, tca_kernels
 from ..geometry import PairGeometry
-from ..solver import Solver, backends
-from ..solver.options import DEFAULT_OPTIONS, SolverOptions
+from ..solver.options import DEFAULT_OPTIONS
 
 FLANKS = tca_kernels.FLANKS
 #: The five assembly errors, in the order of every (..., 5) error array (generated layout).
@@ -24,14 +23,6 @@ class NoContactError(UserError, RuntimeError):
 def geometry_of(pair) -> PairGeometry:
     """The PairGeometry of a :class:`beveloid.pair.Pair` or of a PairGeometry."""
     return getattr(pair, "geometry", pair)
-
-
-def as_solver(solver=None, options: SolverOptions | None = None) -> Solver:
-    """A Solver from a Solver, a backend name or None, with ``options`` when given."""
-    s = Solver.of(solver)
-    if options is not None and options != s.options:
-        s = Solver(s.backend, options)
-    return s
 
 
 def errors_array(errors) -> np.ndarray:
@@ -105,11 +96,6 @@ def newton_tolerance(geom, tol_mm=DEFAULT_OPTIONS.tol_mm):
     """tol_mm, or the round-off floor of the position residual for large coordinates."""
     scale = geom.gear.working_pitch_radius_mm
     return max(tol_mm, 64 * np.finfo(float).eps * (abs(geom.gear.axial_placement_mm) + geom.offset_mm + scale))
-
-
-def resolve_backend(backend):
-    """'auto' -> 'compiled' when numba is installed, else 'numpy'."""
-    return backends.resolve(backend)
 
 
 def tangent(geom, flank, x, phi1, errors):

@@ -9,9 +9,9 @@ from .. import mesh
 from ..generated import tca_kernels
 from ..geometry import PairGeometry
 from ..solver import Solver
-from ..solver.options import DEFAULT_OPTIONS, SolverOptions
+from ..solver.options import DEFAULT_OPTIONS
 from ..status import Status, carries_numbers
-from .contact import (ERROR_NAMES, as_solver, contact_boundary_names, contact_margins, contact_points,
+from .contact import (ERROR_NAMES, contact_boundary_names, contact_margins, contact_points,
                       errors_array, rotate_z, unknowns)
 from .grid import solve_grid
 from .reference import first_touch_sign, reference_contact
@@ -93,21 +93,20 @@ def mesh_angles(geom, flank, positions, pairs, window_pitches=None, options=DEFA
 
 
 def mesh_flank(geom: PairGeometry, flank: str, errors=(0, 0, 0, 0, 0), positions=200, pairs=3,
-               options: SolverOptions | None = None, window_pitches=None,
-               backend: "Solver | str" = "auto") -> FlankResult:
+               window_pitches=None, *, solver: Solver | None = None) -> FlankResult:
     """TCA of one flank over the mesh with neighbouring tooth pairs.
 
     Pinion angles: ``positions`` points spread over ``window_pitches`` pinion pitches (default:
     ``pairs``) centred on the reference contact; pairs k = -(pairs//2) .. pairs//2.
-    ``backend``: a :class:`beveloid.solver.Solver` or a backend name.
+    ``solver``: a :class:`beveloid.solver.Solver` (None: the default), its backend and tolerances.
     """
-    solver = as_solver(backend, options)
+    solver = Solver.of(solver)
     e = errors_array(errors).reshape(1, len(ERROR_NAMES))
     ref = reference_contact(geom, flank, solver.options)
     p1, p2 = geom.pitch_angles
     phi1 = mesh_angles(geom, flank, positions, pairs, window_pitches, solver.options)
     ks, shifted = mesh.pair_angles(phi1, pairs, p1)
-    sol = solve_grid(geom, flank, e, shifted.ravel(), solver)
+    sol = solve_grid(geom, flank, e, shifted.ravel(), solver=solver)
     x, code, iterations, boundary = sol.x[0], sol.status[0], sol.iterations[0], sol.boundary[0]
     act = sol.active[0]
     names = np.asarray(tca_kernels.CONTACT_BOUNDARIES + ("",))

@@ -7,10 +7,10 @@ import numpy as np
 
 from ..generated import tca_kernels
 from ..solver import Solver, patch_cover
-from ..solver.records import PathOutput, PathRequest, settings
 from ..solver.options import SolverOptions
+from ..solver.records import PathOutput, PathRequest, settings
 from ..status import Status, carries_numbers
-from .contact import as_solver, contact_points, errors_array, newton_tolerance, unknowns
+from .contact import contact_points, errors_array, newton_tolerance, unknowns
 from .reference import first_touch_sign, reference_contact
 
 
@@ -33,16 +33,15 @@ GEAR_ANGLE_INDEX = tca_kernels.UNKNOWNS.index("gear_angle_rad")
 _FIELDS = ("x", "status", "iterations", "boundary", "active")
 
 
-def solve_grid(geom, flank, errors, phi_grid, backend: "Solver | str" = "auto",
-               options: SolverOptions | None = None) -> GridSolution:
+def solve_grid(geom, flank, errors, phi_grid, *, solver: Solver | None = None) -> GridSolution:
     """Pair 0 for error sets (K, 5) x pinion angles (N,), in any order.
 
-    ``backend``: a :class:`beveloid.solver.Solver` or a backend name; ``options`` override the
-    solver's.  Both backends run the same solver core.  Error sets whose every point failed (the
+    ``solver``: a :class:`beveloid.solver.Solver` (None: the default), its backend and tolerances.
+    Both backends run the same solver core.  Error sets whose every point failed (the
     homotopy from the aligned contact lost track) are solved again with 4x, then 16x, as many
     homotopy steps.
     """
-    solver = as_solver(backend, options)
+    solver = Solver.of(solver)
     opts = solver.options
     errors = np.ascontiguousarray(np.atleast_2d(errors_array(errors)), dtype=float)
     sol = _solve_once(geom, flank, errors, phi_grid, solver, opts.homotopy_steps)
@@ -109,13 +108,13 @@ def off_branch(geom, ref, grid, out):
     out.active[bad] = -1
 
 
-def solved_contact_points(geom, flank, x, status, backend: "Solver | str" = "auto"):
+def solved_contact_points(geom, flank, x, status, *, solver: Solver | None = None):
     """contact_points of a solved grid x (K, N, 5) with its status codes (K, N): nan where the
     status carries no numbers.  On the compiled backend one pass of the solver core (a sweep's
     500k points: ~2x faster than the whole-array kernels, docs/performance.md)."""
     x = np.ascontiguousarray(x, dtype=float)
     status = np.asarray(status)
-    solver = as_solver(backend)
+    solver = Solver.of(solver)
     if solver.compiled:
         P1 = np.empty(x.shape[:-1] + (3,))
         P2 = np.empty_like(P1)

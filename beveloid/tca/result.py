@@ -69,48 +69,27 @@ def run(pair, errors, options: Options, solver: Solver) -> TCAResult:
     flanks, notes = {}, []
     for fl in options.flanks:
         flanks[fl] = mesh_flank(geom, fl, e, positions=options.positions, pairs=options.pairs,
-                                window_pitches=options.window_pitches, backend=solver)
+                                window_pitches=options.window_pitches, solver=solver)
         notes += pitch_point_notes(geom, fl, solver.options)
     notes += _notes(flanks, options.positions)
-    bl = backlash(geom, e, backend=solver) if set(options.flanks) == set(FLANKS) else None
+    bl = backlash(geom, e, solver=solver) if set(options.flanks) == set(FLANKS) else None
     result = TCAResult(geom, e, flanks, bl, tuple(notes))
-    return with_ellipses(result, options.approach_mm, solver) if options.approach_mm is not None else result
+    return with_ellipses(result, options.approach_mm, solver=solver) if options.approach_mm is not None else result
 
 
-def analyze(pair, options: Options | None = None, solver: Solver | str | None = None, **legacy) -> TCAResult:
+def analyze(pair, options: Options | None = None, *, solver: Solver | None = None) -> TCAResult:
     """TCA of a pair over the mesh (the backlash when both flanks are solved, the contact ellipses
-    at ``options.approach_mm``): ``analyze(pair_or_geometry, Options(...), Solver(...))``.
+    at ``options.approach_mm``): ``analyze(pair_or_geometry, Options(...), solver=Solver(...))``.
 
     ``pair``: a :class:`beveloid.pair.Pair` (its [misalignment] are the errors unless
-    ``options.errors`` is set) or a PairGeometry; ``options``: an :class:`Options` (None: as the
-    deprecated form below, without ellipses); ``solver``: a :class:`beveloid.solver.Solver`, a
-    backend name or None (the default).
-
-    Deprecated, kept for the callers written before Options: ``analyze(geom, errors, flanks=...,
-    positions=200, pairs=3, backend="auto")`` (the errors in place of the options; no contact
-    ellipses).
+    ``options.errors`` is set) or a PairGeometry; ``options``: an :class:`Options` (None: the
+    default Options); ``solver``: a :class:`beveloid.solver.Solver` (None: the default).
     """
-    if not isinstance(options, Options):
-        options, solver = _legacy_options(options, solver, legacy)
-    elif legacy:
-        raise TypeError(f"analyze(pair, options, solver): give {', '.join(sorted(legacy))} in Options")
+    if options is None:
+        options = Options()
+    elif not isinstance(options, Options):
+        raise TypeError(f"tca.analyze(pair, options, *, solver=None) needs a tca.Options, not {type(options).__name__}")
     errors = options.errors
     if errors is None:
         errors = getattr(pair, "errors", np.zeros(len(ERROR_NAMES)))
     return run(pair, errors, options, Solver.of(solver))
-
-
-def _legacy_options(errors, solver, legacy):
-    """(Options, solver) of the deprecated form analyze(geom, errors, flanks=, positions=, pairs=,
-    errors=, backend=)."""
-    unknown = set(legacy) - {"errors", "flanks", "positions", "pairs", "backend"}
-    if unknown:
-        raise TypeError(f"analyze() got unexpected arguments {sorted(unknown)}")
-    errors = legacy.get("errors", errors)
-    flanks = legacy.get("flanks")
-    positions, pairs = legacy.get("positions"), legacy.get("pairs")
-    options = Options(flanks=FLANKS if flanks is None else tuple(flanks),
-                      positions=200 if positions is None else positions, pairs=3 if pairs is None else pairs,
-                      approach_mm=None,
-                      errors=None if errors is None else tuple(errors_array(errors)))
-    return options, legacy.get("backend", "auto") if solver is None else solver

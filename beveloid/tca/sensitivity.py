@@ -6,28 +6,29 @@ import numpy as np
 from ..geometry import PairGeometry
 from ..solver import Solver
 from ..status import Status
-from .contact import ERROR_NAMES, as_solver, errors_array, geometry_of, surface_jacobian, tangent, unknowns
+from .contact import ERROR_NAMES, errors_array, geometry_of, surface_jacobian, tangent, unknowns
 from .grid import solve_grid
 from .reference import reference_contact
 
 
-def sensitivity(geom: PairGeometry, flank: str, errors=(0, 0, 0, 0, 0), pinion_angle=None,
-                backend: "Solver | str" = "auto"):
+def sensitivity(geom: PairGeometry, flank: str, errors=(0, 0, 0, 0, 0), pinion_angle=None, *,
+                solver: Solver | None = None):
     """Exact first-order derivatives at one mesh position (implicit function theorem).
 
     ``geom``: a :class:`beveloid.pair.Pair` or its PairGeometry.  Returns dict with
     'unknowns_D_errors' (5x5: d(UNKNOWNS)/d(errors)), 'pinion_contact_D_errors' (3x5, mm per
     error unit), 'gear_contact_D_errors' (3x5) and 'gear_angle_D_errors' (5,), at the contact for
-    the given errors and pinion angle (default: the reference pinion angle).  They are the
+    the given errors and pinion angle (default: the reference pinion angle), solved by ``solver``
+    (a :class:`beveloid.solver.Solver`; None: the default).  They are the
     derivatives of the surface contact (Eq 38): 'converged' is False unless the point is a
     surface contact ('ok'), 'status' says what it is.
     """
     geom = geometry_of(geom)
-    solver = as_solver(backend)
+    solver = Solver.of(solver)
     e = errors_array(errors).reshape(1, len(ERROR_NAMES))
     ref = reference_contact(geom, flank, solver.options)
     phi1 = ref.pinion_angle if pinion_angle is None else pinion_angle
-    sol = solve_grid(geom, flank, e, np.array([phi1]), solver)
+    sol = solve_grid(geom, flank, e, np.array([phi1]), solver=solver)
     x = sol.x[0, 0]
     _, derr = tangent(geom, flank, x[None], np.array([phi1]), e)
     derr = derr[0]

@@ -24,6 +24,7 @@ import numpy as np
 
 from .. import tca
 from ..generated import tca_kernels
+from ..solver import Solver
 from ..status import Status, carries_numbers
 from . import fillet as fillet_kernels
 from . import profile, sections
@@ -53,8 +54,8 @@ class FlankContact:
     form_margin_mm: dict = None
 
 
-def _pair0(geom, flank, phi, backend):
-    sol = tca.solve_grid(geom, flank, np.zeros(5), np.asarray(phi, dtype=float), backend)
+def _pair0(geom, flank, phi, solver):
+    sol = tca.solve_grid(geom, flank, np.zeros(5), np.asarray(phi, dtype=float), solver=solver)
     return sol.x[0], sol.status[0], sol.boundary[0], sol.active[0]
 
 
@@ -77,8 +78,8 @@ def _carries(te0, te_k, sign):
 class _Path:
     """Pair 0 and its neighbours at arbitrary pinion angles."""
 
-    def __init__(self, geom, flank, neighbours, backend):
-        self.geom, self.flank, self.backend = geom, flank, backend
+    def __init__(self, geom, flank, neighbours, solver):
+        self.geom, self.flank, self.solver = geom, flank, solver
         self.p1 = geom.pitch_angles[0]
         self.ks = np.array([k for k in range(-neighbours, neighbours + 1) if k != 0])
         self.sign = tca.first_touch_sign(geom, flank)
@@ -86,7 +87,7 @@ class _Path:
     def at(self, phi):
         """(in contact, x, status, boundary, active) of pair 0 at one angle."""
         angles = np.concatenate([[phi], phi - self.ks * self.p1])
-        x, st, bnd, act = _pair0(self.geom, self.flank, angles, self.backend)
+        x, st, bnd, act = _pair0(self.geom, self.flank, angles, self.solver)
         te = _te(self.geom, self.flank, x, st, angles)
         return bool(_carries(te[:1], te[None, 1:], self.sign)[0]), x[0], st[0], bnd[0], act[0]
 
@@ -113,14 +114,16 @@ def _end_boundary(state):
     return names[boundary] if boundary >= 0 else ""
 
 
-def flank_contact(geom, flank, per_pitch=24, span_pitches=3, neighbours=2, backend="auto") -> FlankContact:
-    """Contact ratio and interference of one flank of the aligned pair (see the module docstring)."""
-    path = _Path(geom, flank, neighbours, backend)
+def flank_contact(geom, flank, per_pitch=24, span_pitches=3, neighbours=2, *, solver=None) -> FlankContact:
+    """Contact ratio and interference of one flank of the aligned pair (see the module docstring),
+    solved by ``solver`` (a :class:`beveloid.solver.Solver`; None: the default)."""
+    solver = Solver.of(solver)
+    path = _Path(geom, flank, neighbours, solver)
     p1, ref = path.p1, tca.reference_contact(geom, flank).pinion_angle
     n = span_pitches + neighbours
     idx = np.arange(-n * per_pitch, n * per_pitch + 1)
     phi = ref + idx * (p1 / per_pitch)
-    x, st, bnd, act = _pair0(geom, flank, phi, backend)
+    x, st, bnd, act = _pair0(geom, flank, phi, solver)
     te = _te(geom, flank, x, st, phi)
     central = np.nonzero(np.abs(idx) <= span_pitches * per_pitch)[0]
     shifts = np.array([k * per_pitch for k in path.ks])

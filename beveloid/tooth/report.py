@@ -29,16 +29,13 @@ def _mm(x, digits=4) -> str:
 
 @dataclass(frozen=True)
 class ToothOptions:
-    """What the checks sample: the contact ratio's grid (angles per pinion pitch) and solver backend."""
+    """What the checks sample: the contact ratio's grid (angles per pinion pitch)."""
     contact_per_pitch: int = 24
-    backend: str = "auto"  # the compiled solver when numba is installed
 
     def __post_init__(self):
         if not (isinstance(self.contact_per_pitch, int) and 8 <= self.contact_per_pitch <= 1000):
             raise ValueError(f"ToothOptions.contact_per_pitch = {self.contact_per_pitch!r}: must be an integer"
                              " from 8 to 1000")
-        if self.backend not in ("auto", "compiled", "numpy"):
-            raise ValueError(f"ToothOptions.backend = {self.backend!r}: must be one of auto, compiled, numpy")
 
 
 @dataclass(frozen=True)
@@ -86,8 +83,10 @@ class ToothResult:
         return "\n".join(lines)
 
 
-def analyze(pair, options: ToothOptions = ToothOptions()) -> ToothResult:
-    """Every whole-tooth check of a :class:`beveloid.pair.Pair` (or a PairGeometry)."""
+def analyze(pair, options: ToothOptions = ToothOptions(), *, solver=None) -> ToothResult:
+    """Every whole-tooth check of a :class:`beveloid.pair.Pair` (or a PairGeometry); the contact ratio
+    solved by ``solver`` (a :class:`beveloid.solver.Solver`; None: the default, compiled when numba is
+    installed)."""
     geom = getattr(pair, "geometry", pair)
     cut = undercut.undercut(geom)
     tips = tip.tip_thicknesses(geom)
@@ -101,7 +100,7 @@ def analyze(pair, options: ToothOptions = ToothOptions()) -> ToothResult:
     flanks = {}
     for fl in FLANKS:
         try:
-            flanks[fl] = contact.flank_contact(geom, fl, per_pitch=options.contact_per_pitch, backend=options.backend)
+            flanks[fl] = contact.flank_contact(geom, fl, per_pitch=options.contact_per_pitch, solver=solver)
         except (contact.NoContact, NoContactError, UnboundedPatch) as err:
             flanks[fl] = None
             statuses.append(("no contact", f"contact ratio, {fl} flank: {err}"))

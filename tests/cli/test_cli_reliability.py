@@ -395,7 +395,7 @@ def test_sweep_memory_is_bounded(capsys):
     commands = (REPO / "docs" / "commands.md").read_text(encoding="utf-8")
     assert f"{sw.MAX_CONTACT_POINTS:,}" in commands or str(sw.MAX_CONTACT_POINTS) in commands
     with pytest.raises(ValueError, match="at most"):
-        sw.sweep(None, samples=sw.MAX_CONTACT_POINTS, positions=2)
+        sw.analyze(None, sw.Options(samples=sw.MAX_CONTACT_POINTS, positions=2))
 
 
 @pytest.mark.parametrize("samples, positions", [(0, 5), (-3, 5), (5, 1), (2.5, 5)])
@@ -405,7 +405,7 @@ def test_api_sweep_rejects_bad_sizes_without_numpy_warnings(geom1, samples, posi
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         with pytest.raises(ValueError, match="must be an integer"):
-            sw.sweep(geom1, samples=samples, positions=positions)
+            sw.analyze(geom1, sw.Options(samples=samples, positions=positions))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -503,7 +503,7 @@ def test_failed_points_are_not_called_off_the_flank():
     from beveloid.cli.tca import format_summary
 
     spec = load_spec(C1)
-    res = tca.analyze(Pair.from_spec(spec).geometry, positions=5, flanks=("right",))
+    res = tca.analyze(Pair.from_spec(spec).geometry, tca.Options(flanks=("right",), positions=5, approach_mm=None))
     fr = res.flanks["right"]
     n = len(fr.status)
     res.flanks["right"] = fr = dataclasses.replace(fr, status=["failed"] * n)  # as when the solver loses track everywhere
@@ -523,7 +523,7 @@ def test_te_from_a_few_positions_carries_a_caveat(capsys):
     from beveloid.cli.tca import format_summary
 
     spec = load_spec(C1)
-    res = tca.analyze(Pair.from_spec(spec).geometry, (1.2, 0, 0, 0, 0), positions=30)
+    res = tca.analyze(Pair.from_spec(spec).geometry, tca.Options(positions=30, approach_mm=None, errors=(1.2, 0, 0, 0, 0)))
     fr = res.flanks["right"]
     pairs = len(fr.status) // 30
     gone = np.zeros((pairs, 30), bool)
@@ -556,7 +556,7 @@ def test_zero_te_is_said_and_drawn_on_a_sensible_scale(monkeypatch):
     from beveloid import plots, tca
 
     geom = Pair.from_spec(C1).geometry
-    res = tca.analyze(geom, positions=12)
+    res = tca.analyze(geom, tca.Options(positions=12, approach_mm=None))
     assert 0 < res.flanks["right"].te_peak_to_peak * 1e6 < plots.TE_ZERO_URAD  # round-off, not signal
     figs = _capture_figures(monkeypatch)
     plots.tca_summary(res, geom, "unused.png")

@@ -8,6 +8,7 @@ import numba
 import numpy as np
 import pytest
 
+from beveloid.solver import Solver
 from beveloid.explore import rows
 from beveloid.explore.grid import Plan, parse_vary
 from beveloid.spec import load_example, spec_to_dict
@@ -25,7 +26,7 @@ def edge_plan():
 
 def _mc(plan, cols, start, stop, backend="auto", request=MC):
     part = {k: np.asarray(v)[start:stop] for k, v in cols.items()}
-    rows.monte_carlo(part, plan, slice(start, stop), TOLERANCES, request, backend)
+    rows.monte_carlo(part, plan, slice(start, stop), TOLERANCES, request, solver=Solver(backend))
     return {k: part[k] for k in rows.MC_COLUMNS + ("mc_status",)}
 
 

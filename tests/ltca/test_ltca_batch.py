@@ -165,7 +165,7 @@ def test_the_rigid_mesh_study_gets_the_solver_itself(monkeypatch, pair):
     real = tca.mesh_flank
 
     def spy(*args, **kwargs):
-        seen.append(kwargs.get("backend"))
+        seen.append(kwargs.get("solver"))
         return real(*args, **kwargs)
 
     monkeypatch.setattr(tca, "mesh_flank", spy)

@@ -47,8 +47,8 @@ def test_contact_across_a_linear_tip_relief_kink(geom1):
     mod = relieved(geom1, tip_relief_um=20.0, tip_relief_height_mm=2.0, tip_relief_shape="linear")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # diverging iterates at the kink overflow in numpy
-        a = tca.mesh_flank(mod, "left", positions=40, backend="numpy")
-    b = tca.mesh_flank(geom1, "left", positions=40, backend="numpy")
+        a = tca.mesh_flank(mod, "left", positions=40, solver=Solver("numpy"))
+    b = tca.mesh_flank(geom1, "left", positions=40, solver=Solver("numpy"))
     st_a, st_b = np.asarray(a.status), np.asarray(b.status)
     ok = st_a == "ok"
     t1 = tip_ramp(mod.pinion, a.pinion_contact)
@@ -76,7 +76,7 @@ def test_backends_agree_on_a_modified_pair(geom1):
         solver = Solver(backend)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
-            res[backend] = tca.mesh_flank(mod, "right", errors, positions=30, backend=solver.backend)
+            res[backend] = tca.mesh_flank(mod, "right", errors, positions=30, solver=solver)
     a, b = res["numpy"], res["compiled"]
     margin_a, margin_b = np.asarray(a.boundary_margin_mm), np.asarray(b.boundary_margin_mm)
     tol = Solver("numpy").options.patch_tol_mm

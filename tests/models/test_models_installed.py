@@ -40,7 +40,7 @@ import numpy as np
 from beveloid import ltca, tca
 from beveloid.generated import surface_models
 from beveloid.pair import Pair
-from beveloid.solver import backends
+from beveloid.solver import Solver, backends
 from beveloid.solver.records import settings
 from beveloid.generated.tca_kernels import UNKNOWNS
 GEAR_ANGLE = UNKNOWNS.index("gear_angle_rad")
@@ -49,11 +49,15 @@ base = Pair.from_spec(sys.argv[2]).geometry
 shift = dict(plug.gear.surface_options)["axial_shift_mm"]
 out = {"models": list(surface_models.MODELS), "gear_model": plug.gear.tooth_surface,
        "pinion_model": plug.pinion.tooth_surface, "shift": shift, "import": tca.__file__}
-b = tca.analyze(base, (0.0, 0.0, shift, 0.0, 0.0), flanks=("right",), positions=40, backend="numpy").flanks["right"]
-lb = ltca.analyze(base, 100.0, "right", errors=(0.0, 0.0, shift, 0.0, 0.0), positions=3, pairs=3, backend="numpy")
+numpy = Solver("numpy")
+b = tca.analyze(base, tca.Options(flanks=("right",), positions=40, approach_mm=None, errors=(0.0, 0.0, shift, 0.0, 0.0)),
+                solver=numpy).flanks["right"]
+lb = ltca.analyze(base, ltca.Options(torque_nm=100.0, flank="right", errors=(0.0, 0.0, shift, 0.0, 0.0), positions=3,
+                                     pairs=3, tooth_model="plate"), solver=numpy)
 elastic = lambda r: (r.loaded_te - r.unloaded_te) * 1e6  # noqa: E731
-a = tca.analyze(plug, flanks=("right",), positions=40, backend="numpy").flanks["right"]
-la = ltca.analyze(plug, 100.0, "right", positions=3, pairs=3, backend="numpy")
+a = tca.analyze(plug, tca.Options(flanks=("right",), positions=40, approach_mm=None), solver=numpy).flanks["right"]
+la = ltca.analyze(plug, ltca.Options(torque_nm=100.0, flank="right", positions=3, pairs=3, tooth_model="plate"),
+                  solver=numpy)
 # surface contacts only: the shifted model moves the flank, not its blank, so edge contacts differ
 both = (np.array(a.status) == "ok") & (np.array(b.status) == "ok")
 out["numpy"] = {"compared": int(both.sum()),
@@ -66,7 +70,7 @@ out["numpy"] = {"compared": int(both.sum()),
 # body, the unmodified rack's, loaded at the shifted flank's points (issues 46 and 48); before, a flank
 # that does not meet the rack's root fillet was refused ("... um apart at the form limit")
 fe = ltca.analyze(Pair.from_spec(sys.argv[1]), ltca.Options(torque_nm=200.0, positions=3, grid=(5, 5),
-                                                            tooth_model="fe", fe_coarsen=8.0), "numpy")
+                                                            tooth_model="fe", fe_coarsen=8.0), solver=numpy)
 out["fe"] = {"tooth_model": fe.tooth_model, "root_stress_max_mpa": fe.root_stress_max_mpa()}
 # the compiled core composed with the model: its point Newton (the step every path and gap calls) from the
 # aligned reference contact, at every surface contact of the numpy paths, against the numpy backend's

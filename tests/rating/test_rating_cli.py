@@ -25,7 +25,7 @@ def case1_rating():
     d["rating"].update(K_A=1.25, K_v=1.1, pinion_speed_rpm=1000.0, life_hours=2000.0)
     pair = Pair.from_spec(spec_from_dict(d))
     options = rating.Options(torque_nm=800.0, positions=2, tooth_model="plate")
-    lt = ltca.analyze(pair, options.ltca_options(1.25 * 1.1), Solver())
+    lt = ltca.analyze(pair, options.ltca_options(1.25 * 1.1), solver=Solver())
     return pair, lt, rating.analyze(pair, options, ltca_result=lt)
 
 

@@ -45,7 +45,7 @@ def test_the_ltca_root_stress_gives_the_local_bending_safety():
     root_stress_max_mpa, its face position and S_F = sigma_Flim Y_ST Y_NT / sigma_F,local; the
     verdict's bending side is then the local one."""
     pair = Pair.example("case1")
-    lt = ltca.analyze(pair, ltca.Options(torque_nm=800.0, positions=2, tooth_model="plate"), Solver())
+    lt = ltca.analyze(pair, ltca.Options(torque_nm=800.0, positions=2, tooth_model="plate"), solver=Solver())
     stress = {"pinion": 3.0 * np.nan_to_num(lt.pair_load_n) / 100.0, "gear": 2.0 * np.nan_to_num(lt.pair_load_n) / 100}
     where = {m: np.zeros(lt.pair_load_n.shape + (2,)) for m in stress}
     for m in where:
@@ -73,7 +73,7 @@ def test_the_local_bending_safety_decides_over_the_iso_one():
     """Where the FE root stress exists its S_F decides: an FE stress 10 x the pair's the ISO sigma_F makes the
     local S_F the lowest of all; an FE stress well below ISO's passes a minimum the ISO S_F fails."""
     pair = Pair.example("case1")
-    lt = ltca.analyze(pair, ltca.Options(torque_nm=800.0, positions=2, tooth_model="plate"), Solver())
+    lt = ltca.analyze(pair, ltca.Options(torque_nm=800.0, positions=2, tooth_model="plate"), solver=Solver())
     options = rating.Options(torque_nm=800.0, positions=2, tooth_model="plate")
     iso = rating.analyze(pair, options, ltca_result=lt)
     iso_min = min(s.safety_bending_iso for m in iso.members.values() for s in m.sections.values())

@@ -18,7 +18,7 @@ import pytest
 from beveloid import tca
 from beveloid.generated import flank_boundaries, placement
 from beveloid.generated import tca_kernels_scalar as tks
-from beveloid.solver import backends
+from beveloid.solver import Solver, backends
 from beveloid.status import Status
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -158,7 +158,7 @@ def test_solved_contact_is_the_extreme_over_the_patches(geom1, errors):
     sign = tca.first_touch_sign(geom1, flank)
     ref = tca.reference_contact(geom1, flank)
     phis = ref.pinion_angle + np.array([-1.9, -1.3, -0.7, 0.0, 0.6, 1.2, 1.8]) * geom1.pitch_angles[0]
-    sol = tca.solve_grid(geom1, flank, np.asarray(errors), phis, backend="numpy")
+    sol = tca.solve_grid(geom1, flank, np.asarray(errors), phis, solver=Solver("numpy"))
     assert (sol.status == Status.EDGE).any()
     for j, phi in enumerate(phis):
         st = Status(int(sol.status[0, j]))
@@ -173,7 +173,7 @@ def test_solved_contact_is_the_extreme_over_the_patches(geom1, errors):
 
 
 def _status_and_angle(geom, q, phi):
-    sol = tca.solve_grid(geom, "right", np.array([q, q, q, 0.0, 0.0]), [phi], backend="numpy")
+    sol = tca.solve_grid(geom, "right", np.array([q, q, q, 0.0, 0.0]), [phi], solver=Solver("numpy"))
     return Status(int(sol.status[0, 0])), sol.x[0, 0, 4]
 
 
@@ -255,10 +255,10 @@ def test_backends_agree_on_edge_points(geom1):
     E = np.array(ERROR_SETS)
     ref = tca.reference_contact(geom1, "right")
     grid = ref.pinion_angle + np.linspace(-1.5, 1.5, 21) * geom1.pitch_angles[0]
-    a = tca.solve_grid(geom1, "right", E, grid, backend="numpy")
+    a = tca.solve_grid(geom1, "right", E, grid, solver=Solver("numpy"))
     if not backends.AVAILABLE:
         pytest.skip("numba not installed: one backend only")
-    b = tca.solve_grid(geom1, "right", E, grid, backend="compiled")
+    b = tca.solve_grid(geom1, "right", E, grid, solver=Solver("compiled"))
     np.testing.assert_array_equal(a.status, b.status)
     np.testing.assert_array_equal(a.active, b.active)
     assert (a.status == Status.EDGE).sum() > 10

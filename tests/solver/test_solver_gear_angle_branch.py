@@ -37,7 +37,7 @@ def test_edge_contacts_stay_within_a_pitch_of_the_tangency_branch():
     p2 = geom.pitch_angles[1]
     for errors in ([1.0, 1.0, 1.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0, math.radians(-0.03)],
                    [0.0, 0.0, 0.0, math.radians(-0.2), 0.0]):
-        res = tca.analyze(geom, errors, positions=60, pairs=3)
+        res = tca.analyze(geom, tca.Options(positions=60, pairs=3, approach_mm=None, errors=errors))
         for flank, fr in res.flanks.items():
             ref = tca.unknowns(tca.reference_contact(geom, flank).x).gear_angle_rad
             phi2 = fr.gear_angle[np.isfinite(fr.gear_angle)]

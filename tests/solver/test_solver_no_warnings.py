@@ -27,7 +27,7 @@ def test_numpy_backend_on_relieved_flanks_is_silent():
     with warnings.catch_warnings(record=True) as caught:
         # before: ~90 overflow / invalid-value warnings from the kernels, at 10 positions as at 20
         warnings.simplefilter("always")
-        result = tca.analyze(pair, tca.Options(positions=10), Solver(backend="numpy"))
+        result = tca.analyze(pair, tca.Options(positions=10), solver=Solver("numpy"))
     assert [str(w.message) for w in caught] == []
     statuses = {s for fr in result.flanks.values() for s in fr.status}
     assert "ok" in statuses, statuses

@@ -11,7 +11,7 @@ import pytest
 import sympy as sp
 
 from beveloid import tca
-from beveloid.solver import patch_cover
+from beveloid.solver import Solver, patch_cover
 from beveloid.derivations import patch_clearance
 from beveloid.generated import flank_boundaries, layouts, patch_clearance as pc_kernels, placement
 from beveloid.solver import backends
@@ -122,11 +122,11 @@ def test_outside_points_of_a_mesh_study_cannot_touch(geom1):
     sampled pinion patch point inside the gear blank (so no gear angle brings the patches
     together), and nearly all of them are proven so by patches_apart (the rest lie closer to the
     gear blank than its finest sphere and are left to the candidate search)."""
-    res = tca.analyze(geom1, flanks=("right",), positions=200, pairs=3)
+    res = tca.analyze(geom1, tca.Options(flanks=("right",), positions=200, pairs=3, approach_mm=None))
     fr = res.flanks["right"]
     outside = np.array(fr.status) == Status.OUTSIDE.label
     assert outside.sum() >= 20
-    core_ns = backends.namespace(tca.resolve_backend("auto"))
+    core_ns = Solver().core
     cells = patch_cover.patch_cover(geom1, "pinion", "right").cells
     p1 = geom1.pitch_angles[0]
     L, U = np.meshgrid(np.linspace(0, 16, 150), np.linspace(-32, 32, 500), indexing="ij")

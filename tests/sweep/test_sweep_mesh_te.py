@@ -28,7 +28,7 @@ def _tca_cycle_ptp(geom, flank, nominal, per_pitch):
 def test_zero_range_sweep_is_the_tca_mesh_envelope(pair1, case, nominal, positions):
     geom = crowning_study.crowned_geometry("case1", 10.0) if case == "crowned" else pair1.geometry
     flank = "right"
-    res = sweep.sweep(geom, flank, samples=2, positions=positions, ranges=ZERO, nominal=nominal)
+    res = sweep.analyze(geom, sweep.Options(flank=flank, samples=2, positions=positions, ranges=ZERO, nominal=nominal))
     ref = tca.reference_contact(geom, flank)
     lo, hi = sweep.engagement_window(geom, flank, ref)
     grid, m, _ = sweep.position_lattice(ref.pinion_angle, lo, hi, positions, geom.pitch_angles[0])

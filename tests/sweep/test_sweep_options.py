@@ -11,6 +11,7 @@ import pytest
 
 from beveloid import parallel, sweep
 from beveloid.errors import OptionError
+from beveloid.solver import Solver
 
 TIMING = ("seconds", "seconds_total", "us_per_point", "us_per_point_total")
 
@@ -48,7 +49,7 @@ def test_analyze_is_the_sweep_and_runs_anywhere_the_same(pair1):
         serial.samples = 1
     with parallel.executor(workers=1) as ex:  # the chunks through an executor: drawn on their own
         chunked = sweep.analyze(pair1, options, executor=ex)
-    direct = sweep.sweep(pair1, "right", samples=9, positions=6, seed=3, ranges={"dx_mm": 0.2}, chunk=9)
+    direct = sweep.analyze(pair1, sweep.Options(flank="right", samples=9, positions=6, seed=3, ranges={"dx_mm": 0.2}, chunk=9))
     for other in (chunked, direct):
         np.testing.assert_array_equal(other.errors, serial.errors)
         np.testing.assert_array_equal(other.status_codes, serial.status_codes)
@@ -63,7 +64,7 @@ def test_a_chunk_is_a_named_record_of_its_own_sets(pair1):
     whole = sweep.analyze(pair1, options)
     grid, aligned = sweep.aligned_path(pair1.geometry, "right", 4)
     np.testing.assert_array_equal(grid, whole.pinion_angles)
-    task = sweep.ChunkTask(pair1.geometry, "right", 2, 5, options.ranges, 8, options.nominal, grid, "auto", aligned)
+    task = sweep.ChunkTask(pair1.geometry, "right", 2, 5, options.ranges, 8, options.nominal, grid, Solver(), aligned)
     part = sweep.solve_chunk(task)
     assert isinstance(part, sweep.ChunkSolution)
     np.testing.assert_array_equal(part.errors, whole.errors[2:5])

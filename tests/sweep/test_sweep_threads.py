@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from beveloid import mesh, sweep, tca
-from beveloid.solver import backends, threads
+from beveloid.solver import Solver, backends, threads
 from beveloid.status import carries_numbers
 
 pytestmark = pytest.mark.skipif(not backends.AVAILABLE, reason="the threads run the compiled solver")
@@ -24,7 +24,7 @@ def _whole_array_reduction(geom, options, res):
     grid, per_pitch, first = sweep.position_lattice(ref.pinion_angle, lo, hi, options.positions,
                                                     geom.pitch_angles[0])
     p_al, g_al = tca.contact_points(geom, flank, tca.solve_grid(geom, flank, np.zeros((1, 5)), grid).x[0])
-    sol = tca.solve_grid(geom, flank, errors, grid, "compiled")
+    sol = tca.solve_grid(geom, flank, errors, grid, solver=Solver("compiled"))
     ok = carries_numbers(sol.status)
     P1, P2 = tca.solved_contact_points(geom, flank, sol.x, sol.status)
     n_ok = ok.sum(axis=1)
@@ -51,7 +51,7 @@ def test_pieces_on_threads_give_the_whole_array_numbers_bit_for_bit(pair1, monke
 
     monkeypatch.setattr(sweep, "_solve_sets", recorded)
     monkeypatch.setattr(threads, "count", lambda: 2)
-    res = sweep.analyze(pair1, options, "compiled")
+    res = sweep.analyze(pair1, options, solver=Solver("compiled"))
     assert ran_on and threading.get_ident() not in ran_on  # on the pool's threads, none on this one
     errors, sol, shift, ptp = _whole_array_reduction(pair1.geometry, options, res)
     np.testing.assert_array_equal(res.errors, errors)

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 from beveloid import cli, sweep, tca
-from beveloid.solver import backends
+from beveloid.solver import Solver, backends
 from beveloid.design import design
 from beveloid.spec import load_spec
 
@@ -441,9 +441,9 @@ def test_sweep_seed_reproducible(capsys):
 # ------------------------------------------------------------------------------------------
 def test_sweep_backends_agree(geom1):
     pytest.importorskip("numba")
-    kw = dict(samples=50, positions=20, seed=3)
-    rn = sweep.sweep(geom1, "right", backend="numpy", **kw)
-    rc = sweep.sweep(geom1, "right", backend="compiled", **kw)
+    options = sweep.Options(flank="right", samples=50, positions=20, seed=3)
+    rn = sweep.analyze(geom1, options, solver=Solver("numpy"))
+    rc = sweep.analyze(geom1, options, solver=Solver("compiled"))
     assert rn.backend == "numpy" and rc.backend == "compiled"
     np.testing.assert_array_equal(rn.errors, rc.errors)
     np.testing.assert_array_equal(rn.status_codes, rc.status_codes)
@@ -462,11 +462,11 @@ def test_solved_contact_points_compiled_pass_is_the_surface(geom1):
     p1 = geom1.pitch_angles[0]
     grid = ref.pinion_angle + np.linspace(-2.5 * p1, 2.5 * p1, 40)  # into and out of mesh
     errors = sweep.draw_errors(6, None, 5, None)
-    sol = tca.solve_grid(geom1, "right", errors, grid, "compiled")
+    sol = tca.solve_grid(geom1, "right", errors, grid, solver=Solver("compiled"))
     codes = set(sol.status.ravel().tolist())
     assert {0, 1} <= codes and len(codes) > 2  # ok, edge and some without numbers
-    P1c, P2c = tca.solved_contact_points(geom1, "right", sol.x, sol.status, "compiled")
-    P1n, P2n = tca.solved_contact_points(geom1, "right", sol.x, sol.status, "numpy")
+    P1c, P2c = tca.solved_contact_points(geom1, "right", sol.x, sol.status, solver=Solver("compiled"))
+    P1n, P2n = tca.solved_contact_points(geom1, "right", sol.x, sol.status, solver=Solver("numpy"))
     Q1, Q2 = tca.contact_points(geom1, "right", sol.x)
     has = np.isin(sol.status, (0, 1))
     for Pc, Pn, Q in ((P1c, P1n, Q1), (P2c, P2n, Q2)):
@@ -482,8 +482,8 @@ def test_solved_contact_points_compiled_pass_is_the_surface(geom1):
 ])
 def test_analyze_backends_agree(geom1, errors):
     pytest.importorskip("numba")
-    rn = tca.analyze(geom1, errors, positions=25, backend="numpy")
-    rc = tca.analyze(geom1, errors, positions=25, backend="compiled")
+    rn = tca.analyze(geom1, tca.Options(positions=25, approach_mm=None, errors=errors), solver=Solver("numpy"))
+    rc = tca.analyze(geom1, tca.Options(positions=25, approach_mm=None, errors=errors), solver=Solver("compiled"))
     assert set(rn.flanks) == set(rc.flanks) == {"left", "right"}
     for fl in rn.flanks:
         a, b = rn.flanks[fl], rc.flanks[fl]
@@ -520,13 +520,13 @@ def test_compiled_backend_drops_reference_counting_where_nothing_is_allocated():
 
 
 def test_resolve_backend(monkeypatch):
-    assert tca.resolve_backend("numpy") == "numpy"
+    assert Solver("numpy").backend == "numpy"
     with pytest.raises(ValueError):
-        tca.resolve_backend("gpu")
+        Solver("gpu")
     monkeypatch.setattr(backends, "AVAILABLE", False)
     with pytest.raises(backends.BackendError, match="numba is not installed"):
-        tca.resolve_backend("compiled")
-    assert tca.resolve_backend("auto") == "numpy"
+        Solver("compiled")
+    assert Solver("auto").backend == "numpy"
 
 
 def test_cli_without_numba(monkeypatch, capsys):
@@ -546,7 +546,7 @@ ZERO_RANGES = {k: 0.0 for k in sweep.DEFAULT_RANGES}
 
 @pytest.mark.parametrize("flank", ["left", "right"])
 def test_sweep_without_errors_is_the_aligned_path(geom1, flank):
-    res = sweep.sweep(geom1, flank, samples=4, positions=15, seed=0, ranges=ZERO_RANGES)
+    res = sweep.analyze(geom1, sweep.Options(flank=flank, samples=4, positions=15, seed=0, ranges=ZERO_RANGES))
     assert not res.errors.any()
     assert np.isin(res.status_codes, (0, 1)).all()
     for shift in (res.pinion_shift_mm, res.gear_shift_mm):
@@ -564,7 +564,7 @@ def test_axial_gear_shift_is_a_screw_motion(case, geom1, geom2):
     so the contact stays put in space -- the pinion path does not move and the gear path moves by -dz
     in the gear's frame."""
     geom = geom1 if case == "case1" else geom2
-    res = sweep.sweep(geom, "right", samples=12, positions=15, seed=11, ranges=dict(ZERO_RANGES, dz_mm=0.5))
+    res = sweep.analyze(geom, sweep.Options(flank="right", samples=12, positions=15, seed=11, ranges=dict(ZERO_RANGES, dz_mm=0.5)))
     dz = res.errors[:, 2]
     assert np.all(res.errors[:, [0, 1, 3, 4]] == 0) and np.abs(dz).max() > 0.1
     has = np.isfinite(res.pinion_shift_mm)

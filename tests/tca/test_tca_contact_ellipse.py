@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from beveloid.solver import Solver
 from beveloid import contact_ellipse, curvature, tca
 from beveloid.generated import flank_boundaries, placement
 from test_tca_curvature import _height
@@ -21,7 +22,7 @@ def test_outline_is_the_approach_of_the_measured_separation(geom1, flank):
     e = np.array([0.1, 0.05, -0.05, 0.001, 0.0005])
     ref = tca.reference_contact(geom1, flank)
     phi1 = ref.pinion_angle - 0.2 * geom1.pitch_angles[0]
-    x = tca.solve_grid(geom1, flank, e[None], [phi1], backend="numpy").x[0, 0]
+    x = tca.solve_grid(geom1, flank, e[None], [phi1], solver=Solver("numpy")).x[0, 0]
     approach = 0.001  # a ~ 10 mm: fourth-order terms of the separation stay below 1 % (5 % at 23 mm)
     ce = contact_ellipse.ellipses(geom1, flank, x[None], [phi1], e, approach_mm=approach)
     assert ce.status == ["ellipse"]
@@ -43,7 +44,7 @@ def test_outline_is_the_approach_of_the_measured_separation(geom1, flank):
 
 def test_truncated_chord_ends_on_a_flank_boundary(geom1):
     """Where the chord is shorter than 2a, one end lies on a boundary of one member (margin 0)."""
-    fr = tca.mesh_flank(geom1, "right", positions=9, pairs=1, backend="numpy")
+    fr = tca.mesh_flank(geom1, "right", positions=9, pairs=1, solver=Solver("numpy"))
     e = np.zeros(5)
     ce = contact_ellipse.flank_ellipses(geom1, fr, e)
     cut = [i for i, st in enumerate(ce.status) if st == "ellipse" and ce.truncated_length_mm[i] < 2 * ce.semi_axes_mm[i, 0] - 1e-6]
@@ -80,7 +81,7 @@ def test_flat_direction_is_a_status_never_nan():
 
 def test_json_is_strict_for_a_line_contact(geom1):
     """A line contact (forced by a flat H) gives null semi-axes, a status and finite chords."""
-    fr = tca.mesh_flank(geom1, "left", positions=5, pairs=1, backend="numpy")
+    fr = tca.mesh_flank(geom1, "left", positions=5, pairs=1, solver=Solver("numpy"))
     ce = contact_ellipse.flank_ellipses(geom1, fr, np.zeros(5))
     ce.semi_axes_mm[:, 0] = np.nan
     ce = dataclasses.replace(ce, status=["line contact" if s == "ellipse" else s for s in ce.status])

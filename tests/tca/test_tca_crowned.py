@@ -33,7 +33,7 @@ from beveloid.derivations.eq01_03_rack_cutter import LEFT, RIGHT, rack_normal, r
 from beveloid.derivations.symbols import a, alpha_n, b, beta, gamma, l, m_n, phi, r, s, u
 from beveloid.design import design
 from beveloid.generated import layouts, surface_crowned, surface_involute
-from beveloid.solver import backends
+from beveloid.solver import Solver, backends
 from beveloid.spec import SpecError, example_text, spec_from_dict
 from beveloid.status import Status
 
@@ -260,7 +260,7 @@ def _geom(c_um=20.0):
 
 def test_aligned_crowned_pair_has_a_parabola_per_tooth_pair():
     geom = _geom()
-    fr = tca.mesh_flank(geom, "right", positions=41, pairs=3, backend="numpy")
+    fr = tca.mesh_flank(geom, "right", positions=41, pairs=3, solver=Solver("numpy"))
     te = fr.transmission_error.reshape(3, 41)
     mid = te[1]
     # surface contact only: at the ends of its engagement a pair bears with an edge (issue 12)
@@ -289,8 +289,8 @@ def test_each_error_changes_the_crowned_te(k):
     geom = _geom()
     errors = np.zeros(5)
     errors[k] = (0.05, 0.05, 0.05, 0.01 * math.pi / 180, 0.01 * math.pi / 180)[k]
-    base = tca.mesh_flank(geom, "right", positions=9, pairs=1, backend="numpy").transmission_error
-    moved = tca.mesh_flank(geom, "right", errors, positions=9, pairs=1, backend="numpy").transmission_error
+    base = tca.mesh_flank(geom, "right", positions=9, pairs=1, solver=Solver("numpy")).transmission_error
+    moved = tca.mesh_flank(geom, "right", errors, positions=9, pairs=1, solver=Solver("numpy")).transmission_error
     both = np.isfinite(base) & np.isfinite(moved)
     assert both.sum() >= 5
     assert np.abs(moved[both] - base[both]).max() > 1e-7
@@ -305,8 +305,8 @@ def test_backends_agree_on_a_crowned_pair(flank):
     ref = tca.reference_contact(geom, flank)
     E = np.array([np.zeros(5), [0.3, -0.2, 0.4, 0.1 * math.pi / 180, -0.02 * math.pi / 180]])
     grid = ref.pinion_angle + np.linspace(-1.5, 1.5, 13) * geom.pitch_angles[0]
-    a = tca.solve_grid(geom, flank, E, grid, backend="numpy")
-    b = tca.solve_grid(geom, flank, E, grid, backend="compiled")
+    a = tca.solve_grid(geom, flank, E, grid, solver=Solver("numpy"))
+    b = tca.solve_grid(geom, flank, E, grid, solver=Solver("compiled"))
     np.testing.assert_array_equal(a.status, b.status)
     np.testing.assert_array_equal(a.active, b.active)
     assert (a.status == Status.OK).any() and (a.status == Status.EDGE).any() and (a.iterations > 0).any()
@@ -336,7 +336,7 @@ def test_aligned_te_grows_in_proportion_to_small_crowning():
     from beveloid.studies import crowning as crowning_study
 
     ptp = [tca.mesh_flank(crowning_study.crowned_geometry("case1", c), "right", positions=31,
-                          backend="numpy").te_peak_to_peak for c in (2.0, 4.0)]
+                          solver=Solver("numpy")).te_peak_to_peak for c in (2.0, 4.0)]
     assert ptp[0] > 1e-6
     assert ptp[1] / ptp[0] == pytest.approx(2.0, rel=0.03)
 
@@ -404,7 +404,7 @@ def test_statuses_do_not_flip_under_round_off_perturbations():
     for eps in (0.0, 1e-12, -1e-12):
         spec = {k: dict(v) for k, v in d.items()}
         spec["pair"]["offset_mm"] += eps
-        runs.append(tca.analyze(Pair.from_spec(spec), tca.Options(positions=120, approach_mm=None), tca.Solver()))
+        runs.append(tca.analyze(Pair.from_spec(spec), tca.Options(positions=120, approach_mm=None), solver=tca.Solver()))
     for flank in ("left", "right"):
         ref = runs[0].flanks[flank]
         for other in runs[1:]:

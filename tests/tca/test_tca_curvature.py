@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from beveloid.solver import Solver
 from beveloid.status import Status
 from beveloid import curvature, tca
 from beveloid.generated import placement, surface_models
@@ -155,7 +156,7 @@ def test_relative_curvature_is_the_measured_separation(geom1, flank, errors):
     e = np.asarray(errors, dtype=float)
     ref = tca.reference_contact(geom1, flank)
     phi1 = ref.pinion_angle + 0.02 * geom1.pitch_angles[0]
-    sol = tca.solve_grid(geom1, flank, e[None], [phi1], backend="numpy")
+    sol = tca.solve_grid(geom1, flank, e[None], [phi1], solver=Solver("numpy"))
     assert sol.status[0, 0] == Status.OK  # a surface contact (H is the tangency's, not an edge's)
     x = sol.x[0, 0]
     rc = curvature.relative_curvature(geom1, flank, x, phi1, e)

@@ -27,7 +27,7 @@ def _micro(geom):
 def test_both_backends_give_the_same_chords(geom1, compiled_solver, flank, model, monkeypatch):
     geom = geom1 if model == "involute" else _micro(geom1)
     errors = np.array([0.1, -0.05, 0.05, 0.0, 0.0005])
-    fr = tca.mesh_flank(geom, flank, errors, positions=12, pairs=3, backend="compiled")
+    fr = tca.mesh_flank(geom, flank, errors, positions=12, pairs=3, solver=Solver("compiled"))
     seen = []
     real = contact_ellipse.chords
     monkeypatch.setattr(contact_ellipse, "chords", lambda *a: seen.append(a[-1].backend) or real(*a))

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from beveloid import tca
-from beveloid.solver import backends
+from beveloid.solver import Solver, backends
 from beveloid.solver.records import settings
 from beveloid.status import Status
 from beveloid.design import design
@@ -22,7 +22,7 @@ def _homotopy(geom, flank, e, backend="numpy"):
     """The contact at the reference pinion angle for the errors e: (x (1, 5), converged (1,),
     surface contact (1,))."""
     ref = tca.reference_contact(geom, flank)
-    sol = tca.solve_grid(geom, flank, np.asarray(e)[None], [ref.pinion_angle], backend=backend)
+    sol = tca.solve_grid(geom, flank, np.asarray(e)[None], [ref.pinion_angle], solver=Solver(backend))
     return sol.x[:, 0], sol.status[:, 0] != Status.FAILED, sol.status[:, 0] == Status.OK
 
 
@@ -90,7 +90,7 @@ def test_aligned_contact_at_pitch_point_both_flanks(geom):
 
 def test_aligned_mesh_is_conjugate(geom):
     """Involute helicoids with a common normal base pitch: constant ratio, TE ~ 0."""
-    res = tca.analyze(geom, positions=120)
+    res = tca.analyze(geom, tca.Options(positions=120, approach_mm=None))
     for flank in tca.FLANKS:
         fr = res.flanks[flank]
         assert sum(s == "ok" for s in fr.status) > 100
@@ -105,13 +105,13 @@ def test_aligned_mesh_is_conjugate(geom):
     (0, 0, 0, 0.25 * DEG, 0), (0, 0, 0, 0, 0.04 * DEG),
 ])
 def test_each_error_alone_true_contacts(geom, errors):
-    res = tca.analyze(geom, errors, flanks=("right",), positions=60)
+    res = tca.analyze(geom, tca.Options(flanks=("right",), positions=60, approach_mm=None, errors=errors))
     fr = res.flanks["right"]
     assert "failed" not in fr.status
     _check_contacts(geom, "right", fr, np.asarray(errors), geom.pitch_angles[0])
     # independent check of the solved unknowns at every point of the path
     ref = tca.reference_contact(geom, "right")
-    sol = tca.solve_grid(geom, "right", np.asarray(errors)[None], [ref.pinion_angle], backend="numpy")
+    sol = tca.solve_grid(geom, "right", np.asarray(errors)[None], [ref.pinion_angle], solver=Solver("numpy"))
     assert sol.status[0, 0] in (Status.OK, Status.EDGE)
     rf1, nf1, rf2, nf2 = _contact_in_frame(geom, "right", sol.x[0, 0], ref.pinion_angle, np.asarray(errors))
     assert np.allclose(rf1, rf2, atol=1e-9)
@@ -151,7 +151,7 @@ def test_status_at_flank_edges(geom1, errors):
     """ok points lie on both blanks (margins recomputed from the blank); edge points lie on the
     boundaries they name and inside the others, and carry numbers; outside points carry none."""
     tol = 1e-9
-    fr = tca.analyze(geom1, errors, flanks=("right",), positions=200).flanks["right"]
+    fr = tca.analyze(geom1, tca.Options(flanks=("right",), positions=200, approach_mm=None, errors=errors)).flanks["right"]
     st = np.array(fr.status)
     margin = _independent_margins(geom1, "right", fr.unknowns)
     assert np.all(margin[st == "ok"] >= -tol)
@@ -164,7 +164,7 @@ def test_status_at_flank_edges(geom1, errors):
 
 def test_large_offset_reaches_the_heel(geom1):
     """Offsets along +x,+y,+z move the path toward the heel; at 1.5 mm a heel bears on the mating flank."""
-    fr = tca.analyze(geom1, (1.5, 1.5, 1.5, 0, 0), flanks=("right",), positions=200).flanks["right"]
+    fr = tca.analyze(geom1, tca.Options(flanks=("right",), positions=200, approach_mm=None, errors=(1.5, 1.5, 1.5, 0, 0))).flanks["right"]
     p, _, _ = tca.surface(geom1, "pinion", "right", fr.unknowns[:, 0], fr.unknowns[:, 1])
     assert p[:, 2].max() >= geom1.pinion.face_width_mm / 2 - 1e-9
     assert any(b is not None and "heel" in b for b in fr.contact_boundary)
@@ -187,7 +187,7 @@ def test_classify_thresholds(geom1):
 def test_vertical_error_moves_path_off_the_blank(geom1):
     """Paper (case 1): dgamma_v = 0.2 deg takes the surface contact off the blank: every contact
     is an edge or corner contact."""
-    res = tca.analyze(geom1, (0, 0, 0, 0.2 * DEG, 0), flanks=("right",), positions=80)
+    res = tca.analyze(geom1, tca.Options(flanks=("right",), positions=80, approach_mm=None, errors=(0, 0, 0, 0.2 * DEG, 0)))
     st = res.flanks["right"].status
     assert "ok" not in st and "edge" in st
 
@@ -290,7 +290,7 @@ def test_random_designs_mesh_at_the_pitch_point_without_te_or_backlash(spec, anw
         rf1, nf1, rf2, nf2 = _contact_in_frame(geom, flank, ref.x, ref.pinion_angle, np.zeros(5))
         assert np.allclose(rf1, rf2, atol=1e-9) and np.allclose(nf1, -nf2, atol=1e-12)
         assert math.hypot(rf1[0], rf1[1]) == pytest.approx(geom.pinion.working_pitch_radius_mm, rel=1e-12)
-    res = tca.analyze(geom, positions=40)
+    res = tca.analyze(geom, tca.Options(positions=40, approach_mm=None))
     for fr in res.flanks.values():
         assert "failed" not in fr.status
         if np.isfinite(fr.te_peak_to_peak):
@@ -307,8 +307,8 @@ def test_backends_agree_on_statuses_and_numbers_including_failures(geom1):
     E = np.vstack([np.zeros(5), [0.5, 0.5, 0.5, 0.0, 0.01 * DEG], rng.uniform(-1, 1, (10, 5)) * half])
     ref = tca.reference_contact(geom1, "right")
     grid = ref.pinion_angle + np.linspace(-0.3, 0.3, 15)
-    a = tca.solve_grid(geom1, "right", E, grid, backend="numpy")
-    b = tca.solve_grid(geom1, "right", E, grid, backend="compiled")
+    a = tca.solve_grid(geom1, "right", E, grid, solver=Solver("numpy"))
+    b = tca.solve_grid(geom1, "right", E, grid, solver=Solver("compiled"))
     np.testing.assert_array_equal(a.status, b.status)
     np.testing.assert_array_equal(a.boundary, b.boundary)
     np.testing.assert_array_equal(a.active, b.active)

@@ -25,7 +25,7 @@ def test_options_refuse_out_of_range(kw, key):
 
 
 def test_one_position_is_the_reference_angle_without_te_statistics(pair1):
-    res = tca.analyze(pair1, tca.Options(positions=1, pairs=3, approach_mm=None), Solver())
+    res = tca.analyze(pair1, tca.Options(positions=1, pairs=3, approach_mm=None), solver=Solver())
     for flank, fr in res.flanks.items():
         ref = tca.reference_contact(pair1.geometry, flank)
         assert fr.pinion_angle[fr.tooth_pair == 0][0] == ref.pinion_angle
@@ -59,13 +59,14 @@ def test_long_pinion_face_has_a_bounded_patch(tmp_path, capsys, face_mm):
 
 def test_errors_in_options_are_the_errors_analysed(geom1):
     """analyze(geometry, Options(errors=...)) solves under those errors: the same numbers as the
-    deprecated positional form; a PairGeometry without them is the aligned pair."""
+    flank's mesh study under them; a PairGeometry without them is the aligned pair."""
     e = (0.2, -0.1, 0.3, 0.0, 1e-4)
-    new = tca.analyze(geom1, tca.Options(flanks=("right",), positions=9, pairs=1, approach_mm=None, errors=e), "numpy")
-    old = tca.analyze(geom1, e, flanks=("right",), positions=9, pairs=1, backend="numpy")
+    new = tca.analyze(geom1, tca.Options(flanks=("right",), positions=9, pairs=1, approach_mm=None, errors=e),
+                      solver=Solver("numpy"))
+    alone = tca.mesh_flank(geom1, "right", e, positions=9, pairs=1, solver=Solver("numpy"))
     assert list(new.errors) == list(e)
-    np.testing.assert_array_equal(new.flanks["right"].transmission_error, old.flanks["right"].transmission_error)
-    aligned = tca.analyze(geom1, tca.Options(flanks=("right",), positions=3, pairs=1, approach_mm=None), "numpy")
+    np.testing.assert_array_equal(new.flanks["right"].transmission_error, alone.transmission_error)
+    aligned = tca.analyze(geom1, tca.Options(flanks=("right",), positions=3, pairs=1, approach_mm=None), solver=Solver("numpy"))
     assert not aligned.errors.any()
     with pytest.raises(TypeError, match="positions"):
         tca.analyze(geom1, tca.Options(), positions=3)

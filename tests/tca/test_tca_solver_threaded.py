@@ -16,7 +16,7 @@ def test_the_ellipses_chord_search_gets_the_analysis_solver(pair1, monkeypatch):
     real = contact_ellipse.chords
     monkeypatch.setattr(contact_ellipse, "chords", lambda *a: seen.append(a[-1]) or real(*a))
     solver = Solver("numpy", SolverOptions(tol_mm=1e-11))
-    tca.analyze(pair1, tca.Options(flanks=("right",), positions=3), solver)
+    tca.analyze(pair1, tca.Options(flanks=("right",), positions=3), solver=solver)
     assert seen and all(s is solver for s in seen)
 
 
@@ -28,5 +28,5 @@ def test_the_te_reference_is_solved_with_the_analysis_tolerances(pair1, monkeypa
     monkeypatch.setattr(tca_flank, "reference_contact", lambda geom, flank, options=None: seen.append(options)
                         or real(geom, flank, options))
     options = SolverOptions(tol_mm=1e-10, max_iter=40)
-    tca.analyze(pair1, tca.Options(flanks=("left",), positions=3, approach_mm=None), Solver(backend, options))
+    tca.analyze(pair1, tca.Options(flanks=("left",), positions=3, approach_mm=None), solver=Solver(backend, options))
     assert seen and all(o == options for o in seen)

@@ -10,6 +10,7 @@ import tomllib
 import numpy as np
 import pytest
 
+from beveloid.solver import Solver
 from beveloid import tca
 from beveloid.pair import Pair
 from beveloid.spec import example_text
@@ -144,12 +145,12 @@ def test_contact_ratio_is_the_tca_envelope_share(pair1, flank):
     assert {c.start_boundary, c.end_boundary} == {"pinion tip", "gear tip"}
     assert c.interference == () and min(c.form_margin_mm.values()) > 0
     positions = 181
-    res = tca.mesh_flank(g, flank, positions=positions, pairs=3, window_pitches=3, backend="numpy")
+    res = tca.mesh_flank(g, flank, positions=positions, pairs=3, window_pitches=3, solver=Solver("numpy"))
     pair0 = (res.tooth_pair == 0) & res.active
     step = 3 / (positions - 1)
     assert abs(pair0.sum() * step - c.contact_ratio) <= 2 * step
     # just inside the ends pair 0 carries the contact; the end points lie on the boundaries
-    x_end = tca.solve_grid(g, flank, np.zeros(5), np.array([c.start_rad, c.end_rad]), "numpy").x[0]
+    x_end = tca.solve_grid(g, flank, np.zeros(5), np.array([c.start_rad, c.end_rad]), solver=Solver("numpy")).x[0]
     margins = tca.contact_margins(g, flank, x_end)
     names = list(tca.tca_kernels.CONTACT_BOUNDARIES)
     assert abs(margins[0, names.index(c.start_boundary)]) < 1e-6
@@ -204,8 +205,6 @@ def test_design_json_table_and_plot(tmp_path, capsys, steep_result):
 def test_options_are_validated():
     with pytest.raises(ValueError, match="contact_per_pitch"):
         report.ToothOptions(contact_per_pitch=2)
-    with pytest.raises(ValueError, match="backend"):
-        report.ToothOptions(backend="fast")
 
 
 def test_rounded_rack_raises_the_form_point(pair1):
