@@ -461,8 +461,8 @@ def fe_check_quotes(rec: dict) -> list:
     r = runs[0]  # case 1 at refinement 1: the default run's cost in docs/fe_check.md
     spaced = lambda n: f"{n:,}".replace(",", " ")  # noqa: E731
     cost = (f"case 1 at {r['torque_nm']:g} N m: {spaced(r['elements'])} elements, {spaced(r['dof'])} DOF, CalculiX\n  "
-            f"{r['calculix_cpu_s']:.0f} s of CPU (2 threads); on this shared 2-core machine, other jobs running\n  "
-            f"beside it, the whole run (LTCA, meshing, CalculiX) took {r['total_s']:.0f} s of wall time")
+            f"{r['calculix_cpu_s']:.0f} s of CPU (2 threads); on this shared 2-core machine, beside other work,\n  "
+            f"the whole run (LTCA, meshing, CalculiX) took {r['total_s']:.0f} s of wall time")
     return [("docs/validation.md", line, True) for line in lines] + [("docs/fe_check.md", cost, True)]
 
 
