@@ -22,6 +22,7 @@ import numpy as np
 from ..errors import UserError
 from ..fe.sizes import MAX_STRIP_ELEMENTS
 from ..outputs import check_output_dir
+from ..status import LoadedStatus
 
 __all__ = ["CheckOptions", "PEAK_RESOLVED_PER_SEMI_AXIS", "choose_position", "fe_check"]
 
@@ -75,7 +76,7 @@ def choose_position(result) -> int:
     """The converged position with the most loaded pairs; among those the largest smallest load."""
     best, key = None, None
     for j in range(len(result.status)):
-        if result.status[j] != "ok":
+        if result.status[j] != LoadedStatus.OK:
             continue
         loads = np.nan_to_num(result.pair_load_n[j])
         loaded = loads[loads > 1e-6 * max(loads.sum(), 1e-300)]
@@ -145,9 +146,9 @@ def fe_check(pair, options: CheckOptions, progress=print, solver=None) -> dict:
                                              positions=options.ltca_positions,
                                              tooth_model=options.ltca_tooth_model), solver=Solver.of(solver))
     j = choose_position(result) if options.position is None else options.position
-    if result.status[j] != "ok" or not np.isfinite(result.unloaded_te[j]):
+    if result.status[j] != LoadedStatus.OK or not np.isfinite(result.unloaded_te[j]):
         raise UserError(f"--position = {j}: the LTCA has no converged contact there ({result.status[j]}); choose "
-                        f"one of {[i for i, s in enumerate(result.status) if s == 'ok']}")
+                        f"one of {[i for i, s in enumerate(result.status) if s == LoadedStatus.OK]}")
     ratio = geom.pinion.teeth / geom.gear.teeth
     ref = tca.reference_contact(geom, options.flank)
     phi1 = float(result.pinion_angle[j])
