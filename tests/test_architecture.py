@@ -182,7 +182,7 @@ def test_below_the_cli_analyses_take_a_solver_not_a_backend_name():
 
 
 #: (file, function) named analyze / analyze_many that still takes its solver positionally, owned by other work items
-PENDING_POSITIONAL_SOLVER = {("beveloid/rating/analysis.py", "analyze")}
+PENDING_POSITIONAL_SOLVER: set = set()
 ANALYSES = ("analyze", "analyze_many")
 
 

@@ -123,7 +123,7 @@ def _resolution_notes(about) -> list[str]:
     return out
 
 
-def fe_check(pair, options: CheckOptions, progress=print, solver=None) -> dict:
+def fe_check(pair, options: CheckOptions, *, progress=print, solver=None) -> dict:
     """Run the check; returns the JSON dict of the contract (docs/fe_check.md)."""
     from .. import ltca, tca
     from ..solver import Solver

@@ -326,7 +326,7 @@ def _lowest(values) -> float:
     return min(finite) if finite else math.nan
 
 
-def analyze(pair, options: Options, solver=None, ltca_result=None, face_points: int = 0):
+def analyze(pair, options: Options, *, solver=None, ltca_result=None, face_points: int = 0):
     """Rate ``pair`` at ``options.torque_nm``; ``ltca_result``: an LTCA already run at K_A K_v T
     (else it is run here); ``face_points`` > 0 adds that many ISO sections along each face (plot)."""
     from .. import ltca
