@@ -30,14 +30,14 @@ import numpy as np
 from . import curvature
 from .solver.core import GEAR_ANGLE, GEAR_L, GEAR_U, PINION_L, PINION_U
 from .solver.records import ChordRequest
-from .status import Status, carries_numbers
+from .status import EllipseStatus, Status, carries_numbers
 
 DEFAULT_APPROACH_MM = 0.00632
 #: lambda_min / lambda_max below this is a line contact: the major semi-axis would be more than
 #: ~3e4 minor semi-axes, beyond any flank, and lambda_min is at the round-off level of H.
 FLAT_RATIO = 1e-9
 APPROACH_RANGE_MM = (1e-6, 1.0)
-STATUSES = ("ellipse", "line contact", "no ellipse", "no contact")
+STATUSES = tuple(EllipseStatus)
 #: the chord search's samples along the cap and its halvings of the last bracket
 CHORD_SAMPLES = 40
 CHORD_BISECTIONS = 30
@@ -128,9 +128,9 @@ def chords(geom, flank, frames, points, bases, directions, caps, solver):
 
 def classify(lmin, lmax, valid):
     """One of STATUSES per point from the eigenvalues of H (see the module docstring)."""
-    return np.where(~np.asarray(valid, bool), "no contact",
-                    np.where((lmax <= 0) | (lmin < -FLAT_RATIO * lmax), "no ellipse",
-                             np.where(lmin <= FLAT_RATIO * lmax, "line contact", "ellipse")))
+    return np.where(~np.asarray(valid, bool), EllipseStatus.NO_CONTACT,
+                    np.where((lmax <= 0) | (lmin < -FLAT_RATIO * lmax), EllipseStatus.NO_ELLIPSE,
+                             np.where(lmin <= FLAT_RATIO * lmax, EllipseStatus.LINE_CONTACT, EllipseStatus.ELLIPSE)))
 
 
 def ellipses(geom, flank, x, pinion_angle, errors, valid=None, approach_mm=DEFAULT_APPROACH_MM,
@@ -152,15 +152,15 @@ def ellipses(geom, flank, x, pinion_angle, errors, valid=None, approach_mm=DEFAU
     lam, V = np.linalg.eigh(rc.H)  # ascending
     lmin, lmax = lam[:, 0], lam[:, 1]
     status = classify(lmin, lmax, valid)
-    ok = status == "ellipse"
+    ok = status == EllipseStatus.ELLIPSE
     with np.errstate(divide="ignore", invalid="ignore"):
         a = np.where(ok, np.sqrt(2 * approach_mm / lmin), np.nan)
-        b = np.where(ok | (status == "line contact"), np.sqrt(2 * approach_mm / lmax), np.nan)
+        b = np.where(ok | (status == EllipseStatus.LINE_CONTACT), np.sqrt(2 * approach_mm / lmax), np.nan)
     v2 = V[:, :, 0]
     v2 = np.where((v2[:, 0] < 0)[:, None] | ((v2[:, 0] == 0) & (v2[:, 1] < 0))[:, None], -v2, v2)
     ang = np.degrees(np.arctan2(v2[:, 1], v2[:, 0]))
     ang = np.where(ang <= -90, ang + 180, ang)
-    has_axis = ok | (status == "line contact")
+    has_axis = ok | (status == EllipseStatus.LINE_CONTACT)
     ang = np.where(has_axis, ang, np.nan)
     major = np.einsum("na,nai->ni", v2, rc.basis)
     # the chord: at most a; a line contact is cut by the flanks alone

@@ -9,6 +9,8 @@ import math
 
 import numpy as np
 
+from .status import PointStatus
+
 
 #: A TE peak-to-peak below this (urad) is zero to the solver tolerance: the Newton solves to ~1e-12 mm,
 #: i.e. ~1e-8 urad, and 1e-3 urad (1 nrad) is far below anything a gear measurement can resolve.
@@ -113,7 +115,7 @@ def contact_paths(results, labels, geom, flank, out_png, title=""):
         for res, lab in zip(results, labels):
             fr = res.flanks[flank]
             P = getattr(fr, key)
-            ok = np.array([s in ("ok", "edge") for s in fr.status]) & (fr.tooth_pair == 0)
+            ok = np.array([s in (PointStatus.OK, PointStatus.EDGE) for s in fr.status]) & (fr.tooth_pair == 0)
             if ok.any():
                 r = np.hypot(P[ok, 0], P[ok, 1])
                 ax.plot(P[ok, 2], r, lw=1.6, label=lab)
@@ -214,8 +216,8 @@ def tca_summary(result, geom, out_png, title=""):
             ax.set_title(f"{flank} flank: TE at one position\n(peak-to-peak not available)", fontsize=10)
         else:
             st = list(fr.status)
-            ax.set_title(f"{flank} flank: no TE: no contact on the flanks\n({st.count('outside')} outside,"
-                         f" {st.count('failed')} not solved)", fontsize=10)
+            ax.set_title(f"{flank} flank: no TE: no contact on the flanks\n({st.count(PointStatus.OUTSIDE)} outside,"
+                         f" {st.count(PointStatus.FAILED)} not solved)", fontsize=10)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8, loc="upper right" if flat else "best")
     _save(fig, out_png, title, dpi=100)

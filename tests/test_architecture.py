@@ -3,6 +3,7 @@
 * no function or method of beveloid/ takes more than MAX_PARAMETERS parameters (self and cls not
   counted; generated code excluded): a longer list is a record to pass (beveloid/solver/records.py);
 * every package of beveloid/ declares its public surface in ``__all__``, and every name there exists;
+* every status is built from its enum in beveloid/status.py, never written out as a string elsewhere;
 * MEMBERS and FLANKS are defined in beveloid/names.py only; below cli/ a function takes a Solver, not a
   backend name, and every ``analyze`` / ``analyze_many`` takes it keyword-only (``analyze(pair, options,
   *, solver=None)``; the older call forms are refused); no code object is cloned; tooth/ imports none of
@@ -181,7 +182,7 @@ def test_below_the_cli_analyses_take_a_solver_not_a_backend_name():
 
 
 #: (file, function) named analyze / analyze_many that still takes its solver positionally, owned by other work items
-PENDING_POSITIONAL_SOLVER = {("beveloid/rating/analysis.py", "analyze")}
+PENDING_POSITIONAL_SOLVER: set = set()
 ANALYSES = ("analyze", "analyze_many")
 
 
@@ -217,6 +218,80 @@ def test_the_older_call_forms_are_refused():
             call()
     assert not hasattr(sweep, "sweep") and not hasattr(contact_ellipse, "attach")
     assert not hasattr(ltca, "GridOptions") and not hasattr(tca, "as_solver") and not hasattr(tca, "resolve_backend")
+
+
+#: (file, status string) still written as a literal outside beveloid/status.py, owned by other work items
+PENDING_STATUS_LITERALS = {
+    # the LTCA's rigid mesh study reads the TCA point statuses (issue 43 rewrites ltca/cycle.py)
+    ("beveloid/ltca/cycle.py", "ok"), ("beveloid/ltca/cycle.py", "edge"), ("beveloid/ltca/cycle.py", "failed")}
+
+
+def _status_values() -> set:
+    """The strings of every status enum of beveloid/status.py (one StrEnum per kind of status)."""
+    import enum
+
+    from beveloid import status
+
+    kinds = [v for v in vars(status).values()
+             if isinstance(v, type) and issubclass(v, enum.StrEnum) and v.__module__ == status.__name__]
+    assert len(kinds) >= 5, kinds
+    return {member.value for kind in kinds for member in kind}
+
+
+def _status_literals(rel: str, tree: ast.AST, values: set) -> dict:
+    """{(file, string): where} of the string constants of ``tree`` that are a status, besides docstrings,
+    dict keys and subscripts (a field name, not a status), ``__all__`` (a submodule) and the members of an
+    enum (errors.ErrorCode's own codes)."""
+    skip = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Expr):
+            skip.add(id(node.value))
+        elif isinstance(node, ast.Dict):
+            skip.update(id(k) for k in node.keys if k is not None)
+        elif isinstance(node, ast.Subscript):
+            skip.add(id(node.slice))
+        elif isinstance(node, ast.Assign) and any(isinstance(t, ast.Name) and t.id == "__all__" for t in node.targets):
+            skip.update(id(n) for n in ast.walk(node.value))
+        elif isinstance(node, ast.ClassDef) and any("Enum" in ast.unparse(b) for b in node.bases):
+            skip.update(id(n) for stmt in node.body if isinstance(stmt, ast.Assign) for n in ast.walk(stmt.value))
+    return {(rel, node.value): f"{rel}:{node.lineno} {node.value!r}" for node in ast.walk(tree)
+            if isinstance(node, ast.Constant) and isinstance(node.value, str) and node.value in values
+            and id(node) not in skip}
+
+
+def test_the_status_finder_finds_a_status_literal_and_only_it():
+    tree = ast.parse('"""ok"""\n__all__ = ["edge"]\nclass E(enum.StrEnum):\n    A = "failed"\n'
+                     'd = {"ok": x["edge"]}\ns = ("ok" if a else "no contact")\n')
+    found = _status_literals("m.py", tree, {"ok", "edge", "failed", "no contact"})
+    assert set(found) == {("m.py", "ok"), ("m.py", "no contact")}
+    assert found[("m.py", "ok")] == "m.py:6 'ok'"
+
+
+def test_statuses_are_built_from_the_enums_of_status_py():
+    """A status (of a point, a loaded position, an ellipse, a tooth, a design, ...) is a member of its enum in
+    beveloid/status.py, never a string written out elsewhere (docs/architecture.md, "Statuses")."""
+    values = _status_values()
+    found = {}
+    for rel, tree in _sources():
+        if rel != "beveloid/status.py":
+            found.update(_status_literals(rel, tree, values))
+    only_pending(found, PENDING_STATUS_LITERALS, "build a status from its enum in beveloid/status.py",
+                 "PENDING_STATUS_LITERALS")
+
+
+def test_the_status_enums_are_their_json_strings_and_label_the_codes():
+    import json
+
+    from beveloid.status import DesignStatus, LoadedStatus, Outcome, PointStatus, Status
+
+    assert [s.name for s in Status] == [p.name for p in PointStatus]
+    assert [o.name for o in Outcome] == [d.name for d in DesignStatus]
+    assert [s.label for s in Status] == ["ok", "edge", "outside", "failed"]
+    assert Status.labels([3, 0]) == [PointStatus.FAILED, PointStatus.OK]
+    assert Outcome.POINTED_TEETH.label == "pointed_teeth"
+    statuses = [PointStatus.EDGE, LoadedStatus.NO_CONTACT]
+    assert json.dumps({s: s for s in statuses}) == '{"edge": "edge", "no contact": "no contact"}'
+    assert f"{LoadedStatus.NOT_CONVERGED}|{PointStatus.OK:>4}" == "not converged|  ok"
 
 
 def test_no_code_object_is_cloned():

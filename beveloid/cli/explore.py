@@ -13,6 +13,7 @@ import sys
 import time
 
 from ..errors import StopReason, UserError
+from ..status import DesignStatus
 from .common import solver_of
 
 TOLERANCE_NAMES = {"dx": "dx_mm", "dy": "dy_mm", "dz": "dz_mm", "vertical": "vertical_deg",
@@ -260,7 +261,7 @@ def _print(summ, out):
         lines.append("  " + ", ".join(f"{k} {row[k]:.4g}" for k in keys)
                      + f": max FPD {row['max_fpd_angle_deg']:.3f} deg, worst path shift {row['worst_path_shift_mm']:.3f} mm")
     b = summ["base_design"]
-    if b.get("status") == "ok":
+    if b.get("status") == DesignStatus.OK:
         lines.append(f"Base design: max FPD {b['max_fpd_angle_deg']:.3f} deg, worst path shift"
                      f" {b['worst_path_shift_mm']:.3f} mm")
     from pathlib import Path

@@ -77,9 +77,9 @@ def run(args: argparse.Namespace) -> int:
     pair = Pair.from_spec(spec)
     progress = lambda s: print(s, file=sys.stderr, flush=True)  # noqa: E731
     if args.out is None:
-        out = fe_check(pair, options, progress=progress)
+        out = fe_check(pair, options, progress=progress).to_json()
     else:
-        out = _into_folder(pair, options, progress, args.out)
+        out = _into_folder(pair, options, progress, args.out).to_json()
     if args.json:
         print(json.dumps(out, allow_nan=False))
     else:
@@ -87,7 +87,7 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _into_folder(pair, options, progress, folder) -> dict:
+def _into_folder(pair, options, progress, folder):
     """The check with its files (deck, CalculiX's output, VTU) kept in ``folder``; a Ctrl-C removes the
     files this run had written there (a deck without results, CalculiX's partial output) and says so."""
     import time

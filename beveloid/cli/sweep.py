@@ -14,6 +14,7 @@ from .. import assembly_errors
 from ..errors import UserError
 from .common import number, solver_of
 from ..solver.backends import BACKENDS
+from ..status import PointStatus
 from ..sweep import DEFAULT_RANGES, MAX_CONTACT_POINTS
 
 LIMITS = {e.key: e.limit for e in assembly_errors.ERRORS}
@@ -149,7 +150,7 @@ def format_sweep(o, file):
          "  nominal errors (the file's [misalignment]): " + ", ".join(f"{n} {v:g}" for n, v in nominal.items()),
          "  error ranges (uniform about the nominal, +-): " + ", ".join(f"{n} {v:g}" for n, v in o["ranges"].items()),
          "  contact points: " + ", ".join(f"{counts[s]} {s} ({100 * counts[s] / total:.1f} %)"
-                                          for s in ("ok", "edge", "outside", "failed")),
+                                          for s in PointStatus),
          f"  error sets with contact on the flank: {o['sets_with_contact']} of {k}; with failed points:"
          f" {o['sets_with_failed_points']} of {k}", "",
          f"  {'':<28} " + "  ".join(f"{h:>10}" for h in ("mean", "std", "p5", "p50", "p95")) + "  unit  from",

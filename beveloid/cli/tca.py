@@ -21,6 +21,7 @@ import numpy as np
 from .common import add_error_flags, apply_error_flags, errors_label, number
 from .paths import check_output_file
 from ..errors import UserError
+from ..status import PointStatus
 
 
 def configure(p: argparse.ArgumentParser) -> None:
@@ -79,9 +80,9 @@ def _z_range(P, status):
     if ok.any():
         return f"{P[ok, 2].min():.2f} .. {P[ok, 2].max():.2f}"
     st = list(status)
-    if st.count("failed") == len(st):
+    if st.count(PointStatus.FAILED) == len(st):
         return "none (not solved)"
-    return f"none ({st.count('outside')} outside, {st.count('failed')} failed)"
+    return f"none ({st.count(PointStatus.OUTSIDE)} outside, {st.count(PointStatus.FAILED)} failed)"
 
 
 def _play_range(bl) -> str:
@@ -94,13 +95,13 @@ def _play_range(bl) -> str:
 
 def format_summary(result, spec) -> str:
     lines = [f"TCA of {spec.source} with {errors_label(spec)}", ""]
-    head = ("flank", "ok", "edge", "outside", "failed", "pinion z range (mm)", "gear z range (mm)",
+    head = ("flank", *PointStatus, "pinion z range (mm)", "gear z range (mm)",
             "TE mean (urad)", "TE p-p (urad)", "Newton its (mean)", "TE points")
     rows = [head]
     caveats = []
     for flank, fr in result.flanks.items():
         st = np.array(fr.status)
-        cnt = [str(int((st == s).sum())) for s in ("ok", "edge", "outside", "failed")]
+        cnt = [str(int((st == s).sum())) for s in PointStatus]
         pairs = len(set(fr.tooth_pair.tolist()))
         positions = len(st) // pairs
         te = fr.transmission_error[fr.active & np.isfinite(fr.transmission_error)]

@@ -10,7 +10,6 @@ numbers.  Refusal messages name the keys, the values and which way to move.
 """
 from __future__ import annotations
 
-import enum
 import math
 from typing import NamedTuple
 
@@ -18,6 +17,7 @@ import numpy as np
 
 from ..names import Flank, Member
 from ..spec import DesignSpec
+from ..status import Outcome
 from .kernels import deg_text, member_outputs, num_text
 from .members import DesignError, MemberDesign
 
@@ -25,28 +25,6 @@ from .members import DesignError, MemberDesign
 POINTED_TIP_FACTOR = 0.2
 #: |beta2| at or above this (rad) is rejected.
 MAX_GEAR_HELIX_ANGLE = math.radians(80.0)
-
-
-class Outcome(enum.IntEnum):
-    """What the design of one spec came to: OK, or the first check it fails (in the order checked)."""
-
-    OK = 0
-    ZERO_CONE_ANGLE = 1
-    NO_WORKING_PRESSURE_ANGLE = 2
-    GEAR_HELIX_ANGLE_OUT_OF_RANGE = 3
-    TRANSVERSE_PRESSURE_ANGLE_NOT_POSITIVE = 4
-    NON_FINITE_DESIGN = 5
-    NON_PHYSICAL_PITCH_RADIUS = 6
-    TIP_INSIDE_BASE_CIRCLE = 7
-    POINTED_TEETH = 8
-    PITCH_POINT_OFF_ACTIVE_PROFILE = 9
-
-    @property
-    def label(self) -> str:
-        """The name in tables, CSV and JSON: "ok", "pointed_teeth", ..."""
-        return self.name.lower()
-
-
 #: the labels by code (index = Outcome value)
 LABELS = tuple(o.label for o in Outcome)
 

@@ -23,6 +23,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..status import DesignStatus
 from . import pareto
 
 FIGURES = ("heatmap_fpd.png", "heatmap_sensitivity.png", "pareto.png", "pareto_table.png")
@@ -121,7 +122,7 @@ def records(table: dict, idx=None) -> list[dict]:
 
 def mark_pareto(table: dict, mc: bool) -> None:
     """Add the ``pareto`` column (True on the front)."""
-    ok = table["status"] == "ok"
+    ok = table["status"] == DesignStatus.OK
     P = np.stack([np.where(ok, table[k], np.nan) for k in pareto.objectives(mc)], axis=1)
     table["pareto"] = pareto.front(P)
 
@@ -185,7 +186,7 @@ def _grid2(req, table, column):
     sel = np.ones(len(table["design"]), dtype=bool)
     for k in range(2, len(v)):
         sel &= pos[k] == mid[k]
-    vals = np.where(table["status"] == "ok", table[column], np.nan).astype(float)
+    vals = np.where(table["status"] == DesignStatus.OK, table[column], np.nan).astype(float)
     Z[pos[0][sel], pos[1][sel]] = vals[sel]
     return v[0].values(), v[1].values(), Z
 
@@ -199,7 +200,7 @@ def _extent(values: np.ndarray) -> tuple[float, float]:
 def heatmap(path, req, table, column, label, base_row, log=False):
     from matplotlib.colors import LogNorm
 
-    shown = np.asarray(table[column], dtype=float)[table["status"] == "ok"]
+    shown = np.asarray(table[column], dtype=float)[table["status"] == DesignStatus.OK]
     shown = shown[np.isfinite(shown)]
     norm = LogNorm() if log and (shown > 0).any() else None  # no ok design: an empty map, no colour scale
     g = _grid2(req, table, column)
@@ -207,7 +208,7 @@ def heatmap(path, req, table, column, label, base_row, log=False):
     ax = fig.add_subplot()
     if g is None:  # a sample: scatter over the first two keys (or one key against the value)
         k1 = req.plan.keys[0]
-        ok = table["status"] == "ok"
+        ok = table["status"] == DesignStatus.OK
         y = table[req.plan.keys[1]] if len(req.plan.keys) > 1 else table[column]
         sc = ax.scatter(table[k1][ok], y[ok], c=table[column][ok], s=12, cmap="viridis", norm=norm)
         ax.scatter(table[k1][~ok], y[~ok], c="0.6", s=8, marker="x")
@@ -236,7 +237,7 @@ def heatmap(path, req, table, column, label, base_row, log=False):
 
 
 def pareto_scatter(path, req, table, base_row):
-    ok = table["status"] == "ok"
+    ok = table["status"] == DesignStatus.OK
     x, y = table["max_fpd_angle_deg"], table["worst_path_shift_mm"]
     fig = _figure(6.0, 4.4)
     ax = fig.add_subplot()
@@ -250,7 +251,7 @@ def pareto_scatter(path, req, table, base_row):
     # with a third objective (the MC edge fraction) the front is not a curve in this plane: points only
     ax.plot(x[front], y[front], "o" if req.mc else "o-", color="tab:blue", ms=5, lw=1, mfc="none" if req.mc else None,
             mew=1.5, label=f"Pareto front ({front.size})")
-    if base_row and base_row.get("status") == "ok":
+    if base_row and base_row.get("status") == DesignStatus.OK:
         ax.plot([base_row["max_fpd_angle_deg"]], [base_row["worst_path_shift_mm"]], "*", color="red", ms=14,
                 label="base design")
     ax.set_xlabel("largest FPD angle max(|xi_L|, |xi_R|) (deg)")

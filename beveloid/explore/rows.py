@@ -21,7 +21,7 @@ import numpy as np
 from .. import assembly_errors, tca
 from ..generated import design_equations
 from ..solver import Solver
-from ..status import Status
+from ..status import DesignStatus, ExploreStatus, Status
 from ..design import design_arrays
 from ..names import Member
 from ..spec import KEY_DOCS
@@ -232,10 +232,10 @@ def monte_carlo(cols: dict, plan, rows: slice, tolerances: dict, mc: MonteCarloR
     values = {k: np.full(n, v) for k, v in plan.base_values().items()}
     values.update(plan.values(start, stop))
     for j in range(n):
-        if cols["status"][j] != "ok":
+        if cols["status"][j] != DesignStatus.OK:
             continue
         if cols[f"{flank}_contact_status"][j] != Status.OK.label:
-            cols["mc_status"][j] = "no_aligned_contact"
+            cols["mc_status"][j] = ExploreStatus.NO_ALIGNED_CONTACT
             continue
         spec = design_spec(plan, values, j)
         nominal = {k: float(getattr(spec.misalignment, k)) for k in assembly_errors.KEYS}
@@ -245,7 +245,7 @@ def monte_carlo(cols: dict, plan, rows: slice, tolerances: dict, mc: MonteCarloR
         try:
             res = sweep.analyze(Pair.from_spec(spec), options, solver=solver).to_json_dict()
         except RuntimeError:  # the aligned flank has no engagement to sample
-            cols["mc_status"][j] = "no_aligned_contact"
+            cols["mc_status"][j] = ExploreStatus.NO_ALIGNED_CONTACT
             continue
         te = res["te_peak_to_peak_urad"]
         cols["mc_status"][j] = Status.OK.label

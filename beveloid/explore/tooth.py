@@ -24,13 +24,14 @@ import numpy as np
 
 from ..design import DesignError, Outcome
 from ..names import Member
+from ..status import DesignStatus, ExploreStatus, ToothStatus
 
 __all__ = ["FLAGS", "REASONS", "Designs", "whole_tooth"]
 
 #: whole-tooth statuses that take a design off ``ok``, the first one found naming its status
-FLAGS = ("pointed", "undercut")
+FLAGS = (ToothStatus.POINTED, ToothStatus.UNDERCUT)
 #: the status of a row whose whole-tooth checks stopped with an error (a row, not the run)
-FAILED = "tooth_check_failed"
+FAILED = ExploreStatus.TOOTH_CHECK_FAILED
 
 #: why the design's check refused a design, by outcome (``beveloid design`` on the row gives the full line)
 REASONS = {
@@ -57,9 +58,9 @@ def statuses(geometry) -> list[tuple[str, str]]:
     tips = tip.tip_thicknesses(geometry)
     out = []
     for member in Member:
-        out += [("undercut", u.message()) for u in cut[member].values() if u is not None]
+        out += [(ToothStatus.UNDERCUT, u.message()) for u in cut[member].values() if u is not None]
         if tips[member].pointed:
-            out.append(("pointed", tips[member].message()))
+            out.append((ToothStatus.POINTED, tips[member].message()))
     return out
 
 
@@ -82,17 +83,17 @@ def whole_tooth(cols: dict, outcome: np.ndarray, designs: Designs, check: bool =
     from ..tooth import screen
 
     n = len(cols["status"])
-    tooth_status = np.full(n, "" if check else "not checked", dtype=object)
+    tooth_status = np.full(n, "" if check else ExploreStatus.NOT_CHECKED, dtype=object)
     reason = np.array([REASONS[Outcome(int(c))] for c in outcome], dtype=object)
     status = np.array(cols["status"], dtype=object)
     unclear = np.zeros(n, dtype=bool)
     for idx, geometry in designs.groups if check else ():
         unclear[idx] = ~screen.clear(geometry)
-    for j in np.nonzero(unclear & (status == "ok"))[0]:
+    for j in np.nonzero(unclear & (status == DesignStatus.OK))[0]:
         try:
             found = statuses(Pair.from_spec(designs.spec(j)).geometry)
         except DesignError as exc:  # design() of the one spec refuses what the chunk passed (a check's boundary)
-            status[j] = exc.outcome.label if exc.outcome is not None else "design_refused"
+            status[j] = exc.outcome.label if exc.outcome is not None else ExploreStatus.DESIGN_REFUSED
             reason[j] = exc.detail
             continue
         except ValueError as exc:  # a root bracket of the tooth's sections (beveloid.tooth) failed: this row only

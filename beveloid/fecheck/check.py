@@ -11,7 +11,6 @@ stress on each member's root fillets; the moment of the contact forces about the
 from __future__ import annotations
 
 import contextlib
-import math
 import tempfile
 import time
 from dataclasses import dataclass
@@ -22,8 +21,11 @@ import numpy as np
 from ..errors import UserError
 from ..fe.sizes import MAX_STRIP_ELEMENTS
 from ..outputs import check_output_dir
+from ..names import MEMBERS
+from ..status import LoadedStatus
+from .result import CheckResult, ContactNumbers
 
-__all__ = ["CheckOptions", "PEAK_RESOLVED_PER_SEMI_AXIS", "choose_position", "fe_check"]
+__all__ = ["CheckOptions", "CheckResult", "PEAK_RESOLVED_PER_SEMI_AXIS", "choose_position", "fe_check"]
 
 #: a pair's peak pressure and contact area count as resolved where the elements over its contact are
 #: at most this many times its half-width b (docs/validation.md section 11: at 0.76-1.1 b the FE's
@@ -75,7 +77,7 @@ def choose_position(result) -> int:
     """The converged position with the most loaded pairs; among those the largest smallest load."""
     best, key = None, None
     for j in range(len(result.status)):
-        if result.status[j] != "ok":
+        if result.status[j] != LoadedStatus.OK:
             continue
         loads = np.nan_to_num(result.pair_load_n[j])
         loaded = loads[loads > 1e-6 * max(loads.sum(), 1e-300)]
@@ -94,16 +96,12 @@ def _root(result, member, j):
     return float(np.nanmax(row)) if row is not None and np.isfinite(row).any() else None
 
 
-def _ltca_block(result, geom, j, ratio) -> dict:
-    num = lambda v: float(v) if v is not None and np.isfinite(v) else None  # noqa: E731
+def _ltca_block(result, j) -> ContactNumbers:
+    """The LTCA's numbers at position ``j``."""
     cells = result.cell_area_mm2[j]
     area = [(result.pressure_mpa[j, k] > 0).sum() * cells[k] for k in range(len(result.tooth_pairs))]
-    return {"pair_normal_load_n": [num(v) for v in result.pair_load_n[j]],
-            "pair_max_pressure_mpa": [num(v) for v in result.pair_max_pressure_mpa[j]],
-            "contact_area_mm2": [num(v) for v in area],
-            "loaded_transmission_error_urad": num(result.loaded_te[j] * 1e6),
-            "root_stress_max_mpa": {m: _root(result, m, j) for m in ("pinion", "gear")},
-            "moment_about_pinion_axis_nm": num(result.pinion_moment_nmm[j] * 1e-3)}
+    return ContactNumbers.of(result.pair_load_n[j], result.pair_max_pressure_mpa[j], area, result.loaded_te[j] * 1e6,
+                             {m: _root(result, m, j) for m in MEMBERS}, result.pinion_moment_nmm[j] * 1e-3)
 
 
 def _resolution_notes(about) -> list[str]:
@@ -122,8 +120,9 @@ def _resolution_notes(about) -> list[str]:
     return out
 
 
-def fe_check(pair, options: CheckOptions, progress=print, solver=None) -> dict:
-    """Run the check; returns the JSON dict of the contract (docs/fe_check.md)."""
+def fe_check(pair, options: CheckOptions, *, progress=print, solver=None) -> CheckResult:
+    """Run the check: a :class:`beveloid.fecheck.result.CheckResult`, its ``to_json()`` the contract
+    (docs/fe_check.md)."""
     from .. import ltca, tca
     from ..solver import Solver
     from .deck import write_deck
@@ -145,9 +144,9 @@ def fe_check(pair, options: CheckOptions, progress=print, solver=None) -> dict:
                                              positions=options.ltca_positions,
                                              tooth_model=options.ltca_tooth_model), solver=Solver.of(solver))
     j = choose_position(result) if options.position is None else options.position
-    if result.status[j] != "ok" or not np.isfinite(result.unloaded_te[j]):
+    if result.status[j] != LoadedStatus.OK or not np.isfinite(result.unloaded_te[j]):
         raise UserError(f"--position = {j}: the LTCA has no converged contact there ({result.status[j]}); choose "
-                        f"one of {[i for i, s in enumerate(result.status) if s == 'ok']}")
+                        f"one of {[i for i, s in enumerate(result.status) if s == LoadedStatus.OK]}")
     ratio = geom.pinion.teeth / geom.gear.teeth
     ref = tca.reference_contact(geom, options.flank)
     phi1 = float(result.pinion_angle[j])
@@ -178,13 +177,8 @@ def fe_check(pair, options: CheckOptions, progress=print, solver=None) -> dict:
         run = run_ccx(deck_path, progress=lambda line: say(f"ccx: {line.strip()}"))
         fe = read_pair_results(run, model, info, folder / "fe_check.vtu" if options.out_dir else None)
     te_fe = float(result.unloaded_te[j]) + ratio * model.phi_sign * fe.rotation_rad
-    num = lambda v: float(v) if v is not None and math.isfinite(v) else None  # noqa: E731
-    calculix = {"pair_normal_load_n": [num(v) for v in fe.pair_load_n],
-                "pair_max_pressure_mpa": [num(v) for v in fe.pair_max_pressure_mpa],
-                "contact_area_mm2": [num(v) for v in fe.pair_area_mm2],
-                "loaded_transmission_error_urad": num(te_fe * 1e6),
-                "root_stress_max_mpa": {m: num(v) for m, v in fe.root_stress_mpa.items()},
-                "moment_about_pinion_axis_nm": num(fe.moment_nmm * 1e-3)}
+    calculix = ContactNumbers.of(fe.pair_load_n, fe.pair_max_pressure_mpa, fe.pair_area_mm2, te_fe * 1e6,
+                                 fe.root_stress_mpa, fe.moment_nmm * 1e-3)
     files = {"deck": str(deck_path), "frd": str(run.file("frd")), "dat": str(run.file("dat")),
              "vtu": str(folder / "fe_check.vtu")} if options.out_dir else {}
     notes = [f"position {j} of {options.ltca_positions} over one mesh cycle, {options.flank} flank, pinion torque "
@@ -207,13 +201,8 @@ def fe_check(pair, options: CheckOptions, progress=print, solver=None) -> dict:
     notes += [f"tooth pair {k}: outside the {SECTOR_TEETH}-tooth sectors (null)" for k, p in zip(model.tooth_pairs,
                                                                                          model.pairs) if p is None]
     notes += _resolution_notes(about if options.local_refinement else None)
-    return {"calculix_version": run.version or ccx_version(), "position": int(j), "pinion_angle_rad": phi1,
-            "torque_nm": options.torque_nm, "flank": options.flank,
-            "ltca_tooth_model": getattr(result, "tooth_model", "plate"), "refinement": options.refinement,
-            "tooth_pairs": list(model.tooth_pairs),
-            "unloaded_transmission_error_urad": float(result.unloaded_te[j] * 1e6), "elements": model.elements, "dof": model.dof,
-            "calculix_wall_s": run.wall_s, "calculix_cpu_s": run.cpu_s, "mesh_s": mesh_s,
-            "calculix": calculix, "ltca": _ltca_block(result, geom, j, ratio), "files": files, "notes": notes,
-            "ltca_hertz_max_pressure_mpa": [num(v) for v in result.pair_hertz_max_pressure_mpa[j]],
-            "ltca_patch_semi_axes_mm": [[num(v) for v in ab] for ab in result.patch_semi_axes_mm()[j]],
-            "local_refinement": about if options.local_refinement else None}
+    return CheckResult(
+        pair, options, run.version or ccx_version(), int(j), phi1, getattr(result, "tooth_model", "plate"),
+        tuple(model.tooth_pairs), float(result.unloaded_te[j] * 1e6), model.elements, model.dof, run.wall_s,
+        run.cpu_s, mesh_s, calculix, _ltca_block(result, j), files, notes, result.pair_hertz_max_pressure_mpa[j],
+        result.patch_semi_axes_mm()[j], about if options.local_refinement else None)

@@ -18,6 +18,7 @@ import numpy as np
 
 from .. import tca
 from ..mesh import cycle_positions_text
+from ..status import LoadedStatus
 from . import grid as grids
 from .cycle import Problem, Setup, merge, solve_many
 from .options import Material, Options
@@ -192,7 +193,8 @@ def _result(setup, options, sol, check, e_star, notes, hertz_ref, teeth):
         f"{m}: no root stress at {n} loaded tooth pair(s): every fillet node lies within the FE tooth's reading"
         f" depth of the load (the contact reaches the fillet); the largest root stress is that of the other pairs"
         for m, n in root["unread"].items() if n]
-    status = tuple("ok" if ok[j] else ("no contact" if sol.no_contact[j] else "not converged") for j in range(N))
+    status = tuple(LoadedStatus.OK if ok[j] else LoadedStatus.NO_CONTACT if sol.no_contact[j]
+                   else LoadedStatus.NOT_CONVERGED for j in range(N))
     okc = ok[:, None]
     return LTCAResult(
         flank=options.flank, torque_nm=options.torque_nm, pinion_angle=setup.phi1, tooth_pairs=setup.ks,

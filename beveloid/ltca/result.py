@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..status import LoadedStatus
 from .gaps import PairGap
 from .grid import PairGrid, centres
 
@@ -38,7 +39,7 @@ class LTCAResult:
     torque_nm: float
     pinion_angle: np.ndarray  # (N,) rad
     tooth_pairs: np.ndarray  # (P,)
-    status: tuple  # (N,) "ok" | "not converged" | "no contact"
+    status: tuple  # (N,) LoadedStatus
     loaded_te: np.ndarray  # (N,) rad, nan where not ok
     unloaded_te: np.ndarray  # (N,) rad: the rigid TE envelope
     pair_load_n: np.ndarray  # (N, P) normal force of each pair, nan where not ok
@@ -81,7 +82,7 @@ class LTCAResult:
 
     @property
     def converged(self) -> np.ndarray:
-        return np.asarray([s == "ok" for s in self.status])
+        return np.asarray([s == LoadedStatus.OK for s in self.status])
 
     @property
     def cell_area_mm2(self) -> np.ndarray:

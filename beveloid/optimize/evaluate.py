@@ -24,6 +24,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..status import EvaluationStatus
 from .request import OBJECTIVES, PERCENTILE, Request
 
 QUANTITIES = tuple(OBJECTIVES.values())
@@ -116,17 +117,17 @@ def evaluate(req: Request, values: dict, error_sets: np.ndarray | None = None) -
     from ..spec import SpecError
 
     t0 = time.perf_counter()
-    rec = {"values": {k: float(v) for k, v in values.items()}, "status": "ok", "reason": ""}
+    rec = {"values": {k: float(v) for k, v in values.items()}, "status": EvaluationStatus.OK, "reason": ""}
     try:
         pair = Pair.from_spec(req.spec(values))
     except (SpecError, UserError) as exc:  # the spec's rules or the design refuse these values
-        return _failed(rec, req, "refused", exc, t0)
+        return _failed(rec, req, EvaluationStatus.REFUSED, exc, t0)
     sets = req.error_sets() if error_sets is None else error_sets
     try:
         lq = loaded_quantities(pair, req.torques_nm, sets, req.ltca_options(max(req.torques_nm)))
         rec["safety"] = safeties(req, pair) if req.constraints == "rating" else None
     except UserError as exc:  # no contact at all (the flank is turned off its mate)
-        return _failed(rec, req, "failed", exc, t0)
+        return _failed(rec, req, EvaluationStatus.FAILED, exc, t0)
     rec["quantities"] = {q: [[_num(v) for v in row] for row in getattr(lq, q)] for q in QUANTITIES}
     rec["converged_positions"] = lq.converged_positions.tolist()
     tq = {q: per_torque(getattr(lq, q), req.samples) for q in QUANTITIES}

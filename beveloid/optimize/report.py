@@ -18,6 +18,7 @@ import numpy as np
 
 from ..explore.pareto import front
 from ..spec import spec_to_dict
+from ..status import EvaluationStatus
 from .evaluate import QUANTITIES
 from .request import OBJECTIVES
 
@@ -27,7 +28,7 @@ SAFETY_KEYS = ("safety_bending_local", "safety_pitting_local", "S_Fmin", "S_Hmin
 
 def eligible(rec: dict) -> bool:
     s = rec.get("safety")
-    return rec["status"] == "ok" and (s is None or s["feasible"])
+    return rec["status"] == EvaluationStatus.OK and (s is None or s["feasible"])
 
 
 def pareto_mask(req, records: list) -> np.ndarray:
@@ -150,7 +151,7 @@ def reproduce_commands(req, spec_file: str) -> list:
 
 def dominating(req, records: list, base: dict) -> list:
     """The candidates (numbers) that beat the unmodified design on every objective, or None when it has none."""
-    if base["status"] != "ok":
+    if base["status"] != EvaluationStatus.OK:
         return None
     b = np.array([base["objectives"][q] for q in req.quantities])
     out = []
@@ -268,7 +269,7 @@ def figures(out_dir: str, req, records: list, base: dict, on: np.ndarray) -> lis
     plt = _plt()
     written = []
     q = req.quantities
-    ok = [i for i, r in enumerate(records) if r["status"] == "ok"]
+    ok = [i for i, r in enumerate(records) if r["status"] == EvaluationStatus.OK]
     fig, ax = plt.subplots(figsize=(6.5, 5))
     xq = q[0]
     yq = q[1] if len(q) > 1 else None
@@ -282,7 +283,7 @@ def figures(out_dir: str, req, records: list, base: dict, on: np.ndarray) -> lis
         ax.plot(vx(good), xs(good, xq), "o", color="0.6", ms=4, label="candidates")
         ax.plot(vx(bad), xs(bad, xq), "x", color="tab:orange", ms=5, label="violates S_Fmin / S_Hmin")
         ax.plot(vx(fr), xs(fr, xq), "o", color="tab:red", ms=7, label="best")
-        if base["status"] == "ok":
+        if base["status"] == EvaluationStatus.OK:
             ax.plot([base["values"][key]], [base["objectives"][xq]], "*", color="k", ms=12, label="unmodified (file)")
         ax.set_xlabel(key)
         ax.set_ylabel(xq)
@@ -290,7 +291,7 @@ def figures(out_dir: str, req, records: list, base: dict, on: np.ndarray) -> lis
         ax.plot(xs(good, xq), xs(good, yq), "o", color="0.6", ms=4, label="candidates")
         ax.plot(xs(bad, xq), xs(bad, yq), "x", color="tab:orange", ms=5, label="violates S_Fmin / S_Hmin")
         ax.plot(xs(fr, xq), xs(fr, yq), "o-", color="tab:red", ms=6, label="Pareto front")
-        if base["status"] == "ok":
+        if base["status"] == EvaluationStatus.OK:
             ax.plot([base["objectives"][xq]], [base["objectives"][yq]], "*", color="k", ms=12,
                     label="unmodified (file)")
         ax.set_xlabel(xq)

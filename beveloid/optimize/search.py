@@ -24,6 +24,7 @@ import time
 import numpy as np
 
 from ..errors import ErrorCode, StopReason, UserError
+from ..status import EvaluationStatus
 from .evaluate import evaluate, evaluate_task
 from .request import Request
 
@@ -92,7 +93,7 @@ def prepare(out_dir: str, req: Request | None, resume: bool, budget: int | None 
 
 def told(req: Request, rec: dict) -> tuple:
     """(F, G) of a record for the algorithm (module docstring)."""
-    if rec["status"] != "ok":
+    if rec["status"] != EvaluationStatus.OK:
         return np.full(len(req.objectives), FAILED_OBJECTIVE), np.array([FAILED_CONSTRAINT])
     F = np.array([rec["objectives"][q] for q in req.quantities], dtype=float)
     s = rec.get("safety")

@@ -13,6 +13,7 @@ import numpy as np
 
 from ..names import MEMBERS
 from ..plots import pinion_angle_text
+from ..status import Validity
 from ..tooth import sections
 from . import dynamic, iso6336, materials
 from .face_load import face_load
@@ -193,7 +194,7 @@ class SectionRating:
     sigma_H_mpa: float
     safety_bending_iso: float
     safety_pitting_iso: float
-    status: str = "ok"
+    status: str = Validity.OK
 
 
 @dataclass(frozen=True)
@@ -285,7 +286,7 @@ def _validity(bend, pair) -> str:
         out.append(f"eps_alpha_n = {eps_an:.3g} > 2.05: deep-tooth factor Y_DT < 1 not applied")
     if eps_an < 1.0:
         out.append(f"eps_alpha_n = {eps_an:.3g} < 1: the virtual pair has no single-pair contact span")
-    return "; ".join(out) if out else "ok"
+    return "; ".join(out) if out else Validity.OK
 
 
 @dataclass(frozen=True)
@@ -325,7 +326,7 @@ def _lowest(values) -> float:
     return min(finite) if finite else math.nan
 
 
-def analyze(pair, options: Options, solver=None, ltca_result=None, face_points: int = 0):
+def analyze(pair, options: Options, *, solver=None, ltca_result=None, face_points: int = 0):
     """Rate ``pair`` at ``options.torque_nm``; ``ltca_result``: an LTCA already run at K_A K_v T
     (else it is run here); ``face_points`` > 0 adds that many ISO sections along each face (plot)."""
     from .. import ltca
@@ -362,7 +363,7 @@ def analyze(pair, options: Options, solver=None, ltca_result=None, face_points: 
             None if root is None else factors.root_strength_mpa(member) / root,
             None if p is None or not p > 0.0 else factors.contact_strength_mpa(member) / p, face)
     notes = factors.notes() + list(lc.notes)
-    notes += [f"{m.member} {k}: {s.status}" for m in members.values() for k, s in m.sections.items() if s.status != "ok"]
+    notes += [f"{m.member} {k}: {s.status}" for m in members.values() for k, s in m.sections.items() if s.status != Validity.OK]
     for member in MEMBERS:
         fl = lc.face_load[member]
         if fl.K_H_beta is None:

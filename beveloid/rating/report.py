@@ -4,6 +4,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from ..status import Verdict
+
 __all__ = ["RatingResult", "SEC_KEYS", "to_json_dict"]
 
 #: the keys of one section in the JSON, in order
@@ -89,20 +91,20 @@ class RatingResult:
         line = (f"lowest safety {low[1]} = {low[0]:.3f} ({low[2]}) on the {low[3]} at {low[4]}; "
                 f"S_F {'meets' if ok_f else 'FAILS'} S_Fmin = {self.factors.S_Fmin:g}, "
                 f"S_H {'meets' if ok_h else 'FAILS'} S_Hmin = {self.factors.S_Hmin:g}")
-        status, condition = ("passes" if ok_f and ok_h else "fails"), None
+        status, condition = (Verdict.PASSES if ok_f and ok_h else Verdict.FAILS), None
         if edge is not None and edge["exceeds"]:
             condition = f"passes only if {edge['at']} is relieved ({edge['relief']})"
             line += (f"; edge contact at {edge['at']}: {edge['pressure_mpa']:.0f} MPa > sigma_Hlim Z_NT / S_Hmin = "
                      f"{edge['permissible_mpa']:.0f} MPa (edge-contact rule): ")
-            if status == "passes":
-                status = "conditional"
+            if status == Verdict.PASSES:
+                status = Verdict.CONDITIONAL
                 line += f"CONDITIONAL, {condition}"
             else:
                 line += "FAILS also without it"
         return {"lowest": low[1], "value": _num(low[0]), "source": low[2], "member": low[3], "where": low[4],
                 "required": low[5], "meets_S_Fmin": ok_f, "meets_S_Hmin": ok_h, "edge_contact": edge,
-                "status": status, "condition": condition if status == "conditional" else None,
-                "passes": status == "passes", "line": line}
+                "status": status, "condition": condition if status == Verdict.CONDITIONAL else None,
+                "passes": status == Verdict.PASSES, "line": line}
 
 
 def _face_load_json(fl) -> dict:

@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import interrupts
+from ..status import PointStatus
 from . import PAPER_CONTENTS as CONTENTS
 from .crowning import PAPER_ALIGNED_TE_URAD
 from .tasks import say as _progress
@@ -227,7 +228,7 @@ def _study_task(figure, positions, out):
     for (lab, e), r in zip(st.errors, res):
         fr = r.flanks[FLANK]
         pc, gc = mean_contact_z(fr)
-        n_surface, n_edge = (sum(s == status for s in fr.status) for status in ("ok", "edge"))
+        n_surface, n_edge = (sum(s == status for s in fr.status) for status in (PointStatus.OK, PointStatus.EDGE))
         rows.append((st.figure, st.case, lab, pc, gc, n_surface, n_edge, len(fr.status),
                      fr.te_peak_to_peak * 1e6, r.backlash_um, r.flanks["left"].te_peak_to_peak * 1e6))
     return rows

@@ -17,9 +17,10 @@ from dataclasses import dataclass, field
 from ..solver.patch_cover import UnboundedPatch
 from ..tca import NoContactError
 from ..names import FLANKS, MEMBERS
+from ..status import ToothStatus
 from . import contact, tip, undercut
 
-STATUSES = ("undercut", "pointed", "interference", "tip inside base circle", "no contact", "no form limit")
+STATUSES = tuple(ToothStatus)
 
 
 def _mm(x, digits=4) -> str:
@@ -92,31 +93,32 @@ def analyze(pair, options: ToothOptions = ToothOptions(), *, solver=None) -> Too
     tips = tip.tip_thicknesses(geom)
     statuses = []
     for member in MEMBERS:
-        statuses += [("undercut", u.message()) for u in cut[member].values() if u is not None]
+        statuses += [(ToothStatus.UNDERCUT, u.message()) for u in cut[member].values() if u is not None]
         if tips[member].pointed:
-            statuses.append(("pointed", tips[member].message()))
+            statuses.append((ToothStatus.POINTED, tips[member].message()))
         if tips[member].no_involute:
-            statuses.append(("tip inside base circle", tips[member].no_involute_message()))
+            statuses.append((ToothStatus.TIP_INSIDE_BASE_CIRCLE, tips[member].no_involute_message()))
     flanks = {}
     for fl in FLANKS:
         try:
             flanks[fl] = contact.flank_contact(geom, fl, per_pitch=options.contact_per_pitch, solver=solver)
         except (contact.NoContact, NoContactError, UnboundedPatch) as err:
             flanks[fl] = None
-            statuses.append(("no contact", f"contact ratio, {fl} flank: {err}"))
+            statuses.append((ToothStatus.NO_CONTACT, f"contact ratio, {fl} flank: {err}"))
             continue
         for member, margin in flanks[fl].form_margin_mm.items():
             if margin is None:
-                statuses.append(("no form limit", f"interference, {fl} flank: the {member}'s form limit was not found in"
-                                                  " the sections of the path of contact (no involute up to the tip"
-                                                  " there): interference with its fillet is not checked"))
+                statuses.append((ToothStatus.NO_FORM_LIMIT,
+                                 f"interference, {fl} flank: the {member}'s form limit was not found in the sections"
+                                 " of the path of contact (no involute up to the tip there): interference with its"
+                                 " fillet is not checked"))
         for boundary in flanks[fl].interference:
             owner = boundary.split()[0]
             mate = "gear" if owner == "pinion" else "pinion"
             margin = flanks[fl].form_margin_mm[owner]
             below = -margin if margin is not None else 0.0
             depth = f" by {below:.4f} mm along the rack edge" if below > 0 else ""
-            statuses.append(("interference", f"interference: {fl} flank, the {mate}'s tip reaches below the"
-                                             f" {owner}'s form limit{depth} (into its fillet) on the aligned"
-                                             " pair's path of contact"))
+            statuses.append((ToothStatus.INTERFERENCE,
+                             f"interference: {fl} flank, the {mate}'s tip reaches below the {owner}'s form"
+                             f" limit{depth} (into its fillet) on the aligned pair's path of contact"))
     return ToothResult(cut, tips, flanks, statuses)

@@ -43,11 +43,14 @@ def test_coarse_fe_check_of_case1_agrees_with_the_ltca(tmp_path):
     from beveloid.fecheck.check import CheckOptions, fe_check
     from beveloid.pair import Pair
 
-    out = fe_check(Pair.example("case1"), CheckOptions(torque_nm=200.0, flank="right", out_dir=str(tmp_path),
-                                                       coarsen=COARSEN, ltca_positions=5, ltca_tooth_model="plate",
-                                                       max_strip_elements=STRIP_CAP),
-                 progress=None)
+    result = fe_check(Pair.example("case1"), CheckOptions(torque_nm=200.0, flank="right", out_dir=str(tmp_path),
+                                                          coarsen=COARSEN, ltca_positions=5, ltca_tooth_model="plate",
+                                                          max_strip_elements=STRIP_CAP),
+                      progress=None)
+    out = result.to_json()
     json.dumps(out, allow_nan=False)
+    assert result.options.torque_nm == out["torque_nm"] == 200.0 and result.pair.spec.source == "case1.toml"
+    assert not result.calculix.pair_normal_load_n.flags.writeable
     fe, lt = out["calculix"], out["ltca"]
     # (the moment of the contact forces equals the torque in any converged solution: it checks nothing, and
     # is not asserted; the model is checked by the cantilever, the Hertz block and docs/validation.md 11)

@@ -1,0 +1,127 @@
+"""What :func:`beveloid.fecheck.check.fe_check` returns: the FE check at one position beside the LTCA's
+numbers there, frozen (its arrays read-only, its mappings read-only views), with the JSON of the
+contract (docs/fe_check.md) from :meth:`CheckResult.to_json`, which needs nothing passed back in."""
+from __future__ import annotations
+
+import math
+import types
+from dataclasses import dataclass
+from typing import Any, Mapping
+
+import numpy as np
+
+__all__ = ["CheckResult", "ContactNumbers"]
+
+
+def _num(v) -> float | None:
+    """A JSON number: None for a missing or non-finite value."""
+    return float(v) if v is not None and math.isfinite(v) else None
+
+
+def _floats(values) -> np.ndarray:
+    """A read-only float array of ``values`` (nested sequences too), NaN where a value is None."""
+    a = np.array(values, dtype=object)
+    a = np.where(np.equal(a, None), np.nan, a).astype(float)
+    a.setflags(write=False)
+    return a
+
+
+def _frozen(value):
+    """``value`` with every dict a read-only view and every list a tuple, all the way down."""
+    if isinstance(value, Mapping):
+        return types.MappingProxyType({k: _frozen(v) for k, v in value.items()})
+    if isinstance(value, (list, tuple)):
+        return tuple(_frozen(v) for v in value)
+    return value
+
+
+def _thawed(value):
+    """The JSON of a :func:`_frozen` value: dicts and lists again."""
+    if isinstance(value, Mapping):
+        return {k: _thawed(v) for k, v in value.items()}
+    if isinstance(value, tuple):
+        return [_thawed(v) for v in value]
+    return value
+
+
+@dataclass(frozen=True, eq=False)
+class ContactNumbers:
+    """One side's numbers at the position (CalculiX's or the LTCA's), per tooth pair (P,) in the LTCA's
+    order; NaN where a number is missing (a pair outside the sectors, a root stress without an FE tooth)."""
+
+    pair_normal_load_n: np.ndarray  # (P,)
+    pair_max_pressure_mpa: np.ndarray  # (P,)
+    contact_area_mm2: np.ndarray  # (P,)
+    loaded_transmission_error_urad: float
+    root_stress_max_mpa: Mapping[str, float]  # {member: MPa}
+    moment_about_pinion_axis_nm: float
+
+    @classmethod
+    def of(cls, pair_normal_load_n, pair_max_pressure_mpa, contact_area_mm2, loaded_transmission_error_urad,
+           root_stress_max_mpa: dict, moment_about_pinion_axis_nm) -> "ContactNumbers":
+        """From sequences and numbers (None for a missing one)."""
+        missing = lambda v: math.nan if v is None else float(v)  # noqa: E731
+        return cls(_floats(pair_normal_load_n), _floats(pair_max_pressure_mpa), _floats(contact_area_mm2),
+                   missing(loaded_transmission_error_urad),
+                   types.MappingProxyType({m: missing(v) for m, v in root_stress_max_mpa.items()}),
+                   missing(moment_about_pinion_axis_nm))
+
+    def to_json(self) -> dict:
+        return {"pair_normal_load_n": [_num(v) for v in self.pair_normal_load_n],
+                "pair_max_pressure_mpa": [_num(v) for v in self.pair_max_pressure_mpa],
+                "contact_area_mm2": [_num(v) for v in self.contact_area_mm2],
+                "loaded_transmission_error_urad": _num(self.loaded_transmission_error_urad),
+                "root_stress_max_mpa": {m: _num(v) for m, v in self.root_stress_max_mpa.items()},
+                "moment_about_pinion_axis_nm": _num(self.moment_about_pinion_axis_nm)}
+
+
+@dataclass(frozen=True, eq=False)
+class CheckResult:
+    """The FE check of ``pair`` under ``options`` (a :class:`beveloid.fecheck.check.CheckOptions`) at the
+    LTCA's position ``position``: CalculiX's numbers and the LTCA's side by side, the run's sizes and
+    times, the files kept, the notes."""
+
+    pair: Any  # beveloid.pair.Pair
+    options: Any  # CheckOptions
+    calculix_version: str | None
+    position: int
+    pinion_angle_rad: float
+    ltca_tooth_model: str
+    tooth_pairs: tuple
+    unloaded_transmission_error_urad: float
+    elements: int
+    dof: int
+    calculix_wall_s: float
+    calculix_cpu_s: float
+    mesh_s: float
+    calculix: ContactNumbers
+    ltca: ContactNumbers
+    files: Mapping[str, str]  # {"deck", "frd", "dat", "vtu": path}; empty without out_dir
+    notes: tuple
+    ltca_hertz_max_pressure_mpa: np.ndarray  # (P,)
+    ltca_patch_semi_axes_mm: np.ndarray  # (P, 2)
+    #: per loaded pair its refinement strip ({"tooth_pair", "semi_axes_mm", "size_mm", element sizes});
+    #: None: not refined
+    local_refinement: tuple | None
+
+    def __post_init__(self):
+        for name in ("tooth_pairs", "notes", "files", "local_refinement"):
+            object.__setattr__(self, name, _frozen(getattr(self, name)))
+        for name in ("ltca_hertz_max_pressure_mpa", "ltca_patch_semi_axes_mm"):
+            object.__setattr__(self, name, _floats(getattr(self, name)))
+
+    def to_json(self) -> dict:
+        """The JSON of ``beveloid fe-check --json`` (docs/fe_check.md)."""
+        o = self.options
+        return {"calculix_version": self.calculix_version, "position": self.position,
+                "pinion_angle_rad": self.pinion_angle_rad, "torque_nm": o.torque_nm, "flank": o.flank,
+                "ltca_tooth_model": self.ltca_tooth_model, "refinement": o.refinement,
+                "tooth_pairs": list(self.tooth_pairs),
+                "unloaded_transmission_error_urad": self.unloaded_transmission_error_urad,
+                "elements": self.elements, "dof": self.dof, "calculix_wall_s": self.calculix_wall_s,
+                "calculix_cpu_s": self.calculix_cpu_s, "mesh_s": self.mesh_s,
+                "calculix": self.calculix.to_json(), "ltca": self.ltca.to_json(), "files": dict(self.files),
+                "notes": list(self.notes),
+                "ltca_hertz_max_pressure_mpa": [_num(v) for v in self.ltca_hertz_max_pressure_mpa],
+                "ltca_patch_semi_axes_mm": [[_num(v) for v in ab] for ab in self.ltca_patch_semi_axes_mm],
+                "local_refinement": _thawed(self.local_refinement)}
