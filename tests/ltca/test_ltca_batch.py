@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from beveloid import cli, ltca, sweep
-from beveloid.ltca.batch import MESH_ORDERS, gear_base_radius_mm, te_harmonics
+from beveloid.ltca.batch import MESH_ORDERS, gear_base_radius_mm, summary, te_harmonics
 from beveloid.pair import Pair
 
 CASE1 = Path(__file__).resolve().parents[2] / "examples" / "case1.toml"
@@ -84,9 +84,31 @@ def test_harmonics_of_a_run_keep_its_power(pair):
     d = r.to_json_dict(pair.geometry)
     assert d["te_harmonics_mesh_orders"] == list(MESH_ORDERS)
     assert d["te_harmonics_um"][0] == pytest.approx(h[0] * gear_base_radius_mm(pair.geometry) * 1e3)
+    # the stiffness over the same N - 1 states as the harmonics: the end state (the first a pitch later) once
     k = r.mesh_stiffness_n_per_um
-    assert d["mesh_stiffness_mean_n_per_um"] == pytest.approx(np.mean(k))
-    assert d["mesh_stiffness_peak_to_peak_n_per_um"] == pytest.approx(np.ptp(k))
+    assert k[-1] == pytest.approx(k[0], rel=1e-3) and np.all(np.isfinite(k))
+    assert d["mesh_stiffness_mean_n_per_um"] == pytest.approx(np.mean(k[:-1]), rel=1e-12)
+    assert d["mesh_stiffness_peak_to_peak_n_per_um"] == pytest.approx(np.ptp(k[:-1]), rel=1e-12)
+
+
+class _Stiffness(_TE):
+    """A run whose only numbers are its loaded TE and its mesh stiffness (what ``summary`` reads of them)."""
+
+    def __init__(self, k):
+        super().__init__(np.zeros(len(k)))
+        self.mesh_stiffness_n_per_um = np.asarray(k, float)
+        self.loaded_te_peak_to_peak = 0.0
+        self.pair_max_pressure_mpa = self.pair_edge_max_pressure_mpa = np.full((len(k), 1), np.nan)
+
+    def root_stress_max_mpa(self):
+        return {}
+
+
+def test_mesh_stiffness_counts_the_repeated_end_state_once():
+    # one cycle sampled at 4 states, the 5th the first a pitch later: mean 2.5, not (10 + 1) / 5 = 2.2
+    s = summary(_Stiffness([1.0, 2.0, 3.0, 4.0, 1.0]))
+    assert s["mesh_stiffness_mean_n_per_um"] == 2.5 and s["mesh_stiffness_peak_to_peak_n_per_um"] == 3.0
+    assert math.isnan(summary(_Stiffness([1.0, np.nan, np.nan, 5.0]))["mesh_stiffness_peak_to_peak_n_per_um"])
 
 
 def _cli(capsys, *args):
