@@ -75,12 +75,15 @@ def serpentine_gaps(setup, frames: Frames, coords, shape, solver) -> CellGaps:
     """:func:`cell_gaps` of each pair's points ``coords`` (Q, rows x columns, 2), rows of ``shape`` (rows,
     columns) along its grid's columns, visited row by row with every other row reversed: each point
     starts its Newtons from its neighbour, on a line (normal_gaps extrapolates along it)."""
-    order = np.arange(shape[0] * shape[1]).reshape(shape)
-    order[1::2] = order[1::2, ::-1].copy()
-    order = order.ravel()
-    cg = cell_gaps(setup.geom, setup.flank, setup.errors, frames, coords[:, order], solver, setup.problem)
-    back = np.argsort(order)
-    return CellGaps(*[a[:, back] for a in cg])
+    cg = cell_gaps(setup.geom, setup.flank, setup.errors, frames, _serpentine(coords, shape), solver, setup.problem)
+    return CellGaps(*[_serpentine(a, shape) for a in cg])
+
+
+def _serpentine(a, shape):
+    """a (Q, rows x columns, ...) with every other row reversed (its own inverse)."""
+    b = a.reshape(a.shape[:1] + shape + a.shape[2:]).copy()
+    b[:, 1::2] = b[:, 1::2, ::-1]
+    return b.reshape(a.shape)
 
 
 class PrincipalFrame(typing.NamedTuple):
