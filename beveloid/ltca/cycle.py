@@ -211,10 +211,12 @@ def solve_many(problems, e_star_mpa, teeth) -> list:
             starts = np.zeros((jj.size, 1), dtype=np.bool_)
         else:
             starts = np.ascontiguousarray(mapped_contact(pr.start, pr.grid, gap)[jj].reshape(jj.size, -1))
-        k.solve_positions(blocks.reshape(-1), off, np.arange(P, dtype=np.int64) * n, np.full(P, n, dtype=np.int64),
-                          np.ones((jj.size, P), dtype=np.bool_), h, w, at, pr.torque_nm * 1e3 / r1, limits.tolerance,
-                          limits.max_iterations, starts, np.full(jj.size, pr.start is not None),
-                          p[sl], result[sl])
+        k.solve_positions(kernel.Layout(blocks.reshape(-1), off, np.arange(P, dtype=np.int64) * n,
+                                        np.full(P, n, dtype=np.int64), np.ones((jj.size, P), dtype=np.bool_)),
+                          kernel.Cells(h, w, at, pr.torque_nm * 1e3 / r1),
+                          kernel.Start(limits.tolerance, limits.max_iterations, starts,
+                                       np.full(jj.size, pr.start is not None)),
+                          kernel.Output(p[sl], result[sl]))
     out, at_row = [], 0
     for (pr, gap, todo, live), jj in zip(parts, rows):
         N = pr.need.shape[0]
