@@ -71,19 +71,27 @@ def cell_gaps(geom, flank, errors, frames: Frames, coords, solver, problem=None)
                     on_flanks=r(on), pinion_lu=r(lu), pinion_point=r(p1), gear_point=r(p2), margin_mm=r(margin))
 
 
-def serpentine_gaps(setup, frames: Frames, coords, shape, solver) -> CellGaps:
-    """:func:`cell_gaps` of each pair's points ``coords`` (Q, rows x columns, 2), rows of ``shape`` (rows,
-    columns) along its grid's columns, visited row by row with every other row reversed: each point
-    starts its Newtons from its neighbour, on a line (normal_gaps extrapolates along it)."""
-    cg = cell_gaps(setup.geom, setup.flank, setup.errors, frames, _serpentine(coords, shape), solver, setup.problem)
-    return CellGaps(*[_serpentine(a, shape) for a in cg])
+def serpentine_gaps(setup, frames: Frames, coords, shape, solver, by_columns=False) -> CellGaps:
+    """:func:`cell_gaps` of each pair's points ``coords`` (Q, rows x columns, 2), row-major in ``shape``
+    (rows, columns), visited row by row (``by_columns``: column by column), every other one reversed:
+    each point starts its Newtons from its neighbour, on a line (normal_gaps extrapolates along it)."""
+    cg = cell_gaps(setup.geom, setup.flank, setup.errors, frames, _serpentine(coords, shape, by_columns), solver,
+                   setup.problem)
+    return CellGaps(*[_serpentine(a, shape, by_columns, back=True) for a in cg])
 
 
-def _serpentine(a, shape):
-    """a (Q, rows x columns, ...) with every other row reversed (its own inverse)."""
-    b = a.reshape(a.shape[:1] + shape + a.shape[2:]).copy()
-    b[:, 1::2] = b[:, 1::2, ::-1]
-    return b.reshape(a.shape)
+def _serpentine(a, shape, by_columns, back=False):
+    """a (Q, rows x columns, ...) row-major in ``shape`` put in the order its rows (``by_columns``: its
+    columns) are visited, every other one reversed; ``back``: the order undone."""
+    lead, tail = a.shape[:1], a.shape[2:]
+    walk = shape[::-1] if by_columns else shape
+    if by_columns and not back:
+        a = a.reshape(lead + shape + tail).swapaxes(1, 2)
+    b = a.reshape(lead + walk + tail).copy()
+    b[:, 1::2] = b[:, 1::2, ::-1]  # its own inverse
+    if by_columns and back:
+        b = b.swapaxes(1, 2)
+    return np.ascontiguousarray(b).reshape(lead + (-1,) + tail)
 
 
 class PrincipalFrame(typing.NamedTuple):
@@ -173,7 +181,7 @@ def grid_gaps(setup, grid, need, solver, shift_mm=None) -> PairGap:
     cx = ux[None, :, None] * X[:, None, None] + shift[:, None, :]  # (Q, nx, ny)
     cy = np.broadcast_to(yc[:, None, :], cx.shape)
     coords = np.stack([cx, cy], axis=-1).reshape(jj.size, nx * ny, 2)
-    cg = serpentine_gaps(setup, frames, coords, (nx, ny), solver)
+    cg = serpentine_gaps(setup, frames, coords, (nx, ny), solver, by_columns=True)  # short steps across
     closure = -setup.gear_sign * cg.gap_D_gear_angle
     arm = setup.pinion_sign * cg.pinion_arm_mm
     with np.errstate(invalid="ignore"):
