@@ -90,11 +90,15 @@ def normal_gaps(problem, request, out):
     for m in range(M):
         # continuation: the previous point of the same pair, when it converged, is the start; when the
         # point before it converged too and the three lie on a line, the start is extrapolated along it
+        # (quadratically from three points at equal steps)
         warm = warm and m > 0 and pair_of_point[m - 1] == pair_of_point[m]
         t = _line_step(request, out, m) if warm else 0.0
-        ok = _normal_gap_point(problem, request, m, out, w, warm, t)
-        if not ok and t != 0.0:  # the extrapolated start failed: again from the previous point
-            ok = _normal_gap_point(problem, request, m, out, w, warm, 0.0)
+        quad = abs(t - 1.0) < 1e-9 and m >= 3 and abs(_line_step(request, out, m - 1) - 1.0) < 1e-9
+        ok = _normal_gap_point(problem, request, m, out, w, warm, t, quad)
+        if not ok and quad:  # an extrapolated start failed: again from fewer points
+            ok = _normal_gap_point(problem, request, m, out, w, warm, t, False)
+        if not ok and t != 0.0:
+            ok = _normal_gap_point(problem, request, m, out, w, warm, 0.0, False)
         warm = ok
 
 
@@ -118,10 +122,22 @@ def _line_step(request, out, m):
     return t if 0.5 <= t <= 2.0 else 0.0
 
 
-def _normal_gap_point(problem, request, m, out, w, warm, t):
+def _ahead(a, m, c, t, quad):
+    """Column c of the rows before row m of ``a`` carried on to row m: row m - 1 (t = 0), extrapolated
+    by t times its step from row m - 2, or (``quad``) the parabola through rows m - 3 .. m - 1 at equal
+    steps."""
+    v = a[m - 1, c]
+    if t == 0.0:  # (rows before m - 1 are only read when used: they may not exist)
+        return v
+    if quad:
+        return 3.0 * (v - a[m - 2, c]) + a[m - 3, c]
+    return v + t * (v - a[m - 2, c])
+
+
+def _normal_gap_point(problem, request, m, out, w, warm, t, quad):
     """Point m of :func:`normal_gaps` with the caller's :class:`GapScratch` w; starts from the previous
-    point's solution when ``warm`` (extrapolated by ``t`` times its step from the point before it:
-    :func:`_line_step`), else from start[q].  True if it converged."""
+    point's solution when ``warm`` (extrapolated along the line of the points before it: :func:`_ahead`
+    with t from :func:`_line_step`), else from start[q].  True if it converged."""
     q = request.pair_of_point[m]
     coords, start, origin, axes = request.coords, request.start, request.origin, request.axes
     rotation, tol, max_iter = request.rotation, request.tol_mm, request.max_iter
@@ -131,14 +147,8 @@ def _normal_gap_point(problem, request, m, out, w, warm, t):
     gap = 0.0
     if warm:
         pl, gl = out.pinion_lu, out.gear_lu_gap
-        x[PINION_L], x[PINION_U] = pl[m - 1, 0], pl[m - 1, 1]
-        x[GEAR_L], x[GEAR_U], gap = gl[m - 1, 0], gl[m - 1, 1], gl[m - 1, 2]
-        if t != 0.0:  # (point m - 2 is only read then: it may not exist)
-            x[PINION_L] += t * (pl[m - 1, 0] - pl[m - 2, 0])
-            x[PINION_U] += t * (pl[m - 1, 1] - pl[m - 2, 1])
-            x[GEAR_L] += t * (gl[m - 1, 0] - gl[m - 2, 0])
-            x[GEAR_U] += t * (gl[m - 1, 1] - gl[m - 2, 1])
-            gap += t * (gl[m - 1, 2] - gl[m - 2, 2])
+        x[PINION_L], x[PINION_U] = _ahead(pl, m, 0, t, quad), _ahead(pl, m, 1, t, quad)
+        x[GEAR_L], x[GEAR_U], gap = _ahead(gl, m, 0, t, quad), _ahead(gl, m, 1, t, quad), _ahead(gl, m, 2, t, quad)
         x[GEAR_ANGLE] = start[q, GEAR_ANGLE]
     else:
         for i in range(N_UNKNOWNS):
