@@ -63,8 +63,10 @@ def summary(result) -> dict:
     """The per-run numbers of the torque map and the tolerance box: ``te_peak_to_peak_urad``,
     ``max_pressure_mpa`` (the largest pair_max_pressure_mpa, edge peaks included),
     ``root_stress_max_mpa`` {member} (nan with the plate tooth), ``mesh_stiffness_mean_n_per_um``,
-    ``mesh_stiffness_peak_to_peak_n_per_um`` (nan where not known), ``edge_contact`` (an edge peak anywhere)."""
-    k = np.asarray(result.mesh_stiffness_n_per_um if result.mesh_stiffness_n_per_um is not None else [], float)
+    ``mesh_stiffness_peak_to_peak_n_per_um`` (nan where not known), ``edge_contact`` (an edge peak anywhere).
+    The stiffness statistics are over the cycle's N - 1 distinct states, as :func:`te_harmonics`: the
+    last position is the first one a pitch later, counted once."""
+    k = np.asarray(result.mesh_stiffness_n_per_um if result.mesh_stiffness_n_per_um is not None else [], float)[:-1]
     k = k[np.isfinite(k)]
     root = result.root_stress_max_mpa()
     return {"te_peak_to_peak_urad": result.loaded_te_peak_to_peak * 1e6,

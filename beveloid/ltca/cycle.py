@@ -145,13 +145,19 @@ class Solution(typing.NamedTuple):
 
 class Problem(typing.NamedTuple):
     """One :func:`solve_many` problem: the positions ``positions`` (None: all) of ``setup`` on
-    ``grid`` under ``torque_nm``; only the pairs in ``need`` (N, P) are gridded."""
+    ``grid`` under ``torque_nm``; only the pairs in ``need`` (N, P) are gridded.  ``start``: a Solution
+    of the same setup and torque on another grid, whose contact set mapped onto this grid
+    (:func:`mapped_contact`) starts the active-set iteration (the solution does not depend on the start,
+    only the iterations to it do); None: the uncoupled estimate.  ``shift_mm`` (N, P, along cells): the
+    across offsets of the along-columns (:func:`beveloid.ltca.gaps.grid_gaps`) when known, None: probed."""
 
     setup: Setup
     grid: typing.Any  # grid.PairGrid
     need: np.ndarray
     torque_nm: float
     positions: typing.Any = None
+    start: typing.Any = None  # Solution
+    shift_mm: typing.Any = None
 
 
 def solve(setup: Setup, grid, need, torque_nm, e_star_mpa, teeth, positions=None) -> Solution:
@@ -170,7 +176,7 @@ def solve_many(problems, e_star_mpa, teeth) -> list:
         todo = np.zeros(N, dtype=bool)
         todo[list(range(N)) if pr.positions is None else list(pr.positions)] = True
         need = pr.need & todo[:, None] & pr.setup.solved & pr.setup.has_reference[:, None]
-        gap = gaps.grid_gaps(pr.setup, pr.grid, need, pr.setup.solver)
+        gap = gaps.grid_gaps(pr.setup, pr.grid, need, pr.setup.solver, pr.shift_mm)
         live = todo & gap.in_flank.any(axis=(1, 2))
         parts.append((pr, gap, todo, live))
         rows.append(np.flatnonzero(live))
@@ -201,10 +207,16 @@ def solve_many(problems, e_star_mpa, teeth) -> list:
         blocks = buffer[:jj.size * P]
         position_blocks(pr.grid, gap, jj, inside.any(axis=-1), e_star_mpa, teeth, solver, blocks)
         off = (np.arange(jj.size * P, dtype=np.int64) * n * n).reshape(jj.size, P)
-        k.solve_positions(blocks.reshape(-1), off, np.arange(P, dtype=np.int64) * n, np.full(P, n, dtype=np.int64),
-                          np.ones((jj.size, P), dtype=np.bool_), h, w, at, pr.torque_nm * 1e3 / r1, limits.tolerance,
-                          limits.max_iterations, np.zeros((jj.size, 1), dtype=np.bool_), np.zeros(jj.size, dtype=np.bool_),
-                          p[sl], result[sl])
+        if pr.start is None:
+            starts = np.zeros((jj.size, 1), dtype=np.bool_)
+        else:
+            starts = np.ascontiguousarray(mapped_contact(pr.start, pr.grid, gap)[jj].reshape(jj.size, -1))
+        k.solve_positions(kernel.Layout(blocks.reshape(-1), off, np.arange(P, dtype=np.int64) * n,
+                                        np.full(P, n, dtype=np.int64), np.ones((jj.size, P), dtype=np.bool_)),
+                          kernel.Cells(h, w, at, pr.torque_nm * 1e3 / r1),
+                          kernel.Start(limits.tolerance, limits.max_iterations, starts,
+                                       np.full(jj.size, pr.start is not None)),
+                          kernel.Output(p[sl], result[sl]))
     out, at_row = [], 0
     for (pr, gap, todo, live), jj in zip(parts, rows):
         N = pr.need.shape[0]
@@ -225,6 +237,29 @@ def solve_many(problems, e_star_mpa, teeth) -> list:
                             rotation_rad=rotation, approach_mm=approach, iterations=it, complementarity_residual=comp,
                             load_residual=lres))
     return out
+
+
+def mapped_contact(source: Solution, grid, gap) -> np.ndarray:
+    """(N, P, cells) the cells of ``grid`` (its columns placed by ``gap``) on the flanks whose centre
+    lies in a loaded cell of ``source`` (a converged Solution of the same frames on another grid): both
+    grids' cells in the pair's tangent-plane coordinates."""
+    sg = source.grid
+    sx, sy = sg.across_cells, sg.along_cells
+    nx, ny = grid.across_cells, grid.along_cells
+    N, P = grid.across_half_mm.shape
+    ux, uy = grid.unit_centres()
+    y = uy * grid.along_half_mm[..., None]  # (N, P, ny)
+    x = ux[:, None] * grid.across_half_mm[..., None, None] + gap.across_shift_mm[:, :, None, :]  # (N, P, nx, ny)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        j = np.floor((y / sg.along_half_mm[..., None] + 1.0) * (0.5 * sy))
+        j = np.where((j >= 0) & (j < sy), j, -1).astype(np.int64)  # nan (an ungridded pair) fails too
+        shift = np.take_along_axis(source.gap.across_shift_mm, np.maximum(j, 0), axis=-1)
+        i = np.floor(((x - shift[:, :, None, :]) / sg.across_half_mm[..., None, None] + 1.0) * (0.5 * sx))
+        i = np.where((i >= 0) & (i < sx) & (j >= 0)[:, :, None, :], i, -1).astype(np.int64)
+    loaded = (source.pressure_mpa > 0).reshape(N, P, sx, sy) & source.converged[:, None, None, None]
+    hit = loaded[np.arange(N)[:, None, None, None], np.arange(P)[None, :, None, None], np.maximum(i, 0),
+                 np.maximum(j, 0)[:, :, None, :]] & (i >= 0)
+    return hit.reshape(N, P, nx * ny) & gap.in_flank
 
 
 def masked_median(values, mask) -> np.ndarray:

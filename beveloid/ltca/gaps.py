@@ -71,6 +71,29 @@ def cell_gaps(geom, flank, errors, frames: Frames, coords, solver, problem=None)
                     on_flanks=r(on), pinion_lu=r(lu), pinion_point=r(p1), gear_point=r(p2), margin_mm=r(margin))
 
 
+def serpentine_gaps(setup, frames: Frames, coords, shape, solver, by_columns=False) -> CellGaps:
+    """:func:`cell_gaps` of each pair's points ``coords`` (Q, rows x columns, 2), row-major in ``shape``
+    (rows, columns), visited row by row (``by_columns``: column by column), every other one reversed:
+    each point starts its Newtons from its neighbour, on a line (normal_gaps extrapolates along it)."""
+    cg = cell_gaps(setup.geom, setup.flank, setup.errors, frames, _serpentine(coords, shape, by_columns), solver,
+                   setup.problem)
+    return CellGaps(*[_serpentine(a, shape, by_columns, back=True) for a in cg])
+
+
+def _serpentine(a, shape, by_columns, back=False):
+    """a (Q, rows x columns, ...) row-major in ``shape`` put in the order its rows (``by_columns``: its
+    columns) are visited, every other one reversed; ``back``: the order undone."""
+    lead, tail = a.shape[:1], a.shape[2:]
+    walk = shape[::-1] if by_columns else shape
+    if by_columns and not back:
+        a = a.reshape(lead + shape + tail).swapaxes(1, 2)
+    b = a.reshape(lead + walk + tail).copy()
+    b[:, 1::2] = b[:, 1::2, ::-1]  # its own inverse
+    if by_columns and back:
+        b = b.swapaxes(1, 2)
+    return np.ascontiguousarray(b).reshape(lead + (-1,) + tail)
+
+
 class PrincipalFrame(typing.NamedTuple):
     axes: np.ndarray  # (..., 2, 3) (across, along) in S_1
     origin: np.ndarray  # (..., 3) the tangency on the pinion flank, S_1
@@ -137,11 +160,12 @@ def empty_gap(N, P, n, ny) -> PairGap:
                    pinion_lu=np.full((N, P, n, 2), np.nan), across_shift_mm=np.zeros((N, P, ny)))
 
 
-def grid_gaps(setup, grid, need, solver) -> PairGap:
+def grid_gaps(setup, grid, need, solver, shift_mm=None) -> PairGap:
     """The gap over ``grid`` (grid.PairGrid) for the (position, pair)s in ``need`` (N, P).
 
     The grid follows the unloaded contact line: each along-column is centred on the vertex of the
-    parabola through the gap at xi = -d, 0, +d (d = that grid's half-extent across)."""
+    parabola through the gap at xi = -d, 0, +d (d = that grid's half-extent across); ``shift_mm``
+    (N, P, along cells): these offsets instead (a grid of the same extents placed already)."""
     nx, ny = grid.across_cells, grid.along_cells
     N, P = need.shape
     out = empty_gap(N, P, nx * ny, ny)
@@ -153,20 +177,11 @@ def grid_gaps(setup, grid, need, solver) -> PairGap:
     X, Y = grid.across_half_mm[jj, kk], grid.along_half_mm[jj, kk]
     ux, uy = grid.unit_centres()  # (nx,), (ny,) in [-1, 1]
     yc = uy[None, :] * Y[:, None]  # (Q, ny)
-    probe = np.stack(np.broadcast_arrays((np.array([-1.0, 0.0, 1.0])[None, None, :] * X[:, None, None]),
-                                         yc[:, :, None]), axis=-1).reshape(jj.size, 3 * ny, 2)
-    h3 = cell_gaps(setup.geom, setup.flank, setup.errors, frames, probe, solver,
-                   setup.problem).gap_mm.reshape(jj.size, ny, 3)
-    d = X[:, None]
-    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
-        curv = h3[..., 0] - 2 * h3[..., 1] + h3[..., 2]
-        shift = np.where(curv > 0, 0.5 * d * (h3[..., 0] - h3[..., 2]) / curv, np.nan)
-        shift = np.where(np.isfinite(shift), np.clip(shift, -3 * d, 3 * d), np.nan)
-    shift = fill_nan_rows(shift)
+    shift = column_shifts(setup, frames, X, yc, solver) if shift_mm is None else shift_mm[jj, kk]
     cx = ux[None, :, None] * X[:, None, None] + shift[:, None, :]  # (Q, nx, ny)
     cy = np.broadcast_to(yc[:, None, :], cx.shape)
     coords = np.stack([cx, cy], axis=-1).reshape(jj.size, nx * ny, 2)
-    cg = cell_gaps(setup.geom, setup.flank, setup.errors, frames, coords, solver, setup.problem)
+    cg = serpentine_gaps(setup, frames, coords, (nx, ny), solver, by_columns=True)  # short steps across
     closure = -setup.gear_sign * cg.gap_D_gear_angle
     arm = setup.pinion_sign * cg.pinion_arm_mm
     with np.errstate(invalid="ignore"):
@@ -179,6 +194,22 @@ def grid_gaps(setup, grid, need, solver) -> PairGap:
     out.pinion_lu[jj, kk] = cg.pinion_lu
     out.across_shift_mm[jj, kk] = shift
     return out
+
+
+def column_shifts(setup, frames, X, yc, solver):
+    """(Q, ny) the across offset of each along-column at ``yc`` (Q, ny) of Q grids of half-extents
+    ``X`` (Q,) across: the vertex of the parabola through the gap at -X, 0, +X (clipped to 3 X; where
+    not found, the nearest column's)."""
+    ny = yc.shape[1]
+    probe = np.stack(np.broadcast_arrays((np.array([-1.0, 0.0, 1.0])[None, :, None] * X[:, None, None]),
+                                         yc[:, None, :]), axis=-1).reshape(X.size, 3 * ny, 2)
+    h3 = serpentine_gaps(setup, frames, probe, (3, ny), solver).gap_mm.reshape(X.size, 3, ny).transpose(0, 2, 1)
+    d = X[:, None]
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        curv = h3[..., 0] - 2 * h3[..., 1] + h3[..., 2]
+        shift = np.where(curv > 0, 0.5 * d * (h3[..., 0] - h3[..., 2]) / curv, np.nan)
+        shift = np.where(np.isfinite(shift), np.clip(shift, -3 * d, 3 * d), np.nan)
+    return fill_nan_rows(shift)
 
 
 def fill_nan_rows(a):

@@ -56,6 +56,19 @@ def coarser(n: int) -> int:
     return m + 1 - m % 2 if n % 2 else m
 
 
+def resample_along(a, n):
+    """a (..., m) given at the m along-cell centres of a grid, linearly interpolated at the n along-cell
+    centres of a grid of the same extent (n <= m: the centres lie inside the first grid's)."""
+    m = a.shape[-1]
+    w = np.zeros((n, m))  # the interpolation weights, one row per new centre
+    t = (centres(1.0, n) + 1.0) * 0.5 * m - 0.5  # the new centres in old cell indices
+    lo = np.clip(np.floor(t).astype(int), 0, m - 2)
+    f = t - lo
+    w[np.arange(n), lo] = 1.0 - f
+    w[np.arange(n), lo + 1] = f
+    return a @ w.T
+
+
 def edges(half, n):
     return np.linspace(-half, half, n + 1)
 

@@ -2,12 +2,11 @@
 implementation, run interpreted (the numpy backend) or compiled by numba (:func:`kernels`).
 
 A problem is a block-diagonal compliance given as dense square blocks stored one after the other
-in the flat array ``blocks`` (block b: ``size[b]`` x ``size[b]`` entries row-major from ``off[b]``,
-its cells ``start[b]`` .. ``start[b] + size[b]`` of the cell vectors), ``sym[b]`` when the block is
-symmetric (Cholesky, else Gaussian elimination with partial pivoting; a symmetric block that is
-not positive definite is solved by elimination too).  :func:`active_set` solves one problem (the
-method: lcp.py's docstring); :func:`solve_positions`, the entry point, solves many problems of
-equal block layout (the LTCA's mesh positions; one for ``lcp.solve_contact``) in one call.
+in a flat array (:class:`Layout`), each block symmetric (Cholesky, else Gaussian elimination with
+partial pivoting; a symmetric block that is not positive definite is solved by elimination too) or
+not.  :func:`active_set` solves one problem (the method: lcp.py's docstring); :func:`solve_positions`,
+the entry point, solves many problems of equal block layout (the LTCA's mesh positions; one for
+``lcp.solve_contact``) in one call.  Its arguments are the records below (numba reads named tuples).
 
 Result codes (``STATUS``): 0 converged, 1 the active set did not settle within the iterations,
 2 settled but the residuals are too large, 3 a singular trial set, 4 an empty contact set.
@@ -16,6 +15,7 @@ from __future__ import annotations
 
 import math
 import sys
+import typing
 
 import numpy as np
 
@@ -23,6 +23,57 @@ STATUS = ("converged", "not settled", "residuals too large", "singular trial con
 TINY = 2.2250738585072014e-308  # numpy.finfo(float).tiny
 #: the load residual a converged solve holds (relative)
 LOAD_TOL = 1e-9
+
+
+class Layout(typing.NamedTuple):
+    """The compliance of J problems of one block layout: problem j's block b is ``size[b]`` x ``size[b]``
+    entries of ``blocks`` row-major from ``off[j, b]``, over its cells ``start[b]`` .. ``start[b] +
+    size[b]``; ``sym[j, b]`` when it is symmetric."""
+
+    blocks: np.ndarray  # flat, float
+    off: np.ndarray  # (J, blocks) int64
+    start: np.ndarray  # (blocks,) int64
+    size: np.ndarray  # (blocks,) int64
+    sym: np.ndarray  # (J, blocks) bool
+
+
+class Cells(typing.NamedTuple):
+    """The cells of J problems (lcp.py's docstring): unloaded gap ``h`` (mm), approach weight ``w``, cell
+    area times load weight ``at`` (mm^2), each (J, n), and each problem's ``load`` (N) (J,)."""
+
+    h: np.ndarray
+    w: np.ndarray
+    at: np.ndarray
+    load: np.ndarray
+
+
+class Start(typing.NamedTuple):
+    """How the iterations run: the complementarity residual's relative ``tolerance``, the most
+    ``max_iterations``, and each problem's start set: ``starts[j]`` (J, n) where ``given[j]`` and it
+    holds a cell, else the uncoupled estimate (:func:`initial_set`; ``starts`` may then be (J, 1))."""
+
+    tolerance: float
+    max_iterations: int
+    starts: np.ndarray
+    given: np.ndarray
+
+
+class Output(typing.NamedTuple):
+    """Where :func:`solve_positions` writes: the cell pressures (J, n) (MPa) and per problem (J, 5) the
+    approach (mm), the iterations, the status code (``STATUS``), the complementarity and load residuals."""
+
+    pressure: np.ndarray
+    result: np.ndarray
+
+
+class Work(typing.NamedTuple):
+    """Scratch of one block's solve (:func:`_factor_solve`), room for the largest block (m cells): the
+    trial set's cell indices, the two right-hand sides, the two solutions, the factor."""
+
+    idx: np.ndarray  # (m,) int64
+    rhs: np.ndarray  # (m, 2)
+    sol: np.ndarray  # (m, 2)
+    factor: np.ndarray  # (m, m)
 
 
 def _dot(a, i, j, n):
@@ -41,8 +92,10 @@ def _dot(a, i, j, n):
     return (s0 + s1) + (s2 + s3)
 
 
-def _factor_solve(blocks, o, s, idx, m, sym, rhs, out, work):
-    """out[:m, :] = C[idx, idx]^-1 rhs[:m, :] (2 right-hand sides) for the block at offset o (size s)."""
+def _factor_solve(blocks, o, s, m, sym, wk):
+    """wk.sol[:m, :] = C[idx, idx]^-1 wk.rhs[:m, :] (2 right-hand sides; idx = wk.idx[:m]) for the block
+    at offset o of ``blocks`` (size s); False when singular."""
+    idx, rhs, out, work = wk.idx, wk.rhs, wk.sol, wk.factor
     for a in range(m):
         for b in range(m):
             work[a, b] = blocks[o + idx[a] * s + idx[b]]
@@ -154,19 +207,21 @@ def initial_set(h, w, diag, at, load, active):
         active[order[r]] = r <= j
 
 
-def active_set(blocks, off, start, size, sym, h, w, at, load, tol, max_iterations, active, p, result, seen):
-    """Solve one problem (module docstring) from the start set ``active`` (changed in place); the
-    pressures into ``p``, and into ``result``: approach, iterations, status code, complementarity
-    and load residuals.  ``seen`` (max_iterations, n) booleans: room for the sets tried (any content)."""
+def active_set(layout, cells, j, limits, active, out, seen):
+    """Solve problem j (module docstring) from the start set ``active`` (changed in place), the
+    :class:`Start` ``limits`` its tolerance and most iterations; its pressures and results into the
+    :class:`Output` ``out``.  ``seen`` (max_iterations, n) booleans: room for the sets tried (any content)."""
+    blocks, off, start, size, sym = layout.blocks, layout.off[j], layout.start, layout.size, layout.sym[j]
+    h, w, at, load = cells.h[j], cells.w[j], cells.at[j], cells.load[j]
+    tol, max_iterations = limits.tolerance, limits.max_iterations
+    p, result = out.pressure[j], out.result[j]
     n = h.size
     nb = off.size
     big = 0
     for b in range(nb):
         big = max(big, size[b])
-    work = np.empty((big, big))
-    rhs = np.empty((big, 2))
-    sol = np.empty((big, 2))
-    idx = np.empty(big, dtype=np.int64)
+    wk = Work(np.empty(big, dtype=np.int64), np.empty((big, 2)), np.empty((big, 2)), np.empty((big, big)))
+    idx, rhs, sol = wk.idx, wk.rhs, wk.sol
     xh = np.zeros(n)
     xw = np.zeros(n)
     cp = np.zeros(n)
@@ -193,7 +248,7 @@ def active_set(blocks, off, start, size, sym, h, w, at, load, tol, max_iteration
                     m += 1
             if m == 0:
                 continue
-            if not _factor_solve(blocks, o, s, idx, m, sym[b], rhs, sol, work):
+            if not _factor_solve(blocks, o, s, m, sym[b], wk):
                 singular = True
                 break
             for a in range(m):
@@ -296,15 +351,16 @@ def active_set(blocks, off, start, size, sym, h, w, at, load, tol, max_iteration
     result[4] = load_res
 
 
-def solve_positions(blocks, off, start, size, sym, h, w, at, load, tol, max_iterations, starts, given, p, result):
-    """:func:`active_set` of every problem j: blocks at offsets ``off[j]`` (all of the layout ``start``,
-    ``size``), cells ``h[j]``, ``w[j]``, ``at[j]``, load ``load[j]``, from the start set ``starts[j]`` where
-    ``given[j]`` (and it holds a cell), else from the uncoupled one (:func:`initial_set`); pressures into
-    ``p[j]``, results into ``result[j]``.  The one compiled entry of the contact solve."""
-    N, n = h.shape
+def solve_positions(layout, cells, limits, out):
+    """:func:`active_set` of every problem j of the :class:`Layout` ``layout`` and the :class:`Cells`
+    ``cells``, from the start sets and within the limits of the :class:`Start` ``limits``; into the
+    :class:`Output` ``out``.  The one compiled entry of the contact solve."""
+    blocks, off, start, size = layout.blocks, layout.off, layout.start, layout.size
+    starts, given = limits.starts, limits.given
+    N, n = cells.h.shape
     active = np.zeros(n, dtype=np.bool_)
     diag = np.empty(n)
-    seen = np.empty((max_iterations, n), dtype=np.bool_)
+    seen = np.empty((limits.max_iterations, n), dtype=np.bool_)
     for j in range(N):
         any_given = False
         if given[j]:
@@ -315,9 +371,8 @@ def solve_positions(blocks, off, start, size, sym, h, w, at, load, tol, max_iter
             for b in range(start.size):
                 for i in range(size[b]):
                     diag[start[b] + i] = blocks[off[j, b] + i * size[b] + i]
-            initial_set(h[j], w[j], diag, at[j], load[j], active)
-        active_set(blocks, off[j], start, size, sym[j], h[j], w[j], at[j], load[j], tol, max_iterations, active,
-                   p[j], result[j], seen)
+            initial_set(cells.h[j], cells.w[j], diag, cells.at[j], cells.load[j], active)
+        active_set(layout, cells, j, limits, active, out, seen)
 
 
 def assemble(d, tooth, area, loaded, nx, ny, out):

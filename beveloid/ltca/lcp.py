@@ -187,9 +187,11 @@ def solve_contact(
     blocks, off, start, size, sym = ops.flat
     p = np.zeros((1, n))
     results = np.zeros((1, 5))
-    k.solve_positions(blocks, off[None], start, size, sym[None], h[None], w[None], at[None], np.array([float(load)]),
-                      float(tol), int(max_iterations), np.ascontiguousarray(active[None]),
-                      np.array([initial_contact is not None]), p, results)
+    k.solve_positions(kernel.Layout(blocks, off[None], start, size, sym[None]),
+                      kernel.Cells(h[None], w[None], at[None], np.array([float(load)])),
+                      kernel.Start(float(tol), int(max_iterations), np.ascontiguousarray(active[None]),
+                                   np.array([initial_contact is not None])),
+                      kernel.Output(p, results))
     p, result = p[0], results[0]
     delta, it, code, comp, load_res = result
     code = int(code)

@@ -88,23 +88,70 @@ def normal_gaps(problem, request, out):
         w.s.e[i] = request.errors[i]
     warm = False
     for m in range(M):
-        # continuation: the previous point of the same pair, when it converged, is the start
+        # continuation: the previous point of the same pair, when it converged, is the start; when the
+        # point before it converged too and the three lie on a line, the start is extrapolated along it
+        # (quadratically from three points at equal steps)
         warm = warm and m > 0 and pair_of_point[m - 1] == pair_of_point[m]
-        warm = _normal_gap_point(problem, request, m, out, w, warm)
+        t = _line_step(request, out, m) if warm else 0.0
+        quad = abs(t - 1.0) < 1e-9 and m >= 3 and abs(_line_step(request, out, m - 1) - 1.0) < 1e-9
+        ok = _normal_gap_point(problem, request, m, out, w, warm, t, quad)
+        if not ok and quad:  # an extrapolated start failed: again from fewer points
+            ok = _normal_gap_point(problem, request, m, out, w, warm, t, False)
+        if not ok and t != 0.0:
+            ok = _normal_gap_point(problem, request, m, out, w, warm, 0.0, False)
+        warm = ok
 
 
-def _normal_gap_point(problem, request, m, out, w, warm):
-    """Point m of :func:`normal_gaps` with the caller's :class:`GapScratch` w; starts from w.x as
-    it is (the previous point's solution) when ``warm``, else from start[q].  True if it
-    converged."""
+def _line_step(request, out, m):
+    """The step from point m - 1 to point m in units of the step from m - 2 to m - 1 when the three
+    points of one pair lie on a line (cosine > 0.9) at steps within a factor of two of each other, both
+    earlier points converged; else 0 (no extrapolation)."""
+    if m < 2 or request.pair_of_point[m - 2] != request.pair_of_point[m] or out.ok[m - 2] != 1:
+        return 0.0
+    c = request.coords
+    a0 = c[m - 1, 0] - c[m - 2, 0]
+    a1 = c[m - 1, 1] - c[m - 2, 1]
+    b0 = c[m, 0] - c[m - 1, 0]
+    b1 = c[m, 1] - c[m - 1, 1]
+    aa = a0 * a0 + a1 * a1
+    bb = b0 * b0 + b1 * b1
+    ab = a0 * b0 + a1 * b1
+    if not (aa > 0.0 and bb > 0.0 and ab > 0.9 * math.sqrt(aa * bb)):
+        return 0.0
+    t = ab / aa
+    return t if 0.5 <= t <= 2.0 else 0.0
+
+
+def _ahead(a, m, c, t, quad):
+    """Column c of the rows before row m of ``a`` carried on to row m: row m - 1 (t = 0), extrapolated
+    by t times its step from row m - 2, or (``quad``) the parabola through rows m - 3 .. m - 1 at equal
+    steps."""
+    v = a[m - 1, c]
+    if t == 0.0:  # (rows before m - 1 are only read when used: they may not exist)
+        return v
+    if quad:
+        return 3.0 * (v - a[m - 2, c]) + a[m - 3, c]
+    return v + t * (v - a[m - 2, c])
+
+
+def _normal_gap_point(problem, request, m, out, w, warm, t, quad):
+    """Point m of :func:`normal_gaps` with the caller's :class:`GapScratch` w; starts from the previous
+    point's solution when ``warm`` (extrapolated along the line of the points before it: :func:`_ahead`
+    with t from :func:`_line_step`), else from start[q].  True if it converged."""
     q = request.pair_of_point[m]
     coords, start, origin, axes = request.coords, request.start, request.origin, request.axes
     rotation, tol, max_iter = request.rotation, request.tol_mm, request.max_iter
     s, x, pt, nm, dp, dn = w.s, w.x, w.point, w.normal, w.point_D_lu, w.normal_D_lu
     nf, A, g = w.normal_f, w.matrix, w.rhs
     F, J, Jp, dx = s.system.F, s.system.J, s.system.Jp, s.dx
-    for i in range(N_UNKNOWNS):
-        if not warm or i == GEAR_ANGLE:
+    gap = 0.0
+    if warm:
+        pl, gl = out.pinion_lu, out.gear_lu_gap
+        x[PINION_L], x[PINION_U] = _ahead(pl, m, 0, t, quad), _ahead(pl, m, 1, t, quad)
+        x[GEAR_L], x[GEAR_U], gap = _ahead(gl, m, 0, t, quad), _ahead(gl, m, 1, t, quad), _ahead(gl, m, 2, t, quad)
+        x[GEAR_ANGLE] = start[q, GEAR_ANGLE]
+    else:
+        for i in range(N_UNKNOWNS):
             x[i] = start[q, i]
     ok1 = False
     last = 1e300
@@ -140,7 +187,6 @@ def _normal_gap_point(problem, request, m, out, w, warm):
     out.pinion_lu[m, 1] = x[PINION_U]
     for i in range(3):
         nf[i] = rotation[q, i, 0] * nm[0] + rotation[q, i, 1] * nm[1] + rotation[q, i, 2] * nm[2]
-    gap = 0.0
     ok2 = False
     last = 1e300
     if ok1:

@@ -239,6 +239,48 @@ def test_gap_backends_agree(geom1):
         assert np.allclose(getattr(a, name)[on], getattr(b, name)[on], rtol=1e-9, atol=1e-8), name
 
 
+def test_a_gap_does_not_depend_on_the_order_of_its_points(geom1):
+    """normal_gaps starts each point's Newtons from the previous point's solution, extrapolated along a
+    line of points: in any order the same flags and, to the Newtons' tolerance, the same gaps; and it
+    reads no output row it has not written (the output arrays hold NaN and 'converged' before)."""
+    from beveloid.ltca import gaps
+    from beveloid.ltca.cycle import Setup
+    from beveloid.solver import Solver
+    from beveloid.solver.core import on_patch
+    from beveloid.solver.records import GapOutput, GapRequest
+
+    solver = Solver()
+    setup = Setup(geom1, "right", np.zeros(5), 4, 3, solver)
+    xs, ys = np.meshgrid(np.linspace(-1.0, 1.0, 4), np.linspace(-30, 30, 9), indexing="ij")
+    coords = np.stack([xs.ravel(), ys.ravel()], axis=-1)  # rows along the line, off the flanks at both ends
+    M = coords.shape[0]
+    fr = gaps.Frames(setup.start[1, 1:2], setup.pair_phi1[1, 1:2], setup.frame.origin[1, 1:2], setup.frame.axes[1, 1:2])
+
+    def solved(order):
+        rotation = gaps.placement.pinion_placement(fr.pinion_angle, geom1.placement()).rotation
+        req = GapRequest(pair_of_point=np.zeros(M, dtype=np.int64), coords=np.ascontiguousarray(coords[order]),
+                         start=fr.start, pinion_angle=fr.pinion_angle, origin=fr.origin, axes=fr.axes,
+                         rotation=np.ascontiguousarray(rotation), errors=setup.errors, tol_mm=gaps.NEWTON_TOL_MM,
+                         max_iter=gaps.NEWTON_ITERATIONS)
+        out = GapOutput(pinion_lu=np.full((M, 2), np.nan), gear_lu_gap=np.full((M, 3), np.nan),
+                        rates=np.full((M, 2), np.nan), margin=np.full(M, np.nan), ok=np.ones(M, dtype=np.int64),
+                        pinion_point=np.full((M, 3), np.nan), gear_point=np.full((M, 3), np.nan))
+        solver.core.normal_gaps(setup.problem, req, out)
+        back = np.argsort(order)
+        on = (out.ok == 1) & on_patch(out.margin, solver.options.patch_tol_mm)
+        return on[back], out.gear_lu_gap[back, 2]
+
+    rows = np.arange(M)
+    snake = rows.reshape(xs.shape).copy()
+    snake[1::2] = snake[1::2, ::-1].copy()
+    ok, gap = solved(rows)
+    assert ok.any() and not ok.all()
+    for order in (snake.ravel(), rows[::-1], np.random.default_rng(3).permutation(M)):
+        ok2, gap2 = solved(order)
+        assert np.array_equal(ok, ok2)
+        assert np.allclose(gap[ok], gap2[ok], rtol=0.0, atol=1e-8)
+
+
 def test_pattern_colour_scale_is_the_surface_peak_not_the_edge_spike(geom1, loaded200):
     """Case 1 at 200 N m has edge peaks (singular, grid-dependent) far above the surface peak; the
     pattern's colour runs to the surface peak over the cycle and its colour bar says that more lies

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from beveloid import cli, ltca, sweep
-from beveloid.ltca.batch import MESH_ORDERS, gear_base_radius_mm, te_harmonics
+from beveloid.ltca.batch import MESH_ORDERS, gear_base_radius_mm, summary, te_harmonics
 from beveloid.pair import Pair
 
 CASE1 = Path(__file__).resolve().parents[2] / "examples" / "case1.toml"
@@ -84,9 +84,31 @@ def test_harmonics_of_a_run_keep_its_power(pair):
     d = r.to_json_dict(pair.geometry)
     assert d["te_harmonics_mesh_orders"] == list(MESH_ORDERS)
     assert d["te_harmonics_um"][0] == pytest.approx(h[0] * gear_base_radius_mm(pair.geometry) * 1e3)
+    # the stiffness over the same N - 1 states as the harmonics: the end state (the first a pitch later) once
     k = r.mesh_stiffness_n_per_um
-    assert d["mesh_stiffness_mean_n_per_um"] == pytest.approx(np.mean(k))
-    assert d["mesh_stiffness_peak_to_peak_n_per_um"] == pytest.approx(np.ptp(k))
+    assert k[-1] == pytest.approx(k[0], rel=1e-3) and np.all(np.isfinite(k))
+    assert d["mesh_stiffness_mean_n_per_um"] == pytest.approx(np.mean(k[:-1]), rel=1e-12)
+    assert d["mesh_stiffness_peak_to_peak_n_per_um"] == pytest.approx(np.ptp(k[:-1]), rel=1e-12)
+
+
+class _Stiffness(_TE):
+    """A run whose only numbers are its loaded TE and its mesh stiffness (what ``summary`` reads of them)."""
+
+    def __init__(self, k):
+        super().__init__(np.zeros(len(k)))
+        self.mesh_stiffness_n_per_um = np.asarray(k, float)
+        self.loaded_te_peak_to_peak = 0.0
+        self.pair_max_pressure_mpa = self.pair_edge_max_pressure_mpa = np.full((len(k), 1), np.nan)
+
+    def root_stress_max_mpa(self):
+        return {}
+
+
+def test_mesh_stiffness_counts_the_repeated_end_state_once():
+    # one cycle sampled at 4 states, the 5th the first a pitch later: mean 2.5, not (10 + 1) / 5 = 2.2
+    s = summary(_Stiffness([1.0, 2.0, 3.0, 4.0, 1.0]))
+    assert s["mesh_stiffness_mean_n_per_um"] == 2.5 and s["mesh_stiffness_peak_to_peak_n_per_um"] == 3.0
+    assert math.isnan(summary(_Stiffness([1.0, np.nan, np.nan, 5.0]))["mesh_stiffness_peak_to_peak_n_per_um"])
 
 
 def _cli(capsys, *args):
@@ -191,3 +213,66 @@ def test_the_compiled_and_interpreted_contact_kernels_agree(monkeypatch):
         a = solved()
     assert a.converged and b.converged and a.iterations == b.iterations
     assert np.allclose(a.pressure_mpa, b.pressure_mpa, rtol=1e-10, atol=1e-10 * a.pressure_mpa.max())
+
+
+def test_a_pass_started_from_the_previous_ones_contact_set_solves_the_same(monkeypatch, pair):
+    """The result and check passes start from the previous pass's contact set mapped onto their grids
+    (cycle.mapped_contact); the solution of the contact problem does not depend on the start: the same
+    numbers as from the uncoupled estimate, in fewer iterations."""
+    from beveloid.ltca import cycle
+
+    warm = ltca.analyze(pair, ltca.Options(torque_nm=150.0, **SMALL))
+    with monkeypatch.context() as m:
+        m.setattr(cycle, "mapped_contact", lambda source, grid, gap: np.zeros_like(gap.in_flank))
+        cold = ltca.analyze(pair, ltca.Options(torque_nm=150.0, **SMALL))
+    for name in ("loaded_te", "pair_load_n", "pair_max_pressure_mpa", "mesh_stiffness_n_per_um"):
+        _same(getattr(warm, name), getattr(cold, name), rtol=1e-10)
+    assert np.array_equal(warm.convergence.pressure_change, cold.convergence.pressure_change, equal_nan=True)
+    assert warm.iterations.sum() < cold.iterations.sum()
+
+
+def test_a_mapped_contact_set_follows_the_cells_in_the_tangent_plane():
+    """The same grid maps onto itself; a grid moved across by one cell of the source maps the set moved
+    by one cell; twice the cells, each source cell becomes 2 x 2 cells; off-flank cells never start."""
+    from beveloid.ltca import cycle, gaps
+    from beveloid.ltca.grid import PairGrid
+
+    nx, ny = 5, 7
+    src_grid = PairGrid(nx, ny, np.full((1, 1), 1.0), np.full((1, 1), 3.5))
+    loaded = np.zeros((nx, ny), bool)
+    loaded[1:3, 2:5] = True
+    shift = np.linspace(-0.1, 0.1, ny)[None, None, :]
+
+    def gap(grid, columns_shift):
+        g = gaps.empty_gap(1, 1, grid.cells, grid.along_cells)
+        return g._replace(in_flank=np.ones_like(g.in_flank), across_shift_mm=columns_shift + np.zeros((1, 1, 1)))
+
+    src_gap = gap(src_grid, shift)
+    src = cycle.Solution(grid=src_grid, gap=src_gap, pressure_mpa=np.where(loaded, 1.0, 0.0).reshape(1, 1, -1),
+                         converged=np.ones(1, bool), no_contact=np.zeros(1, bool), rotation_rad=np.zeros(1),
+                         approach_mm=np.zeros(1), iterations=np.zeros(1, int),
+                         complementarity_residual=np.zeros(1), load_residual=np.zeros(1))
+    same = cycle.mapped_contact(src, src_grid, src_gap).reshape(nx, ny)
+    assert np.array_equal(same, loaded)
+    moved = cycle.mapped_contact(src, src_grid, gap(src_grid, shift + 2.0 / nx)).reshape(nx, ny)
+    assert np.array_equal(moved[:-1], loaded[1:]) and not moved[-1].any()
+    fine = PairGrid(2 * nx, 2 * ny, src_grid.across_half_mm, src_grid.along_half_mm)
+    fine_gap = gap(fine, np.repeat(shift, 2, axis=-1))
+    got = cycle.mapped_contact(src, fine, fine_gap).reshape(2 * nx, 2 * ny)
+    assert np.array_equal(got, np.repeat(np.repeat(loaded, 2, axis=0), 2, axis=1))
+    off = fine_gap._replace(in_flank=np.zeros_like(fine_gap.in_flank))
+    assert not cycle.mapped_contact(src, fine, off).any()
+    not_converged = src._replace(converged=np.zeros(1, bool))
+    assert not cycle.mapped_contact(not_converged, fine, fine_gap).any()
+
+
+def test_column_offsets_resampled_onto_a_coarser_grid_of_the_same_extent():
+    """The check grid's along-columns take the result grid's offsets, linearly interpolated at its own
+    column centres: a linear function of the along coordinate is kept exactly; a kink is not invented."""
+    from beveloid.ltca.grid import centres, resample_along
+
+    y17, y11 = centres(1.0, 17), centres(1.0, 11)
+    a = np.stack([0.3 - 2.0 * y17, np.abs(y17)])
+    got = resample_along(a, 11)
+    assert np.allclose(got[0], 0.3 - 2.0 * y11, rtol=0, atol=1e-14)
+    assert np.all(got[1] >= np.abs(y11) - 1e-14) and np.all(got[1] <= np.abs(y11) + 2 / 17)
