@@ -100,9 +100,9 @@ def _interrupt(argv, tmp_path, ready, wait_s=1.0):
 # STL is written ~0.5 s after its folder is made: 0.3 s was too late once the mesh's checks got faster)
 # paper: 3 s after its folder appears, its worker processes are up and at work (a Ctrl-C while they are
 # still being spawned is tests/studies/test_studies_tasks.py's, without this test's race against the load)
-@pytest.mark.parametrize("argv, wait_s", [(["paper", "--positions", "10", "--out", "{out}"], 3.0),
-                                          (["export", C1, "--format", "stl", "--out", "{out}"], 0.0)],
-                         ids=["paper", "export"])
+@pytest.mark.parametrize("argv, wait_s", [
+    pytest.param(["paper", "--positions", "10", "--out", "{out}"], 3.0, marks=pytest.mark.slow),  # waits 3 s by design
+    (["export", C1, "--format", "stl", "--out", "{out}"], 0.0)], ids=["paper", "export"])
 def test_ctrl_c_removes_the_folder_it_made_and_left_empty(tmp_path, argv, wait_s, compiled_solver):
     out = tmp_path / "run_out"
     rc, _, err = _interrupt([a.format(out=out) for a in argv], tmp_path, out.exists, wait_s=wait_s)

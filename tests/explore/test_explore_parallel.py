@@ -68,6 +68,7 @@ def test_local_workers_equal_one_worker(case1, tmp_path, capsys):
     assert _sweep(case1, capsys, "--workers", "2") == _sweep(case1, capsys) == _sweep(case1, capsys, "--workers", "1")
 
 
+@pytest.mark.slow  # a real Dask cluster (~10 s of the fast tier); .ci/run runs it
 @pytest.mark.long_running
 def test_dask_cluster_equals_local(case1, tmp_path, capsys, cluster):
     local = _explore(case1, tmp_path / "local", capsys, "--workers", "1")
