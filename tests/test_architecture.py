@@ -220,9 +220,7 @@ def test_the_older_call_forms_are_refused():
 
 
 #: (file, status string) still written as a literal outside beveloid/status.py, owned by other work items
-PENDING_STATUS_LITERALS = {
-    # the LTCA's rigid mesh study reads the TCA point statuses (issue 43 rewrites ltca/cycle.py)
-    ("beveloid/ltca/cycle.py", "ok"), ("beveloid/ltca/cycle.py", "edge"), ("beveloid/ltca/cycle.py", "failed")}
+PENDING_STATUS_LITERALS: set = set()
 
 
 def _status_values() -> set:

@@ -18,6 +18,7 @@ import typing
 import numpy as np
 
 from .. import tca
+from ..status import PointStatus
 from . import gaps, halfspace, kernel, lcp
 from .compliance import pair_tooth_compliances
 from .grid import edges
@@ -43,14 +44,14 @@ class Setup:
         self.phi1 = fr.pinion_angle[:positions]
         x = fr.unknowns.reshape(pairs, positions, 5).transpose(1, 0, 2)  # (N, P, 5) pair 0 unknowns
         status = np.asarray(fr.status, dtype=object).reshape(pairs, positions).T
-        self.solved = np.array([[s != "failed" for s in row] for row in status], dtype=bool)
+        self.solved = np.array([[s != PointStatus.FAILED for s in row] for row in status], dtype=bool)
         # a tangency the rigid TCA did not solve between two solved positions of the same pair: the
         # interpolation of its neighbours places that pair's grid (the gap itself is measured on the
         # true surfaces), so a loaded pair never drops out of one position
         x, self.interpolated = _fill_between(x, self.phi1, self.solved)
         self.solved |= self.interpolated
         # the tangency lies on both flanks: its patch is a surface contact
-        self.on_flank = np.array([[s in ("ok", "edge") for s in row] for row in status], dtype=bool)
+        self.on_flank = np.array([[s in (PointStatus.OK, PointStatus.EDGE) for s in row] for row in status], dtype=bool)
         te = fr.transmission_error.reshape(pairs, positions).T
         active = fr.active.reshape(pairs, positions).T
         self.unloaded_te = np.array([te[j][active[j]][0] if active[j].any() else np.nan for j in range(positions)])

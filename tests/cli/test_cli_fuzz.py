@@ -448,6 +448,7 @@ def test_in_range_specs_fixed_seed(data):
     _check_spec(data, export_share=4)
 
 
+@pytest.mark.slow  # with the fixed seed's: .ci/run runs both
 @pytest.mark.long_running
 @pytest.mark.usefixtures("compiled_solver")
 @seed(ROTATING_SEED)
