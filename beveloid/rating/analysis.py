@@ -127,9 +127,11 @@ def loaded_contact(ltca_result, geometry, face_width_mm: float) -> LoadedContact
         notes.append("local root stress: not computed (the LTCA ran with the plate tooth, which has no root "
                      "fillet; --tooth-model fe): root_stress_max_mpa and safety_bending are null, the ISO "
                      "bending values stand alone")
-    stiff = ltca_result.mesh_stiffness_n_per_um
-    stiff = None if stiff is None else stiff[ok & np.isfinite(stiff)]
-    k_mesh = float(np.mean(stiff)) if stiff is not None and stiff.size else None
+    from ..ltca.batch import summary as ltca_summary
+
+    # the mean over the cycle's distinct states, as the LTCA's JSON and the torque map give it
+    k_mesh = ltca_summary(ltca_result)["mesh_stiffness_mean_n_per_um"]
+    k_mesh = float(k_mesh) if np.isfinite(k_mesh) else None
     return LoadedContact(p_surf, p_edge, loads, root, root_where, tuple(notes), where, face,
                          _edge_contact(ltca_result, geometry) if p_edge is not None else None, k_mesh)
 
