@@ -5,7 +5,10 @@ transverse sections of the tooth faces that the export samples (``tooth.sampling
 the generated flanks, the generated root fillets, tip and root cones) are closed into one planar
 profile per section z, and gmsh's OpenCASCADE kernel lofts a solid through the sections
 (``addThruSections``).  Every segment of the profile becomes one lateral face of the solid, so each
-face of the mesh is known by name without searching.
+face of the mesh is known by name without searching.  A fillet far thinner than its elements (a
+sharp rack's trochoid can be micrometres high) takes a strip of the root land beside it into its face
+(:func:`fillet_strips`): the fillet face is then the fillet and that strip, and its stress reading
+covers both (as the plane-strain section's reading covers the land beside a fillet).
 
 The sector (member frame S_i, mm): ``teeth`` whole teeth (odd, the loaded tooth 0 in the middle,
 tooth k turned by k pitches from the sampled tooth), the root lands either side cut in their middle
@@ -36,7 +39,7 @@ __all__ = ["FACE_KINDS", "SectorMesh", "MeshSizes", "mesh_sizes", "sector_mesh",
            "FILLET_SIZE_PER_RADIUS", "RIM_DEPTH_PER_HEIGHT", "SectorShape", "record_from_gmsh"]
 
 #: raise when the meshing rules change (it is part of the FE cache's key)
-MESH_RULES_VERSION = 3  # 3: a bore inside the 1.2 h rim leaves the rim
+MESH_RULES_VERSION = 4  # 4: a fillet far thinner than its elements takes a strip of land
 FLANK_SIZE_PER_MODULE = 0.3
 FAR_SIZE_PER_MODULE = 1.0
 FILLET_SIZE_PER_RADIUS = 0.5
@@ -138,22 +141,76 @@ def _rotate(points, angle):
                      points[..., 2]], axis=-1)
 
 
-def _section_segments(sampler: ToothSampler, z, teeth: tuple, n: int):
-    """Per face segment of the profile: (name, points (n, len(z), 3)) in profile order."""
+def _section_segments(sampler: ToothSampler, z, teeth: tuple, n: int, strip_mm: float = 0.0):
+    """Per face segment of the profile: (name, points (n_points, len(z), 3)) in profile order.
+
+    ``strip_mm`` (the fillet's element size): a fillet shorter than STRIP_BELOW_FRACTION of it in
+    some section (a sharp rack's trochoid can be a few micrometres high) takes a strip of the root
+    land beside it, ``strip_mm`` wide along the land, into its face (:func:`fillet_strips`): a face
+    far thinner than its elements gave gmsh overlapping boundary facets."""
     s = np.linspace(0.0, 1.0, n)
-    half = np.linspace(0.5, 1.0, n)
     pitch = sampler.pitch_angle_rad
-    base = {f: sampler.face_points(f, s, z) for f in TOOTH_FACES}
+    strips = fillet_strips(sampler, z, strip_mm)
+    base = {f: sampler.face_points(f, s, z) for f in TOOTH_FACES if f != "root"}
+    land_points = LAND_STRIP_POINTS if strips["left"] is not None else 0
+    if strips["left"] is not None:  # the land before the tooth, ending at its left fillet, then the fillet
+        land = _land(sampler, z, 1.0 - strips["left"], 1.0, land_points + 1)[:-1]
+        base["fillet_left"] = np.concatenate([_rotate(land, -pitch), base["fillet_left"]])
     base["flank_right"] = base["flank_right"][::-1]
     base["fillet_right"] = base["fillet_right"][::-1]
-    segments = [("root_start", _rotate(sampler.face_points("root", half, z), (teeth[0] - 1) * pitch))]
+    if strips["right"] is not None:  # the fillet, then the land after it
+        land = _land(sampler, z, np.zeros(len(z)), strips["right"], LAND_STRIP_POINTS + 1)[1:]
+        base["fillet_right"] = np.concatenate([base["fillet_right"], land])
+    lo = np.zeros(len(z)) if strips["right"] is None else strips["right"]
+    hi = np.ones(len(z)) if strips["left"] is None else 1.0 - strips["left"]
+    base["root"] = _land(sampler, z, lo, hi, n)
+    segments = [("root_start", _rotate(_land(sampler, z, 0.5 * (lo + hi), hi, n), (teeth[0] - 1) * pitch))]
     for k in teeth:
         for f in TOOTH_FACES:
             pts = base[f]
             if f == "root" and k == teeth[-1]:
-                pts = sampler.face_points("root", np.linspace(0.0, 0.5, n), z)
+                pts = _land(sampler, z, lo, 0.5 * (lo + hi), n)
             segments.append((f"{f}_{k}", _rotate(pts, k * pitch)))
     return segments
+
+
+#: points a fillet's land strip adds to its section's profile segment (besides the fillet's own)
+LAND_STRIP_POINTS = 4
+#: a strip takes at most this fraction of the land's length in each section
+LAND_STRIP_MAX_FRACTION = 0.25
+#: a fillet shorter than this fraction of its element size in some section takes a land strip (a
+#: sharp rack's 12 um pinion fillet meshed at 0.32 mm without one; its gear's 7 nm fillet did not)
+STRIP_BELOW_FRACTION = 0.25
+
+
+def _land(sampler: ToothSampler, z, lo, hi, n: int):
+    """The root land of the sampled tooth (root cone, ``root`` face) from s = lo to s = hi (per
+    section, arrays of len(z)) at n points each: (n, len(z), 3)."""
+    lo, hi = np.broadcast_to(lo, (len(z),)), np.broadcast_to(hi, (len(z),))
+    if not (np.any(lo) or np.any(hi != 1.0)):
+        return sampler.face_points("root", np.linspace(0.0, 1.0, n), z)
+    if np.all(lo == lo[0]) and np.all(hi == hi[0]):
+        return sampler.face_points("root", np.linspace(lo[0], hi[0], n), z)
+    return np.concatenate([sampler.face_points("root", np.linspace(a, b, n), z[j:j + 1])
+                           for j, (a, b) in enumerate(zip(lo, hi))], axis=1)
+
+
+def fillet_strips(sampler: ToothSampler, z, strip_mm: float) -> dict:
+    """{flank: None, or the fraction of the land (root face's s, per section) its fillet takes}: a
+    fillet whose section (a polyline of 33 points) is shorter than STRIP_BELOW_FRACTION ``strip_mm``
+    in some section z takes ``strip_mm`` of the land beside it in every section (at most
+    LAND_STRIP_MAX_FRACTION of it).  The fillets of a rounded rack are far longer: none takes one."""
+    out = {"left": None, "right": None}
+    if strip_mm <= 0.0:
+        return out
+    fine = np.linspace(0.0, 1.0, 33)
+    land = np.sum(np.linalg.norm(np.diff(sampler.face_points("root", fine, z), axis=0), axis=-1), axis=0)
+    for flank in out:
+        pts = sampler.face_points(f"fillet_{flank}", fine, z)
+        length = np.sum(np.linalg.norm(np.diff(pts, axis=0), axis=-1), axis=0)
+        if np.min(length) < STRIP_BELOW_FRACTION * strip_mm:
+            out[flank] = np.minimum(strip_mm / land, LAND_STRIP_MAX_FRACTION)
+    return out
 
 
 def _references(segments, z, r_rim):
@@ -214,7 +271,7 @@ def sector_mesh(pair, member: str, refinement: int = 1, teeth: int = 3, coarsen:
     sizes = mesh_sizes(sampler, geometry.normal_module_mm, refinement / coarsen)
     r_rim = rim_radius(sampler, bore)
     z = np.linspace(zlo, zhi, SECTIONS)
-    segments = _section_segments(sampler, z, idx, SEGMENT_POINTS)
+    segments = _section_segments(sampler, z, idx, SEGMENT_POINTS, strip_mm=sizes.fillet_mm)
 
     gmsh.initialize(interruptible=False)
     try:
