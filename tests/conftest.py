@@ -200,21 +200,57 @@ _compiled = False
 
 
 @contextlib.contextmanager
-def _compile_lock():
+def _compile_lock(part: str = "core"):
     """An exclusive lock shared by the processes that run this install of beveloid (its numba
-    cache lives beside it)."""
+    cache lives beside it), one per ``part``: "core" (the solver core and what runs over it),
+    "outside" (the kernels outside it, :func:`_compile_outside_core`)."""
     from beveloid.solver import backends
 
     if fcntl is None:
         yield
         return
     where = hashlib.sha1(str(Path(backends.__file__).resolve().parent).encode()).hexdigest()[:16]
-    with open(Path(tempfile.gettempdir()) / f"beveloid-numba-compile-{where}.lock", "a") as fh:
+    with open(Path(tempfile.gettempdir()) / f"beveloid-numba-compile-{where}-{part}.lock", "a") as fh:
         fcntl.flock(fh, fcntl.LOCK_EX)
         try:
             yield
         finally:
             fcntl.flock(fh, fcntl.LOCK_UN)
+
+
+_outside_compiled = False
+#: True while this process compiles the kernels outside the core: their calls then go straight to
+#: the backend (the wrappers of _compile_once_under_a_lock would wait for the core's lock)
+_compiling_outside = False
+
+
+def _compile_outside_core():
+    """The kernels outside the solver core, which call none of it: the loaded TCA's contact solve
+    and block assembly (ltca/kernel.py, with the argument types ltca/cycle.py passes) and the FE
+    tooth's principal stresses (fe/principal.py).  Under a lock of their own: in a parallel run the
+    worker that builds the sympy models compiles them first (~10 s on a fresh install) while the other
+    compiles the core, which loads them from numba's cache when it gets to them.  Once per process."""
+    global _outside_compiled, _compiling_outside
+    if _outside_compiled:
+        return
+    _outside_compiled = True
+    import numpy as np
+
+    from beveloid.ltca import kernel, lcp
+    from beveloid.solver import Solver
+
+    def run():
+        lcp.solve_contact(np.eye(4) * 1e-3, np.zeros(4), np.ones(4), 10.0, solver=Solver("compiled"))
+        kernel.kernels(Solver("compiled")).assemble(np.zeros((1, 1, 1)), np.zeros((1, 1, 1)), np.ones(1),
+                                                    np.ones(1, dtype=np.bool_), 1, 1, np.zeros((1, 1, 1)))
+        _principal_stresses()
+
+    _compiling_outside = True
+    try:
+        with _compile_lock("outside"), contextlib.suppress(Exception):
+            on_a_fresh_stack(run)
+    finally:
+        _compiling_outside = False
 
 
 def _principal_stresses():
@@ -260,12 +296,12 @@ def _compile_solver():
         lambda geom, ref: backends.namespace("compiled").solve_point(
             geom.problem("right"), ref.x.copy(), ref.pinion_angle, np.zeros(5),
             settings(scale_mm=geom.gear.working_pitch_radius_mm, tol_mm=tca.newton_tolerance(geom), max_iter=3)),
-        # the loaded TCA's contact kernel (ltca/kernel.py, compiled whatever the backend) and the FE
-        # tooth's principal stresses (fe/principal.py), with the argument types their callers pass
-        lambda geom, ref: ltca.analyze(geom, ltca.Options(torque_nm=100.0, flank="right", positions=2, pairs=1, tooth_model="plate"), solver=Solver("compiled")),
-        lambda geom, ref: _principal_stresses(),
         # a mesh study with its contact ellipses (the chord search) and both flanks (the backlash)
         lambda geom, ref: tca.analyze(geom, tca.Options(positions=3), solver=Solver("compiled")),
+        # the kernels outside the core (compiled by the other worker meanwhile, or here), then the loaded
+        # TCA's path over the core (its normal gaps)
+        lambda geom, ref: _compile_outside_core(),
+        lambda geom, ref: ltca.analyze(geom, ltca.Options(torque_nm=100.0, flank="right", positions=2, pairs=1, tooth_model="plate"), solver=Solver("compiled")),
         # explore's own compiled kernels (its rows over the core): its worker processes then load them
         # instead of each compiling them at once
         lambda geom, ref: explore_run.warm_up(),
@@ -291,17 +327,18 @@ def pytest_runtest_setup(item):
     """In a parallel run of the whole suite, a worker whose first test is not of the group "generated"
     (sympy only) compiles the solver at once, under the lock: the worker that builds the sympy models
     meanwhile then loads numba's cache when it needs it, instead of waiting for a compilation that a
-    test of the other worker started late (measured on a fresh install: ~20 s of one worker idle)."""
+    test of the other worker started late (measured on a fresh install: ~20 s of one worker idle).
+    The worker of the group "generated" compiles the kernels outside the core first (it waited ~12 s
+    for the core's compilation after its sympy work: they fill that wait)."""
     global _first_test
     if not _first_test:
         return
     _first_test = False
-    if (os.environ.get("PYTEST_XDIST_WORKER") and len(item.session.items) >= EAGER_COMPILE_MIN_TESTS
-            and _group(item) != "generated"):
+    if os.environ.get("PYTEST_XDIST_WORKER") and len(item.session.items) >= EAGER_COMPILE_MIN_TESTS:
         from beveloid.solver import backends
 
         if backends.AVAILABLE:
-            _compile_solver()
+            _compile_outside_core() if _group(item) == "generated" else _compile_solver()
 
 
 @pytest.fixture(scope="session", autouse=True)
@@ -317,7 +354,7 @@ def _compile_once_under_a_lock():
 
     def namespace(backend):
         ns = real(backend)
-        if backend == "compiled":
+        if backend == "compiled" and not _compiling_outside:
             _compile_solver()
         return ns
 
@@ -326,7 +363,8 @@ def _compile_once_under_a_lock():
     real_module = backends.compiled_module
 
     def compiled_module(module_name, names):
-        _compile_solver()
+        if not _compiling_outside:
+            _compile_solver()
         return real_module(module_name, names)
 
     with pytest.MonkeyPatch.context() as mp:

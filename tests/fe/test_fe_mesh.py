@@ -116,6 +116,7 @@ SHARP_RACK = {
 }
 
 
+@pytest.mark.slow  # 4 s of meshing (.ci/run runs the slow tier)
 def test_a_fillet_far_thinner_than_its_elements_takes_a_strip_of_land_and_meshes(pair):
     sharp = Pair.from_spec(SHARP_RACK)
     mesh = sector_mesh(sharp, "gear", coarsen=8.0)
