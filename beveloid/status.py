@@ -156,3 +156,4 @@ class EvaluationStatus(enum.StrEnum):
     OK = "ok"
     REFUSED = "refused"  #: the spec or the design refused the values (a user error)
     FAILED = "failed"  #: an analysis stopped with an error
+    INCOMPLETE = "incomplete"  #: analysed, but an objective is missing at some torque or error set

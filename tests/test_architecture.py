@@ -264,6 +264,28 @@ def test_the_status_finder_finds_a_status_literal_and_only_it():
     assert found[("m.py", "ok")] == "m.py:6 'ok'"
 
 
+def _written_statuses(rel: str, tree: ast.AST) -> dict:
+    """{(file, string): where} of the strings written as a status whatever their value: ``x["status"] = "..."``,
+    ``status="..."`` and ``{"status": "..."}`` (a status missing from every enum escapes _status_literals)."""
+    found = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Assign) and any(isinstance(t, ast.Subscript) and isinstance(t.slice, ast.Constant)
+                                                and t.slice.value == "status" for t in node.targets):
+            found.append(node.value)
+        elif isinstance(node, ast.keyword) and node.arg == "status":
+            found.append(node.value)
+        elif isinstance(node, ast.Dict):
+            found += [v for k, v in zip(node.keys, node.values) if isinstance(k, ast.Constant) and k.value == "status"]
+    return {(rel, v.value): f"{rel}:{v.lineno} {v.value!r}" for v in found
+            if isinstance(v, ast.Constant) and isinstance(v.value, str)}
+
+
+def test_the_written_status_finder_finds_a_status_outside_the_enums():
+    tree = ast.parse('r["status"] = "incomplete"\nf(status="odd")\nd = {"status": "new", "x": "y"}\n'
+                     'r["status"] = S.OK\nr["other"] = "z"\n')
+    assert set(_written_statuses("m.py", tree)) == {("m.py", "incomplete"), ("m.py", "odd"), ("m.py", "new")}
+
+
 def test_statuses_are_built_from_the_enums_of_status_py():
     """A status (of a point, a loaded position, an ellipse, a tooth, a design, ...) is a member of its enum in
     beveloid/status.py, never a string written out elsewhere (docs/architecture.md, "Statuses")."""
@@ -272,6 +294,7 @@ def test_statuses_are_built_from_the_enums_of_status_py():
     for rel, tree in _sources():
         if rel != "beveloid/status.py":
             found.update(_status_literals(rel, tree, values))
+            found.update(_written_statuses(rel, tree))
     only_pending(found, PENDING_STATUS_LITERALS, "build a status from its enum in beveloid/status.py",
                  "PENDING_STATUS_LITERALS")
 

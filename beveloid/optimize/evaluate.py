@@ -136,7 +136,7 @@ def evaluate(req: Request, values: dict, error_sets: np.ndarray | None = None) -
     missing = [q for q in req.quantities if rec["objectives"][q] is None]
     if missing:
         least = int(lq.converged_positions.min())
-        rec["status"] = "incomplete"
+        rec["status"] = EvaluationStatus.INCOMPLETE
         rec["reason"] = (f"no {', '.join(missing)} at some torque or error set (fewest converged positions:"
                          f" {least} of {req.positions})")
     rec["seconds"] = time.perf_counter() - t0
