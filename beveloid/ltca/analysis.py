@@ -25,7 +25,8 @@ from ..status import LoadedStatus
 from . import grid as grids
 from .cycle import Problem, Setup, merge, solve_many
 from .options import Material, Options
-from .result import (MAX_HALF_WIDTH_TIMES_CURVATURE, MAX_PRESSURE_OVER_E_STAR, Convergence, LTCAResult)
+from .result import (MAX_HALF_WIDTH_TIMES_CURVATURE, MAX_PRESSURE_OVER_E_STAR, VALIDITY_SEPARATOR, Convergence,
+                     LTCAResult)
 from .teeth import member_teeth, root_stresses
 
 
@@ -190,7 +191,7 @@ def _result(setup, options, sol, check, e_star, notes, hertz_ref, teeth):
             strain = np.nanmax(np.append(semi[j] * setup.frame.curvature_across[j], 0.0))
             if strain > MAX_HALF_WIDTH_TIMES_CURVATURE:
                 why.append(f"patch half-width x curvature > {MAX_HALF_WIDTH_TIMES_CURVATURE:g} (not a small strain)")
-        validity.append("; ".join(why) or None)
+        validity.append(VALIDITY_SEPARATOR.join(why) or None)
     gear_rot = setup.gear_sign * sol.rotation_rad
     ref = setup.reference
     te_rigid_ref = (setup.gear_angle - tca.unknowns(ref.x).gear_angle_rad

@@ -17,6 +17,8 @@ LOAD_CHANGE_TOL = 0.01  #: of the total normal load, for any pair
 #: the model's validity: linear elasticity and small strain
 MAX_PRESSURE_OVER_E_STAR = 0.025  #: peak pressure / E* (2830 MPa for steel: beyond it gear steels yield)
 MAX_HALF_WIDTH_TIMES_CURVATURE = 0.1  #: patch semi-axis across x relative curvature across (small strain)
+#: between the reasons of one position's ``validity``
+VALIDITY_SEPARATOR = "; "
 
 
 class Convergence(typing.NamedTuple):
@@ -179,7 +181,7 @@ class LTCAResult:
                     changes.append(f"{what} not compared there")
             out.append(f"grid not converged at {bad.size} of {len(self.status)} positions ({', '.join(changes)}, against"
                        " a once-coarsened grid): use a finer --grid")
-        reasons = sorted({v for v in self.validity if v})
+        reasons = sorted({why for v in self.validity if v for why in v.split(VALIDITY_SEPARATOR)})  # each once
         if reasons:
             n = sum(1 for v in self.validity if v)
             out.append(f"{n} of {len(self.status)} positions leave the model's validity (linear elastic, small "

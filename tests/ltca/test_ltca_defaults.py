@@ -2,6 +2,7 @@
 convergence indicator, validity, short requests.  Each check is a physical property or a contract."""
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -108,6 +109,11 @@ def test_extreme_torque_leaves_the_models_validity():
     assert any("validity" in w for w in r.warnings())
     low = ltca.analyze(Pair.example("case1"), ltca.Options(torque_nm=50.0, positions=1, tooth_model="plate"))
     assert low.validity == (None,)
+    # a reason shared by positions that leave for different sets of reasons is named once
+    mixed = dataclasses.replace(low, validity=(r.validity[0], r.validity[0].split("; ")[0]))
+    line = next(w for w in mixed.warnings() if "validity" in w)
+    for why in r.validity[0].split("; "):
+        assert line.count(why) == 1, line
 
 
 @pytest.mark.parametrize("kwargs, needle", [
