@@ -152,9 +152,8 @@ def _section_segments(sampler: ToothSampler, z, teeth: tuple, n: int, strip_mm: 
     pitch = sampler.pitch_angle_rad
     strips = fillet_strips(sampler, z, strip_mm)
     base = {f: sampler.face_points(f, s, z) for f in TOOTH_FACES if f != "root"}
-    land_points = LAND_STRIP_POINTS if strips["left"] is not None else 0
     if strips["left"] is not None:  # the land before the tooth, ending at its left fillet, then the fillet
-        land = _land(sampler, z, 1.0 - strips["left"], 1.0, land_points + 1)[:-1]
+        land = _land(sampler, z, 1.0 - strips["left"], 1.0, LAND_STRIP_POINTS + 1)[:-1]
         base["fillet_left"] = np.concatenate([_rotate(land, -pitch), base["fillet_left"]])
     base["flank_right"] = base["flank_right"][::-1]
     base["fillet_right"] = base["fillet_right"][::-1]
