@@ -131,10 +131,23 @@ def form_limit(geometry, member, flank, z, samples=400) -> FormLimit | None:
         # the top of the undercut: the crossing farthest up the flank
         hit = _crossing(fl[::-1, :2], fi[:, :2])
         if hit is None:
-            return None
+            return _body_form_limit(geometry, member, flank, z, samples)
         i, j = hit
         k = len(ls) - 1 - i
         point, psi, l = undercut_top(geometry, member, flank, z, psis[j], ls[k], ui[j], ul[k])
     except NoSolution:  # a section Newton found no point: the flank does not reach up there
-        return None
+        return _body_form_limit(geometry, member, flank, z, samples)
     return FormLimit(l, float(np.hypot(point[0], point[1])), psi)
+
+
+def _body_form_limit(geometry, member, flank, z, samples) -> FormLimit | None:
+    """The form limit of the member's body (``tooth.body``: the unmodified rack's flank and fillet) where
+    a modified flank does not cross its fillet in an undercut section: the root fillet does not carry a
+    tip or end relief, a lead slope or a user model, and a relief of micrometres can move the flank off
+    the fillet's loop there.  The body's crossing is then the top of the undercut (the modified flank
+    runs into the fillet from it, ``ToothSampler.flank_points``); None for the body itself."""
+    from .body import body_pair, is_body
+
+    if is_body(geometry, member):
+        return None
+    return form_limit(body_pair(geometry, member), member, flank, z, samples)

@@ -95,3 +95,27 @@ def test_design_cli_prints_strict_json_and_dashes(tmp_path, long_result):
     row = next(line for line in out[None].splitlines() if line.startswith("pinion | left |"))
     assert row.split("|")[2].split("/")[0].strip() == "-"
     assert "nan" not in out[None].lower()
+
+
+#: sharp racks, undercut gear (0.69 mm at the toe) whose flank carries an end relief: the relieved flank
+#: misses the unrelieved fillet's loop at the toe, where its form limit is the body's crossing
+RELIEVED_UNDERCUT = {
+    "pair": {"normal_module_mm": 2.5, "normal_pressure_angle_deg": 20.0, "shaft_angle_deg": 11.0, "offset_mm": 57.0},
+    "pinion": {"teeth": 23, "cone_angle_deg": 3.0, "helix_angle_deg": 18.0, "profile_shift": 0.2,
+               "face_width_mm": 22.0, "cutter_tip_radius_coefficient": 0.0, "cutter_addendum_coefficient": 1.25},
+    "gear": {"teeth": 37, "cone_angle_deg": 1.5, "face_width_mm": 26.0, "cutter_tip_radius_coefficient": 0.0,
+             "cutter_addendum_coefficient": 1.125, "end_relief_um": 8.0, "end_relief_length_mm": 3.0},
+}
+
+
+def test_a_relieved_flank_off_its_fillets_loop_takes_its_bodys_form_limit():
+    from beveloid.tooth import body, profile
+    from beveloid.tooth.sampling import ToothSampler
+
+    geometry = Pair.from_spec(RELIEVED_UNDERCUT).geometry
+    toe = min(ToothSampler(geometry, "gear").z_range_mm)
+    got = profile.form_limit(geometry, "gear", "left", toe)
+    want = profile.form_limit(body.body_pair(geometry, "gear"), "gear", "left", toe)
+    assert want is not None and got == want
+    # and the tooth is built: the relieved flank runs into the fillet from there (it raised "no involute")
+    ToothSampler(geometry, "gear").check_buildable(np.linspace(toe, -toe, 5))
