@@ -36,7 +36,8 @@ from dataclasses import dataclass
 import numpy as np
 from ..names import FLANKS
 from ..tooth.sampling import ToothSampler
-from ..tooth.body import body_pair, flank_thickness_mm
+from ..tooth.body import body_pair
+from ..tooth.departure import flank_thickness_mm
 from . import solve
 from .mesh import sector_mesh
 

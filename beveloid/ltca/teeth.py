@@ -27,7 +27,7 @@ def member_teeth(pair, geom, options, material) -> tuple:
     moduli = {"pinion": (material.pinion_e_mpa, material.pinion_nu), "gear": (material.gear_e_mpa, material.gear_nu)}
     if options.tooth_model == "plate":
         return tuple(member_tooth(geom, m, *moduli[m]) for m in MEMBERS), ()
-    from ..tooth.body import flank_departure
+    from ..tooth.departure import flank_departure
 
     source = pair if pair is not None else geom
     out, notes = [], []

@@ -14,7 +14,8 @@ from beveloid.fe import cache, tooth
 from beveloid.fe.contact import FeTooth
 from beveloid.pair import Pair
 from beveloid.spec import example_text
-from beveloid.tooth.body import DEPARTURE_LIMIT, body_pair, flank_departure, is_body
+from beveloid.tooth.body import body_pair, is_body
+from beveloid.tooth.departure import DEPARTURE_LIMIT, flank_departure
 
 pytestmark = pytest.mark.xdist_group(name="fe_case1")
 
