@@ -1,5 +1,5 @@
 """Which sector fe-check should model: the compliance of the loaded teeth against the sector's
-teeth and the boundary conditions of its radial cuts (docs/validation.md 11, "The sectors").
+teeth and the boundary conditions of its radial cuts (docs/validation.md 11.0, "The sectors").
 
 Per member of a design, the sector meshed by ``beveloid.fe.mesh.sector_mesh`` (the FE tooth's sizes
 x COARSEN, every loaded tooth -1, 0, 1 at the loaded tooth's sizes) and solved by
