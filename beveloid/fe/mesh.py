@@ -186,9 +186,7 @@ def _land(sampler: ToothSampler, z, lo, hi, n: int):
     """The root land of the sampled tooth (root cone, ``root`` face) from s = lo to s = hi (per
     section, arrays of len(z)) at n points each: (n, len(z), 3)."""
     lo, hi = np.broadcast_to(lo, (len(z),)), np.broadcast_to(hi, (len(z),))
-    if not (np.any(lo) or np.any(hi != 1.0)):
-        return sampler.face_points("root", np.linspace(0.0, 1.0, n), z)
-    if np.all(lo == lo[0]) and np.all(hi == hi[0]):
+    if np.all(lo == lo[0]) and np.all(hi == hi[0]):  # no strip: the same s in every section
         return sampler.face_points("root", np.linspace(lo[0], hi[0], n), z)
     return np.concatenate([sampler.face_points("root", np.linspace(a, b, n), z[j:j + 1])
                            for j, (a, b) in enumerate(zip(lo, hi))], axis=1)
