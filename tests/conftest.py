@@ -263,9 +263,11 @@ def _principal_stresses():
     fn = principal.functions()
     op = np.ascontiguousarray(np.arange(2 * 6 * 3, dtype=float).reshape(2, 6, 3))
     bound = fn.bounds(op, 1.0)
-    near = np.zeros((3, 2), dtype=np.uint8)
-    fn.extreme(op, bound, near, np.ones((1, 3)), 1.0, np.zeros(1, dtype=np.int64), np.full(1, np.nan))
-    fn.each_node(np.ones((2, 6)), 1.0, np.empty(2))
+    order = np.arange(2, dtype=np.int64)
+    fillet = principal.Fillet(op, bound, fn.block_bounds(bound, order, 32), order, 32, np.zeros((3, 2), dtype=np.uint8))
+    fn.extreme(fillet, np.ones((1, 3)), 1.0, np.zeros(1, dtype=np.int64), np.full(1, np.nan))
+    fn.slice_extremes(fillet, np.ones((1, 3)), 0, 1.0, np.ones(2, dtype=np.bool_), np.zeros(2, dtype=np.int64),
+                      np.empty(1))
 
 
 def _compile_solver():

@@ -29,6 +29,9 @@ from . import principal
 
 __all__ = ["FeTooth", "RootStress"]
 
+#: fillet nodes per block of fe.principal.extreme's bound (docs/performance.md, The FE tooth)
+BLOCK_NODES = 32
+
 
 class RootStress(typing.NamedTuple):
     tension_mpa: float  # largest max-principal stress in the loaded side's fillet
@@ -60,19 +63,25 @@ class FeTooth:
         self.near = np.ascontiguousarray(
             (np.linalg.norm(fp[:, None, :, :] - grid[None, :, None, :], axis=-1) <= reach).astype(np.uint8))
         # the stress operators (rows node-major, 6 components, G columns) of the loaded side's fillet (0)
-        # and the other's (1), their bounds and near-matrices in that order
+        # and the other's (1), with their bounds, blocks and near-matrices (fe.principal.extreme)
         self.sides = (self.index, 1 - self.index)
-        self.operators = tuple(np.ascontiguousarray(self.stress[s]) for s in self.sides)
         fn = principal.functions()
-        self.bounds = tuple(fn.bounds(op, sign) for op, sign in zip(self.operators, (1.0, -1.0)))
+        self.fillets = []
+        for s, sign in zip(self.sides, (1.0, -1.0)):
+            op = np.ascontiguousarray(self.stress[s])
+            bound = fn.bounds(op, sign)
+            # the nodes along the face, then up it: a block of BLOCK_NODES neighbours
+            order = np.lexsort((np.asarray(data.fillet_height_mm[s]), fp[s][:, 2])).astype(np.int64)
+            self.fillets.append(principal.Fillet(op, bound, fn.block_bounds(bound, order, BLOCK_NODES), order,
+                                                 BLOCK_NODES, self.near[s]))
+        self.fillets = tuple(self.fillets)
 
-    def weights(self, points) -> np.ndarray:
-        """(n, G) bilinear weights of the load grid's nodes (profile-major) for points (n, 3); a row of
-        zeros for a point that is not finite."""
+    def corners(self, points) -> tuple:
+        """(nodes (n, 4) int, weights (n, 4)): the four load-grid nodes (profile-major) of each point (n, 3)
+        and their bilinear weights; weights of zero for a point that is not finite."""
         p = np.asarray(points, dtype=float).reshape(-1, 3)
         ns, nz = self.radius_mm.shape
-        W = np.zeros((p.shape[0], ns * nz))
-        # a point off the surfaces (NaN: a cell of a pair without contact) carries no load: a zero row,
+        # a point off the surfaces (NaN: a cell of a pair without contact) carries no load: zero weights,
         # placed anywhere finite so that no index is made of a NaN
         ok = np.all(np.isfinite(p), axis=1)
         p = np.where(ok[:, None], p, self.data.points_mm[self.index][0, 0])
@@ -86,9 +95,15 @@ class FeTooth:
         rows = np.arange(p.shape[0])
         lo, hi = col[rows, js], col[rows, js + 1]
         ts = np.clip((r - lo) / (hi - lo), 0.0, 1.0)
-        for da, wa in ((0, 1 - ts), (1, ts)):
-            for dz, wz in ((0, 1 - tz), (1, tz)):
-                W[rows, (js + da) * nz + jz + dz] = np.where(ok, wa * wz, 0.0)  # four distinct nodes a row
+        nodes = np.stack([(js + da) * nz + jz + dz for da in (0, 1) for dz in (0, 1)], axis=1)  # four distinct
+        w = np.stack([wa * wz for wa in (1 - ts, ts) for wz in (1 - tz, tz)], axis=1)
+        return nodes, np.where(ok[:, None], w, 0.0)
+
+    def weights(self, points) -> np.ndarray:
+        """(n, G) the bilinear weights of the load grid's nodes for points (n, 3) (:meth:`corners`)."""
+        nodes, w = self.corners(points)
+        W = np.zeros((nodes.shape[0], self.radius_mm.size))
+        W[np.arange(nodes.shape[0])[:, None], nodes] = w
         return W
 
     def line_compliance(self, points) -> np.ndarray:
@@ -104,9 +119,11 @@ class FeTooth:
         """(Q, G) the load-grid node forces g = W^T f of Q load sets: ``points`` (Q, n, 3), ``forces_n``
         (Q, n) (a non-finite force is none)."""
         p = np.asarray(points, dtype=float)
-        f = np.nan_to_num(np.asarray(forces_n, dtype=float)).reshape(p.shape[0], -1)
-        W = self.weights(p.reshape(-1, 3)).reshape(p.shape[0], -1, self.stress.shape[-1])
-        return np.einsum("qng,qn->qg", W, f)
+        Q, G = p.shape[0], self.radius_mm.size
+        f = np.nan_to_num(np.asarray(forces_n, dtype=float)).reshape(Q, -1)
+        nodes, w = self.corners(p.reshape(-1, 3))
+        at = (nodes.reshape(Q, -1, 4) + G * np.arange(Q)[:, None, None]).ravel()
+        return np.bincount(at, weights=(w.reshape(Q, -1, 4) * f[..., None]).ravel(), minlength=Q * G).reshape(Q, G)
 
     def counted(self, g) -> np.ndarray:
         """(2, nf) the fillet nodes (0 the loaded side's fillet, 1 the other's) that count in the root
@@ -114,27 +131,17 @@ class FeTooth:
         loaded = np.asarray(g, dtype=float) != 0.0
         return np.stack([~np.any(self.near[s][loaded], axis=0) for s in self.sides])
 
-    def _tensors(self, side, g):
-        """(Q, nf, 6) the fillet nodes' stress tensors of ``side`` (0 the loaded flank's fillet) under
-        loads g (Q, G)."""
-        op = self.operators[side]
-        return (g @ op.reshape(-1, op.shape[-1]).T).reshape(g.shape[0], -1, 6)
-
     def along_face(self, points, forces_n, bins: int = 24):
         """(z_mm (bins,), stress (bins,)): the loaded fillet's largest max-principal stress in each of
         ``bins`` equal slices of the face (nan where a slice holds no counted node)."""
-        g = self.loads(np.asarray(points, dtype=float)[None], np.asarray(forces_n, dtype=float)[None])
+        g = np.ascontiguousarray(self.loads(np.asarray(points, dtype=float)[None],
+                                            np.asarray(forces_n, dtype=float)[None]))
         counted = self.counted(g[0])[0]
-        loaded = np.empty(counted.size)
-        principal.functions().each_node(self._tensors(0, g)[0], 1.0, loaded)
-        loaded, z = loaded[counted], self.data.fillet_points_mm[self.index][counted, 2]
+        z = self.data.fillet_points_mm[self.index][:, 2]
         edges = np.linspace(self.z_mm[0], self.z_mm[-1], bins + 1)
-        slot = np.clip(np.searchsorted(edges, z) - 1, 0, bins - 1)
-        out = np.full(bins, np.nan)
-        for b in range(bins):
-            sel = slot == b
-            if sel.any():
-                out[b] = float(np.max(loaded[sel]))
+        slot = np.clip(np.searchsorted(edges, z) - 1, 0, bins - 1).astype(np.int64)
+        out = np.empty(bins)
+        principal.functions().slice_extremes(self.fillets[0], g, 0, 1.0, counted, slot, out)
         return 0.5 * (edges[1:] + edges[:-1]), out
 
     def root_stress(self, points, forces_n) -> RootStress:
@@ -153,7 +160,7 @@ class FeTooth:
         out = []
         for side, sign in ((0, 1.0), (1, -1.0)):
             node, value = np.zeros(Q, dtype=np.int64), np.full(Q, np.nan)
-            fn.extreme(self.operators[side], self.bounds[side], self.near[self.sides[side]], g, sign, node, value)
+            fn.extreme(self.fillets[side], g, sign, node, value)
             out.append((node, value))
         (k, tension), (_, compression) = out
         found = k >= 0

@@ -3,20 +3,34 @@ by :func:`beveloid.solver.backends.compiled_module`; interpreted where numba is 
 
 The eigenvalues of a symmetric 3 x 3 tensor in closed form: the trigonometric solution of its
 characteristic cubic (q the mean normal stress, p the deviator's norm / sqrt 6, phi from det of the
-scaled deviator).  A fillet node is solved only where a bound of its Gershgorin bound (a diagonal
-entry plus its row's off-diagonal magnitudes), linear in the node loads because they are >= 0, can
-still reach the best value found: every other node cannot hold the extreme, so the answer is that
-of solving every node.
+scaled deviator).  The largest eigenvalue is convex and positively homogeneous, so under node loads g
+>= 0 a node's is at most sum_c g_c lambda_c, lambda_c that of its stress under a unit load on column c
+alone (:func:`bounds`, with a margin above the closed form's rounding).  A fillet node is solved only
+where that bound can still reach the best value found, and a block of nodes only where the largest of
+its nodes' bounds can (:func:`block_bounds`, the nodes in blocks of neighbours): every other node
+cannot hold the extreme, so the answer is that of solving every node.
 """
 from __future__ import annotations
 
 import math
 import sys
+import typing
 
 import numpy as np
 
 #: tensors are (..., 6): xx, yy, zz, xy, yz, zx
 XX, YY, ZZ, XY, YZ, ZX = range(6)
+
+
+class Fillet(typing.NamedTuple):
+    """One fillet's nodes as :func:`extreme` reads them."""
+
+    op: np.ndarray  # (nc, 6, G) the nodes' stress tensors per unit load on each load-grid column
+    bound: np.ndarray  # (G, nc) :func:`bounds` of op, for its sign
+    top: np.ndarray  # (G, nb) :func:`block_bounds` of bound
+    order: np.ndarray  # (nc,) int64: the nodes, neighbours together; block b is order[b size:(b + 1) size]
+    size: int  # nodes per block
+    near: np.ndarray  # (G, nc) uint8: node within the reading depth of the column
 
 
 def largest_eigenvalue(xx, yy, zz, xy, yz, zx):
@@ -31,25 +45,85 @@ def largest_eigenvalue(xx, yy, zz, xy, yz, zx):
     return q + 2.0 * p * math.cos(math.acos(r) / 3.0)
 
 
-def each_node(t, sign, out):
-    """out[i] = sign x the largest eigenvalue of sign x t[i] (t (nf, 6)): the largest principal stress
-    (sign +1) or the smallest (sign -1) of every node."""
-    for i in range(t.shape[0]):
-        out[i] = sign * largest_eigenvalue(sign * t[i, XX], sign * t[i, YY], sign * t[i, ZZ], sign * t[i, XY],
-                                           sign * t[i, YZ], sign * t[i, ZX])
+def _loaded_columns(g, q, cols):
+    """The number m of non-zero loads of set q of g (Q, G), their columns in cols[:m]."""
+    m = 0
+    for c in range(g.shape[1]):
+        if g[q, c] != 0.0:
+            cols[m] = c
+            m += 1
+    return m
+
+
+def slice_extremes(fillet, g, q, sign, counted, slot, out):
+    """out[s] = sign x the largest eigenvalue of sign x the tensor, over the ``counted`` nodes i of the
+    :class:`Fillet` in slice ``slot[i]`` = s, under load set q of g (Q, G) (NaN for a slice without one): the
+    largest principal stress (sign +1) or the smallest (sign -1) of every slice, each tensor summed over
+    the set's non-zero loads as :func:`extreme` sums it, a node solved only where its bound (:func:`bounds`)
+    can still reach its slice's best value (first the node of the slice's largest bound)."""
+    op, bound = fillet.op, fillet.bound
+    nc = op.shape[0]
+    cols = np.empty(g.shape[1], dtype=np.int64)
+    m = _loaded_columns(g, q, cols)
+    b = np.zeros(nc)
+    for a in range(m):
+        c = cols[a]
+        w = g[q, c]
+        for i in range(nc):
+            b[i] += bound[c, i] * w
+    top = np.full(out.shape[0], -1, dtype=np.int64)
+    for i in range(nc):
+        s = slot[i]
+        if counted[i] and (top[s] < 0 or b[i] > b[top[s]]):
+            top[s] = i
+    t = np.empty(6)
+    best = np.full(out.shape[0], -np.inf)
+    for s in range(out.shape[0]):
+        if top[s] >= 0:
+            best[s] = _exact(op, top[s], g, q, cols, m, sign, t)
+    for i in range(nc):
+        s = slot[i]
+        if counted[i] and i != top[s] and b[i] >= best[s]:
+            v = _exact(op, i, g, q, cols, m, sign, t)
+            if v > best[s]:
+                best[s] = v
+    for s in range(out.shape[0]):
+        out[s] = sign * best[s] if top[s] >= 0 else np.nan
+
+
+#: the bound's margin, times the largest stress magnitude of a node's unit-load tensor: far above the
+#: rounding of the closed form and of a sum of tensors, so that no node holding the extreme is skipped
+BOUND_MARGIN = 1e-6
 
 
 def bounds(op, sign):
-    """(G, nc) per load column and node the largest over the rows r of sign a_rr + sum_c |a_rc| (op (nc,
-    6, G) the nodes' stress per unit column load): with loads g >= 0, g @ bounds is at least every row's
-    Gershgorin bound of sign x the node's tensor, so at least its largest eigenvalue."""
+    """(G, nc) per load column c and node i: lambda_c, the largest eigenvalue of sign x the node's tensor
+    under a unit load on c alone (op (nc, 6, G) the nodes' stress per unit column load), plus
+    :data:`BOUND_MARGIN` times its largest entry's magnitude: with loads g >= 0, g @ bounds is at least
+    the largest eigenvalue of sign x the node's tensor (module docstring)."""
     nc, _, G = op.shape
     out = np.empty((G, nc))
     for i in range(nc):
         for c in range(G):
-            axy, ayz, azx = abs(op[i, XY, c]), abs(op[i, YZ, c]), abs(op[i, ZX, c])
-            out[c, i] = max(sign * op[i, XX, c] + axy + azx, sign * op[i, YY, c] + axy + ayz,
-                            sign * op[i, ZZ, c] + azx + ayz)
+            scale = 0.0
+            for r in range(6):
+                scale = max(scale, abs(op[i, r, c]))
+            out[c, i] = largest_eigenvalue(sign * op[i, XX, c], sign * op[i, YY, c], sign * op[i, ZZ, c],
+                                           sign * op[i, XY, c], sign * op[i, YZ, c], sign * op[i, ZX, c]) \
+                + BOUND_MARGIN * scale
+    return out
+
+
+def block_bounds(bound, order, size):
+    """(G, nb) per load column the largest bound (:func:`bounds`) of each block of ``size`` nodes, the
+    nodes taken in ``order`` (neighbours together: a block's bound is then close to its nodes')."""
+    G, nc = bound.shape
+    nb = (nc + size - 1) // size
+    out = np.full((G, nb), -np.inf)
+    for s in range(nc):
+        i = order[s]
+        for c in range(G):
+            out[c, s // size] = max(out[c, s // size], bound[c, i])
     return out
 
 
@@ -63,54 +137,59 @@ def _exact(op, i, g, q, cols, m, sign, t):
     return largest_eigenvalue(sign * t[XX], sign * t[YY], sign * t[ZZ], sign * t[XY], sign * t[YZ], sign * t[ZX])
 
 
-def extreme(op, bound, near, g, sign, node, value):
-    """For each load set q of g (Q, G) (node loads >= 0): the node of op (nc, 6, G) (bound: :func:`bounds`) with the largest
+def extreme(fillet, g, sign, node, value):
+    """For each load set q of g (Q, G) (node loads >= 0): the node of the :class:`Fillet` with the largest
     principal stress (sign +1) or the smallest (sign -1), into node[q], value[q] (the lowest node among
     equal values), among the nodes not ``near`` (G, nc, non-zero: within the reading depth) a column
     the set loads; node -1 and value NaN where every node is near a loaded column.  The tensors are
-    summed over the set's non-zero loads only; a node is solved only where its bound (:func:`bounds` @
-    g) can still reach the best value found, starting from the node of the largest bound: every other
-    node cannot hold the extreme (module docstring)."""
+    summed over the set's non-zero loads only.  The blocks are visited by their bound @ g, largest
+    first, until one cannot reach the best value found; in a block a node is solved only where its
+    bound (:func:`bounds` @ g) can: every other node cannot hold the extreme (module docstring)."""
+    op, bound, top, order, size, near = fillet
     Q, G = g.shape
     nc = op.shape[0]
+    nb = top.shape[1]
     cols = np.empty(G, dtype=np.int64)
-    b = np.empty(nc)
-    skip = np.empty(nc, dtype=np.bool_)
+    bb = np.empty(nb)
     t = np.empty(6)
     for q in range(Q):
-        m = 0
-        for c in range(G):
-            if g[q, c] != 0.0:
-                cols[m] = c
-                m += 1
-        for i in range(nc):
-            b[i] = 0.0
-            skip[i] = False
+        m = _loaded_columns(g, q, cols)
+        for blk in range(nb):
+            bb[blk] = 0.0
         for a in range(m):
             c = cols[a]
             w = g[q, c]
-            for i in range(nc):
-                b[i] += bound[c, i] * w
-                if near[c, i] != 0:
-                    skip[i] = True
+            for blk in range(nb):
+                bb[blk] += top[c, blk] * w
+        rank = np.argsort(-bb)
         k = -1
-        for i in range(nc):
-            if not skip[i] and (k < 0 or b[i] > b[k]):
-                k = i
+        best = -np.inf
+        for r in range(nb):
+            blk = rank[r]
+            if k >= 0 and bb[blk] < best:
+                break
+            for s in range(blk * size, min(nc, (blk + 1) * size)):
+                i = order[s]
+                b = 0.0
+                skip = False
+                for a in range(m):
+                    c = cols[a]
+                    if near[c, i] != 0:
+                        skip = True
+                        break
+                    b += bound[c, i] * g[q, c]
+                if skip or (k >= 0 and b < best):
+                    continue
+                v = _exact(op, i, g, q, cols, m, sign, t)
+                if k < 0 or v > best or (v == best and i < k):
+                    best = v
+                    k = i
         if k < 0:
             node[q] = -1
             value[q] = np.nan
-            continue
-        best = _exact(op, k, g, q, cols, m, sign, t)
-        for i in range(nc):
-            if i == k or skip[i] or b[i] < best:
-                continue
-            v = _exact(op, i, g, q, cols, m, sign, t)
-            if v > best or (v == best and i < k):
-                best = v
-                k = i
-        node[q] = k
-        value[q] = sign * best
+        else:
+            node[q] = k
+            value[q] = sign * best
 
 
 def functions():
@@ -119,4 +198,5 @@ def functions():
 
     if not backends.AVAILABLE:
         return sys.modules[__name__]
-    return backends.compiled_module(__name__, ("largest_eigenvalue", "each_node", "bounds", "_exact", "extreme"))
+    return backends.compiled_module(__name__, ("largest_eigenvalue", "_loaded_columns", "slice_extremes", "bounds",
+                                               "block_bounds", "_exact", "extreme"))

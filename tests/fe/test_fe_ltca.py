@@ -132,8 +132,9 @@ def test_bad_tooth_flags_are_one_line_and_exit_2(capsys, flags, names):
 
 
 def test_root_stresses_of_many_sets_are_those_of_every_node(coarse_teeth):
-    """The batched root stress (load-linear Gershgorin pruning, closed-form eigenvalues) against numpy's
-    eigenvalues at every counted fillet node, for several load sets at once."""
+    """The batched root stress (bounds from each column's eigenvalues, pruned by blocks of nodes and by
+    node; closed-form eigenvalues) against numpy's eigenvalues at every counted fillet node, for several
+    load sets at once: the value and the node it is at."""
     from beveloid.fe.contact import FeTooth
 
     t = FeTooth(coarse_teeth["pinion"], "right")
@@ -155,9 +156,37 @@ def test_root_stresses_of_many_sets_are_those_of_every_node(coarse_teeth):
             ev = np.linalg.eigvalsh(m)[far]
             want = ev[:, 2].max() if sign > 0 else ev[:, 0].min()
             assert got == pytest.approx(want, rel=1e-9)
+            if sign > 0:
+                assert r.z_mm[q] == fp[far][np.argmax(ev[:, 2]), 2]
     assert all(np.array_equal(a, b) for a, b in zip(r, t.root_stresses(pts, forces)))  # deterministic
     one = t.root_stress(pts[2], forces[2])
     assert one.tension_mpa == pytest.approx(r.tension_mpa[2], rel=1e-12) and one.z_mm == r.z_mm[2]
+
+
+def test_the_root_stress_along_the_face_is_the_largest_of_each_slice(coarse_teeth):
+    """FeTooth.along_face (pruned by the same bounds as the root stress) against numpy's eigenvalues at
+    every counted node of the loaded fillet, slice by slice; its largest slice is the root stress."""
+    from beveloid.fe.contact import FeTooth
+
+    data = coarse_teeth["pinion"]
+    t = FeTooth(data, "right")
+    grid = np.asarray(data.points_mm[1]).reshape(-1, 3)
+    rng = np.random.default_rng(5)
+    for _ in range(3):
+        pts = grid[rng.choice(len(grid), 8, replace=False)]
+        forces = rng.uniform(10.0, 400.0, 8)
+        centres, got = t.along_face(pts, forces)
+        g = t.weights(pts).T @ forces
+        s = t.stress[1] @ g
+        ev = np.linalg.eigvalsh(np.stack([s[:, [0, 3, 5]], s[:, [3, 1, 4]], s[:, [5, 4, 2]]], axis=1))[:, 2]
+        counted = t.counted(g)[0]
+        edges = np.linspace(t.z_mm[0], t.z_mm[-1], len(centres) + 1)
+        slot = np.clip(np.searchsorted(edges, data.fillet_points_mm[1][:, 2]) - 1, 0, len(centres) - 1)
+        want = np.array([ev[counted & (slot == b)].max() if (counted & (slot == b)).any() else np.nan
+                         for b in range(len(centres))])
+        assert np.isfinite(want).sum() >= len(centres) // 2
+        np.testing.assert_allclose(got, want, rtol=1e-9)  # NaN where a slice holds no counted node, on both
+        assert np.nanmax(got) == pytest.approx(t.root_stress(pts, forces).tension_mpa, rel=1e-12)
 
 
 def test_a_fillet_node_is_left_out_only_near_the_grid_nodes_a_set_loads(coarse_teeth):
@@ -182,6 +211,7 @@ def test_a_fillet_node_is_left_out_only_near_the_grid_nodes_a_set_loads(coarse_t
     assert near_low_node.any() and not t.counted(low)[0][near_low_node].any()
     monkeypatched = FeTooth(data, "right")
     monkeypatched.near = np.ones_like(t.near)
+    monkeypatched.fillets = tuple(f._replace(near=np.ones_like(f.near)) for f in t.fillets)
     r = monkeypatched.root_stresses(grid[-1:, mid][None], np.array([[1000.0]]))
     assert np.isnan(r.tension_mpa[0]) and np.isnan(r.z_mm[0]) and np.isnan(r.height_mm[0])
     assert np.isfinite(t.root_stresses(grid[-1:, mid][None], np.array([[1000.0]])).tension_mpa[0])
