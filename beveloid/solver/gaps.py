@@ -7,9 +7,10 @@ import typing
 
 import numpy as np
 
+from ..generated.contact_system_scalar import contact_residual_point
 from ..generated.tca_kernels import UNKNOWNS
 from ..generated.tca_kernels_scalar import N_ERRORS, N_UNKNOWNS, contact_margin_point, surface_jet_point
-from .newton import GEAR_ANGLE, Scratch, evaluate, scratch
+from .newton import GEAR_ANGLE, Scratch, scratch
 
 #: where normal_gaps finds each unknown (by the generated names; numba reads them as constants)
 PINION_L = UNKNOWNS.index("pinion_l_mm")
@@ -21,11 +22,7 @@ GEAR_U = UNKNOWNS.index("gear_u_mm")
 class GapScratch(typing.NamedTuple):
     """Work arrays of normal_gaps (one thread)."""
 
-    s: Scratch  # the Eq 38 evaluation (newton.Scratch)
-    point: np.ndarray  # (3,) the pinion point, S_1
-    normal: np.ndarray  # (3,)
-    point_D_lu: np.ndarray  # (3, 2)
-    normal_D_lu: np.ndarray  # (3, 2)
+    s: Scratch  # the Eq 38 evaluation (newton.Scratch); its workspace holds both surface jets
     normal_f: np.ndarray  # (3,) the pinion normal in S_f
     x: np.ndarray  # (N_UNKNOWNS,) the unknowns of the current point
     matrix: np.ndarray  # (3, 3) the gear Newton's system
@@ -81,9 +78,8 @@ def normal_gaps(problem, request, out):
     pair_of_point = request.pair_of_point
     M = request.coords.shape[0]
     # serial: a parallel loop measured 3x slower here (small work per point, one thread)
-    w = GapScratch(s=scratch(), point=np.empty(3), normal=np.empty(3), point_D_lu=np.empty((3, 2)),
-                   normal_D_lu=np.empty((3, 2)), normal_f=np.empty(3), x=np.empty(N_UNKNOWNS),
-                   matrix=np.empty((3, 3)), rhs=np.empty(3))
+    w = GapScratch(s=scratch(), normal_f=np.empty(3), x=np.empty(N_UNKNOWNS), matrix=np.empty((3, 3)),
+                   rhs=np.empty(3))
     for i in range(N_ERRORS):
         w.s.e[i] = request.errors[i]
     warm = False
@@ -134,6 +130,21 @@ def _ahead(a, m, c, t, quad):
     return v + t * (v - a[m - 2, c])
 
 
+def _gear_side(problem, x, pinion_angle, s):
+    """Eq 38 and its Jacobians (s.system) at x, the pinion's jet already in the workspace (the pinion
+    Newton's last evaluation, at x's pinion l, u): only the gear's jet is evaluated, the rest as
+    ``newton.evaluate`` (the same generated functions; a failure made non-finite, s.F[0] = nan)."""
+    ws, sy = s.system.ws, s.system
+    try:
+        surface_jet_point(problem.gear_model, problem.flank, x[GEAR_L], x[GEAR_U], problem.gear_params, ws.gear_point,
+                          ws.gear_normal, ws.gear_point_D_lu, ws.gear_normal_D_lu)
+        contact_residual_point(ws.pinion_point, ws.pinion_normal, ws.pinion_point_D_lu, ws.pinion_normal_D_lu,
+                               ws.gear_point, ws.gear_normal, ws.gear_point_D_lu, ws.gear_normal_D_lu, pinion_angle,
+                               x[GEAR_ANGLE], s.e, problem.pair, sy.F, sy.J, sy.Je, sy.Jp)
+    except Exception:  # a math domain error or overflow of a runaway iterate (numba gives nan): not finite
+        sy.F[0] = math.nan
+
+
 def _normal_gap_point(problem, request, m, out, w, warm, t, quad):
     """Point m of :func:`normal_gaps` with the caller's :class:`GapScratch` w; starts from the previous
     point's solution when ``warm`` (extrapolated along the line of the points before it: :func:`_ahead`
@@ -141,7 +152,9 @@ def _normal_gap_point(problem, request, m, out, w, warm, t, quad):
     q = request.pair_of_point[m]
     coords, start, origin, axes = request.coords, request.start, request.origin, request.axes
     rotation, tol, max_iter = request.rotation, request.tol_mm, request.max_iter
-    s, x, pt, nm, dp, dn = w.s, w.x, w.point, w.normal, w.point_D_lu, w.normal_D_lu
+    s, x = w.s, w.x
+    ws = s.system.ws
+    pt, nm, dp, dn = ws.pinion_point, ws.pinion_normal, ws.pinion_point_D_lu, ws.pinion_normal_D_lu
     nf, A, g = w.normal_f, w.matrix, w.rhs
     F, J, Jp, dx = s.system.F, s.system.J, s.system.Jp, s.dx
     gap = 0.0
@@ -191,7 +204,7 @@ def _normal_gap_point(problem, request, m, out, w, warm, t, quad):
     last = 1e300
     if ok1:
         for it in range(max_iter + 1):
-            evaluate(problem, x, request.pinion_angle[q], s.e, s.system)
+            _gear_side(problem, x, request.pinion_angle[q], s)
             for r in range(3):
                 g[r] = -(F[r] + gap * nf[r])
             err = max(abs(g[0]), max(abs(g[1]), abs(g[2])))
