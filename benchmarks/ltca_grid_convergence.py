@@ -1,5 +1,6 @@
 """docs/validation.md 7.2: case 1, 200 N m, right flank, 5 positions, the middle one, on grids of
-increasing cell counts (the extents follow the Hertz rule).  Not a test.
+increasing cell counts (the extents follow the Hertz rule), with the LTCA's default tooth (the FE
+tooth; its data computed once and cached).  Not a test.
 
     python benchmarks/ltca_grid_convergence.py
 """
