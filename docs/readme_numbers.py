@@ -459,11 +459,22 @@ def fe_check_quotes(rec: dict) -> list:
     runs = rec["fe_check"]["runs"]
     lines = v.table(runs).splitlines()[2:] + v.hertz_table(runs).splitlines()[2:] + fe_check_ratio_rows(rec)
     r = runs[0]  # case 1 at refinement 1: the default run's cost in docs/fe_check.md
-    spaced = lambda n: f"{n:,}".replace(",", " ")  # noqa: E731
-    cost = (f"case 1 at {r['torque_nm']:g} N m: {spaced(r['elements'])} elements, {spaced(r['dof'])} DOF, CalculiX\n  "
+    cost = (f"case 1 at {r['torque_nm']:g} N m: {_spaced(r['elements'])} elements, {_spaced(r['dof'])} DOF, CalculiX\n  "
             f"{r['calculix_cpu_s']:.0f} s of CPU (2 threads); on this shared 2-core machine, beside other work,\n  "
             f"the whole run (LTCA, meshing, CalculiX) took {r['total_s']:.0f} s of wall time")
-    return [("docs/validation.md", line, True) for line in lines] + [("docs/fe_check.md", cost, True)]
+    return [("docs/validation.md", line, True) for line in lines] + [("docs/fe_check.md", cost, True)] + \
+        [("docs/performance.md", row, True) for row in fe_check_cost_rows(rec)]
+
+
+def _spaced(n: int) -> str:
+    return f"{n:,}".replace(",", " ")
+
+
+def fe_check_cost_rows(rec: dict) -> list:
+    """docs/performance.md, the fe-check section: each recorded run's size and times."""
+    return [f"| {r['design'].replace('case', 'case ')} {r['flank']}, {r['torque_nm']:g} N m, refinement {r['refinement']} | "
+            f"{_spaced(r['elements'])} | {_spaced(r['dof'])} | {r['mesh_s']:.0f} | {r['calculix_wall_s']:.0f} / "
+            f"{r['calculix_cpu_s']:.0f} | {r['total_s']:.0f} |" for r in rec["fe_check"]["runs"]]
 
 
 def main(argv=None) -> int:
