@@ -6,6 +6,7 @@
     python -m benchmarks.bench_fe_tooth compare               # FE vs plate, case 1 and case 2
     python -m benchmarks.bench_fe_tooth startup               # cached FE start-up vs the plate
     python -m benchmarks.bench_fe_tooth meshes [1 2 3]        # case 1 pinion mesh sizes
+    python -m benchmarks.bench_fe_tooth sizes [1 2 3]         # element sizes and rho_F of case 1 and case 2 (no meshing)
     python -m benchmarks.bench_fe_tooth locate                # how far the load / reading points lie outside the mesh
 
 Not a test.  ``cost`` and ``convergence`` compute the FE data into a fresh cache folder of their own
@@ -178,6 +179,23 @@ def meshes(refinements):
     return out
 
 
+def sizes(refinements):
+    """Each member's element sizes (mm) at each refinement and its fillet's smallest radius of
+    curvature rho_F at mid-face (`fe.mesh.mesh_sizes`, the rules of docs/loaded_contact.md 9.1)."""
+    from beveloid.fe.mesh import mesh_sizes
+    from beveloid.tooth.sampling import ToothSampler
+
+    out = {}
+    for case in ("case1", "case2"):
+        geometry = _pair(case).geometry
+        for member in ("pinion", "gear"):
+            sampler = ToothSampler(geometry, member)
+            out[f"{case} {member}"] = {n: {k: round(float(v), 4) for k, v in
+                                           vars(mesh_sizes(sampler, geometry.normal_module_mm, n)).items()}
+                                       for n in refinements}
+    return out
+
+
 #: a design whose pinion's flank elements are longer than its tooth is high at --fe-coarsen 8 (21 teeth,
 #: 100 mm face, rack tip round 0.38 m_n): where the mesh's flank departs most from the flank
 WIDE_PINION = {"pair": {"normal_module_mm": 5.0, "normal_pressure_angle_deg": 20.0, "shaft_angle_deg": 13.0,
@@ -241,7 +259,7 @@ def startup():
 
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("what", choices=("cost", "solvers", "convergence", "compare", "startup", "meshes", "locate"))
+    p.add_argument("what", choices=("cost", "solvers", "convergence", "compare", "startup", "meshes", "sizes", "locate"))
     p.add_argument("refinements", nargs="*", type=int, default=[1, 2, 3])
     a = p.parse_args(argv)
     fresh = tempfile.TemporaryDirectory(prefix="beveloid-fe-bench-") if a.what in ("cost", "convergence") else None
@@ -249,6 +267,7 @@ def main(argv=None):
         os.environ["BEVELOID_CACHE_DIR"] = fresh.name
     fn = {"cost": cost, "solvers": solvers, "compare": compare, "startup": startup,
           "convergence": lambda: convergence(a.refinements), "meshes": lambda: meshes(a.refinements),
+          "sizes": lambda: sizes(a.refinements),
           "locate": locate}[a.what]
     try:
         print(json.dumps(fn(), indent=1))
