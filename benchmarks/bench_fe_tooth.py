@@ -164,7 +164,9 @@ def compare():
 
 
 def meshes(refinements):
-    """The case 1 pinion's sector mesh at each refinement: nodes, tets, free dofs, seconds."""
+    """The case 1 pinion's sector mesh at each refinement: nodes, tets, free dofs, seconds, and the tets
+    that keep straight edges (`fe.solve.element_geometry`: their curved map would fold or nearly) and
+    of those the ones whose curved map folds (det J <= 0 at a quadrature point or a corner)."""
     from beveloid.fe import solve
     from beveloid.fe.mesh import sector_mesh
 
@@ -173,8 +175,14 @@ def meshes(refinements):
         t = time.perf_counter()
         mesh = sector_mesh(_pair("case1"), "pinion", refinement=n)
         clamped = np.unique(np.concatenate([mesh.node_sets[c] for c in solve.CLAMPED]))
+        curved = mesh.nodes[mesh.tets]
+        kept = solve.element_geometry(curved)
+        straightened = (kept != curved).any(axis=(1, 2))
+        pts = np.vstack([solve.QUADRATURE, np.eye(4)])
+        folded = np.min([solve.iso_gradients(curved, np.broadcast_to(q, (len(curved), 4)))[1] for q in pts], axis=0) <= 0
         out[n] = {"nodes": int(len(mesh.nodes)), "tets": int(len(mesh.tets)),
-                  "free_dofs": int(3 * (len(mesh.nodes) - clamped.size)), "seconds": time.perf_counter() - t}
+                  "free_dofs": int(3 * (len(mesh.nodes) - clamped.size)), "seconds": time.perf_counter() - t,
+                  "straight_edged_tets": int(straightened.sum()), "folded_tets": int(folded.sum())}
         print(n, out[n], file=sys.stderr, flush=True)
     return out
 
