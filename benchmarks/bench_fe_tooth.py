@@ -122,6 +122,9 @@ def _summary(r, geom):
            "converged": int(ok.sum())}
     for m, v in r.root_stress_max_mpa().items():
         out[f"root_stress_max_{m}_mpa"] = v
+    for m, where in r.root_stress_location().items():  # where the largest one sits: face z, height above the root cone
+        if where is not None:
+            out[f"root_stress_max_{m}_where_mm"] = [where["z_mm"], where["height_mm"]]
     # the surface peak against Hertz for pairs clear of the flank edges whose patch is long against the
     # tooth height (a / h > 0.5: where the plate departed from Hertz by 6-10 %, docs/loaded_contact.md 5.1)
     h = min(g.tip_height_mm + g.cutter_addendum_mm for g in (geom.pinion, geom.gear))
