@@ -6,6 +6,7 @@
     python -m benchmarks.bench_fe_tooth compare               # FE vs plate, case 1 and case 2
     python -m benchmarks.bench_fe_tooth startup               # cached FE start-up vs the plate
     python -m benchmarks.bench_fe_tooth meshes [1 2 3]        # case 1 pinion mesh sizes
+    python -m benchmarks.bench_fe_tooth sizes [1 2 3]         # element sizes and rho_F of case 1 and case 2 (no meshing)
     python -m benchmarks.bench_fe_tooth locate                # how far the load / reading points lie outside the mesh
 
 Not a test.  ``cost`` and ``convergence`` compute the FE data into a fresh cache folder of their own
@@ -121,6 +122,9 @@ def _summary(r, geom):
            "converged": int(ok.sum())}
     for m, v in r.root_stress_max_mpa().items():
         out[f"root_stress_max_{m}_mpa"] = v
+    for m, where in r.root_stress_location().items():  # where the largest one sits: face z, height above the root cone
+        if where is not None:
+            out[f"root_stress_max_{m}_where_mm"] = [where["z_mm"], where["height_mm"]]
     # the surface peak against Hertz for pairs clear of the flank edges whose patch is long against the
     # tooth height (a / h > 0.5: where the plate departed from Hertz by 6-10 %, docs/loaded_contact.md 5.1)
     h = min(g.tip_height_mm + g.cutter_addendum_mm for g in (geom.pinion, geom.gear))
@@ -163,7 +167,9 @@ def compare():
 
 
 def meshes(refinements):
-    """The case 1 pinion's sector mesh at each refinement: nodes, tets, free dofs, seconds."""
+    """The case 1 pinion's sector mesh at each refinement: nodes, tets, free dofs, seconds, and the tets
+    that keep straight edges (`fe.solve.element_geometry`: their curved map would fold or nearly) and
+    of those the ones whose curved map folds (det J <= 0 at a quadrature point or a corner)."""
     from beveloid.fe import solve
     from beveloid.fe.mesh import sector_mesh
 
@@ -172,9 +178,32 @@ def meshes(refinements):
         t = time.perf_counter()
         mesh = sector_mesh(_pair("case1"), "pinion", refinement=n)
         clamped = np.unique(np.concatenate([mesh.node_sets[c] for c in solve.CLAMPED]))
+        curved = mesh.nodes[mesh.tets]
+        kept = solve.element_geometry(curved)
+        straightened = (kept != curved).any(axis=(1, 2))
+        pts = np.vstack([solve.QUADRATURE, np.eye(4)])
+        folded = np.min([solve.iso_gradients(curved, np.broadcast_to(q, (len(curved), 4)))[1] for q in pts], axis=0) <= 0
         out[n] = {"nodes": int(len(mesh.nodes)), "tets": int(len(mesh.tets)),
-                  "free_dofs": int(3 * (len(mesh.nodes) - clamped.size)), "seconds": time.perf_counter() - t}
+                  "free_dofs": int(3 * (len(mesh.nodes) - clamped.size)), "seconds": time.perf_counter() - t,
+                  "straight_edged_tets": int(straightened.sum()), "folded_tets": int(folded.sum())}
         print(n, out[n], file=sys.stderr, flush=True)
+    return out
+
+
+def sizes(refinements):
+    """Each member's element sizes (mm) at each refinement and its fillet's smallest radius of
+    curvature rho_F at mid-face (`fe.mesh.mesh_sizes`, the rules of docs/loaded_contact.md 9.1)."""
+    from beveloid.fe.mesh import mesh_sizes
+    from beveloid.tooth.sampling import ToothSampler
+
+    out = {}
+    for case in ("case1", "case2"):
+        geometry = _pair(case).geometry
+        for member in ("pinion", "gear"):
+            sampler = ToothSampler(geometry, member)
+            out[f"{case} {member}"] = {n: {k: round(float(v), 4) for k, v in
+                                           vars(mesh_sizes(sampler, geometry.normal_module_mm, n)).items()}
+                                       for n in refinements}
     return out
 
 
@@ -241,7 +270,7 @@ def startup():
 
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("what", choices=("cost", "solvers", "convergence", "compare", "startup", "meshes", "locate"))
+    p.add_argument("what", choices=("cost", "solvers", "convergence", "compare", "startup", "meshes", "sizes", "locate"))
     p.add_argument("refinements", nargs="*", type=int, default=[1, 2, 3])
     a = p.parse_args(argv)
     fresh = tempfile.TemporaryDirectory(prefix="beveloid-fe-bench-") if a.what in ("cost", "convergence") else None
@@ -249,6 +278,7 @@ def main(argv=None):
         os.environ["BEVELOID_CACHE_DIR"] = fresh.name
     fn = {"cost": cost, "solvers": solvers, "compare": compare, "startup": startup,
           "convergence": lambda: convergence(a.refinements), "meshes": lambda: meshes(a.refinements),
+          "sizes": lambda: sizes(a.refinements),
           "locate": locate}[a.what]
     try:
         print(json.dumps(fn(), indent=1))

@@ -18,7 +18,9 @@ Two kinds of numbers:
   (docs/loaded_contact.md 9.7: ``python -m benchmarks.bench_fe_tooth compare``), ``fe_check``
   (docs/validation.md 11: CalculiX runs of ``benchmarks/fe_check_validation.py``, tens of minutes each
   on 2 cores: ``--record fe_check`` copies them from the runs file that script wrote, ``--fe-check-runs``),
-  ``fe_sectors`` (docs/validation.md 11.0: ``python benchmarks/fe_check_sector_bcs.py``, minutes).
+  ``fe_sectors`` (docs/validation.md 11.0: ``python benchmarks/fe_check_sector_bcs.py``, minutes),
+  ``ltca_tables`` (docs/validation.md 7.2 and 7.5: ``benchmarks/ltca_grid_convergence.py`` and
+  ``benchmarks/ltca_paper_loaded.py``, a minute or two with the FE data cached).
   A page quoting them must match the JSON; after a change that moves them, rerun ``--record GROUP``
   and paste what ``--print`` shows.
 
@@ -27,8 +29,10 @@ Drift: a quote of an expensive number matches the JSON, not the code, so each FE
 size x 3, a few positions), which tests/fe/test_fe_docs_canary.py recomputes from the session's coarse
 FE data (about 3 s) and compares with the record: a change of the code that moves the FE tooth, the
 LTCA or the rating moves the canary and fails the test until the group is recorded again.  The CalculiX
-numbers (``fe_check``) and the sectors' (``fe_sectors``) have no canary (minutes each): the test checks
-that every quoted row is the record's, formatted as the benchmark script formats it.
+numbers (``fe_check``), the sectors' (``fe_sectors``) and the LTCA tables of validation 7
+(``ltca_tables``) have no canary of their own: the test checks that every quoted row is the record's,
+formatted as the benchmark script formats it (the ``fe_tooth`` and ``rating`` canaries cover the FE
+tooth and the LTCA that ``ltca_tables`` runs).
 
 tests/docs/test_docs_numbers.py checks that every quote is in its page, with the cheap numbers
 computed now and the expensive ones from the JSON.
@@ -274,8 +278,23 @@ def fe_sectors_quotes(rec: dict) -> list:
         [("docs/fe_check.md", t, True) for t in text]
 
 
+def record_ltca_tables(args) -> dict:
+    """docs/validation.md 7.2 and 7.5: the grid convergence and the paper's loaded study, their rows as
+    the scripts print them (FE tooth; a minute or two with the FE data cached)."""
+    sys.path.insert(0, str(ROOT))
+    from benchmarks import ltca_grid_convergence, ltca_paper_loaded
+
+    return {"command": "python benchmarks/ltca_grid_convergence.py; python benchmarks/ltca_paper_loaded.py",
+            "grid_convergence": ltca_grid_convergence.rows(), "paper_loaded": ltca_paper_loaded.rows()}
+
+
+def ltca_tables_quotes(rec: dict) -> list:
+    t = rec["ltca_tables"]
+    return [("docs/validation.md", row, True) for row in t["grid_convergence"] + t["paper_loaded"]]
+
+
 GROUPS = {"explore": record_explore, "verify": record_verify, "paper": record_paper, "rating": record_rating, "fe_tooth": record_fe_tooth,
-          "fe_check": record_fe_check, "fe_sectors": record_fe_sectors}
+          "fe_check": record_fe_check, "fe_sectors": record_fe_sectors, "ltca_tables": record_ltca_tables}
 
 
 def record(groups=tuple(GROUPS), args=None) -> dict:
@@ -338,7 +357,7 @@ def quotes(cheap: dict, rec: dict) -> list[tuple[str, str, bool]]:
          True),
         ("docs/explore.md", f"fraction of 40 sets is ±{e['mc_sigma_pct']:.0f} %", True),
     ] + [q for group, quoted in (("fe_tooth", fe_tooth_quotes), ("rating", rating_quotes), ("fe_check", fe_check_quotes),
-                                                 ("fe_sectors", fe_sectors_quotes))
+                                                 ("fe_sectors", fe_sectors_quotes), ("ltca_tables", ltca_tables_quotes))
          if group in rec for q in quoted(rec)]
 
 
@@ -459,11 +478,22 @@ def fe_check_quotes(rec: dict) -> list:
     runs = rec["fe_check"]["runs"]
     lines = v.table(runs).splitlines()[2:] + v.hertz_table(runs).splitlines()[2:] + fe_check_ratio_rows(rec)
     r = runs[0]  # case 1 at refinement 1: the default run's cost in docs/fe_check.md
-    spaced = lambda n: f"{n:,}".replace(",", " ")  # noqa: E731
-    cost = (f"case 1 at {r['torque_nm']:g} N m: {spaced(r['elements'])} elements, {spaced(r['dof'])} DOF, CalculiX\n  "
+    cost = (f"case 1 at {r['torque_nm']:g} N m: {_spaced(r['elements'])} elements, {_spaced(r['dof'])} DOF, CalculiX\n  "
             f"{r['calculix_cpu_s']:.0f} s of CPU (2 threads); on this shared 2-core machine, beside other work,\n  "
             f"the whole run (LTCA, meshing, CalculiX) took {r['total_s']:.0f} s of wall time")
-    return [("docs/validation.md", line, True) for line in lines] + [("docs/fe_check.md", cost, True)]
+    return [("docs/validation.md", line, True) for line in lines] + [("docs/fe_check.md", cost, True)] + \
+        [("docs/performance.md", row, True) for row in fe_check_cost_rows(rec)]
+
+
+def _spaced(n: int) -> str:
+    return f"{n:,}".replace(",", " ")
+
+
+def fe_check_cost_rows(rec: dict) -> list:
+    """docs/performance.md, the fe-check section: each recorded run's size and times."""
+    return [f"| {r['design'].replace('case', 'case ')} {r['flank']}, {r['torque_nm']:g} N m, refinement {r['refinement']} | "
+            f"{_spaced(r['elements'])} | {_spaced(r['dof'])} | {r['mesh_s']:.0f} | {r['calculix_wall_s']:.0f} / "
+            f"{r['calculix_cpu_s']:.0f} | {r['total_s']:.0f} |" for r in rec["fe_check"]["runs"]]
 
 
 def main(argv=None) -> int:

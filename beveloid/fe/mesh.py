@@ -46,9 +46,12 @@ FILLET_SIZE_PER_RADIUS = 0.5
 RIM_DEPTH_PER_HEIGHT = 1.2
 #: the fillet's size is kept above this fraction of the module (a sharp rack's trochoid has a radius
 #: of curvature of a few hundredths of a module at its deepest point, where it is not loaded); the
-#: fillet band is meshed at 0.5 rho_F (case 1: 0.21 mm pinion, 0.24 mm gear at refinement 1): with
-#: the curved P2 tets of fe/solve.py the root stress then moves by a few percent from refinement 1
-#: to 2, where 0.8 rho_F left the pinion's 11 % short (docs/loaded_contact.md 9.6)
+#: fillet band is meshed at 0.5 rho_F, not below this (case 1 at refinement 1: 0.24 mm on both members,
+#: whose 0.5 rho_F is 0.21 / 0.14 mm; `python -m benchmarks.bench_fe_tooth sizes 1`): with
+#: the curved P2 tets of fe/solve.py the root stress then moves by +5.7 % (pinion) and +2.9 % (gear)
+#: from refinement 1 to 2 (docs/loaded_contact.md 9.6, `python -m benchmarks.bench_fe_tooth convergence
+#: 1 2`); 0.8 rho_F had left the pinion's 11 % short of refinement 2 (measured when this rule was
+#: chosen, commit c09e4f1's docs/loaded_contact.md 9.6)
 FILLET_SIZE_MIN_PER_MODULE = 0.04
 #: transverse sections the solid is lofted through, and points per face segment in a section
 SECTIONS = 9

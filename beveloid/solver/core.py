@@ -60,7 +60,8 @@ PARALLEL = ("solve_paths",)
 #: Functions that allocate arrays (here and in the generated glue).  The compiled backend keeps
 #: numba's reference counting (NRT) for them only: every other function just works on arrays its
 #: caller owns, and without the atomic increments and decrements of their references an
-#: evaluation of the contact system costs ~28 % less (docs/performance.md).  numba refuses to
+#: evaluation of the contact system costs ~42 % less (0.653 -> 0.381 us, docs/performance.md "What
+#: bounds the TCA's time", `benchmarks/profile_sweep.py --repeats 25` on both).  numba refuses to
 #: compile a function outside this list that allocates ("NRT required but not enabled").
 ALLOCATING = ("scratch", "edge_scratch", "clearance_scratch", "workspace", "edge_workspace", "solve_paths",
               "solve_point", "normal_gaps", "solve_linear", "contact_points", "ellipse_chords")
