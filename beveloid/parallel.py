@@ -12,9 +12,10 @@ workers, so one worker, N local workers and a cluster give the same results bit 
 * ``workers=1``: in this process, in order.
 * ``workers=N``: a ``concurrent.futures.ProcessPoolExecutor`` of N spawned processes.  Each loads
   the compiled solver once, in its initializer (:func:`warm_up` with the caller's ``initializer``:
-  numba's on-disk cache, written by the first process that compiled it), and runs numba
-  single-threaded (the processes are the parallelism).  They start with SIGINT blocked: a Ctrl-C
-  at the terminal stops the caller, which stops them.
+  numba's on-disk cache, written by the first process that compiled it), and runs numba and the
+  BLAS / OpenMP libraries on one thread (:data:`ONE_THREAD`: the processes are the parallelism; two
+  workers whose BLAS had two threads each spent 14 % more CPU on an optimize run, docs/performance.md).
+  They start with SIGINT blocked: a Ctrl-C at the terminal stops the caller, which stops them.
 * ``scheduler=ADDRESS``: an existing Dask distributed cluster (``dask scheduler`` /
   ``dask worker ADDRESS``), through ``distributed.Client``; Dask's own scheduler places the chunks
   and re-runs those of a lost worker.  A worker plugin (:class:`WarmUp`) loads the compiled solver
@@ -39,6 +40,27 @@ from typing import Any
 
 from . import interrupts
 from .errors import UserError
+
+
+#: the thread counts local worker processes start with (the processes are the parallelism)
+ONE_THREAD = {name: "1" for name in ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS",
+                                     "NUMBA_NUM_THREADS")}
+
+
+@contextlib.contextmanager
+def one_thread_environment():
+    """:data:`ONE_THREAD` in this process's environment meanwhile: read by the libraries as the processes
+    started meanwhile import them."""
+    saved = {k: os.environ.get(k) for k in ONE_THREAD}
+    os.environ.update(ONE_THREAD)
+    try:
+        yield
+    finally:
+        for k, v in saved.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
 
 
 class WorkLost(RuntimeError):
@@ -128,7 +150,8 @@ class _Local:
         return False
 
     def map_unordered(self, fn, items):
-        with _sigint_blocked():  # the first submits start the processes: they never see the terminal's Ctrl-C
+        # the first submits start the processes: they never see the terminal's Ctrl-C, and run on one thread
+        with _sigint_blocked(), one_thread_environment():
             futures = {self._pool.submit(fn, item): i for i, item in enumerate(items)}
         try:
             for fut in cf.as_completed(futures):

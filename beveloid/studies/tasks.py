@@ -34,10 +34,7 @@ import threading
 import time
 
 from .. import interrupts
-
-#: the thread counts the workers start with (the processes are the parallelism)
-ONE_THREAD = {name: "1" for name in ("OMP_NUM_THREADS", "MKL_NUM_THREADS", "OPENBLAS_NUM_THREADS",
-                                     "NUMBA_NUM_THREADS")}
+from ..parallel import one_thread_environment
 
 
 def say(msg) -> None:
@@ -116,8 +113,6 @@ class Tasks:
 
     def __enter__(self):
         if self.workers > 1:
-            saved = {k: os.environ.get(k) for k in ONE_THREAD}
-            os.environ.update(ONE_THREAD)  # read by the libraries as the workers import them
             # started with SIGINT blocked (a blocked signal stays blocked across exec), the workers hold a
             # Ctrl-C that arrives while they start until their initializer ignores it: no traceback from a
             # worker that is still starting.  Blocked, not ignored, in this process too: a Ctrl-C that
@@ -128,8 +123,9 @@ class Tasks:
             try:
                 before = set(multiprocessing.active_children())
                 self._started = ctx.SimpleQueue()
-                # the pool starts its processes here, under this signal mask and environment
-                self._pool = ctx.Pool(self.workers, initializer=_worker_start, initargs=(self._started,))
+                # the pool starts its processes here, under this signal mask and one thread each
+                with one_thread_environment():
+                    self._pool = ctx.Pool(self.workers, initializer=_worker_start, initargs=(self._started,))
                 self._processes = [p for p in multiprocessing.active_children() if p not in before]
                 # every worker up (its initializer run) before a Ctrl-C held meanwhile is delivered: a worker
                 # stopped while it unpickles its start-up data prints a traceback (its semaphore is gone)
@@ -139,11 +135,6 @@ class Tasks:
                     time.sleep(0.01)
                     self._read_started()
             finally:
-                for k, v in saved.items():
-                    if v is None:
-                        os.environ.pop(k, None)
-                    else:
-                        os.environ[k] = v
                 if block:
                     try:
                         signal.pthread_sigmask(signal.SIG_SETMASK, mask)  # a Ctrl-C held meanwhile arrives here

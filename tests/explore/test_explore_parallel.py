@@ -80,20 +80,23 @@ def test_dask_cluster_equals_local(case1, tmp_path, capsys, cluster):
 
 
 def _dies_on_two(item):
-    """A chunk whose worker process dies (as a killed or crashed worker does)."""
+    """A chunk whose worker process dies (as a killed or crashed worker does); the others say their BLAS's
+    thread count."""
     if item == 2:
         os._exit(3)
-    return item * 10
+    return item * 10, os.environ.get("OPENBLAS_NUM_THREADS")
 
 
 @pytest.mark.long_running
-def test_lost_local_worker_keeps_what_finished():
+def test_lost_local_worker_keeps_what_finished_and_workers_run_one_thread(monkeypatch):
+    monkeypatch.setenv("OPENBLAS_NUM_THREADS", "7")
     got = []
     with pytest.raises(parallel.WorkLost, match="died"):
         with parallel.executor(workers=2) as ex:
             for index, result in ex.map_unordered(_dies_on_two, [0, 1, 2, 3]):
                 got.append((index, result))
-    assert set(got) <= {(0, 0), (1, 10), (3, 30)}
+    assert set(got) <= {(0, (0, "1")), (1, (10, "1")), (3, (30, "1"))}
+    assert os.environ["OPENBLAS_NUM_THREADS"] == "7"  # this process's own setting, as it was
 
 
 class _LosesWorker:
