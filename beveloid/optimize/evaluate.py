@@ -42,11 +42,12 @@ class LoadedQuantities(NamedTuple):
     converged_positions: np.ndarray  # (T, K) int
 
 
-def loaded_quantities(pair, torques_nm, error_sets, options) -> LoadedQuantities:
+def loaded_quantities(pair, torques_nm, error_sets, options, *, solver=None) -> LoadedQuantities:
     """The quantities of the loaded analysis of ``pair`` at every torque (N m, pinion) and error set
     ((K, 5) mm, rad), with ``options`` (an ltca.Options; its torque and errors are replaced): one call of
     the batched loaded engine (``ltca.analyze_many``: N positions x T torques x K error sets) per
-    :data:`CHUNK_SETS` sets, the calls of ``beveloid ltca --samples``, so that it reproduces them exactly."""
+    :data:`CHUNK_SETS` sets, the calls of ``beveloid ltca --samples``, so that it reproduces them exactly.
+    ``solver``: the Solver of every call (None: the default one)."""
     from .. import ltca
     from ..solver import Solver
 
@@ -54,7 +55,7 @@ def loaded_quantities(pair, torques_nm, error_sets, options) -> LoadedQuantities
     te, p, root = np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape, np.nan)
     conv = np.zeros(shape, dtype=int)
     sets = np.asarray(error_sets, dtype=float)
-    solver = Solver()
+    solver = Solver() if solver is None else solver
     results = []
     for start in range(0, len(sets), CHUNK_SETS):
         results += ltca.analyze_many(pair, options, torques_nm=[float(t) for t in torques_nm],
@@ -93,13 +94,13 @@ def _num(v):
     return v if math.isfinite(v) else None
 
 
-def safeties(req: Request, pair) -> dict:
+def safeties(req: Request, pair, *, solver=None) -> dict:
     """The rating at the highest torque (``beveloid rating`` with the run's options): the lowest local S_F and
     S_H over the members, S_Fmin, S_Hmin and whether both are met (``feasible``; a local S_F the plate tooth
-    does not compute is not a constraint)."""
+    does not compute is not a constraint).  ``solver``: that of the loaded analyses (None: the default one)."""
     from .. import rating
 
-    r = rating.analyze(pair, req.rating_options())
+    r = rating.analyze(pair, req.rating_options(), solver=solver)
     sf = [m.safety_bending for m in r.members.values() if m.safety_bending is not None]
     sh = [m.safety_pitting for m in r.members.values() if m.safety_pitting is not None]
     s_f, s_h = (min(sf) if sf else None), (min(sh) if sh else None)
@@ -114,6 +115,7 @@ def evaluate(req: Request, values: dict, error_sets: np.ndarray | None = None) -
     objectives, the safeties."""
     from ..errors import UserError
     from ..pair import Pair
+    from ..solver import Solver
     from ..spec import SpecError
 
     t0 = time.perf_counter()
@@ -123,9 +125,10 @@ def evaluate(req: Request, values: dict, error_sets: np.ndarray | None = None) -
     except (SpecError, UserError) as exc:  # the spec's rules or the design refuse these values
         return _failed(rec, req, EvaluationStatus.REFUSED, exc, t0)
     sets = req.error_sets() if error_sets is None else error_sets
+    solver = Solver()  # one for the candidate's loaded analyses and its rating
     try:
-        lq = loaded_quantities(pair, req.torques_nm, sets, req.ltca_options(max(req.torques_nm)))
-        rec["safety"] = safeties(req, pair) if req.constraints == "rating" else None
+        lq = loaded_quantities(pair, req.torques_nm, sets, req.ltca_options(max(req.torques_nm)), solver=solver)
+        rec["safety"] = safeties(req, pair, solver=solver) if req.constraints == "rating" else None
     except UserError as exc:  # no contact at all (the flank is turned off its mate)
         return _failed(rec, req, EvaluationStatus.FAILED, exc, t0)
     rec["quantities"] = {q: [[_num(v) for v in row] for row in getattr(lq, q)] for q in QUANTITIES}

@@ -162,15 +162,25 @@ def test_the_search_is_seeded():
 
 
 def test_the_safeties_are_the_ratings(tilted, capsys):
-    """--constraints rating: a candidate's local S_H is what `beveloid rating` gives for its spec."""
+    """--constraints rating: a candidate's local S_H is what `beveloid rating` gives for its spec; its
+    rating runs on the Solver of its loaded analyses."""
     import tomllib
 
+    from beveloid import ltca, rating
     from beveloid.optimize import report
     from beveloid.spec import spec_to_dict
 
+    solvers = []
     req = Request(base=tomllib.loads(tilted.read_text()), varies=(Vary(KEY, LOW, HIGH),), torques_nm=(TORQUE,),
                   weights=(1.0,), positions=3, grid=(5, 5), tooth_model="plate", constraints="rating")
-    rec = evaluate.evaluate(req, {KEY: 15.0})
+    with pytest.MonkeyPatch.context() as mp:
+        for module, name in ((ltca, "analyze_many"), (rating, "analyze")):
+            def spy(*a, _fn=getattr(module, name), **k):
+                solvers.append(k.get("solver"))
+                return _fn(*a, **k)
+            mp.setattr(module, name, spy)
+        rec = evaluate.evaluate(req, {KEY: 15.0})
+    assert len(solvers) == 2 and solvers[0] is not None and solvers[1] is solvers[0]
     path = tilted.parent / "rated.toml"
     path.write_text(report.toml_text(spec_to_dict(req.spec({KEY: 15.0}))))
     assert main(["rating", str(path), "--torque-nm", f"{TORQUE:g}", "--positions", "3", "--tooth-model", "plate",
