@@ -37,9 +37,7 @@ PACKAGE = ROOT / "beveloid"
 MAX_PARAMETERS = 8
 
 #: (file relative to the checkout, function) still over MAX_PARAMETERS, owned by other work items
-PENDING_PARAMETERS: set = {
-    # the LTCA's public contact solve (issue 43): packing its keywords (the two weights) changes its API
-    ("beveloid/ltca/lcp.py", "solve_contact")}
+PENDING_PARAMETERS: set = set()
 #: packages (folders relative to the checkout) that do not declare __all__ yet
 PENDING_ALL: set = set()
 

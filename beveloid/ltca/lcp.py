@@ -35,7 +35,7 @@ import numpy as np
 
 from . import checks, kernel
 
-__all__ = ["Compliance", "ContactSolution", "SolveLimits", "prepare_compliance", "solve_contact"]
+__all__ = ["CellWeights", "Compliance", "ContactSolution", "SolveLimits", "prepare_compliance", "solve_contact"]
 
 
 @dataclass(frozen=True)
@@ -135,13 +135,20 @@ def prepare_compliance(compliance_mm_per_mpa: np.ndarray | Sequence[np.ndarray] 
     return Compliance(tuple(out), tuple(slices), tuple(sym))
 
 
+class CellWeights(typing.NamedTuple):
+    """The weights of the module docstring, one entry per cell (both > 0): w (approach) and t (load; None:
+    t = w)."""
+
+    approach: typing.Any
+    load: typing.Any = None
+
+
 def solve_contact(
     compliance_mm_per_mpa: np.ndarray | Sequence[np.ndarray] | Compliance,
     gap_mm,
     area_mm2,
     load_n: float,
-    approach_weight=None,
-    load_weight=None,
+    weights: CellWeights | None = None,
     *,
     initial_contact=None,
     limits: "SolveLimits | None" = None,
@@ -151,9 +158,8 @@ def solve_contact(
 
     ``compliance_mm_per_mpa``: an (n, n) matrix, a list of square blocks (block-diagonal,
     cells in block order) or a :class:`Compliance` from :func:`prepare_compliance`
-    (checked once; use it when solving many positions on one grid).  ``gap_mm``, ``area_mm2``, ``approach_weight`` (w),
-    ``load_weight`` (t): one entry per cell; w defaults to 1, t defaults to w; both must
-    be > 0.  ``initial_contact``: optional boolean start set (e.g. the previous mesh
+    (checked once; use it when solving many positions on one grid).  ``gap_mm``, ``area_mm2``: one entry
+    per cell.  ``weights``: :class:`CellWeights` (w, t), None: w = t = 1.  ``initial_contact``: optional boolean start set (e.g. the previous mesh
     position); by default an uncoupled-spring estimate.  ``limits``: :class:`SolveLimits`, the
     relative tolerance of the complementarity residual (the load residual is held to 1e-9 at most)
     and the most active-set iterations.  ``solver``: a :class:`beveloid.solver.Solver` (its backend:
@@ -165,8 +171,9 @@ def solve_contact(
         raise ValueError("gap_mm is empty: must have at least one cell")
     a = checks.finite_array("area_mm2", area_mm2, n, positive_only=True)
     load = checks.positive("load_n", load_n)
-    w = np.ones(n) if approach_weight is None else checks.finite_array("approach_weight", approach_weight, n, True)
-    t = w if load_weight is None else checks.finite_array("load_weight", load_weight, n, True)
+    weights = CellWeights(None) if weights is None else weights
+    w = np.ones(n) if weights.approach is None else checks.finite_array("weights.approach", weights.approach, n, True)
+    t = w if weights.load is None else checks.finite_array("weights.load", weights.load, n, True)
     limits = SolveLimits() if limits is None else limits
     tol, max_iterations = checks.positive("tolerance", limits.tolerance), limits.max_iterations
     if not (isinstance(max_iterations, int) and max_iterations >= 1):

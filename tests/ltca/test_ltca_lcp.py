@@ -12,7 +12,7 @@ from scipy.optimize import minimize
 
 from beveloid.ltca.halfspace import reduced_modulus_mpa, tensor_grid, tensor_influence_matrix_mm_per_mpa
 from beveloid.ltca.hertz import hertz_point_contact
-from beveloid.ltca.lcp import SolveLimits, prepare_compliance, solve_contact
+from beveloid.ltca.lcp import CellWeights, SolveLimits, prepare_compliance, solve_contact
 
 E_STAR = reduced_modulus_mpa()
 RX_MM, RY_MM, LOAD_N = 20.0, 60.0, 1000.0
@@ -90,7 +90,7 @@ def test_equilibrium_with_moment_weights_and_a_tilted_gap():
     torque_nmm = 60_000.0
     w = r_mm / r_ref
     tilted = h + 2e-4 * cells.y_mm
-    sol = solve_contact(c, tilted, cells.area_mm2, torque_nmm / r_ref, w)
+    sol = solve_contact(c, tilted, cells.area_mm2, torque_nmm / r_ref, CellWeights(w))
     assert sol.converged, sol.message
     moment = float((cells.area_mm2 * sol.pressure_mpa) @ r_mm)
     assert moment == pytest.approx(torque_nmm, rel=1e-10)
@@ -102,7 +102,7 @@ def test_nonsymmetric_weights_still_solve():
     cells, c, h = hertz_problem(11)
     w = 1.0 + 0.1 * cells.x_mm
     t = 1.0 - 0.2 * cells.y_mm
-    sol = solve_contact(c, h, cells.area_mm2, 500.0, w, t)
+    sol = solve_contact(c, h, cells.area_mm2, 500.0, CellWeights(w, t))
     assert sol.converged
     assert float((cells.area_mm2 * t) @ sol.pressure_mpa) == pytest.approx(500.0, rel=1e-10)
     assert_complementary(c, h, w, sol)
@@ -165,7 +165,8 @@ def test_warm_start_and_unconverged_flag():
         ({"load_n": 0.0}, "load_n = 0.0"),
         ({"gap_mm": np.ones(3), "area_mm2": np.ones(3)}, "compliance covers 4 cells but gap_mm has 3"),
         ({"area_mm2": np.array([1.0, 1.0, 0.0, 1.0])}, "area_mm2 has minimum 0.0"),
-        ({"approach_weight": -np.ones(4)}, "approach_weight"),
+        ({"weights": CellWeights(-np.ones(4))}, "weights.approach"),
+        ({"weights": CellWeights(np.ones(4), np.zeros(4))}, "weights.load"),
         ({"limits": SolveLimits(tolerance=-1.0)}, "tolerance = -1.0"),
         ({"limits": SolveLimits(max_iterations=0)}, "max_iterations = 0"),
         ({"compliance": np.ones((4, 3))}, "must be square"),
