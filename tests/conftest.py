@@ -49,6 +49,19 @@ except ImportError:  # not POSIX: no lock, each process compiles (or loads the c
 
 ROOT = Path(__file__).resolve().parents[1]
 
+# One BLAS thread in each test process and in the Pythons it starts: the parallel run keeps every
+# core busy with a worker already, and a second BLAS thread per worker only competes with the other
+# worker, spinning while it waits (docs/performance.md, "Test suite").  The variables for the
+# libraries not loaded yet (MKL, by
+# pypardiso) and for the child processes; numpy's OpenBLAS is loaded by the imports above.  A value
+# set by the caller wins.
+if "OPENBLAS_NUM_THREADS" not in os.environ:
+    from threadpoolctl import threadpool_limits
+
+    threadpool_limits(limits=1, user_api="blas")
+for _blas in ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_blas, "1")
+
 # The suite runs on the built-in tooth-surface models only: an empty user model folder (docs/models.md),
 # whatever the machine's own holds; tests of user models give theirs to the processes they start.
 os.environ["BEVELOID_MODELS_DIR"] = tempfile.mkdtemp(prefix="beveloid-test-models-")
