@@ -28,7 +28,10 @@ def case1(tmp_path):
 
 
 @pytest.mark.skipif(not Path("/dev/full").exists(), reason="/dev/full is a Linux device")
-@pytest.mark.parametrize("args", [["design", "{case1}"], ["example", "case1"], ["design", "{case1}", "--json"],
+# one handler (cli._main) for every command: `pytest` runs it under a command that only prints and under
+# one that solves; the design table and JSON (a second each in their own Python) in the slow tier
+@pytest.mark.parametrize("args", [pytest.param(["design", "{case1}"], marks=pytest.mark.slow), ["example", "case1"],
+                                  pytest.param(["design", "{case1}", "--json"], marks=pytest.mark.slow),
                                   ["tca", "{case1}", "--positions", "3"]])
 def test_a_full_output_device_is_one_line_and_exit_1(tmp_path, case1, args):
     """As `cat file > /dev/full`: a write error is one line on stderr and exit 1."""
@@ -39,7 +42,10 @@ def test_a_full_output_device_is_one_line_and_exit_1(tmp_path, case1, args):
     assert proc.stderr == "beveloid: error: cannot write the output: No space left on device (errno 28)\n"
 
 
-@pytest.mark.parametrize("args", [["example", "case1"], ["tca", "{case1}", "--positions", "3", "--json"]])
+# the TCA's JSON in the slow tier; `pytest` runs the same handler on a closed stdout under `example`,
+# and under `tca` on a full device (above) and a closed pipe (below)
+@pytest.mark.parametrize("args", [["example", "case1"],
+                                  pytest.param(["tca", "{case1}", "--positions", "3", "--json"], marks=pytest.mark.slow)])
 def test_a_closed_stdout_is_a_write_error(tmp_path, case1, args):
     """`beveloid tca my.toml >&-`: the output is lost, so the command says so in one line and exits 1
     (as `cat file >&-` does), instead of exiting 0."""
