@@ -141,7 +141,7 @@ class BeveloidCompliance(lcp.Compliance):
     """C of every tooth pair at one position: that pair's half-space matrix ``halfspace[k]`` plus
     its tooth compliance ``tooth[k][line_a, line_b] area_b`` (``line``: a cell's along index;
     ``area[k]``: pair k's cell area), cells pair-major, as dense symmetric blocks (the LTCA itself
-    assembles them for every position at once: :func:`beveloid.ltca.cycle.position_blocks`)."""
+    assembles them from compact tables: :func:`beveloid.ltca.cycle.compliance_tables`)."""
 
     def __init__(self, halfspace_blocks, tooth, line, area):
         n = line.size

@@ -126,6 +126,10 @@ def _fill_between(x, phi1, solved):
     return x, filled
 
 
+#: positions whose dense compliance blocks are assembled and solved together (cycle.solve_many)
+CHUNK_POSITIONS = 4
+
+
 class Solution(typing.NamedTuple):
     """The contact problem of every position on one grid."""
 
@@ -168,9 +172,9 @@ def solve(setup: Setup, grid, need, torque_nm, e_star_mpa, teeth, positions=None
 
 def solve_many(problems, e_star_mpa, teeth) -> list:
     """The Solution of each :class:`Problem` (all of one cell count): their gaps one setup at a time,
-    the compliance blocks of every position of every problem at once (:func:`position_blocks`), and
-    every contact problem in one call of the kernel (:func:`beveloid.ltca.kernel.solve_positions`,
-    compiled with the solver's backend)."""
+    the compliance tables of every position of a problem at once (:func:`compliance_tables`), then the
+    dense blocks (:func:`assemble_blocks`) and the contact problems (:func:`beveloid.ltca.kernel.solve_positions`,
+    compiled with the solver's backend) of :data:`CHUNK_POSITIONS` positions at a time."""
     parts, rows = [], []
     for pr in problems:
         N, P = pr.need.shape
@@ -189,7 +193,10 @@ def solve_many(problems, e_star_mpa, teeth) -> list:
     k = kernel.kernels(solver)
     limits = lcp.SolveLimits()
     p, result, r2s = np.zeros((J, P * n)), np.zeros((J, 5)), np.ones(J)
-    buffer = np.empty((max((r.size for r in rows), default=0) * P, n, n))  # one problem's blocks at a time
+    # the dense blocks of CHUNK_POSITIONS positions at a time, assembled just before their solve: a
+    # problem's blocks at once (20 positions x 3 pairs of 187 cells: 17 MB) left the cache before the
+    # solve read them
+    buffer = np.empty((min(CHUNK_POSITIONS, max((r.size for r in rows), default=0)) * P, n, n))
     at_row = 0
     for (pr, gap, _, _), jj in zip(parts, rows):
         if jj.size == 0:
@@ -205,19 +212,26 @@ def solve_many(problems, e_star_mpa, teeth) -> list:
         at = (t * area[..., None]).reshape(jj.size, -1)
         h = np.ascontiguousarray(gap.gap_mm[jj].reshape(jj.size, -1))
         r2s[sl] = r2
-        blocks = buffer[:jj.size * P]
-        position_blocks(pr.grid, gap, jj, inside.any(axis=-1), e_star_mpa, teeth, solver, blocks)
-        off = (np.arange(jj.size * P, dtype=np.int64) * n * n).reshape(jj.size, P)
+        tables = compliance_tables(pr.grid, gap, jj, inside.any(axis=-1), e_star_mpa, teeth)
         if pr.start is None:
             starts = np.zeros((jj.size, 1), dtype=np.bool_)
         else:
             starts = np.ascontiguousarray(mapped_contact(pr.start, pr.grid, gap)[jj].reshape(jj.size, -1))
-        k.solve_positions(kernel.Layout(blocks.reshape(-1), off, np.arange(P, dtype=np.int64) * n,
-                                        np.full(P, n, dtype=np.int64), np.ones((jj.size, P), dtype=np.bool_)),
-                          kernel.Cells(h, w, at, pr.torque_nm * 1e3 / r1),
-                          kernel.Start(limits.tolerance, limits.max_iterations, starts,
-                                       np.full(jj.size, pr.start is not None)),
-                          kernel.Output(p[sl], result[sl]))
+        load = pr.torque_nm * 1e3 / r1
+        for c0 in range(0, jj.size, CHUNK_POSITIONS):
+            c = slice(c0, min(c0 + CHUNK_POSITIONS, jj.size))
+            m = c.stop - c.start
+            blocks = buffer[:m * P]
+            assemble_blocks(tables, c, nx, ny, solver, blocks)
+            off = (np.arange(m * P, dtype=np.int64) * n * n).reshape(m, P)
+            rows_c = slice(sl.start + c.start, sl.start + c.stop)
+            k.solve_positions(kernel.Layout(blocks.reshape(-1), off, np.arange(P, dtype=np.int64) * n,
+                                            np.full(P, n, dtype=np.int64), np.ones((m, P), dtype=np.bool_)),
+                              kernel.Cells(h[c], w[c], at[c], load[c]),
+                              kernel.Start(limits.tolerance, limits.max_iterations,
+                                           starts if pr.start is None else starts[c],
+                                           np.full(m, pr.start is not None)),
+                              kernel.Output(p[rows_c], result[rows_c]))
     out, at_row = [], 0
     for (pr, gap, todo, live), jj in zip(parts, rows):
         N = pr.need.shape[0]
@@ -271,12 +285,19 @@ def masked_median(values, mask) -> np.ndarray:
     return 0.5 * (v[rows, (m - 1) // 2] + v[rows, m // 2])
 
 
-def position_blocks(grid, gap, jj, loaded, e_star_mpa, teeth, solver, out) -> np.ndarray:
-    """``out`` (J P, n, n): the compliance (mm/MPa) of each pair at positions ``jj``, its grid's
-    half-space matrix plus both teeth's compliance along its centre line applied to every cell of the
-    same along index, C[(i,a),(j,b)] = H + T[a, b] area (:func:`beveloid.ltca.kernel.assemble`).  A pair
-    not in contact (``loaded`` (J, P) false: never loaded, its cells never active) gets only a unit
-    diagonal, all the contact solve reads of it."""
+class Tables(typing.NamedTuple):
+    """The compliance of the pairs at J positions in compact form (:func:`compliance_tables`)."""
+
+    halfspace: np.ndarray  # (J, P, 2 nx - 1, 2 ny - 1) the half-space Toeplitz table (mm/MPa)
+    tooth: np.ndarray  # (J, P, ny, ny) both teeth's compliance along the centre line (mm/N)
+    area: np.ndarray  # (J, P) cell area (mm^2)
+    loaded: np.ndarray  # (J, P) the pair is in contact (else its cells are never active)
+
+
+def compliance_tables(grid, gap, jj, loaded, e_star_mpa, teeth) -> Tables:
+    """The compliance of each pair at positions ``jj``: its grid's half-space table and both teeth's
+    compliance along its centre line (:func:`assemble_blocks` makes the dense blocks).  A pair not in
+    contact (``loaded`` (J, P) false: never loaded, its cells never active) gets zeros."""
     nx, ny = grid.across_cells, grid.along_cells
     J, P = loaded.shape
     q = np.nonzero(loaded)
@@ -289,8 +310,18 @@ def position_blocks(grid, gap, jj, loaded, e_star_mpa, teeth, solver, out) -> np
         centre = (nx // 2) * ny + np.arange(ny)  # the cells on the grid's along-axis
         T[q] = pair_tooth_compliances(teeth[0], teeth[1], gap.pinion_point[jj][q][:, centre],
                                       gap.gear_point[jj][q][:, centre])
-    kernel.kernels(solver).assemble(d.reshape(J * P, *d.shape[2:]), T.reshape(J * P, ny, ny),
-                                    grid.cell_area_mm2()[jj].ravel(), loaded.ravel(), nx, ny, out)
+    return Tables(d, T, grid.cell_area_mm2()[jj], loaded)
+
+
+def assemble_blocks(tables: Tables, rows, nx, ny, solver, out) -> np.ndarray:
+    """``out`` (R P, n, n): the compliance (mm/MPa) of each pair at the positions ``rows`` (a slice) of
+    ``tables``, its half-space matrix plus both teeth's compliance along its centre line applied to every
+    cell of the same along index, C[(i,a),(j,b)] = H + T[a, b] area (:func:`beveloid.ltca.kernel.assemble`);
+    a pair not in contact only a unit diagonal, all the contact solve reads of it."""
+    d, T = tables.halfspace[rows], tables.tooth[rows]
+    R, P = d.shape[:2]
+    kernel.kernels(solver).assemble(d.reshape(R * P, *d.shape[2:]), T.reshape(R * P, ny, ny),
+                                    tables.area[rows].ravel(), tables.loaded[rows].ravel(), nx, ny, out)
     return out
 
 
