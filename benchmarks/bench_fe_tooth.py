@@ -1,6 +1,6 @@
 """The FE tooth (issue 31): its cost, its convergence under --fe-refinement, and FE against plate.
 
-    python -m benchmarks.bench_fe_tooth cost                  # FE data of case 1's pinion, fresh
+    python -m benchmarks.bench_fe_tooth cost [--member gear]  # FE data of case 1's pinion (or gear), fresh
     python -m benchmarks.bench_fe_tooth solvers               # PARDISO vs SuperLU on that stiffness
     python -m benchmarks.bench_fe_tooth refinement            # PARDISO's solves with and without iterative refinement
     python -m benchmarks.bench_fe_tooth convergence [1 2 3]   # case 1 LTCA at each refinement
@@ -33,14 +33,15 @@ def _pair(case):
     return Pair.example(case)
 
 
-def cost():
+def cost(member="pinion"):
     from beveloid.fe.tooth import tooth_data
     from beveloid.ltca import Material
 
     pair = _pair("case1")
     m = Material.from_spec(pair.spec)
+    e_mpa, nu = (m.pinion_e_mpa, m.pinion_nu) if member == "pinion" else (m.gear_e_mpa, m.gear_nu)
     t, cpu = time.perf_counter(), time.process_time()
-    d = tooth_data(pair, "pinion", m.pinion_e_mpa, m.pinion_nu, 1, progress=lambda s: print(s, file=sys.stderr))
+    d = tooth_data(pair, member, e_mpa, nu, 1, progress=lambda s: print(s, file=sys.stderr))
     out = {name: d.stat(name) for name in d.STATS}
     out["total_s"] = time.perf_counter() - t
     out["cpu_s"] = time.process_time() - cpu  # all threads' CPU time: the machine is shared
@@ -279,13 +280,14 @@ def main(argv=None):
     p.add_argument("what", choices=("cost", "solvers", "refinement", "convergence", "compare", "startup", "meshes",
                                      "locate"))
     p.add_argument("refinements", nargs="*", type=int, default=[1, 2, 3])
+    p.add_argument("--member", choices=("pinion", "gear"), default="pinion", help="cost: the member (default pinion)")
     a = p.parse_args(argv)
     if a.what == "refinement":  # MKL on one thread, as on `beveloid paper`'s worker processes (read as MKL loads)
         os.environ["MKL_NUM_THREADS"] = "1"
     fresh = tempfile.TemporaryDirectory(prefix="beveloid-fe-bench-") if a.what in ("cost", "convergence") else None
     if fresh is not None:
         os.environ["BEVELOID_CACHE_DIR"] = fresh.name
-    fn = {"cost": cost, "solvers": solvers, "refinement": refinement, "compare": compare, "startup": startup,
+    fn = {"cost": lambda: cost(a.member), "solvers": solvers, "refinement": refinement, "compare": compare, "startup": startup,
           "convergence": lambda: convergence(a.refinements), "meshes": lambda: meshes(a.refinements),
           "locate": locate}[a.what]
     try:
