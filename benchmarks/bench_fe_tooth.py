@@ -1,7 +1,8 @@
 """The FE tooth (issue 31): its cost, its convergence under --fe-refinement, and FE against plate.
 
-    python -m benchmarks.bench_fe_tooth cost                  # FE data of case 1's pinion, fresh
+    python -m benchmarks.bench_fe_tooth cost [--member gear]  # FE data of case 1's pinion (or gear), fresh
     python -m benchmarks.bench_fe_tooth solvers               # PARDISO vs SuperLU on that stiffness
+    python -m benchmarks.bench_fe_tooth refinement            # PARDISO's solves with and without iterative refinement
     python -m benchmarks.bench_fe_tooth convergence [1 2 3]   # case 1 LTCA at each refinement
     python -m benchmarks.bench_fe_tooth compare               # FE vs plate, case 1 and case 2
     python -m benchmarks.bench_fe_tooth startup               # cached FE start-up vs the plate
@@ -33,14 +34,15 @@ def _pair(case):
     return Pair.example(case)
 
 
-def cost():
+def cost(member="pinion"):
     from beveloid.fe.tooth import tooth_data
     from beveloid.ltca import Material
 
     pair = _pair("case1")
     m = Material.from_spec(pair.spec)
+    e_mpa, nu = (m.pinion_e_mpa, m.pinion_nu) if member == "pinion" else (m.gear_e_mpa, m.gear_nu)
     t, cpu = time.perf_counter(), time.process_time()
-    d = tooth_data(pair, "pinion", m.pinion_e_mpa, m.pinion_nu, 1, progress=lambda s: print(s, file=sys.stderr))
+    d = tooth_data(pair, member, e_mpa, nu, 1, progress=lambda s: print(s, file=sys.stderr))
     out = {name: d.stat(name) for name in d.STATS}
     out["total_s"] = time.perf_counter() - t
     out["cpu_s"] = time.process_time() - cpu  # all threads' CPU time: the machine is shared
@@ -108,6 +110,40 @@ def solvers():
                          "residual": float(np.abs(Kf @ x - rhs).max() / np.abs(rhs).max())}
             print(coarsen, name, row[name], file=sys.stderr, flush=True)
         out[f"coarsen_{coarsen:g}"] = row
+    out["load_average_1min"] = os.getloadavg()[0]
+    return out
+
+
+def refinement():
+    """PARDISO's solves of the case 1 pinion's right-flank load cases (the FE tooth's own loads, one
+    factorisation) with MKL's default iterative refinement (up to 2 steps) and without it (what
+    beveloid.fe.solve.PardisoFactor does): CPU seconds, the steps taken, the largest change of a
+    displacement (relative to the largest) and the residuals max|K x - b| / max|b|."""
+    import scipy.sparse
+
+    from beveloid.fe import solve, tooth
+    from beveloid.fe.mesh import sector_mesh
+    from beveloid.ltca import Material
+    from beveloid.tooth.body import body_pair
+
+    pair = body_pair(_pair("case1"), "pinion")
+    m = Material.from_spec(_pair("case1").spec)
+    mesh = sector_mesh(pair, "pinion")
+    elastic = solve.factorise(mesh, m.pinion_e_mpa, m.pinion_nu, solver="pardiso")
+    g = tooth.load_grid(tooth.ToothSampler(pair.geometry, "pinion"), pair.geometry.normal_module_mm)
+    pts, nrm = g.points_mm[1].reshape(-1, 3), g.normals[1].reshape(-1, 3)
+    rhs = np.ascontiguousarray(solve.displacement_operator(elastic, solve.locate(mesh, pts), -nrm).T.toarray()[elastic.free])
+    factor = elastic.lu
+    K = factor.matrix + scipy.sparse.triu(factor.matrix, 1).T
+    out = {"free_dofs": int(rhs.shape[0]), "load_cases": int(rhs.shape[1])}
+    x = {}
+    for steps in (2, 0):
+        factor.solver.iparm[7] = steps
+        cpu = time.process_time()
+        x[steps] = factor.solve(rhs)
+        out[f"max_steps_{steps}"] = {"cpu_s": time.process_time() - cpu, "steps_taken": int(factor.solver.iparm[6]),
+                                     "residual": float(np.abs(K @ x[steps] - rhs).max() / np.abs(rhs).max())}
+    out["max_change_relative"] = float(np.abs(x[0] - x[2]).max() / np.abs(x[2]).max())
     out["load_average_1min"] = os.getloadavg()[0]
     return out
 
@@ -270,13 +306,17 @@ def startup():
 
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("what", choices=("cost", "solvers", "convergence", "compare", "startup", "meshes", "sizes", "locate"))
+    p.add_argument("what", choices=("cost", "solvers", "refinement", "convergence", "compare", "startup", "meshes",
+                                     "sizes", "locate"))
     p.add_argument("refinements", nargs="*", type=int, default=[1, 2, 3])
+    p.add_argument("--member", choices=("pinion", "gear"), default="pinion", help="cost: the member (default pinion)")
     a = p.parse_args(argv)
+    if a.what == "refinement":  # MKL on one thread, as on `beveloid paper`'s worker processes (read as MKL loads)
+        os.environ["MKL_NUM_THREADS"] = "1"
     fresh = tempfile.TemporaryDirectory(prefix="beveloid-fe-bench-") if a.what in ("cost", "convergence") else None
     if fresh is not None:
         os.environ["BEVELOID_CACHE_DIR"] = fresh.name
-    fn = {"cost": cost, "solvers": solvers, "compare": compare, "startup": startup,
+    fn = {"cost": lambda: cost(a.member), "solvers": solvers, "refinement": refinement, "compare": compare, "startup": startup,
           "convergence": lambda: convergence(a.refinements), "meshes": lambda: meshes(a.refinements),
           "sizes": lambda: sizes(a.refinements),
           "locate": locate}[a.what]

@@ -5,6 +5,7 @@ stays cheap and plotting works without a display.
 """
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -79,8 +80,10 @@ def _save(fig, out_png, title="", dpi=110, suptitle=True):
     plt.close(fig)
 
 
+@functools.lru_cache(maxsize=16)
 def flank_outline(geom, which, flank, n=60):
-    """Boundary of a member's active flank in (axial position z, radius): toe, tip, heel, form."""
+    """Boundary of a member's active flank in (axial position z, radius): toe, tip, heel, form.
+    Computed once per (geometry, member, flank, n): every panel of a figure draws it (read-only arrays)."""
     from .tca import surface
 
     m = geom.pinion if which == "pinion" else geom.gear
@@ -102,6 +105,7 @@ def flank_outline(geom, which, flank, n=60):
         form[i] = math.hypot(p[0], p[1])
     zs = np.concatenate([z, z[::-1], z[:1]])
     rs = np.concatenate([form, tip[::-1], form[:1]])
+    zs.flags.writeable = rs.flags.writeable = False  # shared by every caller (the cache)
     return zs, rs
 
 

@@ -212,7 +212,7 @@ def flank_compliance(elastic, points, normals, depth, solutions=None, feet=None,
     foot, foot_n = (points, normals) if feet is None else feet
     g = len(points)
     located = solve.locate(elastic.mesh, np.vstack([points, reading_points(foot, foot_n, depth[:, None])]), max_outside_mm,
-                           label=[f"{label} load point"] * g + [f"{label} reading point"] * g)
+                           label=[f"{label} load point"] * g + [f"{label} reading point"] * g, geometry=elastic.geometry)
     load = solve.displacement_operator(elastic, located[:g], -normals)
     read = solve.displacement_operator(elastic, located[g:], -normals)
     u = elastic.solve(load.T.toarray()) if solutions is None else solutions

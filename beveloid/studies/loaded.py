@@ -28,9 +28,10 @@ FIGURES = {"case1": "24", "case2": "25"}
 FLANK = "right"
 
 
-#: the FE data of one member the first time, seconds of CPU (docs/performance.md: the case 1 pinion at
-#: refinement 1, `python -m benchmarks.bench_fe_tooth cost`)
-FE_FIRST_TIME_S = 30
+#: the FE data of one member the first time, seconds of CPU on one thread (as on paper's workers), rounded
+#: up: 12.3 s for the case 1 pinion and 13.3 s for its gear at refinement 1, 182 load cases each
+#: (`MKL_NUM_THREADS=1 python -m benchmarks.bench_fe_tooth cost [--member gear]`, 2026-11-27, load average 2.5)
+FE_FIRST_TIME_S = 15
 
 
 def _say(text):

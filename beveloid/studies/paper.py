@@ -248,22 +248,62 @@ def _crowning_task(case, positions, out):
                               progress=_progress)
 
 
-def compile_first(geom, then=None) -> float:
-    """Seconds to make ready every compiled function the studies run (numba compiles them on the first
-    run after an installation and caches them; later runs load them): small runs of each analysis, so
-    that the worker processes load numba's cache instead of each compiling the same functions.  The
-    solver core first (the error studies need only it until their bearing patterns): ``then()``, when
-    given, runs as soon as it is ready (the studies are handed to the workers meanwhile)."""
-    from .. import ltca, tca
-    from ..contact_ellipse import with_ellipses
+def compile_first(geom) -> float:
+    """Seconds to make ready the solver core's paths, which every TCA piece runs (numba compiles them on
+    the first run after an installation and caches them; later runs load them): a small TCA of each
+    kind the studies run (paths, statuses, backlash, contact margins), so that the worker processes
+    load numba's cache instead of each compiling the same functions.  This compile is the one that
+    the rest waits for: the other compiled functions are made ready on the workers, the loaded
+    contact's kernels beside it (:func:`_ltca_kernels_task`), the contact ellipses and the LTCA's
+    normal gaps after it (:func:`_chords_task`, :func:`_ltca_gaps_task`)."""
+    from .. import tca
 
     t0 = time.perf_counter()  # the first solve says when numba compiles (beveloid/solver/backends.py)
-    r = tca.analyze(geom, tca.Options(positions=12, approach_mm=None, errors=np.zeros(5)))  # paths, statuses, backlash
+    tca.analyze(geom, tca.Options(positions=12, approach_mm=None, errors=np.zeros(5)))  # paths, statuses, backlash
     tca.contact_margins(geom, FLANK, tca.mesh_flank(geom, FLANK, positions=4, pairs=1, window_pitches=3).unknowns)
-    if then is not None:
-        then()
-    with_ellipses(r)  # the contact ellipses of the bearing patterns
-    ltca.analyze(geom, ltca.Options(torque_nm=100.0, flank=FLANK, positions=2, tooth_model="plate"))
+    return time.perf_counter() - t0
+
+
+def _chords_task():
+    """A piece once the core's paths are compiled (and in numba's cache): the contact ellipses of the
+    bearing patterns compiled on a worker, by those of a small TCA; returns its seconds."""
+    from .. import tca
+    from ..contact_ellipse import with_ellipses
+    from ..pair import Pair
+
+    t0 = time.perf_counter()
+    with_ellipses(tca.analyze(Pair.example("case1").geometry,
+                              tca.Options(positions=12, approach_mm=None, errors=np.zeros(5))))
+    return time.perf_counter() - t0
+
+
+def _small_ltca(solver=None):
+    """A small loaded contact of case 1 (the plate tooth, 2 positions): what compiles the LTCA's functions."""
+    from .. import ltca
+    from ..pair import Pair
+
+    ltca.analyze(Pair.example("case1").geometry, ltca.Options(torque_nm=100.0, flank=FLANK, positions=2,
+                                                               tooth_model="plate"), solver=solver)
+
+
+def _ltca_kernels_task():
+    """A piece, the first on a worker: the loaded contact's own compiled kernels (beveloid/ltca/kernel.py:
+    compiled whatever the solver's backend) made ready while the main process compiles the solver core,
+    by a small LTCA whose TCA runs on the numpy backend (that compiles none of the core); returns its
+    seconds."""
+    from ..solver import Solver
+
+    t0 = time.perf_counter()
+    _small_ltca(Solver("numpy"))
+    return time.perf_counter() - t0
+
+
+def _ltca_gaps_task():
+    """A piece, once the core's paths are compiled and the LTCA's kernels ready: the same small LTCA on
+    the compiled core, which compiles the core's normal gaps (the loaded contact's) and loads the rest
+    from numba's cache; returns its seconds."""
+    t0 = time.perf_counter()
+    _small_ltca()
     return time.perf_counter() - t0
 
 
@@ -304,18 +344,16 @@ def write_study(out: Path, positions=200, progress=_progress, tooth_model=None, 
         step(f"the loaded contact's FE teeth, on {tasks.workers} process{'es' if tasks.workers > 1 else ''}"
              if model == "fe" else f"the loaded contact's tooth: {model} (no FE data); {tasks.workers} "
              f"process{'es' if tasks.workers > 1 else ''}")
-        fe = loaded_study.submit_fe_teeth(tasks, CASES, model)  # the longest pieces first: numba not needed
+        kernels = tasks.submit(_ltca_kernels_task)  # first: it needs nothing of the core's compile
+        fe = loaded_study.submit_fe_teeth(tasks, CASES, model)  # the longest pieces next: numba not needed
         step("the compiled solver, then Figs 10-21 (error studies), edge-contact onset, crowning study: TCA")
-        o, handles = str(out), {}
-
-        def submit_tca():  # the crowning first: it draws no bearing pattern (their compile comes last)
-            handles["crowned"] = {c: tasks.submit(_crowning_task, c, positions, o) for c in CASES}
-            handles["studies"] = {st.figure: tasks.submit(_study_task, st.figure, positions, o) for st in STUDIES}
-            handles["onsets"] = {c: tasks.submit(_onset_task, c) for c in CASES}
-
-        seconds = compile_first(geoms["case1"], then=submit_tca)
+        seconds = compile_first(geoms["case1"])
         progress(f"   compiled solver ready in {seconds:.1f} s")
-        crowned, studies, onsets = handles["crowned"], handles["studies"], handles["onsets"]
+        # what needs the core's paths: the other compiles first; the bearing patterns wait for theirs
+        kernels.get()  # (ready long before: the gaps' piece then loads them, never compiles them again)
+        o, gaps, chords = str(out), tasks.submit(_ltca_gaps_task), tasks.submit(_chords_task)
+        crowned = {c: tasks.submit(_crowning_task, c, positions, o) for c in CASES}
+        onsets = {c: tasks.submit(_onset_task, c) for c in CASES}
 
         step("Fig 22 (aligned TE of both cases) and the sensitivity of the path")
         aligned = [tca.analyze(geoms[c], tca.Options(positions=positions, approach_mm=None, errors=np.zeros(5)))
@@ -324,9 +362,11 @@ def write_study(out: Path, positions=200, progress=_progress, tooth_model=None, 
                                            f"{math.degrees(designs[c].fpd_angle_right):.4f} deg)" for c in CASES],
                                  FLANK, out / "fig22_transmission_error.png", "Fig 22 - aligned TE of both cases")
         sens = {c: tca.sensitivity(geoms[c], FLANK) for c in CASES}
+        chords.get()
+        studies = {st.figure: tasks.submit(_study_task, st.figure, positions, o) for st in STUDIES}
 
         step("Figs 24-25 (loaded contact) and the micro-geometry study: LTCA, once the FE teeth are ready")
-        for handle in fe:
+        for handle in [*fe, gaps]:
             handle.get()
         loaded_parts = {c: tasks.submit(loaded_study.case_task, c, o, model) for c in CASES}
         micro_parts = {c: tasks.submit(micro_geometry.case_task, c) for c in CASES}

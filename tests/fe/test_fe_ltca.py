@@ -302,7 +302,7 @@ def test_a_flank_point_outside_the_tooth_is_an_error_named_by_member_and_kind():
     mesh = SimpleNamespace(nodes=nodes, tets=np.arange(len(nodes)).reshape(-1, 10))
     n = len(mesh.nodes)  # the points are located before anything is solved: no factorisation needed
     elastic = SimpleNamespace(mesh=mesh, node_dofs=3 * np.arange(n)[:, None] + np.arange(3), ndofs=3 * n,
-                              e_mpa=2.06e5, nu=0.3)
+                              e_mpa=2.06e5, nu=0.3, geometry=None)  # (the tets' geometry computed where needed)
     normal = np.array([[0.0, 1.0, 0.0]])
     label = "FE tooth pinion, right flank"
     # on the flank y = 6, read 2 mm beneath: inside

@@ -110,3 +110,20 @@ def test_curved_tets_hold_linear_fields_and_rigid_motions():
     w = np.array([0.2, -0.5, 0.3])
     rot = np.cross(w, mesh.nodes).ravel()
     assert np.abs(K @ rot).max() < 1e-8 * np.abs(K).max() * np.abs(rot).max()
+
+
+def test_pardiso_solves_without_iterative_refinement_to_round_off():
+    """PardisoFactor turns off PARDISO's iterative refinement (MKL's default takes 2 steps a solve, each a
+    further solve and a product with the matrix, for no accuracy the FE tooth needs): no step is taken
+    and the solution is that of a direct solve to round-off."""
+    import scipy.sparse
+    import scipy.sparse.linalg
+
+    n = 300
+    K = scipy.sparse.diags([-np.ones(n - 1), 2.5 * np.ones(n), -np.ones(n - 1)], [-1, 0, 1], format="csr")
+    rhs = np.random.default_rng(0).standard_normal((n, 4))
+    factor = solve.PardisoFactor(K)
+    x = factor.solve(rhs)
+    assert factor.solver.iparm[7] == 0 and factor.solver.iparm[6] == 0  # no refinement step taken
+    assert np.abs(K @ x - rhs).max() < 1e-12 * np.abs(rhs).max()
+    assert np.allclose(x, scipy.sparse.linalg.spsolve(K.tocsc(), rhs), rtol=0, atol=1e-12)
