@@ -17,6 +17,9 @@ from ..generated.tca_kernels_scalar import blank_margins_point, surface_jet_poin
 
 #: how far outside its blank an 'edge' contact may sit and still start a chord [mm]
 CHORD_SLACK_MM = 1e-9
+#: Newton iterations of _tangent_point: from the tangency, then from the previous point along the chord
+TANGENT_ITERATIONS_START = 8
+TANGENT_ITERATIONS_STEP = 4
 
 
 class ChordMember(typing.NamedTuple):
@@ -121,7 +124,10 @@ def ellipse_chords(problem, request, out):
             frame = ChordFrame(rotation=request.rotations[m, i], translation=request.translations[m, i],
                                origin=request.points[i], basis=request.bases[i])
             l0, u0 = request.start_lu[m, i, 0], request.start_lu[m, i, 1]
-            l, u = _tangent_point(member, frame, 0.0, 0.0, l0, u0, 8, work)
+            # the iteration counts as int64 values, not literals: numba compiled _tangent_point once per
+            # literal count (Literal[int](8), Literal[int](4))
+            l, u = _tangent_point(member, frame, 0.0, 0.0, l0, u0, np.int64(TANGENT_ITERATIONS_START), work)
+            iterations = np.int64(TANGENT_ITERATIONS_STEP)
             start = _margin_at(member, l, u, l0, work)
             threshold = min(start, 0.0) - CHORD_SLACK_MM
             s_lo, s_hi, found = 0.0, cap, False
@@ -129,7 +135,7 @@ def ellipse_chords(problem, request, out):
             lo_l, lo_u = l0, u0
             for k in range(samples.shape[0]):
                 s = samples[k] * cap
-                l, u = _tangent_point(member, frame, s * vx, s * vy, l, u, 4, work)
+                l, u = _tangent_point(member, frame, s * vx, s * vy, l, u, iterations, work)
                 if _margin_at(member, l, u, l, work) < threshold:
                     s_hi, found = s, True
                     break
@@ -138,7 +144,7 @@ def ellipse_chords(problem, request, out):
                 lo, hi = s_lo, s_hi
                 for _ in range(bisections):
                     mid = 0.5 * (lo + hi)
-                    l2, u2 = _tangent_point(member, frame, mid * vx, mid * vy, lo_l, lo_u, 4, work)
+                    l2, u2 = _tangent_point(member, frame, mid * vx, mid * vy, lo_l, lo_u, iterations, work)
                     if _margin_at(member, l2, u2, l2, work) >= threshold:
                         lo, lo_l, lo_u = mid, l2, u2
                     else:

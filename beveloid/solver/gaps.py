@@ -91,10 +91,13 @@ def normal_gaps(problem, request, out):
         t = _line_step(request, out, m) if warm else 0.0
         quad = abs(t - 1.0) < 1e-9 and m >= 3 and abs(_line_step(request, out, m - 1) - 1.0) < 1e-9
         ok = _normal_gap_point(problem, request, m, out, w, warm, t, quad)
+        # the retries pass a bool computed at run time (always False), not the literal False: numba typed a
+        # literal argument as Literal[bool] and compiled _normal_gap_point a second time for it
+        linear = m < 0
         if not ok and quad:  # an extrapolated start failed: again from fewer points
-            ok = _normal_gap_point(problem, request, m, out, w, warm, t, False)
+            ok = _normal_gap_point(problem, request, m, out, w, warm, t, linear)
         if not ok and t != 0.0:
-            ok = _normal_gap_point(problem, request, m, out, w, warm, 0.0, False)
+            ok = _normal_gap_point(problem, request, m, out, w, warm, 0.0, linear)
         warm = ok
 
 
