@@ -66,7 +66,8 @@ def main():
     print(f"rating at {max(TORQUES):g} N m: {rating:.1f} s")
     print(f"one target candidate (3 x {TARGET['samples']} analyses + rating): {per_candidate:.0f} s")
     print(f"target run ({TARGET['candidates']} candidates on {TARGET['cores']} cores, perfect scaling): {total:.0f} s"
-          f" = {total / 3600:.2f} h; target {TARGET['seconds']:.0f} s: {total / TARGET['seconds']:.0f}x over")
+          f" = {total / 3600:.2f} h; target {TARGET['seconds']:.0f} s: {total / TARGET['seconds']:.2f} of it"
+          f" ({'within' if total <= TARGET['seconds'] else 'over'})")
     print(f"check: te_peak_to_peak_urad {np.round(lq.te_peak_to_peak_urad, 3).tolist()}")
 
 
