@@ -237,7 +237,7 @@ def active_set(layout, cells, j, limits, active, out, seen):
         singular = False
         for b in range(nb):
             o, s0, s = off[b], start[b], size[b]
-            m = 0
+            m = np.int64(0)  # not the literal 0: numba compiled _factor_solve for Literal[int](0) as well
             for i in range(s):
                 xh[s0 + i] = 0.0
                 xw[s0 + i] = 0.0

@@ -13,7 +13,7 @@ import typing
 
 import numpy as np
 
-from ..generated.tca_kernels_scalar import blank_margins_point, surface_jet_point, surface_point
+from ..generated.tca_kernels_scalar import blank_margins_point, surface_jet_point
 
 #: how far outside its blank an 'edge' contact may sit and still start a chord [mm]
 CHORD_SLACK_MM = 1e-9
@@ -47,7 +47,6 @@ class ChordWork(typing.NamedTuple):
     normal: np.ndarray  # (3,)
     point_D_lu: np.ndarray  # (3, 2)
     normal_D_lu: np.ndarray  # (3, 2)
-    roll: np.ndarray  # (1,)
     margins: np.ndarray  # (4,)
     margins_D_point: np.ndarray  # (4, 3)
     margins_D_l: np.ndarray  # (4,)
@@ -91,7 +90,10 @@ def _margin_at(member, l, u, l_margin, work):
     """The smallest of the member's blank margins (NaN if any is) at the flank point (l, u),
     the form limit taken at ``l_margin``."""
     margins = work.margins
-    surface_point(member.model, member.flank, l, u, member.params, work.point, work.normal, work.roll)
+    # the jet, not surface_point: the solver core compiles the jets, so the chords compile no other
+    # surface function (surface_point of each model and flank: 6 s of a first run's compile)
+    surface_jet_point(member.model, member.flank, l, u, member.params, work.point, work.normal, work.point_D_lu,
+                      work.normal_D_lu)
     blank_margins_point(work.point, l_margin, member.blank, margins, work.margins_D_point, work.margins_D_l)
     smallest = margins[0]
     for k in range(1, margins.shape[0]):
@@ -107,7 +109,7 @@ def ellipse_chords(problem, request, out):
     pinion, 1 gear): ``rotations[m]`` (n, 3, 3) and ``translations[m]`` (n, 3) place it in S_f,
     ``start_lu[m]`` (n, 2) is its (l, u) at the contact."""
     work = ChordWork(point=np.empty(3), normal=np.empty(3), point_D_lu=np.empty((3, 2)),
-                     normal_D_lu=np.empty((3, 2)), roll=np.empty(1), margins=np.empty(4),
+                     normal_D_lu=np.empty((3, 2)), margins=np.empty(4),
                      margins_D_point=np.empty((4, 3)), margins_D_l=np.empty(4))
     samples, bisections, directions = request.samples, request.bisections, request.directions
     for i in range(request.points.shape[0]):
