@@ -65,15 +65,12 @@ class FeTooth:
         # the stress operators (rows node-major, 6 components, G columns) of the loaded side's fillet (0)
         # and the other's (1), with their bounds, blocks and near-matrices (fe.principal.extreme)
         self.sides = (self.index, 1 - self.index)
-        fn = principal.functions()
         self.fillets = []
         for s, sign in zip(self.sides, (1.0, -1.0)):
-            op = np.ascontiguousarray(self.stress[s])
-            bound = fn.bounds(op, sign)
             # the nodes along the face, then up it: a block of BLOCK_NODES neighbours
             order = np.lexsort((np.asarray(data.fillet_height_mm[s]), fp[s][:, 2])).astype(np.int64)
-            self.fillets.append(principal.Fillet(op, bound, fn.block_bounds(bound, order, BLOCK_NODES), order,
-                                                 BLOCK_NODES, self.near[s]))
+            self.fillets.append(principal.fillet(np.ascontiguousarray(self.stress[s]), sign, order, BLOCK_NODES,
+                                                 self.near[s]))
         self.fillets = tuple(self.fillets)
 
     def corners(self, points) -> tuple:

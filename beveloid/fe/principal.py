@@ -192,6 +192,29 @@ def extreme(fillet, g, sign, node, value):
             value[q] = sign * best
 
 
+def fillet(op, sign, order, size, near) -> Fillet:
+    """The :class:`Fillet` of the stress operator ``op`` (nc, 6, G), C-contiguous, for ``sign``: its
+    :func:`bounds` and :func:`block_bounds` (blocks of ``size`` nodes taken in ``order``, int64)."""
+    fn = functions()
+    bound = fn.bounds(op, sign)
+    return Fillet(op, bound, fn.block_bounds(bound, order, size), order, size, near)
+
+
+def compile_now() -> None:
+    """Every compiled function made ready now (compiled, or loaded from numba's cache) by a fillet of two
+    nodes under three load columns, passed as the FE tooth passes its own (beveloid/fe/contact.py): the
+    same argument types, so that its root stresses compile nothing more.  ``beveloid paper`` calls it on
+    a worker at the start, before the FE teeth exist, so that its loaded pieces do not compile these
+    functions each at the same time."""
+    fn = functions()
+    op = np.zeros((2, 6, 3))
+    op[:, XX, :] = 1.0
+    f = fillet(op, 1.0, np.arange(2, dtype=np.int64), 2, np.zeros((3, 2), dtype=np.uint8))
+    g = np.ones((1, 3))
+    fn.extreme(f, g, 1.0, np.zeros(1, dtype=np.int64), np.full(1, np.nan))
+    fn.slice_extremes(f, g, 0, 1.0, np.ones(2, dtype=bool), np.zeros(2, dtype=np.int64), np.empty(1))
+
+
 def functions():
     """This module compiled when numba is installed (and not disabled), else itself."""
     from ..solver import backends

@@ -189,6 +189,33 @@ def test_the_root_stress_along_the_face_is_the_largest_of_each_slice(coarse_teet
         assert np.nanmax(got) == pytest.approx(t.root_stress(pts, forces).tension_mpa, rel=1e-12)
 
 
+def test_compile_now_leaves_the_fe_tooth_nothing_to_compile(coarse_teeth):
+    """principal.compile_now (what `beveloid paper` runs on a worker before the FE teeth exist) passes the
+    argument types the FE tooth passes: after it, an FE tooth's root stresses and stress along the face
+    add no compiled signature.  Without numba (or with NUMBA_DISABLE_JIT) they are plain functions."""
+    import types
+
+    from beveloid.fe import principal
+    from beveloid.fe.contact import FeTooth
+
+    names = ("largest_eigenvalue", "_loaded_columns", "slice_extremes", "bounds", "block_bounds", "_exact", "extreme")
+    fn = principal.functions()
+    principal.compile_now()
+    if all(isinstance(getattr(fn, n), types.FunctionType) for n in names):
+        return  # interpreted: nothing is compiled
+    before = {n: list(getattr(fn, n).signatures) for n in names}
+    # the functions called from Python once each; their callees compiled inside them (or none, when
+    # numba's disk cache held the callers)
+    assert all(len(before[n]) == 1 for n in ("slice_extremes", "bounds", "block_bounds", "extreme")), before
+    assert all(len(s) <= 1 for s in before.values()), before
+    data = coarse_teeth["gear"]
+    t = FeTooth(data, "left")
+    grid = np.asarray(data.points_mm[0]).reshape(-1, 3)
+    t.root_stresses(grid[None, :5], np.full((1, 5), 100.0))
+    t.along_face(grid[:5], np.full(5, 100.0))
+    assert {n: list(getattr(fn, n).signatures) for n in names} == before
+
+
 def test_a_fillet_node_is_left_out_only_near_the_grid_nodes_a_set_loads(coarse_teeth):
     """The reading depth leaves out the fillet nodes near a loaded grid node, not near any grid node:
     under a load on the top row the upper fillet (within the reading depth of the flank's lowest row)
