@@ -96,7 +96,12 @@ def stiffness(mesh, e_mpa: float, nu: float, geometry=None) -> scipy.sparse.csr_
     w = np.stack([d for _, d in gd], axis=1) / (6.0 * len(QUADRATURE))  # (ne, q)
     A = np.einsum("eqai,eqbj,eq->eaibj", g, g, w, optimize=True)
     trace = np.einsum("eakbk->eab", A)
-    K = lam * A + mu * np.swapaxes(A, 2, 4)
+    # K = lam A + mu A^T(i <-> j) in place: each (ne, 900) temporary is 140 MB of fresh pages (case 1's
+    # pinion: 2.1 s against 0.8 s of CPU, the same K)
+    K = np.swapaxes(A, 2, 4) * mu
+    A *= lam
+    K += A
+    del A
     for i in range(3):
         K[:, :, i, :, i] += mu * trace
     dofs = (3 * mesh.tets[:, :, None] + np.arange(3)).reshape(ne, 30).astype(np.int32)
