@@ -20,6 +20,8 @@ from ..generated import flank_boundaries
 
 RASTER = (64, 128)  #: (l, u) nodes of the flank raster
 MAX_SUBSTEPS = 200
+#: raster points per evaluation of a field between computed positions (sub-steps batched up to it)
+BATCH_POINTS = 16384
 
 
 @dataclass(frozen=True)
@@ -133,9 +135,13 @@ def flank_pattern(result, geom, member, raster=RASTER) -> FlankPattern:
         q = nodes[near]
         steps = int(min(MAX_SUBSTEPS, math.ceil(dist / (0.5 * min(f.X, g.X)))))
         best = pmax[near]
-        for s in range(1, steps):
-            t = s / steps
-            best = np.maximum(best, (1 - t) * f(q - t * delta) + t * g(q + (1 - t) * delta))
+        # the sub-steps t = s / steps, several per call of the fields (about BATCH_POINTS points a call)
+        per = max(1, BATCH_POINTS // len(q))
+        for s0 in range(1, steps, per):
+            t = (np.arange(s0, min(steps, s0 + per)) / steps)[:, None, None]
+            both = ((1 - t[..., 0]) * f((q - t * delta).reshape(-1, 3)).reshape(len(t), -1)
+                    + t[..., 0] * g((q + (1 - t) * delta).reshape(-1, 3)).reshape(len(t), -1))
+            best = np.maximum(best, both.max(axis=0))
         pmax[near] = best
     frac = float(weight[inside][pmax > 0].sum() / weight[inside].sum())
     full = np.zeros(inside.shape)
