@@ -29,9 +29,9 @@ FLANK = "right"
 
 
 #: the FE data of one member the first time, seconds of CPU on one thread (as on paper's workers), rounded
-#: up: 12.3 s for the case 1 pinion and 13.3 s for its gear at refinement 1, 182 load cases each
-#: (`MKL_NUM_THREADS=1 python -m benchmarks.bench_fe_tooth cost [--member gear]`, 2026-11-27, load average 2.5)
-FE_FIRST_TIME_S = 15
+#: up: 11.3 s for the case 1 pinion and 12.0 s for its gear at refinement 1, 182 load cases each
+#: (`MKL_NUM_THREADS=1 python -m benchmarks.bench_fe_tooth cost [--member gear]`, 2026-11-27, load average 1.0)
+FE_FIRST_TIME_S = 12
 
 
 def _say(text):
