@@ -11,6 +11,8 @@ package's dependencies, the checkout's code); ``--new`` defaults to the working 
 wall seconds, CPU seconds of the command and all its processes (user + system, from the children's
 rusage), the load average of the machine before it started; then old / new per round and over all
 rounds.  The machine's other work is not controlled: compare the ratios of one run, not times across runs.
+Then how the outputs of round 1 differ (:func:`compare_outputs`): report.md's lines, PNGs pixel by pixel,
+CSV cells (the same results, or which changed, between the two versions).
 """
 from __future__ import annotations
 
@@ -78,6 +80,8 @@ def main(argv=None) -> int:
             for which in order:
                 work = tmp / f"run{k}_{which}"
                 got[which] = run_paper(codes[which], work, args.positions)
+                if k == 0:  # the first round's folders, compared at the end
+                    shutil.move(work / "paper_out", tmp / f"out_{which}")
                 shutil.rmtree(work, ignore_errors=True)
                 g = got[which]
                 print(f"{k + 1:>5}  {which:>4}  {g['wall_s']:8.1f}  {g['cpu_s']:8.1f}  {g['load_before']:11.2f}  "
@@ -88,7 +92,52 @@ def main(argv=None) -> int:
         wall = sum(r["old"]["wall_s"] for r in rows) / sum(r["new"]["wall_s"] for r in rows)
         cpu = sum(r["old"]["cpu_s"] for r in rows) / sum(r["new"]["cpu_s"] for r in rows)
         print(f"all rounds: old / new wall {wall:.2f}, CPU {cpu:.2f}; load average now {os.getloadavg()[0]:.2f}")
+        print("the outputs of round 1, old against new:")
+        for line in compare_outputs(tmp / "out_old", tmp / "out_new"):
+            print(f"  {line}")
     return 0
+
+
+#: report.md's lines that hold a run's own time (they differ between any two runs)
+TIMING = ("Computed in", "computed in")
+
+
+def compare_outputs(old: Path, new: Path) -> list:
+    """Lines saying how two `paper` folders differ: files in one only, report.md's lines (those that
+    hold a run's time apart), PNGs pixel by pixel, CSV and text files cell by cell (the largest relative
+    difference of the numbers)."""
+    import csv
+
+    import numpy as np
+    from PIL import Image
+
+    a, b = {p.name for p in old.iterdir()}, {p.name for p in new.iterdir()}
+    out = [f"only in {which}: {', '.join(sorted(names))}" for which, names in (("old", a - b), ("new", b - a)) if names]
+    ra, rb = (p.joinpath("report.md").read_text().splitlines() for p in (old, new))
+    lines = [(x, y) for x, y in zip(ra, rb) if x != y]
+    timing = sum(any(t in x for t in TIMING) and any(t in y for t in TIMING) for x, y in lines)
+    out.append(f"report.md: {len(ra)} / {len(rb)} lines, {len(lines)} differ, {timing} of them the run's time")
+    png = sorted(n for n in a & b if n.endswith(".png"))
+    changed = [n for n in png if not np.array_equal(np.asarray(Image.open(old / n)), np.asarray(Image.open(new / n)))]
+    out.append(f"PNG: {len(png) - len(changed)} of {len(png)} pixel-identical" + (f"; differ: {', '.join(changed)}"
+                                                                                     if changed else ""))
+    for n in sorted(n for n in a & b if n.endswith((".csv", ".txt"))):
+        if (old / n).read_bytes() == (new / n).read_bytes():
+            continue
+        cells, worst = 0, 0.0
+        with open(old / n, newline="") as f1, open(new / n, newline="") as f2:
+            for r1, r2 in zip(csv.reader(f1), csv.reader(f2)):
+                for u, v in zip(r1, r2):
+                    if u == v:
+                        continue
+                    cells += 1
+                    try:
+                        x, y = float(u), float(v)
+                        worst = max(worst, abs(x - y) / max(abs(x), abs(y), 1e-300))
+                    except ValueError:
+                        worst = float("inf")
+        out.append(f"{n}: {cells} cells differ, the largest relative difference {worst:.1e}")
+    return out
 
 
 if __name__ == "__main__":
