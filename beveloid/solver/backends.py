@@ -262,9 +262,9 @@ def needs_compiling(ns) -> bool:
 _notified = False
 
 
-#: what every command says on stderr before numba compiles the solver (a minute or more, without output)
+#: what every command says on stderr before numba compiles the solver (half a minute or more, without output)
 COMPILING = ("beveloid: compiling the contact solver with numba: the first run after an installation or a change of"
-             " the models (derive --model) takes a minute or more; cached afterwards")
+             " the models (derive --model) takes half a minute or more; cached afterwards")
 
 
 def notify_compiling(ns, stream=None):

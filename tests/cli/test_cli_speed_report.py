@@ -54,7 +54,7 @@ def test_the_table_says_once_that_compilation_happens_once(capsys):
 @pytest.mark.parametrize("argv", [["tca", C1, "--positions", "3"], ["design", C1], ["sweep", C1, "--samples", "3",
                                                                                       "--positions", "3"]])
 def test_every_command_that_solves_says_before_numba_compiles(capsys, monkeypatch, argv):
-    """The first run after an installation or `derive --model` compiles for a minute or more: `tca`,
+    """The first run after an installation or `derive --model` compiles for half a minute or more: `tca`,
     `design` and `sweep` (and every other command that solves a contact, through the one announcement
     of beveloid/solver/backends.py) say so on stderr first, a terminal or not (here: captured)."""
     monkeypatch.setattr(backends, "needs_compiling", lambda ns: True)  # as if numba's cache were empty
