@@ -10,9 +10,10 @@ number that is not known).
 """
 from __future__ import annotations
 
+import copy
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field, fields, is_dataclass
 from typing import Any
 
 import numpy as np
@@ -54,8 +55,9 @@ class FrozenMap(Mapping):
 def freeze(value):
     """``value`` made immutable all the way down: a writable array a read-only copy, a mapping a
     :class:`FrozenMap`, a list or tuple a tuple (a NamedTuple of the same type), a set a frozenset, each
-    of their items frozen the same way.  A :class:`Frozen` record is frozen already; anything else (a
-    number, a string, an enum, an input such as a Pair or an Options) is returned as it is."""
+    of their items frozen the same way.  A :class:`Frozen` record is frozen already; another dataclass
+    record becomes a copy with its fields frozen (itself when they are already); anything else (a number,
+    a string, an enum) is returned as it is."""
     if isinstance(value, np.ndarray):
         if value.dtype == object:
             items = value
@@ -78,6 +80,18 @@ def freeze(value):
         return tuple(freeze(v) for v in value)
     if isinstance(value, (set, frozenset)):
         return frozenset(freeze(v) for v in value)
+    if is_dataclass(value) and not isinstance(value, (type, Frozen)):  # a record of another kind: a frozen copy
+        changed = {}
+        for f in fields(value):
+            item = getattr(value, f.name)
+            frozen = freeze(item)
+            if frozen is not item:
+                changed[f.name] = frozen
+        if not changed:
+            return value
+        value = copy.copy(value)
+        for name, item in changed.items():
+            object.__setattr__(value, name, item)
     return value
 
 
@@ -109,11 +123,16 @@ def num(value) -> float | None:
 
 @dataclass(frozen=True, eq=False)
 class Frozen:
-    """A record frozen all the way down when created (:func:`freeze` on every field).  A subclass that
-    defines ``__post_init__`` calls ``super().__post_init__()`` first."""
+    """A record frozen all the way down when created (:func:`freeze` on every field but the inputs it
+    holds, ``INPUTS``).  A subclass that defines ``__post_init__`` calls ``super().__post_init__()``."""
+
+    #: fields that hold an input as given (the analysed pair): not the result's to freeze
+    INPUTS = ()
 
     def __post_init__(self):
         for f in fields(self):
+            if f.name in self.INPUTS:
+                continue
             value = getattr(self, f.name)
             frozen = freeze(value)
             if frozen is not value:
@@ -125,6 +144,8 @@ class Result(Frozen):
     """What an analysis returns: frozen records (:class:`Frozen`) holding the ``pair`` analysed (a
     :class:`beveloid.pair.Pair`, or the PairGeometry it was given) and the analysis' ``options``, and its
     JSON by :meth:`to_json` (nothing passed in)."""
+
+    INPUTS = ("pair",)
 
     pair: Any = field(default=None, kw_only=True, repr=False)
     options: Any = field(default=None, kw_only=True, repr=False)
