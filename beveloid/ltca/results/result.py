@@ -7,10 +7,10 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..result import Result
-from ..status import LoadedStatus
-from .gaps import PairGap
-from .grid import PairGrid, centres
+from ...result import Result
+from ...status import LoadedStatus
+from ..model.gaps import PairGap
+from ..model.grid import PairGrid, centres
 
 #: tolerances of the grid-convergence indicator (change against the once-coarsened grid)
 PRESSURE_CHANGE_TOL = 0.05  #: of a pair's surface peak pressure
@@ -135,7 +135,7 @@ class LTCAResult(Result):
         return out
 
     def pattern(self, member, raster=None):
-        """:func:`beveloid.ltca.pattern.flank_pattern` of one member on the analysed pair's flank: the one
+        """:func:`beveloid.ltca.results.pattern.flank_pattern` of one member on the analysed pair's flank: the one
         :meth:`with_patterns` stored (default raster), else computed now (not kept: the result is frozen)."""
         from .pattern import RASTER, flank_pattern
 
