@@ -4,7 +4,24 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..plots import _plt, _save, flank_outline
+from ..plots import flank_outline
+
+
+def _pyplot():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _write(fig, out_png, title):
+    if title:
+        fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    fig.savefig(out_png, dpi=110)
+    _pyplot().close(fig)
 
 
 def _flank_coordinates(tri, result):
@@ -33,7 +50,7 @@ def flank_fields(tri, result, geom, out_png, title=""):
     """Two panels on the pinion flank over the whole cycle (every loaded cell of every position):
     the sliding speed with its direction (arrows: the pinion surface relative to the gear's), and
     Blok's flash temperature."""
-    plt = _plt()
+    plt = _pyplot()
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.8))
     z, rad, _ = _flank_coordinates(tri, result)
     zb, rb = flank_outline(geom, "pinion", result.flank)
@@ -61,13 +78,13 @@ def flank_fields(tri, result, geom, out_png, title=""):
         p = result.gap.pinion_point[where.position, where.pair, where.cell]
         axes[1].plot([p[2]], [np.hypot(p[0], p[1])], "c*", ms=12, label="maximum")
         axes[1].legend(fontsize=7)
-    _save(fig, out_png, title)
+    _write(fig, out_png, title)
 
 
 def efficiency_map(grid, out_png, title=""):
     """Efficiency (and mesh power loss) against the torque, one line per speed; ``grid`` the
     [[TribologyResult per speed] per torque] of :func:`beveloid.tribology.efficiency_map`."""
-    plt = _plt()
+    plt = _pyplot()
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.2))
     torques = [row[0].torque_nm for row in grid]
     for s in range(len(grid[0])):
@@ -80,4 +97,4 @@ def efficiency_map(grid, out_png, title=""):
         ax.set_xlabel("pinion torque (N m)")
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
-    _save(fig, out_png, title)
+    _write(fig, out_png, title)
