@@ -1,4 +1,4 @@
-"""beveloid.ltca.tooth_compliance: beam closed forms, the face coupling, ISO 6336-1 stiffness."""
+"""beveloid.ltca.mechanics.tooth_compliance: beam closed forms, the face coupling, ISO 6336-1 stiffness."""
 from __future__ import annotations
 
 import math
@@ -6,10 +6,10 @@ import math
 import numpy as np
 import pytest
 
-from beveloid.ltca.halfspace import reduced_modulus_mpa, tensor_grid, tensor_influence_matrix_mm_per_mpa
-from beveloid.ltca.hertz import hertz_line_contact
-from beveloid.ltca.lcp import solve_contact
-from beveloid.ltca.tooth_compliance import (
+from beveloid.ltca.mechanics.halfspace import reduced_modulus_mpa, tensor_grid, tensor_influence_matrix_mm_per_mpa
+from beveloid.ltca.mechanics.hertz import hertz_line_contact
+from beveloid.ltca.mechanics.lcp import solve_contact
+from beveloid.ltca.mechanics.tooth_compliance import (
     SHEAR_COEFFICIENT,
     LoadPoints,
     ToothSection,
@@ -175,7 +175,7 @@ def test_the_batched_face_coupling_is_the_cell_mean_series():
     """face_couplings_per_mm (one cosine per point and mode, many lines at once) against the cell-mean
     series of face_coupling_per_mm (a cosine and two sines) on lines of random points inside the face,
     one reaching each end; and a point whose cell leaves the face refused."""
-    from beveloid.ltca.tooth_compliance import face_couplings_per_mm
+    from beveloid.ltca.mechanics.tooth_compliance import face_couplings_per_mm
 
     length, h, hz = 50.0, 6.75, 0.05
     z = np.random.default_rng(3).uniform(hz, length - hz, (4, 17))

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import halfspace, lcp, tooth_compliance
+from ..mechanics import halfspace, lcp, tooth_compliance
 from .grid import edges
 
 
@@ -76,7 +76,7 @@ def tooth_line_compliance(tooth: MemberTooth, points) -> np.ndarray:
 
 def tooth_line_compliances(tooth: MemberTooth, points) -> np.ndarray:
     """(Q, n, n) :func:`tooth_line_compliance` of Q point sets (Q, n, 3) in one pass (the face coupling of
-    every line in one product: :func:`beveloid.ltca.tooth_compliance.face_couplings_per_mm`)."""
+    every line in one product: :func:`beveloid.ltca.mechanics.tooth_compliance.face_couplings_per_mm`)."""
     points = np.asarray(points, dtype=float)
     r = np.hypot(points[..., 0], points[..., 1])
     rad = tooth.table_radius_mm
@@ -156,7 +156,7 @@ class BeveloidCompliance(lcp.Compliance):
     """C of every tooth pair at one position: that pair's half-space matrix ``halfspace[k]`` plus
     its tooth compliance ``tooth[k][line_a, line_b] area_b`` (``line``: a cell's along index;
     ``area[k]``: pair k's cell area), cells pair-major, as dense symmetric blocks (the LTCA itself
-    assembles them from compact tables: :func:`beveloid.ltca.cycle.compliance_tables`)."""
+    assembles them from compact tables: :func:`beveloid.ltca.passes.cycle.compliance_tables`)."""
 
     def __init__(self, halfspace_blocks, tooth, line, area):
         n = line.size
