@@ -378,7 +378,8 @@ def analyze(pair, options: Options, *, solver=None, ltca_result=None, face_point
     if lc.edge is not None:
         notes.append(f"edge contact: peak edge pressure {lc.edge.pressure_mpa:.0f} MPa at {lc.edge.where} "
                      "(grid-dependent; not in S_H, judged by the edge-contact rule of the verdict)")
-    return RatingResult(options.torque_nm, options.flank, members, lc, factors, tuple(notes), dyn)
+    return RatingResult(options.torque_nm, options.flank, members, lc, factors, tuple(notes), dyn, pair=pair,
+                        options=options)
 
 
 def _with_dynamic_factor(pair, options, factors, lc, elastic):
