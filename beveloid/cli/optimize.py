@@ -37,8 +37,9 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--population", type=int, metavar="N",
                    help="NSGA-II population (default 8 per varied key, 8 to 32)")
     p.add_argument("--constraints", choices=("rating", "none"), default="rating",
-                   help="rating: the local S_F, S_H at the highest torque must meet S_Fmin, S_Hmin (default);"
-                        " none: not computed (quicker looks)")
+                   help="rating: `beveloid rating`'s verdict at the highest torque must pass (every safety"
+                        " meets its minimum, no edge beyond the edge-contact rule) (default); none: not computed"
+                        " (quicker looks)")
     p.add_argument("--flank", choices=("left", "right"), default="right", help="loaded flank pair (default right)")
     p.add_argument("--positions", type=int, default=20, metavar="N", help=cycle_positions_help(20))
     p.add_argument("--pairs", type=int, default=3, metavar="K", help="neighbouring tooth pairs (default 3)")
@@ -151,11 +152,19 @@ def run(args: argparse.Namespace) -> int:
         req = search.prepare(out, req, resume=False)
     t0 = time.perf_counter()
     print(f"beveloid optimize: the unmodified design of {req.source}", file=sys.stderr)
-    base = search.baseline(out, req)
-    ex = parallel.executor(args.workers, args.scheduler)
-    with ex:
-        records, stop, why = search.run(out, req, ex, search.Progress(req.budget), base)
-        where = ex.description
+    try:
+        base = search.baseline(out, req)
+        ex = parallel.executor(args.workers, args.scheduler)
+        with ex:
+            records, stop, why = search.run(out, req, ex, search.Progress(req.budget), base)
+            where = ex.description
+    except KeyboardInterrupt:
+        if not args.resume:
+            print(f"beveloid optimize: {_nothing_kept(out)}", file=sys.stderr, flush=True)
+        raise
+    if stop is not None and not records and not args.resume:  # stopped before its first candidate
+        print(f"beveloid optimize: stopped ({why}) before the first candidate; {_nothing_kept(out)}", file=sys.stderr)
+        return 130 if stop is StopReason.INTERRUPTED else 1
     records = sorted(records, key=lambda r: r["candidate"])
     on = report.pareto_mask(req, records)
     order = report.front_order(req, records, on)
@@ -175,6 +184,25 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
+def _nothing_kept(out: str) -> str:
+    """A fresh run stopped before its first candidate: its request.json and empty candidates/ are removed
+    (the folder too when this run made it, on the CLI's way out); what it says of them."""
+    import os
+
+    from ..optimize import search
+    from ..outputs import interrupted_note
+
+    folder = os.path.join(out, search.CANDIDATES)
+    if os.path.isdir(folder) and os.listdir(folder):  # the baseline was kept: --resume takes it
+        return f"the unmodified design's numbers are kept in {out}; continue with `beveloid optimize --resume {out}`"
+    for path, remove in ((folder, os.rmdir), (os.path.join(out, search.REQUEST), os.remove)):
+        try:
+            remove(path)
+        except OSError:
+            pass
+    return interrupted_note(out, "--out")
+
+
 def _print(summ, out):
     from .common import number
 
@@ -185,11 +213,20 @@ def _print(summ, out):
     lines.append("  unmodified: " + ", ".join(f"{k} {number(b['objectives'].get(k), '.4g')}" for k in q)
                  + ("" if b["dominated_by"] is None else
                     f"; beaten on every objective by {len(b['dominated_by'])} candidates"))
-    lines.append(f"Pareto front: {len(summ['pareto'])} candidates")
+    if summ["pareto"]:
+        lines.append(f"Pareto front: {len(summ['pareto'])} candidates")
+    else:
+        passes = "" if summ["constraints"] != "rating" else (
+            f" and passes `beveloid rating`'s verdict at {max(summ['torques_nm']):g} N m")
+        lines.append(f"Pareto front: empty: no candidate is ok{passes} (candidates.csv: status, feasible, reason)")
     for e in summ["pareto"][:12]:
         lines.append(f"  {e['spec_file']}: " + ", ".join(f"{k} = {v:.4g}" for k, v in e["values"].items()) + " -> "
                      + ", ".join(f"{k} {number(e['objectives'][k], '.4g')}" for k in q))
-    lines.append("picks (candidate): " + ", ".join(f"{k} {v}" for k, v in summ["picks"].items()))
-    lines.append(f"Files in {out}: candidates.csv, pareto.csv, summary.json, pareto_<n>.toml, "
-                 + ", ".join(summ.get("figures", [])))
+    picked = {k: v for k, v in summ["picks"].items() if v is not None}
+    if picked:
+        lines.append("picks (candidate): " + ", ".join(f"{k} {v}" for k, v in picked.items()))
+    specs = [e["spec_file"] for e in summ["pareto"]]
+    spec_files = [] if not specs else [specs[0] if len(specs) == 1 else f"pareto_1.toml .. pareto_{len(specs)}.toml"]
+    lines.append(f"Files in {out}: " + ", ".join(["candidates.csv", "pareto.csv", "summary.json", *spec_files,
+                                                   *summ.get("figures", [])]))
     print("\n".join(lines))

@@ -95,19 +95,36 @@ def _num(v):
 
 
 def safeties(req: Request, pair, *, solver=None) -> dict:
-    """The rating at the highest torque (``beveloid rating`` with the run's options): the lowest local S_F and
-    S_H over the members, S_Fmin, S_Hmin and whether both are met (``feasible``; a local S_F the plate tooth
-    does not compute is not a constraint).  ``solver``: that of the loaded analyses (None: the default one)."""
+    """The rating at the highest torque (``beveloid rating`` with the run's options) and its verdict, the one
+    the command prints: ``feasible`` is the verdict's ``passes`` (every deciding safety meets its minimum and no
+    edge contact exceeds the edge-contact rule; a CONDITIONAL verdict is not feasible), ``shortfall`` the
+    constraint the search is told (:func:`shortfall`).  The lowest local S_F and S_H are kept for the tables.
+    ``solver``: that of the loaded analyses (None: the default one)."""
     from .. import rating
 
     r = rating.analyze(pair, req.rating_options(), solver=solver)
+    v = r.verdict()
     sf = [m.safety_bending for m in r.members.values() if m.safety_bending is not None]
     sh = [m.safety_pitting for m in r.members.values() if m.safety_pitting is not None]
-    s_f, s_h = (min(sf) if sf else None), (min(sh) if sh else None)
     f = r.factors
-    feasible = (s_f is None or s_f >= f.S_Fmin) and (s_h is not None and s_h >= f.S_Hmin)
-    return {"safety_bending_local": s_f, "safety_pitting_local": s_h, "S_Fmin": f.S_Fmin, "S_Hmin": f.S_Hmin,
-            "torque_nm": max(req.torques_nm), "feasible": bool(feasible), "verdict": r.verdict()["line"]}
+    return {"safety_bending_local": min(sf) if sf else None, "safety_pitting_local": min(sh) if sh else None,
+            "S_Fmin": f.S_Fmin, "S_Hmin": f.S_Hmin, "torque_nm": max(req.torques_nm),
+            "feasible": bool(v["passes"]), "shortfall": shortfall(v), "verdict_status": v["status"],
+            "verdict": v["line"]}
+
+
+def shortfall(verdict: dict) -> float | None:
+    """The constraint g of a rating's verdict (``RatingResult.verdict()``), <= 0 exactly when it passes: the
+    worst relative shortfall of what the verdict decides on, max(1 - S / S_min of its lowest deciding safety,
+    1 - p_permissible / p_edge of the edge-contact rule), at least 1e-6 for a verdict that does not pass (None: no
+    safety computed)."""
+    if verdict["value"] is None:
+        return None
+    g = 1.0 - verdict["value"] / verdict["required"]
+    edge = verdict.get("edge_contact")
+    if edge is not None and edge["pressure_mpa"] and edge["permissible_mpa"] is not None:
+        g = max(g, 1.0 - edge["permissible_mpa"] / edge["pressure_mpa"])  # = 1 - S_edge / S_Hmin
+    return float(min(g, 0.0) if verdict["passes"] else max(g, 1e-6))
 
 
 def evaluate(req: Request, values: dict, error_sets: np.ndarray | None = None) -> dict:

@@ -11,8 +11,9 @@ where it ran, so the run is the same on one worker, N workers and a cluster, and
 (``DIR/candidates/``) and evaluates only the others.
 
 What the algorithm is told: the objectives of a candidate that is ``ok``, else a large number; the
-constraint g <= 0 the worst relative shortfall of the local safeties, max(1 - S_F / S_Fmin,
-1 - S_H / S_Hmin), and 1e3 for a candidate without numbers.
+constraint g, <= 0 exactly when ``beveloid rating``'s verdict passes (evaluate.shortfall: the worst
+relative shortfall of the verdict's deciding safeties and of its edge-contact rule), and 1e3 for a
+candidate without numbers.
 """
 from __future__ import annotations
 
@@ -99,10 +100,7 @@ def told(req: Request, rec: dict) -> tuple:
     s = rec.get("safety")
     if s is None:
         return F, np.array([0.0])
-    short = [1.0 - s["safety_bending_local"] / s["S_Fmin"]] if s["safety_bending_local"] is not None else []
-    short += [1.0 - s["safety_pitting_local"] / s["S_Hmin"]] if s["safety_pitting_local"] is not None \
-        else [FAILED_CONSTRAINT]
-    return F, np.array([max(short)])
+    return F, np.array([FAILED_CONSTRAINT if s["shortfall"] is None else s["shortfall"]])
 
 
 def initial(req: Request, baseline: dict | None = None) -> np.ndarray:

@@ -162,8 +162,8 @@ def test_the_search_is_seeded():
 
 
 def test_the_safeties_are_the_ratings(tilted, capsys):
-    """--constraints rating: a candidate's local S_H is what `beveloid rating` gives for its spec; its
-    rating runs on the Solver of its loaded analyses."""
+    """--constraints rating: a candidate's local S_H and its feasibility are what `beveloid rating` gives for
+    its spec (its verdict); its rating runs on the Solver of its loaded analyses."""
     import tomllib
 
     from beveloid import ltca, rating
@@ -188,7 +188,8 @@ def test_the_safeties_are_the_ratings(tilted, capsys):
     d = json.loads(capsys.readouterr().out)
     assert rec["safety"]["safety_pitting_local"] == min(d[m]["safety_pitting"] for m in ("pinion", "gear"))
     assert rec["safety"]["safety_bending_local"] is None  # the plate has no root fillet
-    assert rec["safety"]["feasible"] == (rec["safety"]["safety_pitting_local"] >= rec["safety"]["S_Hmin"])
+    assert rec["safety"]["feasible"] == (d["verdict"]["status"] == "passes")  # the verdict `rating` prints
+    assert rec["safety"]["verdict"] == d["verdict"]["line"]
 
 
 @pytest.mark.parametrize("vary, words", [
