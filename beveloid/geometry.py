@@ -7,7 +7,7 @@ this module fills them by field name from the design, never by position.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -137,6 +137,18 @@ class PairGeometry:
         return cls(mn, result.normal_pressure_angle, result.offset_mm, result.shaft_angle,
                    Member.from_design(result.pinion, mn, result.normal_pressure_angle, spec.pinion),
                    Member.from_design(result.gear, mn, result.normal_pressure_angle, spec.gear))
+
+    def unmodified(self) -> "PairGeometry":
+        """The pair with every flank modification of the built-in models taken off (crowning, tip and end
+        relief, lead slope: the models ``surface_models.SELECTED_BY`` selects by a key, back to the
+        involute); this geometry itself when it has none.  A user's own surface model is the flank, not
+        a modification of it, and stays."""
+        bare = {}
+        for which in MEMBERS:
+            m = self.member(which)
+            if surface_models.SELECTED_BY.get(m.tooth_surface):
+                bare[which] = replace(m, tooth_surface=surface_models.DEFAULT_MODEL, surface_options=())
+        return replace(self, **bare) if bare else self
 
     def member(self, which: str) -> Member:
         if which not in MEMBERS:

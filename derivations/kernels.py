@@ -560,7 +560,7 @@ def module_specs(models=None):
     return ([surface_module(k, m) for k, m in models.items()]
             + [placement_module(), contact_system_module(), flank_boundaries_module(), edge_contact_module(),
                patch_clearance_module(), design_module(), fillet_module(),
-               tooth_sections_module(), tooth_plate_coupling_module()])
+               tooth_sections_module(), tooth_plate_coupling_module(), contact_kinematics_module()])
 
 
 def composed_residual(pinion_model="involute", gear_model="involute", flank="right"):
@@ -585,3 +585,28 @@ def composed_residual(pinion_model="involute", gear_model="involute", flank="rig
     p2, n2, s2 = member(gear_model, "gear", unknowns[2], unknowns[3])
     f = _placed(eq28_38_meshing_model.tca_residual(p1, n1, p2, n2))
     return f, unknowns, phi1p, ERRORS.symbols(), s1, s2, PLACEMENT.symbols()
+
+
+def contact_kinematics_module():
+    """The surface velocities at a contact point (contact_kinematics.py): sliding and sum velocity."""
+    from . import contact_kinematics as ck
+
+    v = ck.velocities()
+    args = [Arg("pinion_point", ck.POINT, "mm", "the contact point on the pinion flank, in S_1"),
+            Arg("pinion_normal", ck.NORMAL, "1", "the pinion's unit outward normal there, in S_1"),
+            Arg("pinion_angle", phi1p, "rad", "phi'_1 of Eq 30"),
+            Arg("pinion_speed", ck.omega1, "rad/s", "the pinion's angular speed dphi'_1/dt"),
+            Arg("pinion_teeth", N1, "1", "pinion tooth number N1"), Arg("gear_teeth", N2, "1", "gear tooth number N2"),
+            Arg("errors", ERRORS, "", "assembly errors"), Arg("pair", PLACEMENT, "", "pair placement")]
+    outs = [Output("point", _placed(v["point"]), "mm", "the contact point in S_f"),
+            Output("normal", _placed(v["normal"]), "1", "the pinion's outward normal in S_f"),
+            Output("pinion_velocity", _placed(v["pinion_velocity"]), "m/s", "pinion surface velocity, tangent part, S_f"),
+            Output("gear_velocity", _placed(v["gear_velocity"]), "m/s", "gear surface velocity, tangent part, S_f"),
+            Output("sliding_velocity", _placed(v["sliding_velocity"]), "m/s", "pinion minus gear, tangent plane, S_f"),
+            Output("sum_velocity", _placed(v["sum_velocity"]), "m/s", "pinion plus gear, tangent plane, S_f"),
+            Output("approach_speed", _placed(sp.Matrix([v["approach_speed"]]))[0], "m/s",
+                   "(V_1 - V_2).n: zero at a point of rigid conjugate contact")]
+    return ModuleSpec("contact_kinematics", "contact_kinematics.py",
+                      "Surface velocities at a contact point of the assembled pair: sliding and sum velocity.", [
+        Function("contact_velocities", "The members' surface velocities at a pinion flank point, in the fixed "
+                 "frame, and their sliding and sum velocities in the tangent plane.", args, outs)])

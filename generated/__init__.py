@@ -14,6 +14,7 @@ MODULES = (
     'root_fillet',
     'tooth_sections',
     'tooth_plate_coupling',
+    'contact_kinematics',
 )
 SCALAR_MODULES = (
     'surface_involute_scalar',

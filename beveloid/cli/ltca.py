@@ -403,6 +403,11 @@ def format_summary(result, geom, spec) -> str:
     ptp = result.loaded_te_peak_to_peak
     lines += [f"loaded TE peak-to-peak: {fmt(ptp * 1e6, '.3f')} urad" if math.isfinite(ptp) else
               "loaded TE peak-to-peak: not available (needs 3 or more converged positions)"]
+    from ..ltca.batch import loaded_contact_ratio
+
+    eps = loaded_contact_ratio(result)
+    lines += [f"loaded contact ratio: {fmt(eps, '.3f')} (mean number of tooth pairs carrying load over the cycle;"
+              " the unmodified flanks' unloaded one: `beveloid design`)"]
     lines += _root_stress_lines(result)
     lines += [f"note: {n}" for n in result.notes]
     teeth = (f"FE tooth (refinement {result.fe_refinement})" if result.tooth_model == "fe"

@@ -63,7 +63,8 @@ def summary(result) -> dict:
     """The per-run numbers of the torque map and the tolerance box: ``te_peak_to_peak_urad``,
     ``max_pressure_mpa`` (the largest pair_max_pressure_mpa, edge peaks included),
     ``root_stress_max_mpa`` {member} (nan with the plate tooth), ``mesh_stiffness_mean_n_per_um``,
-    ``mesh_stiffness_peak_to_peak_n_per_um`` (nan where not known), ``edge_contact`` (an edge peak anywhere).
+    ``mesh_stiffness_peak_to_peak_n_per_um`` (nan where not known), ``edge_contact`` (an edge peak anywhere),
+    ``loaded_contact_ratio`` (:func:`loaded_contact_ratio`).
     The stiffness statistics are over the cycle's N - 1 distinct states, as :func:`te_harmonics`: the
     last position is the first one a pitch later, counted once."""
     k = np.asarray(result.mesh_stiffness_n_per_um if result.mesh_stiffness_n_per_um is not None else [], float)[:-1]
@@ -74,7 +75,25 @@ def summary(result) -> dict:
             "root_stress_max_mpa": {m: (math.nan if root.get(m) is None else root[m]) for m in MEMBERS},
             "mesh_stiffness_mean_n_per_um": float(k.mean()) if k.size else math.nan,
             "mesh_stiffness_peak_to_peak_n_per_um": float(k.max() - k.min()) if k.size >= 3 else math.nan,
-            "edge_contact": bool(np.isfinite(result.pair_edge_max_pressure_mpa).any())}
+            "edge_contact": bool(np.isfinite(result.pair_edge_max_pressure_mpa).any()),
+            "loaded_contact_ratio": loaded_contact_ratio(result)}
+
+
+#: a tooth pair carries load at a position when its normal load exceeds this share of the position's total
+LOADED_SHARE = 1e-6
+
+
+def loaded_contact_ratio(result) -> float:
+    """The loaded contact ratio: the mean number of tooth pairs that carry load (more than
+    :data:`LOADED_SHARE` of the position's total) over the converged positions among the cycle's N - 1
+    distinct states (the last position is the first a pitch later); its resolution is 1 / (N - 1).
+    nan without a converged position."""
+    ok = np.asarray(result.converged, dtype=bool)[:-1]
+    loads = np.nan_to_num(np.asarray(result.pair_load_n, dtype=float)[:-1][ok])
+    if not loads.size:
+        return math.nan
+    carrying = loads > LOADED_SHARE * loads.sum(axis=1, keepdims=True)
+    return float(carrying.sum(axis=1).mean())
 
 
 def check_torques(values, key="torques_nm") -> np.ndarray:

@@ -217,7 +217,17 @@ def _tooth_json(r: LTCAResult, num) -> dict:
                                "normal (the loaded TE's displacement at the contact), per position",
         "mesh_stiffness_mean_n_per_um": num(_stiffness(r)[0]),
         "mesh_stiffness_peak_to_peak_n_per_um": num(_stiffness(r)[1]),
+        "loaded_contact_ratio": num(_loaded_contact_ratio(r)),
+        "loaded_contact_ratio_note": "mean number of tooth pairs carrying load over the cycle's distinct converged "
+                                     "positions (resolution 1 / (positions - 1)); the unloaded one of the unmodified "
+                                     "flanks: `beveloid design`",
     }
+
+
+def _loaded_contact_ratio(r) -> float:
+    from .batch import loaded_contact_ratio
+
+    return loaded_contact_ratio(r)
 
 
 def _stiffness(r) -> tuple:

@@ -32,7 +32,7 @@ derivation registry (generated/surface_models.py) into ``MemberSpec.surface_opti
 from __future__ import annotations
 
 from .keys import KEY_DOCS, REQUIRED_SECTIONS, SECTIONS, KeyDoc
-from .model import (DEFAULT_SOURCE, DesignSpec, MaterialSpec, RatingSpec, MemberSpec, MisalignmentSpec, PairSpec,
+from .model import (DEFAULT_SOURCE, DesignSpec, LubricantSpec, MaterialSpec, RatingSpec, MemberSpec, MisalignmentSpec, PairSpec,
                     SpecError)
 from .parse import EXAMPLES, MAX_SPEC_BYTES, example_text, load_example, load_spec, spec_from_toml_bytes
 from .schema import key_docs_markdown, key_schema_text
@@ -46,6 +46,7 @@ __all__ = [
     "MisalignmentSpec",
     "MaterialSpec",
     "RatingSpec",
+    "LubricantSpec",
     "DesignSpec",
     "DEFAULT_SOURCE",
     "KeyDoc",

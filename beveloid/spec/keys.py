@@ -173,6 +173,9 @@ def _member_docs(member: str) -> dict[str, KeyDoc]:
             requirement="optional",
             default=0.0,
         ),
+        "roughness_ra_um": KeyDoc(
+            f"arithmetic mean roughness Ra of the {member}'s flanks (tribology: friction, film parameter lambda;"
+            " needed with [lubricant])", "um", lo=0.0, lo_open=True, hi=100.0, requirement="optional"),
         "tooth_surface": KeyDoc(
             "tooth-surface model (generated/surface_models.py); by default the model whose keys below are"
             f" non-zero, else {surface_models.DEFAULT_MODEL}",
@@ -291,6 +294,42 @@ def _rating_docs() -> dict[str, KeyDoc]:
     }
 
 
+#: the base oils of [lubricant] (beveloid/tribology/lubricant.py holds their defaults)
+BASE_OILS = ("mineral", "pao", "ester", "polyglycol")
+
+
+def _lubricant_docs() -> dict[str, KeyDoc]:
+    opt = dict(requirement="optional")
+    return {
+        "iso_vg": KeyDoc("ISO 3448 viscosity grade (kinematic viscosity at 40 C, mm^2/s); with base_oil it gives both "
+                         "viscosities (tribology)", kind="integer", lo=2, hi=3200, **opt),
+        "base_oil": KeyDoc("base oil: its viscosity index, density, pour point, X_L and pressure-viscosity defaults "
+                           "(tribology)", kind="choice", choices=BASE_OILS, default="mineral", **opt),
+        "kinematic_viscosity_40_mm2_s": KeyDoc("kinematic viscosity at 40 C (tribology; with the 100 C one: ASTM "
+                                               "D341 between and beyond them)", "mm^2/s", lo=1.0, hi=100000.0, **opt),
+        "kinematic_viscosity_100_mm2_s": KeyDoc("kinematic viscosity at 100 C (tribology)", "mm^2/s", lo=0.5,
+                                                hi=10000.0, **opt),
+        "kinematic_viscosity_mm2_s": KeyDoc("kinematic viscosity at temperature_c, measured (tribology; overrides "
+                                            "the ASTM D341 value)", "mm^2/s", lo=0.1, hi=1e6, **opt),
+        "density_15_kg_m3": KeyDoc("density at 15 C (tribology; default from base_oil)", "kg/m^3", lo=500.0,
+                                   hi=2000.0, **opt),
+        "temperature_c": KeyDoc("oil (inlet) temperature (tribology; needed with [lubricant]); above the pour point",
+                                "C", lo=-60.0, hi=200.0, **opt),
+        "pour_point_c": KeyDoc("pour point (tribology; default from base_oil)", "C", lo=-80.0, hi=50.0, **opt),
+        "pressure_viscosity_coefficient_1_per_gpa": KeyDoc(
+            "pressure-viscosity coefficient alpha at temperature_c (tribology; default from base_oil, ISO/TS 6336-22)",
+            "1/GPa", lo=1.0, hi=60.0, **opt),
+        "lubricant_factor_xl": KeyDoc("lubricant factor X_L of ISO/TR 14179-2's friction law and ISO/TS 6336-20's "
+                                      "scuffing temperature (tribology; default from base_oil)", lo=0.1, hi=3.0, **opt),
+        "fzg_load_stage": KeyDoc("the oil's FZG A/8.3/90 scuffing load stage (tribology: the scuffing temperature; "
+                                 "without it no scuffing safety)", kind="integer", lo=1, hi=14, **opt),
+        "friction_coefficient": KeyDoc("a fixed friction coefficient that overrides the friction model everywhere "
+                                       "(tribology)", lo=0.0, hi=0.5, **opt),
+        "S_Bmin": KeyDoc("required minimum scuffing safety S_Bmin (rating)", lo=0.0, lo_open=True, hi=100.0,
+                         default=1.0, **opt),
+    }
+
+
 #: section -> key -> KeyDoc.  The single source of truth for validation and docs.
 KEY_DOCS: dict[str, dict[str, KeyDoc]] = {
     "pair": _PAIR_DOCS,
@@ -299,6 +338,7 @@ KEY_DOCS: dict[str, dict[str, KeyDoc]] = {
     "misalignment": _MIS_DOCS,
     "material": _material_docs(),
     "rating": _rating_docs(),
+    "lubricant": _lubricant_docs(),
 }
 
 #: Valid top-level sections, in canonical order, with a description.
@@ -309,5 +349,6 @@ SECTIONS: dict[str, str] = {
     "misalignment": "assembly errors for tooth contact analysis; optional, default 0",
     "material": "elastic constants (loaded TCA) and strength (rating) of both members; optional, default case-hardened steel",
     "rating": "load factors, speed, life and minimum safeties of `beveloid rating`; optional",
+    "lubricant": "the oil of the tribology (film, friction, power loss, scuffing: docs/tribology.md); optional",
 }
 REQUIRED_SECTIONS: tuple[str, ...] = ("pair", "pinion", "gear")

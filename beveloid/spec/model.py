@@ -73,6 +73,8 @@ class MemberSpec:
     reference_section_offset_mm: float = 0.0
     #: Bore of the exported solid (``beveloid export``), 0: none.
     bore_diameter_mm: float = 0.0
+    #: Flank roughness Ra (um) for the tribology (None: not given).
+    roughness_ra_um: float | None = None
     #: Tooth-surface model (generated/surface_models.py MODELS).
     tooth_surface: str = surface_models.DEFAULT_MODEL
     #: The model's own input keys and values, as sorted (key, value) pairs.
@@ -125,6 +127,31 @@ class RatingSpec:
 
 
 @dataclass(frozen=True)
+class LubricantSpec:
+    """The oil of the tribology (``beveloid.tribology``); every key None: no lubricant given."""
+
+    iso_vg: int | None = None
+    base_oil: str = "mineral"
+    kinematic_viscosity_40_mm2_s: float | None = None
+    kinematic_viscosity_100_mm2_s: float | None = None
+    kinematic_viscosity_mm2_s: float | None = None
+    density_15_kg_m3: float | None = None
+    temperature_c: float | None = None
+    pour_point_c: float | None = None
+    pressure_viscosity_coefficient_1_per_gpa: float | None = None
+    lubricant_factor_xl: float | None = None
+    fzg_load_stage: int | None = None
+    friction_coefficient: float | None = None
+    S_Bmin: float = 1.0
+
+    @property
+    def given(self) -> bool:
+        """Whether the spec names an oil (a grade or viscosities)."""
+        return any(v is not None for v in (self.iso_vg, self.kinematic_viscosity_40_mm2_s,
+                                           self.kinematic_viscosity_100_mm2_s, self.kinematic_viscosity_mm2_s))
+
+
+@dataclass(frozen=True)
 class DesignSpec:
     pair: PairSpec
     pinion: MemberSpec
@@ -132,5 +159,6 @@ class DesignSpec:
     misalignment: MisalignmentSpec = field(default_factory=MisalignmentSpec)
     material: MaterialSpec = field(default_factory=MaterialSpec)
     rating: RatingSpec = field(default_factory=RatingSpec)
+    lubricant: LubricantSpec = field(default_factory=LubricantSpec)
     #: Where the spec came from (file path or "<dict>"); not part of equality.
     source: str = field(default=DEFAULT_SOURCE, compare=False)

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..generated import layouts, root_fillet, surface_models
 from .keys import KEY_DOCS, REQUIRED_SECTIONS, SECTIONS, KeyDoc, model_takes
-from .model import (DEFAULT_SOURCE, DesignSpec, MaterialSpec, RatingSpec, MemberSpec, MisalignmentSpec, PairSpec,
+from .model import (DEFAULT_SOURCE, DesignSpec, LubricantSpec, MaterialSpec, RatingSpec, MemberSpec, MisalignmentSpec, PairSpec,
                     SpecError)
 from .text import closest, fmt_value, hint, name_text
 
@@ -90,7 +90,7 @@ def _check_section(name: str, raw: Any) -> dict[str, Any]:
     for key, doc in docs.items():
         if doc.requirement == "result":
             continue
-        if key in raw:
+        if key in raw and not (raw[key] is None and doc.requirement == "optional" and doc.default is None):
             out[key] = _check_value(f"{name}.{key}", raw[key], doc)
         else:
             out[key] = float(doc.default) if doc.kind == "number" and doc.default is not None else doc.default
@@ -236,9 +236,21 @@ def check_material_hardness(values: dict[str, dict[str, Any]]) -> None:
             raise SpecError(str(exc), key=key) from None
 
 
+def check_lubricant(values: dict[str, dict[str, Any]]) -> None:
+    """[lubricant]: a grade or both viscosities, a temperature above the pour point, the roughness of
+    both members (beveloid/tribology/lubricant.py)."""
+    from ..tribology.lubricant import check_spec_values
+
+    try:
+        check_spec_values(values)
+    except ValueError as exc:
+        key = getattr(exc, "key", None)
+        raise SpecError(str(exc), key=key) from None
+
+
 CROSS_CHECKS: tuple[Callable[[dict[str, dict[str, Any]]], None], ...] = (check_clearance, check_relief_extent,
                                                                           check_tip_round, check_rating_life,
-                                                                          check_material_hardness)
+                                                                          check_material_hardness, check_lubricant)
 
 #: section -> the dataclass holding its keys
 SECTION_TYPES: dict[str, type] = {
@@ -248,6 +260,7 @@ SECTION_TYPES: dict[str, type] = {
     "misalignment": MisalignmentSpec,
     "material": MaterialSpec,
     "rating": RatingSpec,
+    "lubricant": LubricantSpec,
 }
 
 

@@ -39,12 +39,33 @@ class ToothOptions:
                              " from 8 to 1000")
 
 
+#: what the design's contact ratio is, in its JSON and table
+RATIO_BASIS = {"unmodified": "the unmodified flanks (crowning, relief and lead slope taken off)",
+               "as designed": "the flanks as designed (they carry no modification)"}
+#: why the modified flanks' unloaded contact ratio is not the designer's one
+MODIFIED_NOTE = ("crowned or relieved flanks touch one tooth pair at a time without load (the unloaded contact "
+                 "ratio of the modified flanks is 1 or barely more); the loaded one: `beveloid ltca` "
+                 "(loaded_contact_ratio)")
+
+
 @dataclass(frozen=True)
 class ToothResult:
     undercut: dict  # {member: {flank: undercut.Undercut or None}}
     tip: dict  # {member: tip.TipThickness}
-    contact: dict  # {flank: contact.FlankContact or None}
+    contact: dict  # {flank: contact.FlankContact or None}: the flanks as designed (interference)
     statuses: list = field(default_factory=list)  # [(status, message)]
+    #: {flank: contact.FlankContact or None} of the unmodified flanks (None: the flanks carry no modification)
+    unmodified: dict | None = None
+
+    @property
+    def contact_ratio(self) -> dict:
+        """{flank: the contact ratio a designer means (the unmodified flanks'), or None}."""
+        src = self.contact if self.unmodified is None else self.unmodified
+        return {fl: (c.contact_ratio if c is not None else None) for fl, c in src.items()}
+
+    @property
+    def contact_ratio_basis(self) -> str:
+        return RATIO_BASIS["as designed" if self.unmodified is None else "unmodified"]
 
     def member_json(self, member: str) -> dict:
         return {"tip_transverse_thickness_mm": self.tip[member].to_json_dict(),
@@ -52,7 +73,10 @@ class ToothResult:
                              for fl, u in self.undercut[member].items()}}
 
     def pair_json(self) -> dict:
-        return {"contact_ratio": {fl: (c.contact_ratio if c is not None else None) for fl, c in self.contact.items()},
+        modified = None if self.unmodified is None else {
+            fl: (c.contact_ratio if c is not None else None) for fl, c in self.contact.items()}
+        return {"contact_ratio": self.contact_ratio, "contact_ratio_basis": self.contact_ratio_basis,
+                "contact_ratio_modified_unloaded": modified,
                 "tooth_status": [{"status": s, "message": m} for s, m in self.statuses]}
 
     def to_json_dict(self) -> dict:
@@ -77,11 +101,26 @@ class ToothResult:
                 cut = "none" if u is None else f"{u.from_mm:.3f} .. {u.to_mm:.3f} ({u.depth_mm:.4f})"
                 thick = " / ".join(_mm(x) for x in (t.toe_mm, t.middle_mm, t.heel_mm)) if fl == "left" else ""
                 lines.append(f"{member} | {fl} | {thick} | {cut}")
-        ratio = " | ".join(f"{fl} {c.contact_ratio:.4f}" if c is not None else f"{fl} -"
-                           for fl, c in self.contact.items())
-        lines.append(f"contact ratio (aligned TCA, per pinion pitch): {ratio}")
+        ratio = " | ".join(f"{fl} {v:.4f}" if v is not None else f"{fl} -" for fl, v in self.contact_ratio.items())
+        lines.append(f"contact ratio (aligned TCA, per pinion pitch) of {self.contact_ratio_basis}: {ratio}")
+        if self.unmodified is not None:
+            mod = " | ".join(f"{fl} {c.contact_ratio:.4f}" if c is not None else f"{fl} -"
+                             for fl, c in self.contact.items())
+            lines.append(f"  with the modifications, unloaded: {mod}: {MODIFIED_NOTE}")
         lines += [f"status {s}: {m}" for s, m in self.statuses]
         return "\n".join(lines)
+
+
+def _contacts(geom, options, solver, statuses, what) -> dict:
+    """{flank: contact.FlankContact or None} of ``geom``; a flank without one adds its ``no contact`` status."""
+    out = {}
+    for fl in FLANKS:
+        try:
+            out[fl] = contact.flank_contact(geom, fl, per_pitch=options.contact_per_pitch, solver=solver)
+        except (contact.NoContact, NoContactError, UnboundedPatch) as err:
+            out[fl] = None
+            statuses.append((ToothStatus.NO_CONTACT, f"{what}, {fl} flank: {err}"))
+    return out
 
 
 def analyze(pair, options: ToothOptions = ToothOptions(), *, solver=None) -> ToothResult:
@@ -98,13 +137,13 @@ def analyze(pair, options: ToothOptions = ToothOptions(), *, solver=None) -> Too
             statuses.append((ToothStatus.POINTED, tips[member].message()))
         if tips[member].no_involute:
             statuses.append((ToothStatus.TIP_INSIDE_BASE_CIRCLE, tips[member].no_involute_message()))
-    flanks = {}
+    bare = geom.unmodified()  # the contact ratio a designer means: the unmodified flanks'
+    unmodified = None if bare is geom else _contacts(bare, options, solver, statuses,
+                                                     "contact ratio of the unmodified flanks")
+    flanks = _contacts(geom, options, solver, statuses, "contact ratio" if unmodified is None
+                       else "interference (the modified flanks' contact)")
     for fl in FLANKS:
-        try:
-            flanks[fl] = contact.flank_contact(geom, fl, per_pitch=options.contact_per_pitch, solver=solver)
-        except (contact.NoContact, NoContactError, UnboundedPatch) as err:
-            flanks[fl] = None
-            statuses.append((ToothStatus.NO_CONTACT, f"contact ratio, {fl} flank: {err}"))
+        if flanks[fl] is None:
             continue
         for member, margin in flanks[fl].form_margin_mm.items():
             if margin is None:
@@ -121,4 +160,4 @@ def analyze(pair, options: ToothOptions = ToothOptions(), *, solver=None) -> Too
             statuses.append((ToothStatus.INTERFERENCE,
                              f"interference: {fl} flank, the {mate}'s tip reaches below the {owner}'s form"
                              f" limit{depth} (into its fillet) on the aligned pair's path of contact"))
-    return ToothResult(cut, tips, flanks, statuses)
+    return ToothResult(cut, tips, flanks, statuses, unmodified)

@@ -99,6 +99,7 @@ class _Stiffness(_TE):
         self.mesh_stiffness_n_per_um = np.asarray(k, float)
         self.loaded_te_peak_to_peak = 0.0
         self.pair_max_pressure_mpa = self.pair_edge_max_pressure_mpa = np.full((len(k), 1), np.nan)
+        self.pair_load_n, self.converged = np.ones((len(k), 1)), np.isfinite(self.mesh_stiffness_n_per_um)
 
     def root_stress_max_mpa(self):
         return {}
@@ -276,3 +277,22 @@ def test_column_offsets_resampled_onto_a_coarser_grid_of_the_same_extent():
     got = resample_along(a, 11)
     assert np.allclose(got[0], 0.3 - 2.0 * y11, rtol=0, atol=1e-14)
     assert np.all(got[1] >= np.abs(y11) - 1e-14) and np.all(got[1] <= np.abs(y11) + 2 / 17)
+
+
+def test_the_loaded_contact_ratio_counts_the_pairs_that_carry_load(capsys):
+    """issue 60: the loaded contact ratio is the mean number of tooth pairs carrying load over the cycle's
+    distinct converged states, in the JSON and the table."""
+    from types import SimpleNamespace
+
+    from beveloid.ltca.batch import loaded_contact_ratio
+
+    loads = [[0.0, 10.0, 0.0], [5.0, 5.0, 0.0], [0.0, 3.0, 1e-9], [1.0, 1.0, 1.0], [0.0, 10.0, 0.0]]
+    r = SimpleNamespace(pair_load_n=np.array(loads), converged=np.array([True, True, True, False, True]))
+    assert loaded_contact_ratio(r) == (1 + 2 + 1) / 3  # the 4th did not converge, the 5th is the 1st again
+    rc, out, _ = _cli(capsys, "--torque-nm", "300", "--json")
+    d = json.loads(out)
+    count = [sum(1 for v in row if v and v > 1e-6 * sum(x or 0 for x in row)) for row in d["pair_normal_load_n"][:-1]]
+    assert rc == 0 and d["loaded_contact_ratio"] == pytest.approx(sum(count) / len(count), abs=1e-12)
+    assert 1.0 <= d["loaded_contact_ratio"] <= 3.0
+    _, text, _ = _cli(capsys, "--torque-nm", "300")
+    assert f"loaded contact ratio: {d['loaded_contact_ratio']:.3f}" in text

@@ -224,3 +224,22 @@ def test_rounded_rack_raises_the_form_point(pair1):
     shift = float(s0.undercut_depth_left - s.undercut_depth_left)
     assert shift == pytest.approx(rho * (1 - math.sin(g.normal_pressure_angle)) / math.cos(g.pinion.cone_angle),
                                   rel=1e-9)
+
+
+def test_the_contact_ratio_is_the_unmodified_flanks_and_says_so(pair1):
+    """0.1 um of lead crowning took the design's contact ratio from ~1.6 to 1.0000 (issue 60): crowned flanks
+    touch one pair at a time without load.  The design reports the unmodified flanks' ratio (that of the
+    same file without the crowning), names it, and keeps the modified flanks' unloaded one beside it."""
+    bare = report.analyze(pair1)
+    crowned = report.analyze(Pair.from_spec(_spec(pinion=dict(lead_crowning_um=0.1))))
+    assert bare.unmodified is None and "carry no modification" in bare.contact_ratio_basis
+    assert crowned.contact_ratio == bare.contact_ratio  # the same aligned TCA of the same involute flanks
+    assert all(v > 1.5 for v in crowned.contact_ratio.values())
+    assert all(c.contact_ratio < 1.001 for c in crowned.contact.values())  # the modified flanks, unloaded
+    out = crowned.pair_json()
+    assert out["contact_ratio"] == crowned.contact_ratio and "unmodified flanks" in out["contact_ratio_basis"]
+    assert out["contact_ratio_modified_unloaded"] == {fl: c.contact_ratio for fl, c in crowned.contact.items()}
+    table = crowned.table()
+    assert f"of the unmodified flanks (crowning, relief and lead slope taken off): left " \
+           f"{crowned.contact_ratio['left']:.4f}" in table
+    assert "beveloid ltca" in table and "loaded_contact_ratio" in table

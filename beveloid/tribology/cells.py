@@ -1,0 +1,85 @@
+"""The speed-independent data of every contact cell of a loaded analysis: where it is, its velocities
+per unit pinion speed (generated/contact_kinematics.py), its line load and the relative radii in the
+sum velocity's direction.  Built once per LTCA result; every speed scales it (the kinematics is linear
+in the speed), so an efficiency map solves no contact again.
+"""
+from __future__ import annotations
+
+import typing
+
+import numpy as np
+
+from ..generated import contact_kinematics, placement
+from ..ltca.gaps import principal_frame
+
+#: relative curvature (1/mm) below which a direction counts as straight (R_y taken as 1e6 mm)
+STRAIGHT_CURVATURE = 1e-6
+
+
+class Cells(typing.NamedTuple):
+    """Arrays (N, P, C) (C = across x along cells, row-major) unless shaped otherwise; velocities in
+    m/s per rad/s of the pinion, vectors in S_f."""
+
+    loaded: np.ndarray  # bool: a converged position, a cell on both flanks with pressure > 0
+    pressure_mpa: np.ndarray  # 0 where not loaded
+    area_mm2: np.ndarray  # (N, P) one cell's area
+    line_load_n_per_mm: np.ndarray  # the along-column's load per unit length of the line (sum of p dx across)
+    point: np.ndarray  # (N, P, C, 3) mm
+    normal: np.ndarray  # (N, P, C, 3)
+    pinion_velocity: np.ndarray  # (N, P, C, 3) tangent part
+    gear_velocity: np.ndarray  # (N, P, C, 3)
+    sliding_velocity: np.ndarray  # (N, P, C, 3) pinion minus gear
+    sum_velocity: np.ndarray  # (N, P, C, 3)
+    approach_speed: np.ndarray  # (V_1 - V_2).n, a check of the point
+    sliding_profile: np.ndarray  # sliding velocity's part across the contact line (profile direction)
+    sliding_lengthwise: np.ndarray  # its part along the contact line
+    radius_sum_mm: np.ndarray  # relative radius of curvature in the sum velocity's direction (R_x)
+    radius_side_mm: np.ndarray  # ... perpendicular to it (R_y)
+    entrainment_angle_deg: np.ndarray  # sum velocity to the contact ellipse's minor axis (0: across the line)
+    pair_load_n: np.ndarray  # (N, P) broadcast to (N, P, C)
+    pinion_lu: np.ndarray  # (N, P, C, 2)
+
+
+def build(result, geom, errors) -> Cells:
+    """The cells of an LTCAResult of ``geom`` (a PairGeometry) with assembly ``errors`` (5,)."""
+    errors = np.asarray(errors, dtype=float)
+    N, P, C = result.pressure_mpa.shape
+    nx, ny = result.grid.across_cells, result.grid.along_cells
+    ok = np.asarray(result.converged)[:, None, None]
+    p = np.where(ok & result.gap.in_flank, np.nan_to_num(result.pressure_mpa), 0.0)
+    loaded = p > 0
+    lu = result.gap.pinion_lu
+    surf = geom.surface("pinion", result.flank, np.nan_to_num(lu[..., 0]), np.nan_to_num(lu[..., 1]))
+    phi = np.broadcast_to(result.pair_pinion_angle[:, :, None], (N, P, C))
+    kin = contact_kinematics.contact_velocities(
+        np.nan_to_num(result.gap.pinion_point), surf.normal, phi, 1.0, float(geom.pinion.teeth),
+        float(geom.gear.teeth), errors, geom.placement())
+    # the along-column's line load: sum over the across cells of p dx (N/mm)
+    dx = 2.0 * result.grid.across_half_mm / nx  # (N, P)
+    line = (p.reshape(N, P, nx, ny).sum(axis=2) * dx[..., None])  # (N, P, ny)
+    line = np.broadcast_to(line[:, :, None, :], (N, P, nx, ny)).reshape(N, P, C)
+    # the pairs' relative curvature at their tangency (principal axes in S_1)
+    fr = principal_frame(geom, result.flank, result.tangency_unknowns, result.pair_pinion_angle, errors)
+    rot = placement.pinion_placement(result.pair_pinion_angle, geom.placement()).rotation  # (N, P, 3, 3) S_1 -> S_f
+    axes_f = np.einsum("npij,npaj->npai", rot, fr.axes)  # (N, P, 2, 3) across, along in S_f
+    across, along = axes_f[:, :, None, 0], axes_f[:, :, None, 1]
+    s = kin.sum_velocity
+    with np.errstate(invalid="ignore", divide="ignore"):
+        e = s / np.linalg.norm(s, axis=-1, keepdims=True)
+        ca, cl = np.einsum("...i,...i->...", e, across), np.einsum("...i,...i->...", e, along)
+        ka, kl = fr.curvature_across[:, :, None], fr.curvature_along[:, :, None]
+        k_sum = ka * ca ** 2 + kl * cl ** 2
+        k_side = ka * cl ** 2 + kl * ca ** 2
+        rx = 1.0 / k_sum
+        ry = np.where(k_side > STRAIGHT_CURVATURE, 1.0 / k_side, 1.0 / STRAIGHT_CURVATURE)
+        angle = np.degrees(np.arctan2(np.abs(cl), np.abs(ca)))
+    vs = kin.sliding_velocity
+    return Cells(loaded=loaded, pressure_mpa=p, area_mm2=result.cell_area_mm2, line_load_n_per_mm=line,
+                 point=kin.point, normal=kin.normal, pinion_velocity=kin.pinion_velocity,
+                 gear_velocity=kin.gear_velocity, sliding_velocity=vs, sum_velocity=s,
+                 approach_speed=kin.approach_speed,
+                 sliding_profile=np.einsum("...i,...i->...", vs, across),
+                 sliding_lengthwise=np.einsum("...i,...i->...", vs, along),
+                 radius_sum_mm=rx, radius_side_mm=ry, entrainment_angle_deg=angle,
+                 pair_load_n=np.broadcast_to(np.nan_to_num(result.pair_load_n)[:, :, None], (N, P, C)),
+                 pinion_lu=lu)
