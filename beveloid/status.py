@@ -88,6 +88,8 @@ class ToothStatus(enum.StrEnum):
     TIP_INSIDE_BASE_CIRCLE = "tip inside base circle"
     NO_CONTACT = "no contact"  #: the contact ratio of a flank found no path of contact
     NO_FORM_LIMIT = "no form limit"
+    #: the unmodified aligned pair's contact ratio on a flank is below 1: no continuous mesh on that flank
+    CONTACT_RATIO_BELOW_ONE = "contact ratio below 1"
 
 
 class DesignStatus(enum.StrEnum):

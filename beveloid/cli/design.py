@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 
 
 def configure(parser: argparse.ArgumentParser) -> None:
@@ -41,8 +42,30 @@ def run(args: argparse.Namespace) -> int:
         from ..tooth import plot
 
         plot.plot_sections(pair, tooth, args.plot)
+    warning = unusable_warning(result, tooth)
+    if warning:
+        print(f"beveloid design: WARNING: {warning}", file=sys.stderr)
     if args.json:
         print(json.dumps(tooth.add_to(design_json(result)), indent=2, allow_nan=False))
     else:
-        print(format_table1(result) + "\n" + tooth.table())
+        print((f"WARNING: {warning}\n\n" if warning else "") + format_table1(result) + "\n" + tooth.table())
     return 0
+
+
+def unusable_warning(result, tooth) -> str:
+    """One line when the unmodified pair does not mesh continuously on either flank (its contact ratio below 1
+    on both), with the numbers in which a unit slip shows (the working pressure angle, the mounting
+    distances); "" otherwise."""
+    import math
+
+    from ..status import ToothStatus
+
+    below = [m for s, m in tooth.statuses if s == ToothStatus.CONTACT_RATIO_BELOW_ONE]
+    if not below or len(below) < len(tooth.contact_ratio):
+        return ""
+    ratios = ", ".join(f"{fl} {v:.3f}" for fl, v in tooth.contact_ratio.items())
+    d = ", ".join(f"{m} {getattr(result, m).mounting_distance_mm:.1f} mm" for m in ("pinion", "gear"))
+    return (f"not a usable pair as it stands: the contact ratio is below 1 on both flanks ({ratios}), the working"
+            f" normal pressure angle is {math.degrees(result.working_normal_pressure_angle):.2f} deg (rack"
+            f" {math.degrees(result.normal_pressure_angle):g} deg), the mounting distances {d}; check"
+            " pair.normal_module_mm and pair.offset_mm (both in mm) against the teeth")

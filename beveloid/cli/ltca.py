@@ -213,11 +213,11 @@ def _chunk(task):
 
     pair, options, torques, draws = task
     batch = ltca.analyze_many(pair, options, torques_nm=torques, error_sets=draws)
-    return [[dict(ltca.batch.summary(r), errors=e) for r in row] for e, row in zip(draws, batch.results)]
+    return [[dict(ltca.results.batch.summary(r), errors=e) for r in row] for e, row in zip(draws, batch.results)]
 
 
 def tolerance_sets(pair, options, torques, draws, workers=None, scheduler=None) -> list:
-    """[[summary (ltca.batch.summary) per torque] per error set] of the draws, in chunks of CHUNK_SETS:
+    """[[summary (ltca.results.batch.summary) per torque] per error set] of the draws, in chunks of CHUNK_SETS:
     here, on local workers or on a Dask cluster (beveloid.parallel); a progress bar on a terminal."""
     import time
     from contextlib import nullcontext
@@ -252,7 +252,7 @@ def _stats(values) -> dict:
 def tolerance_json(box, t, samples, seed, tolerances) -> dict:
     """The "tolerance" block of torque index t (issue 43's contract)."""
     from .. import assembly_errors
-    from ..ltca.teeth import MEMBERS
+    from ..ltca.model.teeth import MEMBERS
 
     num = lambda v: float(v) if v is not None and math.isfinite(v) else None  # noqa: E731
     rows = [sets[t] for sets in box]
@@ -276,8 +276,8 @@ def tolerance_json(box, t, samples, seed, tolerances) -> dict:
 def torque_map_json(results) -> dict:
     """The "torque_map" block: per torque the TE peak-to-peak, the largest pair_max_pressure_mpa (edge peaks
     included), the members' largest root stress and the mean mesh stiffness (null where not known)."""
-    from ..ltca.batch import summary
-    from ..ltca.teeth import MEMBERS
+    from ..ltca.results.batch import summary
+    from ..ltca.model.teeth import MEMBERS
 
     num = lambda v: float(v) if v is not None and math.isfinite(v) else None  # noqa: E731
     s = [summary(r) for r in results]
@@ -294,7 +294,7 @@ def write_csv(results, geom, folder):
     import csv
     import os
 
-    from ..ltca.batch import gear_base_radius_mm
+    from ..ltca.results.batch import gear_base_radius_mm
 
     os.makedirs(folder, exist_ok=True)
     rb = gear_base_radius_mm(geom)
@@ -321,7 +321,7 @@ def write_csv(results, geom, folder):
 
 
 def _plot(results, geom, path, label):
-    from ..ltca.plots import ltca_summary, ltca_torques, te_map
+    from ..ltca.results.plots import ltca_summary, ltca_torques, te_map
 
     stem = path[:-4] if path.endswith(".png") else path
     try:
@@ -403,7 +403,7 @@ def format_summary(result, geom, spec) -> str:
     ptp = result.loaded_te_peak_to_peak
     lines += [f"loaded TE peak-to-peak: {fmt(ptp * 1e6, '.3f')} urad" if math.isfinite(ptp) else
               "loaded TE peak-to-peak: not available (needs 3 or more converged positions)"]
-    from ..ltca.batch import loaded_contact_ratio
+    from ..ltca.results.batch import loaded_contact_ratio
 
     eps = loaded_contact_ratio(result)
     lines += [f"loaded contact ratio: {fmt(eps, '.3f')} (mean number of tooth pairs carrying load over the cycle;"

@@ -132,7 +132,7 @@ def loaded_contact(ltca_result, geometry, face_width_mm: float) -> LoadedContact
         notes.append("local root stress: not computed (the LTCA ran with the plate tooth, which has no root "
                      "fillet; --tooth-model fe): root_stress_max_mpa and safety_bending are null, the ISO "
                      "bending values stand alone")
-    from ..ltca.batch import summary as ltca_summary
+    from ..ltca.results.batch import summary as ltca_summary
 
     # the mean over the cycle's distinct states, as the LTCA's JSON and the torque map give it
     k_mesh = ltca_summary(ltca_result)["mesh_stiffness_mean_n_per_um"]

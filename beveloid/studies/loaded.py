@@ -82,7 +82,7 @@ def case_task(case, out, model):
     from pathlib import Path
 
     from .. import ltca
-    from ..ltca import plots
+    from ..ltca.results import plots
     from ..pair import Pair
 
     t0 = time.perf_counter()

@@ -287,7 +287,7 @@ def _small_ltca(solver=None):
 
 
 def _ltca_kernels_task():
-    """A piece, the first on a worker: the loaded contact's own compiled kernels (beveloid/ltca/kernel.py:
+    """A piece, the first on a worker: the loaded contact's own compiled kernels (beveloid/ltca/mechanics/kernel.py:
     compiled whatever the solver's backend) made ready while the main process compiles the solver core,
     by a small LTCA whose TCA runs on the numpy backend (that compiles none of the core), and the FE
     tooth's root-stress functions (beveloid/fe/principal.py), which both loaded pieces would otherwise

@@ -6,8 +6,10 @@ undercut somewhere in the face), ``pointed`` (the tip thickness reaches zero ins
 ``interference`` (the mating tip reaches a fillet on the aligned pair's path of contact),
 ``tip inside base circle`` (somewhere in the face the tip circle lies inside a flank's base circle:
 no involute reaches the tip there, its tip thickness is null), ``no contact`` (the contact ratio
-could not be measured: it is then null) and ``no form limit`` (the interference check could not
-find where a flank's involute starts).  Every value that could not be computed is ``None`` (JSON
+could not be measured: it is then null), ``no form limit`` (the interference check could not
+find where a flank's involute starts) and ``contact ratio below 1`` (the unmodified pair does not mesh
+continuously on a flank; ``beveloid design`` puts it first, as a warning, with the design's numbers a
+unit slip shows in).  Every value that could not be computed is ``None`` (JSON
 ``null``, a dash in the table), with the status that says why.
 """
 from __future__ import annotations
@@ -43,9 +45,8 @@ class ToothOptions:
 RATIO_BASIS = {"unmodified": "the unmodified flanks (crowning, relief and lead slope taken off)",
                "as designed": "the flanks as designed (they carry no modification)"}
 #: why the modified flanks' unloaded contact ratio is not the designer's one
-MODIFIED_NOTE = ("crowned or relieved flanks touch one tooth pair at a time without load (the unloaded contact "
-                 "ratio of the modified flanks is 1 or barely more); the loaded one: `beveloid ltca` "
-                 "(loaded_contact_ratio)")
+MODIFIED_NOTE = ("crowned or relieved flanks touch one tooth pair at a time without load (their unloaded contact "
+                 "ratio is at most 1 or barely more); the loaded one: `beveloid ltca` (loaded_contact_ratio)")
 
 
 @dataclass(frozen=True)
@@ -142,6 +143,11 @@ def analyze(pair, options: ToothOptions = ToothOptions(), *, solver=None) -> Too
                                                      "contact ratio of the unmodified flanks")
     flanks = _contacts(geom, options, solver, statuses, "contact ratio" if unmodified is None
                        else "interference (the modified flanks' contact)")
+    for fl, c in (flanks if unmodified is None else unmodified).items():
+        if c is not None and c.contact_ratio < 1.0:
+            statuses.append((ToothStatus.CONTACT_RATIO_BELOW_ONE,
+                             f"{fl} flank: the unmodified pair's contact ratio is {c.contact_ratio:.4f} < 1: a tooth"
+                             " pair leaves its contact before the next one engages (no continuous mesh on this flank)"))
     for fl in FLANKS:
         if flanks[fl] is None:
             continue

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..ltca.gaps import principal_frame
+from ..ltca.model.gaps import principal_frame
 from ..tca.reference import reference_contact
 from . import laws
 from .cells import STRAIGHT_CURVATURE, Cells

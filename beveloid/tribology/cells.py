@@ -10,7 +10,7 @@ import typing
 import numpy as np
 
 from ..generated import contact_kinematics, placement
-from ..ltca.gaps import principal_frame
+from ..ltca.model.gaps import principal_frame
 
 #: relative curvature (1/mm) below which a direction counts as straight (R_y taken as 1e6 mm)
 STRAIGHT_CURVATURE = 1e-6

@@ -79,7 +79,7 @@ def test_fe_and_plate_agree_on_the_loads_and_te_to_within_their_model_difference
 
 
 def test_plot_has_the_root_stress_panel(results, case1, tmp_path):
-    from beveloid.ltca.plots import ltca_summary
+    from beveloid.ltca.results.plots import ltca_summary
 
     r = results["fe"]
     for m in ("pinion", "gear"):

@@ -7,6 +7,7 @@ The pair is the issue's (m_n 3, 19/43 teeth, 8 deg shaft angle, 92 mm offset); c
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import pytest
 
@@ -15,31 +16,7 @@ from beveloid.optimize import evaluate, search
 from beveloid.optimize.request import Request, Vary
 from beveloid.status import Verdict
 
-PAIR = """
-[pair]
-normal_module_mm = 3.0
-normal_pressure_angle_deg = 20.0
-shaft_angle_deg = 8.0
-offset_mm = 92.0
-[pinion]
-teeth = 19
-cone_angle_deg = 2.0
-helix_angle_deg = 20.0
-profile_shift = 0.2
-face_width_mm = 30.0
-lead_crowning_um = 12.0
-profile_crowning_um = 6.0
-[gear]
-teeth = 43
-cone_angle_deg = 1.0
-face_width_mm = 28.0
-tip_relief_um = 15.0
-tip_relief_height_mm = 1.2
-[rating]
-K_A = 1.25
-pinion_speed_rpm = 1500
-life_hours = 20000
-"""
+PAIR = (Path(__file__).resolve().parents[1] / "data" / "issue60_pair.toml").read_text()
 KEY = "pinion.tip_relief_um"
 TORQUE = 100.0
 QUICK = ["--tooth-model", "plate", "--positions", "3"]

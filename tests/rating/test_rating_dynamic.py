@@ -124,7 +124,7 @@ def test_the_ltca_mesh_stiffness_of_a_near_parallel_pair_lies_between_iso_and_it
     (+6 % from 115 to 460 N/mm).  Measured: 1.18 here (500 N m, 115 N/mm, 9 positions).  The cycle's mean
     over its largest single-pair stiffness is ISO's 0.75 eps_alpha + 0.25 to 5 % (measured 1.51 against 1.49;
     1.46 with 20 positions)."""
-    from beveloid.ltca.batch import summary
+    from beveloid.ltca.results.batch import summary
     from beveloid.rating import iso6336
     from beveloid.rating.analysis import mesh_stiffness_per_face_width
     from beveloid.rating.virtual import mate_gear

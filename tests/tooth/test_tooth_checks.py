@@ -243,3 +243,29 @@ def test_the_contact_ratio_is_the_unmodified_flanks_and_says_so(pair1):
     assert f"of the unmodified flanks (crowning, relief and lead slope taken off): left " \
            f"{crowned.contact_ratio['left']:.4f}" in table
     assert "beveloid ltca" in table and "loaded_contact_ratio" in table
+
+
+def test_a_unit_slip_is_said_first(tmp_path, capsys):
+    """issue 60: module 30 typed for 3 designs (exit 0) a pair whose unmodified contact ratio is below 1 on
+    both flanks (working pressure angle 7.4 deg, a negative mounting distance): `design` says so first, on
+    stderr and at the top of its table, and its JSON carries the status; the intended pair says nothing."""
+    from pathlib import Path
+
+    from beveloid import cli
+
+    text = (Path(__file__).resolve().parents[1] / "data" / "issue60_pair.toml").read_text()
+    slip = tmp_path / "m30.toml"
+    slip.write_text(text.replace("normal_module_mm = 3.0", "normal_module_mm = 30.0"))
+    assert cli.main(["design", str(slip)]) == 0
+    out, err = capsys.readouterr()
+    assert out.startswith("WARNING: not a usable pair as it stands: the contact ratio is below 1 on both flanks")
+    assert "working normal pressure angle is 7.41 deg" in out and "pinion -3548.7 mm" in out
+    assert "check pair.normal_module_mm and pair.offset_mm" in out and len(err.splitlines()) == 1
+    assert cli.main(["design", str(slip), "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert sum(s["status"] == "contact ratio below 1" for s in d["tooth_status"]) == 2
+    good = tmp_path / "m3.toml"
+    good.write_text(text)
+    assert cli.main(["design", str(good)]) == 0
+    out, err = capsys.readouterr()
+    assert "WARNING" not in out + err and "contact ratio below 1" not in out

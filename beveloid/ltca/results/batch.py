@@ -6,7 +6,7 @@
     batch.te_peak_to_peak_urad  # (K, T)
     batch.results[k][t]         # the LTCAResult of error set k at torque t
 
-The one engine of :func:`beveloid.ltca.analyze` (:func:`beveloid.ltca.analysis.run_many`): the FE data
+The one engine of :func:`beveloid.ltca.analyze` (:func:`beveloid.ltca.passes.analysis.run_many`): the FE data
 and the teeth once per pair, the rigid reference once per error set, every contact problem of a pass
 of every case in one compiled call.  ``results[k][t]`` equals ``analyze`` with that torque and that
 error set.
@@ -18,8 +18,8 @@ import typing
 
 import numpy as np
 
-from ..errors import OptionError
-from ..names import MEMBERS
+from ...errors import OptionError
+from ...names import MEMBERS
 
 __all__ = ["Batch", "summary"]
 
@@ -98,7 +98,7 @@ def loaded_contact_ratio(result) -> float:
 
 def check_torques(values, key="torques_nm") -> np.ndarray:
     """(T,) the torques, each as ltca.Options checks it; at least one."""
-    from .options import check_torque
+    from ..options import check_torque
 
     vals = list(np.atleast_1d(np.asarray(values, dtype=object)).ravel())
     if not vals:

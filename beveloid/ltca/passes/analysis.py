@@ -19,15 +19,15 @@ import math
 
 import numpy as np
 
-from .. import tca
-from ..mesh import cycle_positions_text
-from ..status import LoadedStatus
-from . import grid as grids
+from ... import tca
+from ...mesh import cycle_positions_text
+from ...status import LoadedStatus
+from ..model import grid as grids
 from .cycle import Problem, Setup, merge, solve_many
-from .options import Material, Options
-from .result import (MAX_HALF_WIDTH_TIMES_CURVATURE, MAX_PRESSURE_OVER_E_STAR, VALIDITY_SEPARATOR, Convergence,
+from ..options import Material, Options
+from ..results.result import (MAX_HALF_WIDTH_TIMES_CURVATURE, MAX_PRESSURE_OVER_E_STAR, VALIDITY_SEPARATOR, Convergence,
                      LTCAResult)
-from .teeth import member_teeth, root_stresses
+from ..model.teeth import member_teeth, root_stresses
 
 
 def _one_blas_thread():

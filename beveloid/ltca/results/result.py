@@ -7,9 +7,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..status import LoadedStatus
-from .gaps import PairGap
-from .grid import PairGrid, centres
+from ...status import LoadedStatus
+from ..model.gaps import PairGap
+from ..model.grid import PairGrid, centres
 
 #: tolerances of the grid-convergence indicator (change against the once-coarsened grid)
 PRESSURE_CHANGE_TOL = 0.05  #: of a pair's surface peak pressure
@@ -131,7 +131,7 @@ class LTCAResult:
         return out
 
     def pattern(self, geom, member, raster=None):
-        """:func:`beveloid.ltca.pattern.flank_pattern` of one member (cached)."""
+        """:func:`beveloid.ltca.results.pattern.flank_pattern` of one member (cached)."""
         from .pattern import RASTER, flank_pattern
 
         raster = raster or RASTER
