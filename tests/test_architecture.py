@@ -355,6 +355,7 @@ PENDING_UPWARD = {
     ("beveloid/spec/validate.py", "rating/"),  # the hardness check of a spec reads rating/materials.py
     ("beveloid/spec/validate.py", "tribology/"),  # [lubricant]'s check reads tribology/lubricant.py (grades, oils)
     ("beveloid/ltca/results/plots.py", "plots.py"),  # the LTCA's figures draw the flank outline of the top-level plots
+    ("beveloid/tribology/plots.py", "plots.py"),  # so do the tribology's
     ("beveloid/rating/analysis.py", "plots.py"),  # the pinion angle's text of its notes
 }
 #: groups of units that import each other (an import cycle between packages), owned by other work items

@@ -60,6 +60,10 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
     p.add_argument("--csv", metavar="DIR", help="write DIR/ltca.csv: one row per position and torque (pinion angle, "
                                                 "loaded TE, mesh stiffness, pair loads), for a dynamics model")
+    p.add_argument("--speed-rpm", metavar="N[,N...]",
+                   help="pinion speed (rpm) for the tribology (film, friction, power loss, efficiency, scuffing: "
+                        "docs/tribology.md); needs a [lubricant] section; default [rating] pinion_speed_rpm when the "
+                        "file has a lubricant; a comma list with several torques gives the efficiency map")
     p.add_argument("--samples", type=int, default=0, metavar="K",
                    help="the tolerance box under load: K error sets drawn about the file's [misalignment] (the "
                         "draws of sweep and explore), each a full loaded analysis at every torque")
@@ -135,6 +139,7 @@ def run(args: argparse.Namespace) -> int:
     from ..spec import load_spec
 
     spec = apply_error_flags(load_spec(args.file), args)
+    speeds = parse_speeds(args.speed_rpm, spec)
     tolerances = _tolerances(args, spec) if args.samples else None
     pair = Pair.from_spec(spec)
     options = ltca.Options(torque_nm=torques[0], flank=args.flank, positions=args.positions, pairs=args.pairs,
@@ -162,8 +167,15 @@ def run(args: argparse.Namespace) -> int:
     label = f"{spec.source}: {errors_label(spec)}"
     if args.plot is not None:
         _plot(results, geom, args.plot, label)
+    trib = _tribology(results, pair, speeds) if speeds else None
     if args.csv is not None:
         write_csv(results, geom, args.csv)
+        if trib is not None:
+            from ..tribology.report import write_csv as tribology_csv
+
+            tribology_csv(trib, args.csv)
+    if args.plot is not None and trib is not None:
+        _plot_tribology(trib, results, geom, args.plot, label)
     for r in results:
         for w in r.warnings():
             print(f"beveloid: warning: {w if len(results) == 1 else f'{r.torque_nm:g} N m: {w}'}", file=sys.stderr)
@@ -172,8 +184,18 @@ def run(args: argparse.Namespace) -> int:
         d = ltca.to_json_dict(r, geom)
         if box is not None:
             d["tolerance"] = tolerance_json(box, t, args.samples, args.seed, tolerances)
+        if trib is not None:
+            if len(speeds) == 1:
+                d.update(trib[t][0].to_json_dict())
+            else:
+                d["speeds"] = [x.to_json_dict() for x in trib[t]]
         entries.append(d)
     out = entries[0] if len(results) == 1 else {"map": entries, "torque_map": torque_map_json(results)}
+    if trib is not None and len(speeds) > 1:
+        from ..tribology.report import map_json
+
+        out = dict(out) if len(results) > 1 else {"map": entries}
+        out["efficiency_map"] = map_json(trib)
     if args.json:
         print(json.dumps(out, allow_nan=False))
     else:
@@ -184,7 +206,59 @@ def run(args: argparse.Namespace) -> int:
             print()
         if len(results) > 1:
             print(format_torque_map(out["torque_map"]))
+        if trib is not None:
+            from ..tribology.report import format_lines
+
+            for row in trib:
+                for x in row:
+                    print(f"{x.torque_nm:g} N m: " + "\n".join(format_lines(x)))
     return 0
+
+
+def parse_speeds(text, spec) -> list:
+    """The pinion speeds (rpm) of the tribology: --speed-rpm (one or a comma list), else [rating]
+    pinion_speed_rpm when the file names a lubricant; [] for none.  A speed without a lubricant is
+    refused (one line)."""
+    if text is None:
+        given = spec.rating.pinion_speed_rpm
+        return [given] if given is not None and spec.lubricant.given else []
+    out = []
+    for part in str(text).split(","):
+        try:
+            v = float(part)
+        except ValueError:
+            v = math.nan
+        if not (math.isfinite(v) and 0 < v <= 1e6):
+            raise UserError(f"--speed-rpm = {text}: each speed must be a number > 0 and <= 1e6 (rpm), comma-separated")
+        out.append(v)
+    if not spec.lubricant.given:
+        raise UserError(f"--speed-rpm = {text}: needs a [lubricant] section in {spec.source} (an oil: iso_vg or the "
+                        "kinematic viscosities, and temperature_c; docs/tribology.md)")
+    return out
+
+
+def _tribology(results, pair, speeds):
+    """[[TribologyResult per speed] per torque]: each torque's contact once, every speed from it."""
+    from .. import tribology
+
+    try:
+        return tribology.efficiency_map(results, pair, speeds)
+    except tribology.LubricantError as exc:
+        raise UserError(str(exc)) from None
+
+
+def _plot_tribology(trib, results, geom, path, label):
+    from ..tribology.plots import efficiency_map, flank_fields
+
+    stem = path[:-4] if path.endswith(".png") else path
+    try:
+        x = trib[0][0]
+        flank_fields(x, results[0], geom, stem + "_tribology.png",
+                     title=f"{label}, {x.torque_nm:g} N m at {x.speed_rpm:g} rpm")
+        if len(trib) > 1 or len(trib[0]) > 1:
+            efficiency_map(trib, stem + "_efficiency.png", title=label)
+    except OSError as exc:
+        raise UserError(f"--plot = {path}: cannot write there ({exc.strerror or exc})") from None
 
 
 def _tolerances(args, spec) -> dict:
