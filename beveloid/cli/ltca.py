@@ -155,7 +155,8 @@ def run(args: argparse.Namespace) -> int:
     if args.workers is not None or args.scheduler is not None:
         executor(args.workers, args.scheduler)  # checks the flags (one line) before any work
     solver = Solver()
-    results = list(ltca.analyze_many(pair, options, torques_nm=torques, solver=solver).results[0])
+    # the contact patterns once per run: the JSON, the table and the figures read them
+    results = [r.with_patterns() for r in ltca.analyze_many(pair, options, torques_nm=torques, solver=solver).results[0]]
     box = None
     if tolerances is not None:
         from .. import sweep
@@ -181,7 +182,7 @@ def run(args: argparse.Namespace) -> int:
             print(f"beveloid: warning: {w if len(results) == 1 else f'{r.torque_nm:g} N m: {w}'}", file=sys.stderr)
     entries = []
     for t, r in enumerate(results):
-        d = ltca.to_json_dict(r, geom)
+        d = r.to_json()
         if box is not None:
             d["tolerance"] = tolerance_json(box, t, args.samples, args.seed, tolerances)
         if trib is not None:
@@ -465,7 +466,7 @@ def format_summary(result, geom, spec) -> str:
                        for v, e in zip(result.pair_max_pressure_mpa[j], result.pair_edge_max_pressure_mpa[j])])
     w = [max(len(r[i]) for r in rows) for i in range(len(head))]
     lines += ["  ".join(c.rjust(wi) for c, wi in zip(r, w)) for r in rows]
-    frac = {m: result.pattern(geom, m).area_fraction for m in ("pinion", "gear")}
+    frac = {m: result.pattern(m).area_fraction for m in ("pinion", "gear")}
     lines += ["", "share of each flank that carries pressure somewhere in the cycle: "
               + ", ".join(f"{m} {fmt(f * 100 if f is not None else None, '.1f')}%" for m, f in frac.items()),
               f"grid per pair: {result.grid.across_cells} x {result.grid.along_cells} cells, sized from each pair's Hertz "

@@ -26,15 +26,15 @@ from .results.batch import Batch
 from .model.compliance import BeveloidCompliance
 from .options import DEFAULT_GRID, RANGES, Material, Options
 from .results.pattern import FlankPattern, flank_pattern
-from .results.result import LTCAResult, to_json_dict
+from .results.result import LTCAResult
 
 __all__ = ["Batch", "BeveloidCompliance", "DEFAULT_GRID", "FlankPattern", "LTCAResult", "Material",
-           "Options", "RANGES", "analyze", "analyze_many", "flank_pattern", "to_json_dict"]
+           "Options", "RANGES", "analyze", "analyze_many", "flank_pattern"]
 
 
 def analyze(pair, options: Options, *, solver=None) -> LTCAResult:
     """The loaded TCA of one flank over one mesh cycle: ``analyze(pair_or_geometry, options, *,
-    solver=None)`` -> an immutable :class:`LTCAResult` (its JSON: ``result.to_json_dict(geom)``).
+    solver=None)`` -> a deep-frozen :class:`LTCAResult` (its JSON: ``result.to_json()``).
 
     ``pair`` a :class:`beveloid.pair.Pair` (its misalignment and ``[material]`` are used unless
     ``options`` sets them) or a ``PairGeometry``; ``options`` an :class:`Options`
@@ -76,4 +76,5 @@ def analyze_many(pair, options: Options, torques_nm=None, error_sets=None, *, so
         spec = getattr(pair, "spec", None)
         material = Material.from_spec(spec) if spec is not None else Material()
     results = run_many(geom, list(errors), list(torques), options, material, Solver.of(solver), pair=pair)
-    return Batch(torque_nm=torques, errors=errors, results=tuple(tuple(r) for r in results))
+    return Batch(torque_nm=torques, errors=errors, results=tuple(tuple(r) for r in results), pair=pair,
+                 options=options)

@@ -378,12 +378,10 @@ def analyze(pair, options: Options, *, solver=None, ltca_result=None, face_point
         notes += dynamic_notes(dyn)
     if lc.edge_pressure_max_mpa is not None:
         notes.append(f"edge contact: the largest edge cell pressure is {lc.edge_pressure_max_mpa:.0f} MPa (singular, "
-                     "grid-dependent; not in S_H); the edge-contact rule of the verdict judges the mean pressure "
-                     "within a band of the edge instead" + ("" if lc.edge is None else
-                                                           f": {lc.edge.pressure_mpa:.0f} MPa at {lc.edge.where}"))
-    errors = tuple(float(v) for v in getattr(pair, "errors", ())) or None
-    return RatingResult(options.torque_nm, options.flank, members, lc, factors, tuple(notes), dyn, errors,
-                        geom.normal_module_mm)
+                     "grid-dependent; not in S_H); the edge-contact rule of the verdict judges the load within a "
+                     "band of the edge instead" + ("" if lc.edge is None else f" ({lc.edge.where})"))
+    return RatingResult(options.torque_nm, options.flank, members, lc, factors, tuple(notes), dyn, pair=pair,
+                        options=options)
 
 
 def _with_dynamic_factor(pair, options, factors, lc, elastic):

@@ -4,8 +4,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from ..result import Result
 
-__all__ = ["RatingResult", "SEC_KEYS", "to_json_dict"]
+__all__ = ["RatingResult", "SEC_KEYS"]
 
 #: the keys of one section in the JSON, in order; from "normal_module_mm" on, every input of method B
 #: (issue 57.8): the virtual gear's own normal module and flank-specific normal pressure angle (not the
@@ -41,7 +42,10 @@ def section_json(s) -> dict:
 
 
 @dataclass(frozen=True)
-class RatingResult:
+class RatingResult(Result):
+    """The rating of ``pair`` under ``options``: per member its ratings, the loaded contact, the factors;
+    deep-frozen, its JSON by :meth:`to_json`."""
+
     torque_nm: float
     flank: str
     members: dict  # "pinion" | "gear" -> analysis.MemberRating
@@ -49,8 +53,10 @@ class RatingResult:
     factors: object  # factors.Factors
     notes: tuple
     dynamic: object = None  # dynamic.DynamicFactor when K_v came from ISO 6336-1 method B
-    errors: tuple | None = None  # the LTCA's assembly errors (dx, dy, dz mm, vertical, horizontal rad)
-    normal_module_mm: float | None = None
+
+    def to_json(self) -> dict:
+        """The JSON of ``beveloid rating --json`` (issue 32's contract)."""
+        return _json(self)
 
     def safeties(self) -> list:
         """Every safety factor as (value, kind, source, member, where, required)."""
@@ -86,7 +92,7 @@ def _face_load_json(fl) -> dict:
             "loaded_length_mm": _num(fl.loaded_length_mm)}
 
 
-def to_json_dict(r: RatingResult) -> dict:
+def _json(r: RatingResult) -> dict:
     f = r.factors
     out = {"torque_nm": float(r.torque_nm), "flank": r.flank, "K_A": float(f.K_A), "K_v": _num(f.K_v),
            "K_v_source": f.K_v_source,

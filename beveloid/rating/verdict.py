@@ -16,6 +16,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from ..status import Validity, Verdict
 
 __all__ = ["CRITERION_KEYS", "DISAGREEMENT_FACTOR", "EDGE_SHARE", "EXIT_STATUS", "verdict", "exit_status"]
@@ -132,13 +134,14 @@ def _disagreements(result, criteria) -> list:
 def assumptions(result) -> list:
     """What the verdict leaves out (issue 57.7), in words, each with its direction."""
     f = result.factors
-    errors = getattr(result, "errors", None)
-    aligned = errors is None or not any(errors)
+    pair = getattr(result, "pair", None)
+    errors = getattr(pair, "errors", None)
+    aligned = errors is None or not np.any(np.asarray(errors, dtype=float))
     out = [("K_H_beta of the " + ("aligned pair" if aligned else "pair's [misalignment]")
             + " only (no f_ma, f_sh or lead deviations)"),
            "Z_L = Z_v = Z_R = 1 (no lubricant, speed or roughness given: up to ~15 % too high S_H for unground "
            "flanks)"]
-    m_n = getattr(result, "normal_module_mm", None)
+    m_n = None if pair is None else pair.geometry.normal_module_mm
     if m_n is not None and m_n > 5.0:
         y_x = max(1.05 - 0.01 * m_n, 0.8)  # ISO 6336-3, case-hardened / nitrided, 5 < m_n < 25 (the largest fall)
         out.append(f"Y_X = Z_X = 1 (ISO 6336-3's Y_X at m_n {m_n:g} mm is down to {y_x:.3f}: S_F up to "

@@ -81,7 +81,7 @@ def test_harmonics_of_a_run_keep_its_power(pair):
     assert np.all(np.isfinite(h[:5])) and np.isnan(h[5])
     nyquist = abs(np.sum(te * (-1.0) ** np.arange(M))) / M
     assert np.sum(h[:5] ** 2) / 2 + nyquist ** 2 == pytest.approx(np.var(te), rel=1e-9)
-    d = r.to_json_dict(pair.geometry)
+    d = r.to_json()
     assert d["te_harmonics_mesh_orders"] == list(MESH_ORDERS)
     assert d["te_harmonics_um"][0] == pytest.approx(h[0] * gear_base_radius_mm(pair.geometry) * 1e3)
     # the stiffness over the same N - 1 states as the harmonics: the end state (the first a pitch later) once

@@ -66,7 +66,7 @@ def ltca_pattern(ax, result, geom, member, vmax=None):
     returns the artist and whether any pressure lies above the scale, or (None, False)."""
     from ...plots import flank_outline
 
-    pat = result.pattern(geom, member)
+    pat = result.pattern(member)
     zb, rb = flank_outline(geom, member, result.flank)
     ax.plot(zb, rb, color="0.3", lw=1.0)
     ax.set_xlabel("axial position z (mm), toe -> heel", fontsize=8)
