@@ -27,6 +27,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import re
 
 from .paths import check_output_dir, check_output_file
@@ -56,7 +57,8 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--fe-coarsen", type=float, default=1.0, metavar="F",
                    help="every FE tooth element size times F, 1-8 (default 1; 2-4: a quick, rougher tooth)")
     p.add_argument("--plot", metavar="OUT.png", help="write the contact patterns, loaded TE and load sharing here "
-                                                     "(and the per-position pressure maps beside it)")
+                                                     "(and the per-position pressure maps beside it; with"
+                                                     " --samples the error sets at OUT_tolerance.png)")
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
     p.add_argument("--csv", metavar="DIR", help="write DIR/ltca.csv: one row per position and torque (pinion angle, "
                                                 "loaded TE, mesh stiffness, pair loads), for a dynamics model")
@@ -103,7 +105,7 @@ def parse_grid(text):
 
 
 def run(args: argparse.Namespace) -> int:
-    """Loaded tooth contact analysis under a pinion torque (approximate: half-space + tooth beams).
+    """Loaded tooth contact analysis under a pinion torque (approximate: Boussinesq half-space + the FE tooth, or the plate tooth's beams with --tooth-model plate).
 
     Prints per position the loaded TE, the load of each tooth pair, its peak pressure and the
     contact area; --json prints the full arrays.  Warnings (grid not converged, outside the
@@ -161,6 +163,11 @@ def run(args: argparse.Namespace) -> int:
     geom = pair.geometry
     label = f"{spec.source}: {errors_label(spec)}"
     if args.plot is not None:
+        if box is not None:  # the figures of the file's errors say so, and the box has its own
+            label = f"{spec.source}, the file's errors ({errors_label(spec)}); {args.samples} error sets: " \
+                    f"{os.path.basename(_stem(args.plot))}_tolerance.png"
+            _tolerance_plot(results, box, _stem(args.plot) + "_tolerance.png",
+                            f"{spec.source}: {args.samples} error sets in the tolerance box (seed {args.seed})")
         _plot(results, geom, args.plot, label)
     if args.csv is not None:
         write_csv(results, geom, args.csv)
@@ -292,7 +299,6 @@ def write_csv(results, geom, folder):
     """DIR/ltca.csv: one row per position and torque, units in every column name; empty cells where a
     position did not converge."""
     import csv
-    import os
 
     from ..ltca.batch import gear_base_radius_mm
 
@@ -320,10 +326,39 @@ def write_csv(results, geom, folder):
     return path
 
 
+def _stem(path: str) -> str:
+    return path[:-4] if path.endswith(".png") else path
+
+
+def _tolerance_plot(results, box, path, title):
+    """The tolerance box: each error set's loaded TE peak-to-peak against its largest pressure, per torque,
+    the file's errors starred (``box``: :func:`tolerance_sets`)."""
+    from ..ltca.batch import summary
+    from ..ltca.plots import _plt, _save
+
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(6.5, 4.8))
+    for t, r in enumerate(results):
+        te = [row[t]["te_peak_to_peak_urad"] for row in box]
+        p = [row[t]["max_pressure_mpa"] for row in box]
+        dots = ax.plot(te, p, "o", ms=4, alpha=0.7, label=f"{r.torque_nm:g} N m: {len(box)} error sets")[0]
+        own = summary(r)
+        ax.plot([own["te_peak_to_peak_urad"]], [own["max_pressure_mpa"]], "*", ms=13, color=dots.get_color(),
+                mec="k", label=f"{r.torque_nm:g} N m: the file's errors")
+    ax.set_xlabel("loaded TE peak-to-peak (urad)")
+    ax.set_ylabel("largest peak pressure, edges included (MPa)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    try:
+        _save(fig, path, title)
+    except OSError as exc:
+        raise UserError(f"--plot = {path}: cannot write there ({exc.strerror or exc})") from None
+
+
 def _plot(results, geom, path, label):
     from ..ltca.plots import ltca_summary, ltca_torques, te_map
 
-    stem = path[:-4] if path.endswith(".png") else path
+    stem = _stem(path)
     try:
         if len(results) == 1:
             r = results[0]
