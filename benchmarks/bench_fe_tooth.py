@@ -291,7 +291,7 @@ def locate():
 def startup():
     """Seconds to the first position: Options + teeth (cached FE data read) for each model."""
     from beveloid import ltca
-    from beveloid.ltca.teeth import member_teeth
+    from beveloid.ltca.model.teeth import member_teeth
 
     pair = _pair("case1")
     mat = ltca.Material.from_spec(pair.spec)

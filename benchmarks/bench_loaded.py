@@ -35,10 +35,10 @@ import time  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from beveloid.ltca.halfspace import (influence_matrix_mm_per_mpa, reduced_modulus_mpa, tensor_grid,  # noqa: E402
+from beveloid.ltca.mechanics.halfspace import (influence_matrix_mm_per_mpa, reduced_modulus_mpa, tensor_grid,  # noqa: E402
                                     tensor_influence_matrix_mm_per_mpa)
-from beveloid.ltca.lcp import prepare_compliance, solve_contact  # noqa: E402
-from beveloid.ltca.tooth_compliance import (  # noqa: E402
+from beveloid.ltca.mechanics.lcp import prepare_compliance, solve_contact  # noqa: E402
+from beveloid.ltca.mechanics.tooth_compliance import (  # noqa: E402
     face_coupling_per_mm,
     involute_load_points,
     involute_tooth_section,

@@ -1,4 +1,4 @@
-"""The loaded contact pattern's cost: ``ltca.pattern.flank_pattern`` of both members (the envelope of
+"""The loaded contact pattern's cost: ``ltca.results.pattern.flank_pattern`` of both members (the envelope of
 the pressure over the mesh cycle that ``ltca --plot`` and ``paper`` draw).
 
     python benchmarks/bench_pattern.py [--case case1] [--torque-nm 300] [--positions 20] [--repeats 3]
@@ -15,7 +15,7 @@ import hashlib
 import time
 
 from beveloid import ltca
-from beveloid.ltca import pattern
+from beveloid.ltca.results import pattern
 from beveloid.pair import Pair
 
 

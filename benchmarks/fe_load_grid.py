@@ -54,7 +54,7 @@ def main():
 
     from beveloid import ltca
     from beveloid.fe import tooth
-    from beveloid.ltca import teeth
+    from beveloid.ltca.model import teeth
     from beveloid.pair import Pair
 
     pair = Pair.example(a.design) if a.design in ("case1", "case2") else Pair.from_spec(a.design)

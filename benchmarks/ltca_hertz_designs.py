@@ -17,8 +17,8 @@ import tomllib
 from pathlib import Path
 import numpy as np
 from beveloid import ltca
-from beveloid.ltca.compliance import member_tooth
-from beveloid.ltca.grid import centres
+from beveloid.ltca.model.compliance import member_tooth
+from beveloid.ltca.model.grid import centres
 from beveloid.pair import Pair
 
 base = tomllib.loads((Path(__file__).resolve().parents[1] / "examples" / "case1.toml").read_text())

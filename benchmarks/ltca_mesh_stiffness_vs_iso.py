@@ -36,7 +36,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import numpy as np  # noqa: E402
 
 from beveloid import ltca  # noqa: E402
-from beveloid.ltca.batch import summary  # noqa: E402
+from beveloid.ltca.results.batch import summary  # noqa: E402
 from beveloid.rating import iso6336  # noqa: E402
 from beveloid.rating.analysis import mesh_stiffness_per_face_width  # noqa: E402
 from beveloid.rating.face_load import face_load  # noqa: E402

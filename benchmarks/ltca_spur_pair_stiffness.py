@@ -13,11 +13,11 @@ import math
 
 import numpy as np
 
-from beveloid.ltca.halfspace import reduced_modulus_mpa, tensor_grid, tensor_influence_matrix_mm_per_mpa
-from beveloid.ltca.hertz import hertz_line_contact
-from beveloid.ltca.lcp import solve_contact
+from beveloid.ltca.mechanics.halfspace import reduced_modulus_mpa, tensor_grid, tensor_influence_matrix_mm_per_mpa
+from beveloid.ltca.mechanics.hertz import hertz_line_contact
+from beveloid.ltca.mechanics.lcp import solve_contact
 from beveloid.rating import iso6336
-from beveloid.ltca.tooth_compliance import (face_coupling_per_mm, involute_load_points, involute_tooth_section,
+from beveloid.ltca.mechanics.tooth_compliance import (face_coupling_per_mm, involute_load_points, involute_tooth_section,
                                             slice_compliance_mm2_per_n, tooth_influence_mm_per_mpa)
 
 MODULE_MM, TEETH, FACE_MM, LINE_LOAD_N_PER_MM = 4.0, 30, 20.0, 300.0

@@ -5,10 +5,10 @@
 
 Not a test.  One BLAS thread; one warm-up call (numba's cache, the FE data); then the call with the
 least process CPU time of ``--repeats``, its parts timed by wrapping the engine's functions (CPU time
-of each, inclusive): the unloaded gaps (``ltca.gaps.grid_gaps``, the gap Newtons of every pass), the
-compliance tables (``ltca.cycle.compliance_tables``: half-space tables, the teeth's line
-compliances), the contact solve of every pass (``ltca.cycle.solve_many`` less the two before: the
-dense blocks and the active set), the root stresses (``ltca.teeth.root_stresses``) and the rest (the rigid reference, grids, results).  The
+of each, inclusive): the unloaded gaps (``ltca.model.gaps.grid_gaps``, the gap Newtons of every pass), the
+compliance tables (``ltca.passes.cycle.compliance_tables``: half-space tables, the teeth's line
+compliances), the contact solve of every pass (``ltca.passes.cycle.solve_many`` less the two before: the
+dense blocks and the active set), the root stresses (``ltca.model.teeth.root_stresses``) and the rest (the rigid reference, grids, results).  The
 error sets: none, then ``--sets - 1`` small ones, as benchmarks/bench_ltca.py draws them.  The
 default (case 1 tilted by 0.05 deg, three torques, 8 sets) is one call of ``beveloid optimize``'s
 candidate (docs/optimize.md section 6: the candidate makes two).
@@ -29,8 +29,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from bench_ltca import error_sets  # noqa: E402
 
-PARTS = (("gaps", "beveloid.ltca.cycle", "gaps.grid_gaps"), ("blocks", "beveloid.ltca.cycle", "compliance_tables"),
-         ("passes", "beveloid.ltca.analysis", "solve_many"), ("root", "beveloid.ltca.analysis", "root_stresses"))
+PARTS = (("gaps", "beveloid.ltca.passes.cycle", "gaps.grid_gaps"), ("blocks", "beveloid.ltca.passes.cycle", "compliance_tables"),
+         ("passes", "beveloid.ltca.passes.analysis", "solve_many"), ("root", "beveloid.ltca.passes.analysis", "root_stresses"))
 
 
 def main():

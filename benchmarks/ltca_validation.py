@@ -10,7 +10,7 @@ import numpy as np
 
 from beveloid import ltca, tca
 from beveloid.design import design
-from beveloid.ltca import hertz
+from beveloid.ltca.mechanics import hertz
 from beveloid.spec import load_example
 
 g1 = tca.PairGeometry.from_design(design(load_example("case1")))

@@ -1,6 +1,6 @@
 """Face coupling of the loaded TCA's tooth beams: a cantilever plate strip per Fourier mode (issue 23).
 
-The LTCA takes each tooth as thin slices (cantilever beams, beveloid/ltca/tooth_compliance.py);
+The LTCA takes each tooth as thin slices (cantilever beams, beveloid/ltca/mechanics/tooth_compliance.py);
 neighbouring slices are coupled because the tooth is a plate: a load at one face position bends
 the tooth over a length of the order of its height.  Here the tooth is a Kirchhoff plate of
 uniform bending stiffness D, height h (root x = 0 to tip x = h) and, for the coupling only,

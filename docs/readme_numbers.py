@@ -205,8 +205,8 @@ def fe_canary(analyze_ltca=None) -> dict:
                                         fe_coarsen=CANARY_COARSEN))
     te = (r.loaded_te - r.unloaded_te)[r.converged] * 1e6
     root = r.root_stress_max_mpa()
-    rt = rating.to_json_dict(rating.analyze(pair, rating.Options(
-        torque_nm=RATING_TORQUE_NM, positions=CANARY_POSITIONS, tooth_model="fe", fe_coarsen=CANARY_COARSEN)))
+    rt = (rating.analyze(pair, rating.Options(
+        torque_nm=RATING_TORQUE_NM, positions=CANARY_POSITIONS, tooth_model="fe", fe_coarsen=CANARY_COARSEN)).to_json())
     return {"ltca_loaded_te_mean_urad": float(te.mean()), "ltca_root_stress_pinion_mpa": root["pinion"],
             "ltca_root_stress_gear_mpa": root["gear"],
             **{f"rating_{m}_{k}": rt[m][k] for m in ("pinion", "gear")
@@ -219,7 +219,7 @@ def record_rating(args) -> dict:
 
     out = {"command": RATING_COMMAND, "canary": fe_canary()}
     for case in ("case1", "case2"):
-        out[case] = rating.to_json_dict(rating.analyze(Pair.example(case), rating.Options(torque_nm=RATING_TORQUE_NM)))
+        out[case] = rating.analyze(Pair.example(case), rating.Options(torque_nm=RATING_TORQUE_NM)).to_json()
     return out
 
 

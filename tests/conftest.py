@@ -239,7 +239,7 @@ _compiling_outside = False
 
 def _compile_outside_core():
     """The kernels outside the solver core, which call none of it: the loaded TCA's contact solve
-    and block assembly (ltca/kernel.py, with the argument types ltca/cycle.py passes) and the FE
+    and block assembly (ltca/mechanics/kernel.py, with the argument types ltca/passes/cycle.py passes) and the FE
     tooth's principal stresses (fe/principal.py).  Under a lock of their own: in a parallel run the
     worker that builds the sympy models compiles them first (~10 s on a fresh install) while the other
     compiles the core, which loads them from numba's cache when it gets to them.  Once per process."""
@@ -249,7 +249,7 @@ def _compile_outside_core():
     _outside_compiled = True
     import numpy as np
 
-    from beveloid.ltca import kernel, lcp
+    from beveloid.ltca.mechanics import kernel, lcp
     from beveloid.solver import Solver
 
     def run():
@@ -373,7 +373,7 @@ def _compile_once_under_a_lock():
             _compile_solver()
         return ns
 
-    # the kernels outside the core (ltca/kernel.py, fe/principal.py) are compiled whatever the backend:
+    # the kernels outside the core (ltca/mechanics/kernel.py, fe/principal.py) are compiled whatever the backend:
     # their first use compiles them with the rest, under the lock (two workers would each compile them)
     real_module = backends.compiled_module
 

@@ -69,7 +69,7 @@ def run(args: argparse.Namespace) -> int:
         except OSError as exc:
             raise UserError(f"--plot = {args.plot}: cannot write there ({exc.strerror or exc})") from None
     if args.json:
-        print(json.dumps(rating.to_json_dict(result), allow_nan=False))
+        print(json.dumps(result.to_json(), allow_nan=False))
     else:
         print(table(result))
     if args.json:

@@ -48,7 +48,7 @@ def run(args: argparse.Namespace) -> int:
     from ..pair import Pair
     from ..spec import load_spec
 
-    approach_mm = check_approach(args.approach_um * 1e-3)  # an OptionError names --approach-um: one line
+    approach_mm = check_approach(args.approach_um * 1e-3, "--approach-um", 1e3, "um")  # one line naming the flag
     try:
         options = tca.Options(flanks=tca.FLANKS if args.flank == "both" else (args.flank,),
                               positions=args.positions, pairs=args.pairs, approach_mm=approach_mm)
@@ -68,7 +68,7 @@ def run(args: argparse.Namespace) -> int:
         except OSError as exc:  # checked before; the target changed during the computation
             raise UserError(f"--plot = {args.plot}: cannot write there ({exc.strerror or exc})") from None
     if args.json:
-        print(json.dumps(result.to_json_dict(), allow_nan=False))
+        print(json.dumps(result.to_json(), allow_nan=False))
     else:
         print(format_summary(result, spec))
     return 0

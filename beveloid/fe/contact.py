@@ -5,7 +5,7 @@ flank.  Flank points (member frame, tooth 0) are mapped onto the load grid by th
 z and their radius (bilinear weights W, points x grid nodes; outside the grid: its edge), so that
 
 * ``line_compliance(points)`` = W C W^T (mm/N), the same interface as the plate's
-  ``ltca.compliance.MemberTooth``: no FE solve per position, only this interpolation;
+  ``ltca.model.compliance.MemberTooth``: no FE solve per position, only this interpolation;
 * ``root_stress(points, forces_n)``: the fillet stress tensors S W^T f superposed over the cell
   forces; the largest max-principal stress in the fillet on the loaded side (tension) with where
   it is (z, height above the root cone), and the most compressive min-principal stress in the

@@ -2,7 +2,7 @@
 
 A cap of a sphere of radius R (height ``cap_mm``, flat face up) touches a block at the origin; the
 block's bottom is fixed, the cap's flat face is a rigid body pushed down by a force P (its other
-motions held).  Hertz (Johnson 1985, 4.2; :mod:`beveloid.ltca.hertz`): a = (3 P R / (4 E*))^(1/3),
+motions held).  Hertz (Johnson 1985, 4.2; :mod:`beveloid.ltca.mechanics.hertz`): a = (3 P R / (4 E*))^(1/3),
 p0 = 3 P / (2 pi a^2).  Meshed by gmsh as second-order tetrahedra, graded towards the contact point.
 """
 from __future__ import annotations
@@ -39,8 +39,8 @@ class SphereBlock:
     preload_fraction: float = 0.5
 
     def hertz(self):
-        """:class:`beveloid.ltca.hertz.HertzPointContact` of the case (sphere on a flat, one material)."""
-        from ..ltca.hertz import hertz_point_contact
+        """:class:`beveloid.ltca.mechanics.hertz.HertzPointContact` of the case (sphere on a flat, one material)."""
+        from ..ltca.mechanics.hertz import hertz_point_contact
 
         e_star = self.young_mpa / (2.0 * (1.0 - self.poisson ** 2))
         a = 1.0 / (2.0 * self.radius_mm)

@@ -10,30 +10,31 @@ its limits are in docs/loaded_contact.md.
 ``analyze_many(pair, options, torques_nm, error_sets, *, solver=None)`` -> :class:`Batch`: N positions x T
 torques x K error sets in one call, the one engine of ``analyze`` (``batch``).
 
-Modules: ``options`` (the request and its range table), ``gaps`` (the unloaded gap from the
-generated surfaces), ``grid`` (each pair's grid, sized from Hertz), ``compliance`` (the beveloid
-compliance operator: half-space + tooth beams), ``cycle`` (the reference and the solves of
-every position), ``kernel`` (the compiled active-set solve), ``analysis`` (the passes), ``result`` (the result and its JSON), ``pattern`` (the
-pattern over the cycle), ``plots``; the mechanics: ``halfspace``, ``lcp``, ``hertz``,
-``tooth_compliance``, ``checks``.
+Its folders, from the request down: ``options`` (the request and its range table); ``passes`` (the
+passes over the positions of a mesh cycle: ``analysis``, ``cycle``); ``model`` (the pair under load:
+``gaps`` the unloaded gap from the generated surfaces, ``grid`` each pair's grid sized from Hertz,
+``compliance`` the beveloid compliance operator, ``teeth`` the plate or the FE tooth); ``mechanics``
+(independent of gears: ``halfspace``, ``hertz``, ``tooth_compliance``, ``lcp`` + ``kernel`` the
+compiled active-set solve, ``checks``); ``results`` (``result`` the result and its JSON, ``batch``,
+``pattern`` over the cycle, ``plots``).
 """
 from __future__ import annotations
 
 import numpy as np
 
-from .batch import Batch
-from .compliance import BeveloidCompliance
+from .results.batch import Batch
+from .model.compliance import BeveloidCompliance
 from .options import DEFAULT_GRID, RANGES, Material, Options
-from .pattern import FlankPattern, flank_pattern
-from .result import LTCAResult, to_json_dict
+from .results.pattern import FlankPattern, flank_pattern
+from .results.result import LTCAResult
 
 __all__ = ["Batch", "BeveloidCompliance", "DEFAULT_GRID", "FlankPattern", "LTCAResult", "Material",
-           "Options", "RANGES", "analyze", "analyze_many", "flank_pattern", "to_json_dict"]
+           "Options", "RANGES", "analyze", "analyze_many", "flank_pattern"]
 
 
 def analyze(pair, options: Options, *, solver=None) -> LTCAResult:
     """The loaded TCA of one flank over one mesh cycle: ``analyze(pair_or_geometry, options, *,
-    solver=None)`` -> an immutable :class:`LTCAResult` (its JSON: ``result.to_json_dict(geom)``).
+    solver=None)`` -> a deep-frozen :class:`LTCAResult` (its JSON: ``result.to_json()``).
 
     ``pair`` a :class:`beveloid.pair.Pair` (its misalignment and ``[material]`` are used unless
     ``options`` sets them) or a ``PairGeometry``; ``options`` an :class:`Options`
@@ -41,7 +42,7 @@ def analyze(pair, options: Options, *, solver=None) -> LTCAResult:
     or None (the default solver).
     """
     from ..solver import Solver
-    from .analysis import run
+    from .passes.analysis import run
 
     if not isinstance(options, Options):
         raise TypeError(f"ltca.analyze(pair, options, *, solver=None) needs an ltca.Options, not {type(options).__name__}")
@@ -62,8 +63,8 @@ def analyze_many(pair, options: Options, torques_nm=None, error_sets=None, *, so
     error_sets[k], solver=solver)``.  ``torques_nm`` None: the options' torque; ``error_sets`` (K, 5) None:
     the options' errors (else the pair's misalignment).  ``options.material`` None: the pair's."""
     from ..solver import Solver
-    from .analysis import run_many
-    from .batch import check_error_sets, check_torques
+    from .passes.analysis import run_many
+    from .results.batch import check_error_sets, check_torques
 
     torques = check_torques([options.torque_nm] if torques_nm is None else torques_nm)
     if error_sets is None:
@@ -75,4 +76,5 @@ def analyze_many(pair, options: Options, torques_nm=None, error_sets=None, *, so
         spec = getattr(pair, "spec", None)
         material = Material.from_spec(spec) if spec is not None else Material()
     results = run_many(geom, list(errors), list(torques), options, material, Solver.of(solver), pair=pair)
-    return Batch(torque_nm=torques, errors=errors, results=tuple(tuple(r) for r in results))
+    return Batch(torque_nm=torques, errors=errors, results=tuple(tuple(r) for r in results), pair=pair,
+                 options=options)

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 from ..errors import OptionError
 from ..names import FLANKS
-from . import halfspace
+from .mechanics import halfspace
 
 #: how the teeth bend: "fe" the finite-element tooth (beveloid.fe), "plate" the Kirchhoff plate over
 #: the equivalent spur tooth (tooth_compliance.py)

@@ -331,7 +331,7 @@ def figures(out_dir: str, req, records: list, base: dict, on: np.ndarray) -> lis
 def knee_pattern(out_dir: str, req, rec: dict) -> list:
     """The knee's contact pattern on both flanks at the highest torque, at the file's errors."""
     from .. import ltca
-    from ..ltca.plots import PRESSURE_LABEL, _colorbar, ltca_pattern, surface_scale_mpa
+    from ..ltca.results.plots import PRESSURE_LABEL, _colorbar, ltca_pattern, surface_scale_mpa
     from ..pair import Pair
     from ..plots import _plt
 

@@ -5,6 +5,6 @@ the local stresses of the loaded contact, with permissible stresses and safety f
 from __future__ import annotations
 
 from .analysis import LoadedContact, MemberRating, Options, SectionRating, analyze
-from .report import RatingResult, to_json_dict
+from .report import RatingResult
 
-__all__ = ["LoadedContact", "MemberRating", "Options", "RatingResult", "SectionRating", "analyze", "to_json_dict"]
+__all__ = ["LoadedContact", "MemberRating", "Options", "RatingResult", "SectionRating", "analyze"]

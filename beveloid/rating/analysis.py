@@ -127,7 +127,7 @@ def loaded_contact(ltca_result, geometry, face_width_mm: float) -> LoadedContact
         notes.append("local root stress: not computed (the LTCA ran with the plate tooth, which has no root "
                      "fillet; --tooth-model fe): root_stress_max_mpa and safety_bending are null, the ISO "
                      "bending values stand alone")
-    from ..ltca.batch import summary as ltca_summary
+    from ..ltca.results.batch import summary as ltca_summary
 
     # the mean over the cycle's distinct states, as the LTCA's JSON and the torque map give it
     k_mesh = ltca_summary(ltca_result)["mesh_stiffness_mean_n_per_um"]
@@ -139,7 +139,7 @@ def loaded_contact(ltca_result, geometry, face_width_mm: float) -> LoadedContact
 def _edge_contact(result, geometry) -> EdgeContact | None:
     """The cell carrying the largest edge pressure and the flank edge nearest to it: a face end (toe,
     heel) or the tip of either member (the form limit of one member meets the other's tip)."""
-    from ..ltca.grid import interior
+    from ..ltca.model.grid import interior
 
     g = result.grid
     p = result.pressure_mpa
@@ -378,7 +378,8 @@ def analyze(pair, options: Options, *, solver=None, ltca_result=None, face_point
     if lc.edge is not None:
         notes.append(f"edge contact: peak edge pressure {lc.edge.pressure_mpa:.0f} MPa at {lc.edge.where} "
                      "(grid-dependent; not in S_H, judged by the edge-contact rule of the verdict)")
-    return RatingResult(options.torque_nm, options.flank, members, lc, factors, tuple(notes), dyn)
+    return RatingResult(options.torque_nm, options.flank, members, lc, factors, tuple(notes), dyn, pair=pair,
+                        options=options)
 
 
 def _with_dynamic_factor(pair, options, factors, lc, elastic):

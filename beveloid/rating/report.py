@@ -4,9 +4,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from ..result import Result
 from ..status import Verdict
 
-__all__ = ["RatingResult", "SEC_KEYS", "to_json_dict"]
+__all__ = ["RatingResult", "SEC_KEYS"]
 
 #: the keys of one section in the JSON, in order
 SEC_KEYS = ("virtual_teeth", "normal_profile_shift", "helix_angle_deg", "s_Fn_mm", "rho_F_mm", "h_Fe_mm",
@@ -37,7 +38,10 @@ EDGE_RULE = ("edge contact: a pair whose largest edge pressure at K_A K_v T exce
 
 
 @dataclass(frozen=True)
-class RatingResult:
+class RatingResult(Result):
+    """The rating of ``pair`` under ``options``: per member its ratings, the loaded contact, the factors;
+    deep-frozen, its JSON by :meth:`to_json`."""
+
     torque_nm: float
     flank: str
     members: dict  # "pinion" | "gear" -> analysis.MemberRating
@@ -45,6 +49,10 @@ class RatingResult:
     factors: object  # factors.Factors
     notes: tuple
     dynamic: object = None  # dynamic.DynamicFactor when K_v came from ISO 6336-1 method B
+
+    def to_json(self) -> dict:
+        """The JSON of ``beveloid rating --json`` (issue 32's contract)."""
+        return _json(self)
 
     def safeties(self) -> list:
         """Every safety factor as (value, kind, source, member, where, required)."""
@@ -113,7 +121,7 @@ def _face_load_json(fl) -> dict:
             "loaded_length_mm": _num(fl.loaded_length_mm)}
 
 
-def to_json_dict(r: RatingResult) -> dict:
+def _json(r: RatingResult) -> dict:
     f = r.factors
     out = {"torque_nm": float(r.torque_nm), "flank": r.flank, "K_A": float(f.K_A), "K_v": _num(f.K_v),
            "K_v_source": f.K_v_source,

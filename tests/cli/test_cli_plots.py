@@ -80,7 +80,7 @@ def test_cell_corners_of_a_folded_raster_give_no_warning():
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from beveloid.ltca import plots as lplots
+    from beveloid.ltca.results import plots as lplots
 
     z, r = np.meshgrid(np.arange(4.0), np.array([0.0, 1.0, 3.0]), indexing="ij")
     corners = lplots._cell_corners(r)

@@ -506,13 +506,13 @@ def test_failed_points_are_not_called_off_the_flank():
     res = tca.analyze(Pair.from_spec(spec).geometry, tca.Options(flanks=("right",), positions=5, approach_mm=None))
     fr = res.flanks["right"]
     n = len(fr.status)
-    res.flanks["right"] = fr = dataclasses.replace(fr, status=["failed"] * n)  # as when the solver loses track everywhere
-    fr.pinion_contact[:] = np.nan
-    fr.gear_contact[:] = np.nan
+    lost = np.full_like(fr.pinion_contact, np.nan)  # as when the solver loses track everywhere
+    fr = dataclasses.replace(fr, status=["failed"] * n, pinion_contact=lost, gear_contact=lost)
+    res = dataclasses.replace(res, flanks={"right": fr})  # a result is frozen: a new one
     text = format_summary(res, spec)
     _, row = _table_row(text, "right")
     assert "none (not solved)" in row and "off the flank" not in text
-    res.flanks["right"] = dataclasses.replace(fr, status=["outside"] * (n - 2) + ["failed"] * 2)
+    res = dataclasses.replace(res, flanks={"right": dataclasses.replace(fr, status=["outside"] * (n - 2) + ["failed"] * 2)})
     assert f"none ({n - 2} outside, 2 failed)" in _table_row(format_summary(res, spec), "right")[1]
 
 
@@ -529,8 +529,9 @@ def test_te_from_a_few_positions_carries_a_caveat(capsys):
     gone = np.zeros((pairs, 30), bool)
     gone[:, :7] = True
     gone = gone.ravel()
-    res.flanks["right"] = fr = dataclasses.replace(fr, status=["failed" if g else s for g, s in zip(gone, fr.status)])
-    fr.transmission_error[gone] = np.nan
+    fr = dataclasses.replace(fr, status=["failed" if g else s for g, s in zip(gone, fr.status)],
+                             transmission_error=np.where(gone, np.nan, fr.transmission_error))
+    res = dataclasses.replace(res, flanks=dict(res.flanks, right=fr))  # a result is frozen: a new one
     text = format_summary(res, spec)
     head, row = _table_row(text, "right")
     assert head.split()[-2:] == ["TE", "points"]

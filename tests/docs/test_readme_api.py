@@ -53,7 +53,7 @@ def test_the_readme_example_runs_and_its_result_carries_what_the_comments_say(re
         res.notes = ()
     with pytest.raises(dataclasses.FrozenInstanceError):
         ce.status = []
-    doc = json.loads(json.dumps(res.to_json_dict(), allow_nan=False))
+    doc = json.loads(json.dumps(res.to_json(), allow_nan=False))
     assert "contact_ellipse_semi_axes_mm" in doc["flanks"]["right"]
     # the errors named in the example are the errors analysed
     assert list(res.errors) == pytest.approx(list(ns["errors"]))

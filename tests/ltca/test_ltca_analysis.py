@@ -2,7 +2,7 @@
 pattern on the unloaded path, load sharing, misalignment, the JSON contract and bad input.
 
 Every check is a physical property or a contract; no number is copied from a run of the code.
-The Hertz references come from the closed form (beveloid.ltca.hertz) with the curvature of
+The Hertz references come from the closed form (beveloid.ltca.mechanics.hertz) with the curvature of
 the gap computed from the generated surfaces (see the docstring of test_hertz_limit_...).
 """
 from __future__ import annotations
@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 
 from beveloid import cli, ltca, tca
-from beveloid.ltca import hertz
-from beveloid.ltca.grid import centres
+from beveloid.ltca.mechanics import hertz
+from beveloid.ltca.model.grid import centres
 from beveloid.pair import Pair
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -81,7 +81,7 @@ def test_hertz_limit_on_the_point_contact_flank(case, flank, torque_nm):
     """Light load on a point-contact flank (case 1 left: xi_L = 7.57 deg), one tooth pair, middle
     position: the loaded patch's semi-axes and p_max within 5% of Hertz.
 
-    Reference: Hertz (closed form, beveloid.ltca.hertz) for the gap 1/2 x^T H x, H the relative
+    Reference: Hertz (closed form, beveloid.ltca.mechanics.hertz) for the gap 1/2 x^T H x, H the relative
     curvature of the two flanks at the pair's rigid-body tangency (beveloid.curvature, from the
     generated fundamental forms), with the pair's normal force.  Semi-axes from the pressure
     moments, a = sqrt(5 <x^2>) (exact for Hertz).  The gap itself, built by Newton on the
@@ -218,8 +218,8 @@ def test_gap_backends_agree(geom1):
     from the boundary rule's threshold, gaps, rates and points within 1e-8, on a grid that reaches off
     the flanks."""
     pytest.importorskip("numba")
-    from beveloid.ltca import gaps
-    from beveloid.ltca.cycle import Setup
+    from beveloid.ltca.model import gaps
+    from beveloid.ltca.passes.cycle import Setup
     from beveloid.solver import Solver
 
     setup = Setup(geom1, "right", np.zeros(5), 4, 3, Solver("compiled"))
@@ -243,8 +243,8 @@ def test_a_gap_does_not_depend_on_the_order_of_its_points(geom1):
     """normal_gaps starts each point's Newtons from the previous point's solution, extrapolated along a
     line of points: in any order the same flags and, to the Newtons' tolerance, the same gaps; and it
     reads no output row it has not written (the output arrays hold NaN and 'converged' before)."""
-    from beveloid.ltca import gaps
-    from beveloid.ltca.cycle import Setup
+    from beveloid.ltca.model import gaps
+    from beveloid.ltca.passes.cycle import Setup
     from beveloid.solver import Solver
     from beveloid.solver.core import on_patch
     from beveloid.solver.records import GapOutput, GapRequest
@@ -289,7 +289,7 @@ def test_pattern_colour_scale_is_the_surface_peak_not_the_edge_spike(geom1, load
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from beveloid.ltca import plots
+    from beveloid.ltca.results import plots
 
     r = loaded200
     surface = np.nanmax(r.pair_surface_max_pressure_mpa[r.converged])
@@ -309,8 +309,8 @@ def test_pattern_colour_scale_is_the_surface_peak_not_the_edge_spike(geom1, load
 def no_patterns(monkeypatch):
     """The flank patterns (over (z, radius); the costly part of the LTCA's figures and table, 0.5 s a
     member) left out: no pattern is drawn and the table's flank shares are "-"."""
-    from beveloid.ltca import plots
-    from beveloid.ltca.result import LTCAResult
+    from beveloid.ltca.results import plots
+    from beveloid.ltca.results.result import LTCAResult
 
     monkeypatch.setattr(plots, "ltca_pattern", lambda *a, **k: (None, False))
     monkeypatch.setattr(LTCAResult, "pattern", lambda *a, **k: type("Pattern", (), {"area_fraction": None})())
@@ -318,7 +318,7 @@ def no_patterns(monkeypatch):
 
 @pytest.fixture
 def drawn_figures(monkeypatch):
-    """The figures beveloid.ltca.plots draws, kept open and not rendered (savefig records them)."""
+    """The figures beveloid.ltca.results.plots draws, kept open and not rendered (savefig records them)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -340,7 +340,7 @@ def test_the_pinion_angle_is_in_degrees_in_every_ltca_output(geom1, loaded200, t
     from beveloid import plots as tca_plots
     from beveloid.cli import fe_check
     from beveloid.cli.ltca import format_summary
-    from beveloid.ltca import plots
+    from beveloid.ltca.results import plots
     from beveloid.rating.analysis import MemberRating, loaded_contact
     from beveloid.spec import load_spec
 

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from beveloid import cli, ltca, sweep
-from beveloid.ltca.batch import MESH_ORDERS, gear_base_radius_mm, summary, te_harmonics
+from beveloid.ltca.results.batch import MESH_ORDERS, gear_base_radius_mm, summary, te_harmonics
 from beveloid.pair import Pair
 
 CASE1 = Path(__file__).resolve().parents[2] / "examples" / "case1.toml"
@@ -81,7 +81,7 @@ def test_harmonics_of_a_run_keep_its_power(pair):
     assert np.all(np.isfinite(h[:5])) and np.isnan(h[5])
     nyquist = abs(np.sum(te * (-1.0) ** np.arange(M))) / M
     assert np.sum(h[:5] ** 2) / 2 + nyquist ** 2 == pytest.approx(np.var(te), rel=1e-9)
-    d = r.to_json_dict(pair.geometry)
+    d = r.to_json()
     assert d["te_harmonics_mesh_orders"] == list(MESH_ORDERS)
     assert d["te_harmonics_um"][0] == pytest.approx(h[0] * gear_base_radius_mm(pair.geometry) * 1e3)
     # the stiffness over the same N - 1 states as the harmonics: the end state (the first a pitch later) once
@@ -181,7 +181,7 @@ def test_bad_flags_are_one_line(capsys, args, words):
 def test_the_rigid_mesh_study_gets_the_solver_itself(monkeypatch, pair):
     """Issue 42: the Solver (backend and tolerances), not its backend's name."""
     from beveloid import tca
-    from beveloid.ltca.cycle import Setup
+    from beveloid.ltca.passes.cycle import Setup
     from beveloid.solver import Solver, SolverOptions
 
     seen = []
@@ -198,8 +198,8 @@ def test_the_rigid_mesh_study_gets_the_solver_itself(monkeypatch, pair):
 
 
 def test_the_compiled_and_interpreted_contact_kernels_agree(monkeypatch):
-    from beveloid.ltca import halfspace, kernel
-    from beveloid.ltca.lcp import solve_contact
+    from beveloid.ltca.mechanics import halfspace, kernel
+    from beveloid.ltca.mechanics.lcp import solve_contact
 
     cells = halfspace.tensor_grid(np.linspace(-1, 1, 8), np.linspace(-2, 2, 10))
     c = halfspace.influence_matrix_mm_per_mpa(cells, 1.1e5)
@@ -220,7 +220,7 @@ def test_a_pass_started_from_the_previous_ones_contact_set_solves_the_same(monke
     """The result and check passes start from the previous pass's contact set mapped onto their grids
     (cycle.mapped_contact); the solution of the contact problem does not depend on the start: the same
     numbers as from the uncoupled estimate, in fewer iterations."""
-    from beveloid.ltca import cycle
+    from beveloid.ltca.passes import cycle
 
     warm = ltca.analyze(pair, ltca.Options(torque_nm=150.0, **SMALL))
     with monkeypatch.context() as m:
@@ -235,8 +235,9 @@ def test_a_pass_started_from_the_previous_ones_contact_set_solves_the_same(monke
 def test_a_mapped_contact_set_follows_the_cells_in_the_tangent_plane():
     """The same grid maps onto itself; a grid moved across by one cell of the source maps the set moved
     by one cell; twice the cells, each source cell becomes 2 x 2 cells; off-flank cells never start."""
-    from beveloid.ltca import cycle, gaps
-    from beveloid.ltca.grid import PairGrid
+    from beveloid.ltca.passes import cycle
+    from beveloid.ltca.model import gaps
+    from beveloid.ltca.model.grid import PairGrid
 
     nx, ny = 5, 7
     src_grid = PairGrid(nx, ny, np.full((1, 1), 1.0), np.full((1, 1), 3.5))
@@ -270,7 +271,7 @@ def test_a_mapped_contact_set_follows_the_cells_in_the_tangent_plane():
 def test_column_offsets_resampled_onto_a_coarser_grid_of_the_same_extent():
     """The check grid's along-columns take the result grid's offsets, linearly interpolated at its own
     column centres: a linear function of the along coordinate is kept exactly; a kink is not invented."""
-    from beveloid.ltca.grid import centres, resample_along
+    from beveloid.ltca.model.grid import centres, resample_along
 
     y17, y11 = centres(1.0, 17), centres(1.0, 11)
     a = np.stack([0.3 - 2.0 * y17, np.abs(y17)])
@@ -284,7 +285,7 @@ def test_the_loaded_contact_ratio_counts_the_pairs_that_carry_load(capsys):
     distinct converged states, in the JSON and the table."""
     from types import SimpleNamespace
 
-    from beveloid.ltca.batch import loaded_contact_ratio
+    from beveloid.ltca.results.batch import loaded_contact_ratio
 
     loads = [[0.0, 10.0, 0.0], [5.0, 5.0, 0.0], [0.0, 3.0, 1e-9], [1.0, 1.0, 1.0], [0.0, 10.0, 0.0]]
     r = SimpleNamespace(pair_load_n=np.array(loads), converged=np.array([True, True, True, False, True]))

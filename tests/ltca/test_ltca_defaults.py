@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from beveloid import curvature, ltca
-from beveloid.ltca import hertz
+from beveloid.ltca.mechanics import hertz
 from beveloid.pair import Pair
 
 
@@ -71,7 +71,7 @@ def test_pair_loads_continuous_over_the_cycle():
     r = ltca.analyze(pair, ltca.Options(torque_nm=200.0, positions=12, tooth_model="plate"))
     assert all(s == "ok" for s in r.status)
     # the case means something: the rigid TCA leaves one loaded pair's tangency unsolved here
-    from beveloid.ltca.cycle import Setup
+    from beveloid.ltca.passes.cycle import Setup
     from beveloid.solver import Solver
 
     assert Setup(pair.geometry, "right", pair.errors, 12, 3, Solver()).interpolated.any()
@@ -143,7 +143,7 @@ def test_the_grid_warning_names_each_change_or_says_it_was_not_compared():
     no "up to - %"."""
     from types import SimpleNamespace
 
-    from beveloid.ltca.result import Convergence, LTCAResult
+    from beveloid.ltca.results.result import Convergence, LTCAResult
 
     fake = SimpleNamespace(convergence=Convergence(np.array([np.nan, 0.01, np.nan]), np.array([0.013, 0.0, 0.002])),
                            converged=np.array([True, True, True]), status=("ok",) * 3, validity=(None,) * 3,

@@ -1,4 +1,4 @@
-"""beveloid.ltca.halfspace against closed forms and direct quadrature of Boussinesq's 1/r."""
+"""beveloid.ltca.mechanics.halfspace against closed forms and direct quadrature of Boussinesq's 1/r."""
 from __future__ import annotations
 
 import math
@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from scipy import integrate
 
-from beveloid.ltca.halfspace import (
+from beveloid.ltca.mechanics.halfspace import (
     influence_matrix_mm_per_mpa,
     rectangle_cells,
     rectangle_displacement_mm,

@@ -1,4 +1,4 @@
-"""beveloid.ltca.hertz against published closed forms, a classical table and its own identities."""
+"""beveloid.ltca.mechanics.hertz against published closed forms, a classical table and its own identities."""
 from __future__ import annotations
 
 import math
@@ -6,8 +6,8 @@ import math
 import numpy as np
 import pytest
 
-from beveloid.ltca.halfspace import influence_matrix_mm_per_mpa, rectangle_cells, reduced_modulus_mpa, tensor_grid
-from beveloid.ltca.hertz import hertz_line_contact, hertz_point_contact, relative_curvature_coefficients
+from beveloid.ltca.mechanics.halfspace import influence_matrix_mm_per_mpa, rectangle_cells, reduced_modulus_mpa, tensor_grid
+from beveloid.ltca.mechanics.hertz import hertz_line_contact, hertz_point_contact, relative_curvature_coefficients
 
 E_STAR = reduced_modulus_mpa()
 

@@ -11,10 +11,10 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from beveloid.ltca.halfspace import reduced_modulus_mpa, tensor_grid, tensor_influence_matrix_mm_per_mpa
-from beveloid.ltca.hertz import hertz_point_contact, hertz_point_contact_on_slices
-from beveloid.ltca.lcp import solve_contact
-from beveloid.ltca.tooth_compliance import face_coupling_per_mm, tooth_influence_mm_per_mpa
+from beveloid.ltca.mechanics.halfspace import reduced_modulus_mpa, tensor_grid, tensor_influence_matrix_mm_per_mpa
+from beveloid.ltca.mechanics.hertz import hertz_point_contact, hertz_point_contact_on_slices
+from beveloid.ltca.mechanics.lcp import solve_contact
+from beveloid.ltca.mechanics.tooth_compliance import face_coupling_per_mm, tooth_influence_mm_per_mpa
 
 E_STAR = reduced_modulus_mpa()
 # a near-line contact: R = 20 mm across, 3000 mm along, 2 kN; g of the order of two teeth's

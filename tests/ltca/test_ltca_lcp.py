@@ -1,4 +1,4 @@
-"""beveloid.ltca.lcp: the half-space contact converges to Hertz, equilibrium, complementarity.
+"""beveloid.ltca.mechanics.lcp: the half-space contact converges to Hertz, equilibrium, complementarity.
 
 Complementarity is checked here from C, h and the returned numbers, not from the solver's
 own residuals; the small problem is also solved by scipy's SLSQP as an independent oracle.
@@ -10,9 +10,9 @@ import pytest
 import scipy.linalg
 from scipy.optimize import minimize
 
-from beveloid.ltca.halfspace import reduced_modulus_mpa, tensor_grid, tensor_influence_matrix_mm_per_mpa
-from beveloid.ltca.hertz import hertz_point_contact
-from beveloid.ltca.lcp import CellWeights, SolveLimits, prepare_compliance, solve_contact
+from beveloid.ltca.mechanics.halfspace import reduced_modulus_mpa, tensor_grid, tensor_influence_matrix_mm_per_mpa
+from beveloid.ltca.mechanics.hertz import hertz_point_contact
+from beveloid.ltca.mechanics.lcp import CellWeights, SolveLimits, prepare_compliance, solve_contact
 
 E_STAR = reduced_modulus_mpa()
 RX_MM, RY_MM, LOAD_N = 20.0, 60.0, 1000.0

@@ -1,4 +1,4 @@
-"""beveloid.ltca.tooth_compliance: beam closed forms, the face coupling, ISO 6336-1 stiffness."""
+"""beveloid.ltca.mechanics.tooth_compliance: beam closed forms, the face coupling, ISO 6336-1 stiffness."""
 from __future__ import annotations
 
 import math
@@ -6,10 +6,10 @@ import math
 import numpy as np
 import pytest
 
-from beveloid.ltca.halfspace import reduced_modulus_mpa, tensor_grid, tensor_influence_matrix_mm_per_mpa
-from beveloid.ltca.hertz import hertz_line_contact
-from beveloid.ltca.lcp import solve_contact
-from beveloid.ltca.tooth_compliance import (
+from beveloid.ltca.mechanics.halfspace import reduced_modulus_mpa, tensor_grid, tensor_influence_matrix_mm_per_mpa
+from beveloid.ltca.mechanics.hertz import hertz_line_contact
+from beveloid.ltca.mechanics.lcp import solve_contact
+from beveloid.ltca.mechanics.tooth_compliance import (
     SHEAR_COEFFICIENT,
     LoadPoints,
     ToothSection,

@@ -31,7 +31,7 @@ def case1_rating():
 
 def test_json_contract_is_complete_and_strict(case1_rating):
     _, _, result = case1_rating
-    out = rating.to_json_dict(result)
+    out = result.to_json()
     json.dumps(out, allow_nan=False)
     assert out["torque_nm"] == 800.0
     for member in ("pinion", "gear"):
@@ -118,7 +118,7 @@ def test_a_section_without_a_method_b_answer_is_null_with_its_reason(case1_ratin
 
     monkeypatch.setattr(iso6336, "bending_geometry", no_tangent)
     result = analysis.analyze(pair, rating.Options(torque_nm=800.0, positions=2, tooth_model="plate"), ltca_result=lt)
-    out = rating.to_json_dict(result)
+    out = result.to_json()
     json.dumps(out, allow_nan=False)
     assert all(v is None for v in out["pinion"]["sections"]["toe"].values())
     assert out["pinion"]["safety_bending_iso"] is None
@@ -196,7 +196,7 @@ def result_geometry(_result):
 
 def test_json_names_the_face_load_factors_and_the_material(case1_rating):
     _, _, result = case1_rating
-    out = rating.to_json_dict(result)
+    out = result.to_json()
     for member in ("pinion", "gear"):
         m = out[member]
         fl = result.loaded.face_load[member]

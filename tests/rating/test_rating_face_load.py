@@ -13,7 +13,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from beveloid.ltca.grid import PairGrid, centres
+from beveloid.ltca.model.grid import PairGrid, centres
 from beveloid.pair import Pair
 from beveloid.rating.face_load import face_load, line_load_on_face
 from beveloid.tooth import sections

@@ -1,4 +1,4 @@
-"""The active-set contact solve of :mod:`beveloid.ltca.lcp`, plain Python in numba's subset: one
+"""The active-set contact solve of :mod:`beveloid.ltca.mechanics.lcp`, plain Python in numba's subset: one
 implementation, run interpreted (the numpy backend) or compiled by numba (:func:`kernels`).
 
 A problem is a block-diagonal compliance given as dense square blocks stored one after the other
@@ -401,7 +401,7 @@ def kernels(solver=None):
     solver's backend (as fe/principal.py's): the backend chooses how the TCA core runs, and this
     module interpreted is pure-Python loops over dense blocks, ~100x slower for the same numbers
     (tests/ltca/test_ltca_batch.py compares the two); this module itself without numba."""
-    from ..solver import backends
+    from ...solver import backends
 
     if not backends.AVAILABLE:
         return sys.modules[__name__]

@@ -17,11 +17,12 @@ import typing
 
 import numpy as np
 
-from .. import tca
-from ..status import PointStatus
-from . import gaps, halfspace, kernel, lcp
-from .compliance import pair_tooth_compliances
-from .grid import edges
+from ... import tca
+from ...status import PointStatus
+from ..model import gaps
+from ..mechanics import halfspace, kernel, lcp
+from ..model.compliance import pair_tooth_compliances
+from ..model.grid import edges
 
 
 class Setup:
@@ -154,7 +155,7 @@ class Problem(typing.NamedTuple):
     of the same setup and torque on another grid, whose contact set mapped onto this grid
     (:func:`mapped_contact`) starts the active-set iteration (the solution does not depend on the start,
     only the iterations to it do); None: the uncoupled estimate.  ``shift_mm`` (N, P, along cells): the
-    across offsets of the along-columns (:func:`beveloid.ltca.gaps.grid_gaps`) when known, None: probed."""
+    across offsets of the along-columns (:func:`beveloid.ltca.model.gaps.grid_gaps`) when known, None: probed."""
 
     setup: Setup
     grid: typing.Any  # grid.PairGrid
@@ -173,7 +174,7 @@ def solve(setup: Setup, grid, need, torque_nm, e_star_mpa, teeth, positions=None
 def solve_many(problems, e_star_mpa, teeth) -> list:
     """The Solution of each :class:`Problem` (all of one cell count): their gaps one setup at a time,
     the compliance tables of every position of a problem at once (:func:`compliance_tables`), then the
-    dense blocks (:func:`assemble_blocks`) and the contact problems (:func:`beveloid.ltca.kernel.solve_positions`,
+    dense blocks (:func:`assemble_blocks`) and the contact problems (:func:`beveloid.ltca.mechanics.kernel.solve_positions`,
     compiled with the solver's backend) of :data:`CHUNK_POSITIONS` positions at a time."""
     parts, rows = [], []
     for pr in problems:
@@ -316,7 +317,7 @@ def compliance_tables(grid, gap, jj, loaded, e_star_mpa, teeth) -> Tables:
 def assemble_blocks(tables: Tables, rows, nx, ny, solver, out) -> np.ndarray:
     """``out`` (R P, n, n): the compliance (mm/MPa) of each pair at the positions ``rows`` (a slice) of
     ``tables``, its half-space matrix plus both teeth's compliance along its centre line applied to every
-    cell of the same along index, C[(i,a),(j,b)] = H + T[a, b] area (:func:`beveloid.ltca.kernel.assemble`);
+    cell of the same along index, C[(i,a),(j,b)] = H + T[a, b] area (:func:`beveloid.ltca.mechanics.kernel.assemble`);
     a pair not in contact only a unit diagonal, all the contact solve reads of it."""
     d, T = tables.halfspace[rows], tables.tooth[rows]
     R, P = d.shape[:2]

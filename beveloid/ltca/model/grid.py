@@ -15,7 +15,7 @@ import typing
 
 import numpy as np
 
-from . import hertz
+from ..mechanics import hertz
 
 EXTENT_ACROSS = 1.5  #: grid half-extent across the contact line / Hertz semi-minor axis b
 EXTENT_ALONG = 1.5  #: grid half-extent along the contact line / Hertz semi-major axis a

@@ -14,10 +14,10 @@ import typing
 
 import numpy as np
 
-from .. import curvature, tca
-from ..generated import placement
-from ..solver.core import on_patch
-from ..solver.records import GapOutput, GapRequest
+from ... import curvature, tca
+from ...generated import placement
+from ...solver.core import on_patch
+from ...solver.records import GapOutput, GapRequest
 
 OFF_FLANK_GAP_MM = 10.0  #: the gap given to cells that lie off a blank: they never touch
 NEWTON_TOL_MM = 1e-9  #: both Newtons of the gap (mm)

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import halfspace, lcp, tooth_compliance
+from ..mechanics import halfspace, lcp, tooth_compliance
 from .grid import edges
 
 
@@ -141,7 +141,7 @@ class BeveloidCompliance(lcp.Compliance):
     """C of every tooth pair at one position: that pair's half-space matrix ``halfspace[k]`` plus
     its tooth compliance ``tooth[k][line_a, line_b] area_b`` (``line``: a cell's along index;
     ``area[k]``: pair k's cell area), cells pair-major, as dense symmetric blocks (the LTCA itself
-    assembles them from compact tables: :func:`beveloid.ltca.cycle.compliance_tables`)."""
+    assembles them from compact tables: :func:`beveloid.ltca.passes.cycle.compliance_tables`)."""
 
     def __init__(self, halfspace_blocks, tooth, line, area):
         n = line.size

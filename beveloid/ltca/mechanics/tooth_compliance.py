@@ -48,7 +48,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import checks
-from ..generated import tooth_plate_coupling
+from ...generated import tooth_plate_coupling
 from .halfspace import STEEL_E_MPA, STEEL_NU
 
 __all__ = [

@@ -128,7 +128,7 @@ def hertz_point_contact(
 ) -> HertzPointContact:
     """Hertz contact of the gap h = A x^2 + B y^2 (A, B > 0, 1/mm) under ``load_n``.
 
-    ``e_star_mpa`` from :func:`beveloid.ltca.halfspace.reduced_modulus_mpa`.
+    ``e_star_mpa`` from :func:`beveloid.ltca.mechanics.halfspace.reduced_modulus_mpa`.
     Valid for ratios max(A, B)/min(A, B) up to 1e10 (b/a down to about 1e-7).
     """
     ax, by = checks.positive("a_coef_per_mm", a_coef_per_mm), checks.positive("b_coef_per_mm", b_coef_per_mm)

@@ -7,7 +7,7 @@ import sys
 
 import numpy as np
 
-from ..names import MEMBERS
+from ...names import MEMBERS
 from .compliance import member_tooth
 
 
@@ -27,7 +27,7 @@ def member_teeth(pair, geom, options, material) -> tuple:
     moduli = {"pinion": (material.pinion_e_mpa, material.pinion_nu), "gear": (material.gear_e_mpa, material.gear_nu)}
     if options.tooth_model == "plate":
         return tuple(member_tooth(geom, m, *moduli[m]) for m in MEMBERS), ()
-    from ..tooth.departure import flank_departure
+    from ...tooth.departure import flank_departure
 
     source = pair if pair is not None else geom
     out, notes = [], []
@@ -51,8 +51,8 @@ def fe_tooth(source, member, moduli, options):
     """The :class:`beveloid.fe.contact.FeTooth` of ``member`` on the options' flank: its data from
     :func:`beveloid.fe.cache.cached_tooth_data` (the body, not the flank modifications or the
     assembly errors: computed on a miss, read once per process), the tooth built once per data."""
-    from ..fe import cache
-    from ..fe.contact import FeTooth
+    from ...fe import cache
+    from ...fe.contact import FeTooth
 
     data, _ = cache.cached_tooth_data(source, member, *moduli, options.fe_refinement, progress=_progress(),
                                       coarsen=options.fe_coarsen)

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..generated import flank_boundaries
+from ...generated import flank_boundaries
 
 RASTER = (64, 128)  #: (l, u) nodes of the flank raster
 MAX_SUBSTEPS = 200

@@ -102,7 +102,7 @@ class Compliance:
     @functools.cached_property
     def flat(self):
         """(blocks, off, start, size, sym): the blocks one after the other in one flat array, the
-        layout :mod:`beveloid.ltca.kernel` reads (made once per Compliance)."""
+        layout :mod:`beveloid.ltca.mechanics.kernel` reads (made once per Compliance)."""
         size = np.array([b.shape[0] for b in self.blocks], dtype=np.int64)
         start = np.array([sl.start for sl in self.slices], dtype=np.int64)
         off = np.concatenate([[0], np.cumsum(size * size)[:-1]]).astype(np.int64)
@@ -182,7 +182,7 @@ def solve_contact(
     if ops.size != n:
         raise ValueError(f"compliance covers {ops.size} cells but gap_mm has {n}: they must match")
     at = a * t
-    from ..solver import Solver
+    from ...solver import Solver
 
     k = kernel.kernels(Solver.of(solver))
     if initial_contact is None:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..plots import PINION_ANGLE_LABEL, pinion_angle_deg, pinion_angle_text
+from ...plots import PINION_ANGLE_LABEL, pinion_angle_deg, pinion_angle_text
 
 PRESSURE_LABEL = "max pressure over the cycle (MPa)"
 
@@ -64,9 +64,9 @@ def ltca_pattern(ax, result, geom, member, vmax=None):
 
     The colour runs to ``vmax`` (default: the surface-contact peak over the cycle, surface_scale_mpa);
     returns the artist and whether any pressure lies above the scale, or (None, False)."""
-    from ..plots import flank_outline
+    from ...plots import flank_outline
 
-    pat = result.pattern(geom, member)
+    pat = result.pattern(member)
     zb, rb = flank_outline(geom, member, result.flank)
     ax.plot(zb, rb, color="0.3", lw=1.0)
     ax.set_xlabel("axial position z (mm), toe -> heel", fontsize=8)
@@ -138,7 +138,7 @@ def ltca_summary(result, geom, out_png, title=""):
 
 def position_maps(result, geom, out_png, title="", member="pinion"):
     """The pressure of every pair at each position on one member's flank (one panel a position)."""
-    from ..plots import flank_outline
+    from ...plots import flank_outline
 
     plt = _plt()
     N = len(result.status)
@@ -211,7 +211,7 @@ def ltca_torques(results, geom, out_png, title=""):
 
 def te_map(results, out_png, title=""):
     """The loaded TE peak-to-peak against torque (the standard chart) and each torque's TE spectrum (mesh
-    orders 1-6, :func:`beveloid.ltca.batch.te_harmonics`)."""
+    orders 1-6, :func:`beveloid.ltca.results.batch.te_harmonics`)."""
     from .batch import MESH_ORDERS, te_harmonics
 
     plt = _plt()

@@ -15,19 +15,20 @@ grid (:func:`cycle.mapped_contact`): the same solution, in fewer iterations.
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import math
 
 import numpy as np
 
-from .. import tca
-from ..mesh import cycle_positions_text
-from ..status import LoadedStatus
-from . import grid as grids
+from ... import tca
+from ...mesh import cycle_positions_text
+from ...status import LoadedStatus
+from ..model import grid as grids
 from .cycle import Problem, Setup, merge, solve_many
-from .options import Material, Options
-from .result import (MAX_HALF_WIDTH_TIMES_CURVATURE, MAX_PRESSURE_OVER_E_STAR, VALIDITY_SEPARATOR, Convergence,
+from ..options import Material, Options
+from ..results.result import (MAX_HALF_WIDTH_TIMES_CURVATURE, MAX_PRESSURE_OVER_E_STAR, VALIDITY_SEPARATOR, Convergence,
                      LTCAResult)
-from .teeth import member_teeth, root_stresses
+from ..model.teeth import member_teeth, root_stresses
 
 
 def _one_blas_thread():
@@ -59,14 +60,14 @@ def run_many(geom, error_sets, torques_nm, options: Options, material: Material,
         setups = [Setup(geom, options.flank, e, options.positions, options.pairs, solver) for e in error_sets]
         cases = [(s, float(t)) for s in setups for t in torques_nm]
         results = _run(cases, options, material, teeth, body_notes)
+    held = geom if pair is None else pair
+    results = [dataclasses.replace(r, pair=held) for r in results]  # each holds the pair it was computed for
     T = len(torques_nm)
     return [results[k * T:(k + 1) * T] for k in range(len(setups))]
 
 
 def _run(cases, options, material, teeth, body_notes=()):
     """The passes of the module docstring over every (setup, torque) case at once."""
-    import dataclasses
-
     N, P = options.positions, options.pairs
     e_star = material.e_star_mpa
     fine = options.cells
@@ -205,7 +206,7 @@ def _result(setup, options, sol, check, e_star, notes, hertz_ref, teeth):
                    else LoadedStatus.NOT_CONVERGED for j in range(N))
     okc = ok[:, None]
     return LTCAResult(
-        flank=options.flank, torque_nm=options.torque_nm, pinion_angle=setup.phi1, tooth_pairs=setup.ks,
+        options=options, flank=options.flank, torque_nm=options.torque_nm, pinion_angle=setup.phi1, tooth_pairs=setup.ks,
         status=status, loaded_te=np.where(ok, te_rigid_ref + gear_rot, np.nan), unloaded_te=setup.unloaded_te,
         pair_load_n=np.where(okc, loads, np.nan), pair_max_pressure_mpa=np.where(okc, p.max(axis=-1), np.nan),
         pair_surface_max_pressure_mpa=np.where(okc, surface, np.nan),
