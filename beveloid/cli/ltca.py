@@ -406,26 +406,10 @@ def _stem(path: str) -> str:
 
 
 def _tolerance_plot(results, box, path, title):
-    """The tolerance box: each error set's loaded TE peak-to-peak against its largest pressure, per torque,
-    the file's errors starred (``box``: :func:`tolerance_sets`)."""
-    from ..ltca.batch import summary
-    from ..ltca.plots import _plt, _save
+    from ..ltca.results.plots import tolerance_box
 
-    plt = _plt()
-    fig, ax = plt.subplots(figsize=(6.5, 4.8))
-    for t, r in enumerate(results):
-        te = [row[t]["te_peak_to_peak_urad"] for row in box]
-        p = [row[t]["max_pressure_mpa"] for row in box]
-        dots = ax.plot(te, p, "o", ms=4, alpha=0.7, label=f"{r.torque_nm:g} N m: {len(box)} error sets")[0]
-        own = summary(r)
-        ax.plot([own["te_peak_to_peak_urad"]], [own["max_pressure_mpa"]], "*", ms=13, color=dots.get_color(),
-                mec="k", label=f"{r.torque_nm:g} N m: the file's errors")
-    ax.set_xlabel("loaded TE peak-to-peak (urad)")
-    ax.set_ylabel("largest peak pressure, edges included (MPa)")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
     try:
-        _save(fig, path, title)
+        tolerance_box(results, box, path, title)
     except OSError as exc:
         raise UserError(f"--plot = {path}: cannot write there ({exc.strerror or exc})") from None
 

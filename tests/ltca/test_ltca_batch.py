@@ -302,7 +302,7 @@ def test_the_loaded_contact_ratio_counts_the_pairs_that_carry_load(capsys):
 def test_the_plot_of_a_tolerance_box_draws_its_sets(capsys, tmp_path, monkeypatch):
     """issue 60: `ltca --samples K --plot` drew only the file's errors, titled "all errors 0": its title now
     says it is the file's errors and names the figure of the K sets, which is written beside it."""
-    from beveloid.ltca import plots
+    from beveloid.ltca.results import plots
 
     titles = []
     real = plots.ltca_summary
