@@ -8,7 +8,10 @@ The quantities of one loaded analysis (``beveloid ltca`` reports each of them):
 * ``max_pressure_mpa``: the largest pair peak pressure over the cycle, edge peaks included (the
   largest of ``pair_max_pressure_mpa``);
 * ``root_stress_max_mpa``: the larger member's root stress maximum (the larger of
-  ``root_stress_max_mpa``; FE tooth only).
+  ``root_stress_max_mpa``; FE tooth only);
+* ``mesh_power_loss_w``: the mesh power loss, mean over the cycle, at ``[rating] pinion_speed_rpm`` with the
+  file's ``[lubricant]`` (``beveloid ltca --speed-rpm``'s ``mesh_power_loss_w``; only for the objective
+  ``loss``: docs/tribology.md).
 
 Each torque's quantity is the value at the file's errors (``--samples 0``) or the 90th percentile
 (``numpy.percentile``, its default method) over the K error sets; an objective is the weighted mean
@@ -40,19 +43,21 @@ class LoadedQuantities(NamedTuple):
     max_pressure_mpa: np.ndarray
     root_stress_max_mpa: np.ndarray
     converged_positions: np.ndarray  # (T, K) int
+    mesh_power_loss_w: np.ndarray = None  # (T, K); nan without a speed
 
 
-def loaded_quantities(pair, torques_nm, error_sets, options, *, solver=None) -> LoadedQuantities:
+def loaded_quantities(pair, torques_nm, error_sets, options, *, solver=None, speed_rpm=None) -> LoadedQuantities:
     """The quantities of the loaded analysis of ``pair`` at every torque (N m, pinion) and error set
     ((K, 5) mm, rad), with ``options`` (an ltca.Options; its torque and errors are replaced): one call of
     the batched loaded engine (``ltca.analyze_many``: N positions x T torques x K error sets) per
     :data:`CHUNK_SETS` sets, the calls of ``beveloid ltca --samples``, so that it reproduces them exactly.
-    ``solver``: the Solver of every call (None: the default one)."""
+    ``solver``: the Solver of every call (None: the default one); ``speed_rpm``: the pinion speed of the mesh
+    power loss (the pair's [lubricant]; None: not computed)."""
     from .. import ltca
     from ..solver import Solver
 
     shape = (len(torques_nm), len(error_sets))
-    te, p, root = np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape, np.nan)
+    te, p, root, loss = (np.full(shape, np.nan) for _ in range(4))
     conv = np.zeros(shape, dtype=int)
     sets = np.asarray(error_sets, dtype=float)
     solver = Solver() if solver is None else solver
@@ -71,7 +76,11 @@ def loaded_quantities(pair, torques_nm, error_sets, options, *, solver=None) -> 
             tops = [v for v in r.root_stress_max_mpa().values() if v is not None]
             if tops:
                 root[i, k] = max(tops)
-    return LoadedQuantities(te, p, root, conv)
+            if speed_rpm is not None:
+                from .. import tribology
+
+                loss[i, k] = tribology.evaluate(r, pair, speed_rpm, errors=sets[k]).mesh_power_loss_w
+    return LoadedQuantities(te, p, root, conv, loss)
 
 
 def per_torque(q: np.ndarray, samples: int) -> np.ndarray:
@@ -144,7 +153,9 @@ def evaluate(req: Request, values: dict, error_sets: np.ndarray | None = None) -
     sets = req.error_sets() if error_sets is None else error_sets
     solver = Solver()  # one for the candidate's loaded analyses and its rating
     try:
-        lq = loaded_quantities(pair, req.torques_nm, sets, req.ltca_options(max(req.torques_nm)), solver=solver)
+        speed = pair.spec.rating.pinion_speed_rpm if "loss" in req.objectives else None
+        lq = loaded_quantities(pair, req.torques_nm, sets, req.ltca_options(max(req.torques_nm)), solver=solver,
+                               speed_rpm=speed)
         rec["safety"] = safeties(req, pair, solver=solver) if req.constraints == "rating" else None
     except UserError as exc:  # no contact at all (the flank is turned off its mate)
         return _failed(rec, req, EvaluationStatus.FAILED, exc, t0)

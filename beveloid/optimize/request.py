@@ -24,7 +24,8 @@ from ..errors import UserError
 from ..names import MEMBERS
 
 #: the objectives: command-line name -> the quantity (and JSON key) it is made of
-OBJECTIVES = {"te": "te_peak_to_peak_urad", "pressure": "max_pressure_mpa", "root": "root_stress_max_mpa"}
+OBJECTIVES = {"te": "te_peak_to_peak_urad", "pressure": "max_pressure_mpa", "root": "root_stress_max_mpa",
+              "loss": "mesh_power_loss_w"}
 DEFAULT_OBJECTIVES = ("te", "pressure")
 #: each torque's quantity over the K error sets: this percentile (numpy's default method)
 PERCENTILE = 90.0
@@ -125,6 +126,19 @@ def parse_objectives(text: str, tooth_model: str) -> tuple:
         raise UserError(f"--objectives {text}: root needs the FE tooth (--tooth-model fe); the {tooth_model} tooth "
                         "has no root fillet")
     return names
+
+
+def check_loss_objective(objectives, spec) -> None:
+    """The objective ``loss`` (mesh power loss, docs/tribology.md) needs the file's [lubricant] and [rating]
+    pinion_speed_rpm (one line otherwise)."""
+    if "loss" not in objectives:
+        return
+    if not spec.lubricant.given:
+        raise UserError(f"--objectives {','.join(objectives)}: loss needs a [lubricant] section in {spec.source} "
+                        "(an oil: iso_vg or the viscosities, temperature_c; docs/tribology.md)")
+    if spec.rating.pinion_speed_rpm is None:
+        raise UserError(f"--objectives {','.join(objectives)}: loss needs rating.pinion_speed_rpm in {spec.source} "
+                        "(the speed of the mesh power loss)")
 
 
 def default_population(n_vary: int) -> int:
