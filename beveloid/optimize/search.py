@@ -108,8 +108,8 @@ def initial(req: Request, baseline: dict | None = None) -> np.ndarray:
     from the design it is to improve, and its front is never worse than that design (if feasible)."""
     from scipy.stats import qmc
 
-    lo = np.array([v.low for v in req.varies])
-    hi = np.array([v.high for v in req.varies])
+    lo = np.array([v.start for v in req.varies])
+    hi = np.array([v.stop for v in req.varies])
     u = qmc.LatinHypercube(d=len(req.varies), seed=np.random.default_rng(req.seed)).random(req.population)
     X = lo + u * (hi - lo)
     if baseline is not None:
@@ -126,7 +126,7 @@ def algorithm(req: Request, baseline: dict | None = None):
     from pymoo.termination.max_eval import MaximumFunctionCallTermination
 
     problem = Problem(n_var=len(req.varies), n_obj=len(req.objectives), n_ieq_constr=1,
-                      xl=np.array([v.low for v in req.varies]), xu=np.array([v.high for v in req.varies]))
+                      xl=np.array([v.start for v in req.varies]), xu=np.array([v.stop for v in req.varies]))
     alg = NSGA2(pop_size=req.population, sampling=initial(req, baseline), eliminate_duplicates=True)
     alg.setup(problem, termination=MaximumFunctionCallTermination(10 ** 9), seed=req.seed, verbose=False)
     return alg
