@@ -12,8 +12,7 @@ where it ran, so the run is the same on one worker, N workers and a cluster, and
 
 What the algorithm is told: the objectives of a candidate that is ``ok``, else a large number; the
 constraint g, <= 0 exactly when ``beveloid rating``'s verdict passes (evaluate.shortfall: the worst
-relative shortfall of the verdict's deciding safeties and of its edge-contact rule), and 1e3 for a
-candidate without numbers.
+relative shortfall over the verdict's governing criteria), and 1e3 for a candidate without numbers.
 """
 from __future__ import annotations
 
