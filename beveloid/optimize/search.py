@@ -23,12 +23,12 @@ import time
 
 import numpy as np
 
-from ..errors import ErrorCode, StopReason, UserError
+from ..errors import StopReason
+from ..runstore import REQUEST, RunStore  # noqa: F401  (REQUEST: the CLI reads it here)
 from ..status import EvaluationStatus
 from .evaluate import evaluate, evaluate_task
 from .request import Request
 
-REQUEST = "request.json"
 CANDIDATES = "candidates"
 BASELINE = "baseline"
 #: what the algorithm is told for a candidate without numbers
@@ -57,37 +57,19 @@ def load(out_dir: str, name) -> dict | None:
         return None
 
 
-def _held(path: str) -> dict | None:
-    """The request a run left (None when there is none)."""
-    if not os.path.exists(path):
-        return None
-    with open(path) as f:
-        return json.load(f)
-
-
 def prepare(out_dir: str, req: Request | None, resume: bool, budget: int | None = None) -> Request:
-    """Create DIR (fresh) or read its request (resume; ``budget`` extends it); refuse to mix two runs."""
+    """Create DIR (fresh) or read its request (resume; ``budget`` extends it); refuse to mix two runs
+    (:class:`beveloid.runstore.RunStore`)."""
     from ..explore.run import code_version
 
-    path = os.path.join(out_dir, REQUEST)
-    held = _held(path)
+    store = RunStore(out_dir, CANDIDATES, "candidates", "optimisation")
     if resume:
-        if held is None:
-            raise UserError(f"--resume {out_dir}: no {REQUEST} there; start a run with --out {out_dir}")
-        if held.get("code") != code_version():
-            raise UserError(f"--resume {out_dir}: its candidates were computed by another version of beveloid"
-                            f" ({held.get('code')}); start the run again with --out", code=ErrorCode.STALE_RESULTS)
+        held = store.resumed(code_version())
         req = Request.from_json(held if budget is None else dict(held, budget=budget))
     else:
         req = Request.from_json(dict(req.to_json(), code=code_version()))
-        mine = json.loads(json.dumps(req.to_json()))
-        if held is not None and {k: v for k, v in held.items() if k != "budget"} != \
-                {k: v for k, v in mine.items() if k != "budget"}:
-            raise UserError(f"--out {out_dir}: holds another optimisation ({REQUEST}); continue it with --resume"
-                            f" {out_dir} or choose another --out")
-    os.makedirs(os.path.join(out_dir, CANDIDATES), exist_ok=True)
-    with open(path, "w") as f:
-        json.dump(req.to_json(), f, indent=1)
+        store.check_fresh(req.to_json(), ignore=("budget",))
+    store.write(req.to_json())
     return req
 
 
@@ -108,8 +90,8 @@ def initial(req: Request, baseline: dict | None = None) -> np.ndarray:
     from the design it is to improve, and its front is never worse than that design (if feasible)."""
     from scipy.stats import qmc
 
-    lo = np.array([v.low for v in req.varies])
-    hi = np.array([v.high for v in req.varies])
+    lo = np.array([v.start for v in req.varies])
+    hi = np.array([v.stop for v in req.varies])
     u = qmc.LatinHypercube(d=len(req.varies), seed=np.random.default_rng(req.seed)).random(req.population)
     X = lo + u * (hi - lo)
     if baseline is not None:
@@ -126,29 +108,26 @@ def algorithm(req: Request, baseline: dict | None = None):
     from pymoo.termination.max_eval import MaximumFunctionCallTermination
 
     problem = Problem(n_var=len(req.varies), n_obj=len(req.objectives), n_ieq_constr=1,
-                      xl=np.array([v.low for v in req.varies]), xu=np.array([v.high for v in req.varies]))
+                      xl=np.array([v.start for v in req.varies]), xu=np.array([v.stop for v in req.varies]))
     alg = NSGA2(pop_size=req.population, sampling=initial(req, baseline), eliminate_duplicates=True)
     alg.setup(problem, termination=MaximumFunctionCallTermination(10 ** 9), seed=req.seed, verbose=False)
     return alg
 
 
 class Progress:
-    """Candidates done, the time per candidate and the time left, on stderr (a line per batch)."""
+    """A :class:`beveloid.progress.Progress`: candidates done, the time per candidate and the time left, on
+    stderr (a line per batch); ``what`` says how many of the batch came from disk."""
 
-    def __init__(self, total: int, stream=None):
+    def __init__(self, stream=None):
         self.stream = stream or sys.stderr
-        self.total, self.done, self.computed = total, 0, 0
         self.t0 = time.perf_counter()
 
-    def update(self, cached: int, computed: int) -> None:
-        self.done += cached + computed
-        self.computed += computed
-        dt = time.perf_counter() - self.t0
+    def __call__(self, done: int, total: int | None, what: str) -> None:
         rate = ""
-        if self.computed:
-            each = dt / self.computed
-            rate = f", {each:.1f} s a candidate, about {each * (self.total - self.done):.0f} s left"
-        self.stream.write(f"beveloid optimize: {self.done}/{self.total} candidates ({cached} from disk){rate}\n")
+        if done and total:
+            each = (time.perf_counter() - self.t0) / done
+            rate = f", {each:.1f} s a candidate, about {each * (total - done):.0f} s left"
+        self.stream.write(f"beveloid optimize: {done}/{total} {what}{rate}\n")
         self.stream.flush()
 
 
@@ -163,7 +142,7 @@ def baseline(out_dir: str, req: Request) -> dict:
     return rec
 
 
-def run(out_dir: str, req: Request, ex, progress: Progress | None = None, base: dict | None = None) -> tuple:
+def run(out_dir: str, req: Request, ex, progress=None, base: dict | None = None) -> tuple:
     """Ask, evaluate (on ``ex``) and tell until the budget: (records in candidate order, None or a StopReason,
     a line saying why it stopped).  ``base``: the unmodified design's record (:func:`baseline`), the first
     candidate when its values lie inside the ranges (its numbers are taken, not computed again)."""
@@ -199,7 +178,7 @@ def run(out_dir: str, req: Request, ex, progress: Progress | None = None, base: 
         except WorkLost as exc:
             return records + [r for r in batch if r is not None], StopReason.WORK_LOST, str(exc)
         if progress:
-            progress.update(len(X) - len(todo), len(todo))
+            progress(len(records) + len(X), req.budget, f"candidates ({len(X) - len(todo)} from disk)")
         FG = [told(req, r) for r in batch]
         pop.set("F", np.array([f for f, _ in FG]), "G", np.array([g for _, g in FG]))
         alg.tell(infills=pop)
