@@ -27,6 +27,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import re
 
 from .paths import check_output_dir, check_output_file
@@ -56,7 +57,8 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--fe-coarsen", type=float, default=1.0, metavar="F",
                    help="every FE tooth element size times F, 1-8 (default 1; 2-4: a quick, rougher tooth)")
     p.add_argument("--plot", metavar="OUT.png", help="write the contact patterns, loaded TE and load sharing here "
-                                                     "(and the per-position pressure maps beside it)")
+                                                     "(and the per-position pressure maps beside it; with"
+                                                     " --samples the error sets at OUT_tolerance.png)")
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
     p.add_argument("--csv", metavar="DIR", help="write DIR/ltca.csv: one row per position and torque (pinion angle, "
                                                 "loaded TE, mesh stiffness, pair loads), for a dynamics model")
@@ -107,7 +109,7 @@ def parse_grid(text):
 
 
 def run(args: argparse.Namespace) -> int:
-    """Loaded tooth contact analysis under a pinion torque (approximate: half-space + tooth beams).
+    """Loaded tooth contact analysis under a pinion torque (approximate: Boussinesq half-space + the FE tooth, or the plate tooth's beams with --tooth-model plate).
 
     Prints per position the loaded TE, the load of each tooth pair, its peak pressure and the
     contact area; --json prints the full arrays.  Warnings (grid not converged, outside the
@@ -167,6 +169,11 @@ def run(args: argparse.Namespace) -> int:
     geom = pair.geometry
     label = f"{spec.source}: {errors_label(spec)}"
     if args.plot is not None:
+        if box is not None:  # the figures of the file's errors say so, and the box has its own
+            label = f"{spec.source}, the file's errors ({errors_label(spec)}); {args.samples} error sets: " \
+                    f"{os.path.basename(_stem(args.plot))}_tolerance.png"
+            _tolerance_plot(results, box, _stem(args.plot) + "_tolerance.png",
+                            f"{spec.source}: {args.samples} error sets in the tolerance box (seed {args.seed})")
         _plot(results, geom, args.plot, label)
     trib = _tribology(results, pair, speeds) if speeds else None
     if args.csv is not None:
@@ -367,7 +374,6 @@ def write_csv(results, geom, folder):
     """DIR/ltca.csv: one row per position and torque, units in every column name; empty cells where a
     position did not converge."""
     import csv
-    import os
 
     from ..ltca.results.batch import gear_base_radius_mm
 
@@ -395,10 +401,23 @@ def write_csv(results, geom, folder):
     return path
 
 
+def _stem(path: str) -> str:
+    return path[:-4] if path.endswith(".png") else path
+
+
+def _tolerance_plot(results, box, path, title):
+    from ..ltca.results.plots import tolerance_box
+
+    try:
+        tolerance_box(results, box, path, title)
+    except OSError as exc:
+        raise UserError(f"--plot = {path}: cannot write there ({exc.strerror or exc})") from None
+
+
 def _plot(results, geom, path, label):
     from ..ltca.results.plots import ltca_summary, ltca_torques, te_map
 
-    stem = path[:-4] if path.endswith(".png") else path
+    stem = _stem(path)
     try:
         if len(results) == 1:
             r = results[0]

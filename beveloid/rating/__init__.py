@@ -6,5 +6,7 @@ from __future__ import annotations
 
 from .analysis import LoadedContact, MemberRating, Options, SectionRating, analyze
 from .report import RatingResult
+from .verdict import EXIT_STATUS, verdict
 
-__all__ = ["LoadedContact", "MemberRating", "Options", "RatingResult", "SectionRating", "analyze"]
+__all__ = ["EXIT_STATUS", "LoadedContact", "MemberRating", "Options", "RatingResult", "SectionRating", "analyze",
+           "verdict"]

@@ -14,7 +14,6 @@ grid (:func:`cycle.mapped_contact`): the same solution, in fewer iterations.
 """
 from __future__ import annotations
 
-import contextlib
 import dataclasses
 import math
 
@@ -28,17 +27,7 @@ from .cycle import Problem, Setup, merge, solve_many
 from ..options import Material, Options
 from ..results.result import (MAX_HALF_WIDTH_TIMES_CURVATURE, MAX_PRESSURE_OVER_E_STAR, VALIDITY_SEPARATOR, Convergence,
                      LTCAResult)
-from ..model.teeth import member_teeth, root_stresses
-
-
-def _one_blas_thread():
-    """BLAS limited to one thread: the many small factorisations run 3x slower with OpenBLAS
-    threads on a busy 2-core machine (docs/performance.md)."""
-    try:
-        from threadpoolctl import threadpool_limits
-    except ImportError:  # optional: without it BLAS keeps its own thread count
-        return contextlib.nullcontext()
-    return threadpool_limits(limits=1, user_api="blas")
+from ..model.teeth import member_teeth, one_blas_thread, root_stresses
 
 
 def run(geom, errors, options: Options, material: Material, solver, pair=None) -> LTCAResult:
@@ -56,7 +45,7 @@ def run_many(geom, error_sets, torques_nm, options: Options, material: Material,
     (:func:`cycle.solve_many`); the root stresses of every loaded (position, pair) of a case at once."""
     options.check_memory()
     teeth, body_notes = member_teeth(pair, geom, options, material)
-    with _one_blas_thread(), np.errstate(all="ignore"):
+    with one_blas_thread(), np.errstate(all="ignore"):
         setups = [Setup(geom, options.flank, e, options.positions, options.pairs, solver) for e in error_sets]
         cases = [(s, float(t)) for s in setups for t in torques_nm]
         results = _run(cases, options, material, teeth, body_notes)
