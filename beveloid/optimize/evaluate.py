@@ -112,7 +112,7 @@ def safeties(req: Request, pair, *, solver=None) -> dict:
     from .. import rating
 
     r = rating.analyze(pair, req.rating_options(), solver=solver)
-    v = r.verdict()
+    v = rating.verdict(r)
     sf = [m.safety_bending for m in r.members.values() if m.safety_bending is not None]
     sh = [m.safety_pitting for m in r.members.values() if m.safety_pitting is not None]
     f = r.factors
@@ -123,16 +123,21 @@ def safeties(req: Request, pair, *, solver=None) -> dict:
 
 
 def shortfall(verdict: dict) -> float | None:
-    """The constraint g of a rating's verdict (``RatingResult.verdict()``), <= 0 exactly when it passes: the
-    worst relative shortfall of what the verdict decides on, max(1 - S / S_min of its lowest deciding safety,
-    1 - p_permissible / p_edge of the edge-contact rule), at least 1e-6 for a verdict that does not pass (None: no
-    safety computed)."""
-    if verdict["value"] is None:
+    """The constraint g of a rating's verdict (``rating.verdict``), <= 0 exactly when it passes: the worst
+    relative shortfall over its governing criteria, 1 - value / required of a minimum (a safety) and
+    1 - required / value of a maximum (the edge rule's load share), at least 1e-6 for a verdict that does
+    not pass (None: no criterion has a value)."""
+    terms = []
+    for c in verdict.get("criteria", ()):
+        if not c["governs"] or c["value"] is None:
+            continue
+        if c.get("limit") == "maximum":
+            terms.append(1.0 - c["required"] / c["value"] if c["value"] > 0 else -1.0)
+        else:
+            terms.append(1.0 - c["value"] / c["required"])
+    if not terms:
         return None
-    g = 1.0 - verdict["value"] / verdict["required"]
-    edge = verdict.get("edge_contact")
-    if edge is not None and edge["pressure_mpa"] and edge["permissible_mpa"] is not None:
-        g = max(g, 1.0 - edge["permissible_mpa"] / edge["pressure_mpa"])  # = 1 - S_edge / S_Hmin
+    g = max(terms)
     return float(min(g, 0.0) if verdict["passes"] else max(g, 1e-6))
 
 

@@ -21,6 +21,7 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from ..errors import UserError
+from ..explore.grid import Vary
 from ..names import MEMBERS
 
 #: the objectives: command-line name -> the quantity (and JSON key) it is made of
@@ -46,30 +47,14 @@ def micro_keys() -> dict:
 
 
 def _refusal(key: str, keys: dict) -> str:
-    """One line for a --vary key that is not a micro-geometry key."""
-    from ..explore.grid import numeric_keys
+    """One line for a --vary key that is not a micro-geometry key (:func:`beveloid.explore.grid.not_a_key`):
+    a macro-geometry key is explore's, another numeric key is no flank modification."""
+    from ..explore.grid import not_a_key, numeric_keys
 
-    listed = ", ".join(keys)
-    section = key.partition(".")[0]
-    if key in numeric_keys():
-        if section in MEMBERS or section == "pair":
-            return (f"--vary {key}: changes the macro geometry (the design and the tooth body), not the flank's"
-                    f" micro-geometry: vary it with `beveloid explore`; optimize varies {listed}")
-        return f"--vary {key}: not a flank modification (a [{section}] key); optimize varies {listed}"
-    from ..spec.text import closest
-
-    match = closest(key, list(keys))
-    hint = f"did you mean {match}? " if match else ""
-    return f"--vary {key}: not a numeric micro-geometry key; {hint}optimize varies {listed}"
-
-
-@dataclass(frozen=True)
-class Vary:
-    """One varied key over the continuous range [low, high]."""
-
-    key: str
-    low: float
-    high: float
+    elsewhere = {k: ("changes the macro geometry (the design and the tooth body), not the flank's micro-geometry:"
+                     " vary it with `beveloid explore`" if k.partition(".")[0] in (*MEMBERS, "pair") else
+                     f"not a flank modification (a [{k.partition('.')[0]}] key)") for k in numeric_keys()}
+    return not_a_key(key, keys, "optimize", "the numeric micro-geometry keys", elsewhere)
 
 
 def parse_vary(text: str) -> Vary:
@@ -95,7 +80,7 @@ def parse_vary(text: str) -> Vary:
         bounds.append(x)
     if not bounds[0] < bounds[1]:
         raise UserError(f"--vary {key}={rng}: LOW = {bounds[0]:g} must be below HIGH = {bounds[1]:g}")
-    return Vary(key, *bounds)
+    return Vary(key, *bounds)  # a continuous range: no count
 
 
 def parse_numbers(text: str, flag: str, what: str) -> tuple:
@@ -282,14 +267,14 @@ class Request:
         from ..spec import SpecError
 
         base = self.baseline_values()
-        for corner in itertools.product(*((v.low, v.high) for v in self.varies)):
+        for corner in itertools.product(*((v.start, v.stop) for v in self.varies)):
             values = dict(base, **dict(zip(self.keys, corner)))
             try:
                 self.spec(values)
             except SpecError as exc:
                 v = next((v for v in self.varies if exc.key and exc.key == v.key), self.varies[0])
                 x = values[v.key]
-                name = "LOW" if x == v.low else "HIGH"
+                name = "LOW" if x == v.start else "HIGH"
                 others = ", ".join(f"{k} = {values[k]:g}" for k in self.keys if k != v.key)
-                raise UserError(f"--vary {v.key}={v.low:g}:{v.high:g}: {name} = {x:g} is refused by the spec"
+                raise UserError(f"--vary {v.key}={v.start:g}:{v.stop:g}: {name} = {x:g} is refused by the spec"
                                 f"{' with ' + others if others else ''}: {exc.detail}") from None

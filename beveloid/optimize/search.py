@@ -12,8 +12,7 @@ where it ran, so the run is the same on one worker, N workers and a cluster, and
 
 What the algorithm is told: the objectives of a candidate that is ``ok``, else a large number; the
 constraint g, <= 0 exactly when ``beveloid rating``'s verdict passes (evaluate.shortfall: the worst
-relative shortfall of the verdict's deciding safeties and of its edge-contact rule), and 1e3 for a
-candidate without numbers.
+relative shortfall over the verdict's governing criteria), and 1e3 for a candidate without numbers.
 """
 from __future__ import annotations
 
@@ -109,8 +108,8 @@ def initial(req: Request, baseline: dict | None = None) -> np.ndarray:
     from the design it is to improve, and its front is never worse than that design (if feasible)."""
     from scipy.stats import qmc
 
-    lo = np.array([v.low for v in req.varies])
-    hi = np.array([v.high for v in req.varies])
+    lo = np.array([v.start for v in req.varies])
+    hi = np.array([v.stop for v in req.varies])
     u = qmc.LatinHypercube(d=len(req.varies), seed=np.random.default_rng(req.seed)).random(req.population)
     X = lo + u * (hi - lo)
     if baseline is not None:
@@ -127,7 +126,7 @@ def algorithm(req: Request, baseline: dict | None = None):
     from pymoo.termination.max_eval import MaximumFunctionCallTermination
 
     problem = Problem(n_var=len(req.varies), n_obj=len(req.objectives), n_ieq_constr=1,
-                      xl=np.array([v.low for v in req.varies]), xu=np.array([v.high for v in req.varies]))
+                      xl=np.array([v.start for v in req.varies]), xu=np.array([v.stop for v in req.varies]))
     alg = NSGA2(pop_size=req.population, sampling=initial(req, baseline), eliminate_duplicates=True)
     alg.setup(problem, termination=MaximumFunctionCallTermination(10 ** 9), seed=req.seed, verbose=False)
     return alg

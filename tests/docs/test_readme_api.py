@@ -67,3 +67,35 @@ def test_the_rest_of_the_example_holds(readme_namespace):
     assert ns["d"] is ns["pair"].design and ns["geom"] is ns["pair"].geometry
     assert list(ns["shifted"].errors) == [0.5, 0.0, 0.0, 0.0, 0.0]
     assert ns["right"].status.count("ok") > 0 and ns["k"].k1 >= ns["k"].k2
+
+
+def test_the_contract_example_runs_each_analysis(readme_namespace):
+    """docs/api.md's contract block: every analysis called as it shows, each result a Result."""
+    from beveloid import ltca, rating, sweep, tca, tooth
+    from beveloid.result import Result
+
+    ns = readme_namespace
+    for name, kind in (("t", tca.TCAResult), ("swept", sweep.SweepResult), ("whole", tooth.ToothResult),
+                       ("loaded", ltca.LTCAResult), ("rated", rating.RatingResult)):
+        assert isinstance(ns[name], kind) and isinstance(ns[name], Result)
+    assert 0 < ns["share"] <= 1 and isinstance(ns["refused"].requirement, str) and ns["refused"].key == "positions"
+
+
+def slow_blocks(text: str) -> list[str]:
+    """The bodies of the ```python slow blocks (what needs minutes or CalculiX)."""
+    return re.findall(r"^```python slow[ \t]*\n(.*?)^```[ \t]*$", text, flags=re.M | re.S)
+
+
+def test_slow_blocks_are_found_apart_from_the_others():
+    text = "```python\nx = 1\n```\n```python slow\ny = 2\n```\n"
+    assert python_blocks(text) == ["x = 1\n"] and slow_blocks(text) == ["y = 2\n"]
+
+
+@pytest.mark.slow
+def test_the_slow_examples_run(readme_namespace):
+    """docs/api.md's FE check, run as written after the other blocks (CalculiX, minutes)."""
+    ns = dict(readme_namespace)
+    for i, block in enumerate(slow_blocks((REPO / "docs" / "api.md").read_text(encoding="utf-8"))):
+        exec(compile(block, f"slow python block {i + 1}", "exec"), ns)
+    assert ns["check"].pair is ns["case1"]
+    json.dumps(ns["check"].to_json(), allow_nan=False)
