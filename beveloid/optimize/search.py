@@ -23,12 +23,12 @@ import time
 
 import numpy as np
 
-from ..errors import ErrorCode, StopReason, UserError
+from ..errors import StopReason
+from ..runstore import REQUEST, RunStore  # noqa: F401  (REQUEST: the CLI reads it here)
 from ..status import EvaluationStatus
 from .evaluate import evaluate, evaluate_task
 from .request import Request
 
-REQUEST = "request.json"
 CANDIDATES = "candidates"
 BASELINE = "baseline"
 #: what the algorithm is told for a candidate without numbers
@@ -57,37 +57,19 @@ def load(out_dir: str, name) -> dict | None:
         return None
 
 
-def _held(path: str) -> dict | None:
-    """The request a run left (None when there is none)."""
-    if not os.path.exists(path):
-        return None
-    with open(path) as f:
-        return json.load(f)
-
-
 def prepare(out_dir: str, req: Request | None, resume: bool, budget: int | None = None) -> Request:
-    """Create DIR (fresh) or read its request (resume; ``budget`` extends it); refuse to mix two runs."""
+    """Create DIR (fresh) or read its request (resume; ``budget`` extends it); refuse to mix two runs
+    (:class:`beveloid.runstore.RunStore`)."""
     from ..explore.run import code_version
 
-    path = os.path.join(out_dir, REQUEST)
-    held = _held(path)
+    store = RunStore(out_dir, CANDIDATES, "candidates", "optimisation")
     if resume:
-        if held is None:
-            raise UserError(f"--resume {out_dir}: no {REQUEST} there; start a run with --out {out_dir}")
-        if held.get("code") != code_version():
-            raise UserError(f"--resume {out_dir}: its candidates were computed by another version of beveloid"
-                            f" ({held.get('code')}); start the run again with --out", code=ErrorCode.STALE_RESULTS)
+        held = store.resumed(code_version())
         req = Request.from_json(held if budget is None else dict(held, budget=budget))
     else:
         req = Request.from_json(dict(req.to_json(), code=code_version()))
-        mine = json.loads(json.dumps(req.to_json()))
-        if held is not None and {k: v for k, v in held.items() if k != "budget"} != \
-                {k: v for k, v in mine.items() if k != "budget"}:
-            raise UserError(f"--out {out_dir}: holds another optimisation ({REQUEST}); continue it with --resume"
-                            f" {out_dir} or choose another --out")
-    os.makedirs(os.path.join(out_dir, CANDIDATES), exist_ok=True)
-    with open(path, "w") as f:
-        json.dump(req.to_json(), f, indent=1)
+        store.check_fresh(req.to_json(), ignore=("budget",))
+    store.write(req.to_json())
     return req
 
 
