@@ -294,7 +294,7 @@ def _run(pair, options: "Options", solver, executor, progress):
         iterations += part.iterations
         done += sl.stop - sl.start
         if progress:
-            progress(done, samples, t0)
+            progress(done, samples, "error sets")
     seconds = time.perf_counter() - t0
     s = tca.sensitivity(geom, flank, solver=solver)
     names = assembly_errors.KEYS
@@ -367,7 +367,8 @@ def analyze(pair, options: Options | None = None, *, solver: "tca.Solver | None"
     """The sweep of ``options`` (None: the default :class:`Options`) on a :class:`beveloid.pair.Pair` (or its
     PairGeometry): a deep-frozen :class:`SweepResult` (its JSON: ``to_json()``).  ``solver``: a :class:`beveloid.solver.Solver`
     (None: the default); ``executor``: beveloid.parallel.executor(...) for the chunks (the same numbers on
-    one worker, N workers and a cluster); ``progress``: callable(done, total, t0) or None."""
+    one worker, N workers and a cluster); ``progress``: a :class:`beveloid.progress.Progress` (the error sets
+done) or None."""
     if options is None:
         options = Options()
     if not isinstance(options, Options):

@@ -75,7 +75,9 @@ def run(args: argparse.Namespace) -> int:
         raise UserError(CCX_MISSING)
     spec = apply_error_flags(load_spec(args.file), args)
     pair = Pair.from_spec(spec)
-    progress = lambda s: print(s, file=sys.stderr, flush=True)  # noqa: E731
+    from ..progress import Lines
+
+    progress = Lines(sys.stderr)
     if args.out is None:
         out = fe_check(pair, options, progress=progress).to_json()
     else:

@@ -301,7 +301,6 @@ def _chunk(task):
 def tolerance_sets(pair, options, torques, draws, workers=None, scheduler=None) -> list:
     """[[summary (ltca.results.batch.summary) per torque] per error set] of the draws, in chunks of CHUNK_SETS:
     here, on local workers or on a Dask cluster (beveloid.parallel); a progress bar on a terminal."""
-    import time
     from contextlib import nullcontext
 
     from ..parallel import executor
@@ -309,7 +308,7 @@ def tolerance_sets(pair, options, torques, draws, workers=None, scheduler=None) 
 
     tasks = [(pair, options, torques, draws[i:i + CHUNK_SETS]) for i in range(0, len(draws), CHUNK_SETS)]
     out = [None] * len(tasks)
-    progress, t0, done = for_terminal(), time.perf_counter(), 0
+    progress, done = for_terminal(), 0
     parallel = workers is not None or scheduler is not None
     with (executor(workers, scheduler) if parallel else nullcontext()) as ex:
         items = ex.map_unordered(_chunk, tasks) if parallel else ((i, _chunk(t)) for i, t in enumerate(tasks))
@@ -317,7 +316,7 @@ def tolerance_sets(pair, options, torques, draws, workers=None, scheduler=None) 
             out[i] = res
             done += len(res)
             if progress is not None:
-                progress(done, len(draws), t0)
+                progress(done, len(draws), "error sets")
     return [row for chunk in out for row in chunk]
 
 

@@ -32,7 +32,10 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("file", metavar="FILE", help="TOML design spec (`beveloid example case1` prints one)")
     p.add_argument("--torque-nm", type=float, required=True, metavar="T", help="nominal pinion torque (N m), > 0")
     p.add_argument("--flank", choices=("left", "right"), default="right", help="loaded flank pair (default right)")
-    p.add_argument("--positions", type=int, default=10, metavar="N", help="the LTCA's " + cycle_positions_help(10))
+    from ..rating.analysis import POSITIONS
+
+    p.add_argument("--positions", type=int, default=POSITIONS, metavar="N",
+                   help="the LTCA's " + cycle_positions_help(POSITIONS) + "; every other one checks the maxima")
     p.add_argument("--tooth-model", choices=("fe", "plate"), default=None,
                    help="the LTCA's tooth: fe = finite-element tooth with the root stress (default when gmsh and "
                         "scikit-fem are installed; its data is cached per design), plate = fast, no root stress")

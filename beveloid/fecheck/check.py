@@ -120,9 +120,14 @@ def _resolution_notes(about) -> list[str]:
     return out
 
 
-def fe_check(pair, options: CheckOptions, *, progress=print, solver=None) -> CheckResult:
+#: the steps fe_check reports to its progress: the LTCA, the meshes, CalculiX (its lines between), done
+STEPS = 3
+
+
+def fe_check(pair, options: CheckOptions, *, progress=None, solver=None) -> CheckResult:
     """Run the check: a :class:`beveloid.fecheck.result.CheckResult`, its ``to_json()`` the contract
-    (docs/fe_check.md)."""
+    (docs/fe_check.md); ``progress``: a :class:`beveloid.progress.Progress` (its steps, and CalculiX's
+    lines) or None."""
     from .. import ltca, tca
     from ..solver import Solver
     from .deck import write_deck
@@ -138,8 +143,11 @@ def fe_check(pair, options: CheckOptions, *, progress=print, solver=None) -> Che
 
         raise UserError(CCX_MISSING)
     geom = pair.geometry
-    say = progress or (lambda s: None)
-    say(f"fe-check: LTCA at {options.torque_nm:g} N m over {options.ltca_positions} positions")
+    def say(step, text):
+        if progress is not None:
+            progress(step, STEPS, text)
+
+    say(0, f"fe-check: LTCA at {options.torque_nm:g} N m over {options.ltca_positions} positions")
     result = ltca.analyze(pair, ltca.Options(torque_nm=options.torque_nm, flank=options.flank,
                                              positions=options.ltca_positions,
                                              tooth_model=options.ltca_tooth_model), solver=Solver.of(solver))
@@ -151,7 +159,7 @@ def fe_check(pair, options: CheckOptions, *, progress=print, solver=None) -> Che
     ref = tca.reference_contact(geom, options.flank)
     phi1 = float(result.pinion_angle[j])
     phi2 = float(result.unloaded_te[j] + tca.unknowns(ref.x).gear_angle_rad - ratio * (phi1 - ref.pinion_angle))
-    say(f"fe-check: position {j} (pinion angle {phi1:.6f} rad); meshing both sectors (refinement "
+    say(1, f"fe-check: position {j} (pinion angle {phi1:.6f} rad); meshing both sectors (refinement "
         f"{options.refinement})")
     t0 = time.perf_counter()
     strips, about = {"pinion": None, "gear": None}, []
@@ -173,8 +181,8 @@ def fe_check(pair, options: CheckOptions, *, progress=print, solver=None) -> Che
             stack.enter_context(tempfile.TemporaryDirectory(prefix="beveloid_fecheck_")))
         deck_path = folder / "fe_check.inp"
         info = write_deck(model.deck, deck_path)
-        say(f"fe-check: {model.elements} C3D10 elements, {model.dof} degrees of freedom; running ccx in {folder}")
-        run = run_ccx(deck_path, progress=lambda line: say(f"ccx: {line.strip()}"))
+        say(2, f"fe-check: {model.elements} C3D10 elements, {model.dof} degrees of freedom; running ccx in {folder}")
+        run = run_ccx(deck_path, progress=lambda n, total, line: say(2, f"ccx: {line.strip()}"))
         fe = read_pair_results(run, model, info, folder / "fe_check.vtu" if options.out_dir else None)
     te_fe = float(result.unloaded_te[j]) + ratio * model.phi_sign * fe.rotation_rad
     calculix = ContactNumbers.of(fe.pair_load_n, fe.pair_max_pressure_mpa, fe.pair_area_mm2, te_fe * 1e6,

@@ -162,3 +162,22 @@ def test_an_edge_already_relieved_is_told_to_be_relieved_more(plate800):
         relieved.loaded, edge=dataclasses.replace(relieved.loaded.edge, share=0.5))))["edge_contact"]
     text = _edge_condition(edge)
     assert f"{e.where} is relieved more: its {e.relief} of 10 um still leaves" in text
+
+
+def test_the_default_positions_check_their_own_maxima():
+    """Issue 57.4: the rating's default runs 21 positions (20 mesh states; at 10 the root stress maximum read
+    7-8.5 % low against 20) and reports how much each maximum the verdict uses moves from every other
+    position to all of them; every other position of 21 is the 11-position run itself."""
+    from beveloid.rating.analysis import positions_check
+
+    assert rating.Options(torque_nm=100.0).positions == 21
+    pair = Pair.example("case1")
+    runs = {n: ltca.analyze(pair, ltca.Options(torque_nm=1500.0, positions=n, tooth_model="plate")) for n in (21, 11)}
+    check = positions_check(runs[21], pair.geometry, 50.0)
+    assert check["positions"] == 21 and check["subset_positions"] == 11
+    eleven = positions_check(runs[11], pair.geometry, 50.0)["quantities"]
+    for q in ("contact_pressure_max_mpa", "K_H_beta"):
+        for m in ("pinion", "gear"):
+            c = check["quantities"][q][m]
+            assert c["subset"] == pytest.approx(eleven[q][m]["all"], rel=1e-6)
+            assert c["change"] == pytest.approx(c["all"] / c["subset"] - 1.0) and c["all"] >= c["subset"]
