@@ -120,6 +120,22 @@ def _resolution_notes(about) -> list[str]:
     return out
 
 
+def root_stress_notes(calculix, ltca, refinement: int) -> list[str]:
+    """Where the two FE models' root stresses differ by more than ROOT_STRESS_AGREEMENT: the numbers and what
+    the difference can come from (the rating's local S_F divides by the LTCA's)."""
+    from .result import ROOT_STRESS_AGREEMENT, root_stress_agreement
+
+    out = []
+    for m, a in root_stress_agreement(calculix, ltca).items():
+        if a["agrees"] is False:
+            out.append(f"{m}: root stress {a['calculix_mpa']:.1f} MPa (calculix) against {a['ltca_mpa']:.1f} MPa (the "
+                       f"LTCA's FE tooth), ratio {a['ratio']:.3f}, beyond +-{ROOT_STRESS_AGREEMENT:.0%}: the sectors' "
+                       f"fillet elements at refinement {refinement} (the root is not refined like the contact "
+                       "strips) and the LTCA's tooth data (its --fe-refinement) are the two meshes; rerun with "
+                       "--refinement 2 to see which moves; the rating's local S_F divides by the LTCA's")
+    return out
+
+
 #: the steps fe_check reports to its progress: the LTCA, the meshes, CalculiX (its lines between), done
 STEPS = 3
 
@@ -209,6 +225,7 @@ def fe_check(pair, options: CheckOptions, *, progress=None, solver=None) -> Chec
     notes += [f"tooth pair {k}: outside the {SECTOR_TEETH}-tooth sectors (null)" for k, p in zip(model.tooth_pairs,
                                                                                          model.pairs) if p is None]
     notes += _resolution_notes(about if options.local_refinement else None)
+    notes += root_stress_notes(calculix, _ltca_block(result, j), options.refinement)
     return CheckResult(
         run.version or ccx_version(), int(j), phi1, getattr(result, "tooth_model", "plate"),
         tuple(model.tooth_pairs), float(result.unloaded_te[j] * 1e6), model.elements, model.dof, run.wall_s,

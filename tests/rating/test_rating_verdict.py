@@ -181,3 +181,20 @@ def test_the_default_positions_check_their_own_maxima():
             c = check["quantities"][q][m]
             assert c["subset"] == pytest.approx(eleven[q][m]["all"], rel=1e-6)
             assert c["change"] == pytest.approx(c["all"] / c["subset"] - 1.0) and c["all"] >= c["subset"]
+
+
+def test_fe_check_reports_whether_the_two_fe_root_stresses_agree():
+    """Issue 57.5: fe-check gives calculix / LTCA root stress per member and whether they agree within
+    10 %, and says what the difference can come from when they do not."""
+    from beveloid.fecheck.check import root_stress_notes
+    from beveloid.fecheck.result import ContactNumbers, root_stress_agreement
+
+    def block(pinion, gear):
+        return ContactNumbers.of([1.0], [1.0], [1.0], 1.0, {"pinion": pinion, "gear": gear}, 1.0)
+
+    a = root_stress_agreement(block(108.0, 300.0), block(100.0, 400.0))
+    assert a["pinion"]["ratio"] == pytest.approx(1.08) and a["pinion"]["agrees"] is True
+    assert a["gear"]["ratio"] == pytest.approx(0.75) and a["gear"]["agrees"] is False
+    notes = root_stress_notes(block(108.0, 300.0), block(100.0, 400.0), 1)
+    assert len(notes) == 1 and notes[0].startswith("gear: root stress 300.0 MPa (calculix) against 400.0 MPa")
+    assert root_stress_agreement(block(None, 1.0), block(1.0, None))["pinion"]["agrees"] is None
