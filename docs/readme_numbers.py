@@ -201,12 +201,11 @@ def fe_canary(analyze_ltca=None) -> dict:
     from beveloid.pair import Pair
 
     pair = Pair.example("case1")
-    r = ltca.analyze(pair, ltca.Options(torque_nm=500.0, positions=CANARY_POSITIONS, tooth_model="fe",
-                                        fe_coarsen=CANARY_COARSEN))
+    coarse = ltca.Options(positions=CANARY_POSITIONS, tooth_model="fe", fe_coarsen=CANARY_COARSEN)
+    r = ltca.analyze(pair, ltca.LoadCase(500.0), coarse)
     te = (r.loaded_te - r.unloaded_te)[r.converged] * 1e6
     root = r.root_stress_max_mpa()
-    rt = rating.to_json_dict(rating.analyze(pair, rating.Options(
-        torque_nm=RATING_TORQUE_NM, positions=CANARY_POSITIONS, tooth_model="fe", fe_coarsen=CANARY_COARSEN)))
+    rt = rating.to_json_dict(rating.analyze(pair, ltca.LoadCase(RATING_TORQUE_NM), rating.Options(coarse)))
     return {"ltca_loaded_te_mean_urad": float(te.mean()), "ltca_root_stress_pinion_mpa": root["pinion"],
             "ltca_root_stress_gear_mpa": root["gear"],
             **{f"rating_{m}_{k}": rt[m][k] for m in ("pinion", "gear")
@@ -214,12 +213,12 @@ def fe_canary(analyze_ltca=None) -> dict:
 
 
 def record_rating(args) -> dict:
-    from beveloid import rating
+    from beveloid import ltca, rating
     from beveloid.pair import Pair
 
     out = {"command": RATING_COMMAND, "canary": fe_canary()}
     for case in ("case1", "case2"):
-        out[case] = rating.to_json_dict(rating.analyze(Pair.example(case), rating.Options(torque_nm=RATING_TORQUE_NM)))
+        out[case] = rating.to_json_dict(rating.analyze(Pair.example(case), ltca.LoadCase(RATING_TORQUE_NM)))
     return out
 
 

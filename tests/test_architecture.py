@@ -209,7 +209,7 @@ def test_the_older_call_forms_are_refused():
     from beveloid.solver import Solver
 
     for call in (lambda: tca.analyze(None, np.zeros(5)), lambda: tca.analyze(None, positions=3),
-                 lambda: ltca.analyze(None, 100.0, "right"), lambda: sweep.analyze(None, flank="right"),
+                 lambda: ltca.analyze(None, 100.0, "right"), lambda: ltca.analyze(None, ltca.Options()), lambda: sweep.analyze(None, flank="right"),
                  lambda: tca.analyze(None, tca.Options(), Solver()), lambda: Solver.of("numpy")):
         with pytest.raises(TypeError):
             call()

@@ -1,4 +1,4 @@
-"""What :func:`beveloid.fecheck.check.fe_check` returns: the FE check at one position beside the LTCA's
+"""What :func:`beveloid.fecheck.analyze` returns: the FE check at one position beside the LTCA's
 numbers there, frozen (its arrays read-only, its mappings read-only views), with the JSON of the
 contract (docs/fe_check.md) from :meth:`CheckResult.to_json`, which needs nothing passed back in."""
 from __future__ import annotations
@@ -77,12 +77,13 @@ class ContactNumbers:
 
 @dataclass(frozen=True, eq=False)
 class CheckResult:
-    """The FE check of ``pair`` under ``options`` (a :class:`beveloid.fecheck.check.CheckOptions`) at the
+    """The FE check of ``pair`` under ``options`` (a :class:`beveloid.fecheck.Options`) and ``load`` (an ``ltca.LoadCase``) at the
     LTCA's position ``position``: CalculiX's numbers and the LTCA's side by side, the run's sizes and
     times, the files kept, the notes."""
 
     pair: Any  # beveloid.pair.Pair
-    options: Any  # CheckOptions
+    load: Any  # beveloid.ltca.LoadCase
+    options: Any  # beveloid.fecheck.Options
     calculix_version: str | None
     position: int
     pinion_angle_rad: float
@@ -114,7 +115,7 @@ class CheckResult:
         """The JSON of ``beveloid fe-check --json`` (docs/fe_check.md)."""
         o = self.options
         return {"calculix_version": self.calculix_version, "position": self.position,
-                "pinion_angle_rad": self.pinion_angle_rad, "torque_nm": o.torque_nm, "flank": o.flank,
+                "pinion_angle_rad": self.pinion_angle_rad, "torque_nm": self.load.torque_nm, "flank": o.flank,
                 "ltca_tooth_model": self.ltca_tooth_model, "refinement": o.refinement,
                 "tooth_pairs": list(self.tooth_pairs),
                 "unloaded_transmission_error_urad": self.unloaded_transmission_error_urad,

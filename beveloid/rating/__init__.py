@@ -4,7 +4,7 @@ the local stresses of the loaded contact, with permissible stresses and safety f
 ``analysis``, ``report``)."""
 from __future__ import annotations
 
-from .analysis import LoadedContact, MemberRating, Options, SectionRating, analyze
+from .analysis import DEFAULT_POSITIONS, LoadedContact, MemberRating, Options, SectionRating, analyze
 from .report import RatingResult, to_json_dict
 
-__all__ = ["LoadedContact", "MemberRating", "Options", "RatingResult", "SectionRating", "analyze", "to_json_dict"]
+__all__ = ["DEFAULT_POSITIONS", "LoadedContact", "MemberRating", "Options", "RatingResult", "SectionRating", "analyze", "to_json_dict"]
