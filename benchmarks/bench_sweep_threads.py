@@ -4,7 +4,7 @@
                                              [--simulate 16]
 
 Not a test.  Case 1, right flank, the default error ranges, in this process with the compiled
-solver: a warm-up sweep, then ``sweep.analyze`` followed by ``to_json_dict`` (what ``beveloid sweep``
+solver: a warm-up sweep, then ``sweep.analyze`` followed by ``to_json`` (what ``beveloid sweep``
 computes) with numba's thread count 1, then N (default: the cores this process may use), the pair
 run ``--rounds`` times, the least time of each kept (the machine is shared: the least is the least
 disturbed).  Inside: ``SweepResult.seconds``, the error sets solved and reduced to their per-set
@@ -39,7 +39,7 @@ def run(pair, samples, positions, threads):
     numba.set_num_threads(threads)
     t = time.perf_counter()
     res = sweep.analyze(pair, sweep.Options(samples=samples, positions=positions), solver=Solver("compiled"))
-    out = res.to_json_dict()
+    out = res.to_json()
     whole = time.perf_counter() - t
     return res.seconds, whole - res.seconds, {k: v for k, v in out.items() if k not in TIMING}
 

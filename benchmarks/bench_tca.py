@@ -105,7 +105,7 @@ def sweep_workload(geom, K=10_000, N=50, with_baseline=True):
            "backend": backend, "threads": 1, "us_per_point": us,
            "newton_iterations_mean": r.newton_iterations_mean, "baseline_us_per_point": b_us,
            "baseline_points": b_n, "baseline_converged": b_conv, "speedup": b_us / us,
-           "status_counts": r.to_json_dict()["status_counts"]}
+           "status_counts": r.to_json()["status_counts"]}
     if backends.AVAILABLE:
         numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
         t = clock()

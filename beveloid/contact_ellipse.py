@@ -28,6 +28,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from . import curvature
+from .result import Frozen
 from .solver.core import GEAR_ANGLE, GEAR_L, GEAR_U, PINION_L, PINION_U
 from .solver.records import ChordRequest
 from .status import EllipseStatus, Status, carries_numbers
@@ -43,8 +44,9 @@ CHORD_SAMPLES = 40
 CHORD_BISECTIONS = 30
 
 
-def check_approach(approach_mm, name="--approach-um", scale=1e3, unit="um"):
-    """The approach in mm, or :class:`beveloid.errors.OptionError` naming ``name`` and what is valid."""
+def check_approach(approach_mm, name="approach_mm", scale=1.0, unit="mm"):
+    """The approach in mm, or :class:`beveloid.errors.OptionError` naming ``name`` and what is valid (the
+    value shown times ``scale``, in ``unit``)."""
     from .errors import OptionError
 
     lo, hi = APPROACH_RANGE_MM
@@ -55,13 +57,13 @@ def check_approach(approach_mm, name="--approach-um", scale=1e3, unit="um"):
 
 
 @dataclass(frozen=True)
-class ContactEllipses:
+class ContactEllipses(Frozen):
     """Contact ellipses at n points (NaN where a number is not defined; ``status`` says why);
-    immutable, its JSON by :meth:`to_json_dict`."""
+    frozen, its JSON by :meth:`to_json`."""
 
     approach_mm: float
     errors: np.ndarray  # (n, 5) the error sets of the points
-    status: list  # one of STATUSES per point
+    status: tuple  # one of STATUSES per point
     semi_axes_mm: np.ndarray  # (n, 2) [a, b], untruncated
     major_axis_deg: np.ndarray  # (n,) from e1 toward e2
     major_axis: np.ndarray  # (n, 3) unit major-axis direction in S_f
@@ -74,7 +76,7 @@ class ContactEllipses:
     def truncated_length_mm(self):
         return self.truncated_mm.sum(axis=-1)
 
-    def to_json_dict(self):
+    def to_json(self) -> dict:
         num = lambda v: float(v) if np.isfinite(v) else None  # noqa: E731
         ab = [[float(a), float(b)] if np.isfinite(a) and np.isfinite(b) else None for a, b in self.semi_axes_mm]
         return {

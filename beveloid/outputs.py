@@ -96,6 +96,20 @@ def check_output_file(path: str, flag: str, suffix: str | None = None) -> None:
     if not os.access(folder, os.W_OK | os.X_OK):
         raise OutputError(f"{flag} = {shown}: the folder {printable(str(folder), 80)} is not writable;"
                         " choose another")
+    _probe(folder, flag, shown)
+
+
+def _probe(folder: Path, flag: str, shown: str) -> None:
+    """Create and remove an empty file in ``folder``: permissions say yes where a pseudo file system (/proc,
+    /sys) or a read-only mount still refuses a new file, found here, not after the computation."""
+    import tempfile
+
+    try:
+        with tempfile.NamedTemporaryFile(dir=folder, prefix=".beveloid-probe-"):
+            pass
+    except OSError as exc:
+        raise OutputError(f"{flag} = {shown}: cannot create a file in {printable(str(folder), 80)}"
+                          f" ({exc.strerror or exc}); choose another folder") from None
 
 
 def check_output_dir(path: str, flag: str) -> None:
@@ -110,6 +124,7 @@ def check_output_dir(path: str, flag: str) -> None:
     if not os.access(p, os.W_OK | os.X_OK):
         raise OutputError(f"{flag} = {shown}: the folder {printable(str(p), 80)} is not writable;"
                         " choose another")
+    _probe(p, flag, shown)
 
 
 def _create(folder: Path, flag: str, shown: str) -> None:

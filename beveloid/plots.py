@@ -229,7 +229,7 @@ def tca_summary(result, geom, out_png, title=""):
 
 def _ellipse_outlines(geom, fr, which):
     """(z, radius) outlines of the truncated contact ellipses of a flank's active points on one
-    member (fr.contact_ellipse: tca.Options.approach_mm, or beveloid.contact_ellipse.with_ellipses)."""
+    member (fr.contact_ellipse: tca.Options.approach_mm)."""
     from .contact_ellipse import ellipse_outline
     from .generated import placement
 

@@ -15,6 +15,7 @@ from typing import NamedTuple
 import numpy as np
 
 from . import assembly_errors, mesh, tca
+from .result import Result, freeze, thaw
 from .solver import threads
 from .status import Status, carries_numbers
 
@@ -157,7 +158,10 @@ def _stats(v):
 
 
 @dataclass(frozen=True)
-class SweepResult:
+class SweepResult(Result):
+    """The sweep of ``pair`` under ``options`` (a :class:`sweep.Options`): per error set its numbers;
+    deep-frozen, its JSON by :meth:`to_json`."""
+
     flank: str
     samples: int
     positions: int
@@ -176,17 +180,12 @@ class SweepResult:
     nominal_errors: dict = field(default_factory=lambda: {k: 0.0 for k in DEFAULT_RANGES})
     seconds_total: float = float("nan")  # the whole sweep: window, aligned path, solve, statistics
 
-    def to_json(self) -> str:
-        """The JSON contract (strict: no NaN)."""
-        import json
-
-        return json.dumps(self.to_json_dict(), allow_nan=False)
-
     @property
     def contact_points_solved(self):
         return int(self.status_codes.size)
 
-    def to_json_dict(self):
+    def to_json(self) -> dict:
+        """The JSON of ``beveloid sweep --json`` (strict: no NaN)."""
         codes = self.status_codes
         any_edge = (codes == Status.EDGE).any(axis=1)
         any_off = (codes >= Status.OUTSIDE).any(axis=1)
@@ -202,8 +201,8 @@ class SweepResult:
             "us_per_point": self.seconds / max(1, self.contact_points_solved) * 1e6,
             "us_per_point_total": self.seconds_total / max(1, self.contact_points_solved) * 1e6,
             "newton_iterations_mean": self.newton_iterations_mean,
-            "ranges": self.ranges,
-            "nominal_errors": dict(self.nominal_errors),
+            "ranges": thaw(self.ranges),
+            "nominal_errors": thaw(self.nominal_errors),
             "pinion_angle_window_rad": [float(self.pinion_angles[0]), float(self.pinion_angles[-1])],
             "status_counts": {s.label: int((codes == s).sum()) for s in Status},
             "fraction_sets_with_edge_contact": float(any_edge.mean()),
@@ -214,7 +213,7 @@ class SweepResult:
             "pinion_path_shift_mm": _stats(self.pinion_shift_mm),
             "gear_path_shift_mm": _stats(self.gear_shift_mm),
             "te_peak_to_peak_urad": _stats(self.te_peak_to_peak * 1e6),
-            "sensitivity": self.sensitivity,
+            "sensitivity": thaw(self.sensitivity),
         }
 
 
@@ -263,12 +262,12 @@ def aligned_path(geom, flank, positions, *, solver: "tca.Solver | None" = None) 
                          sign=float(tca.first_touch_sign(geom, flank)))
 
 
-def _run(geom, options: "Options", solver, executor, progress):
+def _run(pair, options: "Options", solver, executor, progress):
     """The sweep itself (:func:`analyze`)."""
     flank, samples, positions, seed = options.flank, options.samples, options.positions, options.seed
     ranges, nominal, chunk = options.ranges, options.nominal, options.chunk
     t_start = time.perf_counter()
-    geom = tca.geometry_of(geom)
+    geom = tca.geometry_of(pair)
     grid, aligned = aligned_path(geom, flank, positions, solver=solver)
     t0 = time.perf_counter()
     errors = np.empty((samples, len(tca.ERROR_NAMES)))
@@ -312,7 +311,7 @@ def _run(geom, options: "Options", solver, executor, progress):
                        sensitivity=sens, backend=solver.backend, seconds=seconds,
                        newton_iterations_mean=iterations / C.size,
                        ranges=r, nominal_errors={k: 0.0 for k in DEFAULT_RANGES} | dict(nominal or {}),
-                       seconds_total=time.perf_counter() - t_start)
+                       seconds_total=time.perf_counter() - t_start, pair=pair, options=options)
 
 
 #: largest seed (the CLI's --seed)
@@ -359,16 +358,18 @@ class Options:
             if not abs(nominal[key]) + half <= limit:
                 raise OptionError(f"ranges.{key}", half, f"about nominal {nominal[key]:g} reaches"
                                   f" {abs(nominal[key]) + half:g}; |nominal| + half-width must be <= {limit:g} ({unit})")
-        object.__setattr__(self, "ranges", ranges)
-        object.__setattr__(self, "nominal", nominal)
+        object.__setattr__(self, "ranges", freeze(ranges))
+        object.__setattr__(self, "nominal", freeze(nominal))
 
 
-def analyze(pair, options: Options = Options(), *, solver: "tca.Solver | None" = None, executor=None,
+def analyze(pair, options: Options | None = None, *, solver: "tca.Solver | None" = None, executor=None,
             progress=None) -> SweepResult:
-    """The sweep of ``options`` on a :class:`beveloid.pair.Pair` (or its PairGeometry): an immutable
-    :class:`SweepResult` (``to_json_dict()`` / ``to_json()``).  ``solver``: a :class:`beveloid.solver.Solver`
+    """The sweep of ``options`` (None: the default :class:`Options`) on a :class:`beveloid.pair.Pair` (or its
+    PairGeometry): a deep-frozen :class:`SweepResult` (its JSON: ``to_json()``).  ``solver``: a :class:`beveloid.solver.Solver`
     (None: the default); ``executor``: beveloid.parallel.executor(...) for the chunks (the same numbers on
     one worker, N workers and a cluster); ``progress``: callable(done, total, t0) or None."""
+    if options is None:
+        options = Options()
     if not isinstance(options, Options):
         raise TypeError(f"sweep.analyze needs a sweep.Options, not {type(options).__name__}")
     return _run(pair, options, tca.Solver.of(solver), executor, progress)

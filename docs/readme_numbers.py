@@ -205,7 +205,7 @@ def fe_canary(analyze_ltca=None) -> dict:
     r = ltca.analyze(pair, ltca.LoadCase(500.0), coarse)
     te = (r.loaded_te - r.unloaded_te)[r.converged] * 1e6
     root = r.root_stress_max_mpa()
-    rt = rating.to_json_dict(rating.analyze(pair, ltca.LoadCase(RATING_TORQUE_NM), rating.Options(coarse)))
+    rt = rating.analyze(pair, ltca.LoadCase(RATING_TORQUE_NM), rating.Options(coarse)).to_json()
     return {"ltca_loaded_te_mean_urad": float(te.mean()), "ltca_root_stress_pinion_mpa": root["pinion"],
             "ltca_root_stress_gear_mpa": root["gear"],
             **{f"rating_{m}_{k}": rt[m][k] for m in ("pinion", "gear")
@@ -218,7 +218,7 @@ def record_rating(args) -> dict:
 
     out = {"command": RATING_COMMAND, "canary": fe_canary()}
     for case in ("case1", "case2"):
-        out[case] = rating.to_json_dict(rating.analyze(Pair.example(case), ltca.LoadCase(RATING_TORQUE_NM)))
+        out[case] = rating.analyze(Pair.example(case), ltca.LoadCase(RATING_TORQUE_NM)).to_json()
     return out
 
 

@@ -27,6 +27,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 
 from .paths import check_output_dir, check_output_file
 from .common import add_error_flags, add_ltca_flags, apply_error_flags, errors_label, ltca_options, number, parse_torques
@@ -41,10 +42,15 @@ def configure(p: argparse.ArgumentParser) -> None:
     add_ltca_flags(p)
     add_error_flags(p)
     p.add_argument("--plot", metavar="OUT.png", help="write the contact patterns, loaded TE and load sharing here "
-                                                     "(and the per-position pressure maps beside it)")
+                                                     "(and the per-position pressure maps beside it; with"
+                                                     " --samples the error sets at OUT_tolerance.png)")
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
     p.add_argument("--csv", metavar="DIR", help="write DIR/ltca.csv: one row per position and torque (pinion angle, "
                                                 "loaded TE, mesh stiffness, pair loads), for a dynamics model")
+    p.add_argument("--speed-rpm", metavar="N[,N...]",
+                   help="pinion speed (rpm) for the tribology (film, friction, power loss, efficiency, scuffing: "
+                        "docs/tribology.md); needs a [lubricant] section; default [rating] pinion_speed_rpm when the "
+                        "file has a lubricant; a comma list with several torques gives the efficiency map")
     p.add_argument("--samples", type=int, default=0, metavar="K",
                    help="the tolerance box under load: K error sets drawn about the file's [misalignment] (the "
                         "draws of sweep and explore), each a full loaded analysis at every torque")
@@ -58,7 +64,7 @@ def configure(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Loaded tooth contact analysis under a pinion torque (approximate: half-space + tooth beams).
+    """Loaded tooth contact analysis under a pinion torque (approximate: Boussinesq half-space + the FE tooth, or the plate tooth's beams with --tooth-model plate).
 
     Prints per position the loaded TE, the load of each tooth pair, its peak pressure and the
     contact area; --json prints the full arrays.  Warnings (grid not converged, outside the
@@ -83,6 +89,7 @@ def run(args: argparse.Namespace) -> int:
     from ..spec import load_spec
 
     spec = apply_error_flags(load_spec(args.file), args)
+    speeds = parse_speeds(args.speed_rpm, spec)
     tolerances = _tolerances(args, spec) if args.samples else None
     pair = Pair.from_spec(spec)
     from ..parallel import executor
@@ -91,7 +98,8 @@ def run(args: argparse.Namespace) -> int:
         executor(args.workers, args.scheduler)  # checks the flags (one line) before any work
     solver = Solver()
     load = ltca.LoadCase(torques)
-    results = list(ltca.analyze_many(pair, load, options, solver=solver).results[0])
+    # the contact patterns once per run: the JSON, the table and the figures read them
+    results = [r.with_patterns() for r in ltca.analyze_many(pair, load, options, solver=solver).results[0]]
     box = None
     if tolerances is not None:
         from .. import sweep
@@ -104,19 +112,41 @@ def run(args: argparse.Namespace) -> int:
     geom = pair.geometry
     label = f"{spec.source}: {errors_label(spec)}"
     if args.plot is not None:
+        if box is not None:  # the figures of the file's errors say so, and the box has its own
+            label = f"{spec.source}, the file's errors ({errors_label(spec)}); {args.samples} error sets: " \
+                    f"{os.path.basename(_stem(args.plot))}_tolerance.png"
+            _tolerance_plot(results, box, _stem(args.plot) + "_tolerance.png",
+                            f"{spec.source}: {args.samples} error sets in the tolerance box (seed {args.seed})")
         _plot(results, geom, args.plot, label)
+    trib = _tribology(results, pair, speeds) if speeds else None
     if args.csv is not None:
         write_csv(results, geom, args.csv)
+        if trib is not None:
+            from ..tribology.report import write_csv as tribology_csv
+
+            tribology_csv(trib, args.csv)
+    if args.plot is not None and trib is not None:
+        _plot_tribology(trib, results, geom, args.plot, label)
     for r in results:
         for w in r.warnings():
             print(f"beveloid: warning: {w if len(results) == 1 else f'{r.torque_nm:g} N m: {w}'}", file=sys.stderr)
     entries = []
     for t, r in enumerate(results):
-        d = ltca.to_json_dict(r, geom)
+        d = r.to_json()
         if box is not None:
             d["tolerance"] = ltca.studies.tolerance_json(box, t, args.samples, args.seed, tolerances)
+        if trib is not None:
+            if len(speeds) == 1:
+                d.update(trib[t][0].to_json_dict())
+            else:
+                d["speeds"] = [x.to_json_dict() for x in trib[t]]
         entries.append(d)
     out = entries[0] if len(results) == 1 else {"map": entries, "torque_map": ltca.studies.torque_map_json(results)}
+    if trib is not None and len(speeds) > 1:
+        from ..tribology.report import map_json
+
+        out = dict(out) if len(results) > 1 else {"map": entries}
+        out["efficiency_map"] = map_json(trib)
     if args.json:
         print(json.dumps(out, allow_nan=False))
     else:
@@ -127,7 +157,59 @@ def run(args: argparse.Namespace) -> int:
             print()
         if len(results) > 1:
             print(format_torque_map(out["torque_map"]))
+        if trib is not None:
+            from ..tribology.report import format_lines
+
+            for row in trib:
+                for x in row:
+                    print(f"{x.torque_nm:g} N m: " + "\n".join(format_lines(x)))
     return 0
+
+
+def parse_speeds(text, spec) -> list:
+    """The pinion speeds (rpm) of the tribology: --speed-rpm (one or a comma list), else [rating]
+    pinion_speed_rpm when the file names a lubricant; [] for none.  A speed without a lubricant is
+    refused (one line)."""
+    if text is None:
+        given = spec.rating.pinion_speed_rpm
+        return [given] if given is not None and spec.lubricant.given else []
+    out = []
+    for part in str(text).split(","):
+        try:
+            v = float(part)
+        except ValueError:
+            v = math.nan
+        if not (math.isfinite(v) and 0 < v <= 1e6):
+            raise UserError(f"--speed-rpm = {text}: each speed must be a number > 0 and <= 1e6 (rpm), comma-separated")
+        out.append(v)
+    if not spec.lubricant.given:
+        raise UserError(f"--speed-rpm = {text}: needs a [lubricant] section in {spec.source} (an oil: iso_vg or the "
+                        "kinematic viscosities, and temperature_c; docs/tribology.md)")
+    return out
+
+
+def _tribology(results, pair, speeds):
+    """[[TribologyResult per speed] per torque]: each torque's contact once, every speed from it."""
+    from .. import tribology
+
+    try:
+        return tribology.efficiency_map(results, pair, speeds)
+    except tribology.LubricantError as exc:
+        raise UserError(str(exc)) from None
+
+
+def _plot_tribology(trib, results, geom, path, label):
+    from ..tribology.plots import efficiency_map, flank_fields
+
+    stem = path[:-4] if path.endswith(".png") else path
+    try:
+        x = trib[0][0]
+        flank_fields(x, results[0], geom, stem + "_tribology.png",
+                     title=f"{label}, {x.torque_nm:g} N m at {x.speed_rpm:g} rpm")
+        if len(trib) > 1 or len(trib[0]) > 1:
+            efficiency_map(trib, stem + "_efficiency.png", title=label)
+    except OSError as exc:
+        raise UserError(f"--plot = {path}: cannot write there ({exc.strerror or exc})") from None
 
 
 def _tolerances(args, spec) -> dict:
@@ -150,7 +232,6 @@ def write_csv(results, geom, folder):
     """DIR/ltca.csv: one row per position and torque, units in every column name; empty cells where a
     position did not converge."""
     import csv
-    import os
 
     from ..ltca.results.batch import gear_base_radius_mm
 
@@ -178,10 +259,23 @@ def write_csv(results, geom, folder):
     return path
 
 
+def _stem(path: str) -> str:
+    return path[:-4] if path.endswith(".png") else path
+
+
+def _tolerance_plot(results, box, path, title):
+    from ..ltca.results.plots import tolerance_box
+
+    try:
+        tolerance_box(results, box, path, title)
+    except OSError as exc:
+        raise UserError(f"--plot = {path}: cannot write there ({exc.strerror or exc})") from None
+
+
 def _plot(results, geom, path, label):
     from ..ltca.results.plots import ltca_summary, ltca_torques, te_map
 
-    stem = path[:-4] if path.endswith(".png") else path
+    stem = _stem(path)
     try:
         if len(results) == 1:
             r = results[0]
@@ -249,7 +343,7 @@ def format_summary(result, geom, spec) -> str:
                        for v, e in zip(result.pair_max_pressure_mpa[j], result.pair_edge_max_pressure_mpa[j])])
     w = [max(len(r[i]) for r in rows) for i in range(len(head))]
     lines += ["  ".join(c.rjust(wi) for c, wi in zip(r, w)) for r in rows]
-    frac = {m: result.pattern(geom, m).area_fraction for m in ("pinion", "gear")}
+    frac = {m: result.pattern(m).area_fraction for m in ("pinion", "gear")}
     lines += ["", "share of each flank that carries pressure somewhere in the cycle: "
               + ", ".join(f"{m} {fmt(f * 100 if f is not None else None, '.1f')}%" for m, f in frac.items()),
               f"grid per pair: {result.grid.across_cells} x {result.grid.along_cells} cells, sized from each pair's Hertz "

@@ -30,7 +30,7 @@ def configure(p: argparse.ArgumentParser) -> None:
                         " candidate (default 0: the file's [misalignment] only)")
     p.add_argument("--seed", type=int, default=0, metavar="S", help="seed of the error sets and the search (default 0)")
     add_tolerances_flag(p, " about the file's [misalignment]")
-    p.add_argument("--objectives", default="te,pressure", metavar="te,pressure,root",
+    p.add_argument("--objectives", default="te,pressure", metavar="te,pressure,root,loss",
                    help="minimised: te = loaded TE peak-to-peak, pressure = largest peak pressure (edges included),"
                         " root = larger root stress (FE tooth) (default te,pressure)")
     p.add_argument("--budget", type=int, metavar="N", help="candidates evaluated (default 128)")
@@ -96,6 +96,7 @@ def _request(args):
         raise UserError(f"--positions = {args.positions}: must be at least 3 (a TE peak-to-peak needs a cycle)")
     objectives = rq.parse_objectives(args.objectives, tooth)
     spec = load_spec(args.file)
+    rq.check_loss_objective(objectives, spec)
     tolerances = parse_tolerances(args.tolerances)
     if args.samples:
         from .. import assembly_errors

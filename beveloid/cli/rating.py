@@ -14,6 +14,9 @@ h_Fe_mm, alpha_Fen_deg, Y_F, Y_S, Y_beta, f_eps, sigma_F0_mpa, Z_H, Z_E, Z_eps, 
 "root_stress_max_mpa", "contact_pressure_max_mpa", "safety_bending", "safety_pitting",
 "safety_bending_iso", "safety_pitting_iso" (null where not computed), "K_H_beta", "K_F_beta",
 "face_load", "material", "verdict" and "notes" (docs/rating.md 7).
+
+Exit status (docs/rating.md 6): 0 the pair passes, 3 it fails, 4 it is conditional (passes only if an
+edge is relieved), 5 no safety could be computed; 2 bad input, 1 an output that could not be written.
 """
 from __future__ import annotations
 
@@ -61,9 +64,10 @@ def run(args: argparse.Namespace) -> int:
         except OSError as exc:
             raise UserError(f"--plot = {args.plot}: cannot write there ({exc.strerror or exc})") from None
     if args.json:
-        print(json.dumps(rating.to_json_dict(result), allow_nan=False))
+        print(json.dumps(result.to_json(), allow_nan=False))
     else:
         print(table(result))
+    v = rating.verdict(result)
     if args.json:
-        print(f"beveloid: verdict: {result.verdict()['line']}", file=sys.stderr)
-    return 0
+        print(f"beveloid: verdict: {v['line']}", file=sys.stderr)
+    return v["exit_status"]

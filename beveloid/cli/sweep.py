@@ -104,7 +104,7 @@ def run(args: argparse.Namespace) -> int:
         raise UserError(f"{args.file}: cannot sweep the {args.flank} flank: {exc} (the aligned pair does not"
                         f" touch within the flank boundaries, so there is no engagement to sample); check the"
                         f" design with `beveloid tca {args.file} --flank {args.flank}`") from None
-    out = res.to_json_dict()
+    out = res.to_json()
     if args.json:
         print(json.dumps(out, allow_nan=False))
         return 0

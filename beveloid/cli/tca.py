@@ -48,7 +48,7 @@ def run(args: argparse.Namespace) -> int:
     from ..pair import Pair
     from ..spec import load_spec
 
-    approach_mm = check_approach(args.approach_um * 1e-3)  # an OptionError names --approach-um: one line
+    approach_mm = check_approach(args.approach_um * 1e-3, "--approach-um", 1e3, "um")  # one line naming the flag
     try:
         options = tca.Options(flanks=tca.FLANKS if args.flank == "both" else (args.flank,),
                               positions=args.positions, pairs=args.pairs, approach_mm=approach_mm)
@@ -68,7 +68,7 @@ def run(args: argparse.Namespace) -> int:
         except OSError as exc:  # checked before; the target changed during the computation
             raise UserError(f"--plot = {args.plot}: cannot write there ({exc.strerror or exc})") from None
     if args.json:
-        print(json.dumps(result.to_json_dict(), allow_nan=False))
+        print(json.dumps(result.to_json(), allow_nan=False))
     else:
         print(format_summary(result, spec))
     return 0
@@ -93,15 +93,22 @@ def _play_range(bl) -> str:
     return f"{ref}; up to {bl.max_um:.4f} um"
 
 
+#: the statuses of a contact (counted apart where it carries the mesh and where it does not: idle)
+CARRYING = (PointStatus.OK, PointStatus.EDGE)
+
+
 def format_summary(result, spec) -> str:
     lines = [f"TCA of {spec.source} with {errors_label(spec)}", ""]
-    head = ("flank", *PointStatus, "pinion z range (mm)", "gear z range (mm)",
-            "TE mean (urad)", "TE p-p (urad)", "Newton its (mean)", "TE points")
+    head = ("flank", *CARRYING, "idle", *(s for s in PointStatus if s not in CARRYING), "pinion z range (mm)",
+            "gear z range (mm)", "TE mean (urad)", "TE p-p (urad)", "Newton its (mean)", "TE points")
     rows = [head]
     caveats = []
     for flank, fr in result.flanks.items():
         st = np.array(fr.status)
-        cnt = [str(int((st == s).sum())) for s in PointStatus]
+        carrying = np.asarray(fr.active, dtype=bool)
+        cnt = [str(int(((st == s) & carrying).sum())) for s in CARRYING]
+        cnt.append(str(int((np.isin(st, CARRYING) & ~carrying).sum())))
+        cnt += [str(int((st == s).sum())) for s in PointStatus if s not in CARRYING]
         pairs = len(set(fr.tooth_pair.tolist()))
         positions = len(st) // pairs
         te = fr.transmission_error[fr.active & np.isfinite(fr.transmission_error)]
@@ -126,8 +133,10 @@ def format_summary(result, spec) -> str:
             lines += ["", f"backlash at the gear's working pitch circle: {number(b.um, '.4f')} um (smallest play over a mesh"
                           f" cycle{_play_range(b)}; positive: play, negative: the flanks interfere)"]
     lines += [f"note: {n}" for n in [*caveats, *result.notes]]
-    lines += ["", "z: axial position in the member frame (toe -> heel); points per status over "
-              f"{len(result.flanks[next(iter(result.flanks))].status)} pair-positions; TE points: pinion"
+    lines += ["", "z: axial position in the member frame (toe -> heel); of the "
+              f"{len(result.flanks[next(iter(result.flanks))].status)} pair-positions: ok, edge: a surface or edge"
+              " contact that carries the mesh (the envelope of the pairs); idle: a contact of a pair that carries"
+              " nothing there (the pair carrying holds it off); outside, failed: no contact; TE points: pinion"
               " positions where the TE envelope is carried and complete (no tooth pair beyond those solved"
               " can carry there; the TE p-p is taken over these), of all positions"]
     return "\n".join(lines)

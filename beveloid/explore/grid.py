@@ -35,30 +35,38 @@ _RESULT_INPUTS = {"gear.helix_angle_deg": "pinion.helix_angle_deg and pair.shaft
                   "gear.profile_shift": "pair.offset_mm and pinion.profile_shift, Eq 27"}
 
 
-def _unknown_key_text(key: str, keys: dict) -> str:
-    """One line for a --vary key that is not a design input: a design result (which keys are the
-    inputs), a choice key, or an unknown key (with the closest inputs, difflib)."""
+def not_a_key(key: str, keys: dict, command: str, what: str, elsewhere: dict | None = None) -> str:
+    """The one line for ``--vary KEY`` when KEY is not one of ``keys`` (``what`` ``command`` varies): a key
+    that is another command's (``elsewhere``: {key: why}), a design result (which inputs fix it), a key of
+    the spec of another kind, or no spec key (the closest keys, difflib)."""
     section, _, name = key.partition(".")
     doc = KEY_DOCS.get(section, {}).get(name)
+    listed = f"{what}: {', '.join(keys)}"
+    if elsewhere and key in elsewhere:
+        return f"--vary {key}: {elsewhere[key]}; {command} varies {listed}"
     if doc is not None and doc.requirement == "result":
         inputs = _RESULT_INPUTS.get(key, "the design inputs")
         return (f"--vary {key}: a design result, not a design input (the design computes it from {inputs});"
-                f" vary those inputs instead (the numeric design inputs: {', '.join(keys)})")
+                f" vary those inputs instead ({command} varies {listed})")
     if doc is not None:
-        return f"--vary {key}: a {doc.kind} key, not a numeric one; --vary takes the numeric design inputs"
+        return f"--vary {key}: a {doc.kind} key of [{section}], not one that {command} varies; it varies {listed}"
     close = difflib.get_close_matches(key, list(keys), n=3, cutoff=0.6)
     hint = f"did you mean {' or '.join(close)}? " if close else ""
-    return f"--vary {key}: not a spec key; {hint}the numeric design inputs are: {', '.join(keys)}"
+    return f"--vary {key}: not a spec key that {command} varies; {hint}it varies {listed}"
 
 
 @dataclass(frozen=True)
 class Vary:
+    """One varied numeric spec key over [start, stop]: ``count`` values from start to stop on a grid
+    (explore), or the continuous range (``count`` None: optimize's search)."""
+
     key: str
     start: float
     stop: float
-    count: int
+    count: int | None = None
 
     def values(self) -> np.ndarray:
+        """The grid's values (integer keys rounded)."""
         v = np.linspace(self.start, self.stop, self.count)
         return np.round(v) if numeric_keys()[self.key].kind == "integer" else v
 
@@ -71,7 +79,7 @@ def parse_vary(text: str) -> Vary:
     key, _, spec = text.partition("=")
     key = key.strip()
     if key not in keys:
-        raise UserError(_unknown_key_text(key, keys))
+        raise UserError(not_a_key(key, keys, "explore", "the numeric design inputs"))
     doc = keys[key]
     parts = spec.split(":")
     if len(parts) != 3:

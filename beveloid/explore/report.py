@@ -259,7 +259,26 @@ def pareto_scatter(path, req, table, base_row):
     ax.set_yscale("log")
     ax.legend(loc="upper right", fontsize=8)  # (not "best": it scans every point of the scatter)
     fig.subplots_adjust(**_MARGINS, top=0.97)
+    _keep_ylabel(fig, ax)
     _save(fig, path)
+
+
+def _keep_ylabel(fig, ax, pad_px: float = 4.0) -> None:
+    """Within less than a decade a log axis labels its minor ticks (2.05x10^-1, ...): plain numbers there,
+    and the left margin widened until the y-axis label lies inside the figure."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.ticker import FuncFormatter
+
+    lo, hi = ax.get_ylim()
+    if lo > 0 and hi / lo < 10.0:
+        plain = FuncFormatter(lambda v, _: f"{v:.3g}")
+        ax.yaxis.set_major_formatter(plain)
+        ax.yaxis.set_minor_formatter(plain)
+    FigureCanvasAgg(fig).draw()
+    x0 = ax.yaxis.label.get_window_extent(fig.canvas.get_renderer()).x0
+    if x0 < pad_px:
+        left = fig.subplotpars.left + (pad_px - x0) / fig.bbox.width
+        fig.subplots_adjust(left=min(left, 0.4))
 
 
 def _label(column: str) -> list[str]:

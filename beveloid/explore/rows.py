@@ -243,7 +243,7 @@ def monte_carlo(cols: dict, plan, rows: slice, tolerances: dict, mc: MonteCarloR
         options = sweep.Options(flank=flank, samples=samples, positions=positions, seed=design_seed,
                                 ranges=dict(tolerances), nominal=nominal)
         try:
-            res = sweep.analyze(Pair.from_spec(spec), options, solver=solver).to_json_dict()
+            res = sweep.analyze(Pair.from_spec(spec), options, solver=solver).to_json()
         except RuntimeError:  # the aligned flank has no engagement to sample
             cols["mc_status"][j] = ExploreStatus.NO_ALIGNED_CONTACT
             continue

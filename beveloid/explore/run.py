@@ -13,7 +13,6 @@ finished chunks, and ``--resume DIR`` computes only the missing ones.
 from __future__ import annotations
 
 import hashlib
-import json
 import os
 import sys
 import time
@@ -24,12 +23,12 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..errors import ErrorCode, StopReason, UserError
+from ..errors import StopReason
+from ..runstore import REQUEST, RunStore, version_text  # noqa: F401  (REQUEST: the CLI reads it here)
 from .grid import Plan, Vary
 
 #: designs per chunk: large enough for the batched kernels, small enough to lose little on a stop
 CHUNK = 256
-REQUEST = "request.json"
 CHUNKS = "chunks"
 #: the index of the task that computes the base design's row (not a chunk)
 BASE = -1
@@ -257,48 +256,27 @@ def load_table(out_dir: str, req: Request) -> dict:
     return Chunks(out_dir, req).table()
 
 
-def _version_text(code: dict) -> str:
-    return (f"beveloid {code.get('package_version', '(unknown)')}, generated kernels"
-            f" {code.get('generated_kernels_sha1', '(unknown)')}")
-
-
 def prepare(out_dir: str, req: Request | None, resume: bool, log=None) -> Request:
-    """Create DIR (fresh) or read its request (resume); refuse to mix two runs in one DIR.
+    """Create DIR (fresh) or read its request (resume); refuse to mix two runs in one DIR
+    (:class:`beveloid.runstore.RunStore`).
 
     Chunks are reused only when computed by the same code (:func:`code_version`): a fresh run of the
     same request into a DIR made by another version removes the old chunks (``log`` says so, one line)
     and computes them again; ``--resume`` of such a DIR is refused with a line saying how to go on.
     """
-    path = os.path.join(out_dir, REQUEST)
+    store = RunStore(out_dir, CHUNKS, "chunks", "exploration")
     now = code_version()
     if resume:
-        if not os.path.exists(path):
-            raise UserError(f"--resume {out_dir}: no {REQUEST} there; start a run with --out {out_dir}")
-        with open(path) as f:
-            old = Request.from_json(json.load(f))
-        if old.code != now:
-            raise UserError(f"--resume {out_dir}: its chunks were computed by {_version_text(old.code)}, this is"
-                            f" {_version_text(now)}; rows of two versions would mix: run the same request again"
-                            f" with --out {out_dir} (it recomputes every chunk) or with the version that started it",
-                            code=ErrorCode.STALE_RESULTS)
-        return old
-    if os.path.exists(path):
-        with open(path) as f:
-            held = json.load(f)
-        mine = json.loads(json.dumps(req.to_json()))
-        if {k: v for k, v in held.items() if k != "code"} != {k: v for k, v in mine.items() if k != "code"}:
-            raise UserError(f"--out {out_dir}: holds another exploration ({REQUEST}); continue it with --resume"
-                            f" {out_dir} or choose another --out")
-        if held.get("code") != mine["code"]:
-            stale = finished(out_dir, req)
-            for i in stale:
-                os.remove(_chunk_path(out_dir, i))
-            if log and stale:
-                log(f"beveloid explore: {out_dir} holds {len(stale)} chunks of this request computed by"
-                    f" {_version_text(held.get('code', {}))}; this is {_version_text(now)}: computing them again")
-    os.makedirs(os.path.join(out_dir, CHUNKS), exist_ok=True)
-    with open(path, "w") as f:
-        json.dump(req.to_json(), f, indent=1)
+        return Request.from_json(store.resumed(now))
+    held = store.check_fresh(req.to_json(), ignore=("code",))
+    if held is not None and held.get("code") != now:
+        stale = finished(out_dir, req)
+        for i in stale:
+            os.remove(_chunk_path(out_dir, i))
+        if log and stale:
+            log(f"beveloid explore: {out_dir} holds {len(stale)} chunks of this request computed by"
+                f" {version_text(held.get('code', {}))}; this is {version_text(now)}: computing them again")
+    store.write(req.to_json())
     return req
 
 

@@ -120,9 +120,22 @@ def export(pair, options: ExportOptions = ExportOptions()) -> ExportResult:
         groups = [(f"{options.stem}_{m}", (m,)) for m in options.members]
     interrupts.check()  # a Ctrl-C swallowed during the build (beveloid/interrupts.py): nothing is written
     written = []
-    for name, members in groups:
-        path = out / f"{name}.{writer.extension}"
-        volume, triangles = writer.write([shapes[m] for m in members], path)
-        written.append(WrittenFile(path, members, volume, tuple(built[m].teeth for m in members),
-                                   max(built[m].max_error_um for m in members), triangles))
+    try:
+        for name, members in groups:
+            path = out / f"{name}.{writer.extension}"
+            partial = out / f".{name}.partial.{writer.extension}"  # whole or absent: renamed when complete
+            try:
+                volume, triangles = writer.write([shapes[m] for m in members], partial)
+                os.replace(partial, path)
+            except BaseException as exc:
+                partial.unlink(missing_ok=True)
+                if isinstance(exc, OSError) and exc.filename is None:  # a full disk: named by its file
+                    raise OSError(exc.errno, exc.strerror or str(exc), str(path)) from None
+                raise
+            written.append(WrittenFile(path, members, volume, tuple(built[m].teeth for m in members),
+                                       max(built[m].max_error_um for m in members), triangles))
+    except BaseException:  # nothing half-written: the files of this call go too (an empty new folder: the CLI)
+        for f in written:
+            f.path.unlink(missing_ok=True)
+        raise
     return ExportResult(tuple(written), built)

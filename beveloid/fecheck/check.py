@@ -229,7 +229,8 @@ def analyze(pair, load, options: Options | None = None, *, solver=None, progress
                                                                                          model.pairs) if p is None]
     notes += _resolution_notes(about if options.local_refinement else None)
     return CheckResult(
-        pair, load, options, run.version or ccx_version(), int(j), phi1, getattr(result, "tooth_model", "plate"),
+        run.version or ccx_version(), int(j), phi1, getattr(result, "tooth_model", "plate"),
         tuple(model.tooth_pairs), float(result.unloaded_te[j] * 1e6), model.elements, model.dof, run.wall_s,
         run.cpu_s, mesh_s, calculix, _ltca_block(result, j), files, notes, result.pair_hertz_max_pressure_mpa[j],
-        result.patch_semi_axes_mm()[j], about if options.local_refinement else None)
+        result.patch_semi_axes_mm()[j], about if options.local_refinement else None, pair=pair, options=options,
+        load=load)

@@ -1,14 +1,17 @@
 """What :func:`beveloid.fecheck.analyze` returns: the FE check at one position beside the LTCA's
-numbers there, frozen (its arrays read-only, its mappings read-only views), with the JSON of the
-contract (docs/fe_check.md) from :meth:`CheckResult.to_json`, which needs nothing passed back in."""
+numbers there, a deep-frozen :class:`beveloid.result.Result` (its arrays read-only, its mappings
+:class:`beveloid.result.FrozenMap`), with the JSON of the contract (docs/fe_check.md) from
+:meth:`CheckResult.to_json`, which needs nothing passed back in."""
 from __future__ import annotations
 
 import math
-import types
-from dataclasses import dataclass
-from typing import Any, Mapping
+from dataclasses import dataclass, field
+from typing import Any
+from typing import Mapping
 
 import numpy as np
+
+from ..result import Frozen, Result, thaw
 
 __all__ = ["CheckResult", "ContactNumbers"]
 
@@ -19,33 +22,13 @@ def _num(v) -> float | None:
 
 
 def _floats(values) -> np.ndarray:
-    """A read-only float array of ``values`` (nested sequences too), NaN where a value is None."""
+    """A float array of ``values`` (nested sequences too), NaN where a value is None."""
     a = np.array(values, dtype=object)
-    a = np.where(np.equal(a, None), np.nan, a).astype(float)
-    a.setflags(write=False)
-    return a
-
-
-def _frozen(value):
-    """``value`` with every dict a read-only view and every list a tuple, all the way down."""
-    if isinstance(value, Mapping):
-        return types.MappingProxyType({k: _frozen(v) for k, v in value.items()})
-    if isinstance(value, (list, tuple)):
-        return tuple(_frozen(v) for v in value)
-    return value
-
-
-def _thawed(value):
-    """The JSON of a :func:`_frozen` value: dicts and lists again."""
-    if isinstance(value, Mapping):
-        return {k: _thawed(v) for k, v in value.items()}
-    if isinstance(value, tuple):
-        return [_thawed(v) for v in value]
-    return value
+    return np.where(np.equal(a, None), np.nan, a).astype(float)
 
 
 @dataclass(frozen=True, eq=False)
-class ContactNumbers:
+class ContactNumbers(Frozen):
     """One side's numbers at the position (CalculiX's or the LTCA's), per tooth pair (P,) in the LTCA's
     order; NaN where a number is missing (a pair outside the sectors, a root stress without an FE tooth)."""
 
@@ -63,7 +46,7 @@ class ContactNumbers:
         missing = lambda v: math.nan if v is None else float(v)  # noqa: E731
         return cls(_floats(pair_normal_load_n), _floats(pair_max_pressure_mpa), _floats(contact_area_mm2),
                    missing(loaded_transmission_error_urad),
-                   types.MappingProxyType({m: missing(v) for m, v in root_stress_max_mpa.items()}),
+                   {m: missing(v) for m, v in root_stress_max_mpa.items()},
                    missing(moment_about_pinion_axis_nm))
 
     def to_json(self) -> dict:
@@ -76,14 +59,11 @@ class ContactNumbers:
 
 
 @dataclass(frozen=True, eq=False)
-class CheckResult:
-    """The FE check of ``pair`` under ``options`` (a :class:`beveloid.fecheck.Options`) and ``load`` (an ``ltca.LoadCase``) at the
-    LTCA's position ``position``: CalculiX's numbers and the LTCA's side by side, the run's sizes and
-    times, the files kept, the notes."""
+class CheckResult(Result):
+    """The FE check of ``pair`` under ``load`` (an ``ltca.LoadCase``) with ``options`` (a
+    :class:`beveloid.fecheck.Options`) at the LTCA's position ``position``: CalculiX's numbers and the LTCA's
+    side by side, the run's sizes and times, the files kept, the notes."""
 
-    pair: Any  # beveloid.pair.Pair
-    load: Any  # beveloid.ltca.LoadCase
-    options: Any  # beveloid.fecheck.Options
     calculix_version: str | None
     position: int
     pinion_angle_rad: float
@@ -104,12 +84,12 @@ class CheckResult:
     #: per loaded pair its refinement strip ({"tooth_pair", "semi_axes_mm", "size_mm", element sizes});
     #: None: not refined
     local_refinement: tuple | None
+    load: Any = field(default=None, kw_only=True, repr=False)  # the ltca.LoadCase
 
     def __post_init__(self):
-        for name in ("tooth_pairs", "notes", "files", "local_refinement"):
-            object.__setattr__(self, name, _frozen(getattr(self, name)))
         for name in ("ltca_hertz_max_pressure_mpa", "ltca_patch_semi_axes_mm"):
             object.__setattr__(self, name, _floats(getattr(self, name)))
+        super().__post_init__()
 
     def to_json(self) -> dict:
         """The JSON of ``beveloid fe-check --json`` (docs/fe_check.md)."""
@@ -125,4 +105,4 @@ class CheckResult:
                 "notes": list(self.notes),
                 "ltca_hertz_max_pressure_mpa": [_num(v) for v in self.ltca_hertz_max_pressure_mpa],
                 "ltca_patch_semi_axes_mm": [[_num(v) for v in ab] for ab in self.ltca_patch_semi_axes_mm],
-                "local_refinement": _thawed(self.local_refinement)}
+                "local_refinement": thaw(self.local_refinement)}

@@ -33,10 +33,10 @@ from .model.compliance import BeveloidCompliance
 from .options import DEFAULT_GRID, RANGES, Material, Options
 from .results.batch import Batch
 from .results.pattern import FlankPattern, flank_pattern
-from .results.result import LTCAResult, to_json_dict
+from .results.result import LTCAResult
 
 __all__ = ["Batch", "BeveloidCompliance", "DEFAULT_GRID", "FlankPattern", "LTCAResult", "LoadCase", "Material",
-           "Options", "RANGES", "analyze", "analyze_many", "flank_pattern", "studies", "to_json_dict"]
+           "Options", "RANGES", "analyze", "analyze_many", "flank_pattern", "studies"]
 
 
 def _checked(pair, load, options, caller):
@@ -60,7 +60,7 @@ def _material(pair, options):
 
 def analyze(pair, load: LoadCase, options: Options | None = None, *, solver=None):
     """The loaded TCA of one flank over one mesh cycle: ``analyze(pair, load, options=None, *,
-    solver=None)`` -> an immutable :class:`LTCAResult`, or a :class:`Batch` when ``load`` holds a
+    solver=None)`` -> a deep-frozen :class:`LTCAResult` (its JSON: ``result.to_json()``), or a :class:`Batch` when ``load`` holds a
     torque list or several error sets (``load.is_map``; :func:`analyze_many`).
 
     ``pair`` a :class:`beveloid.pair.Pair` (its misalignment and ``[material]`` are used unless
@@ -92,4 +92,5 @@ def analyze_many(pair, load: LoadCase, options: Options | None = None, *, solver
     geom = getattr(pair, "geometry", pair)
     results = run_many(geom, list(errors), list(torques), options, _material(pair, options), Solver.of(solver),
                        pair=pair)
-    return Batch(torque_nm=torques, errors=errors, results=tuple(tuple(r) for r in results))
+    return Batch(torque_nm=torques, errors=errors, results=tuple(tuple(r) for r in results), pair=pair,
+                 options=options)

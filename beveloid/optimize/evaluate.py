@@ -8,7 +8,10 @@ The quantities of one loaded analysis (``beveloid ltca`` reports each of them):
 * ``max_pressure_mpa``: the largest pair peak pressure over the cycle, edge peaks included (the
   largest of ``pair_max_pressure_mpa``);
 * ``root_stress_max_mpa``: the larger member's root stress maximum (the larger of
-  ``root_stress_max_mpa``; FE tooth only).
+  ``root_stress_max_mpa``; FE tooth only);
+* ``mesh_power_loss_w``: the mesh power loss, mean over the cycle, at ``[rating] pinion_speed_rpm`` with the
+  file's ``[lubricant]`` (``beveloid ltca --speed-rpm``'s ``mesh_power_loss_w``; only for the objective
+  ``loss``: docs/tribology.md).
 
 Each torque's quantity is the value at the file's errors (``--samples 0``) or the 90th percentile
 (``numpy.percentile``, its default method) over the K error sets; an objective is the weighted mean
@@ -29,6 +32,7 @@ from .request import OBJECTIVES, PERCENTILE, Request
 
 QUANTITIES = tuple(OBJECTIVES.values())
 
+
 class LoadedQuantities(NamedTuple):
     """(T, K) arrays over the torques and the error sets; nan where the analysis gives none."""
 
@@ -36,18 +40,20 @@ class LoadedQuantities(NamedTuple):
     max_pressure_mpa: np.ndarray
     root_stress_max_mpa: np.ndarray
     converged_positions: np.ndarray  # (T, K) int
+    mesh_power_loss_w: np.ndarray = None  # (T, K); nan without a speed
 
 
-def loaded_quantities(pair, load, options, *, solver=None) -> LoadedQuantities:
+def loaded_quantities(pair, load, options, *, solver=None, speed_rpm=None) -> LoadedQuantities:
     """The quantities of the loaded analysis of ``pair`` at every torque (N m, pinion) and error set of
     ``load`` (an ltca.LoadCase), with ``options`` (an ltca.Options): the tolerance box under load of
     ``beveloid ltca --samples`` (:func:`beveloid.ltca.studies.box_results`, the same calls of the batched
-    engine), so that it reproduces them exactly.  ``solver``: the Solver of every call (None: the default one)."""
+    engine), so that it reproduces them exactly.  ``solver``: the Solver of every call (None: the default one);
+    ``speed_rpm``: the pinion speed of the mesh power loss (the pair's [lubricant]; None: not computed)."""
     from ..ltca.studies import box_results
 
     sets = load.error_sets(pair)
     shape = (len(load.torques_nm), len(sets))
-    te, p, root = np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape, np.nan)
+    te, p, root, loss = (np.full(shape, np.nan) for _ in range(4))
     conv = np.zeros(shape, dtype=int)
     results = box_results(pair, load, options, solver=solver)
     for k, row in enumerate(results):
@@ -61,7 +67,11 @@ def loaded_quantities(pair, load, options, *, solver=None) -> LoadedQuantities:
             tops = [v for v in r.root_stress_max_mpa().values() if v is not None]
             if tops:
                 root[i, k] = max(tops)
-    return LoadedQuantities(te, p, root, conv)
+            if speed_rpm is not None:
+                from .. import tribology
+
+                loss[i, k] = tribology.evaluate(r, pair, speed_rpm, errors=sets[k]).mesh_power_loss_w
+    return LoadedQuantities(te, p, root, conv, loss)
 
 
 def per_torque(q: np.ndarray, samples: int) -> np.ndarray:
@@ -95,7 +105,7 @@ def safeties(req: Request, pair, *, solver=None) -> dict:
     from ..ltca import LoadCase
 
     r = rating.analyze(pair, LoadCase(max(req.torques_nm)), req.rating_options(), solver=solver)
-    v = r.verdict()
+    v = rating.verdict(r)
     sf = [m.safety_bending for m in r.members.values() if m.safety_bending is not None]
     sh = [m.safety_pitting for m in r.members.values() if m.safety_pitting is not None]
     f = r.factors
@@ -106,16 +116,21 @@ def safeties(req: Request, pair, *, solver=None) -> dict:
 
 
 def shortfall(verdict: dict) -> float | None:
-    """The constraint g of a rating's verdict (``RatingResult.verdict()``), <= 0 exactly when it passes: the
-    worst relative shortfall of what the verdict decides on, max(1 - S / S_min of its lowest deciding safety,
-    1 - p_permissible / p_edge of the edge-contact rule), at least 1e-6 for a verdict that does not pass (None: no
-    safety computed)."""
-    if verdict["value"] is None:
+    """The constraint g of a rating's verdict (``rating.verdict``), <= 0 exactly when it passes: the worst
+    relative shortfall over its governing criteria, 1 - value / required of a minimum (a safety) and
+    1 - required / value of a maximum (the edge rule's load share), at least 1e-6 for a verdict that does
+    not pass (None: no criterion has a value)."""
+    terms = []
+    for c in verdict.get("criteria", ()):
+        if not c["governs"] or c["value"] is None:
+            continue
+        if c.get("limit") == "maximum":
+            terms.append(1.0 - c["required"] / c["value"] if c["value"] > 0 else -1.0)
+        else:
+            terms.append(1.0 - c["value"] / c["required"])
+    if not terms:
         return None
-    g = 1.0 - verdict["value"] / verdict["required"]
-    edge = verdict.get("edge_contact")
-    if edge is not None and edge["pressure_mpa"] and edge["permissible_mpa"] is not None:
-        g = max(g, 1.0 - edge["permissible_mpa"] / edge["pressure_mpa"])  # = 1 - S_edge / S_Hmin
+    g = max(terms)
     return float(min(g, 0.0) if verdict["passes"] else max(g, 1e-6))
 
 
@@ -136,7 +151,8 @@ def evaluate(req: Request, values: dict, error_sets: np.ndarray | None = None) -
     sets = req.error_sets() if error_sets is None else error_sets
     solver = Solver()  # one for the candidate's loaded analyses and its rating
     try:
-        lq = loaded_quantities(pair, req.load_case(sets), req.ltca, solver=solver)
+        speed = pair.spec.rating.pinion_speed_rpm if "loss" in req.objectives else None
+        lq = loaded_quantities(pair, req.load_case(sets), req.ltca, solver=solver, speed_rpm=speed)
         rec["safety"] = safeties(req, pair, solver=solver) if req.constraints == "rating" else None
     except UserError as exc:  # no contact at all (the flank is turned off its mate)
         return _failed(rec, req, EvaluationStatus.FAILED, exc, t0)

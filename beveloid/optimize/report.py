@@ -224,7 +224,7 @@ def summary(req, records: list, base: dict, info: RunInfo, fr: Front) -> dict:
     return {
         "file": req.source,
         "objectives": list(req.quantities),
-        "varied": [{"key": v.key, "low": v.low, "high": v.high} for v in req.varies],
+        "varied": [{"key": v.key, "low": v.start, "high": v.stop} for v in req.varies],
         "torques_nm": list(req.torques_nm), "weights": list(req.weights),
         "samples": req.samples, "seed": req.seed, "tolerances": req.tolerances,
         "error_sets": [assembly_errors.from_layout(e) for e in sets],

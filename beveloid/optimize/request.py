@@ -21,10 +21,12 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from ..errors import UserError
+from ..explore.grid import Vary
 from ..names import MEMBERS
 
 #: the objectives: command-line name -> the quantity (and JSON key) it is made of
-OBJECTIVES = {"te": "te_peak_to_peak_urad", "pressure": "max_pressure_mpa", "root": "root_stress_max_mpa"}
+OBJECTIVES = {"te": "te_peak_to_peak_urad", "pressure": "max_pressure_mpa", "root": "root_stress_max_mpa",
+              "loss": "mesh_power_loss_w"}
 DEFAULT_OBJECTIVES = ("te", "pressure")
 #: each torque's quantity over the K error sets: this percentile (numpy's default method)
 PERCENTILE = 90.0
@@ -45,30 +47,14 @@ def micro_keys() -> dict:
 
 
 def _refusal(key: str, keys: dict) -> str:
-    """One line for a --vary key that is not a micro-geometry key."""
-    from ..explore.grid import numeric_keys
+    """One line for a --vary key that is not a micro-geometry key (:func:`beveloid.explore.grid.not_a_key`):
+    a macro-geometry key is explore's, another numeric key is no flank modification."""
+    from ..explore.grid import not_a_key, numeric_keys
 
-    listed = ", ".join(keys)
-    section = key.partition(".")[0]
-    if key in numeric_keys():
-        if section in MEMBERS or section == "pair":
-            return (f"--vary {key}: changes the macro geometry (the design and the tooth body), not the flank's"
-                    f" micro-geometry: vary it with `beveloid explore`; optimize varies {listed}")
-        return f"--vary {key}: not a flank modification (a [{section}] key); optimize varies {listed}"
-    from ..spec.text import closest
-
-    match = closest(key, list(keys))
-    hint = f"did you mean {match}? " if match else ""
-    return f"--vary {key}: not a numeric micro-geometry key; {hint}optimize varies {listed}"
-
-
-@dataclass(frozen=True)
-class Vary:
-    """One varied key over the continuous range [low, high]."""
-
-    key: str
-    low: float
-    high: float
+    elsewhere = {k: ("changes the macro geometry (the design and the tooth body), not the flank's micro-geometry:"
+                     " vary it with `beveloid explore`" if k.partition(".")[0] in (*MEMBERS, "pair") else
+                     f"not a flank modification (a [{k.partition('.')[0]}] key)") for k in numeric_keys()}
+    return not_a_key(key, keys, "optimize", "the numeric micro-geometry keys", elsewhere)
 
 
 def parse_vary(text: str) -> Vary:
@@ -94,7 +80,7 @@ def parse_vary(text: str) -> Vary:
         bounds.append(x)
     if not bounds[0] < bounds[1]:
         raise UserError(f"--vary {key}={rng}: LOW = {bounds[0]:g} must be below HIGH = {bounds[1]:g}")
-    return Vary(key, *bounds)
+    return Vary(key, *bounds)  # a continuous range: no count
 
 
 def parse_numbers(text: str, flag: str, what: str) -> tuple:
@@ -125,6 +111,19 @@ def parse_objectives(text: str, tooth_model: str) -> tuple:
         raise UserError(f"--objectives {text}: root needs the FE tooth (--tooth-model fe); the {tooth_model} tooth "
                         "has no root fillet")
     return names
+
+
+def check_loss_objective(objectives, spec) -> None:
+    """The objective ``loss`` (mesh power loss, docs/tribology.md) needs the file's [lubricant] and [rating]
+    pinion_speed_rpm (one line otherwise)."""
+    if "loss" not in objectives:
+        return
+    if not spec.lubricant.given:
+        raise UserError(f"--objectives {','.join(objectives)}: loss needs a [lubricant] section in {spec.source} "
+                        "(an oil: iso_vg or the viscosities, temperature_c; docs/tribology.md)")
+    if spec.rating.pinion_speed_rpm is None:
+        raise UserError(f"--objectives {','.join(objectives)}: loss needs rating.pinion_speed_rpm in {spec.source} "
+                        "(the speed of the mesh power loss)")
 
 
 def default_population(n_vary: int) -> int:
@@ -282,14 +281,14 @@ class Request:
         from ..spec import SpecError
 
         base = self.baseline_values()
-        for corner in itertools.product(*((v.low, v.high) for v in self.varies)):
+        for corner in itertools.product(*((v.start, v.stop) for v in self.varies)):
             values = dict(base, **dict(zip(self.keys, corner)))
             try:
                 self.spec(values)
             except SpecError as exc:
                 v = next((v for v in self.varies if exc.key and exc.key == v.key), self.varies[0])
                 x = values[v.key]
-                name = "LOW" if x == v.low else "HIGH"
+                name = "LOW" if x == v.start else "HIGH"
                 others = ", ".join(f"{k} = {values[k]:g}" for k in self.keys if k != v.key)
-                raise UserError(f"--vary {v.key}={v.low:g}:{v.high:g}: {name} = {x:g} is refused by the spec"
+                raise UserError(f"--vary {v.key}={v.start:g}:{v.stop:g}: {name} = {x:g} is refused by the spec"
                                 f"{' with ' + others if others else ''}: {exc.detail}") from None

@@ -12,8 +12,7 @@ where it ran, so the run is the same on one worker, N workers and a cluster, and
 
 What the algorithm is told: the objectives of a candidate that is ``ok``, else a large number; the
 constraint g, <= 0 exactly when ``beveloid rating``'s verdict passes (evaluate.shortfall: the worst
-relative shortfall of the verdict's deciding safeties and of its edge-contact rule), and 1e3 for a
-candidate without numbers.
+relative shortfall over the verdict's governing criteria), and 1e3 for a candidate without numbers.
 """
 from __future__ import annotations
 
@@ -24,12 +23,12 @@ import time
 
 import numpy as np
 
-from ..errors import ErrorCode, StopReason, UserError
+from ..errors import StopReason
+from ..runstore import REQUEST, RunStore  # noqa: F401  (REQUEST: the CLI reads it here)
 from ..status import EvaluationStatus
 from .evaluate import evaluate, evaluate_task
 from .request import Request
 
-REQUEST = "request.json"
 CANDIDATES = "candidates"
 BASELINE = "baseline"
 #: what the algorithm is told for a candidate without numbers
@@ -58,37 +57,19 @@ def load(out_dir: str, name) -> dict | None:
         return None
 
 
-def _held(path: str) -> dict | None:
-    """The request a run left (None when there is none)."""
-    if not os.path.exists(path):
-        return None
-    with open(path) as f:
-        return json.load(f)
-
-
 def prepare(out_dir: str, req: Request | None, resume: bool, budget: int | None = None) -> Request:
-    """Create DIR (fresh) or read its request (resume; ``budget`` extends it); refuse to mix two runs."""
+    """Create DIR (fresh) or read its request (resume; ``budget`` extends it); refuse to mix two runs
+    (:class:`beveloid.runstore.RunStore`)."""
     from ..explore.run import code_version
 
-    path = os.path.join(out_dir, REQUEST)
-    held = _held(path)
+    store = RunStore(out_dir, CANDIDATES, "candidates", "optimisation")
     if resume:
-        if held is None:
-            raise UserError(f"--resume {out_dir}: no {REQUEST} there; start a run with --out {out_dir}")
-        if held.get("code") != code_version():
-            raise UserError(f"--resume {out_dir}: its candidates were computed by another version of beveloid"
-                            f" ({held.get('code')}); start the run again with --out", code=ErrorCode.STALE_RESULTS)
+        held = store.resumed(code_version())
         req = Request.from_json(held if budget is None else dict(held, budget=budget))
     else:
         req = Request.from_json(dict(req.to_json(), code=code_version()))
-        mine = json.loads(json.dumps(req.to_json()))
-        if held is not None and {k: v for k, v in held.items() if k != "budget"} != \
-                {k: v for k, v in mine.items() if k != "budget"}:
-            raise UserError(f"--out {out_dir}: holds another optimisation ({REQUEST}); continue it with --resume"
-                            f" {out_dir} or choose another --out")
-    os.makedirs(os.path.join(out_dir, CANDIDATES), exist_ok=True)
-    with open(path, "w") as f:
-        json.dump(req.to_json(), f, indent=1)
+        store.check_fresh(req.to_json(), ignore=("budget",))
+    store.write(req.to_json())
     return req
 
 
@@ -109,8 +90,8 @@ def initial(req: Request, baseline: dict | None = None) -> np.ndarray:
     from the design it is to improve, and its front is never worse than that design (if feasible)."""
     from scipy.stats import qmc
 
-    lo = np.array([v.low for v in req.varies])
-    hi = np.array([v.high for v in req.varies])
+    lo = np.array([v.start for v in req.varies])
+    hi = np.array([v.stop for v in req.varies])
     u = qmc.LatinHypercube(d=len(req.varies), seed=np.random.default_rng(req.seed)).random(req.population)
     X = lo + u * (hi - lo)
     if baseline is not None:
@@ -127,7 +108,7 @@ def algorithm(req: Request, baseline: dict | None = None):
     from pymoo.termination.max_eval import MaximumFunctionCallTermination
 
     problem = Problem(n_var=len(req.varies), n_obj=len(req.objectives), n_ieq_constr=1,
-                      xl=np.array([v.low for v in req.varies]), xu=np.array([v.high for v in req.varies]))
+                      xl=np.array([v.start for v in req.varies]), xu=np.array([v.stop for v in req.varies]))
     alg = NSGA2(pop_size=req.population, sampling=initial(req, baseline), eliminate_duplicates=True)
     alg.setup(problem, termination=MaximumFunctionCallTermination(10 ** 9), seed=req.seed, verbose=False)
     return alg

@@ -5,6 +5,8 @@ the local stresses of the loaded contact, with permissible stresses and safety f
 from __future__ import annotations
 
 from .analysis import DEFAULT_POSITIONS, LoadedContact, MemberRating, Options, SectionRating, analyze
-from .report import RatingResult, to_json_dict
+from .report import RatingResult
+from .verdict import EXIT_STATUS, verdict
 
-__all__ = ["DEFAULT_POSITIONS", "LoadedContact", "MemberRating", "Options", "RatingResult", "SectionRating", "analyze", "to_json_dict"]
+__all__ = ["DEFAULT_POSITIONS", "EXIT_STATUS", "LoadedContact", "MemberRating", "Options", "RatingResult",
+           "SectionRating", "analyze", "verdict"]

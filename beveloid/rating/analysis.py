@@ -71,13 +71,18 @@ def _one_torque(load):
 
 @dataclass(frozen=True)
 class EdgeContact:
-    """The largest edge pressure of the loaded contact and the flank edge it is at."""
+    """The most loaded flank edge of the loaded contact (``edge.edge_loads``): the mean pressure within
+    ``band_mm`` of the edge, the force there, and the relief the edge already has."""
 
     pressure_mpa: float
     member: str  # whose edge: "pinion" | "gear"
     edge: str  # "toe" | "heel" | "tip"
     pinion_angle_rad: float
     tooth_pair: int
+    force_n: float = math.nan
+    share: float = math.nan  # force_n over the pair's load
+    band_mm: float = math.nan
+    relief_now_um: float = 0.0  # the spec's tip relief (tip) or end relief (toe, heel) of that member
 
     @property
     def where(self) -> str:
@@ -153,35 +158,24 @@ def loaded_contact(ltca_result, geometry, face_width_mm: float) -> LoadedContact
     k_mesh = ltca_summary(ltca_result)["mesh_stiffness_mean_n_per_um"]
     k_mesh = float(k_mesh) if np.isfinite(k_mesh) else None
     return LoadedContact(p_surf, p_edge, loads, root, root_where, tuple(notes), where, face,
-                         _edge_contact(ltca_result, geometry) if p_edge is not None else None, k_mesh)
+                         _edge_contact(ltca_result, geometry), k_mesh)
 
 
 def _edge_contact(result, geometry) -> EdgeContact | None:
-    """The cell carrying the largest edge pressure and the flank edge nearest to it: a face end (toe,
-    heel) or the tip of either member (the form limit of one member meets the other's tip)."""
-    from ..ltca.model.grid import interior
+    """The edge band of largest mean pressure (``edge.edge_loads``), None when no load comes near an edge."""
+    from .edge import edge_loads
 
-    g = result.grid
-    p = result.pressure_mpa
-    edge_cells = (p > 0) & ~interior(p, result.gap.in_flank, g.across_cells, g.along_cells).reshape(p.shape)
-    edge_cells &= result.converged[:, None, None]
-    if not edge_cells.any():
+    e = edge_loads(result, geometry)
+    if e is None:
         return None
-    j, k, c = np.unravel_index(int(np.argmax(np.where(edge_cells, p, -1.0))), p.shape)
-    best = None
-    for member, pts in (("pinion", result.gap.pinion_point), ("gear", result.gap.gear_point)):
-        point = pts[j, k, c]
-        if not np.isfinite(point).all():
-            continue
-        z = float(sections.face_z(geometry, member, point[2]))
-        w = float(sections.half_face(geometry, member))
-        tip = float(sections.section(geometry, member, float(np.clip(z, -w, w))).tip_radius)
-        for name, distance in (("toe" if z < 0 else "heel", w - abs(z)), ("tip", tip - float(np.hypot(*point[:2])))):
-            if best is None or distance < best[0]:
-                best = (distance, member, name)
-    if best is None:
-        return None
-    return EdgeContact(float(p[j, k, c]), best[1], best[2], float(result.pinion_angle[j]), int(result.tooth_pairs[k]))
+    return EdgeContact(e.pressure_mpa, e.member, e.edge, e.pinion_angle_rad, e.tooth_pair, e.force_n, e.share,
+                       e.band_mm)
+
+
+def edge_relief_um(spec, member: str, edge: str) -> float:
+    """The relief the spec gives that edge (um): tip relief at a tip, end relief at a toe or heel (0 without)."""
+    opts = dict(getattr(spec, member).surface_options)
+    return float(opts.get("tip_relief_um" if edge == "tip" else "end_relief_um", 0.0) or 0.0)
 
 
 def _patch_centre_face_z(geometry, flank, tangency) -> dict:
@@ -217,6 +211,11 @@ class SectionRating:
     safety_bending_iso: float
     safety_pitting_iso: float
     status: str = Validity.OK
+    #: method B's inputs (issue 57.8): the section's virtual gear, its mate and the loaded face length
+    #: (eps_beta), None where method B had no answer
+    virtual: iso6336.CylindricalGear | None = None
+    mate: iso6336.CylindricalGear | None = None
+    loaded_length_mm: float = math.nan
 
 
 @dataclass(frozen=True)
@@ -294,7 +293,7 @@ def _rate_section(inp: RateInput, member: str, z_face: float, name: str) -> Sect
     return SectionRating(
         name, float(z_face), bend.virtual_teeth, gear.profile_shift, math.degrees(sg.helix_angle_signed), bend,
         y_beta, sf0, cf, sh0, k_hb, k_fb, s_f, s_h, f.root_strength_mpa(member) / s_f,
-        f.contact_strength_mpa(member) / s_h, _validity(bend, pair_loaded))
+        f.contact_strength_mpa(member) / s_h, _validity(bend, pair_loaded), gear, mate, loaded)
 
 
 def _validity(bend, pair) -> str:
@@ -379,6 +378,8 @@ def analyze(pair, load, options: Options | None = None, *, solver=None, ltca_res
         ltca_result = ltca.analyze(pair, load.at(load.torque_nm * (factors.K_A * factors.K_v)), options.ltca,
                                    solver=solver)
     lc = loaded_contact(ltca_result, geom, b)
+    if lc.edge is not None:
+        lc = replace(lc, edge=replace(lc.edge, relief_now_um=edge_relief_um(spec, lc.edge.member, lc.edge.edge)))
     if factors.K_v_source == "method B" and dyn is None:  # the caller's LTCA: its own stiffness
         dyn, factors = _with_dynamic_factor(pair, load, options, factors, lc, elastic)
     inp = RateInput(geom, options.flank, load.torque_nm, b, lc.face_load, factors, elastic)
@@ -404,10 +405,12 @@ def analyze(pair, load, options: Options | None = None, *, solver=None, ltca_res
                          "contact is longer than the common face width): K_H_beta = 1")
     if dyn is not None:
         notes += dynamic_notes(dyn)
-    if lc.edge is not None:
-        notes.append(f"edge contact: peak edge pressure {lc.edge.pressure_mpa:.0f} MPa at {lc.edge.where} "
-                     "(grid-dependent; not in S_H, judged by the edge-contact rule of the verdict)")
-    return RatingResult(load.torque_nm, options.flank, members, lc, factors, tuple(notes), dyn)
+    if lc.edge_pressure_max_mpa is not None:
+        notes.append(f"edge contact: the largest edge cell pressure is {lc.edge_pressure_max_mpa:.0f} MPa (singular, "
+                     "grid-dependent; not in S_H); the edge-contact rule of the verdict judges the load within a "
+                     "band of the edge instead" + ("" if lc.edge is None else f" ({lc.edge.where})"))
+    return RatingResult(load.torque_nm, options.flank, members, lc, factors, tuple(notes), dyn, pair=pair,
+                        options=options)
 
 
 def _with_dynamic_factor(pair, load, options, factors, lc, elastic):

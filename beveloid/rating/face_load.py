@@ -55,6 +55,19 @@ def _trapezoid_cdf(t, a, b):
     return (ramp2(t + h) - ramp2(t + d) - ramp2(t - d) + ramp2(t - h)) / (2 * a * b)
 
 
+def _affine_slopes(v, x, y, fit):
+    """(dv/dx, dv/dy) of a quantity v over a pair's grid (the face coordinate here, the distance to an
+    edge in ``edge``): least squares over every cell whose point exists, ``fit`` (the whole grid, not
+    only the loaded or in-flank cells: a pair with one or two loaded cells, or in-flank cells along one
+    grid line, leaves a fit on those underdetermined, issue 57)."""
+    A = np.stack([np.ones(int(fit.sum())), x[fit], y[fit]], axis=-1)
+    (_, sx, sy), _, rank, _ = np.linalg.lstsq(A, v[fit], rcond=None)
+    if rank < 3:
+        raise ValueError(f"a quantity over a contact grid has no plane fit ({int(fit.sum())} cells with a point): "
+                         "the footprint of its cells is undefined")
+    return sx, sy
+
+
 def _cell_footprints(result, geometry, member, j, k):
     """(face z of each loaded cell, its force N, trapezoid widths a, b) of pair k at position j."""
     p = result.pressure_mpa[j, k]
@@ -66,9 +79,7 @@ def _cell_footprints(result, geometry, member, j, k):
         return None
     z = np.asarray(sections.face_z(geometry, member, pts[..., 2]), dtype=float)
     x, y = (c.reshape(-1) for c in result.cell_coordinates_mm(j, k))
-    fit = ok if ok.sum() >= 3 else use
-    A = np.stack([np.ones(int(fit.sum())), x[fit], y[fit]], axis=-1)
-    (_, sx, sy), *_ = np.linalg.lstsq(A, z[fit], rcond=None)
+    sx, sy = _affine_slopes(z, x, y, np.isfinite(pts).all(axis=-1))
     g = result.grid
     dx, dy = 2 * g.across_half_mm[j, k] / g.across_cells, 2 * g.along_half_mm[j, k] / g.along_cells
     force = p[use] * result.cell_area_mm2[j, k]

@@ -83,7 +83,8 @@ MATERIALS = {m.name: m for m in (
     Material("nodular-cast-iron", "GGG (nodular cast iron, pearlitic or bainitic)", "hbw", 250.0,
              _rows((1.434, 211.0, 175, 300), (1.434, 211.0, 175, 300), (1.500, 250.0, 200, 300)),
              _rows((0.350, 119.0, 175, 300), (0.350, 119.0, 175, 300), (0.380, 134.0, 200, 300)),
-             Z_NT_EH_V, Y_NT_V, "cast-iron", 7.1e-6),
+             # ISO 6336-1 groups GGG (perl., bai.) with St and V for the running-in allowances (issue 57.7)
+             Z_NT_EH_V, Y_NT_V, "through-hardened", 7.1e-6),
 )}
 
 assert tuple(MATERIALS) == MATERIAL_TYPES, "beveloid/spec/keys.py MATERIAL_TYPES and the table here differ"

@@ -4,14 +4,19 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..status import Verdict
+from ..result import Result
 
-__all__ = ["RatingResult", "SEC_KEYS", "to_json_dict"]
+__all__ = ["RatingResult", "SEC_KEYS"]
 
-#: the keys of one section in the JSON, in order
+#: the keys of one section in the JSON, in order; from "normal_module_mm" on, every input of method B
+#: (issue 57.8): the virtual gear's own normal module and flank-specific normal pressure angle (not the
+#: rack's), its diameters and rack, the face length in contact (eps_beta) and the mate's (the same m_n,
+#: alpha_n and helix as the rated section's virtual gear)
 SEC_KEYS = ("virtual_teeth", "normal_profile_shift", "helix_angle_deg", "s_Fn_mm", "rho_F_mm", "h_Fe_mm",
             "alpha_Fen_deg", "Y_F", "Y_S", "Y_beta", "f_eps", "sigma_F0_mpa", "Z_H", "Z_E", "Z_eps", "Z_beta",
-            "sigma_H0_mpa")
+            "sigma_H0_mpa", "normal_module_mm", "normal_pressure_angle_deg", "reference_diameter_mm",
+            "tip_diameter_mm", "rack_dedendum_mm", "rack_tip_radius_mm", "loaded_face_width_mm", "mate_teeth",
+            "mate_normal_profile_shift", "mate_tip_diameter_mm", "mate_rack_dedendum_mm", "mate_rack_tip_radius_mm")
 
 
 def _num(v):
@@ -23,21 +28,24 @@ def _num(v):
 
 
 def section_json(s) -> dict:
-    b, c = s.bending, s.contact
+    b, c, g, m = s.bending, s.contact, s.virtual, s.mate
+    nan = math.nan
+    gear = ((nan,) * 6 if g is None else
+            (g.normal_module_mm, math.degrees(g.normal_pressure_angle), g.reference_diameter_mm, g.tip_diameter_mm,
+             g.rack_dedendum_mm, g.rack_tip_radius_mm))
+    mate = (nan,) * 5 if m is None else (m.teeth, m.profile_shift, m.tip_diameter_mm, m.rack_dedendum_mm,
+                                         m.rack_tip_radius_mm)
     values = (s.virtual_teeth, s.normal_profile_shift, s.helix_angle_deg, b.s_Fn_mm, b.rho_F_mm, b.h_Fe_mm,
               math.degrees(b.alpha_Fen), b.Y_F, b.Y_S, s.Y_beta, b.f_eps, s.sigma_F0_mpa, c.Z_H, c.Z_E, c.Z_eps,
-              c.Z_beta, s.sigma_H0_mpa)
+              c.Z_beta, s.sigma_H0_mpa, *gear, s.loaded_length_mm, *mate)
     return {k: _num(v) for k, v in zip(SEC_KEYS, values)}
 
 
-#: the edge-contact rule of the verdict (docs/rating.md 6), quoted in the JSON
-EDGE_RULE = ("edge contact: a pair whose largest edge pressure at K_A K_v T exceeds sigma_Hlim Z_NT / S_Hmin of "
-             "the weaker member does not pass cleanly; it passes only if that edge is relieved (end relief at a "
-             "toe or heel, tip relief at a tip), and fails if it would fail anyway")
-
-
 @dataclass(frozen=True)
-class RatingResult:
+class RatingResult(Result):
+    """The rating of ``pair`` under ``options``: per member its ratings, the loaded contact, the factors;
+    deep-frozen, its JSON by :meth:`to_json`."""
+
     torque_nm: float
     flank: str
     members: dict  # "pinion" | "gear" -> analysis.MemberRating
@@ -45,6 +53,10 @@ class RatingResult:
     factors: object  # factors.Factors
     notes: tuple
     dynamic: object = None  # dynamic.DynamicFactor when K_v came from ISO 6336-1 method B
+
+    def to_json(self) -> dict:
+        """The JSON of ``beveloid rating --json`` (issue 32's contract)."""
+        return _json(self)
 
     def safeties(self) -> list:
         """Every safety factor as (value, kind, source, member, where, required)."""
@@ -62,49 +74,16 @@ class RatingResult:
         return out
 
     def edge_contact(self) -> dict | None:
-        """The edge-contact rule applied (None without edge contact)."""
-        e = self.loaded.edge
-        if e is None:
-            return None
-        f = self.factors
-        strength = min(f.contact_strength_mpa(m) for m in self.members)
-        safety = strength / e.pressure_mpa
-        return {"rule": EDGE_RULE, "pressure_mpa": _num(e.pressure_mpa), "at": e.where, "member": e.member,
-                "edge": e.edge, "relief": e.relief, "permissible_mpa": _num(strength / f.S_Hmin),
-                "safety": _num(safety), "exceeds": bool(safety < f.S_Hmin),
-                "pinion_angle_rad": _num(e.pinion_angle_rad), "tooth_pair": e.tooth_pair}
+        """The edge-contact rule applied (None without edge contact): ``verdict.edge_criterion``."""
+        from .verdict import edge_criterion
+
+        return edge_criterion(self)
 
     def verdict(self) -> dict:
-        """The lowest safety relative to its minimum, whether every safety meets its minimum (the local
-        values decide where they exist, the ISO ones otherwise), and the edge-contact rule."""
-        all_ = [s for s in self.safeties() if _num(s[0]) is not None]
-        local_kinds = {s[1] for s in all_ if s[2] == "local"}
-        deciding = [s for s in all_ if s[2] == "local" or s[1] not in local_kinds]
-        edge = self.edge_contact()
-        if not deciding:
-            return {"lowest": None, "value": None, "source": None, "member": None, "where": None, "required": None,
-                    "meets_S_Fmin": None, "meets_S_Hmin": None, "edge_contact": edge, "status": None,
-                    "condition": None, "passes": None, "line": "no safety factor could be computed (see notes)"}
-        low = min(deciding, key=lambda s: s[0] / s[5])
-        ok_f = all(s[0] >= s[5] for s in deciding if s[1] == "S_F")
-        ok_h = all(s[0] >= s[5] for s in deciding if s[1] == "S_H")
-        line = (f"lowest safety {low[1]} = {low[0]:.3f} ({low[2]}) on the {low[3]} at {low[4]}; "
-                f"S_F {'meets' if ok_f else 'FAILS'} S_Fmin = {self.factors.S_Fmin:g}, "
-                f"S_H {'meets' if ok_h else 'FAILS'} S_Hmin = {self.factors.S_Hmin:g}")
-        status, condition = (Verdict.PASSES if ok_f and ok_h else Verdict.FAILS), None
-        if edge is not None and edge["exceeds"]:
-            condition = f"passes only if {edge['at']} is relieved ({edge['relief']})"
-            line += (f"; edge contact at {edge['at']}: {edge['pressure_mpa']:.0f} MPa > sigma_Hlim Z_NT / S_Hmin = "
-                     f"{edge['permissible_mpa']:.0f} MPa (edge-contact rule): ")
-            if status == Verdict.PASSES:
-                status = Verdict.CONDITIONAL
-                line += f"CONDITIONAL, {condition}"
-            else:
-                line += "FAILS also without it"
-        return {"lowest": low[1], "value": _num(low[0]), "source": low[2], "member": low[3], "where": low[4],
-                "required": low[5], "meets_S_Fmin": ok_f, "meets_S_Hmin": ok_h, "edge_contact": edge,
-                "status": status, "condition": condition if status == Verdict.CONDITIONAL else None,
-                "passes": status == Verdict.PASSES, "line": line}
+        """The verdict: :func:`beveloid.rating.verdict.verdict` of this result."""
+        from .verdict import verdict
+
+        return verdict(self)
 
 
 def _face_load_json(fl) -> dict:
@@ -113,7 +92,7 @@ def _face_load_json(fl) -> dict:
             "loaded_length_mm": _num(fl.loaded_length_mm)}
 
 
-def to_json_dict(r: RatingResult) -> dict:
+def _json(r: RatingResult) -> dict:
     f = r.factors
     out = {"torque_nm": float(r.torque_nm), "flank": r.flank, "K_A": float(f.K_A), "K_v": _num(f.K_v),
            "K_v_source": f.K_v_source,

@@ -93,10 +93,10 @@ def case_task(case, out, model):
     rows, lines, results = [], [], []
     for t in TORQUES_NM:
         _say(f"loaded contact {case}, T1 = {t:g} N m")
-        r = ltca.analyze(g, ltca.LoadCase(t), ltca.Options(flank=FLANK, positions=POSITIONS, tooth_model=model))
+        r = ltca.analyze(g, ltca.LoadCase(t), ltca.Options(flank=FLANK, positions=POSITIONS, tooth_model=model)).with_patterns()
         results.append(r)
         ok = r.converged
-        fr = {m: r.pattern(g, m).area_fraction for m in ("pinion", "gear")}
+        fr = {m: r.pattern(m).area_fraction for m in ("pinion", "gear")}
         te = r.loaded_te[ok] * 1e6
         share = np.nanmax(r.pair_load_n[ok] / r.pair_load_n[ok].sum(axis=1, keepdims=True)) if ok.any() else np.nan
         row = (case, math.degrees(design.fpd_angle_right), t, t * g.gear.teeth / g.pinion.teeth,

@@ -174,12 +174,10 @@ def edge_onset_offset(geom, flank, direction=+1.0, hi=3.0, tol=1e-4):
 
 
 def bearing_pattern_figure(geom, results, labels, out_png, title):
-    """The hook for the bearing patterns: contact ellipses attached to each result, then drawn
+    """The hook for the bearing patterns: the results' contact ellipses (tca.Options.approach_mm), drawn
     (beveloid/contact_ellipse.py, plots.bearing_patterns)."""
     from .. import plots
-    from ..contact_ellipse import with_ellipses
 
-    results = [r if r.approach_mm is not None else with_ellipses(r) for r in results]
     plots.bearing_patterns(results, labels, geom, FLANK, out_png, title)
 
 
@@ -215,7 +213,7 @@ def _study_task(figure, positions, out):
     st = next(s for s in STUDIES if s.figure == figure)
     out = Path(out)
     g = Pair.example(st.case).geometry
-    res = [tca.analyze(g, tca.Options(positions=positions, approach_mm=None, errors=_err_vec(e))) for _, e in st.errors]
+    res = [tca.analyze(g, tca.Options(positions=positions, errors=_err_vec(e))) for _, e in st.errors]  # with ellipses
     labels = [lab for lab, _ in st.errors]
     plots.contact_paths(res, labels, g, FLANK, out / f"fig{st.figure}_contact_path.png",
                         f"Fig {st.figure} - {st.title} ({FLANK} flank)")
@@ -268,12 +266,10 @@ def _chords_task():
     """A piece once the core's paths are compiled (and in numba's cache): the contact ellipses of the
     bearing patterns compiled on a worker, by those of a small TCA; returns its seconds."""
     from .. import tca
-    from ..contact_ellipse import with_ellipses
     from ..pair import Pair
 
     t0 = time.perf_counter()
-    with_ellipses(tca.analyze(Pair.example("case1").geometry,
-                              tca.Options(positions=12, approach_mm=None, errors=np.zeros(5))))
+    tca.analyze(Pair.example("case1").geometry, tca.Options(positions=12, errors=np.zeros(5)))  # with ellipses
     return time.perf_counter() - t0
 
 

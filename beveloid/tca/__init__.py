@@ -26,8 +26,8 @@ Conventions (the paper is silent on these; see docs/validation.md):
 
 Shape (as every analysis package): :class:`Options` (frozen, self-validating: the one range
 table the CLI reads; the errors too), ``analyze(pair_or_geometry, options, *, solver=None) ->
-TCAResult`` (immutable, with its contact ellipses at ``options.approach_mm``), its JSON by
-``TCAResult.to_json_dict()``.  Modules: contact (kernels and unknowns by name), reference (the
+TCAResult`` (a :class:`beveloid.result.Result`: deep-frozen, holding its pair and options, with its contact
+ellipses at ``options.approach_mm``), its JSON by ``TCAResult.to_json()``.  Modules: contact (kernels and unknowns by name), reference (the
 pitch-point contact, first-touch sign), grid (the solver over error sets x angles), flank (one
 flank over the mesh), backlash, sensitivity, result; the TE formula and the pair envelope are
 :mod:`beveloid.mesh`.
@@ -46,7 +46,7 @@ from .flank import FlankResult, mesh_angles, mesh_flank  # noqa: F401
 from .grid import SERIAL_MAX_SETS, GridSolution, solve_grid, solved_contact_points  # noqa: F401
 from .options import OptionError, Options  # noqa: F401
 from .reference import Reference, first_touch_sign, gap_sign, pitch_point_notes, reference_contact  # noqa: F401
-from .result import TCAResult, analyze, run, to_json_dict, with_ellipses  # noqa: F401
+from .result import TCAResult, analyze, run  # noqa: F401
 from .sensitivity import sensitivity  # noqa: F401
 
 __all__ = ["analyze", "Backlash", "backlash", "BACKLASH_PAIRS", "BACKLASH_POSITIONS",
@@ -56,4 +56,4 @@ __all__ = ["analyze", "Backlash", "backlash", "BACKLASH_PAIRS", "BACKLASH_POSITI
            "newton_tolerance", "NoContactError", "OptionError", "Options", "PairGeometry", "pitch_point_notes",
            "Reference", "reference_contact", "run", "sensitivity", "SERIAL_MAX_SETS",
            "solve_grid", "solved_contact_points", "Solver", "SolverOptions", "surface", "surface_jacobian",
-           "tangent", "tca_kernels", "TCAResult", "to_json_dict", "unknowns", "whole_pitches", "with_ellipses"]
+           "tangent", "tca_kernels", "TCAResult", "unknowns", "whole_pitches"]

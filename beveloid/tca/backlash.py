@@ -8,6 +8,7 @@ import numpy as np
 
 from .. import mesh
 from ..geometry import PairGeometry
+from ..result import Frozen
 from ..solver import Solver
 from ..status import Status, carries_numbers
 from .contact import ERROR_NAMES, FLANKS, errors_array, unknowns
@@ -16,7 +17,7 @@ from .reference import first_touch_sign, reference_contact
 
 
 @dataclass(frozen=True)
-class Backlash:
+class Backlash(Frozen):
     """Two-flank circumferential backlash at the gear's working pitch radius.
 
     ``um`` is the functional backlash: the smallest play over one mesh cycle (one pinion

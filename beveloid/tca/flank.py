@@ -8,6 +8,7 @@ import numpy as np
 from .. import mesh
 from ..generated import tca_kernels
 from ..geometry import PairGeometry
+from ..result import Frozen
 from ..solver import Solver
 from ..solver.options import DEFAULT_OPTIONS
 from ..status import Status, carries_numbers
@@ -18,8 +19,9 @@ from .reference import first_touch_sign, reference_contact
 
 
 @dataclass(frozen=True)
-class FlankResult:
-    """One flank over the mesh: pairs x positions, flattened in pair-major order."""
+class FlankResult(Frozen):
+    """One flank over the mesh: pairs x positions, flattened in pair-major order (frozen: its arrays
+    read-only, its sequences tuples)."""
 
     flank: str
     pinion_angle: np.ndarray
@@ -27,11 +29,11 @@ class FlankResult:
     transmission_error: np.ndarray
     pinion_contact: np.ndarray  # (n, 3) in S1
     gear_contact: np.ndarray  # (n, 3) in S2
-    status: list
+    status: tuple
     tooth_pair: np.ndarray
     active: np.ndarray  # carries the contact (envelope of all pairs) at its pinion angle
     iterations: np.ndarray
-    nearest_boundary: list
+    nearest_boundary: tuple
     #: rad, of the envelope where it is complete (te_envelope_complete); nan with fewer than two such
     #: positions (one position, or too few pairs for the contact ratio)
     te_peak_to_peak: float
@@ -39,7 +41,7 @@ class FlankResult:
     contact_ellipse: object = None  # contact_ellipse.ContactEllipses, when computed (tca.Options.approach_mm)
     #: per point: None (surface contact or no contact), else the boundary of an edge contact
     #: ("pinion tip") or the two of a corner contact ("corner: pinion tip / gear heel")
-    contact_boundary: list = None
+    contact_boundary: tuple = None
     #: per point: the contact's smallest margin (mm) to the boundaries that do not carry it; nan without contact
     boundary_margin_mm: np.ndarray = None
     #: per position: no tooth pair beyond those solved can carry the contact there (mesh.envelope_complete)
@@ -56,7 +58,7 @@ class FlankResult:
         solved = np.array([st != Status.FAILED.label for st in self.status])
         return float(np.mean(self.iterations[solved])) if solved.any() else None
 
-    def to_json_dict(self):
+    def to_json(self) -> dict:
         nan_to_none = lambda a: [None if not np.isfinite(v) else float(v) for v in a]  # noqa: E731
         pts = lambda P: [None if not np.all(np.isfinite(p)) else [float(c) for c in p] for p in P]  # noqa: E731
         return {
@@ -69,7 +71,7 @@ class FlankResult:
             "tooth_pair": [int(k) for k in self.tooth_pair],
             "active": [bool(a) for a in self.active],
             "nearest_boundary": list(self.nearest_boundary),
-            **(self.contact_ellipse.to_json_dict() if self.contact_ellipse is not None else {}),
+            **(self.contact_ellipse.to_json() if self.contact_ellipse is not None else {}),
             "newton_iterations": [int(k) for k in self.iterations],
             "newton_iterations_mean": self.newton_iterations_mean,
             "contact_boundary": (list(self.contact_boundary) if self.contact_boundary is not None

@@ -44,7 +44,7 @@ class Options:
         _integer("positions", self.positions, *POSITIONS)
         _integer("pairs", self.pairs, *PAIRS, odd=True)
         if self.approach_mm is not None:
-            check_approach(self.approach_mm, "approach_mm", 1.0, "mm")
+            check_approach(self.approach_mm)
         if self.window_pitches is not None and not (isinstance(self.window_pitches, numbers.Real)
                                                     and 0 < self.window_pitches <= 100):
             raise OptionError("window_pitches", self.window_pitches, "must be a number > 0 and <= 100, or None")

@@ -1,4 +1,4 @@
-"""The result of a TCA (immutable) and its JSON writer, and analyze()."""
+"""The result of a TCA (deep-frozen, its JSON by ``to_json()``) and analyze()."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -8,6 +8,7 @@ import numpy as np
 from .. import assembly_errors
 from ..contact_ellipse import with_ellipses
 from ..geometry import PairGeometry
+from ..result import Result
 from ..solver import Solver
 from .backlash import Backlash, backlash
 from .contact import ERROR_NAMES, FLANKS, errors_array, geometry_of
@@ -17,7 +18,10 @@ from .reference import pitch_point_notes
 
 
 @dataclass(frozen=True)
-class TCAResult:
+class TCAResult(Result):
+    """The TCA of ``pair`` (a Pair or the PairGeometry analysed) under ``options`` (a :class:`tca.Options`):
+    per flank its :class:`FlankResult`, the backlash when both flanks are solved, the notes; frozen."""
+
     geometry: PairGeometry
     errors: np.ndarray
     flanks: dict = field(default_factory=dict)  # flank name -> FlankResult
@@ -29,15 +33,15 @@ class TCAResult:
     def backlash_um(self):
         return None if self.backlash is None else self.backlash.um
 
-    def to_json_dict(self):
-        return to_json_dict(self)
+    def to_json(self) -> dict:
+        """The JSON of `beveloid tca --json` (docs: beveloid/cli/tca.py)."""
+        return _json(self)
 
 
-def to_json_dict(result: TCAResult) -> dict:
-    """The JSON of `beveloid tca --json` (docs: beveloid/cli/tca.py)."""
+def _json(result: TCAResult) -> dict:
     out = {
         "errors": assembly_errors.from_layout(result.errors),
-        "flanks": {k: v.to_json_dict() for k, v in result.flanks.items()},
+        "flanks": {k: v.to_json() for k, v in result.flanks.items()},
         "te_peak_to_peak_urad": {k: (None if not np.isfinite(v.te_peak_to_peak) else v.te_peak_to_peak * 1e6)
                                  for k, v in result.flanks.items()},
     }
@@ -73,7 +77,7 @@ def run(pair, errors, options: Options, solver: Solver) -> TCAResult:
         notes += pitch_point_notes(geom, fl, solver.options)
     notes += _notes(flanks, options.positions)
     bl = backlash(geom, e, solver=solver) if set(options.flanks) == set(FLANKS) else None
-    result = TCAResult(geom, e, flanks, bl, tuple(notes))
+    result = TCAResult(geom, e, flanks, bl, tuple(notes), pair=pair, options=options)
     return with_ellipses(result, options.approach_mm, solver=solver) if options.approach_mm is not None else result
 
 

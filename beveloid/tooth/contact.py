@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..result import Frozen
 from .. import tca
 from ..generated import tca_kernels
 from ..solver import Solver
@@ -40,7 +41,7 @@ FORM_LIMITS = tuple(i for i, n in enumerate(tca_kernels.CONTACT_BOUNDARIES) if n
 
 
 @dataclass(frozen=True)
-class FlankContact:
+class FlankContact(Frozen):
     flank: str
     contact_ratio: float
     start_rad: float  # pinion angle phi'_1 where pair 0's contact starts / ends

@@ -1,5 +1,5 @@
-"""The whole-tooth checks of a designed pair: ``analyze(pair) -> ToothResult``, its JSON fields and
-its table.
+"""The whole-tooth checks of a designed pair: ``analyze(pair, options=None, *, solver=None) -> ToothResult``
+(a :class:`beveloid.result.Result`), its JSON fields and its table.
 
 Statuses (not refusals: the design stands, the designer decides): ``undercut`` (a flank is
 undercut somewhere in the face), ``pointed`` (the tip thickness reaches zero inside the face),
@@ -14,8 +14,10 @@ unit slip shows in).  Every value that could not be computed is ``None`` (JSON
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
+from ..errors import OptionError
+from ..result import Frozen, Result
 from ..solver.patch_cover import UnboundedPatch
 from ..tca import NoContactError
 from ..names import FLANKS, MEMBERS
@@ -31,14 +33,15 @@ def _mm(x, digits=4) -> str:
 
 
 @dataclass(frozen=True)
-class ToothOptions:
+class Options(Frozen):
     """What the checks sample: the contact ratio's grid (angles per pinion pitch)."""
     contact_per_pitch: int = 24
 
     def __post_init__(self):
-        if not (isinstance(self.contact_per_pitch, int) and 8 <= self.contact_per_pitch <= 1000):
-            raise ValueError(f"ToothOptions.contact_per_pitch = {self.contact_per_pitch!r}: must be an integer"
-                             " from 8 to 1000")
+        super().__post_init__()
+        if not (isinstance(self.contact_per_pitch, int) and not isinstance(self.contact_per_pitch, bool)
+                and 8 <= self.contact_per_pitch <= 1000):
+            raise OptionError("contact_per_pitch", self.contact_per_pitch, "must be an integer from 8 to 1000")
 
 
 #: what the design's contact ratio is, in its JSON and table
@@ -50,11 +53,13 @@ MODIFIED_NOTE = ("crowned or relieved flanks touch one tooth pair at a time with
 
 
 @dataclass(frozen=True)
-class ToothResult:
+class ToothResult(Result):
+    """The whole-tooth checks of ``pair`` under ``options`` (a :class:`Options`); deep-frozen."""
+
     undercut: dict  # {member: {flank: undercut.Undercut or None}}
     tip: dict  # {member: tip.TipThickness}
     contact: dict  # {flank: contact.FlankContact or None}: the flanks as designed (interference)
-    statuses: list = field(default_factory=list)  # [(status, message)]
+    statuses: tuple = ()  # ((status, message), ...)
     #: {flank: contact.FlankContact or None} of the unmodified flanks (None: the flanks carry no modification)
     unmodified: dict | None = None
 
@@ -69,8 +74,8 @@ class ToothResult:
         return RATIO_BASIS["as designed" if self.unmodified is None else "unmodified"]
 
     def member_json(self, member: str) -> dict:
-        return {"tip_transverse_thickness_mm": self.tip[member].to_json_dict(),
-                "undercut": {fl: (u.to_json_dict() if u is not None else None)
+        return {"tip_transverse_thickness_mm": self.tip[member].to_json(),
+                "undercut": {fl: (u.to_json() if u is not None else None)
                              for fl, u in self.undercut[member].items()}}
 
     def pair_json(self) -> dict:
@@ -80,7 +85,7 @@ class ToothResult:
                 "contact_ratio_modified_unloaded": modified,
                 "tooth_status": [{"status": s, "message": m} for s, m in self.statuses]}
 
-    def to_json_dict(self) -> dict:
+    def to_json(self) -> dict:
         """The whole-tooth JSON: per member its tip thickness and undercut, and the pair's fields
         (what :meth:`add_to` puts into the design JSON)."""
         return {**{member: self.member_json(member) for member in MEMBERS}, **self.pair_json()}
@@ -124,10 +129,16 @@ def _contacts(geom, options, solver, statuses, what) -> dict:
     return out
 
 
-def analyze(pair, options: ToothOptions = ToothOptions(), *, solver=None) -> ToothResult:
-    """Every whole-tooth check of a :class:`beveloid.pair.Pair` (or a PairGeometry); the contact ratio
-    solved by ``solver`` (a :class:`beveloid.solver.Solver`; None: the default, compiled when numba is
+def analyze(pair, options: Options | None = None, *, solver=None) -> ToothResult:
+    """Every whole-tooth check of a :class:`beveloid.pair.Pair` (or a PairGeometry) under ``options`` (None:
+    the default :class:`Options`); the contact ratio solved by ``solver`` (a :class:`beveloid.solver.Solver`;
+    None: the default, compiled when numba is
     installed)."""
+    if options is None:
+        options = Options()
+    elif not isinstance(options, Options):
+        raise TypeError(f"tooth.analyze(pair, options, *, solver=None) needs a tooth.Options, not "
+                        f"{type(options).__name__}")
     geom = getattr(pair, "geometry", pair)
     cut = undercut.undercut(geom)
     tips = tip.tip_thicknesses(geom)
@@ -166,4 +177,4 @@ def analyze(pair, options: ToothOptions = ToothOptions(), *, solver=None) -> Too
             statuses.append((ToothStatus.INTERFERENCE,
                              f"interference: {fl} flank, the {mate}'s tip reaches below the {owner}'s form"
                              f" limit{depth} (into its fillet) on the aligned pair's path of contact"))
-    return ToothResult(cut, tips, flanks, statuses, unmodified)
+    return ToothResult(cut, tips, flanks, statuses, unmodified, pair=pair, options=options)

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import minimize_scalar
 
+from ..result import Frozen
 from ..names import MEMBERS
 from . import sections
 
@@ -26,7 +27,7 @@ def _or_none(x) -> float | None:
 
 
 @dataclass(frozen=True)
-class TipThickness:
+class TipThickness(Frozen):
     """The member's transverse tip thickness along the face (mm; face coordinates z, toe at -W/2).
 
     A value that cannot be computed is None: in a section whose tip circle lies inside a flank's base
@@ -50,7 +51,7 @@ class TipThickness:
     def pointed(self) -> bool:
         return self.pointed_from_mm is not None
 
-    def to_json_dict(self):
+    def to_json(self) -> dict:
         return {"toe": self.toe_mm, "middle": self.middle_mm, "heel": self.heel_mm}
 
     def message(self):

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..result import Frozen
 from ..names import FLANKS, MEMBERS
 from . import sections
 
@@ -24,7 +25,7 @@ SCAN_POINTS = 41
 
 
 @dataclass(frozen=True)
-class Undercut:
+class Undercut(Frozen):
     """The face range (face coordinates, mm) where one flank is undercut, and the largest depth there."""
     member: str
     flank: str
@@ -33,7 +34,7 @@ class Undercut:
     depth_mm: float
     at_mm: float  # where the depth is largest
 
-    def to_json_dict(self):
+    def to_json(self) -> dict:
         return {"from_mm": self.from_mm, "to_mm": self.to_mm, "depth_mm": self.depth_mm}
 
     def message(self):

@@ -51,7 +51,7 @@ class Prepared:
         self.result, self.geom, self.lubricant = result, geom, lubricant
         self.roughness_ra_um = tuple(float(r) for r in roughness_ra_um)
         self.e_star_mpa = float(e_star_mpa)
-        self.cells = build(result, geom, errors)
+        self.cells = build(result, geom, errors, self.e_star_mpa)
         self.pitch = pitch_point(geom, result.flank)
 
     def at(self, speed_rpm) -> TribologyResult:

@@ -82,8 +82,11 @@ def evaluate_cells(cells: Cells, result, pp: PitchPoint, lub: Lubricant, speed_r
         force = p * c.area_mm2[..., None]  # N per cell
         loss_density = np.where(loaded, mu * p * vs, 0.0)  # W/mm^2
         cell_loss = loss_density * c.area_mm2[..., None]
-        hc, hm = laws.hamrock_dowson(0.5 * vsum, c.radius_sum_mm, c.radius_side_mm, c.pair_load_n,
-                                     lub.dynamic_viscosity_pa_s, lub.pressure_viscosity_1_per_pa, e_prime_mpa * 1e6)
+        oil = (lub.dynamic_viscosity_pa_s, lub.pressure_viscosity_1_per_pa, e_prime_mpa * 1e6)
+        hc, hm = laws.hamrock_dowson(0.5 * vsum, c.radius_sum_mm, c.radius_side_mm, c.pair_load_n, *oil)
+        lc, lm = laws.line_contact_film(0.5 * vsum, c.radius_sum_mm, c.line_load_n_per_mm, *oil)
+        line = c.line_contact[..., None]
+        hc, hm = np.where(line, lc, hc), np.where(line, lm, hm)
         hc, hm = np.where(loaded, hc, np.nan), np.where(loaded, hm, np.nan)
         lam = hm / ra
         b = laws.hertz_half_width_mm(c.line_load_n_per_mm, c.radius_sum_mm, e_prime_mpa)

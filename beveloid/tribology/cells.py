@@ -11,6 +11,7 @@ import numpy as np
 
 from ..generated import contact_kinematics, placement
 from ..ltca.model.gaps import principal_frame
+from ..ltca.model.grid import hertz_semi_axes
 
 #: relative curvature (1/mm) below which a direction counts as straight (R_y taken as 1e6 mm)
 STRAIGHT_CURVATURE = 1e-6
@@ -37,10 +38,18 @@ class Cells(typing.NamedTuple):
     radius_side_mm: np.ndarray  # ... perpendicular to it (R_y)
     entrainment_angle_deg: np.ndarray  # sum velocity to the contact ellipse's minor axis (0: across the line)
     pair_load_n: np.ndarray  # (N, P) broadcast to (N, P, C)
+    line_contact: np.ndarray  # (N, P) the LTCA's rule: the pair's Hertz ellipse is longer than the contact line
     pinion_lu: np.ndarray  # (N, P, C, 2)
 
 
-def build(result, geom, errors) -> Cells:
+def line_length_mm(geom):
+    """The contact line's length the LTCA sizes its grids with (ltca.analysis): face width / cos(helix)."""
+    import math
+
+    return geom.pinion.face_width_mm / max(math.cos(geom.pinion.helix_angle), 0.3)
+
+
+def build(result, geom, errors, e_star_mpa) -> Cells:
     """The cells of an LTCAResult of ``geom`` (a PairGeometry) with assembly ``errors`` (5,)."""
     errors = np.asarray(errors, dtype=float)
     N, P, C = result.pressure_mpa.shape
@@ -73,6 +82,9 @@ def build(result, geom, errors) -> Cells:
         rx = 1.0 / k_sum
         ry = np.where(k_side > STRAIGHT_CURVATURE, 1.0 / k_side, 1.0 / STRAIGHT_CURVATURE)
         angle = np.degrees(np.arctan2(np.abs(cl), np.abs(ca)))
+    with np.errstate(all="ignore"):
+        _, a = hertz_semi_axes(fr.curvature_across, fr.curvature_along, np.nan_to_num(result.pair_load_n), e_star_mpa,
+                               line_length_mm(geom))
     vs = kin.sliding_velocity
     return Cells(loaded=loaded, pressure_mpa=p, area_mm2=result.cell_area_mm2, line_load_n_per_mm=line,
                  point=kin.point, normal=kin.normal, pinion_velocity=kin.pinion_velocity,
@@ -82,4 +94,4 @@ def build(result, geom, errors) -> Cells:
                  sliding_lengthwise=np.einsum("...i,...i->...", vs, along),
                  radius_sum_mm=rx, radius_side_mm=ry, entrainment_angle_deg=angle,
                  pair_load_n=np.broadcast_to(np.nan_to_num(result.pair_load_n)[:, :, None], (N, P, C)),
-                 pinion_lu=lu)
+                 line_contact=np.isinf(a), pinion_lu=lu)

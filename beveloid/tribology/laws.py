@@ -57,6 +57,23 @@ def hamrock_dowson(entraining_m_s, rx_mm, ry_mm, load_n, eta_pa_s, alpha_1_per_p
     return hc * rx * 1e6, hm * rx * 1e6
 
 
+def line_contact_film(entraining_m_s, rx_mm, line_load_n_per_mm, eta_pa_s, alpha_1_per_pa, e_prime_pa):
+    """Central and minimum film thickness (um) of an EHL line contact, load w' (N/mm) per unit length:
+
+        H_c   = 3.06 U^0.69 G^0.56 W'^-0.10     (Dowson & Toyoda 1979)
+        H_min = 2.65 U^0.70 G^0.54 W'^-0.13     (Dowson & Higginson 1977; ISO/TS 6336-22's film is of its form)
+
+    with U = eta u / (E' R_x), G = alpha E', W' = w' / (E' R_x), H = h / R_x."""
+    rx = np.asarray(rx_mm, dtype=float) * 1e-3
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        u = eta_pa_s * np.asarray(entraining_m_s) / (e_prime_pa * rx)
+        g = alpha_1_per_pa * e_prime_pa
+        w = np.asarray(line_load_n_per_mm) * 1e3 / (e_prime_pa * rx)
+        hc = 3.06 * u ** 0.69 * g ** 0.56 * w ** -0.10
+        hm = 2.65 * u ** 0.70 * g ** 0.54 * w ** -0.13
+    return hc * rx * 1e6, hm * rx * 1e6
+
+
 def hertz_half_width_mm(line_load_n_per_mm, radius_mm, e_prime_mpa):
     """Half width b of a Hertz line contact (mm): b = sqrt(8 w' R / (pi E'))."""
     with np.errstate(invalid="ignore"):

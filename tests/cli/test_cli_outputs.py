@@ -55,6 +55,14 @@ def test_a_place_that_cannot_hold_a_folder_is_one_line(capsys, no_work, argv):
 
 @pytest.mark.parametrize("argv", [["design", C1], ["tca", C1, "--positions", "3"],
                                   ["ltca", C1, "--torque-nm", "10", "--positions", "3"]])
+def test_a_plot_into_proc_is_refused_before_any_work(capsys, no_work, argv):
+    """/proc passes the permission test (for root) and takes no new file (issue 60: `--plot /proc/d.png`
+    crashed with a traceback after the computation): one line, before any work."""
+    _one_line_exit_2(capsys, [*argv, "--plot", "/proc/d.png"], "--plot = /proc/d.png: cannot create a file in /proc")
+
+
+@pytest.mark.parametrize("argv", [["design", C1], ["tca", C1, "--positions", "3"],
+                                  ["ltca", C1, "--torque-nm", "10", "--positions", "3"]])
 def test_a_plot_into_a_missing_tree_is_refused(capsys, tmp_path, no_work, argv):
     _one_line_exit_2(capsys, [*argv, "--plot", str(tmp_path / "a" / "b" / "x.png")], "--plot = ", "does not exist")
     assert not (tmp_path / "a").exists()

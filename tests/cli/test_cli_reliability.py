@@ -506,13 +506,13 @@ def test_failed_points_are_not_called_off_the_flank():
     res = tca.analyze(Pair.from_spec(spec).geometry, tca.Options(flanks=("right",), positions=5, approach_mm=None))
     fr = res.flanks["right"]
     n = len(fr.status)
-    res.flanks["right"] = fr = dataclasses.replace(fr, status=["failed"] * n)  # as when the solver loses track everywhere
-    fr.pinion_contact[:] = np.nan
-    fr.gear_contact[:] = np.nan
+    lost = np.full_like(fr.pinion_contact, np.nan)  # as when the solver loses track everywhere
+    fr = dataclasses.replace(fr, status=["failed"] * n, pinion_contact=lost, gear_contact=lost)
+    res = dataclasses.replace(res, flanks={"right": fr})  # a result is frozen: a new one
     text = format_summary(res, spec)
     _, row = _table_row(text, "right")
     assert "none (not solved)" in row and "off the flank" not in text
-    res.flanks["right"] = dataclasses.replace(fr, status=["outside"] * (n - 2) + ["failed"] * 2)
+    res = dataclasses.replace(res, flanks={"right": dataclasses.replace(fr, status=["outside"] * (n - 2) + ["failed"] * 2)})
     assert f"none ({n - 2} outside, 2 failed)" in _table_row(format_summary(res, spec), "right")[1]
 
 
@@ -529,8 +529,9 @@ def test_te_from_a_few_positions_carries_a_caveat(capsys):
     gone = np.zeros((pairs, 30), bool)
     gone[:, :7] = True
     gone = gone.ravel()
-    res.flanks["right"] = fr = dataclasses.replace(fr, status=["failed" if g else s for g, s in zip(gone, fr.status)])
-    fr.transmission_error[gone] = np.nan
+    fr = dataclasses.replace(fr, status=["failed" if g else s for g, s in zip(gone, fr.status)],
+                             transmission_error=np.where(gone, np.nan, fr.transmission_error))
+    res = dataclasses.replace(res, flanks=dict(res.flanks, right=fr))  # a result is frozen: a new one
     text = format_summary(res, spec)
     head, row = _table_row(text, "right")
     assert head.split()[-2:] == ["TE", "points"]
@@ -585,3 +586,31 @@ def test_real_te_is_not_flattened(monkeypatch):
     assert plots.te_axis(ax, [0.0, 7.5], [7.5]) is False
     assert ax.get_ylim()[1] > 7 and not ax.texts
     plt.close(fig)
+
+
+def test_the_status_counts_count_edge_only_where_the_pair_carries():
+    """issue 60: the table counted "edge" over pair-positions that carry nothing (197 edge where all 200
+    carrying points were ok, on the issue's pair): ok and edge are the carrying ones, idle the others."""
+    from beveloid import tca
+    from beveloid.cli.tca import format_summary
+
+    spec = load_spec(str(REPO / "tests" / "data" / "issue60_pair.toml"))
+    res = tca.analyze(Pair.from_spec(spec).geometry, tca.Options(flanks=("right",), positions=24, approach_mm=None))
+    fr = res.flanks["right"]
+    st, carrying = np.array(fr.status), np.asarray(fr.active, bool)
+    assert ((st == "edge") & ~carrying).sum() > 0  # the idle pairs' edge contacts the old table counted
+    head, row = _table_row(format_summary(res, spec), "right")
+    counts = dict(zip(head.split()[1:6], (int(v) for v in row.split()[1:6])))
+    assert counts == {"ok": int(((st == "ok") & carrying).sum()), "edge": int(((st == "edge") & carrying).sum()),
+                      "idle": int((np.isin(st, ["ok", "edge"]) & ~carrying).sum()),
+                      "outside": int((st == "outside").sum()), "failed": int((st == "failed").sum())}
+    assert counts["ok"] + counts["edge"] == carrying.sum()
+
+
+def test_the_help_names_the_default_fe_tooth(capsys):
+    """issue 60: `beveloid --help` and `ltca --help` called the loaded analysis "half-space + tooth beams"
+    while the FE tooth is its default."""
+    for argv in (["--help"], ["ltca", "--help"]):
+        assert cli.main(argv) == 0
+        text = " ".join(capsys.readouterr().out.split())
+        assert "half-space + tooth beams" not in text and "half-space + the FE tooth" in text

@@ -53,7 +53,7 @@ def test_the_readme_example_runs_and_its_result_carries_what_the_comments_say(re
         res.notes = ()
     with pytest.raises(dataclasses.FrozenInstanceError):
         ce.status = []
-    doc = json.loads(json.dumps(res.to_json_dict(), allow_nan=False))
+    doc = json.loads(json.dumps(res.to_json(), allow_nan=False))
     assert "contact_ellipse_semi_axes_mm" in doc["flanks"]["right"]
     # the errors named in the example are the errors analysed
     assert list(res.errors) == pytest.approx(list(ns["errors"]))
@@ -67,3 +67,48 @@ def test_the_rest_of_the_example_holds(readme_namespace):
     assert ns["d"] is ns["pair"].design and ns["geom"] is ns["pair"].geometry
     assert list(ns["shifted"].errors) == [0.5, 0.0, 0.0, 0.0, 0.0]
     assert ns["right"].status.count("ok") > 0 and ns["k"].k1 >= ns["k"].k2
+
+
+def test_the_contract_example_runs_each_analysis(readme_namespace):
+    """docs/api.md's contract block: every analysis called as it shows, each result a Result."""
+    from beveloid import ltca, rating, sweep, tca, tooth
+    from beveloid.result import Result
+
+    ns = readme_namespace
+    for name, kind in (("t", tca.TCAResult), ("swept", sweep.SweepResult), ("whole", tooth.ToothResult),
+                       ("loaded", ltca.LTCAResult), ("rated", rating.RatingResult)):
+        assert isinstance(ns[name], kind) and isinstance(ns[name], Result)
+    assert 0 < ns["share"] <= 1 and isinstance(ns["refused"].requirement, str) and ns["refused"].key == "positions"
+
+
+def slow_blocks(text: str) -> list[str]:
+    """The bodies of the ```python slow blocks (what needs minutes or CalculiX)."""
+    return re.findall(r"^```python slow[ \t]*\n(.*?)^```[ \t]*$", text, flags=re.M | re.S)
+
+
+def test_slow_blocks_are_found_apart_from_the_others():
+    text = "```python\nx = 1\n```\n```python slow\ny = 2\n```\n"
+    assert python_blocks(text) == ["x = 1\n"] and slow_blocks(text) == ["y = 2\n"]
+
+
+@pytest.mark.slow
+def test_the_slow_examples_run(readme_namespace):
+    """docs/api.md's FE check, run as written after the other blocks (CalculiX, minutes)."""
+    ns = dict(readme_namespace)
+    for i, block in enumerate(slow_blocks((REPO / "docs" / "api.md").read_text(encoding="utf-8"))):
+        exec(compile(block, f"slow python block {i + 1}", "exec"), ns)
+    assert ns["check"].pair is ns["case1"]
+    json.dumps(ns["check"].to_json(), allow_nan=False)
+
+
+def test_the_loaded_example_takes_a_load_case_apart_from_its_options(readme_namespace):
+    """docs/api.md's loaded block (issue 56): one torque gives an LTCAResult, a torque list a Batch with a
+    torque map, the tolerance box one row per error set, the rating its options' LTCA."""
+    from beveloid import ltca, rating
+
+    ns = readme_namespace
+    assert isinstance(ns["at200"], ltca.LTCAResult) and ns["at200"].torque_nm == 200.0
+    assert isinstance(ns["tmap"], ltca.Batch) and ns["tmap"].te_peak_to_peak_urad.shape == (1, 2)
+    assert [r.torque_nm for r in ns["tmap"].results[0]] == [100.0, 300.0]
+    assert len(ns["box"]) == 2 and len(ns["box"][0]) == 1
+    assert isinstance(ns["rated800"], rating.RatingResult) and ns["rated800"].options.ltca is ns["quick"]

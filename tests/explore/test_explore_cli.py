@@ -226,3 +226,46 @@ def test_out_targets_are_refused_before_computing(case1, tmp_path, capsys, monke
         assert main(["explore", case1, *GRID, "--out", target]) == 2
         err = capsys.readouterr().err.strip()
         assert "\n" not in err and "--out = " in err and words in err, err
+
+
+def test_explore_and_optimize_share_one_vary_and_one_refusal():
+    """One Vary (a grid with a count, a continuous range without) and one 'not a key' line for both commands."""
+    from beveloid.errors import UserError
+    from beveloid.explore import grid
+    from beveloid.optimize import request
+
+    assert request.Vary is grid.Vary and not hasattr(request, "_unknown_key_text")
+    ranged = request.parse_vary("pinion.lead_crowning_um=0:40")
+    assert (ranged.key, ranged.start, ranged.stop, ranged.count) == ("pinion.lead_crowning_um", 0.0, 40.0, None)
+    assert grid.parse_vary("pinion.cone_angle_deg=1:3:3").count == 3
+    lines = []
+    for parse, text in ((grid.parse_vary, "pinion.no_such_key=1:2:3"), (request.parse_vary, "pinion.no_such_key=1:2")):
+        with pytest.raises(UserError) as err:
+            parse(text)
+        lines.append(str(err.value))
+    assert lines[0].replace("explore", "X").split(";")[0] == lines[1].replace("optimize", "X").split(";")[0]
+
+
+def test_explore_and_optimize_keep_their_runs_in_one_store(tmp_path):
+    """One RunStore: the same refusals, one line each, for an exploration's and an optimisation's folder."""
+    from beveloid.errors import ErrorCode, UserError
+    from beveloid.runstore import RunStore
+
+    store = RunStore(str(tmp_path / "run"), "pieces", "pieces", "study")
+    with pytest.raises(UserError, match="no request.json there"):
+        store.resumed({"package_version": "1"})
+    assert store.check_fresh({"a": 1, "code": {"package_version": "1"}}) is None
+    store.write({"a": 1, "code": {"package_version": "1"}})
+    assert (tmp_path / "run" / "pieces").is_dir() and store.held()["a"] == 1
+    assert store.check_fresh({"a": 1, "code": {"package_version": "2"}}, ignore=("code",))["a"] == 1
+    with pytest.raises(UserError, match="holds another study"):
+        store.check_fresh({"a": 2, "code": {"package_version": "1"}})
+    with pytest.raises(UserError) as err:
+        store.resumed({"package_version": "2"})
+    assert err.value.code is ErrorCode.STALE_RESULTS and "beveloid 1" in str(err.value)
+    import inspect
+
+    from beveloid.explore import run
+    from beveloid.optimize import search
+    for module in (run, search):
+        assert "RunStore(" in inspect.getsource(module.prepare) and "json.dump" not in inspect.getsource(module.prepare)

@@ -79,7 +79,7 @@ def test_the_csv_text_is_a_plain_csv_writers():
 
 def test_the_pareto_front_of_three_objectives_is_every_undominated_row():
     rng = np.random.default_rng(5)
-    P = rng.integers(0, 9, size=(1300, 3)).astype(float)  # ties and equal rows; more rows than one block
+    P = rng.integers(0, 9, size=(1300, 3)).astype(float)  # ties and equal rows
     P[rng.random(1300) < 0.05, 1] = np.nan
     got = pareto.front(P)
     finite = np.isfinite(P).all(axis=1)
@@ -89,6 +89,20 @@ def test_the_pareto_front_of_three_objectives_is_every_undominated_row():
     expected[np.nonzero(finite)[0][~dominated]] = True
     np.testing.assert_array_equal(got, expected)
     assert 0 < expected.sum() < finite.sum()
+
+
+@pytest.mark.parametrize("k", [2, 3])
+def test_the_pareto_front_is_pymoos_first_front_of_the_finite_rows(k):
+    """explore's and optimize's front is pymoo's non-dominated sorting (a dependency), not a filter of our own."""
+    from pymoo.util.nds.non_dominated_sorting import NonDominatedSorting
+
+    rng = np.random.default_rng(k)
+    P = rng.integers(0, 6, size=(400, k)).astype(float)
+    P[rng.random(400) < 0.1, 0] = np.inf
+    finite = np.flatnonzero(np.isfinite(P).all(axis=1))
+    first = NonDominatedSorting().do(P[finite], only_non_dominated_front=True)
+    assert set(np.flatnonzero(pareto.front(P))) == set(finite[first])
+    assert not pareto.front(np.full((3, k), np.nan)).any() and pareto.front(np.zeros((0, k))).shape == (0,)
 
 
 def test_resume_computes_a_damaged_chunk_again(case1, tmp_path, capsys):

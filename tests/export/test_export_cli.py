@@ -115,3 +115,34 @@ def test_out_targets_are_refused_before_exporting(tmp_path, capsys, monkeypatch)
         assert main(["export", str(_spec(tmp_path)), "--out", target]) == 2
         err = capsys.readouterr().err
         assert err.count("\n") == 1 and err.startswith("beveloid: error: --out = ") and words in err, err
+
+
+def test_a_full_disk_leaves_no_file_and_no_folder(tmp_path, capsys, monkeypatch):
+    """issue 60: a full disk during export left a partial file and the folder the run made: now one line
+    naming --out and the reason, the files of the run removed, the folder it made gone; a folder that was
+    there keeps what it held."""
+    import dataclasses
+    import errno
+
+    stl = formats.WRITERS["stl"]
+    calls = []
+
+    def fills_the_disk(shapes, path):
+        calls.append(path)
+        if len(calls) == 2:  # the gear: the disk is full half-way through
+            Path(path).write_bytes(b"solid partial\n")
+            raise OSError(errno.ENOSPC, "No space left on device")
+        return stl.write(shapes, path)
+
+    monkeypatch.setitem(formats.WRITERS, "stl", dataclasses.replace(stl, write=fills_the_disk))
+    out = tmp_path / "new"
+    assert main(["export", str(_spec(tmp_path)), "--format", "stl", "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err == f"beveloid: error: --out = {out}: cannot write there (No space left on device)\n"
+    assert not out.exists()
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "notes.txt").write_text("mine")
+    calls.clear()
+    assert main(["export", str(_spec(tmp_path)), "--format", "stl", "--out", str(mine)]) == 2
+    assert [p.name for p in mine.iterdir()] == ["notes.txt"]

@@ -51,7 +51,8 @@ def test_the_named_folder_is_created_in_an_existing_parent(small_pair, tmp_path,
     target = tmp_path / "new"
     result = export(small_pair, ExportOptions(format="stl", members=("pinion",), out_dir=target, stem="s"))
     assert target.is_dir() and [f.path for f in result.files] == [target / "s_pinion.stl"]
-    assert recording_writer == ["build", target / "s_pinion.stl"]
+    assert recording_writer == ["build", target / ".s_pinion.partial.stl"]  # renamed when whole
+    assert sorted(p.name for p in target.iterdir()) == ["s_pinion.stl"]
 
 
 def test_a_file_in_the_way_is_refused(small_pair, tmp_path, recording_writer):

@@ -18,10 +18,10 @@ def _result(about):
     calculix = ContactNumbers.of([10.0, None], [900.0, math.inf], [0.5, 0.0], 12.5, {"pinion": 300.0, "gear": None},
                                  200.0)
     ltca = ContactNumbers.of([11.0, 1.0], [950.0, 80.0], [0.4, 0.1], math.nan, {"pinion": None, "gear": 250.0}, 199.0)
-    return CheckResult(None, lt.LoadCase(200.0), Options(ltca=lt.Options(flank="left"), refinement=2), "2.21", 3, 0.25,
-                       "plate",
+    return CheckResult("2.21", 3, 0.25, "plate",
                        (0, 1), -1.5, 1000, 4000, 1.0, 2.0, 3.0, calculix, ltca, {"deck": "d.inp"}, ["a note"],
-                       [1000.0, None], [[0.2, 5.0], [0.1, math.nan]], about)
+                       [1000.0, None], [[0.2, 5.0], [0.1, math.nan]], about,
+                       options=Options(ltca=lt.Options(flank="left"), refinement=2), load=lt.LoadCase(200.0))
 
 
 def test_to_json_writes_the_contract():

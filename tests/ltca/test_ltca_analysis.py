@@ -394,3 +394,24 @@ def test_the_positions_span_one_cycle_and_the_output_says_how_many_states_they_a
         text = " ".join(capsys.readouterr().out.split())
         assert "--positions N" in text and "one mesh cycle, its first and last one pitch apart: N positions are " \
                                            "N - 1 distinct mesh states (default" in text, command
+
+
+def test_the_pattern_skips_only_nodes_neither_field_reaches(geom1, loaded200, monkeypatch):
+    """The sub-steps between two positions evaluate their fields only at the nodes whose swept boxes
+    reach them (``_Field.reached``): the same pattern, bit for bit, as every node near the pair."""
+    from beveloid.ltca.results import pattern
+
+    fast = [pattern.flank_pattern(loaded200, geom1, m) for m in ("pinion", "gear")]
+    skipped = []
+    real = pattern._Field.reached
+
+    def everywhere(self, c, move):
+        skipped.append(int((~real(self, c, move)).sum()))
+        return np.ones(len(c), dtype=bool)
+
+    monkeypatch.setattr(pattern._Field, "reached", everywhere)
+    full = [pattern.flank_pattern(loaded200, geom1, m) for m in ("pinion", "gear")]
+    assert sum(skipped) > 0  # the filter leaves nodes out
+    for a, b in zip(fast, full):
+        assert a.area_fraction == b.area_fraction
+        np.testing.assert_array_equal(a.max_pressure_mpa, b.max_pressure_mpa)

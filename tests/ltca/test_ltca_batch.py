@@ -80,7 +80,7 @@ def test_harmonics_of_a_run_keep_its_power(pair):
     assert np.all(np.isfinite(h[:5])) and np.isnan(h[5])
     nyquist = abs(np.sum(te * (-1.0) ** np.arange(M))) / M
     assert np.sum(h[:5] ** 2) / 2 + nyquist ** 2 == pytest.approx(np.var(te), rel=1e-9)
-    d = r.to_json_dict(pair.geometry)
+    d = r.to_json()
     assert d["te_harmonics_mesh_orders"] == list(MESH_ORDERS)
     assert d["te_harmonics_um"][0] == pytest.approx(h[0] * gear_base_radius_mm(pair.geometry) * 1e3)
     # the stiffness over the same N - 1 states as the harmonics: the end state (the first a pitch later) once
@@ -295,3 +295,19 @@ def test_the_loaded_contact_ratio_counts_the_pairs_that_carry_load(capsys):
     assert 1.0 <= d["loaded_contact_ratio"] <= 3.0
     _, text, _ = _cli(capsys, "--torque-nm", "300")
     assert f"loaded contact ratio: {d['loaded_contact_ratio']:.3f}" in text
+
+
+def test_the_plot_of_a_tolerance_box_draws_its_sets(capsys, tmp_path, monkeypatch):
+    """issue 60: `ltca --samples K --plot` drew only the file's errors, titled "all errors 0": its title now
+    says it is the file's errors and names the figure of the K sets, which is written beside it."""
+    from beveloid.ltca.results import plots
+
+    titles = []
+    real = plots.ltca_summary
+    monkeypatch.setattr(plots, "ltca_summary", lambda *a, title="", **k: (titles.append(title), real(*a, title=title,
+                                                                                                      **k))[1])
+    out = tmp_path / "box.png"
+    rc, _, _ = _cli(capsys, "--torque-nm", "300", "--samples", "2", "--plot", str(out))
+    assert rc == 0 and out.is_file()
+    assert (tmp_path / "box_tolerance.png").read_bytes()[:4] == b"\x89PNG"
+    assert "the file's errors" in titles[0] and "2 error sets: box_tolerance.png" in titles[0]

@@ -169,3 +169,20 @@ def test_user_errors(call, match):
     with pytest.raises(ValueError, match=match) as err:
         call()
     assert "\n" not in str(err.value)
+
+
+def test_the_batched_face_coupling_is_the_cell_mean_series():
+    """face_couplings_per_mm (one cosine per point and mode, many lines at once) against the cell-mean
+    series of face_coupling_per_mm (a cosine and two sines) on lines of random points inside the face,
+    one reaching each end; and a point whose cell leaves the face refused."""
+    from beveloid.ltca.mechanics.tooth_compliance import face_couplings_per_mm
+
+    length, h, hz = 50.0, 6.75, 0.05
+    z = np.random.default_rng(3).uniform(hz, length - hz, (4, 17))
+    z[0, 0], z[1, -1] = hz, length - hz
+    many = face_couplings_per_mm(z, hz, length, h, NU)
+    for line, k in zip(z, many):
+        one = face_coupling_per_mm(line, np.full(line.size, hz), length, h, NU)
+        assert np.abs(k - one).max() <= 1e-12 * np.abs(one).max()
+    with pytest.raises(ValueError, match="must lie in"):
+        face_couplings_per_mm(np.array([[length]]), hz, length, h, NU)

@@ -85,3 +85,20 @@ def test_the_line_load_carries_every_pair_load_of_the_ltca():
             assert (w * np.diff(edges)).sum() == pytest.approx(np.nansum(lt.pair_load_n[j]), rel=1e-9)
             half = sections.half_face(pair.geometry, member)
             assert edges[0] > -half - 2.0 and edges[-1] < half + 2.0  # on the member's face (a cell of margin)
+
+
+def test_a_pair_with_two_loaded_cells_on_one_grid_line_spreads_them_over_their_own_face_length():
+    """Issue 57.1: an entering pair with two loaded (and in-flank) cells side by side across the contact
+    line.  A plane fit of the face coordinate over those two cells is underdetermined (its minimum-norm
+    answer had no slope along the line, so the footprint was a thousandth of a cell and K_H_beta ran to
+    hundreds).  Over the pair's whole grid the slope is the grid's: the two cells cover one cell length
+    dy of the face, so K_H_beta = b / dy exactly."""
+    b, half_y, ny = 50.0, 25.0, 81
+    middle = ny // 2  # the row at y = 0, where the minimum-norm fit had z = 0 and no slope
+    result, load = field(lambda x, y: np.where((np.abs(y) < 1e-9) & (x > -1e-9) & (x < 0.03), 800.0, 0.0), 0.5, half_y)
+    in_flank = np.zeros((41, ny), bool)
+    in_flank[20:23, middle] = True  # the loaded cells and one unloaded neighbour, all on one grid line
+    result.gap.in_flank = in_flank.reshape(1, 1, -1)
+    fl = face_load(result, GEOM, "pinion", b)
+    assert np.count_nonzero(result.pressure_mpa) == 2
+    assert fl.K_H_beta == pytest.approx(b / (2 * half_y / ny), rel=1e-6)

@@ -62,7 +62,7 @@ def test_the_ltca_root_stress_gives_the_local_bending_safety():
         assert member.root_stress_location["face_z_mm"] == pytest.approx(5.0)
         assert member.root_stress_location["height_above_root_mm"] == pytest.approx(0.4)
         assert "face z 5.0 mm" in member.root_stress_where
-    out = rating.to_json_dict(result)
+    out = result.to_json()
     assert out["pinion"]["root_stress_max_mpa"] == pytest.approx(float(np.max(stress["pinion"])))
     local = sorted((s[3], s[0]) for s in result.safeties() if s[1] == "S_F" and s[2] == "local")
     assert local == [("gear", pytest.approx(f.root_limit_mpa["gear"] * 2.0 / float(np.max(stress["gear"])))),

@@ -552,7 +552,7 @@ def test_sweep_without_errors_is_the_aligned_path(geom1, flank):
     for shift in (res.pinion_shift_mm, res.gear_shift_mm):
         assert np.isfinite(shift).all()
         assert np.abs(shift).max() <= 1e-9
-    o = res.to_json_dict()
+    o = res.to_json()
     assert o["fraction_sets_with_contact_off_flank"] == 0.0
     assert o["fraction_sets_entirely_off_flank"] == 0.0
     assert o["status_counts"]["outside"] == o["status_counts"]["failed"] == 0

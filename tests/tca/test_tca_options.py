@@ -31,7 +31,7 @@ def test_one_position_is_the_reference_angle_without_te_statistics(pair1):
         assert fr.pinion_angle[fr.tooth_pair == 0][0] == ref.pinion_angle
         assert fr.status[1] == "ok" and abs(fr.transmission_error[1]) < 1e-12  # pair 0 at the pitch point
         assert np.isnan(fr.te_peak_to_peak)
-    o = res.to_json_dict()
+    o = res.to_json()
     assert o["te_peak_to_peak_urad"] == {"left": None, "right": None}
     assert any("not available from one position" in n for n in o["notes"])
 

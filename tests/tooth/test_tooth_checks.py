@@ -88,7 +88,7 @@ def test_section_is_the_designs_at_the_reference_section(pair2, member):
 
 def test_case1_has_no_limit_reached(pair1):
     res = report.analyze(pair1)
-    assert res.statuses == []
+    assert res.statuses == ()
     for member in MEMBERS:
         t = res.tip[member]
         assert not t.pointed and t.min_mm > 0.5 * pair1.geometry.normal_module_mm
@@ -204,7 +204,7 @@ def test_design_json_table_and_plot(tmp_path, capsys, steep_result):
 
 def test_options_are_validated():
     with pytest.raises(ValueError, match="contact_per_pitch"):
-        report.ToothOptions(contact_per_pitch=2)
+        report.Options(contact_per_pitch=2)
 
 
 def test_rounded_rack_raises_the_form_point(pair1):

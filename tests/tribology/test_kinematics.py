@@ -21,7 +21,7 @@ def case1(cases):
 def test_sliding_velocity_is_the_difference_of_omega_cross_r(case1):
     pair, res = case1
     geom = pair.geometry
-    cells = tribology.build(res, geom, pair.errors)
+    cells = tribology.build(res, geom, pair.errors, ltca.Material().e_star_mpa)
     n1, n2 = geom.pinion.teeth, geom.gear.teeth
     w1 = 1.0  # rad/s: the cells hold velocities per rad/s
     pl = geom.placement()

@@ -42,6 +42,7 @@ the profile and y along the face.  Units: mm, N, MPa.
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -61,6 +62,8 @@ __all__ = [
     "PLATE_SERIES_BELOW",
     "plate_edge_compliance_ratio",
     "face_coupling_per_mm",
+    "face_couplings_per_mm",
+    "plate_modes",
     "tooth_influence_mm_per_mpa",
 ]
 
@@ -221,6 +224,37 @@ def plate_edge_compliance_ratio(kh, nu: float = STEEL_NU) -> np.ndarray:
     return np.where(small, tooth_plate_coupling.edge_compliance_ratio_series(t, nu).ratio, closed)
 
 
+@functools.lru_cache(maxsize=64)
+def plate_modes(face_width_mm: float, plate_height_mm: float, nu: float) -> tuple:
+    """(k (1/mm), weight (1/mm)) of the plate's cosine series over a face: the wave numbers n pi / L,
+    n = 1 .. L :data:`PLATE_MODES_PER_HEIGHT` / (pi h), and 2 R(k h) / L (:func:`plate_edge_compliance_ratio`);
+    kept per (L, h, nu): they depend on the tooth, not on the points (read-only arrays)."""
+    length, h = float(face_width_mm), float(plate_height_mm)
+    n = np.arange(1, int(math.ceil(PLATE_MODES_PER_HEIGHT * length / (math.pi * h))) + 1)
+    k = n * math.pi / length
+    weight = 2.0 * plate_edge_compliance_ratio(k * h, nu) / length
+    k.flags.writeable = False
+    weight.flags.writeable = False
+    return k, weight
+
+
+def face_couplings_per_mm(z_mm, half_dz_mm: float, face_width_mm: float, plate_height_mm: float,
+                          nu: float = STEEL_NU) -> np.ndarray:
+    """(Q, n, n) :func:`face_coupling_per_mm` of Q sets of n points z (Q, n), all cells of the one
+    half-width ``half_dz_mm`` and inside the face (z - hz >= 0, z + hz <= L: no cell clipped), in one
+    product: a cell's mean of cos(k z') is then cos(k z_b) sin(k hz) / (k hz), so that
+    K = 1/L + sum_k weight_k cos(k z_a) cos(k z_b) sin(k hz) / (k hz) (the same sum; one cosine per
+    point and mode instead of a cosine and two sines)."""
+    z = np.asarray(z_mm, dtype=float)
+    hz, length = float(half_dz_mm), float(face_width_mm)
+    if not (np.all(z - hz >= -1e-9 * length) and np.all(z + hz <= length * (1 + 1e-9))):
+        raise ValueError(f"z_mm +- half_dz_mm spans {float((z - hz).min())!r} to {float((z + hz).max())!r}: must "
+                         f"lie in [0, {length!r}]")
+    k, weight = plate_modes(length, plate_height_mm, nu)
+    c = np.cos(z[..., None] * k)  # (Q, n, modes)
+    return 1.0 / length + (c * weight) @ np.swapaxes(c * (np.sin(k * hz) / (k * hz)), -1, -2)
+
+
 def face_coupling_per_mm(z_mm, half_dz_mm, face_width_mm: float, plate_height_mm: float,
                          nu: float = STEEL_NU) -> np.ndarray:
     """K[a, b] = (1/dz_b) int over face cell b of G(z_a, z') dz' (1/mm), the plate's cosine series.
@@ -240,9 +274,7 @@ def face_coupling_per_mm(z_mm, half_dz_mm, face_width_mm: float, plate_height_mm
         raise ValueError(f"z_mm +- half_dz_mm spans {float(lo.min())!r} to {float(hi.max())!r}: must lie in [0, {length!r}]")
     if h == 0.0:
         return np.diag(1.0 / (2.0 * hz))
-    n = np.arange(1, int(math.ceil(PLATE_MODES_PER_HEIGHT * length / (math.pi * h))) + 1)
-    k = n * math.pi / length
-    weight = 2.0 * plate_edge_compliance_ratio(k * h, nu) / length
+    k, weight = plate_modes(length, h, nu)
     at = np.cos(np.outer(z, k)) * weight
     cell_mean = (np.sin(np.outer(np.clip(hi, 0, length), k)) - np.sin(np.outer(np.clip(lo, 0, length), k))) \
         / (np.outer(2.0 * hz, k))

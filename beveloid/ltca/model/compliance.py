@@ -40,6 +40,10 @@ class MemberTooth:
         """:func:`tooth_line_compliance` (the interface the FE tooth shares: beveloid.fe.tooth.FeTooth)."""
         return tooth_line_compliance(self, points)
 
+    def line_compliances(self, points) -> np.ndarray:
+        """(Q, n, n) :func:`tooth_line_compliance` of Q point sets (Q, n, 3) at once."""
+        return tooth_line_compliances(self, points)
+
 
 def member_tooth(geom, which, e_mpa, nu) -> MemberTooth:
     m = geom.member(which)
@@ -67,7 +71,14 @@ def tooth_line_compliance(tooth: MemberTooth, points) -> np.ndarray:
     Points (n, 3) in the member's frame.  The radius maps onto the equivalent spur tooth by its
     height above the pitch cylinder; the axial position onto the face for the coupling.
     """
-    r = np.hypot(points[:, 0], points[:, 1])
+    return tooth_line_compliances(tooth, np.asarray(points, dtype=float)[None])[0]
+
+
+def tooth_line_compliances(tooth: MemberTooth, points) -> np.ndarray:
+    """(Q, n, n) :func:`tooth_line_compliance` of Q point sets (Q, n, 3) in one pass (the face coupling of
+    every line in one product: :func:`beveloid.ltca.mechanics.tooth_compliance.face_couplings_per_mm`)."""
+    points = np.asarray(points, dtype=float)
+    r = np.hypot(points[..., 0], points[..., 1])
     rad = tooth.table_radius_mm
     rv = np.clip(tooth.virtual_pitch_radius_mm + (r - tooth.pitch_radius_mm), rad[0], rad[-1])
     rv = np.where(np.isfinite(rv), rv, rad[0])  # cells off the surfaces: never loaded, any finite value
@@ -75,14 +86,18 @@ def tooth_line_compliance(tooth: MemberTooth, points) -> np.ndarray:
     i0 = np.minimum(pos.astype(int), rad.size - 2)
     f = pos - i0
     t = tooth.table_mm2_per_n
-    a, b = i0[:, None], i0[None, :]
-    fa, fb = f[:, None], f[None, :]
+    a, b = i0[..., :, None], i0[..., None, :]
+    fa, fb = f[..., :, None], f[..., None, :]
     g = ((1 - fa) * (1 - fb) * t[a, b] + fa * (1 - fb) * t[a + 1, b] + (1 - fa) * fb * t[a, b + 1]
          + fa * fb * t[a + 1, b + 1])
     w = tooth.face_width_mm
     hz = 1e-3 * w
-    z = np.clip(np.nan_to_num((points[:, 2] - tooth.toe_mm) * tooth.direction, nan=0.5 * w), hz, w - hz)
-    k = tooth_compliance.face_coupling_per_mm(z, np.full(z.size, hz), w, tooth.plate_height_mm, tooth.poisson)
+    z = np.clip(np.nan_to_num((points[..., 2] - tooth.toe_mm) * tooth.direction, nan=0.5 * w), hz, w - hz)
+    if tooth.plate_height_mm == 0.0:
+        k = np.zeros(g.shape)
+        k[..., np.arange(z.shape[-1]), np.arange(z.shape[-1])] = 1.0 / (2.0 * hz)
+    else:
+        k = tooth_compliance.face_couplings_per_mm(z, hz, w, tooth.plate_height_mm, tooth.poisson)
     return g * k
 
 

@@ -3,6 +3,7 @@ and the root stress the FE tooth gives under the solved pressure."""
 from __future__ import annotations
 
 import collections
+import contextlib
 import sys
 
 import numpy as np
@@ -10,6 +11,15 @@ import numpy as np
 from ...names import MEMBERS
 from .compliance import member_tooth
 
+def one_blas_thread():
+    """BLAS limited to one thread: the many small factorisations run 3x slower with OpenBLAS
+    threads on a busy 2-core machine (docs/performance.md), and a 91 x 91 eigendecomposition
+    (the FE tooth's compliance) took 0.13 s of CPU with the default threads against 0.001 s."""
+    try:
+        from threadpoolctl import threadpool_limits
+    except ImportError:  # optional: without it BLAS keeps its own thread count
+        return contextlib.nullcontext()
+    return threadpool_limits(limits=1, user_api="blas")
 
 
 def _progress(stream=None):
@@ -59,7 +69,8 @@ def fe_tooth(source, member, moduli, options):
     key = (id(data), options.flank)  # the entry holds the data: its id is not reused while it lives
     tooth = _FE_TEETH.get(key)
     if tooth is None or tooth.data is not data:
-        tooth = _FE_TEETH[key] = FeTooth(data, options.flank)
+        with one_blas_thread():
+            tooth = _FE_TEETH[key] = FeTooth(data, options.flank)
         while len(_FE_TEETH) > FE_TEETH_KEPT:
             _FE_TEETH.popitem(last=False)
     _FE_TEETH.move_to_end(key)

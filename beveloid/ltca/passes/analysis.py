@@ -14,7 +14,7 @@ grid (:func:`cycle.mapped_contact`): the same solution, in fewer iterations.
 """
 from __future__ import annotations
 
-import contextlib
+import dataclasses
 import math
 
 import numpy as np
@@ -27,17 +27,7 @@ from .cycle import Problem, Setup, merge, solve_many
 from ..options import Material, Options
 from ..results.result import (MAX_HALF_WIDTH_TIMES_CURVATURE, MAX_PRESSURE_OVER_E_STAR, VALIDITY_SEPARATOR, Convergence,
                      LTCAResult)
-from ..model.teeth import member_teeth, root_stresses
-
-
-def _one_blas_thread():
-    """BLAS limited to one thread: the many small factorisations run 3x slower with OpenBLAS
-    threads on a busy 2-core machine (docs/performance.md)."""
-    try:
-        from threadpoolctl import threadpool_limits
-    except ImportError:  # optional: without it BLAS keeps its own thread count
-        return contextlib.nullcontext()
-    return threadpool_limits(limits=1, user_api="blas")
+from ..model.teeth import member_teeth, one_blas_thread, root_stresses
 
 
 def run(geom, errors, torque_nm: float, options: Options, material: Material, solver, pair=None) -> LTCAResult:
@@ -55,10 +45,12 @@ def run_many(geom, error_sets, torques_nm, options: Options, material: Material,
     (:func:`cycle.solve_many`); the root stresses of every loaded (position, pair) of a case at once."""
     options.check_memory()
     teeth, body_notes = member_teeth(pair, geom, options, material)
-    with _one_blas_thread(), np.errstate(all="ignore"):
+    with one_blas_thread(), np.errstate(all="ignore"):
         setups = [Setup(geom, options.flank, e, options.positions, options.pairs, solver) for e in error_sets]
         cases = [(s, float(t)) for s in setups for t in torques_nm]
         results = _run(cases, options, material, teeth, body_notes)
+    held = geom if pair is None else pair
+    results = [dataclasses.replace(r, pair=held) for r in results]  # each holds the pair it was computed for
     T = len(torques_nm)
     return [results[k * T:(k + 1) * T] for k in range(len(setups))]
 
@@ -204,7 +196,7 @@ def _result(case, options, sol, check, e_star, notes, hertz_ref, teeth):
                    else LoadedStatus.NOT_CONVERGED for j in range(N))
     okc = ok[:, None]
     return LTCAResult(
-        flank=options.flank, torque_nm=torque_nm, pinion_angle=setup.phi1, tooth_pairs=setup.ks,
+        options=options, flank=options.flank, torque_nm=torque_nm, pinion_angle=setup.phi1, tooth_pairs=setup.ks,
         status=status, loaded_te=np.where(ok, te_rigid_ref + gear_rot, np.nan), unloaded_te=setup.unloaded_te,
         pair_load_n=np.where(okc, loads, np.nan), pair_max_pressure_mpa=np.where(okc, p.max(axis=-1), np.nan),
         pair_surface_max_pressure_mpa=np.where(okc, surface, np.nan),

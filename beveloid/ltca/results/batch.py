@@ -14,18 +14,21 @@ error set.
 from __future__ import annotations
 
 import math
-import typing
+from dataclasses import dataclass
 
 import numpy as np
 
 from ...errors import OptionError
 from ...names import MEMBERS
+from ...result import Result, num
 
 __all__ = ["Batch", "summary"]
 
 
-class Batch(typing.NamedTuple):
-    """K error sets x T torques of one pair (``results[k][t]``) and their arrays (module docstring)."""
+@dataclass(frozen=True)
+class Batch(Result):
+    """K error sets x T torques of one pair (``results[k][t]``) and their arrays (module docstring);
+    deep-frozen, its JSON by :meth:`to_json` (each run's :meth:`LTCAResult.to_json` with the map's numbers)."""
 
     torque_nm: np.ndarray  # (T,)
     errors: np.ndarray  # (K, 5) dx, dy, dz mm; vertical, horizontal rad
@@ -52,6 +55,14 @@ class Batch(typing.NamedTuple):
     def root_stress_max_mpa(self, member: str) -> np.ndarray:
         """(K, T) the member's largest root stress (MPa; nan with the plate tooth)."""
         return self._each(lambda r: summary(r)["root_stress_max_mpa"][member])
+
+    def to_json(self) -> dict:
+        """``torque_nm`` (T,), ``errors`` (K, 5), ``te_peak_to_peak_urad`` and ``max_pressure_mpa`` (K, T) (null
+        where not known), and ``results``: K lists of T :meth:`LTCAResult.to_json`."""
+        rows = lambda a: [[num(v) for v in row] for row in a]  # noqa: E731
+        return {"torque_nm": [float(t) for t in self.torque_nm], "errors": [[float(v) for v in e] for e in self.errors],
+                "te_peak_to_peak_urad": rows(self.te_peak_to_peak_urad), "max_pressure_mpa": rows(self.max_pressure_mpa),
+                "results": [[r.to_json() for r in row] for row in self.results]}
 
 
 def _finite_max(a) -> float:

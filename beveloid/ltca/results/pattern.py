@@ -87,6 +87,35 @@ class _Field:
         yc = np.linspace(-self.Y, self.Y, self.ny + 1)
         self.yc = 0.5 * (yc[1:] + yc[:-1])  # the along cells' centres
         self.padded = np.pad(self.p, 1)  # a ring of zero pressure about the grid
+        # the box in grid coordinates outside which the field is zero: within one cell of a loaded cell
+        # (the bilinear weights' reach), the columns' offsets at their extremes; a margin far above the
+        # rounding of the coordinates
+        li, lj = np.nonzero(self.p > 0)
+        if li.size:
+            dx, dy = 2.0 * self.X / self.nx, 2.0 * self.Y / self.ny
+            lo = np.array([-self.X + li.min() * dx - dx + min(self.shift.min(), 0.0),
+                           -self.Y + lj.min() * dy - dy])
+            hi = np.array([-self.X + (li.max() + 1) * dx + dx + max(self.shift.max(), 0.0),
+                           -self.Y + (lj.max() + 1) * dy + dy])
+            pad = 1e-6 * (hi - lo) + 1e-9
+            self.box = (lo - pad, hi + pad)
+        else:
+            self.box = None
+
+    def coordinates(self, q):
+        """(n, 2) the grid coordinates of member-frame points q (n, 3)."""
+        return (q - self.centre) @ self.map + self.c0
+
+    def reached(self, c, move):
+        """(n,) the points of grid coordinates c (n, 2) (:meth:`coordinates`) at which the field can be
+        non-zero once moved by t x ``move`` (3,), t in [0, 1]: its box swept along the move (a superset:
+        the box of the swept box)."""
+        if self.box is None:
+            return np.zeros(len(c), dtype=bool)
+        d = np.asarray(move) @ self.map
+        lo, hi = self.box
+        lo, hi = np.minimum(lo, lo + d), np.maximum(hi, hi + d)
+        return np.all((c >= lo) & (c <= hi), axis=1)
 
     def __call__(self, q):
         c = (q - self.centre) @ self.map + self.c0
@@ -116,12 +145,13 @@ def flank_pattern(result, geom, member, raster=RASTER) -> FlankPattern:
     ok = result.converged
     N, P = result.pressure_mpa.shape[:2]
     pmax = np.zeros(len(nodes))
-    fields = {}
+    fields, at = {}, {}
     for j in range(N):
         for k in range(P):
             if ok[j] and result.pressure_mpa[j, k].max() > 0:
                 fields[j, k] = _Field(result, pts, j, k)
                 pmax = np.maximum(pmax, fields[j, k](nodes))
+                at[j, k] = fields[j, k].coordinates(nodes)
     for (j, k), f in fields.items():
         g = fields.get((j + 1, k))
         if g is None:
@@ -132,9 +162,14 @@ def flank_pattern(result, geom, member, raster=RASTER) -> FlankPattern:
         near = np.linalg.norm(nodes - 0.5 * (f.centroid + g.centroid), axis=-1) < reach
         if not near.any() or dist == 0:
             continue
-        q = nodes[near]
+        # only the nodes that either field can reach on the way: the others stay as they are (0 from both)
+        idx = np.flatnonzero(near)
+        idx = idx[f.reached(at[j, k][idx], delta) | g.reached(at[j + 1, k][idx], -delta)]
+        if idx.size == 0:
+            continue
+        q = nodes[idx]
         steps = int(min(MAX_SUBSTEPS, math.ceil(dist / (0.5 * min(f.X, g.X)))))
-        best = pmax[near]
+        best = pmax[idx]
         # the sub-steps t = s / steps, several per call of the fields (about BATCH_POINTS points a call)
         per = max(1, BATCH_POINTS // len(q))
         for s0 in range(1, steps, per):
@@ -142,7 +177,7 @@ def flank_pattern(result, geom, member, raster=RASTER) -> FlankPattern:
             both = ((1 - t[..., 0]) * f((q - t * delta).reshape(-1, 3)).reshape(len(t), -1)
                     + t[..., 0] * g((q + (1 - t) * delta).reshape(-1, 3)).reshape(len(t), -1))
             best = np.maximum(best, both.max(axis=0))
-        pmax[near] = best
+        pmax[idx] = best
     frac = float(weight[inside][pmax > 0].sum() / weight[inside].sum())
     full = np.zeros(inside.shape)
     full[inside] = pmax

@@ -66,7 +66,7 @@ def ltca_pattern(ax, result, geom, member, vmax=None):
     returns the artist and whether any pressure lies above the scale, or (None, False)."""
     from ...plots import flank_outline
 
-    pat = result.pattern(geom, member)
+    pat = result.pattern(member)
     zb, rb = flank_outline(geom, member, result.flank)
     ax.plot(zb, rb, color="0.3", lw=1.0)
     ax.set_xlabel("axial position z (mm), toe -> heel", fontsize=8)
@@ -230,4 +230,26 @@ def te_map(results, out_png, title=""):
     b.set_xticks(MESH_ORDERS)
     b.legend(fontsize=8)
     b.grid(alpha=0.3, axis="y")
+    _save(fig, out_png, title)
+
+
+def tolerance_box(results, box, out_png, title=""):
+    """The tolerance box of ``beveloid ltca --samples``: each error set's loaded TE peak-to-peak against its
+    largest peak pressure (edges included), per torque, the file's errors starred; ``results`` the runs at
+    the file's errors (one per torque), ``box`` [[batch.summary per torque] per error set]."""
+    from .batch import summary
+
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(6.5, 4.8))
+    for t, r in enumerate(results):
+        te = [row[t]["te_peak_to_peak_urad"] for row in box]
+        p = [row[t]["max_pressure_mpa"] for row in box]
+        dots = ax.plot(te, p, "o", ms=4, alpha=0.7, label=f"{r.torque_nm:g} N m: {len(box)} error sets")[0]
+        own = summary(r)
+        ax.plot([own["te_peak_to_peak_urad"]], [own["max_pressure_mpa"]], "*", ms=13, color=dots.get_color(),
+                mec="k", label=f"{r.torque_nm:g} N m: the file's errors")
+    ax.set_xlabel("loaded TE peak-to-peak (urad)")
+    ax.set_ylabel("largest peak pressure, edges included (MPa)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
     _save(fig, out_png, title)

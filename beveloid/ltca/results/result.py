@@ -1,12 +1,13 @@
-"""The LTCA's result (immutable data) and its JSON writer."""
+"""The LTCA's result (a deep-frozen :class:`beveloid.result.Result`) and its JSON."""
 from __future__ import annotations
 
 import math
 import typing
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from ...result import Result
 from ...status import LoadedStatus
 from ..model.gaps import PairGap
 from ..model.grid import PairGrid, centres
@@ -34,8 +35,10 @@ class Convergence(typing.NamedTuple):
 
 
 @dataclass(frozen=True)
-class LTCAResult:
-    """Loaded TCA of one flank over a mesh cycle (positions N, tooth pairs P)."""
+class LTCAResult(Result):
+    """Loaded TCA of one flank over a mesh cycle (positions N, tooth pairs P) of ``pair`` under ``options``;
+    deep-frozen.  The loaded contact patterns are computed on demand (:meth:`pattern`: they cost several
+    times the plate LTCA), or once into a new result by :meth:`with_patterns`."""
 
     flank: str
     torque_nm: float
@@ -80,7 +83,8 @@ class LTCAResult:
     root_stress_along_face: dict = field(default_factory=dict)
     #: (N,) the sum of the pair loads over the approach of the teeth along the normal (N/um)
     mesh_stiffness_n_per_um: np.ndarray | None = None
-    _patterns: dict = field(default_factory=dict, repr=False, compare=False)
+    #: {member: FlankPattern} at the default raster, when computed (:meth:`with_patterns`); empty otherwise
+    patterns: dict = field(default_factory=dict, repr=False, compare=False)
 
     @property
     def converged(self) -> np.ndarray:
@@ -130,15 +134,23 @@ class LTCAResult:
                              math.sqrt(5 * (w * (y - (w * y).sum()) ** 2).sum())]
         return out
 
-    def pattern(self, geom, member, raster=None):
-        """:func:`beveloid.ltca.results.pattern.flank_pattern` of one member (cached)."""
+    def pattern(self, member, raster=None):
+        """:func:`beveloid.ltca.results.pattern.flank_pattern` of one member on the analysed pair's flank: the one
+        :meth:`with_patterns` stored (default raster), else computed now (not kept: the result is frozen)."""
         from .pattern import RASTER, flank_pattern
 
-        raster = raster or RASTER
-        if (member, raster) not in self._patterns:
-            with np.errstate(all="ignore"):
-                self._patterns[member, raster] = flank_pattern(self, geom, member, raster)
-        return self._patterns[member, raster]
+        raster = tuple(raster or RASTER)
+        if raster == RASTER and member in self.patterns:
+            return self.patterns[member]
+        with np.errstate(all="ignore"):
+            return flank_pattern(self, self.geometry_of_pair, member, raster)
+
+    def with_patterns(self) -> "LTCAResult":
+        """A new result carrying both members' loaded contact patterns (default raster), so that the JSON,
+        the tables and the figures of one run compute them once; this result is not changed."""
+        if all(m in self.patterns for m in ("pinion", "gear")):
+            return self
+        return replace(self, patterns={m: self.pattern(m) for m in ("pinion", "gear")})
 
     def root_stress_max_mpa(self) -> dict:
         """{member: the largest pair_root_stress_mpa over the cycle (MPa) or None}."""
@@ -161,10 +173,10 @@ class LTCAResult:
                       "flank": self.flank}
         return out
 
-    def to_json_dict(self, geom) -> dict:
-        """The JSON of ``beveloid ltca`` (:func:`to_json_dict`); ``geom`` the analysed PairGeometry
-        (the bearing patterns are drawn on its flanks)."""
-        return to_json_dict(self, geom)
+    def to_json(self) -> dict:
+        """The JSON of ``beveloid ltca`` (the contract: README and cli/ltca.py); the bearing patterns' area
+        fractions from :meth:`pattern`."""
+        return _json(self)
 
     def warnings(self) -> list:
         """One line per problem a reader must know: grid not converged, outside the model's validity."""
@@ -254,13 +266,13 @@ def _harmonics_json(r, geom, num) -> dict:
                                  "the samples"}
 
 
-def to_json_dict(result: LTCAResult, geom) -> dict:
-    """The JSON of ``beveloid ltca`` (the contract: README and cli/ltca.py)."""
+def _json(result: LTCAResult) -> dict:
     r = result
+    geom = r.geometry_of_pair
     ok = r.converged
     num = lambda v, ok_=True: float(v) if ok_ and v is not None and np.isfinite(v) else None  # noqa: E731
     rows = lambda a: [[num(v, o) for v in row] for row, o in zip(a, ok)]  # noqa: E731
-    fractions = {m: r.pattern(geom, m).area_fraction for m in ("pinion", "gear")}
+    fractions = {m: r.pattern(m).area_fraction for m in ("pinion", "gear")}
     ptp = r.loaded_te_peak_to_peak
     return {
         "flank": r.flank,

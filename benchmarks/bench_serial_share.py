@@ -1,0 +1,162 @@
+"""The serial part of each parallel command: the time outside its workers' parallel section, as a share of
+a one-worker run, and the speed-up it allows on 16 workers (Amdahl).
+
+    python benchmarks/bench_serial_share.py [explore sweep ltca optimize] [--budget 128] [--rounds 1]
+
+Not a test.  Each command runs as its own process (start-up, imports and numba's cache loads count) with
+one worker: ``--workers 1`` (this process: ``beveloid.parallel``'s serial executor) for explore, ltca
+and optimize, ``NUMBA_NUM_THREADS=1`` for sweep.  Inside the parallel section: the time of the function
+the workers run, timed around each call in the command's process (explore ``explore.run.compute_chunk``,
+ltca ``cli.ltca._chunk``, optimize ``optimize.search.evaluate_task``), and for sweep its own
+``seconds`` (the error sets solved on the threads, ``SweepResult.seconds``).  Outside (serial): the rest
+of the command's wall time: start-up, reading the spec, set-up, gathering, writing, figures.
+
+The projection for W workers: T_W = S + U + P / W, T_1 = S + P (S outside, P inside, wall seconds) and
+U what every worker pays again before its first task that the one-worker run counts inside P: the
+start of a worker process (a fresh Python's imports and numba's cache loads, measured here by a process
+that runs ``beveloid.parallel.warm_up``) and the excess of the first task over the median task (the FE
+data read in the worker); U = 0 for sweep (threads of one process).  Speed-up T_1 / T_W.
+
+The commands (case 1 from ``beveloid example``; ltca and optimize on it tilted by vertical_deg = 0.05,
+docs/optimize.md's spec, FE tooth, FE data cached by a warm-up run):
+
+* explore: ``--vary pinion.helix_angle_deg=15:30:200 --vary pinion.cone_angle_deg=1:4:200`` (40,000 designs);
+* sweep: ``--samples 64000 --positions 50`` (3.2 M points) ``--json``;
+* ltca: ``--torque-nm 100,200,400 --samples 64 --json``;
+* optimize: ``--vary pinion.lead_crowning_um=0:40 --vary pinion.lead_slope_um=-30:30 --torque-nm
+  100,200,400 --weights 0.2,0.5,0.3 --samples 16 --tooth-model fe --budget B`` (docs/optimize.md
+  section 6; ``--budget`` here, default 128).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+_CHILD = r"""
+import json, os, sys, tempfile, time
+t_start = time.perf_counter()
+from beveloid.cli import main
+kind, argv = sys.argv[1], sys.argv[2:]
+took = []
+if kind != "sweep":
+    import importlib
+    module, name = {"explore": ("beveloid.explore.run", "compute_chunk"), "ltca": ("beveloid.cli.ltca", "_chunk"),
+                    "optimize": ("beveloid.optimize.search", "evaluate_task")}[kind]
+    mod = importlib.import_module(module)
+    fn = getattr(mod, name)
+    def timed(*a, **k):
+        t, c = time.perf_counter(), time.process_time()
+        try:
+            return fn(*a, **k)
+        finally:
+            took.append((time.perf_counter() - t, time.process_time() - c))
+    setattr(mod, name, timed)  # looked up by the command at each call
+import contextlib, io
+buf = io.StringIO()
+with contextlib.redirect_stdout(buf):
+    rc = main(argv)
+out = buf.getvalue()
+if kind == "sweep":
+    took.append((json.loads(out)["seconds"], float("nan")))
+print(json.dumps({"rc": rc, "took": took, "in_process": time.perf_counter() - t_start}))
+"""
+
+
+def spec(tmp: Path, tilted: bool) -> str:
+    text = subprocess.run([sys.executable, "-m", "beveloid.cli", "example", "case1"], capture_output=True,
+                          text=True, check=True).stdout
+    if tilted:
+        text = text.replace("vertical_deg = 0.0 ", "vertical_deg = 0.05", 1)
+    path = tmp / ("case1_tilted.toml" if tilted else "case1.toml")
+    path.write_text(text)
+    return str(path)
+
+
+def commands(tmp: Path, budget: int) -> dict:
+    case1, tilted = spec(tmp, False), spec(tmp, True)
+    return {
+        "explore": ["explore", case1, "--vary", "pinion.helix_angle_deg=15:30:200", "--vary",
+                    "pinion.cone_angle_deg=1:4:200", "--workers", "1", "--out", str(tmp / "explore")],
+        "sweep": ["sweep", case1, "--samples", "64000", "--positions", "50", "--json"],
+        "ltca": ["ltca", tilted, "--torque-nm", "100,200,400", "--samples", "64", "--workers", "1", "--json"],
+        "optimize": ["optimize", tilted, "--vary", "pinion.lead_crowning_um=0:40", "--vary",
+                     "pinion.lead_slope_um=-30:30", "--torque-nm", "100,200,400", "--weights", "0.2,0.5,0.3",
+                     "--samples", "16", "--tooth-model", "fe", "--budget", str(budget), "--workers", "1",
+                     "--out", str(tmp / "optimize")],
+    }
+
+
+def child(kind: str, argv: list) -> dict:
+    env = dict(os.environ)
+    env.update({"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
+                "OPENBLAS_NUM_THREADS": "1", "PYTHONPATH": str(ROOT)})
+    t = time.perf_counter()
+    proc = subprocess.run([sys.executable, "-c", _CHILD, kind, *argv], capture_output=True, text=True, env=env,
+                          cwd=tempfile.gettempdir())
+    wall = time.perf_counter() - t
+    if proc.returncode != 0:
+        raise SystemExit(f"{kind}: exited {proc.returncode}:\n{proc.stderr[-3000:]}")
+    out = json.loads(proc.stdout.strip().splitlines()[-1])
+    out["wall"] = wall
+    return out
+
+
+def worker_start() -> float:
+    """Wall seconds of a fresh process that starts as a local worker does (beveloid.parallel.warm_up)."""
+    t = time.perf_counter()
+    subprocess.run([sys.executable, "-c", "from beveloid import parallel; parallel.warm_up()"], check=True,
+                   env=dict(os.environ, PYTHONPATH=str(ROOT)), cwd=tempfile.gettempdir())
+    return time.perf_counter() - t
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("kinds", nargs="*", default=["explore", "sweep", "ltca", "optimize"])
+    ap.add_argument("--budget", type=int, default=128, help="optimize's candidates (default 128)")
+    ap.add_argument("--rounds", type=int, default=1)
+    ap.add_argument("--workers", type=int, default=16, help="the projection's workers (default 16)")
+    a = ap.parse_args()
+    with tempfile.TemporaryDirectory(prefix="serial_") as tmp_name:
+        tmp = Path(tmp_name)
+        cmds = commands(tmp, a.budget)
+        start = worker_start()
+        print(f"a worker's start (beveloid.parallel.warm_up in a fresh process): {start:.2f} s; load average "
+              f"{os.getloadavg()[0]:.1f}", flush=True)
+        for kind in a.kinds:
+            small = list(cmds[kind])
+            if kind == "ltca":
+                small[small.index("--samples") + 1] = "8"
+            if kind == "optimize":
+                small[small.index("--budget") + 1] = "2"
+            if kind in ("ltca", "optimize"):  # numba's cache and the FE data of the tilted pair
+                child(kind, small)
+            for r in range(a.rounds):
+                for path in tmp.glob("*/"):
+                    subprocess.run(["rm", "-rf", str(path)], check=True)
+                res = child(kind, cmds[kind])
+                tasks = [w for w, _ in res["took"]]
+                P = sum(tasks)
+                T1 = res["wall"]
+                S = T1 - P
+                first = (tasks[0] - statistics.median(tasks)) if len(tasks) > 2 else 0.0
+                U = 0.0 if kind == "sweep" else start + max(first, 0.0)
+                TW = S + U + P / a.workers
+                print(f"{kind} (round {r + 1}): one worker {T1:.2f} s wall, inside the workers' function "
+                      f"{P:.2f} s ({len(tasks)} calls), outside {S:.2f} s = {100 * S / T1:.1f} %; each worker's "
+                      f"start {U:.2f} s; projected on {a.workers} workers {TW:.2f} s, speed-up {T1 / TW:.1f}x "
+                      f"(load {os.getloadavg()[0]:.1f})", flush=True)
+                print(f"  command: beveloid {' '.join(Path(x).name if x.startswith(str(tmp)) else x for x in cmds[kind])}",
+                      flush=True)
+
+
+if __name__ == "__main__":
+    main()

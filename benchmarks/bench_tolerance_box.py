@@ -1,0 +1,143 @@
+"""The tolerance box under load, old tree against new in one run: time and numbers.
+
+    python benchmarks/bench_tolerance_box.py --old DIR [--new DIR] [--rounds 2] [--samples 16]
+        [--torques-nm 100,200,400] [--tooth-model fe] [--keep DIR]
+
+Not a test.  The command of issue 59 (docs/optimize.md's spec, case 1 tilted by vertical_deg = 0.05):
+
+    beveloid ltca case1_tilted.toml --torque-nm 100,200,400 --samples 16 --json
+
+run by each checkout (``--old``, ``--new``: folders holding a ``beveloid`` package; ``--new`` defaults to
+this one) as a child process with that folder first on PYTHONPATH, one warm-up run each first (numba's
+cache and the FE data of that tree's code made or read: "FE data cached"), then ``--rounds`` timed runs,
+old and new alternating (the machine is shared: only ratios within one run mean anything).  Printed per
+run: wall seconds and the child's CPU seconds (user + system); then the ratios new / old of the least of
+each, and the numbers compared: every error set's quantities (``tolerance.sets``: TE peak-to-peak,
+peak pressure, both root stresses) and every other number of the JSON (the torque map, each position's
+arrays), as the largest relative difference |a - b| / max(|a|, |b|) over the leaves (the solver's
+residuals, round-off, absolutely), and the count of leaves that differ in kind (a number against null,
+a string, a list's length, a key only one tree writes).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def spec_text(checkout: Path) -> str:
+    out = subprocess.run([sys.executable, "-m", "beveloid.cli", "example", "case1"], capture_output=True, text=True,
+                         check=True, env=_env(checkout), cwd=tempfile.gettempdir())
+    return out.stdout.replace("vertical_deg = 0.0 ", "vertical_deg = 0.05", 1)
+
+
+def _env(checkout: Path) -> dict:
+    env = dict(os.environ)
+    env["PYTHONPATH"] = str(checkout) + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
+    return env
+
+
+def run(checkout: Path, argv: list, out: Path) -> tuple:
+    """(wall s, child CPU s, JSON) of one ``beveloid`` command run by ``checkout``'s package."""
+    before = os.times()
+    t = time.perf_counter()
+    with open(out, "w") as f:
+        proc = subprocess.run([sys.executable, "-m", "beveloid.cli", *argv], stdout=f, stderr=subprocess.PIPE,
+                              text=True, env=_env(checkout), cwd=tempfile.gettempdir())
+    wall = time.perf_counter() - t
+    after = os.times()
+    if proc.returncode != 0:
+        raise SystemExit(f"{checkout}: beveloid {' '.join(argv)} exited {proc.returncode}:\n{proc.stderr[-2000:]}")
+    cpu = (after.children_user - before.children_user) + (after.children_system - before.children_system)
+    return wall, cpu, json.loads(out.read_text())
+
+
+def compare(a, b, path="", out=None) -> dict:
+    """{"max_rel", "where", "kind", "numbers"} over the leaves of two JSON values."""
+    out = out if out is not None else {"max_rel": 0.0, "where": None, "kind": [], "numbers": 0}
+    if isinstance(a, dict) and isinstance(b, dict):
+        for k in sorted(set(a) | set(b)):
+            if k not in a or k not in b:
+                out["kind"].append(f"{path}/{k}: only in {'old' if k in a else 'new'}")
+            else:
+                compare(a[k], b[k], f"{path}/{k}", out)
+    elif isinstance(a, list) and isinstance(b, list):
+        if len(a) != len(b):
+            out["kind"].append(f"{path}: lengths {len(a)} and {len(b)}")
+        for i, (x, y) in enumerate(zip(a, b)):
+            compare(x, y, f"{path}[{i}]", out)
+    elif isinstance(a, (int, float)) and isinstance(b, (int, float)) and not isinstance(a, bool) \
+            and not isinstance(b, bool):
+        if "residual" in path:  # a solver's residual: round-off, compared absolutely
+            out["residual"] = max(out.get("residual", 0.0), abs(a - b))
+            return out
+        out["numbers"] += 1
+        scale = max(abs(a), abs(b))
+        rel = abs(a - b) / scale if scale > 0 else 0.0
+        if rel > out["max_rel"]:
+            out["max_rel"], out["where"] = rel, path
+    elif a != b:
+        out["kind"].append(f"{path}: {str(a)[:60]!r} against {str(b)[:60]!r}")
+    return out
+
+
+def sets_only(doc) -> list:
+    entries = doc["map"] if "map" in doc else [doc]
+    return [e["tolerance"]["sets"] for e in entries]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--old", required=True, help="a folder holding the old tree's beveloid package")
+    ap.add_argument("--new", default=str(ROOT), help="the new tree (default: this checkout)")
+    ap.add_argument("--rounds", type=int, default=2)
+    ap.add_argument("--samples", type=int, default=16)
+    ap.add_argument("--torques-nm", default="100,200,400")
+    ap.add_argument("--tooth-model", choices=("fe", "plate"), default="fe")
+    ap.add_argument("--keep", help="a folder for the spec and the JSON outputs (default: a temporary one)")
+    a = ap.parse_args()
+    trees = {"old": Path(a.old).resolve(), "new": Path(a.new).resolve()}
+    work = Path(a.keep or tempfile.mkdtemp(prefix="box_"))
+    work.mkdir(parents=True, exist_ok=True)
+    spec = work / "case1_tilted.toml"
+    spec.write_text(spec_text(trees["new"]))
+    argv = ["ltca", str(spec), "--torque-nm", a.torques_nm, "--samples", str(a.samples), "--tooth-model",
+            a.tooth_model, "--json"]
+    print(f"beveloid {' '.join(argv[:1])} case1_tilted.toml {' '.join(argv[2:])}; load average "
+          f"{os.getloadavg()[0]:.1f}")
+    docs, times = {}, {"old": [], "new": []}
+    for name, tree in trees.items():  # warm-up: numba's cache and the FE data of each tree
+        w, c, docs[name] = run(tree, argv, work / f"{name}_warm.json")
+        print(f"  warm-up {name} ({tree}): {w:.2f} s wall, {c:.2f} s CPU")
+    for r in range(a.rounds):
+        for name in (("old", "new") if r % 2 == 0 else ("new", "old")):
+            w, c, docs[name] = run(trees[name], argv, work / f"{name}_{r}.json")
+            times[name].append((w, c))
+            print(f"  round {r + 1} {name}: {w:.2f} s wall, {c:.2f} s CPU (load {os.getloadavg()[0]:.1f})")
+    wo, co = min(t[0] for t in times["old"]), min(t[1] for t in times["old"])
+    wn, cn = min(t[0] for t in times["new"]), min(t[1] for t in times["new"])
+    print(f"least of {a.rounds}: old {wo:.2f} s wall, {co:.2f} s CPU; new {wn:.2f} s wall, {cn:.2f} s CPU; "
+          f"new / old: wall {wn / wo:.3f}, CPU {cn / co:.3f}")
+    s = compare(sets_only(docs["old"]), sets_only(docs["new"]))
+    print(f"error sets: {s['numbers']} numbers, largest relative difference {s['max_rel']:.2e} "
+          f"({s['where']}); {len(s['kind'])} differ in kind")
+    w = compare(docs["old"], docs["new"])
+    print(f"whole JSON: {w['numbers']} numbers, largest relative difference {w['max_rel']:.2e} "
+          f"({w['where']}); the solver's residuals within {w.get('residual', 0.0):.1e} of each other; "
+          f"{len(w['kind'])} differ in kind")
+    for line in w["kind"][:10]:
+        print(f"    {line}")
+    ok = math.isfinite(s["max_rel"]) and s["max_rel"] <= 1e-6 and not s["kind"]
+    print(f"every set's numbers within 1e-6 relative: {'yes' if ok else 'no'}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,230 @@
+"""The rating's verdict (docs/rating.md 6): one public function, :func:`verdict`, that every command
+judging a design calls (``beveloid rating``, ``optimize --constraints rating``).
+
+The verdict is a list of criteria, each a dict with the same keys (:data:`CRITERION_KEYS`): the
+bending and pitting safeties of each member, from the local stresses of the loaded contact where they
+exist and from ISO 6336 otherwise (``"governs": true`` on the ones that decide), the ISO ones beside
+them, and the edge-contact rule.  A new criterion (scuffing, say) is one more entry; the status is
+"fails" when a governing criterion that decides pass or fail fails, "conditional" when the only
+failing ones are conditions (the edge rule: a relief fixes it), else "passes".
+
+Besides the status, the verdict says which method governs each safety and whether ISO fails where
+the local value governs (issue 60.5), where ISO and the local value disagree by more than
+:data:`DISAGREEMENT_FACTOR` and why (issue 57.6), and what it assumes (issue 57.7).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..status import Validity, Verdict
+
+__all__ = ["CRITERION_KEYS", "DISAGREEMENT_FACTOR", "EDGE_SHARE", "EXIT_STATUS", "verdict", "exit_status"]
+
+#: ISO and local safeties further apart than this factor are reported with the reasons found (the
+#: ISO/FE agreement commonly reported is +-10 %; beyond 2 the two are not rating the same thing)
+DISAGREEMENT_FACTOR = 2.0
+#: ``beveloid rating``'s exit status by verdict status (docs/commands.md): 2 is bad input, 1 an output error
+EXIT_STATUS = {Verdict.PASSES: 0, Verdict.FAILS: 3, Verdict.CONDITIONAL: 4, None: 5}
+#: the edge-contact rule's limit: the largest share of the mesh's load within the edge band at any instant
+#: (measured: 0.06-0.11 on unrelieved pairs whose pattern runs onto a tip, 0 to 0.002 with the tip relieved;
+#: docs/rating.md 6)
+EDGE_SHARE = 0.02
+#: the edge-contact rule (docs/rating.md 6), quoted in the JSON
+EDGE_RULE = ("edge contact: a pair whose loaded pattern puts more than 2 % of the mesh's load within 0.05 m_n of a "
+             "flank edge (toe, heel or tip of either member) at K_A K_v T does not pass cleanly; it passes only if "
+             "that edge is relieved (more, where it already is: end relief at a toe or heel, tip relief at a tip), "
+             "and fails if it would fail anyway")
+#: the keys of one criterion
+CRITERION_KEYS = ("criterion", "kind", "member", "source", "where", "value", "required", "meets", "governs",
+                  "condition")
+#: the safeties a verdict rates, in the order of the line
+KINDS = (("S_F", "bending"), ("S_H", "pitting"))
+
+
+def _num(v):
+    if v is None:
+        return None
+    v = float(v)
+    return v if math.isfinite(v) else None
+
+
+def _criterion(what: tuple, where, value, required, governs, condition=False) -> dict:
+    """One criterion: ``what`` = (criterion, kind, member, source); ``meets`` for a minimum ``required``."""
+    criterion, kind, member, source = what
+    value = _num(value)
+    return {"criterion": criterion, "kind": kind, "member": member, "source": source, "where": where,
+            "value": value, "required": required, "meets": None if value is None else bool(value >= required),
+            "governs": governs, "condition": condition}
+
+
+def safety_criteria(result) -> list:
+    """The bending and pitting criteria of both members: each member's local safety (where computed) and
+    its lowest ISO safety over the sections; the local one governs where it exists."""
+    f = result.factors
+    required = {"S_F": f.S_Fmin, "S_H": f.S_Hmin}
+    out = []
+    for kind, name in KINDS:
+        local = {m: (mr.safety_bending if kind == "S_F" else mr.safety_pitting) for m, mr in result.members.items()}
+        has_local = any(_num(v) is not None for v in local.values())
+        for member, mr in result.members.items():
+            if _num(local[member]) is not None:
+                where = mr.root_stress_where if kind == "S_F" else result.loaded.peak_where
+                out.append(_criterion((name, kind, member, "local"), where, local[member], required[kind], True))
+            secs = [s for s in mr.sections.values()
+                    if _num(s.safety_bending_iso if kind == "S_F" else s.safety_pitting_iso) is not None]
+            if secs:
+                low = min(secs, key=lambda s: s.safety_bending_iso if kind == "S_F" else s.safety_pitting_iso)
+                v = low.safety_bending_iso if kind == "S_F" else low.safety_pitting_iso
+                out.append(_criterion((name, kind, member, "iso"), low.section, v, required[kind], not has_local))
+    return out
+
+
+def edge_criterion(result) -> dict | None:
+    """The edge-contact rule (docs/rating.md 6) as a criterion: the share of the mesh's load within the band
+    of the most loaded edge against :data:`EDGE_SHARE` (a maximum), a condition (a relief of that edge
+    fixes it); the band's mean pressure beside sigma_Hlim Z_NT / S_Hmin of the weaker member."""
+    e = result.loaded.edge
+    if e is None:
+        return None
+    f = result.factors
+    strength = min(f.contact_strength_mpa(m) for m in result.members)
+    c = _criterion(("edge contact", "edge_load_share", e.member, "local"), e.where, e.share, EDGE_SHARE, True,
+                   condition=True)
+    c["meets"] = None if c["value"] is None else bool(c["value"] <= EDGE_SHARE)
+    share = _num(e.share)
+    c.update(rule=EDGE_RULE, limit="maximum", load_share=share, share_limit=EDGE_SHARE,
+             safety=None if not share else EDGE_SHARE / share, exceeds=c["meets"] is False,
+             pressure_mpa=_num(e.pressure_mpa), permissible_mpa=_num(strength / f.S_Hmin),
+             band_mm=_num(e.band_mm), force_n=_num(e.force_n), edge=e.edge, relief=e.relief,
+             relief_now_um=_num(e.relief_now_um), pinion_angle_rad=_num(e.pinion_angle_rad), tooth_pair=e.tooth_pair)
+    return c
+
+
+def _disagreements(result, criteria) -> list:
+    """Where a member's local and ISO safety of one kind differ by more than DISAGREEMENT_FACTOR, with the
+    reasons the rating can name."""
+    out = []
+    for kind, _ in KINDS:
+        for member, mr in result.members.items():
+            pair = {c["source"]: c for c in criteria if c["kind"] == kind and c["member"] == member}
+            if "local" not in pair or "iso" not in pair or not pair["local"]["value"] or not pair["iso"]["value"]:
+                continue
+            ratio = pair["local"]["value"] / pair["iso"]["value"]
+            if max(ratio, 1 / ratio) <= DISAGREEMENT_FACTOR:
+                continue
+            why = [f"ISO out of its range at the {k}: {s.status}" for k, s in mr.sections.items()
+                   if s.status != Validity.OK]
+            k_hb = mr.sections["middle"].K_H_beta
+            if _num(k_hb) is not None and k_hb > 2.0:
+                why.append(f"K_H_beta = {k_hb:.2f} from the loaded line load: a contact much shorter than the face, "
+                           "which ISO's nominal stress spreads over b")
+            if kind == "S_H":
+                why.append("the local S_H divides by the loaded contact's peak pressure (a crowned, eased contact), "
+                           "ISO's by sigma_H0 sqrt(K_H_beta) of a line contact over the face")
+            else:
+                why.append("the local S_F divides by the FE tooth's largest root stress at one instant and place, "
+                           "ISO's by sigma_F0 K_F_beta at the outer point of single pair contact")
+            out.append({"kind": kind, "member": member, "local": pair["local"]["value"], "iso": pair["iso"]["value"],
+                        "ratio_local_to_iso": ratio, "factor": DISAGREEMENT_FACTOR, "why": why})
+    return out
+
+
+def assumptions(result) -> list:
+    """What the verdict leaves out (issue 57.7), in words, each with its direction."""
+    f = result.factors
+    pair = getattr(result, "pair", None)
+    errors = getattr(pair, "errors", None)
+    aligned = errors is None or not np.any(np.asarray(errors, dtype=float))
+    out = [("K_H_beta of the " + ("aligned pair" if aligned else "pair's [misalignment]")
+            + " only (no f_ma, f_sh or lead deviations)"),
+           "Z_L = Z_v = Z_R = 1 (no lubricant, speed or roughness given: up to ~15 % too high S_H for unground "
+           "flanks)"]
+    m_n = None if pair is None else pair.geometry.normal_module_mm
+    if m_n is not None and m_n > 5.0:
+        y_x = max(1.05 - 0.01 * m_n, 0.8)  # ISO 6336-3, case-hardened / nitrided, 5 < m_n < 25 (the largest fall)
+        out.append(f"Y_X = Z_X = 1 (ISO 6336-3's Y_X at m_n {m_n:g} mm is down to {y_x:.3f}: S_F up to "
+                   f"{1 / y_x - 1:.1%} high)")
+    else:
+        out.append("Y_X = Z_X = 1 (ISO's value at m_n <= 5 mm)")
+    if f.K_v_source == "static":
+        out.append("K_v = 1 (no pinion speed)")
+    return out
+
+
+def verdict(result) -> dict:
+    """The verdict of a :class:`RatingResult` (module docstring): status ("passes" | "conditional" | "fails"
+    | None), the criteria, the governing lowest safety, which method governs each safety and whether ISO
+    fails, the ISO/local disagreements, the assumptions, the condition and one line in words."""
+    f = result.factors
+    criteria = safety_criteria(result)
+    edge = edge_criterion(result)
+    if edge is not None:
+        criteria.append(edge)
+    deciding = [c for c in criteria if c["governs"] and c["value"] is not None and not c["condition"]]
+    governs = {kind: ("local" if any(c["source"] == "local" and c["kind"] == kind for c in deciding)
+                      else ("iso" if any(c["kind"] == kind for c in deciding) else None)) for kind, _ in KINDS}
+    iso_fails = {kind: [c["member"] for c in criteria if c["kind"] == kind and c["source"] == "iso"
+                        and c["meets"] is False] for kind, _ in KINDS}
+    out = {"lowest": None, "value": None, "source": None, "member": None, "where": None, "required": None,
+           "meets_S_Fmin": None, "meets_S_Hmin": None, "governs": governs, "iso_fails": iso_fails,
+           "edge_contact": edge, "criteria": criteria, "disagreements": [], "assumptions": assumptions(result),
+           "status": None, "condition": None, "passes": None, "exit_status": EXIT_STATUS[None],
+           "line": "no safety factor could be computed (see notes)"}
+    if not deciding:
+        return out
+    low = min(deciding, key=lambda c: c["value"] / c["required"])
+    ok = {kind: all(c["meets"] for c in deciding if c["kind"] == kind) for kind, _ in KINDS}
+    parts = []
+    for kind, _ in KINDS:
+        text = f"{kind} {'meets' if ok[kind] else 'FAILS'} {kind}min = {f.S_Fmin if kind == 'S_F' else f.S_Hmin:g}"
+        if governs[kind] == "local":
+            text += " (local governs"
+            if iso_fails[kind]:
+                iso = min((c for c in criteria if c["kind"] == kind and c["source"] == "iso" and c["meets"] is False),
+                          key=lambda c: c["value"])
+                text += f"; ISO {kind} FAILS: {iso['value']:.3f} on the {iso['member']} at the {iso['where']}"
+            text += ")"
+        elif governs[kind] == "iso":
+            text += " (ISO governs: no local value)"
+        parts.append(text)
+    line = (f"lowest safety {low['kind']} = {low['value']:.3f} ({low['source']}) on the {low['member']} at "
+            f"{low['where']}; " + ", ".join(parts))
+    status = Verdict.PASSES if all(ok.values()) else Verdict.FAILS
+    condition = None
+    if edge is not None and edge["meets"] is False:
+        condition = _edge_condition(edge)
+        line += (f"; edge contact at {edge['where']}: {edge['load_share']:.1%} of the mesh's load within "
+                 f"{edge['band_mm']:.2g} mm of the edge > {EDGE_SHARE:.0%} (edge-contact rule; mean pressure there "
+                 f"{edge['pressure_mpa']:.0f} MPa, sigma_Hlim Z_NT / S_Hmin = {edge['permissible_mpa']:.0f} MPa): ")
+        if status == Verdict.PASSES:
+            status = Verdict.CONDITIONAL
+            line += f"CONDITIONAL, {condition}"
+        else:
+            line += "FAILS also without it"
+    out["disagreements"] = _disagreements(result, criteria)
+    for d in out["disagreements"]:
+        line += (f"; ISO and local {d['kind']} of the {d['member']} differ {max(d['ratio_local_to_iso'], 1 / d['ratio_local_to_iso']):.1f}x "
+                 f"(> {DISAGREEMENT_FACTOR:g}x: {d['why'][0]})")
+    line += "; assumes " + "; ".join(out["assumptions"])
+    out.update(lowest=low["kind"], value=low["value"], source=low["source"], member=low["member"], where=low["where"],
+               required=low["required"], meets_S_Fmin=ok["S_F"], meets_S_Hmin=ok["S_H"], status=status,
+               condition=condition if status == Verdict.CONDITIONAL else None, passes=status == Verdict.PASSES,
+               exit_status=EXIT_STATUS[status], line=line)
+    return out
+
+
+def _edge_condition(edge) -> str:
+    """Which edge to relieve, and how the relief already there counts (issue 57.3)."""
+    now = edge.get("relief_now_um")
+    if now:
+        return (f"passes only if {edge['where']} is relieved more: its {edge['relief']} of {now:g} um still leaves "
+                f"{edge['force_n']:.0f} N ({edge['load_share']:.1%} of the mesh's load) within {edge['band_mm']:.2g} mm "
+                "of the edge (more relief, or a longer one)")
+    return f"passes only if {edge['where']} is relieved ({edge['relief']})"
+
+
+def exit_status(result) -> int:
+    """``beveloid rating``'s exit status for the verdict: :data:`EXIT_STATUS`."""
+    return verdict(result)["exit_status"]
