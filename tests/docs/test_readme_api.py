@@ -111,4 +111,4 @@ def test_the_loaded_example_takes_a_load_case_apart_from_its_options(readme_name
     assert isinstance(ns["tmap"], ltca.Batch) and ns["tmap"].te_peak_to_peak_urad.shape == (1, 2)
     assert [r.torque_nm for r in ns["tmap"].results[0]] == [100.0, 300.0]
     assert len(ns["box"]) == 2 and len(ns["box"][0]) == 1
-    assert isinstance(ns["rated800"], rating.RatingResult) and ns["rated800"].options.ltca is ns["quick"]
+    assert isinstance(ns["rated800"], rating.RatingResult) and ns["rated800"].options.ltca == ns["quick"]
