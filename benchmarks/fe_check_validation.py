@@ -48,7 +48,7 @@ def run(design, flank, torque, refinement, a):
         ltca=ltca.Options(flank=flank, tooth_model=a.tooth_model), refinement=refinement, coarsen=a.coarsen,
         local_refinement=not a.no_local_refinement, contact_size_um=a.contact_size_um,
         max_strip_elements=a.max_strip_elements, out_dir=_keep_dir(a, design, flank, torque, refinement)),
-        progress=lambda s: print(s, file=sys.stderr, flush=True) if not s.startswith("ccx") else None).to_json()
+        progress=lambda done, total, s: print(s, file=sys.stderr, flush=True) if not s.startswith("ccx") else None).to_json()
     out.update(design=design, total_s=time.perf_counter() - t0, coarsen=a.coarsen, tooth_height_mm=tooth_height_mm(design),
                max_strip_elements=a.max_strip_elements, contact_size_um=a.contact_size_um)
     return out

@@ -150,6 +150,18 @@ class PairGeometry:
                 bare[which] = replace(m, tooth_surface=surface_models.DEFAULT_MODEL, surface_options=())
         return replace(self, **bare) if bare else self
 
+    def modifications_scaled(self, t: float) -> "PairGeometry":
+        """The pair with every modification amplitude of the built-in models (their keys in um: crowning,
+        relief, lead slope) times ``t``, extents and the models kept: t = 0 is the unmodified flank in the
+        same model, t = 1 this pair (a path for a solve the full modification throws off)."""
+        scaled = {}
+        for which in MEMBERS:
+            m = self.member(which)
+            if surface_models.SELECTED_BY.get(m.tooth_surface):
+                opts = tuple((k, v * t if k.endswith("_um") and isinstance(v, float) else v) for k, v in m.surface_options)
+                scaled[which] = replace(m, surface_options=opts)
+        return replace(self, **scaled) if scaled else self
+
     def member(self, which: str) -> Member:
         if which not in MEMBERS:
             raise ValueError(f"member must be one of {', '.join(MEMBERS)}, got {which!r}")

@@ -117,6 +117,16 @@ class _Serial:
             yield i, result
 
 
+def resource_tracker_running() -> None:
+    """Start multiprocessing's resource tracker now if it is not running: its start (on the first lock or
+    queue a pool makes) blocks SIGINT and then UNBLOCKS it, undoing a block held meanwhile, so that the
+    workers started next take the terminal's Ctrl-C while they import (their tracebacks, issue 60).
+    Started before SIGINT is blocked, it leaves the block alone."""
+    from multiprocessing import resource_tracker
+
+    resource_tracker.ensure_running()
+
+
 @contextlib.contextmanager
 def _sigint_blocked():
     """SIGINT blocked in this thread meanwhile (a Ctrl-C then arrives as soon as it is unblocked): the
@@ -125,6 +135,7 @@ def _sigint_blocked():
     if not hasattr(signal, "pthread_sigmask"):  # not POSIX
         yield
         return
+    resource_tracker_running()
     previous = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
     try:
         yield

@@ -90,6 +90,8 @@ class ToothStatus(enum.StrEnum):
     NO_FORM_LIMIT = "no form limit"
     #: the unmodified aligned pair's contact ratio on a flank is below 1: no continuous mesh on that flank
     CONTACT_RATIO_BELOW_ONE = "contact ratio below 1"
+    #: `beveloid export` refuses the member's tooth (in both formats, or in STEP only), and why
+    NOT_EXPORTABLE = "not exportable"
 
 
 class DesignStatus(enum.StrEnum):

@@ -15,6 +15,7 @@ from typing import NamedTuple
 import numpy as np
 
 from . import assembly_errors, mesh, tca
+from .errors import OptionError
 from .result import Result, freeze, thaw
 from .solver import threads
 from .status import Status, carries_numbers
@@ -28,23 +29,22 @@ MAX_CONTACT_POINTS = 5_000_000
 SIZES = {"samples": (1, 10_000_000), "positions": (2, 10_000)}
 
 
-class SweepSizeError(ValueError):
-    """A sweep size out of range (one line naming it, its value and what is valid)."""
+class SweepSizeError(OptionError):
+    """A sweep size out of range: an :class:`beveloid.errors.OptionError` (key, value, what is valid)."""
 
 
-def check_sweep_size(samples, positions, flags=False):
+def check_sweep_size(samples, positions):
     """The sizes of SIZES, and samples * positions <= MAX_CONTACT_POINTS, else a one-line
-    SweepSizeError (``flags``: named as the command line's --samples, --positions)."""
-    name = (lambda n: "--" + n) if flags else (lambda n: n)
+    SweepSizeError naming the option (``samples``, ``positions``; the command line names its flags)."""
     for key, v in (("samples", samples), ("positions", positions)):
         lo, hi = SIZES[key]
         if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not lo <= v <= hi:
-            raise SweepSizeError(f"{name(key)} = {v!r}: must be an integer from {lo} to {hi}")
+            raise SweepSizeError(key, v, f"must be an integer from {lo} to {hi}")
     if samples * positions > MAX_CONTACT_POINTS:
-        raise SweepSizeError(f"{name('samples')} x {name('positions')} = {samples} x {positions} ="
-                             f" {samples * positions} contact points: at most {MAX_CONTACT_POINTS} per sweep"
-                             f" (memory, ~220 bytes a point); use fewer samples or positions, or run several"
-                             f" sweeps with different seeds")
+        raise SweepSizeError("samples", samples,
+                             f"times positions = {positions} makes {samples * positions} contact points: at most"
+                             f" {MAX_CONTACT_POINTS} per sweep (memory, ~220 bytes a point); use fewer samples or"
+                             f" positions, or run several sweeps with different seeds")
 
 
 def draw_errors(samples, ranges=None, seed=0, nominal=None, start=0):
@@ -294,7 +294,7 @@ def _run(pair, options: "Options", solver, executor, progress):
         iterations += part.iterations
         done += sl.stop - sl.start
         if progress:
-            progress(done, samples, t0)
+            progress(done, samples, "error sets")
     seconds = time.perf_counter() - t0
     s = tca.sensitivity(geom, flank, solver=solver)
     names = assembly_errors.KEYS
@@ -336,8 +336,6 @@ class Options:
     chunk: int = 2000
 
     def __post_init__(self):
-        from .errors import OptionError
-
         if self.flank not in tca.FLANKS:
             raise OptionError("flank", self.flank, f"must be one of {', '.join(tca.FLANKS)}")
         check_sweep_size(self.samples, self.positions)
@@ -367,7 +365,8 @@ def analyze(pair, options: Options | None = None, *, solver: "tca.Solver | None"
     """The sweep of ``options`` (None: the default :class:`Options`) on a :class:`beveloid.pair.Pair` (or its
     PairGeometry): a deep-frozen :class:`SweepResult` (its JSON: ``to_json()``).  ``solver``: a :class:`beveloid.solver.Solver`
     (None: the default); ``executor``: beveloid.parallel.executor(...) for the chunks (the same numbers on
-    one worker, N workers and a cluster); ``progress``: callable(done, total, t0) or None."""
+    one worker, N workers and a cluster); ``progress``: a :class:`beveloid.progress.Progress` (the error sets
+done) or None."""
     if options is None:
         options = Options()
     if not isinstance(options, Options):

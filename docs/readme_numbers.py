@@ -185,9 +185,11 @@ def record_verify(args) -> dict:
 
 # --- the FE groups -------------------------------------------------------------------------------
 
-#: docs/validation.md 10: the rating's validation runs (the defaults otherwise: FE tooth, 10 positions)
+#: docs/validation.md 10: the rating's validation runs (the defaults otherwise: FE tooth), at 10 positions
+#: (the rating's default was 10 when they were recorded; it is 21 since issue 57)
 RATING_TORQUE_NM = 1500.0
-RATING_COMMAND = "beveloid rating beveloid/data/{case}.toml --torque-nm 1500 --json"
+RATING_POSITIONS = 10
+RATING_COMMAND = "beveloid rating beveloid/data/{case}.toml --torque-nm 1500 --positions 10 --json"
 #: the canary's coarse FE tooth: tests/fe/conftest.py's COARSEN (the session's coarse FE data)
 CANARY_COARSEN = 3.0
 CANARY_POSITIONS = 3
@@ -218,7 +220,8 @@ def record_rating(args) -> dict:
 
     out = {"command": RATING_COMMAND, "canary": fe_canary()}
     for case in ("case1", "case2"):
-        out[case] = rating.analyze(Pair.example(case), ltca.LoadCase(RATING_TORQUE_NM)).to_json()
+        out[case] = rating.analyze(Pair.example(case), ltca.LoadCase(RATING_TORQUE_NM),
+                                   rating.Options(ltca.Options(positions=RATING_POSITIONS))).to_json()
     return out
 
 

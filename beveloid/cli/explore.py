@@ -160,7 +160,7 @@ def run(args: argparse.Namespace) -> int:
                                                      " designs first (Ctrl-C again to stop at once)"))
     try:
         with ex:
-            stop, why = runner.execute(out, req, ex, runner.Progress(req.plan.count, chunks.designs), chunks)
+            stop, why = runner.execute(out, req, ex, runner.Progress(chunks.designs), chunks)
             where = ex.description
             late.start()
         return _finish(args, out, req, chunks, (stop, why, where, time.perf_counter() - t0), late, created_here)

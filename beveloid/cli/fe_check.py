@@ -81,7 +81,9 @@ def run(args: argparse.Namespace) -> int:
         raise UserError(CCX_MISSING)
     spec = apply_error_flags(load_spec(args.file), args)
     pair = Pair.from_spec(spec)
-    progress = lambda s: print(s, file=sys.stderr, flush=True)  # noqa: E731
+    from ..progress import Lines
+
+    progress = Lines(sys.stderr)
     if args.out is None:
         out = fecheck.analyze(pair, load, options, progress=progress).to_json()
     else:
@@ -95,7 +97,8 @@ def run(args: argparse.Namespace) -> int:
 
 def _into_folder(pair, load, options, progress, folder):
     """The check with its files (deck, CalculiX's output, VTU) kept in ``folder``; a Ctrl-C removes the
-    files this run had written there (a deck without results, CalculiX's partial output) and says so."""
+    files this run had written there (a deck without results, CalculiX's partial output, its spooles.out:
+    every file new since the start and the job's files rewritten) and says so."""
     import time
     from pathlib import Path
 
@@ -103,10 +106,12 @@ def _into_folder(pair, load, options, progress, folder):
     from ..outputs import interrupted_files_note
 
     t0 = time.time()
+    before = {p.name for p in Path(folder).iterdir()} if Path(folder).is_dir() else set()
     try:
         return fecheck.analyze(pair, load, options, progress=progress)
-    except KeyboardInterrupt:
-        mine = [p for p in sorted(Path(folder).glob(f"{JOB}.*")) if p.is_file() and p.stat().st_mtime >= t0 - 1.0]
+    except KeyboardInterrupt:  # the job's files of this run, and whatever else CalculiX made (spooles.out)
+        mine = [p for p in sorted(Path(folder).iterdir()) if p.is_file() and (
+            p.name not in before or (p.name.startswith(f"{JOB}.") and p.stat().st_mtime >= t0 - 1.0))]
         for p in mine:
             p.unlink(missing_ok=True)
         print(f"beveloid fe-check: {interrupted_files_note(folder, '--out', [p.name for p in mine])}",

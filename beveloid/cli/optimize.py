@@ -142,7 +142,7 @@ def run(args: argparse.Namespace) -> int:
         base = search.baseline(out, req)
         ex = parallel.executor(args.workers, args.scheduler)
         with ex:
-            records, stop, why = search.run(out, req, ex, search.Progress(req.budget), base)
+            records, stop, why = search.run(out, req, ex, search.Progress(), base)
             where = ex.description
     except KeyboardInterrupt:
         if not args.resume:

@@ -33,7 +33,7 @@ def configure(p: argparse.ArgumentParser) -> None:
 
     p.add_argument("file", metavar="FILE", help="TOML design spec (`beveloid example case1` prints one)")
     p.add_argument("--torque-nm", type=float, required=True, metavar="T", help="nominal pinion torque (N m), > 0")
-    add_ltca_flags(p, positions=rating.DEFAULT_POSITIONS)  # the LTCA's flags, as `beveloid ltca` takes them
+    add_ltca_flags(p, positions=rating.POSITIONS)  # the LTCA's flags, as `beveloid ltca` takes them
     p.add_argument("--plot", metavar="OUT.png", help="write S_F and S_H along the face of both members here")
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
 

@@ -62,9 +62,9 @@ def run(args: argparse.Namespace) -> int:
     from ..sweep import SweepSizeError, check_sweep_size
 
     try:
-        check_sweep_size(args.samples, args.positions, flags=True)
-    except SweepSizeError as exc:
-        raise UserError(str(exc)) from None
+        check_sweep_size(args.samples, args.positions)
+    except SweepSizeError as exc:  # named by its fields: the flag of the key
+        raise UserError(exc.for_flag("--" + exc.key)) from None
     if not 0 <= args.seed < 2 ** 63:
         raise UserError(f"--seed = {args.seed}: must be an integer from 0 to 2**63 - 1")
     solver = solver_of(args.backend)

@@ -281,30 +281,30 @@ def prepare(out_dir: str, req: Request | None, resume: bool, log=None) -> Reques
 
 
 class Progress:
-    """designs done, rate and time left on a terminal (stderr), at most ~4 times a second."""
+    """A :class:`beveloid.progress.Progress`: designs done, rate and time left on a terminal (stderr), at most
+    ~4 times a second; ``done``: the designs already done when the run starts (not counted in the rate)."""
 
-    def __init__(self, total: int, done: int, stream=None):
+    def __init__(self, done: int = 0, stream=None):
         self.stream = stream or sys.stderr
-        self.total, self.done, self.start_done = total, done, done
+        self.start_done = done
         self.t0 = self.last = time.perf_counter()
         self.on = getattr(self.stream, "isatty", lambda: False)()
 
-    def update(self, n: int) -> None:
-        self.done += n
+    def __call__(self, done: int, total: int | None, what: str) -> None:
         now = time.perf_counter()
-        if not self.on or (now - self.last < 0.25 and self.done < self.total):
+        if not self.on or not total or (now - self.last < 0.25 and done < total):
             return
         self.last = now
-        rate = (self.done - self.start_done) / max(now - self.t0, 1e-9)
-        left = (self.total - self.done) / rate if rate > 0 else float("nan")
-        self.stream.write(f"\r  explore: {self.done}/{self.total} designs ({100 * self.done / self.total:.1f} %),"
-                          f" {rate:.0f} designs/s, {left:.0f} s left   ")
-        if self.done >= self.total:
+        rate = (done - self.start_done) / max(now - self.t0, 1e-9)
+        left = (total - done) / rate if rate > 0 else float("nan")
+        self.stream.write(f"\r  explore: {done}/{total} {what} ({100 * done / total:.1f} %),"
+                          f" {rate:.0f} {what}/s, {left:.0f} s left   ")
+        if done >= total:
             self.stream.write("\n")
         self.stream.flush()
 
 
-def execute(out_dir: str, req: Request, ex, progress: Progress | None = None,
+def execute(out_dir: str, req: Request, ex, progress=None,
             chunks: Chunks | None = None) -> tuple[StopReason | None, str]:
     """Compute the missing chunks and the base design's row on the executor ``ex``, keeping them in
     ``chunks`` (read from ``out_dir`` if not given): (None, "") when complete, else (why it stopped, a line
@@ -322,7 +322,7 @@ def execute(out_dir: str, req: Request, ex, progress: Progress | None = None,
                 continue
             chunks.add(tasks[k].index, cols)
             if progress:
-                progress.update(len(cols["design"]))
+                progress(chunks.designs, req.plan.count, "designs")
     except KeyboardInterrupt:
         return StopReason.INTERRUPTED, str(StopReason.INTERRUPTED)
     except WorkLost as exc:

@@ -27,6 +27,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .. import interrupts
+from ..errors import OptionError
 from ..names import MEMBERS
 from ..outputs import check_output_dir
 from .formats import WRITERS, install_hint
@@ -54,7 +55,7 @@ def require_cad(format: str = "step") -> None:
 
 @dataclass(frozen=True)
 class ExportOptions:
-    """What to export; validated on construction (ValueError naming the option)."""
+    """What to export; validated on construction (:class:`beveloid.errors.OptionError` naming the option)."""
 
     format: str = "step"
     members: tuple = MEMBERS
@@ -65,11 +66,11 @@ class ExportOptions:
 
     def __post_init__(self):
         if self.format not in FORMATS:
-            raise ValueError(f"format = {self.format!r}: must be one of {', '.join(FORMATS)}")
+            raise OptionError("format", self.format, f"must be one of {', '.join(FORMATS)}")
         if not self.members or any(m not in MEMBERS for m in self.members) or len(set(self.members)) != len(self.members):
-            raise ValueError(f"members = {self.members!r}: must be pinion, gear or both, each once")
-        if not (0.5 <= self.chord_um <= 4.0):
-            raise ValueError(f"chord_um = {self.chord_um!r}: must be from 0.5 to 4 (um)")
+            raise OptionError("members", self.members, "must be pinion, gear or both, each once")
+        if not (isinstance(self.chord_um, (int, float)) and 0.5 <= self.chord_um <= 4.0):
+            raise OptionError("chord_um", self.chord_um, "must be from 0.5 to 4 (um)")
 
 
 @dataclass(frozen=True)

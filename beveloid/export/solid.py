@@ -19,11 +19,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import occ
-from ..tooth.sampling import FACES, ExportGeometryError, ToothSampler
+from ..tooth.sampling import FACES, STEP_FIT_TOL_UM, ExportGeometryError, ToothSampler
 
 #: the fitted faces lie within this distance of the generated surfaces between the fit points
 #: (the export promises 1 um; the fit aims at a quarter of it)
-FIT_TOL_UM = 0.25
+FIT_TOL_UM = STEP_FIT_TOL_UM
 #: the first grid (profile samples, axial samples) and how often it may be refined
 FIRST_GRID = (24, 13)
 MAX_REFINEMENTS = 3
@@ -104,6 +104,7 @@ def build_member(geometry, member: str, bore_diameter_mm: float = 0.0, first=FIR
     toe, heel = sampler.z_range_mm
     z_range = (min(toe, heel), max(toe, heel))
     sampler.check_buildable(np.linspace(*z_range, 21))
+    sampler.check_step_buildable(np.linspace(*z_range, 21))
     fits = ()
     for z_from, z_to, landed in sampler.face_pieces(z_range):  # a pointed piece has no tip land
         fits += fit_tooth(sampler, (z_from, z_to), first, faces=FACES if landed else POINTED_FACES)
@@ -114,5 +115,6 @@ def build_member(geometry, member: str, bore_diameter_mm: float = 0.0, first=FIR
     if bore_diameter_mm > 0:
         shape = occ.cut_bore(shape, bore_diameter_mm, z_range)
     if not occ.is_valid(shape):
-        raise RuntimeError(f"{member}: OpenCASCADE finds the solid invalid (BRepCheck_Analyzer)")
+        raise ExportGeometryError(f"{member}: OpenCASCADE finds the STEP solid built from its fitted faces invalid"
+                                  " (BRepCheck_Analyzer); --format stl builds it from the generated points")
     return MemberSolid(member, sampler.teeth, float(bore_diameter_mm), (toe, heel), shape, fits)

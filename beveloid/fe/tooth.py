@@ -221,9 +221,13 @@ def flank_compliance(elastic, points, normals, depth, solutions=None, feet=None,
     return raw, 0.5 * (corrected + corrected.T), u
 
 
-def _say(progress, text):
+#: the stages tooth_data reports to its progress (beveloid.progress.Progress)
+STAGES = 3
+
+
+def _say(progress, stage, text):
     if progress is not None:
-        progress(text)
+        progress(stage, STAGES, text)
 
 
 def tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: int = 1, progress=None, coarsen=1.0
@@ -233,10 +237,10 @@ def tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: int = 1, 
     pair = body_pair(pair, member)
     geometry = getattr(pair, "geometry", pair)
     t0 = time.perf_counter()
-    _say(progress, f"FE tooth {member}: meshing (refinement {refinement})")
+    _say(progress, 0, f"FE tooth {member}: meshing (refinement {refinement})")
     mesh = sector_mesh(pair, member, refinement=refinement, coarsen=coarsen)
     t1 = time.perf_counter()
-    _say(progress, f"FE tooth {member}: {mesh.nodes.shape[0]} nodes, {mesh.tets.shape[0]} tets; factorising")
+    _say(progress, 1, f"FE tooth {member}: {mesh.nodes.shape[0]} nodes, {mesh.tets.shape[0]} tets; factorising")
     elastic = solve.factorise(mesh, e_mpa, nu)
     sampler = ToothSampler(geometry, member)
     grid = load_grid(sampler, geometry.normal_module_mm)
@@ -245,7 +249,7 @@ def tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: int = 1, 
     flat_p, flat_n = pts.reshape(2, G, 3), nrm.reshape(2, G, 3)
     fillet_nodes = [mesh.node_sets[f"fillet_{f}_0"] for f in FLANKS]
     stress_ops = [solve.stress_operator(elastic, nodes) for nodes in fillet_nodes]
-    _say(progress, f"FE tooth {member}: {elastic.timings_s['free_dofs']} dofs factorised in "
+    _say(progress, 2, f"FE tooth {member}: {elastic.timings_s['free_dofs']} dofs factorised in "
                    f"{elastic.timings_s['factor_s']:.1f} s; solving {2 * G} load cases")
     t2 = time.perf_counter()
     nf = max(len(n) for n in fillet_nodes)
@@ -267,7 +271,7 @@ def tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: int = 1, 
         fp[side, :len(nodes)] = mesh.nodes[nodes]
         fp[side, len(nodes):] = mesh.nodes[nodes[-1]]
     height = np.hypot(fp[..., 0], fp[..., 1]) - sampler.root_radius_mm(fp[..., 2])
-    _say(progress, f"FE tooth {member}: done in {t3 - t0:.1f} s")
+    _say(progress, STAGES, f"FE tooth {member}: done in {t3 - t0:.1f} s")
     stats = np.array([mesh.nodes.shape[0], mesh.tets.shape[0], elastic.timings_s["free_dofs"], t1 - t0,
                       elastic.timings_s["assemble_s"], elastic.timings_s["factor_s"], t3 - t2], dtype=float)
     return ToothData(s=s, z_mm=z, points_mm=pts, normals=nrm, radius_mm=np.hypot(pts[..., 0], pts[..., 1]),

@@ -147,10 +147,31 @@ def _resolution_notes(about) -> list[str]:
     return out
 
 
-def analyze(pair, load, options: Options | None = None, *, solver=None, progress=print) -> CheckResult:
+def root_stress_notes(calculix, ltca, refinement: int) -> list[str]:
+    """Where the two FE models' root stresses differ by more than ROOT_STRESS_AGREEMENT: the numbers and what
+    the difference can come from (the rating's local S_F divides by the LTCA's)."""
+    from .result import ROOT_STRESS_AGREEMENT, root_stress_agreement
+
+    out = []
+    for m, a in root_stress_agreement(calculix, ltca).items():
+        if a["agrees"] is False:
+            out.append(f"{m}: root stress {a['calculix_mpa']:.1f} MPa (calculix) against {a['ltca_mpa']:.1f} MPa (the "
+                       f"LTCA's FE tooth), ratio {a['ratio']:.3f}, beyond +-{ROOT_STRESS_AGREEMENT:.0%}: the sectors' "
+                       f"fillet elements at refinement {refinement} (the root is not refined like the contact "
+                       "strips) and the LTCA's tooth data (its --fe-refinement) are the two meshes; rerun with "
+                       "--refinement 2 to see which moves; the rating's local S_F divides by the LTCA's")
+    return out
+
+
+#: the steps fe_check reports to its progress: the LTCA, the meshes, CalculiX (its lines between), done
+STEPS = 3
+
+
+def analyze(pair, load, options: Options | None = None, *, solver=None, progress=None) -> CheckResult:
     """The FE check of ``pair`` under ``load`` (an ``ltca.LoadCase``: one pinion torque; its errors None
     or the pair's own, which the FE model is placed with) with ``options`` (None: the defaults): a
-    :class:`beveloid.fecheck.result.CheckResult`, its ``to_json()`` the contract (docs/fe_check.md)."""
+    :class:`beveloid.fecheck.result.CheckResult`, its ``to_json()`` the contract (docs/fe_check.md);
+    ``progress``: a :class:`beveloid.progress.Progress` (its steps, and CalculiX's lines) or None."""
     from .. import ltca, tca
     from ..solver import Solver
     from .deck import write_deck
@@ -167,8 +188,11 @@ def analyze(pair, load, options: Options | None = None, *, solver=None, progress
 
         raise UserError(CCX_MISSING)
     geom = pair.geometry
-    say = progress or (lambda s: None)
-    say(f"fe-check: LTCA at {load.torque_nm:g} N m over {options.ltca.positions} positions")
+    def say(step, text):
+        if progress is not None:
+            progress(step, STEPS, text)
+
+    say(0, f"fe-check: LTCA at {load.torque_nm:g} N m over {options.ltca.positions} positions")
     result = ltca.analyze(pair, load, options.ltca, solver=Solver.of(solver))
     j = choose_position(result) if options.position is None else options.position
     if result.status[j] != LoadedStatus.OK or not np.isfinite(result.unloaded_te[j]):
@@ -178,7 +202,7 @@ def analyze(pair, load, options: Options | None = None, *, solver=None, progress
     ref = tca.reference_contact(geom, options.flank)
     phi1 = float(result.pinion_angle[j])
     phi2 = float(result.unloaded_te[j] + tca.unknowns(ref.x).gear_angle_rad - ratio * (phi1 - ref.pinion_angle))
-    say(f"fe-check: position {j} (pinion angle {phi1:.6f} rad); meshing both sectors (refinement "
+    say(1, f"fe-check: position {j} (pinion angle {phi1:.6f} rad); meshing both sectors (refinement "
         f"{options.refinement})")
     t0 = time.perf_counter()
     strips, about = {"pinion": None, "gear": None}, []
@@ -200,8 +224,8 @@ def analyze(pair, load, options: Options | None = None, *, solver=None, progress
             stack.enter_context(tempfile.TemporaryDirectory(prefix="beveloid_fecheck_")))
         deck_path = folder / "fe_check.inp"
         info = write_deck(model.deck, deck_path)
-        say(f"fe-check: {model.elements} C3D10 elements, {model.dof} degrees of freedom; running ccx in {folder}")
-        run = run_ccx(deck_path, progress=lambda line: say(f"ccx: {line.strip()}"))
+        say(2, f"fe-check: {model.elements} C3D10 elements, {model.dof} degrees of freedom; running ccx in {folder}")
+        run = run_ccx(deck_path, progress=lambda n, total, line: say(2, f"ccx: {line.strip()}"))
         fe = read_pair_results(run, model, info, folder / "fe_check.vtu" if options.out_dir else None)
     te_fe = float(result.unloaded_te[j]) + ratio * model.phi_sign * fe.rotation_rad
     calculix = ContactNumbers.of(fe.pair_load_n, fe.pair_max_pressure_mpa, fe.pair_area_mm2, te_fe * 1e6,
@@ -228,6 +252,7 @@ def analyze(pair, load, options: Options | None = None, *, solver=None, progress
     notes += [f"tooth pair {k}: outside the {SECTOR_TEETH}-tooth sectors (null)" for k, p in zip(model.tooth_pairs,
                                                                                          model.pairs) if p is None]
     notes += _resolution_notes(about if options.local_refinement else None)
+    notes += root_stress_notes(calculix, _ltca_block(result, j), options.refinement)
     return CheckResult(
         run.version or ccx_version(), int(j), phi1, getattr(result, "tooth_model", "plate"),
         tuple(model.tooth_pairs), float(result.unloaded_te[j] * 1e6), model.elements, model.dof, run.wall_s,

@@ -13,7 +13,23 @@ import numpy as np
 
 from ..result import Frozen, Result, thaw
 
-__all__ = ["CheckResult", "ContactNumbers"]
+__all__ = ["CheckResult", "ContactNumbers", "ROOT_STRESS_AGREEMENT", "root_stress_agreement"]
+
+#: the two FE models' root stresses agree when within this share of each other (issue 57.5: the rating's
+#: local S_F rests on the LTCA's FE tooth; CalculiX's full-contact sectors check it)
+ROOT_STRESS_AGREEMENT = 0.10
+
+
+def root_stress_agreement(calculix: "ContactNumbers", ltca: "ContactNumbers") -> dict:
+    """{member: {"calculix_mpa", "ltca_mpa", "ratio" (calculix / ltca), "agrees"}} of the largest root
+    stresses at the checked position; null ratio and agreement where either is missing."""
+    out = {}
+    for m, c in calculix.root_stress_max_mpa.items():
+        c, l = _num(c), _num(ltca.root_stress_max_mpa.get(m))
+        ratio = None if c is None or not l else c / l
+        out[m] = {"calculix_mpa": c, "ltca_mpa": l, "ratio": ratio,
+                  "agrees": None if ratio is None else bool(abs(ratio - 1.0) <= ROOT_STRESS_AGREEMENT)}
+    return out
 
 
 def _num(v) -> float | None:
@@ -101,7 +117,8 @@ class CheckResult(Result):
                 "unloaded_transmission_error_urad": self.unloaded_transmission_error_urad,
                 "elements": self.elements, "dof": self.dof, "calculix_wall_s": self.calculix_wall_s,
                 "calculix_cpu_s": self.calculix_cpu_s, "mesh_s": self.mesh_s,
-                "calculix": self.calculix.to_json(), "ltca": self.ltca.to_json(), "files": dict(self.files),
+                "calculix": self.calculix.to_json(), "ltca": self.ltca.to_json(),
+                "root_stress_agreement": root_stress_agreement(self.calculix, self.ltca), "files": dict(self.files),
                 "notes": list(self.notes),
                 "ltca_hertz_max_pressure_mpa": [_num(v) for v in self.ltca_hertz_max_pressure_mpa],
                 "ltca_patch_semi_axes_mm": [[_num(v) for v in ab] for ab in self.ltca_patch_semi_axes_mm],

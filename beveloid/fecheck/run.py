@@ -57,7 +57,7 @@ def ccx_version() -> str | None:
 
 def run_ccx(deck_path, progress=None, threads: int = 2) -> CcxRun:
     """Run ccx on ``deck_path`` (``<job>.inp``) in its folder; each line of its output goes to
-    ``progress`` (a callable, or None).  Raises :class:`UserError` when ccx is missing (``CCX_MISSING``)
+    ``progress`` (a :class:`beveloid.progress.Progress`: the lines so far, no total, the line; or None).  Raises :class:`UserError` when ccx is missing (``CCX_MISSING``)
     or fails (its last lines)."""
     exe = ccx_path()
     if exe is None:
@@ -75,7 +75,7 @@ def run_ccx(deck_path, progress=None, threads: int = 2) -> CcxRun:
             for line in proc.stdout:
                 lines.append(line.rstrip("\n"))
                 if progress is not None and line.strip():
-                    progress(line.rstrip("\n"))
+                    progress(len(lines), None, line.rstrip("\n"))
             rc = proc.wait()
         except BaseException:  # Ctrl-C (or a failing progress): ccx stops too, before its files are cleaned up
             proc.kill()

@@ -109,7 +109,7 @@ def default_tooth_model() -> str:
 
 def check_tooth_model(value, key="tooth_model"):
     if value not in TOOTH_MODELS:
-        raise ValueError(f"{key} = {value!r}: must be one of {', '.join(TOOTH_MODELS)}")
+        raise OptionError(key, value, f"must be one of {', '.join(TOOTH_MODELS)}")
     return value
 
 
@@ -165,12 +165,12 @@ class Options:
         check_fe_refinement(self.fe_refinement)
         object.__setattr__(self, "fe_coarsen", check_fe_coarsen(self.fe_coarsen))
         if self.flank not in FLANKS:
-            raise ValueError(f"flank = {self.flank!r}: must be one of {', '.join(FLANKS)}")
+            raise OptionError("flank", self.flank, f"must be one of {', '.join(FLANKS)}")
         check_positions(self.positions)
         check_pairs(self.pairs)
         object.__setattr__(self, "grid", check_grid(self.grid))
         if self.material is not None and not isinstance(self.material, Material):
-            raise ValueError(f"material = {self.material!r}: must be an ltca.Material")
+            raise OptionError("material", self.material, "must be an ltca.Material")
 
     @property
     def cells(self) -> tuple:

@@ -50,8 +50,8 @@ def _chunk(task):
 def tolerance_box(pair, load, options=None, *, workers=None, scheduler=None, progress=None) -> list:
     """``[[summary (ltca.results.batch.summary, with "errors") per torque] per error set]`` of ``load``'s
     error sets (the draws), in chunks of :data:`CHUNK_SETS`: here, on ``workers`` local processes or on
-    the Dask cluster at ``scheduler`` (beveloid.parallel); ``progress(done, total, t0)`` after each chunk."""
-    import time
+    the Dask cluster at ``scheduler`` (beveloid.parallel); ``progress(done, total, "error sets")`` after each
+    chunk (a :class:`beveloid.progress.Progress`)."""
     from contextlib import nullcontext
 
     from ..parallel import executor
@@ -59,7 +59,7 @@ def tolerance_box(pair, load, options=None, *, workers=None, scheduler=None, pro
     sets = load.error_sets(pair)
     tasks = [(pair, load.at(errors=sets[i:i + CHUNK_SETS]), options) for i in range(0, len(sets), CHUNK_SETS)]
     out = [None] * len(tasks)
-    t0, done = time.perf_counter(), 0
+    done = 0
     parallel = workers is not None or scheduler is not None
     with (executor(workers, scheduler) if parallel else nullcontext()) as ex:
         items = ex.map_unordered(_chunk, tasks) if parallel else ((i, _chunk(t)) for i, t in enumerate(tasks))
@@ -67,7 +67,7 @@ def tolerance_box(pair, load, options=None, *, workers=None, scheduler=None, pro
             out[i] = res
             done += len(res)
             if progress is not None:
-                progress(done, len(sets), t0)
+                progress(done, len(sets), "error sets")
     return [row for chunk in out for row in chunk]
 
 

@@ -115,22 +115,19 @@ def algorithm(req: Request, baseline: dict | None = None):
 
 
 class Progress:
-    """Candidates done, the time per candidate and the time left, on stderr (a line per batch)."""
+    """A :class:`beveloid.progress.Progress`: candidates done, the time per candidate and the time left, on
+    stderr (a line per batch); ``what`` says how many of the batch came from disk."""
 
-    def __init__(self, total: int, stream=None):
+    def __init__(self, stream=None):
         self.stream = stream or sys.stderr
-        self.total, self.done, self.computed = total, 0, 0
         self.t0 = time.perf_counter()
 
-    def update(self, cached: int, computed: int) -> None:
-        self.done += cached + computed
-        self.computed += computed
-        dt = time.perf_counter() - self.t0
+    def __call__(self, done: int, total: int | None, what: str) -> None:
         rate = ""
-        if self.computed:
-            each = dt / self.computed
-            rate = f", {each:.1f} s a candidate, about {each * (self.total - self.done):.0f} s left"
-        self.stream.write(f"beveloid optimize: {self.done}/{self.total} candidates ({cached} from disk){rate}\n")
+        if done and total:
+            each = (time.perf_counter() - self.t0) / done
+            rate = f", {each:.1f} s a candidate, about {each * (total - done):.0f} s left"
+        self.stream.write(f"beveloid optimize: {done}/{total} {what}{rate}\n")
         self.stream.flush()
 
 
@@ -145,7 +142,7 @@ def baseline(out_dir: str, req: Request) -> dict:
     return rec
 
 
-def run(out_dir: str, req: Request, ex, progress: Progress | None = None, base: dict | None = None) -> tuple:
+def run(out_dir: str, req: Request, ex, progress=None, base: dict | None = None) -> tuple:
     """Ask, evaluate (on ``ex``) and tell until the budget: (records in candidate order, None or a StopReason,
     a line saying why it stopped).  ``base``: the unmodified design's record (:func:`baseline`), the first
     candidate when its values lie inside the ranges (its numbers are taken, not computed again)."""
@@ -181,7 +178,7 @@ def run(out_dir: str, req: Request, ex, progress: Progress | None = None, base: 
         except WorkLost as exc:
             return records + [r for r in batch if r is not None], StopReason.WORK_LOST, str(exc)
         if progress:
-            progress.update(len(X) - len(todo), len(todo))
+            progress(len(records) + len(X), req.budget, f"candidates ({len(X) - len(todo)} from disk)")
         FG = [told(req, r) for r in batch]
         pop.set("F", np.array([f for f, _ in FG]), "G", np.array([g for _, g in FG]))
         alg.tell(infills=pop)

@@ -26,20 +26,25 @@ __all__ = ["LoadedContact", "Options", "SectionRating", "MemberRating", "analyze
 
 
 
+#: the rating's default positions over the mesh cycle: 20 distinct mesh states, so that every other
+#: position is the 11-position run and the positions check (:func:`positions_check`) compares the two
+#: (issue 57.4: at 10 the root stress maximum read 7-8.5 % low against 20)
+POSITIONS = 21
+#: a maximum that moves more than this between every other position and all of them is reported as
+#: not resolved by the positions
+POSITIONS_TOLERANCE = 0.03
+
+
 def _default_ltca():
     from ..ltca.options import Options as LTCAOptions
 
-    return LTCAOptions(positions=DEFAULT_POSITIONS)
-
-
-#: the rating's LTCA: positions over the mesh cycle unless its options say otherwise
-DEFAULT_POSITIONS = 10
+    return LTCAOptions(positions=POSITIONS)
 
 
 @dataclass(frozen=True)
 class Options:
     """How a rating is computed: the LTCA it runs (an ``ltca.Options``: flank, positions, pairs, grid,
-    tooth model, refinement; default: :data:`DEFAULT_POSITIONS` positions).  The torque and the
+    tooth model, refinement; default: :data:`POSITIONS` positions).  The torque and the
     assembly errors are the load case (``ltca.LoadCase``)."""
 
     ltca: object = field(default_factory=_default_ltca)
@@ -107,6 +112,7 @@ class LoadedContact:
     peak_face_z_mm: dict = field(default_factory=dict)  # member -> face coordinate of that pair's patch centre
     edge: EdgeContact | None = None
     mesh_stiffness_n_per_um: float | None = None  # mean over the converged positions
+    positions_check: dict = field(default_factory=dict)  # positions_check(): the maxima against every other position
 
 
 def loaded_contact(ltca_result, geometry, face_width_mm: float) -> LoadedContact:
@@ -157,8 +163,44 @@ def loaded_contact(ltca_result, geometry, face_width_mm: float) -> LoadedContact
     # the mean over the cycle's distinct states, as the LTCA's JSON and the torque map give it
     k_mesh = ltca_summary(ltca_result)["mesh_stiffness_mean_n_per_um"]
     k_mesh = float(k_mesh) if np.isfinite(k_mesh) else None
+    check = positions_check(ltca_result, geometry, face_width_mm)
+    for q, by_member in check.get("quantities", {}).items():
+        for m, c in by_member.items():
+            if c["change"] is not None and abs(c["change"]) > POSITIONS_TOLERANCE:
+                notes.append(f"{m}: {q} moves {c['change']:+.1%} from every other position ({check['subset_positions']}) "
+                             f"to all {check['positions']}: its maximum over the cycle is not resolved to "
+                             f"{POSITIONS_TOLERANCE:.0%} (more --positions)")
     return LoadedContact(p_surf, p_edge, loads, root, root_where, tuple(notes), where, face,
-                         _edge_contact(ltca_result, geometry), k_mesh)
+                         _edge_contact(ltca_result, geometry), k_mesh, check)
+
+
+def positions_check(ltca_result, geometry, face_width_mm: float) -> dict:
+    """The maxima over the cycle that the verdict uses (root stress, contact pressure, K_Hbeta) from all
+    positions and from every other one of the distinct mesh states (issue 57.4): ``change`` = all / subset
+    - 1, the estimate's uncertainty from the positions (a maximum sampled twice as densely moves by about
+    this much or less).  Empty with fewer than 5 positions."""
+    n = len(ltca_result.pinion_angle)
+    if n < 5:
+        return {}
+    sub = np.arange(0, n - 1, 2)
+    ok = ltca_result.converged
+
+    def peak(a, rows):
+        a = np.asarray(a)[rows][ok[rows]]
+        return float(np.nanmax(a)) if a.size and np.isfinite(a).any() else None
+
+    def entry(full, part):
+        return {"all": full, "subset": part,
+                "change": None if full is None or not part else full / part - 1.0}
+
+    q = {"contact_pressure_max_mpa": {m: entry(peak(ltca_result.pair_surface_max_pressure_mpa, slice(None)),
+                                               peak(ltca_result.pair_surface_max_pressure_mpa, sub)) for m in MEMBERS}}
+    q["K_H_beta"] = {m: entry(face_load(ltca_result, geometry, m, face_width_mm).K_H_beta,
+                              face_load(ltca_result, geometry, m, face_width_mm, sub).K_H_beta) for m in MEMBERS}
+    if ltca_result.pair_root_stress_mpa:
+        q["root_stress_max_mpa"] = {m: entry(peak(a, slice(None)), peak(a, sub))
+                                    for m, a in ltca_result.pair_root_stress_mpa.items()}
+    return {"positions": n, "subset_positions": int(sub.size) + 1, "tolerance": POSITIONS_TOLERANCE, "quantities": q}
 
 
 def _edge_contact(result, geometry) -> EdgeContact | None:
@@ -409,8 +451,19 @@ def analyze(pair, load, options: Options | None = None, *, solver=None, ltca_res
         notes.append(f"edge contact: the largest edge cell pressure is {lc.edge_pressure_max_mpa:.0f} MPa (singular, "
                      "grid-dependent; not in S_H); the edge-contact rule of the verdict judges the load within a "
                      "band of the edge instead" + ("" if lc.edge is None else f" ({lc.edge.where})"))
-    return RatingResult(load.torque_nm, options.flank, members, lc, factors, tuple(notes), dyn, pair=pair,
-                        options=options)
+    return RatingResult(load.torque_nm, options.flank, members, lc, factors, tuple(notes), dyn,
+                        scuffing_tribology(pair, ltca_result), pair=pair, options=options)
+
+
+def scuffing_tribology(pair, ltca_result):
+    """The tribology of the rated loaded contact (K_A K_v T) at [rating] pinion_speed_rpm when the file
+    has a [lubricant] (the verdict's scuffing criterion), else None."""
+    spec = pair.spec
+    if not spec.lubricant.given or spec.rating.pinion_speed_rpm is None:
+        return None
+    from .. import tribology
+
+    return tribology.evaluate(ltca_result, pair, spec.rating.pinion_speed_rpm)
 
 
 def _with_dynamic_factor(pair, load, options, factors, lc, elastic):

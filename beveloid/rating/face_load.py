@@ -105,10 +105,14 @@ def line_load_on_face(result, geometry, member, j):
     return edges, w
 
 
-def face_load(result, geometry, member, face_width_mm) -> FaceLoad:
-    """K_Hbeta of ``member`` from an ``LTCAResult`` (module docstring); b = ``face_width_mm``."""
+def face_load(result, geometry, member, face_width_mm, positions=None) -> FaceLoad:
+    """K_Hbeta of ``member`` from an ``LTCAResult`` (module docstring); b = ``face_width_mm``; ``positions``:
+    the position indices to take (None: all; the rating's positions check takes every other one)."""
     best = None
-    for j in np.flatnonzero(result.converged):
+    take = result.converged.copy()
+    if positions is not None:
+        take &= np.isin(np.arange(take.size), positions)
+    for j in np.flatnonzero(take):
         total = float(np.nansum(result.pair_load_n[j]))
         if total <= 0:
             continue

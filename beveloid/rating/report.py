@@ -53,6 +53,9 @@ class RatingResult(Result):
     factors: object  # factors.Factors
     notes: tuple
     dynamic: object = None  # dynamic.DynamicFactor when K_v came from ISO 6336-1 method B
+    #: tribology.TribologyResult at K_A K_v T and [rating] pinion_speed_rpm when the file has a [lubricant]
+    #: (the scuffing criterion of the verdict; docs/tribology.md), else None
+    tribology: object = None
 
     def to_json(self) -> dict:
         """The JSON of ``beveloid rating --json`` (issue 32's contract)."""
@@ -86,6 +89,15 @@ class RatingResult(Result):
         return verdict(self)
 
 
+def _thawed(v):
+    """Plain dicts and finite floats (or None) of a nested mapping."""
+    if hasattr(v, "items"):
+        return {k: _thawed(x) for k, x in v.items()}
+    if isinstance(v, (int, str)) or v is None:
+        return v
+    return _num(v)
+
+
 def _face_load_json(fl) -> dict:
     return {"peak_line_load_n_per_mm": _num(fl.peak_line_load_n_per_mm),
             "mean_line_load_n_per_mm": _num(fl.mean_line_load_n_per_mm), "face_z_mm": _num(fl.face_z_mm),
@@ -116,6 +128,8 @@ def _json(r: RatingResult) -> dict:
             "material": {k: (_num(v) if isinstance(v, float) else v) for k, v in f.material_json(name).items()},
             "edge_pressure_max_mpa": _num(r.loaded.edge_pressure_max_mpa),
         }
+    out["positions_check"] = _thawed(r.loaded.positions_check)
+    out["tribology"] = None if r.tribology is None else r.tribology.to_json()
     out["verdict"] = r.verdict()
     out["notes"] = list(r.notes)
     return out

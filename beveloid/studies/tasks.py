@@ -34,7 +34,7 @@ import threading
 import time
 
 from .. import interrupts
-from ..parallel import one_thread_environment
+from ..parallel import one_thread_environment, resource_tracker_running
 
 
 def say(msg) -> None:
@@ -118,6 +118,8 @@ class Tasks:
             # worker that is still starting.  Blocked, not ignored, in this process too: a Ctrl-C that
             # arrives while the pool starts is held and delivered when it is unblocked, not lost
             block = threading.current_thread() is threading.main_thread() and hasattr(signal, "pthread_sigmask")
+            if block:  # its first start unblocks SIGINT (multiprocessing.resource_tracker): before the block
+                resource_tracker_running()
             mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT}) if block else None
             ctx = multiprocessing.get_context("spawn")
             try:

@@ -47,13 +47,49 @@ def reference_contact(geom: PairGeometry, flank: str, options: SolverOptions = D
     x0 = np.asarray(layouts.ContactUnknowns(pinion_l_mm=l1, pinion_u_mm=u1, gear_l_mm=l2, gear_u_mm=u2,
                                             gear_angle_rad=phi2), dtype=float)
     opts = options
-    x, conv, _, res = backends.namespace("numpy").solve_point(
-        geom.problem(flank), x0, phi1, np.zeros(len(ERROR_NAMES)),
-        settings(scale_mm=geom.gear.working_pitch_radius_mm, tol_mm=newton_tolerance(geom, opts.tol_mm),
-                 max_iter=opts.max_iter))
+    st = settings(scale_mm=geom.gear.working_pitch_radius_mm, tol_mm=newton_tolerance(geom, opts.tol_mm),
+                  max_iter=opts.max_iter)
+    solve = backends.namespace("numpy").solve_point
+    x, conv, _, res = solve(geom.problem(flank), x0, phi1, np.zeros(len(ERROR_NAMES)), st)
+    if not conv:  # a modification that moves the contact far from P throws Newton off: follow it there
+        x, conv, res = _along_the_modification(geom, flank, x0, phi1, st, solve)
+        if conv:
+            margin, which = boundary_margins(geom, flank, x[None])
+            width = max(geom.pinion.face_width_mm, geom.gear.face_width_mm)
+            if margin[0] < -width:  # a root of the flanks' extension, not a contact near the flank
+                raise NoContactError(
+                    f"no contact near the pitch point on the {flank} flank: followed from the unmodified flank,"
+                    f" the modification moves it {-margin[0]:.1f} mm beyond the {which[0]} boundary (more than a"
+                    " face width): reduce the modification (lead slope, crowning, relief)")
     if not conv:
         raise NoContactError(f"no contact at the pitch point on the {flank} flank (residual {res:.2e} mm)")
     return Reference(flank, phi1, x)
+
+
+#: the continuation of :func:`_along_the_modification`: its first step in the amplitude and how often a
+#: step that Newton does not take is halved
+CONTINUATION_STEP, CONTINUATION_HALVINGS = 0.125, 8
+
+
+def _along_the_modification(geom, flank, x0, phi1, st, solve):
+    """The pitch-point contact by continuation in the modification's amplitude (geometry.modifications_scaled
+    from 0 to 1, each solve from the last): (x, converged, residual mm).  Unconverged where the pair carries
+    no modification or a step halved CONTINUATION_HALVINGS times still fails."""
+    e = np.zeros(len(ERROR_NAMES))
+    if geom.modifications_scaled(0.0) is geom:
+        return x0, False, math.inf
+    x, conv, _, res = solve(geom.modifications_scaled(0.0).problem(flank), x0, phi1, e, st)
+    t, step, halvings = 0.0, CONTINUATION_STEP, 0
+    while conv and t < 1.0:
+        nxt = min(1.0, t + step)
+        y, ok, _, res = solve(geom.modifications_scaled(nxt).problem(flank), x, phi1, e, st)
+        if ok:
+            x, t = y, nxt
+        elif halvings < CONTINUATION_HALVINGS:
+            step, halvings = step / 2, halvings + 1
+        else:
+            return y, False, res
+    return x, conv, res
 
 
 @functools.lru_cache(maxsize=64)

@@ -117,6 +117,29 @@ class ToothResult(Result):
         return "\n".join(lines)
 
 
+def export_statuses(geom) -> list:
+    """What `beveloid export` would refuse, said before anyone tries: per member the checks of its tooth
+    (both formats) and of its STEP faces (:mod:`beveloid.tooth.sampling`), as ``not exportable`` statuses."""
+    import numpy as np
+
+    from .sampling import ExportGeometryError, ToothSampler
+
+    out = []
+    for member in MEMBERS:
+        try:
+            sampler = ToothSampler(geom, member)
+            z = np.linspace(*sorted(sampler.z_range_mm), 21)
+            sampler.check_buildable(z)
+        except ExportGeometryError as exc:
+            out.append((ToothStatus.NOT_EXPORTABLE, f"export (STEP and STL): {exc}"))
+            continue
+        try:
+            sampler.check_step_buildable(z)
+        except ExportGeometryError as exc:
+            out.append((ToothStatus.NOT_EXPORTABLE, f"export as STEP: {exc}"))
+    return out
+
+
 def _contacts(geom, options, solver, statuses, what) -> dict:
     """{flank: contact.FlankContact or None} of ``geom``; a flank without one adds its ``no contact`` status."""
     out = {}
@@ -149,6 +172,7 @@ def analyze(pair, options: Options | None = None, *, solver=None) -> ToothResult
             statuses.append((ToothStatus.POINTED, tips[member].message()))
         if tips[member].no_involute:
             statuses.append((ToothStatus.TIP_INSIDE_BASE_CIRCLE, tips[member].no_involute_message()))
+    statuses += export_statuses(geom)
     bare = geom.unmodified()  # the contact ratio a designer means: the unmodified flanks'
     unmodified = None if bare is geom else _contacts(bare, options, solver, statuses,
                                                      "contact ratio of the unmodified flanks")

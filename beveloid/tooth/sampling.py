@@ -36,6 +36,15 @@ from .body import is_body
 FACES = ("flank_left", "flank_right", "fillet_left", "fillet_right", "tip", "root")
 #: the largest step (mm) between a flank and its fillet where they meet that the export accepts
 JOIN_TOL_MM = 1e-4
+#: the STEP faces' fit tolerance (um off the generated points; beveloid.export.solid.FIT_TOL_UM)
+STEP_FIT_TOL_UM = 0.25
+#: the deepest fold of a flank toward the axis that a STEP face fitted within STEP_FIT_TOL_UM can follow
+#: monotonically (twice the tolerance; measured on the issue-60 pinion: 5 um of profile crowning folds the
+#: right flank by 0.36 um and exports, 6 um by 0.87 um and gave an invalid solid)
+STEP_FOLD_TOL_UM = 2 * STEP_FIT_TOL_UM
+#: profile samples (0 at the form limit .. 1 at the tip) that find a fold next to the form limit, which
+#: the 41 even samples of check_buildable step over: every 0.0005 over the first tenth of the profile
+FOLD_SAMPLES = np.linspace(0.0, 0.1, 201)
 #: a tip land this thin (mm) is refused where the tooth is not pointed nearby (within THIN_LAND_SPAN_MM of
 #: where a pointed range begins, the land narrows to zero and ends in a point, which is built)
 THIN_LAND_MM = 1e-3
@@ -288,6 +297,31 @@ class ToothSampler:
             raise ExportGeometryError(
                 f"{self.member}.bore_diameter_mm = {bore_mm:g}: must be below the smallest root diameter,"
                 f" {root:.3f} mm (0: no bore)")
+
+    def deepest_fold(self, z) -> tuple:
+        """(depth in mm, flank, z in mm) of the deepest place where a flank turns back toward the axis on its
+        way from the form limit to the tip (its radius below the largest one passed), over the sections z
+        and the profile samples :data:`FOLD_SAMPLES`; depth 0 when no flank does."""
+        best = (0.0, FLANKS[0], float(np.asarray(z, dtype=float).flat[0]))
+        for flank in FLANKS:
+            r = np.hypot(*np.moveaxis(self.flank_points(flank, FOLD_SAMPLES, np.asarray(z, float))[..., :2], -1, 0))
+            drop = np.maximum.accumulate(r, axis=0) - r
+            k = np.unravel_index(int(np.argmax(drop)), drop.shape)
+            if drop[k] > best[0]:
+                best = (float(drop[k]), flank, float(np.asarray(z, float)[k[1]]))
+        return best
+
+    def check_step_buildable(self, z) -> None:
+        """Refuse what STEP's fitted faces cannot follow: a flank that turns back toward the axis by more than
+        :data:`STEP_FOLD_TOL_UM` (a fold shallower than twice the fit tolerance lies inside a monotone face
+        within it; a deeper one makes every face within it fold, and the solid invalid)."""
+        depth, flank, zk = self.deepest_fold(z)
+        if depth * 1e3 > STEP_FOLD_TOL_UM:
+            raise ExportGeometryError(
+                f"{self.member}: the {flank} flank turns back toward the axis by {depth * 1e3:.2f} um just above its"
+                f" form limit (z = {zk:.3f} mm), more than the STEP faces, fitted within {STEP_FIT_TOL_UM} um, can"
+                " follow (a profile modification near the base circle); --format stl builds it from the generated"
+                " points")
 
     def check_buildable(self, z):
         """Refuse a tooth the export cannot build: no involute up to the tip, a flank that turns back above

@@ -200,17 +200,17 @@ class _Terminal:
 
 def test_progress_shows_done_rate_and_time_left():
     term = _Terminal()
-    p = runner.Progress(total=1000, done=200, stream=term)
+    p = runner.Progress(done=200, stream=term)  # the one protocol: progress(done, total, what)
     p.t0 -= 2.0  # as if 2 s had passed
     p.last -= 1.0
-    p.update(300)
+    p(500, 1000, "designs")
     line = term.text.strip()
     assert "500/1000 designs (50.0 %)" in line
     rate = float(line.split(",")[1].split()[0])
     assert 140 <= rate <= 150  # 300 designs in ~2 s
     assert "s left" in line
-    quiet = runner.Progress(total=10, done=0, stream=open(os.devnull, "w"))
-    quiet.update(10)  # not a terminal: nothing written, nothing raised
+    quiet = runner.Progress(stream=open(os.devnull, "w"))
+    quiet(10, 10, "designs")  # not a terminal: nothing written, nothing raised
 
 
 def test_out_targets_are_refused_before_computing(case1, tmp_path, capsys, monkeypatch):

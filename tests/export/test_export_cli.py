@@ -146,3 +146,32 @@ def test_a_full_disk_leaves_no_file_and_no_folder(tmp_path, capsys, monkeypatch)
     calls.clear()
     assert main(["export", str(_spec(tmp_path)), "--format", "stl", "--out", str(mine)]) == 2
     assert [p.name for p in mine.iterdir()] == ["notes.txt"]
+
+
+def test_a_flank_the_step_faces_cannot_follow_is_said_by_design_and_refused_in_one_line(tmp_path, capsys):
+    """issue 60: 6 um of pinion profile crowning folds the right flank by 0.87 um next to its form limit:
+    STEP export printed a traceback (BRepCheck_Analyzer, exit 1) after fitting; 10 um could not be exported
+    in either format while `design` said nothing.  Now `design` says it first, STEP export refuses it in
+    one line (exit 2) before any fitting, and STL builds it; 5 um (a 0.36 um fold) stays exportable."""
+    import json
+
+    text = (Path(__file__).resolve().parents[1] / "data" / "issue60_pair.toml").read_text()
+    specs = {}
+    for um in (5, 6, 10):
+        specs[um] = tmp_path / f"pc{um}.toml"
+        specs[um].write_text(text.replace("profile_crowning_um = 6.0", f"profile_crowning_um = {um:g}.0"))
+
+    def design_says(um):
+        assert main(["design", str(specs[um]), "--json"]) == 0
+        return [s["message"] for s in json.loads(capsys.readouterr().out)["tooth_status"]
+                if s["status"] == "not exportable"]
+
+    assert design_says(5) == []
+    six = design_says(6)
+    assert len(six) == 1 and six[0].startswith("export as STEP: pinion: the right flank turns back toward the axis")
+    ten = design_says(10)
+    assert len(ten) == 1 and ten[0].startswith("export (STEP and STL): pinion: the right flank turns back")
+    assert main(["export", str(specs[6]), "--format", "step", "--member", "pinion", "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Traceback" not in err and six[0].split(": ", 1)[1] in err
+    assert not list(tmp_path.glob("*.step"))

@@ -102,7 +102,7 @@ def test_api_out_dir_with_a_missing_parent_is_refused_before_any_work(tmp_path, 
 
 #: a stand-in for CalculiX: writes the empty files ccx starts with, then the user presses Ctrl-C
 _INTERRUPTING_CCX = """#!/bin/sh
-touch fe_check.dat fe_check.sta fe_check.cvg
+touch fe_check.dat fe_check.sta fe_check.cvg spooles.out
 echo "ccx: started"
 sleep 0.5  # the line is printed whole first (a SIGINT inside print() cut it before its newline)
 kill -INT $PPID
@@ -110,9 +110,11 @@ sleep 60
 """
 
 
-def test_ctrl_c_while_calculix_runs_keeps_nothing_and_says_so(tmp_path):
-    """Interrupted while ccx runs: the deck and CalculiX's partial files are removed from --out, the
-    folder's other files stay, and one line says what was removed (docs/commands.md, Outputs)."""
+@pytest.mark.parametrize("made_here", [False, True])
+def test_ctrl_c_while_calculix_runs_keeps_nothing_and_says_so(tmp_path, made_here):
+    """Interrupted while ccx runs: the deck and CalculiX's partial files (spooles.out too: issue 60) are
+    removed from --out, the folder's other files stay, and one line says what was removed
+    (docs/commands.md, Outputs); a folder the run made is removed."""
     import os
     import signal
     import subprocess
@@ -122,8 +124,9 @@ def test_ctrl_c_while_calculix_runs_keeps_nothing_and_says_so(tmp_path):
     ccx.write_text(_INTERRUPTING_CCX)
     ccx.chmod(0o755)
     out = tmp_path / "out"
-    out.mkdir()
-    (out / "mine.txt").write_text("kept\n")
+    if not made_here:
+        out.mkdir()
+        (out / "mine.txt").write_text("kept\n")
     # the check up to CalculiX: its deck written into --out, then ccx run by the real runner (the LTCA and
     # the meshes before it are the coarse test's above: here they would cost seconds and change nothing)
     code = ("import sys; from pathlib import Path; from beveloid import cli; from beveloid.fecheck import check, run\n"
@@ -139,5 +142,8 @@ def test_ctrl_c_while_calculix_runs_keeps_nothing_and_says_so(tmp_path):
     assert proc.returncode in (130, -signal.SIGINT), proc.stderr
     assert "Traceback" not in proc.stderr, proc.stderr
     note = [line for line in proc.stderr.splitlines() if line.startswith("beveloid fe-check: --out")]
-    assert len(note) == 1 and "fe_check.inp" in note[0] and "fe_check.dat" in note[0], proc.stderr
-    assert sorted(p.name for p in out.iterdir()) == ["mine.txt"]
+    assert len(note) == 1 and "fe_check.inp" in note[0] and "spooles.out" in note[0], proc.stderr
+    if made_here:
+        assert "the folder, made by this run, is removed" in note[0] and not out.exists()
+    else:
+        assert sorted(p.name for p in out.iterdir()) == ["mine.txt"]

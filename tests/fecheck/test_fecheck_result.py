@@ -29,7 +29,8 @@ def test_to_json_writes_the_contract():
     out = _result(about).to_json()
     assert list(out) == ["calculix_version", "position", "pinion_angle_rad", "torque_nm", "flank", "ltca_tooth_model",
                          "refinement", "tooth_pairs", "unloaded_transmission_error_urad", "elements", "dof",
-                         "calculix_wall_s", "calculix_cpu_s", "mesh_s", "calculix", "ltca", "files", "notes",
+                         "calculix_wall_s", "calculix_cpu_s", "mesh_s", "calculix", "ltca", "root_stress_agreement",
+                         "files", "notes",
                          "ltca_hertz_max_pressure_mpa", "ltca_patch_semi_axes_mm", "local_refinement"]
     assert (out["torque_nm"], out["flank"], out["refinement"], out["tooth_pairs"]) == (200.0, "left", 2, [0, 1])
     assert out["calculix"] == {"pair_normal_load_n": [10.0, None], "pair_max_pressure_mpa": [900.0, None],
@@ -38,6 +39,8 @@ def test_to_json_writes_the_contract():
                                "moment_about_pinion_axis_nm": 200.0}
     assert out["ltca"]["loaded_transmission_error_urad"] is None
     assert out["ltca"]["root_stress_max_mpa"] == {"pinion": None, "gear": 250.0}
+    assert out["root_stress_agreement"]["pinion"] == {"calculix_mpa": 300.0, "ltca_mpa": None, "ratio": None,
+                                                      "agrees": None}
     assert out["ltca_hertz_max_pressure_mpa"] == [1000.0, None]
     assert out["ltca_patch_semi_axes_mm"] == [[0.2, 5.0], [0.1, None]]
     assert out["local_refinement"] == about and out["files"] == {"deck": "d.inp"} and out["notes"] == ["a note"]

@@ -163,3 +163,39 @@ def test_an_edge_already_relieved_is_told_to_be_relieved_more(plate800):
         relieved.loaded, edge=dataclasses.replace(relieved.loaded.edge, share=0.5))))["edge_contact"]
     text = _edge_condition(edge)
     assert f"{e.where} is relieved more: its {e.relief} of 10 um still leaves" in text
+
+
+def test_the_default_positions_check_their_own_maxima():
+    """Issue 57.4: the rating's default runs 21 positions (20 mesh states; at 10 the root stress maximum read
+    7-8.5 % low against 20) and reports how much each maximum the verdict uses moves from every other
+    position to all of them; every other position of 21 is the 11-position run itself."""
+    from beveloid.rating.analysis import positions_check
+
+    assert rating.Options().ltca.positions == 21
+    pair = Pair.example("case1")
+    runs = {n: ltca.analyze(pair, ltca.LoadCase(1500.0), ltca.Options(positions=n, tooth_model="plate")) for n in (21, 11)}
+    check = positions_check(runs[21], pair.geometry, 50.0)
+    assert check["positions"] == 21 and check["subset_positions"] == 11
+    eleven = positions_check(runs[11], pair.geometry, 50.0)["quantities"]
+    for q in ("contact_pressure_max_mpa", "K_H_beta"):
+        for m in ("pinion", "gear"):
+            c = check["quantities"][q][m]
+            assert c["subset"] == pytest.approx(eleven[q][m]["all"], rel=1e-6)
+            assert c["change"] == pytest.approx(c["all"] / c["subset"] - 1.0) and c["all"] >= c["subset"]
+
+
+def test_fe_check_reports_whether_the_two_fe_root_stresses_agree():
+    """Issue 57.5: fe-check gives calculix / LTCA root stress per member and whether they agree within
+    10 %, and says what the difference can come from when they do not."""
+    from beveloid.fecheck.check import root_stress_notes
+    from beveloid.fecheck.result import ContactNumbers, root_stress_agreement
+
+    def block(pinion, gear):
+        return ContactNumbers.of([1.0], [1.0], [1.0], 1.0, {"pinion": pinion, "gear": gear}, 1.0)
+
+    a = root_stress_agreement(block(108.0, 300.0), block(100.0, 400.0))
+    assert a["pinion"]["ratio"] == pytest.approx(1.08) and a["pinion"]["agrees"] is True
+    assert a["gear"]["ratio"] == pytest.approx(0.75) and a["gear"]["agrees"] is False
+    notes = root_stress_notes(block(108.0, 300.0), block(100.0, 400.0), 1)
+    assert len(notes) == 1 and notes[0].startswith("gear: root stress 300.0 MPa (calculix) against 400.0 MPa")
+    assert root_stress_agreement(block(None, 1.0), block(1.0, None))["pinion"]["agrees"] is None

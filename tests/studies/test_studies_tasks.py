@@ -115,3 +115,41 @@ def test_a_ctrl_c_while_the_workers_start_is_held_not_lost(monkeypatch):
         with tasks.Tasks(workers=2):
             pytest.fail("the with block ran after a Ctrl-C")
     assert not [p for p in multiprocessing.active_children() if p not in before and p.is_alive()]
+
+
+_MASK_AT_START = """
+import multiprocessing, signal, sys
+import multiprocessing.context as context
+
+seen = []
+if sys.argv[1] == "tasks":
+    def stop(self, *a, **k):  # the pool would start its workers now: the mask they would inherit
+        seen.append(signal.pthread_sigmask(signal.SIG_BLOCK, set()))
+        raise RuntimeError("stop")
+    context.SpawnContext.Pool = stop
+    from beveloid.studies.tasks import Tasks
+    try:
+        with Tasks(2):
+            pass
+    except RuntimeError:
+        pass
+else:
+    from beveloid import parallel
+    with parallel._sigint_blocked():
+        multiprocessing.get_context("spawn").SimpleQueue()  # a pool's first lock starts the resource tracker
+        seen.append(signal.pthread_sigmask(signal.SIG_BLOCK, set()))
+print(signal.SIGINT in seen[0])
+"""
+
+
+@pytest.mark.parametrize("where", ["tasks", "parallel"])
+def test_sigint_stays_blocked_while_the_workers_start(where):
+    """issue 60: multiprocessing's resource tracker, started by the pool's first queue, unblocked SIGINT
+    inside the block, so the workers of `paper` (and of --workers) took the terminal's Ctrl-C while they
+    imported (6-87 lines of tracebacks).  In a fresh process (no tracker yet), SIGINT is still blocked
+    when the workers start."""
+    import subprocess
+    import sys
+
+    proc = subprocess.run([sys.executable, "-c", _MASK_AT_START, where], capture_output=True, text=True, timeout=120)
+    assert proc.stdout.strip() == "True", proc.stderr

@@ -71,3 +71,19 @@ def test_a_chunk_is_a_named_record_of_its_own_sets(pair1):
     np.testing.assert_array_equal(part.status, whole.status_codes[2:5])
     np.testing.assert_array_equal(part.te_peak_to_peak, whole.te_peak_to_peak[2:5])
     np.testing.assert_array_equal(part.pinion_shift_mm, whole.pinion_shift_mm[2:5])
+
+
+def test_progress_is_the_one_protocol(pair1):
+    """The sweep reports progress(done, total, what), the shape of every long computation (beveloid.progress)."""
+    from beveloid.progress import Bar, Lines
+
+    calls = []
+    sweep.analyze(pair1, sweep.Options(samples=6, positions=5, chunk=2), progress=lambda *a: calls.append(a))
+    assert [c[:2] for c in calls] == [(2, 6), (4, 6), (6, 6)] and {c[2] for c in calls} == {"error sets"}
+    import io
+
+    out = io.StringIO()
+    bar, lines = Bar(out), Lines(out, prefix="x: ", counts=True)
+    bar(3, 6, "error sets"), bar(6, 6, "error sets"), lines(1, 3, "meshing"), lines(5, None, "ccx: a line")
+    text = out.getvalue()
+    assert "3/6 error sets" in text and "6/6 error sets" in text and "x: [1/3] meshing\nx: ccx: a line\n" in text

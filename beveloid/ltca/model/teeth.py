@@ -23,11 +23,13 @@ def one_blas_thread():
 
 
 def _progress(stream=None):
-    """A line writer on stderr when it is a terminal (the FE data of a new design takes a minute)."""
+    """A line a stage on stderr when it is a terminal (the FE data of a new design takes a minute)."""
+    from ...progress import Lines
+
     stream = stream or sys.stderr
     if not getattr(stream, "isatty", lambda: False)():
         return None
-    return lambda text: print(f"beveloid: {text}", file=stream, flush=True)
+    return Lines(stream, prefix="beveloid: ")
 
 
 def member_teeth(pair, geom, options, material) -> tuple:

@@ -1,0 +1,157 @@
+"""Does the rating's verdict hold when the numerical settings change?  (issue 57, docs/validation.md)
+
+For case 1 at 300 and 1500 N m and three designs made up for this check (other teeth, modules, face
+widths, crowning and reliefs), the rating at its default settings and with the LTCA's contact grid
+7x11 / 15x25 and 10 / 20 / 30 positions: the verdict's status, its lowest safety, K_Hbeta and the
+edge rule's load share.  Prints a markdown table and, per design and torque, whether the status is
+the same everywhere and the largest change of the lowest safety from the default.
+
+    python benchmarks/rating_invariance.py [--quick] [--tooth-model fe|plate]
+
+``--quick``: case 1 only.  The FE tooth (the default) builds each design's tooth data once (cached).
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+
+DESIGNS = {
+    "A (m 3, 19/43, crowned pinion, gear tip relief 15 um)": """
+[pair]
+normal_module_mm = 3.0
+normal_pressure_angle_deg = 20.0
+shaft_angle_deg = 8.0
+offset_mm = 92.0
+[pinion]
+teeth = 19
+cone_angle_deg = 2.0
+helix_angle_deg = 20.0
+profile_shift = 0.2
+face_width_mm = 30.0
+lead_crowning_um = 12.0
+profile_crowning_um = 6.0
+[gear]
+teeth = 43
+cone_angle_deg = 1.0
+face_width_mm = 28.0
+tip_relief_um = 15.0
+tip_relief_height_mm = 1.2
+""",
+    "B (m 4, 25/52, 8 um crowning, no relief)": """
+[pair]
+normal_module_mm = 4.0
+normal_pressure_angle_deg = 20.0
+shaft_angle_deg = 10.0
+offset_mm = 160.0
+[pinion]
+teeth = 25
+cone_angle_deg = 1.5
+helix_angle_deg = 18.0
+profile_shift = 0.1
+face_width_mm = 36.0
+lead_crowning_um = 8.0
+[gear]
+teeth = 52
+cone_angle_deg = 1.0
+face_width_mm = 40.0
+""",
+    "C (m 2.5, 21/33, 15 um crowning, pinion tip and gear end relief 10 um)": """
+[pair]
+normal_module_mm = 2.5
+normal_pressure_angle_deg = 20.0
+shaft_angle_deg = 6.0
+offset_mm = 62.0
+[pinion]
+teeth = 21
+cone_angle_deg = 3.0
+helix_angle_deg = 25.0
+profile_shift = 0.3
+face_width_mm = 20.0
+lead_crowning_um = 15.0
+tip_relief_um = 10.0
+tip_relief_height_mm = 0.8
+[gear]
+teeth = 33
+cone_angle_deg = 1.0
+face_width_mm = 24.0
+end_relief_um = 10.0
+end_relief_length_mm = 3.0
+""",
+}
+#: (design, pinion torques N m)
+TORQUES = {"case 1": (300.0, 1500.0), **{name: None for name in DESIGNS}}
+#: (label, grid, positions); None: the rating's default
+SETTINGS = (("default", None, None), ("grid 7x11", (7, 11), None), ("grid 15x25", (15, 25), None),
+            ("positions 10", None, 10), ("positions 20", None, 20), ("positions 30", None, 30))
+
+
+def _pair(name):
+    from beveloid.pair import Pair
+    from beveloid.spec import spec_from_toml_bytes
+
+    return Pair.example("case1") if name == "case 1" else Pair.from_spec(spec_from_toml_bytes(DESIGNS[name].encode()))
+
+
+def _torques(pair):
+    """Two torques per made-up design: the line loads of case 1's 300 and 1500 N m on its pinion."""
+    g = pair.geometry
+    scale = g.pinion.pitch_radius_mm * min(g.pinion.face_width_mm, g.gear.face_width_mm) / (87.0 * 50.0)
+    return tuple(round(t * scale, -1) for t in (300.0, 1500.0))
+
+
+def rate(pair, torque_nm, grid, positions, tooth_model):
+    """The rating with the LTCA's grid and positions (rating's own options otherwise)."""
+    import dataclasses
+
+    from beveloid import ltca, rating
+    from beveloid.rating.factors import Factors
+
+    options = rating.Options(torque_nm=torque_nm, tooth_model=tooth_model)
+    if positions is not None:
+        options = dataclasses.replace(options, positions=positions)
+    f = Factors.from_spec(pair.spec)
+    k = f.K_A * (f.K_v if f.K_v_source != "method B" else 1.0)
+    lt_options = dataclasses.replace(options.ltca_options(k), grid=grid)
+    lt = ltca.analyze(pair, lt_options)
+    return rating.analyze(pair, options, ltca_result=lt)
+
+
+def main(argv=None) -> int:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--quick", action="store_true", help="case 1 only")
+    p.add_argument("--tooth-model", choices=("fe", "plate"), default=None)
+    args = p.parse_args(argv)
+    names = ["case 1"] if args.quick else list(TORQUES)
+    print("| design | T (N m) | setting | status | lowest safety | K_Hβ pinion / gear | edge load share |")
+    print("|---|---|---|---|---|---|---|")
+    summary = []
+    for name in names:
+        pair = _pair(name)
+        for torque in TORQUES[name] or _torques(pair):
+            rows = []
+            for label, grid, positions in SETTINGS:
+                t0 = time.perf_counter()
+                r = rate(pair, torque, grid, positions, args.tooth_model)
+                v = r.verdict()
+                e = v["edge_contact"]
+                kh = " / ".join(f"{r.members[m].sections['middle'].K_H_beta:.2f}" for m in ("pinion", "gear"))
+                low = "null" if v["value"] is None else f"{v['lowest']} {v['value']:.3f} ({v['source']}, {v['member']})"
+                share = "none" if e is None else f"{e['load_share']:.3f} ({e['edge']} of the {e['member']})"
+                print(f"| {name} | {torque:g} | {label} | {v['status']} | {low} | {kh} | {share} |", flush=True)
+                print(f"  {label}: {time.perf_counter() - t0:.1f} s", file=sys.stderr, flush=True)
+                rows.append(v)
+            base = rows[0]["value"]
+            same = len({v["status"] for v in rows}) == 1
+            move = max(abs(v["value"] / base - 1.0) for v in rows) if base else float("nan")
+            summary.append((name, torque, same, move))
+    print()
+    print("| design | T (N m) | status the same | largest change of the lowest safety from the default |")
+    print("|---|---|---|---|")
+    for name, torque, same, move in summary:
+        print(f"| {name} | {torque:g} | {'yes' if same else 'NO'} | {move:.1%} |")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
