@@ -199,7 +199,7 @@ def analyze(pair, load, options: Options | None = None, *, solver=None, progress
         raise UserError(f"position = {j}: the LTCA has no converged contact there ({result.status[j]}); choose "
                         f"one of {[i for i, s in enumerate(result.status) if s == LoadedStatus.OK]}")
     ratio = geom.pinion.teeth / geom.gear.teeth
-    ref = tca.reference_contact(geom, options.flank)
+    ref = tca.reference_contact(geom, options.flank, Solver.of(solver).options)
     phi1 = float(result.pinion_angle[j])
     phi2 = float(result.unloaded_te[j] + tca.unknowns(ref.x).gear_angle_rad - ratio * (phi1 - ref.pinion_angle))
     say(1, f"fe-check: position {j} (pinion angle {phi1:.6f} rad); meshing both sectors (refinement "
