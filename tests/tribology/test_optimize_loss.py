@@ -18,12 +18,12 @@ KEY = "pinion.profile_crowning_um"
 def test_loss_objective_is_the_weighted_mesh_power_loss(cases):
     base = cases.spec_dict(rating=dict(pinion_speed_rpm=1500.0))
     req = Request(base=base, varies=(Vary(KEY, 0.0, 10.0),), torques_nm=(100.0, 200.0), weights=(1.0, 3.0),
-                  objectives=("loss",), positions=6, grid=(7, 9), tooth_model="plate", constraints="none",
-                  flank="left")
+                  objectives=("loss",), ltca=ltca.Options(positions=6, grid=(7, 9), tooth_model="plate", flank="left"),
+                  constraints="none")
     rec = evaluate.evaluate(req, {KEY: 5.0})
     got = rec["objectives"]["mesh_power_loss_w"]
     pair = Pair.from_spec(req.spec({KEY: 5.0}))
-    losses = [tribology.evaluate(ltca.analyze(pair, req.ltca_options(t)), pair, 1500.0).mesh_power_loss_w
+    losses = [tribology.evaluate(ltca.analyze(pair, ltca.LoadCase(t), req.ltca), pair, 1500.0).mesh_power_loss_w
               for t in (100.0, 200.0)]
     assert got == pytest.approx((losses[0] + 3 * losses[1]) / 4, rel=1e-9)
     assert losses[0] < losses[1]

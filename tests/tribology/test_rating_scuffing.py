@@ -2,7 +2,7 @@
 fails, whatever its strength."""
 import pytest
 
-from beveloid import rating
+from beveloid import ltca, rating
 from beveloid.pair import Pair
 from beveloid.spec import spec_from_dict
 
@@ -14,7 +14,7 @@ def rated(cases, stage):
     spec = cases.spec_dict(material=STRONG, rating=dict(pinion_speed_rpm=1500.0, S_Bmin=1.2),
                            lubricant=dict(fzg_load_stage=stage))
     pair = Pair.from_spec(spec_from_dict(spec))
-    return rating.analyze(pair, rating.Options(torque_nm=200.0, flank="left", tooth_model="plate"))
+    return rating.analyze(pair, ltca.LoadCase(200.0), rating.Options(ltca.Options(flank="left", tooth_model="plate")))
 
 
 @pytest.fixture(scope="module")
