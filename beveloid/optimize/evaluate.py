@@ -21,6 +21,8 @@ takes no part in the front.
 """
 from __future__ import annotations
 
+import functools
+import json
 import math
 import time
 from typing import NamedTuple
@@ -139,7 +141,6 @@ def evaluate(req: Request, values: dict, error_sets: np.ndarray | None = None) -
     objectives, the safeties."""
     from ..errors import UserError
     from ..pair import Pair
-    from ..solver import Solver
     from ..spec import SpecError
 
     t0 = time.perf_counter()
@@ -149,7 +150,7 @@ def evaluate(req: Request, values: dict, error_sets: np.ndarray | None = None) -
     except (SpecError, UserError) as exc:  # the spec's rules or the design refuse these values
         return _failed(rec, req, EvaluationStatus.REFUSED, exc, t0)
     sets = req.error_sets() if error_sets is None else error_sets
-    solver = Solver()  # one for the candidate's loaded analyses and its rating
+    solver = req.solver  # the run's: the candidate's loaded analyses and its rating
     try:
         speed = pair.spec.rating.pinion_speed_rpm if "loss" in req.objectives else None
         lq = loaded_quantities(pair, req.load_case(sets), req.ltca, solver=solver, speed_rpm=speed)
@@ -178,12 +179,18 @@ def _failed(rec: dict, req: Request, status: str, exc: Exception, t0: float) -> 
     return rec
 
 
+@functools.lru_cache(maxsize=1)
+def _request(text: str) -> Request:
+    """The run's Request in this worker, read once per run (and with it its one Solver)."""
+    return Request.from_json(json.loads(text))
+
+
 def evaluate_task(task) -> dict:
     """What a worker runs: (request JSON, candidate index, values) -> the record (module level: pickled)."""
     from .. import parallel
 
     parallel.single_threaded()
     request, index, values = task
-    rec = evaluate(Request.from_json(request), values)
+    rec = evaluate(_request(json.dumps(request, sort_keys=True)), values)
     rec["candidate"] = index
     return rec

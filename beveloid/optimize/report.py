@@ -324,7 +324,7 @@ def figures(out_dir: str, req, records: list, base: dict, on: np.ndarray) -> lis
     plt.close(fig)
     written.append("te_vs_torque.png")
     if pk["knee"] is not None:
-        written += knee_pattern(out_dir, req, records[pk["knee"]])
+        written += knee_pattern(out_dir, req, records[pk["knee"]], solver=req.solver)
     return written
 
 

@@ -14,6 +14,7 @@ model key the file gives), so that all candidates of a run share one surface mod
 from __future__ import annotations
 
 import copy
+import functools
 import math
 import re
 from dataclasses import asdict, dataclass, field
@@ -259,6 +260,14 @@ class Request:
             return assembly_errors.to_layout(spec.misalignment)[None, :]
         nominal = {k: float(getattr(spec.misalignment, k)) for k in assembly_errors.KEYS}
         return draw_errors(self.samples, self.tolerances, self.seed, nominal)
+
+    @functools.cached_property
+    def solver(self):
+        """The run's :class:`beveloid.solver.Solver` (the default backend), made once per request: every
+        candidate's loaded analyses, its rating and the knee's pattern solve with it."""
+        from ..solver import Solver
+
+        return Solver()
 
     def load_case(self, error_sets=None):
         """The loaded analysis' load: the duty cycle's torques at ``error_sets`` ((K, 5); None: the file's)."""

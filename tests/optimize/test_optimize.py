@@ -241,3 +241,28 @@ def test_a_dask_cluster_gives_the_candidates_of_one_worker(run, result, cluster,
     assert "Dask cluster" in json.dumps(summary)
     assert (remote / "candidates.csv").read_text() == (out / "candidates.csv").read_text()
     capsys.readouterr()
+
+
+def test_one_solver_per_run_not_per_candidate(tilted, monkeypatch):
+    """Issue 56: every candidate of a run (here two, and the same request read back by a worker) solves with
+    the request's one Solver; before, each candidate made its own."""
+    import tomllib
+
+    solvers = []
+    req = Request(base=tomllib.loads(tilted.read_text()), varies=(Vary(KEY, LOW, HIGH),), torques_nm=(TORQUE,),
+                  weights=(1.0,), ltca=ltca.Options(positions=3, grid=(5, 5), tooth_model="plate"), constraints="none")
+    real = ltca.analyze_many
+
+    def spy(*a, **k):
+        solvers.append(k.get("solver"))
+        return real(*a, **k)
+
+    from beveloid import parallel
+
+    monkeypatch.setattr(ltca, "analyze_many", spy)
+    monkeypatch.setattr(parallel, "single_threaded", lambda: None)  # a worker's setting, not this process's
+    evaluate.evaluate(req, {KEY: 10.0})
+    evaluate.evaluate(req, {KEY: 20.0})
+    evaluate.evaluate_task((req.to_json(), 0, {KEY: 10.0}))
+    evaluate.evaluate_task((req.to_json(), 1, {KEY: 20.0}))
+    assert len(solvers) == 4 and solvers[0] is solvers[1] is req.solver and solvers[2] is solvers[3]
