@@ -99,14 +99,15 @@ def child(kind: str, argv: list) -> dict:
     env = dict(os.environ)
     env.update({"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
                 "OPENBLAS_NUM_THREADS": "1", "PYTHONPATH": str(ROOT)})
-    t = time.perf_counter()
+    t, before = time.perf_counter(), os.times()
     proc = subprocess.run([sys.executable, "-c", _CHILD, kind, *argv], capture_output=True, text=True, env=env,
                           cwd=tempfile.gettempdir())
-    wall = time.perf_counter() - t
+    wall, after = time.perf_counter() - t, os.times()
     if proc.returncode != 0:
         raise SystemExit(f"{kind}: exited {proc.returncode}:\n{proc.stderr[-3000:]}")
     out = json.loads(proc.stdout.strip().splitlines()[-1])
     out["wall"] = wall
+    out["cpu"] = (after.children_user - before.children_user) + (after.children_system - before.children_system)
     return out
 
 
@@ -132,26 +133,33 @@ def main():
         print(f"a worker's start (beveloid.parallel.warm_up in a fresh process): {start:.2f} s; load average "
               f"{os.getloadavg()[0]:.1f}", flush=True)
         for kind in a.kinds:
-            small = list(cmds[kind])
+            small = list(cmds[kind])  # a small run first: numba's cache (and the FE data of the tilted pair)
             if kind == "ltca":
                 small[small.index("--samples") + 1] = "8"
             if kind == "optimize":
                 small[small.index("--budget") + 1] = "2"
-            if kind in ("ltca", "optimize"):  # numba's cache and the FE data of the tilted pair
-                child(kind, small)
+            if kind == "explore":
+                small[2:6] = ["--vary", "pinion.helix_angle_deg=15:30:3", "--vary", "pinion.cone_angle_deg=1:4:3"]
+            if kind == "sweep":
+                small[small.index("--samples") + 1] = "4"
+            child(kind, small)
             for r in range(a.rounds):
                 for path in tmp.glob("*/"):
                     subprocess.run(["rm", "-rf", str(path)], check=True)
                 res = child(kind, cmds[kind])
                 tasks = [w for w, _ in res["took"]]
+                cpu_in = sum(c for _, c in res["took"])
                 P = sum(tasks)
                 T1 = res["wall"]
                 S = T1 - P
                 first = (tasks[0] - statistics.median(tasks)) if len(tasks) > 2 else 0.0
                 U = 0.0 if kind == "sweep" else start + max(first, 0.0)
                 TW = S + U + P / a.workers
+                cpu = res["cpu"]
+                cpu_share = f"{100 * (cpu - cpu_in) / cpu:.1f} %" if kind != "sweep" else "-"
                 print(f"{kind} (round {r + 1}): one worker {T1:.2f} s wall, inside the workers' function "
-                      f"{P:.2f} s ({len(tasks)} calls), outside {S:.2f} s = {100 * S / T1:.1f} %; each worker's "
+                      f"{P:.2f} s ({len(tasks)} calls), outside {S:.2f} s = {100 * S / T1:.1f} % (CPU: "
+                      f"{cpu:.2f} s, outside {cpu_share}); each worker's "
                       f"start {U:.2f} s; projected on {a.workers} workers {TW:.2f} s, speed-up {T1 / TW:.1f}x "
                       f"(load {os.getloadavg()[0]:.1f})", flush=True)
                 print(f"  command: beveloid {' '.join(Path(x).name if x.startswith(str(tmp)) else x for x in cmds[kind])}",

@@ -3,6 +3,8 @@
     python benchmarks/bench_tolerance_box.py --old DIR [--new DIR] [--rounds 2] [--samples 16]
         [--torques-nm 100,200,400] [--tooth-model fe] [--keep DIR]
 
+    python benchmarks/bench_tolerance_box.py --old DIR --optimize BUDGET [--rounds 1]
+
 Not a test.  The command of issue 59 (docs/optimize.md's spec, case 1 tilted by vertical_deg = 0.05):
 
     beveloid ltca case1_tilted.toml --torque-nm 100,200,400 --samples 16 --json
@@ -17,6 +19,11 @@ peak pressure, both root stresses) and every other number of the JSON (the torqu
 arrays), as the largest relative difference |a - b| / max(|a|, |b|) over the leaves (the solver's
 residuals, round-off, absolutely), and the count of leaves that differ in kind (a number against null,
 a string, a list's length, a key only one tree writes).
+
+``--optimize BUDGET``: docs/optimize.md section 6's command instead (``beveloid optimize case1_tilted.toml
+--vary pinion.lead_crowning_um=0:40 --vary pinion.lead_slope_um=-30:30 --torque-nm 100,200,400 --weights
+0.2,0.5,0.3 --samples 16 --tooth-model fe --budget BUDGET --workers 2 --json``), its JSON compared (the
+front, the baseline, the picks); the warm-up runs with ``--budget 2``.
 """
 from __future__ import annotations
 
@@ -103,29 +110,48 @@ def main():
     ap.add_argument("--torques-nm", default="100,200,400")
     ap.add_argument("--tooth-model", choices=("fe", "plate"), default="fe")
     ap.add_argument("--keep", help="a folder for the spec and the JSON outputs (default: a temporary one)")
+    ap.add_argument("--optimize", type=int, metavar="BUDGET",
+                    help="instead: docs/optimize.md section 6's `beveloid optimize` (2 workers, FE tooth, 3 torques, "
+                         "16 sets) with --budget BUDGET, its --json compared (the run's seconds left out)")
     a = ap.parse_args()
     trees = {"old": Path(a.old).resolve(), "new": Path(a.new).resolve()}
     work = Path(a.keep or tempfile.mkdtemp(prefix="box_"))
     work.mkdir(parents=True, exist_ok=True)
     spec = work / "case1_tilted.toml"
     spec.write_text(spec_text(trees["new"]))
-    argv = ["ltca", str(spec), "--torque-nm", a.torques_nm, "--samples", str(a.samples), "--tooth-model",
-            a.tooth_model, "--json"]
+    if a.optimize:
+        argv = ["optimize", str(spec), "--vary", "pinion.lead_crowning_um=0:40", "--vary", "pinion.lead_slope_um=-30:30",
+                "--torque-nm", a.torques_nm, "--weights", "0.2,0.5,0.3", "--samples", str(a.samples), "--tooth-model",
+                a.tooth_model, "--budget", str(a.optimize), "--workers", "2", "--json"]
+    else:
+        argv = ["ltca", str(spec), "--torque-nm", a.torques_nm, "--samples", str(a.samples), "--tooth-model",
+                a.tooth_model, "--json"]
+    out_dir = lambda tag: ["--out", str(work / tag)] if a.optimize else []  # noqa: E731
     print(f"beveloid {' '.join(argv[:1])} case1_tilted.toml {' '.join(argv[2:])}; load average "
           f"{os.getloadavg()[0]:.1f}")
     docs, times = {}, {"old": [], "new": []}
     for name, tree in trees.items():  # warm-up: numba's cache and the FE data of each tree
-        w, c, docs[name] = run(tree, argv, work / f"{name}_warm.json")
+        warm = [*argv[:argv.index("--budget") + 1], "2", *argv[argv.index("--budget") + 2:]] if a.optimize else argv
+        w, c, docs[name] = run(tree, warm + out_dir(f"{name}_warm"), work / f"{name}_warm.json")
         print(f"  warm-up {name} ({tree}): {w:.2f} s wall, {c:.2f} s CPU")
     for r in range(a.rounds):
         for name in (("old", "new") if r % 2 == 0 else ("new", "old")):
-            w, c, docs[name] = run(trees[name], argv, work / f"{name}_{r}.json")
+            w, c, docs[name] = run(trees[name], argv + out_dir(f"{name}_{r}"), work / f"{name}_{r}.json")
             times[name].append((w, c))
             print(f"  round {r + 1} {name}: {w:.2f} s wall, {c:.2f} s CPU (load {os.getloadavg()[0]:.1f})")
     wo, co = min(t[0] for t in times["old"]), min(t[1] for t in times["old"])
     wn, cn = min(t[0] for t in times["new"]), min(t[1] for t in times["new"])
     print(f"least of {a.rounds}: old {wo:.2f} s wall, {co:.2f} s CPU; new {wn:.2f} s wall, {cn:.2f} s CPU; "
           f"new / old: wall {wn / wo:.3f}, CPU {cn / co:.3f}")
+    if a.optimize:
+        for d in docs.values():
+            d.pop("seconds", None)
+        w = compare(docs["old"], docs["new"])
+        print(f"--json: {w['numbers']} numbers, largest relative difference {w['max_rel']:.2e} ({w['where']}); "
+              f"{len(w['kind'])} differ in kind")
+        for line in w["kind"][:10]:
+            print(f"    {line}")
+        return
     s = compare(sets_only(docs["old"]), sets_only(docs["new"]))
     print(f"error sets: {s['numbers']} numbers, largest relative difference {s['max_rel']:.2e} "
           f"({s['where']}); {len(s['kind'])} differ in kind")

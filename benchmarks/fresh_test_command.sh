@@ -3,6 +3,9 @@
 # checkout's HEAD, a fresh virtual environment, empty beveloid and numba caches (XDG_CACHE_HOME),
 # then `pip install ".[test]"` and `pytest` (with --durations=0 into the log).  pip's own download
 # cache is kept (a machine that has installed the dependencies once).  Not a test: a measurement.
+# Each part's wall time, its CPU time (user + system of its processes: what the machine's other work
+# does not change) and the load average before and after it: the README states the wall time on an
+# idle machine and what the CPU time means beside other work.
 #
 #     bash benchmarks/fresh_test_command.sh [LOG]      (LOG: the pytest output, default /tmp/fresh_pytest.log)
 set -u
@@ -16,16 +19,25 @@ export XDG_CACHE_HOME="$work/cache"
 "${PYTHON:-python3}" -m venv "$work/venv"
 # shellcheck disable=SC1091
 source "$work/venv/bin/activate"
+load() { cut -d' ' -f1 /proc/loadavg 2>/dev/null || echo "?"; }
+cpu() { times | tail -1 | awk '{ split($1, u, "m"); split($2, s, "m"); print 60 * u[1] + u[2] + 60 * s[1] + s[2] }'; }
+load0=$(load)
 start=$(date +%s.%N)
 pip install -q ".[test]" || exit 1
 mid=$(date +%s.%N)
+cpu_mid=$(cpu)
+load1=$(load)
 pytest -p no:cacheprovider --durations=0 -q > "$log" 2>&1
 rc=$?
 end=$(date +%s.%N)
-python - "$start" "$mid" "$end" "$rc" <<'PY'
+cpu_end=$(cpu)
+load2=$(load)
+python - "$start" "$mid" "$end" "$rc" "$cpu_mid" "$cpu_end" "$load0" "$load1" "$load2" <<'PY'
 import os, sys
-start, mid, end, rc = map(float, sys.argv[1:])
-print(f"pip install: {mid - start:.0f} s, pytest: {end - mid:.0f} s, in all: {end - start:.0f} s "
-      f"(pytest exit {int(rc)}; load average {' '.join(open('/proc/loadavg').read().split()[:3]) if os.path.exists('/proc/loadavg') else '?'})")
+start, mid, end, rc, cpu_mid, cpu_end = map(float, sys.argv[1:7])
+load0, load1, load2 = sys.argv[7:10]
+print(f"pip install: {mid - start:.0f} s wall, {cpu_mid:.0f} s CPU (load average {load0} before); "
+      f"pytest: {end - mid:.0f} s wall, {cpu_end - cpu_mid:.0f} s CPU (load average {load1} before, {load2} after); "
+      f"in all: {end - start:.0f} s wall on {os.cpu_count()} cores (pytest exit {int(rc)})")
 PY
 exit "$rc"

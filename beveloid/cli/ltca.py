@@ -194,9 +194,9 @@ def run(args: argparse.Namespace) -> int:
             d["tolerance"] = tolerance_json(box, t, args.samples, args.seed, tolerances)
         if trib is not None:
             if len(speeds) == 1:
-                d.update(trib[t][0].to_json_dict())
+                d.update(trib[t][0].to_json())
             else:
-                d["speeds"] = [x.to_json_dict() for x in trib[t]]
+                d["speeds"] = [x.to_json() for x in trib[t]]
         entries.append(d)
     out = entries[0] if len(results) == 1 else {"map": entries, "torque_map": torque_map_json(results)}
     if trib is not None and len(speeds) > 1:

@@ -426,8 +426,19 @@ def analyze(pair, options: Options, *, solver=None, ltca_result=None, face_point
         notes.append(f"edge contact: the largest edge cell pressure is {lc.edge_pressure_max_mpa:.0f} MPa (singular, "
                      "grid-dependent; not in S_H); the edge-contact rule of the verdict judges the load within a "
                      "band of the edge instead" + ("" if lc.edge is None else f" ({lc.edge.where})"))
-    return RatingResult(options.torque_nm, options.flank, members, lc, factors, tuple(notes), dyn, pair=pair,
-                        options=options)
+    return RatingResult(options.torque_nm, options.flank, members, lc, factors, tuple(notes), dyn,
+                        scuffing_tribology(pair, ltca_result), pair=pair, options=options)
+
+
+def scuffing_tribology(pair, ltca_result):
+    """The tribology of the rated loaded contact (K_A K_v T) at [rating] pinion_speed_rpm when the file
+    has a [lubricant] (the verdict's scuffing criterion), else None."""
+    spec = pair.spec
+    if not spec.lubricant.given or spec.rating.pinion_speed_rpm is None:
+        return None
+    from .. import tribology
+
+    return tribology.evaluate(ltca_result, pair, spec.rating.pinion_speed_rpm)
 
 
 def _with_dynamic_factor(pair, options, factors, lc, elastic):

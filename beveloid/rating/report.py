@@ -53,6 +53,9 @@ class RatingResult(Result):
     factors: object  # factors.Factors
     notes: tuple
     dynamic: object = None  # dynamic.DynamicFactor when K_v came from ISO 6336-1 method B
+    #: tribology.TribologyResult at K_A K_v T and [rating] pinion_speed_rpm when the file has a [lubricant]
+    #: (the scuffing criterion of the verdict; docs/tribology.md), else None
+    tribology: object = None
 
     def to_json(self) -> dict:
         """The JSON of ``beveloid rating --json`` (issue 32's contract)."""
@@ -126,6 +129,7 @@ def _json(r: RatingResult) -> dict:
             "edge_pressure_max_mpa": _num(r.loaded.edge_pressure_max_mpa),
         }
     out["positions_check"] = _thawed(r.loaded.positions_check)
+    out["tribology"] = None if r.tribology is None else r.tribology.to_json()
     out["verdict"] = r.verdict()
     out["notes"] = list(r.notes)
     return out

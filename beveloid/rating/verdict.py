@@ -102,6 +102,23 @@ def edge_criterion(result) -> dict | None:
     return c
 
 
+def scuffing_criterion(result) -> dict | None:
+    """The scuffing safety S_B (ISO/TS 6336-20's flash-temperature form on the loaded contact's cells,
+    docs/tribology.md) against [rating] S_Bmin; None without a tribology (no [lubricant] or speed) or
+    without the oil's FZG load stage."""
+    t = getattr(result, "tribology", None)
+    if t is None or t.scuffing_safety is None:
+        return None
+    at = t.flash_temperature_at
+    where = "the hottest cell" if at is None else f"position {at.position}, pair {int(t.tooth_pairs[at.pair])}"
+    c = _criterion(("scuffing", "S_B", "pair", "local"), where, t.scuffing_safety,
+                   result.pair.spec.rating.S_Bmin, True)
+    c.update(contact_temperature_max_c=_num(t.contact_temperature_max_c),
+             scuffing_temperature_c=_num(t.scuffing_temperature_c), flash_temperature_max_c=_num(t.flash_temperature_max_c),
+             lambda_min=_num(t.lambda_min), speed_rpm=t.speed_rpm)
+    return c
+
+
 def _disagreements(result, criteria) -> list:
     """Where a member's local and ISO safety of one kind differ by more than DISAGREEMENT_FACTOR, with the
     reasons the rating can name."""
@@ -162,6 +179,9 @@ def verdict(result) -> dict:
     edge = edge_criterion(result)
     if edge is not None:
         criteria.append(edge)
+    scuffing = scuffing_criterion(result)
+    if scuffing is not None:
+        criteria.append(scuffing)
     deciding = [c for c in criteria if c["governs"] and c["value"] is not None and not c["condition"]]
     governs = {kind: ("local" if any(c["source"] == "local" and c["kind"] == kind for c in deciding)
                       else ("iso" if any(c["kind"] == kind for c in deciding) else None)) for kind, _ in KINDS}
@@ -172,6 +192,9 @@ def verdict(result) -> dict:
            "edge_contact": edge, "criteria": criteria, "disagreements": [], "assumptions": assumptions(result),
            "status": None, "condition": None, "passes": None, "exit_status": EXIT_STATUS[None],
            "line": "no safety factor could be computed (see notes)"}
+    if scuffing is None:
+        out["assumptions"].append("no scuffing check (it needs a [lubricant] with fzg_load_stage and [rating] "
+                                  "pinion_speed_rpm: docs/tribology.md)")
     if not deciding:
         return out
     low = min(deciding, key=lambda c: c["value"] / c["required"])
@@ -192,6 +215,12 @@ def verdict(result) -> dict:
     line = (f"lowest safety {low['kind']} = {low['value']:.3f} ({low['source']}) on the {low['member']} at "
             f"{low['where']}; " + ", ".join(parts))
     status = Verdict.PASSES if all(ok.values()) else Verdict.FAILS
+    if scuffing is not None and scuffing["value"] is not None:
+        line += (f"; S_B {'meets' if scuffing['meets'] else 'FAILS'} S_Bmin = {scuffing['required']:g} "
+                 f"(scuffing: {scuffing['value']:.3f}, contact temperature {scuffing['contact_temperature_max_c']:.0f} C "
+                 f"against {scuffing['scuffing_temperature_c']:.0f} C)")
+        if not scuffing["meets"]:
+            status = Verdict.FAILS
     condition = None
     if edge is not None and edge["meets"] is False:
         condition = _edge_condition(edge)

@@ -262,9 +262,11 @@ def needs_compiling(ns) -> bool:
 _notified = False
 
 
-#: what every command says on stderr before numba compiles the solver (half a minute or more, without output)
+#: what every command says on stderr before numba compiles the solver (about half a minute of CPU, without output;
+#: docs/performance.md: 34.5 s of CPU, 34.4 s wall at load 0.9, 101.6 s wall at load 13.5 on 2 cores)
 COMPILING = ("beveloid: compiling the contact solver with numba: the first run after an installation or a change of"
-             " the models (derive --model) takes half a minute or more; cached afterwards")
+             " the models (derive --model) takes about half a minute of CPU time, several minutes on a machine busy"
+             " with other work; cached afterwards")
 
 
 def notify_compiling(ns, stream=None):

@@ -291,6 +291,9 @@ def _rating_docs() -> dict[str, KeyDoc]:
                          requirement="optional", default=1.4),
         "S_Hmin": KeyDoc("required minimum pitting safety S_Hmin (rating)", lo=0.0, lo_open=True, hi=100.0,
                          requirement="optional", default=1.0),
+        "S_Bmin": KeyDoc("required minimum scuffing safety S_Bmin (rating, flash-temperature method with a "
+                         "[lubricant] and pinion_speed_rpm: docs/tribology.md)", lo=0.0, lo_open=True, hi=100.0,
+                         requirement="optional", default=1.0),
     }
 
 
@@ -325,8 +328,6 @@ def _lubricant_docs() -> dict[str, KeyDoc]:
                                  "without it no scuffing safety)", kind="integer", lo=1, hi=14, **opt),
         "friction_coefficient": KeyDoc("a fixed friction coefficient that overrides the friction model everywhere "
                                        "(tribology)", lo=0.0, hi=0.5, **opt),
-        "S_Bmin": KeyDoc("required minimum scuffing safety S_Bmin (rating)", lo=0.0, lo_open=True, hi=100.0,
-                         default=1.0, **opt),
     }
 
 

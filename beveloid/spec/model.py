@@ -124,6 +124,7 @@ class RatingSpec:
     life_hours: float | None = None
     S_Fmin: float = 1.4
     S_Hmin: float = 1.0
+    S_Bmin: float = 1.0
 
 
 @dataclass(frozen=True)
@@ -142,7 +143,6 @@ class LubricantSpec:
     lubricant_factor_xl: float | None = None
     fzg_load_stage: int | None = None
     friction_coefficient: float | None = None
-    S_Bmin: float = 1.0
 
     @property
     def given(self) -> bool:

@@ -11,7 +11,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import minimize_scalar
 
 from ..result import Frozen
 from ..names import MEMBERS
@@ -100,6 +99,7 @@ def _thinnest(f, grid, values):
     if finite[lo] and finite[hi] and hi > lo:
         penalised = lambda zf: (lambda v: v if np.isfinite(v) else np.inf)(f(zf))  # noqa: E731
         with np.errstate(invalid="ignore"):
+            from scipy.optimize import minimize_scalar  # here, not at import: scipy.optimize costs every command ~0.3 s
             best = minimize_scalar(penalised, bounds=(grid[lo], grid[hi]), method="bounded", options={"xatol": 1e-10})
         if np.isfinite(best.fun):
             cands.append((float(best.fun), float(best.x)))

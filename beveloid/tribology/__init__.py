@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..result import freeze
 from .analysis import PitchPoint, evaluate_cells, pitch_point
 from .cells import Cells, build
 from .lubricant import Lubricant, LubricantError
@@ -51,12 +52,13 @@ class Prepared:
         self.result, self.geom, self.lubricant = result, geom, lubricant
         self.roughness_ra_um = tuple(float(r) for r in roughness_ra_um)
         self.e_star_mpa = float(e_star_mpa)
-        self.cells = build(result, geom, errors, self.e_star_mpa)
+        self.cells = freeze(build(result, geom, errors, self.e_star_mpa))  # once: every speed's result shares it
+        self.pair = pair
         self.pitch = pitch_point(geom, result.flank)
 
     def at(self, speed_rpm) -> TribologyResult:
         return evaluate_cells(self.cells, self.result, self.pitch, self.lubricant, speed_rpm, self.roughness_ra_um,
-                        self.e_star_mpa)
+                              self.e_star_mpa, pair=self.pair)
 
 
 def prepare(result, pair, **kw) -> Prepared:

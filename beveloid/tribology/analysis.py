@@ -60,7 +60,7 @@ def global_friction(pp: PitchPoint, lub: Lubricant, torque_nm, speed_rpm, ra_mea
 
 
 def evaluate_cells(cells: Cells, result, pp: PitchPoint, lub: Lubricant, speed_rpm, roughness_ra_um,
-             e_star_mpa) -> TribologyResult:
+                   e_star_mpa, pair=None) -> TribologyResult:
     """The tribology of one loaded analysis (``result``, its ``cells``) at ``speed_rpm``."""
     w = rpm_to_rad_s(speed_rpm)
     torque = float(result.torque_nm)
@@ -127,7 +127,7 @@ def evaluate_cells(cells: Cells, result, pp: PitchPoint, lub: Lubricant, speed_r
         cell_mu=mu, cell_film_central_um=hc, cell_film_min_um=hm, cell_lambda=lam, cell_flash_c=flash,
         cell_loss_density_w_mm2=np.where(loaded, loss_density, np.nan), cell_sliding_m_s=np.where(loaded, vs, np.nan),
         cell_sum_m_s=np.where(loaded, vsum, np.nan), cells=c, tooth_pairs=np.asarray(result.tooth_pairs),
-        fixed_friction=lub.friction_coefficient is not None)
+        fixed_friction=lub.friction_coefficient is not None, pair=pair, options=lub)
 
 
 def cycle_mean(per_position):

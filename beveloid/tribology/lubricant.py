@@ -121,7 +121,7 @@ def check_spec_values(values) -> None:
     lub = values["lubricant"]
     oil_keys = ("iso_vg", "kinematic_viscosity_40_mm2_s", "kinematic_viscosity_100_mm2_s", "kinematic_viscosity_mm2_s")
     given = any(lub[k] is not None for k in oil_keys)
-    others = [k for k, v in lub.items() if v is not None and k not in oil_keys and k not in ("base_oil", "S_Bmin")]
+    others = [k for k, v in lub.items() if v is not None and k not in oil_keys and k != "base_oil"]
     if not given:
         if others:
             raise LubricantError(f"lubricant.{others[0]} = {lub[others[0]]}: needs an oil: lubricant.iso_vg (an ISO "

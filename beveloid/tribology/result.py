@@ -7,6 +7,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..result import Result
+
 
 class Location(typing.NamedTuple):
     """Where a cell is: position, pair index (of the LTCA's tooth_pairs), cell, its point in S_f and
@@ -29,10 +31,11 @@ def _num(v, digits=None):
     return round(v, digits) if digits is not None else v
 
 
-@dataclass(frozen=True)
-class TribologyResult:
+@dataclass(frozen=True, eq=False)
+class TribologyResult(Result):
     """Film, friction, power loss and flash temperature of one loaded analysis at one speed; arrays
-    (N,) per position, (N, P) per position and pair, (N, P, C) per cell (nan where no load)."""
+    (N,) per position, (N, P) per position and pair, (N, P, C) per cell (nan where no load).  ``pair``
+    the analysed pair, ``options`` the :class:`~beveloid.tribology.lubricant.Lubricant`."""
 
     torque_nm: float
     speed_rpm: float
@@ -75,7 +78,7 @@ class TribologyResult:
                 "point_mm": [_num(v, 6) for v in loc.point_mm],
                 "pinion_l_mm": _num(loc.pinion_lu_mm[0], 6), "pinion_u_mm": _num(loc.pinion_lu_mm[1], 6)}
 
-    def to_json_dict(self) -> dict:
+    def to_json(self) -> dict:
         """The keys ``beveloid ltca`` reports (docs/tribology.md): null where not computed."""
         rows = lambda a: [[_num(v) for v in row] for row in a]  # noqa: E731
         return {

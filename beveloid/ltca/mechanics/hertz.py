@@ -33,7 +33,6 @@ import functools
 import math
 from dataclasses import dataclass
 
-from scipy.optimize import brentq
 from scipy.special import ellipe, ellipkm1
 
 from . import checks
@@ -116,6 +115,7 @@ def _shape(target: float) -> tuple:
     if target - 1.0 < 1e-12:
         return 1.0, math.pi / 2, math.pi / 2, 0.0, math.pi / 4  # (K - E)/e^2 -> pi/4 as e -> 0
     # ratio(q) falls monotonically from infinity (q -> 0) to 1 (q = 1)
+    from scipy.optimize import brentq  # here, not at import: scipy.optimize costs every command ~0.3 s
     lq = brentq(lambda t: math.log(_ratio(math.exp(t))[0] / target), math.log(1e-8), math.log(1.0 - 1e-9),
                 xtol=1e-15, rtol=1e-14, maxiter=200)
     q = math.exp(lq)
@@ -185,6 +185,7 @@ def hertz_point_contact_on_slices(
     hi = max(2.0 * lo, 2.0 * hertz_point_contact(ax, by, p, es).semi_axis_y_mm)
     while contact(hi).semi_axis_y_mm > hi:
         hi *= 2.0
+    from scipy.optimize import brentq  # here, not at import: scipy.optimize costs every command ~0.3 s
     a_y = brentq(lambda t: contact(t).semi_axis_y_mm - t, lo, hi, xtol=1e-14, rtol=1e-13, maxiter=200)
     h = contact(a_y)
     q0 = 0.75 * p / h.semi_axis_y_mm
