@@ -52,12 +52,18 @@ class FrozenMap(Mapping):
         return hash(frozenset(self._items.items()))
 
 
+#: values that are immutable as they are (a StrEnum member is a str, numpy's scalars are np.generic)
+_ATOMS = (str, bytes, int, float, complex, type(None), np.generic)
+
+
 def freeze(value):
     """``value`` made immutable all the way down: a writable array a read-only copy, a mapping a
     :class:`FrozenMap`, a list or tuple a tuple (a NamedTuple of the same type), a set a frozenset, each
     of their items frozen the same way.  A :class:`Frozen` record is frozen already; another dataclass
     record becomes a copy with its fields frozen (itself when they are already); anything else (a number,
     a string, an enum) is returned as it is."""
+    if isinstance(value, _ATOMS):
+        return value
     if isinstance(value, np.ndarray):
         if value.dtype == object:
             items = value
@@ -77,6 +83,8 @@ def freeze(value):
     if isinstance(value, tuple) and hasattr(value, "_fields"):  # a NamedTuple: its own type, frozen fields
         return type(value)(*(freeze(v) for v in value))
     if isinstance(value, (list, tuple)):
+        if all(isinstance(v, _ATOMS) for v in value):  # the common case (statuses, names): one pass, no copy
+            return value if isinstance(value, tuple) else tuple(value)
         return tuple(freeze(v) for v in value)
     if isinstance(value, (set, frozenset)):
         return frozenset(freeze(v) for v in value)

@@ -2,6 +2,7 @@
 one speed (:func:`evaluate`), from the speed-independent :class:`cells.Cells`."""
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -10,7 +11,7 @@ import numpy as np
 from ..ltca.model.gaps import principal_frame
 from ..tca.reference import reference_contact
 from . import laws
-from .cells import STRAIGHT_CURVATURE, Cells
+from .cells import STRAIGHT_CURVATURE, Cells, scatter
 from .lubricant import Lubricant
 from .result import Location, TribologyResult
 
@@ -29,8 +30,10 @@ class PitchPoint:
     face_width_mm: float  #: the smaller face width
 
 
+@functools.lru_cache(maxsize=64)
 def pitch_point(geom, flank) -> PitchPoint:
-    """The pitch-point kinematics and curvature (the TE reference contact, aligned)."""
+    """The pitch-point kinematics and curvature (the TE reference contact, aligned); cached per geometry
+    and flank (every torque and speed of a map shares it)."""
     from ..generated import contact_kinematics
 
     ref = reference_contact(geom, flank)
@@ -68,38 +71,43 @@ def evaluate_cells(cells: Cells, result, pp: PitchPoint, lub: Lubricant, speed_r
     e_prime_mpa = 2.0 * e_star_mpa
     c = cells
     loaded = c.loaded
-    p = c.pressure_mpa
-    norm = lambda v: np.linalg.norm(v, axis=-1)  # noqa: E731
-    vs = norm(c.sliding_velocity) * w
-    vsum = norm(c.sum_velocity) * w
-    v1, v2 = norm(c.pinion_velocity) * w, norm(c.gear_velocity) * w
+    # every law on the loaded cells only (a fraction of the grid), scattered back at the end
+    q = c.line_load_n_per_mm[loaded]
+    p = c.pressure_mpa[loaded]
+    rx = c.radius_sum_mm[loaded]
+    norm = lambda v: np.linalg.norm(v[loaded], axis=-1) * w  # noqa: E731
+    vs, vsum, v1, v2 = (norm(v) for v in (c.sliding_velocity, c.sum_velocity, c.pinion_velocity, c.gear_velocity))
+    area = np.broadcast_to(c.area_mm2[..., None], loaded.shape)[loaded]
     with np.errstate(all="ignore"):
         if lub.friction_coefficient is not None:
-            mu = np.where(loaded, lub.friction_coefficient, np.nan)
+            mu = np.full(p.shape, lub.friction_coefficient)
         else:
-            mu = np.where(loaded, laws.schlenk_mu(c.line_load_n_per_mm, vsum, c.radius_sum_mm,
-                                                  lub.dynamic_viscosity_mpa_s, ra, lub.lubricant_factor_xl), np.nan)
-        force = p * c.area_mm2[..., None]  # N per cell
-        loss_density = np.where(loaded, mu * p * vs, 0.0)  # W/mm^2
-        cell_loss = loss_density * c.area_mm2[..., None]
+            mu = laws.schlenk_mu(q, vsum, rx, lub.dynamic_viscosity_mpa_s, ra, lub.lubricant_factor_xl)
+        force = p * area  # N per cell
+        loss_density = mu * p * vs  # W/mm^2
         oil = (lub.dynamic_viscosity_pa_s, lub.pressure_viscosity_1_per_pa, e_prime_mpa * 1e6)
-        hc, hm = laws.hamrock_dowson(0.5 * vsum, c.radius_sum_mm, c.radius_side_mm, c.pair_load_n, *oil)
-        lc, lm = laws.line_contact_film(0.5 * vsum, c.radius_sum_mm, c.line_load_n_per_mm, *oil)
-        line = c.line_contact[..., None]
-        hc, hm = np.where(line, lc, hc), np.where(line, lm, hm)
-        hc, hm = np.where(loaded, hc, np.nan), np.where(loaded, hm, np.nan)
-        lam = hm / ra
-        b = laws.hertz_half_width_mm(c.line_load_n_per_mm, c.radius_sum_mm, e_prime_mpa)
-        flash = np.where(loaded, laws.blok_flash_c(mu, c.line_load_n_per_mm, vs, v1, v2, b), np.nan)
+        line = c.line_contact[..., None] & loaded
+        hc, hm = laws.hamrock_dowson(0.5 * vsum, rx, c.radius_side_mm[loaded], c.pair_load_n[loaded], *oil)
+        lc, lm = laws.line_contact_film(0.5 * vsum, rx, q, *oil)
+        hc, hm = np.where(line[loaded], lc, hc), np.where(line[loaded], lm, hm)
+        b = laws.hertz_half_width_mm(q, rx, e_prime_mpa)
+        flash = laws.blok_flash_c(mu, q, vs, v1, v2, b)
+    full = lambda a: scatter(a, loaded)  # noqa: E731
+    cell_loss = full(loss_density * area)
+    mu_f, hc, hm, flash = full(mu), full(hc), full(hm), full(flash)
+    lam = hm / ra
     ok = np.asarray(result.converged)
-    pos_loss = np.where(ok, cell_loss.sum(axis=(1, 2)), np.nan)
+    pos_loss = np.where(ok, np.nansum(cell_loss, axis=(1, 2)), np.nan)
     mean_loss = cycle_mean(pos_loss)
     p_in = abs(torque) * w
-    total = float(np.sum(np.where(loaded, force, 0.0)))
-    mu_mean = float(np.nansum(np.where(loaded, mu * force, 0.0)) / total) if total > 0 else math.nan
+    total = float(np.sum(force))
+    mu_mean = float(np.sum(mu * force) / total) if total > 0 else math.nan
     with np.errstate(invalid="ignore"):
-        unit = c.sliding_velocity / np.linalg.norm(c.sliding_velocity, axis=-1, keepdims=True)
-    f_pinion = -np.nansum(np.where(loaded[..., None], (mu * force)[..., None] * unit, 0.0), axis=(1, 2))  # (N, 3)
+        sv = c.sliding_velocity[loaded]
+        unit = sv / np.linalg.norm(sv, axis=-1, keepdims=True)
+    f_cells = np.zeros(loaded.shape + (3,))
+    f_cells[loaded] = np.nan_to_num((mu * force)[:, None] * unit)
+    f_pinion = -f_cells.sum(axis=(1, 2))  # (N, 3)
     friction_force = np.where(ok, np.linalg.norm(f_pinion, axis=-1), np.nan)
     any_loaded = loaded.any(axis=-1)
     with np.errstate(all="ignore"):
@@ -124,9 +132,8 @@ def evaluate_cells(cells: Cells, result, pp: PitchPoint, lub: Lubricant, speed_r
         bulk_temperature_c=bulk, contact_temperature_max_c=contact_max, scuffing_temperature_c=scuff_t,
         scuffing_safety=safety, oil_temperature_c=lub.temperature_c,
         dynamic_viscosity_mpa_s=lub.dynamic_viscosity_mpa_s,
-        cell_mu=mu, cell_film_central_um=hc, cell_film_min_um=hm, cell_lambda=lam, cell_flash_c=flash,
-        cell_loss_density_w_mm2=np.where(loaded, loss_density, np.nan), cell_sliding_m_s=np.where(loaded, vs, np.nan),
-        cell_sum_m_s=np.where(loaded, vsum, np.nan), cells=c, tooth_pairs=np.asarray(result.tooth_pairs),
+        cell_mu=mu_f, cell_film_central_um=hc, cell_film_min_um=hm, cell_lambda=lam, cell_flash_c=flash,
+        cell_loss_density_w_mm2=full(loss_density), cell_sliding_m_s=full(vs), cell_sum_m_s=full(vsum), cells=c, tooth_pairs=np.asarray(result.tooth_pairs),
         fixed_friction=lub.friction_coefficient is not None, pair=pair, options=lub)
 
 

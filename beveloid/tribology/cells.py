@@ -42,6 +42,14 @@ class Cells(typing.NamedTuple):
     pinion_lu: np.ndarray  # (N, P, C, 2)
 
 
+def scatter(values, mask):
+    """``values`` (M, ...) of the cells where ``mask`` (N, P, C) holds, in an (N, P, C, ...) array, nan elsewhere."""
+    values = np.asarray(values, dtype=float)
+    out = np.full(mask.shape + values.shape[1:], np.nan)
+    out[mask] = values
+    return out
+
+
 def line_length_mm(geom):
     """The contact line's length the LTCA sizes its grids with (ltca.analysis): face width / cos(helix)."""
     import math
@@ -58,11 +66,13 @@ def build(result, geom, errors, e_star_mpa) -> Cells:
     p = np.where(ok & result.gap.in_flank, np.nan_to_num(result.pressure_mpa), 0.0)
     loaded = p > 0
     lu = result.gap.pinion_lu
-    surf = geom.surface("pinion", result.flank, np.nan_to_num(lu[..., 0]), np.nan_to_num(lu[..., 1]))
-    phi = np.broadcast_to(result.pair_pinion_angle[:, :, None], (N, P, C))
-    kin = contact_kinematics.contact_velocities(
-        np.nan_to_num(result.gap.pinion_point), surf.normal, phi, 1.0, float(geom.pinion.teeth),
+    # the kinematics of the loaded cells (the others get nan)
+    surf = geom.surface("pinion", result.flank, lu[loaded][:, 0], lu[loaded][:, 1])
+    phi = np.broadcast_to(result.pair_pinion_angle[:, :, None], (N, P, C))[loaded]
+    compact = contact_kinematics.contact_velocities(
+        result.gap.pinion_point[loaded], surf.normal, phi, 1.0, float(geom.pinion.teeth),
         float(geom.gear.teeth), errors, geom.placement())
+    kin = type(compact)(*(scatter(a, loaded) for a in compact))
     # the along-column's line load: sum over the across cells of p dx (N/mm)
     dx = 2.0 * result.grid.across_half_mm / nx  # (N, P)
     line = (p.reshape(N, P, nx, ny).sum(axis=2) * dx[..., None])  # (N, P, ny)

@@ -30,7 +30,7 @@ iso_vg = 32
 temperature_c = 60.0
 fzg_load_stage = 12
 """
-FAST = ["--flank", "left", "--tooth-model", "plate", "--positions", "8"]
+FAST = ["--flank", "left", "--tooth-model", "plate", "--positions", "8", "--grid", "7x9"]
 KEYS = ("input_power_w", "mesh_power_loss_w", "efficiency", "friction_coefficient_global", "friction_coefficient_mean",
         "pair_film_thickness_central_um", "pair_film_thickness_min_um", "lambda_min", "flash_temperature_max_c",
         "contact_temperature_max_c", "scuffing_safety")

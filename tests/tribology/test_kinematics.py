@@ -64,3 +64,13 @@ def test_crossed_efficiency_approaches_the_parallel_axis_value(cases):
     gaps = [abs(effs[s] - effs[0.0001]) for s in (10.0, 5.0, 1.0)]
     assert gaps[0] > gaps[1] > gaps[2]
     assert gaps[2] < 0.1 * gaps[0]
+
+
+@pytest.mark.slow  # sympy's simplification, a few seconds: the numeric test above holds the same fields
+def test_derived_velocities_are_rigid_body_fields():
+    """The model behind generated/contact_kinematics.py: both velocity fields equal omega x (R - c) about each
+    member's axis, symbolically (derivations/contact_kinematics.py)."""
+    from beveloid.derivations import contact_kinematics
+
+    for residual in contact_kinematics.velocity_field_residual():
+        assert all(e == 0 for e in residual)
