@@ -52,9 +52,16 @@ def worker(a):
 
     pair = Pair.example(a.case)
     sets = error_sets(a.sets)
-    opts = dict(torque_nm=a.torque_nm, positions=a.positions, tooth_model=a.tooth_model)
+    opts = dict(positions=a.positions, tooth_model=a.tooth_model)
 
     def run():
+        if hasattr(ltca, "LoadCase"):  # the load case apart from the options (issue 56)
+            if a.worker == "reference":
+                return [ltca.analyze(pair, ltca.LoadCase(a.torque_nm, errors=tuple(e)), ltca.Options(**opts))
+                        for e in sets]
+            batch = ltca.analyze_many(pair, ltca.LoadCase(a.torque_nm, errors=sets), ltca.Options(**opts))
+            return [row[0] for row in batch.results]
+        opts["torque_nm"] = a.torque_nm
         if a.worker == "reference":
             return [ltca.analyze(pair, ltca.Options(errors=tuple(e), **opts)) for e in sets]
         batch = ltca.analyze_many(pair, ltca.Options(**opts), error_sets=sets)

@@ -14,12 +14,12 @@ from bench_tca import micro_case1
 g0 = Pair.example("case1").geometry
 g1 = micro_case1()
 for g in (g0, g1):
-    ltca.analyze(g, ltca.Options(torque_nm=400.0, flank="right", positions=3, tooth_model="plate"))  # warm-up
+    ltca.analyze(g, ltca.LoadCase(400.0), ltca.Options(flank="right", positions=3, tooth_model="plate"))  # warm-up
 res = {"unmodified": [], "modified": []}
 for rep in range(3):
     for name, g in (("unmodified", g0), ("modified", g1)):
         t = time.perf_counter()
-        r = ltca.analyze(g, ltca.Options(torque_nm=400.0, flank="right", positions=8, tooth_model="plate"))
+        r = ltca.analyze(g, ltca.LoadCase(400.0), ltca.Options(flank="right", positions=8, tooth_model="plate"))
         res[name].append((time.perf_counter() - t) / 8)
 for k, v in res.items():
     print(k, "s/position median %.3f" % np.median(v), [round(x, 3) for x in v])

@@ -22,6 +22,7 @@ import tomllib
 
 import numpy as np
 
+from beveloid import ltca
 from beveloid.optimize import evaluate
 from beveloid.optimize.request import Request, Vary
 from beveloid.pair import Pair
@@ -42,15 +43,16 @@ def main():
     base["misalignment"]["vertical_deg"] = 0.05
     req = Request(base=base, varies=(Vary("pinion.lead_crowning_um", 0.0, 40.0), Vary("pinion.lead_slope_um", -30, 30)),
                   torques_nm=TORQUES, weights=(0.2, 0.5, 0.3), samples=TARGET["samples"], seed=0,
-                  tolerances={}, positions=a.positions, tooth_model=a.tooth_model, fe_coarsen=a.fe_coarsen)
+                  tolerances={}, ltca=ltca.Options(positions=a.positions, tooth_model=a.tooth_model,
+                                                   fe_coarsen=a.fe_coarsen))
     values = {"pinion.lead_crowning_um": 15.0, "pinion.lead_slope_um": 10.0}
     pair = Pair.from_spec(req.spec(values))
     sets = req.error_sets()[: a.sets]
     t = time.perf_counter()
-    evaluate.loaded_quantities(pair, TORQUES[:1], sets[:1], req.ltca_options(TORQUES[0]))
+    evaluate.loaded_quantities(pair, ltca.LoadCase(TORQUES[:1], errors=sets[:1]), req.ltca)
     warm = time.perf_counter() - t
     t = time.perf_counter()
-    lq = evaluate.loaded_quantities(pair, TORQUES, sets, req.ltca_options(TORQUES[0]))
+    lq = evaluate.loaded_quantities(pair, ltca.LoadCase(TORQUES, errors=sets), req.ltca)
     loop = time.perf_counter() - t
     t = time.perf_counter()
     evaluate.safeties(req, pair)

@@ -27,7 +27,7 @@ def main():
     ap.add_argument("--repeats", type=int, default=3)
     a = ap.parse_args()
     pair = Pair.example(a.case)
-    result = ltca.analyze(pair, ltca.Options(torque_nm=a.torque_nm, positions=a.positions, tooth_model="plate"))
+    result = ltca.analyze(pair, ltca.LoadCase(a.torque_nm), ltca.Options(positions=a.positions, tooth_model="plate"))
     best, digest = float("inf"), None
     for _ in range(a.repeats):
         t0 = time.process_time()

@@ -73,9 +73,9 @@ def split(spec_path, tooth_model):
 
     pair = Pair.from_spec(load_spec(spec_path))
     torques = [float(t) for t in TORQUES.split(",")]
-    options = ltca.Options(torque_nm=torques[0], tooth_model=tooth_model)
+    options = ltca.Options(tooth_model=tooth_model)
     t0 = time.perf_counter()
-    results = ltca.analyze_many(pair, options, torques_nm=torques).results[0]
+    results = ltca.analyze_many(pair, ltca.LoadCase(tuple(torques)), options).results[0]
     t1 = time.perf_counter()
     tribology.efficiency_map(results, pair, [float(s) for s in SPEEDS.split(",")])
     t2 = time.perf_counter()

@@ -1,6 +1,6 @@
 """FE (CalculiX) against the LTCA, the runs of docs/validation.md 11 (full-contact FE check).
 
-Each run is ``beveloid.fecheck.check.fe_check`` (what ``beveloid fe-check`` runs) on one design,
+Each run is ``beveloid.fecheck.analyze`` (what ``beveloid fe-check`` runs) on one design,
 flank, torque and refinement; the table gives per quantity FE / LTCA.  Results are appended as
 JSON lines to OUT (default fe_check_runs.jsonl) so that a long series can be resumed.
 
@@ -20,7 +20,7 @@ import time
 from pathlib import Path
 
 from beveloid.fe.sizes import MAX_STRIP_ELEMENTS
-from beveloid.fecheck.check import CheckOptions, fe_check
+from beveloid import fecheck, ltca
 from beveloid.pair import Pair
 
 
@@ -44,8 +44,8 @@ def _keep_dir(a, design, flank, torque, refinement):
 
 def run(design, flank, torque, refinement, a):
     t0 = time.perf_counter()
-    out = fe_check(_pair(design), CheckOptions(
-        torque_nm=torque, flank=flank, refinement=refinement, coarsen=a.coarsen, ltca_tooth_model=a.tooth_model,
+    out = fecheck.analyze(_pair(design), ltca.LoadCase(torque), fecheck.Options(
+        ltca=ltca.Options(flank=flank, tooth_model=a.tooth_model), refinement=refinement, coarsen=a.coarsen,
         local_refinement=not a.no_local_refinement, contact_size_um=a.contact_size_um,
         max_strip_elements=a.max_strip_elements, out_dir=_keep_dir(a, design, flank, torque, refinement)),
         progress=lambda done, total, s: print(s, file=sys.stderr, flush=True) if not s.startswith("ccx") else None).to_json()

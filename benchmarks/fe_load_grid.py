@@ -69,7 +69,7 @@ def main():
         tooth.load_grid = functools.partial(default_grid, grid=tooth.GRID)
         tooth.flank_grid.__defaults__ = (tooth.GRID, fractions)
         teeth._FE_TEETH.clear()
-        r = ltca.analyze(pair, ltca.Options(torque_nm=a.torque_nm, fe_coarsen=a.fe_coarsen, tooth_model="fe"))
+        r = ltca.analyze(pair, ltca.LoadCase(a.torque_nm), ltca.Options(fe_coarsen=a.fe_coarsen, tooth_model="fe"))
         top, where = r.root_stress_max_mpa(), r.root_stress_location()
         te = float(np.nanmean(r.loaded_te)) * 1e6
         for m in top:

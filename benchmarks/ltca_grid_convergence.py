@@ -23,7 +23,7 @@ def rows() -> list[str]:
     pair = Pair.example("case1")
     out = []
     for grid in GRIDS:
-        r = ltca.analyze(pair, ltca.Options(torque_nm=200.0, positions=5, grid=grid))
+        r = ltca.analyze(pair, ltca.LoadCase(200.0), ltca.Options(positions=5, grid=grid))
         j = 2
         label = f"{grid[0]} × {grid[1]}" + (" (default)" if tuple(grid) == tuple(DEFAULT_GRID) else "")
         out.append(f"| {label} | {_cells(r.pair_load_n[j], '.1f')} | {_cells(r.pair_surface_max_pressure_mpa[j], '.0f')} | "

@@ -52,7 +52,7 @@ def shipped(tooth_model):
         h = member_tooth(pair.geometry, "pinion", 2.1e5, 0.3).plate_height_mm
         for flank in ("left", "right"):
             for torque in (200.0, 400.0, 600.0):
-                r = ltca.analyze(pair, ltca.Options(torque_nm=torque, flank=flank, positions=5, tooth_model=tooth_model))
+                r = ltca.analyze(pair, ltca.LoadCase(torque), ltca.Options(flank=flank, positions=5, tooth_model=tooth_model))
                 rows = hertz_rows(pair, r)
                 dev = [100 * x[-1] for x in rows]
                 a = [x[3] for x in rows]
@@ -88,7 +88,7 @@ def seed_rows(seed, n):
             continue
         torque = float(rng.uniform(0.3, 1.5)) * 100.0 * (m / 6) ** 2 * (z1 / 29)
         try:
-            r = ltca.analyze(pair, ltca.Options(torque_nm=torque, flank=flank, positions=5, tooth_model="plate"))
+            r = ltca.analyze(pair, ltca.LoadCase(torque), ltca.Options(flank=flank, positions=5, tooth_model="plate"))
         except Exception as exc:
             print("fail", exc); continue
         designs += 1

@@ -59,7 +59,7 @@ def iso_pair(pair, flank="right"):
 def ltca_stiffness(pair, pair_v, torque_nm, positions, tooth_model) -> dict:
     """The LTCA's c_gamma_alpha and single-pair c' in N/(mm um), the pairs carrying at each position, and
     the pinion's K_Hbeta and loaded face length at its peak line load (how much of the face carries)."""
-    r = ltca.analyze(pair, ltca.Options(torque_nm=torque_nm, positions=positions, tooth_model=tooth_model), solver=Solver())
+    r = ltca.analyze(pair, ltca.LoadCase(torque_nm), ltca.Options(positions=positions, tooth_model=tooth_model), solver=Solver())
     b = pair_v.face_width_mm
     mean = summary(r)["mesh_stiffness_mean_n_per_um"]
     k = np.asarray(r.mesh_stiffness_n_per_um, float)

@@ -60,7 +60,7 @@ def main():
         pair, name = Pair.from_spec(str(path)), f"{a.case} tilted by 0.05 deg"
     torques = [float(t) for t in a.torques_nm.split(",")]
     sets = error_sets(a.sets)
-    options = ltca.Options(torque_nm=max(torques), positions=a.positions, tooth_model=a.tooth_model)
+    options = ltca.Options(positions=a.positions, tooth_model=a.tooth_model)
 
     spent = {}
     for key, module, attr in PARTS:  # wrap each part where the engine looks it up
@@ -77,7 +77,7 @@ def main():
         setattr(owner, name_, timed)
 
     def call():
-        return ltca.analyze_many(pair, options, torques_nm=torques, error_sets=sets, solver=Solver())
+        return ltca.analyze_many(pair, ltca.LoadCase(torques, errors=sets), options, solver=Solver())
 
     call()
     best = None

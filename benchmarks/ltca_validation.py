@@ -37,7 +37,7 @@ for case, flank, T in (("case1", "left", 1.0), ("case1", "left", 2.0), ("case1",
                        ("case2", "left", 2.0), ("case1", "right", 1.0), ("case2", "right", 1.0),
                        ("module3", "left", 1.0), ("module3", "right", 1.0)):
     g = module3_variant() if case == "module3" else tca.PairGeometry.from_design(design(load_example(case)))
-    r = ltca.analyze(g, ltca.Options(torque_nm=T, flank=flank, positions=3, pairs=1, tooth_model="plate"))  # the default grid
+    r = ltca.analyze(g, ltca.LoadCase(T), ltca.Options(flank=flank, positions=3, pairs=1, tooth_model="plate"))  # the default grid
     nx, ny = r.grid.across_cells, r.grid.along_cells
     j, k = 1, 0
     p = r.pressure_mpa[j, k].reshape(nx, ny); h = r.gap.gap_mm[j, k].reshape(nx, ny); inside = r.gap.in_flank[j, k].reshape(nx, ny)
@@ -57,7 +57,7 @@ for case, flank, T in (("case1", "left", 1.0), ("case1", "left", 2.0), ("case1",
 print("STIFFNESS")
 for case in ("case1", "case2"):
     g = tca.PairGeometry.from_design(design(load_example(case)))
-    res = {T: ltca.analyze(g, ltca.Options(torque_nm=T, flank="right", positions=9, pairs=3, tooth_model="plate")) for T in (400.0, 600.0)}
+    res = {T: ltca.analyze(g, ltca.LoadCase(T), ltca.Options(flank="right", positions=9, pairs=3, tooth_model="plate")) for T in (400.0, 600.0)}
     r = res[600.0]
     inside = r.gap.in_flank
     r1 = np.median(r.gap.pinion_arm_mm[inside]); r2 = np.median(r.gap.gear_closure_mm[inside])
@@ -70,7 +70,7 @@ print("PATCH LENGTH")
 for case in ("case1", "case2"):
     g = tca.PairGeometry.from_design(design(load_example(case)))
     for T in (5.0, 200.0, 600.0):
-        r = ltca.analyze(g, ltca.Options(torque_nm=T, flank="right", positions=9, pairs=3))  # the default (FE) tooth
+        r = ltca.analyze(g, ltca.LoadCase(T), ltca.Options(flank="right", positions=9, pairs=3))  # the default (FE) tooth
         nx, ny = r.grid.across_cells, r.grid.along_cells
         j = 4; k = int(np.argmax(r.pair_load_n[j]))
         p = r.pressure_mpa[j, k].reshape(nx, ny) > 0

@@ -287,9 +287,9 @@ def helical(args):
     for beta in args.helix_deg:
         for name, rho in (("rounded 0.3", 0.3), ("sharp", 0.0)):
             pair = near_spur_pair(29, 0.15, rho, helix_deg=beta, shaft_deg=args.shaft_deg)
-            options = rating.Options(torque_nm=args.torque_nm, positions=args.positions, tooth_model="fe")
-            lt = ltca.analyze(pair, options.ltca_options(1.0), solver=Solver())
-            r = rating.analyze(pair, options, ltca_result=lt)
+            options = rating.Options(ltca.Options(positions=args.positions, tooth_model="fe"))
+            lt = ltca.analyze(pair, ltca.LoadCase(args.torque_nm), options.ltca, solver=Solver())
+            r = rating.analyze(pair, ltca.LoadCase(args.torque_nm), options, ltca_result=lt)
             for member, m in r.members.items():
                 s = m.sections["middle"]
                 d = iso_load_case_detail(pair, member)

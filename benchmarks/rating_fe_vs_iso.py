@@ -24,7 +24,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # this checkout's beveloid, not an installed one
 
-from beveloid import rating  # noqa: E402
+from beveloid import ltca, rating  # noqa: E402
 from beveloid.pair import Pair  # noqa: E402
 from beveloid.rating.fe_check import iso_load_case_detail  # noqa: E402
 from beveloid.rating.virtual import section_gear  # noqa: E402
@@ -69,8 +69,7 @@ def main():
               f"Y_S {d.Y_S:.3f}")
     if args.iso_load_case_only:
         return
-    r = rating.analyze(pair, rating.Options(torque_nm=1000.0, positions=args.positions, tooth_model="fe",
-                                            fe_refinement=args.refinement))
+    r = rating.analyze(pair, ltca.LoadCase(1000.0), rating.Options(ltca.Options(positions=args.positions, tooth_model="fe", fe_refinement=args.refinement)))
     for name, m in r.members.items():
         s = m.sections["middle"]
         print(f"2. LTCA + FE, {name}: root stress max {m.root_stress_max_mpa:.1f} MPa ({m.root_stress_location}); "

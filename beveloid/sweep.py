@@ -136,7 +136,7 @@ def _solve_sets(task: ChunkTask) -> ChunkSolution:
 def engagement_window(geom, flank, ref=None, resolution=400, *, solver: "tca.Solver | None" = None):
     """Pinion-angle interval over which the aligned pair-0 contact is 'ok' (rad), solved by ``solver``
     (a :class:`beveloid.solver.Solver`; None: the default)."""
-    ref = ref or tca.reference_contact(geom, flank)
+    ref = ref or tca.reference_contact(geom, flank, tca.Solver.of(solver).options)
     p1, _ = geom.pitch_angles
     grid = ref.pinion_angle + np.linspace(-2.5 * p1, 2.5 * p1, resolution)
     sol = tca.solve_grid(geom, flank, np.zeros((1, len(tca.ERROR_NAMES))), grid, solver=solver)
@@ -250,7 +250,7 @@ def mesh_te_peak_to_peak(te, m, first, sign):
 def aligned_path(geom, flank, positions, *, solver: "tca.Solver | None" = None) -> tuple[np.ndarray, Aligned]:
     """(the sweep's pinion angles (positions,), :class:`Aligned`): the lattice over the aligned engagement
     (:func:`position_lattice`) and the aligned pair's path on it, what every chunk reduces against."""
-    ref = tca.reference_contact(geom, flank)
+    ref = tca.reference_contact(geom, flank, tca.Solver.of(solver).options)
     lo, hi = engagement_window(geom, flank, ref, solver=solver)
     grid, per_pitch, first = position_lattice(ref.pinion_angle, lo, hi, positions, geom.pitch_angles[0])
     xa = tca.solve_grid(geom, flank, np.zeros((1, len(tca.ERROR_NAMES))), grid, solver=solver).x

@@ -203,12 +203,11 @@ def fe_canary(analyze_ltca=None) -> dict:
     from beveloid.pair import Pair
 
     pair = Pair.example("case1")
-    r = ltca.analyze(pair, ltca.Options(torque_nm=500.0, positions=CANARY_POSITIONS, tooth_model="fe",
-                                        fe_coarsen=CANARY_COARSEN))
+    coarse = ltca.Options(positions=CANARY_POSITIONS, tooth_model="fe", fe_coarsen=CANARY_COARSEN)
+    r = ltca.analyze(pair, ltca.LoadCase(500.0), coarse)
     te = (r.loaded_te - r.unloaded_te)[r.converged] * 1e6
     root = r.root_stress_max_mpa()
-    rt = (rating.analyze(pair, rating.Options(
-        torque_nm=RATING_TORQUE_NM, positions=CANARY_POSITIONS, tooth_model="fe", fe_coarsen=CANARY_COARSEN)).to_json())
+    rt = rating.analyze(pair, ltca.LoadCase(RATING_TORQUE_NM), rating.Options(coarse)).to_json()
     return {"ltca_loaded_te_mean_urad": float(te.mean()), "ltca_root_stress_pinion_mpa": root["pinion"],
             "ltca_root_stress_gear_mpa": root["gear"],
             **{f"rating_{m}_{k}": rt[m][k] for m in ("pinion", "gear")
@@ -216,13 +215,13 @@ def fe_canary(analyze_ltca=None) -> dict:
 
 
 def record_rating(args) -> dict:
-    from beveloid import rating
+    from beveloid import ltca, rating
     from beveloid.pair import Pair
 
     out = {"command": RATING_COMMAND, "canary": fe_canary()}
     for case in ("case1", "case2"):
-        out[case] = rating.analyze(Pair.example(case), rating.Options(torque_nm=RATING_TORQUE_NM,
-                                                                      positions=RATING_POSITIONS)).to_json()
+        out[case] = rating.analyze(Pair.example(case), ltca.LoadCase(RATING_TORQUE_NM),
+                                   rating.Options(ltca.Options(positions=RATING_POSITIONS))).to_json()
     return out
 
 

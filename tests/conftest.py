@@ -316,7 +316,7 @@ def _compile_solver():
         # the kernels outside the core (compiled by the other worker meanwhile, or here), then the loaded
         # TCA's path over the core (its normal gaps)
         lambda geom, ref: _compile_outside_core(),
-        lambda geom, ref: ltca.analyze(geom, ltca.Options(torque_nm=100.0, flank="right", positions=2, pairs=1, tooth_model="plate"), solver=Solver("compiled")),
+        lambda geom, ref: ltca.analyze(geom, ltca.LoadCase(100.0), ltca.Options(flank="right", positions=2, pairs=1, tooth_model="plate"), solver=Solver("compiled")),
         # explore's own compiled kernels (its rows over the core): its worker processes then load them
         # instead of each compiling them at once
         lambda geom, ref: explore_run.warm_up(),

@@ -209,7 +209,7 @@ def test_the_older_call_forms_are_refused():
     from beveloid.solver import Solver
 
     for call in (lambda: tca.analyze(None, np.zeros(5)), lambda: tca.analyze(None, positions=3),
-                 lambda: ltca.analyze(None, 100.0, "right"), lambda: sweep.analyze(None, flank="right"),
+                 lambda: ltca.analyze(None, 100.0, "right"), lambda: ltca.analyze(None, ltca.Options()), lambda: sweep.analyze(None, flank="right"),
                  lambda: tca.analyze(None, tca.Options(), Solver()), lambda: Solver.of("numpy")):
         with pytest.raises(TypeError):
             call()
@@ -555,7 +555,7 @@ def test_the_solver_imports_only_itself_the_generated_kernels_and_the_status_cod
 #: each analysis and whether it takes a load case
 CONTRACT = {"tca": False, "sweep": False, "tooth": False, "ltca": True, "rating": True, "fecheck": True}
 #: analyses whose ``analyze`` does not have the contract's signature yet, owned by other work items
-PENDING_CONTRACT = {"ltca", "rating", "fecheck"}  # the load case apart from the options (issue 56's input half)
+PENDING_CONTRACT: set = set()
 
 
 def _signature_breaks(fn, loaded: bool) -> str | None:
@@ -692,22 +692,22 @@ def contract_results(pair1):
     import math
 
     from beveloid import ltca, rating, sweep, tca, tooth
-    from beveloid.fecheck.check import CheckOptions
+    from beveloid import fecheck
     from beveloid.fecheck.result import CheckResult, ContactNumbers
 
-    lt = ltca.Options(torque_nm=150.0, positions=3, tooth_model="plate")  # its JSON's patterns: ~0.6 s a result
+    lt = ltca.Options(positions=3, tooth_model="plate")  # its JSON's patterns: ~0.6 s a result
     numbers = ContactNumbers.of([10.0, None], [900.0, math.inf], [0.5, 0.0], 12.5, {"pinion": 300.0, "gear": None}, 1.0)
     return {
         "tca": tca.analyze(pair1, tca.Options(positions=5)),
         "sweep": sweep.analyze(pair1, sweep.Options(samples=4, positions=5)),
         "tooth": tooth.analyze(pair1),
-        "ltca": ltca.analyze(pair1, lt),
-        "ltca.analyze_many": ltca.analyze_many(pair1, lt, torques_nm=[100.0]),
-        "rating": rating.analyze(pair1, rating.Options(torque_nm=150.0, positions=3, tooth_model="plate")),
+        "ltca": ltca.analyze(pair1, ltca.LoadCase(150.0), lt),
+        "ltca.analyze_many": ltca.analyze_many(pair1, ltca.LoadCase([100.0]), lt),
+        "rating": rating.analyze(pair1, ltca.LoadCase(150.0), rating.Options(lt)),
         "fecheck": CheckResult("2.21", 3, 0.25, "plate", [0, 1], -1.5, 1000, 4000, 1.0, 2.0, 3.0, numbers, numbers,
                                {"deck": "d.inp"}, ["a note"], [1000.0, None], [[0.2, 5.0], [0.1, math.nan]],
                                [{"tooth_pair": 0, "semi_axes_mm": [0.2, 5.0]}], pair=pair1,
-                               options=CheckOptions(torque_nm=200.0)),
+                               options=fecheck.Options(), load=ltca.LoadCase(200.0)),
     }
 
 
@@ -739,16 +739,19 @@ BAD_OPTIONS = [
     ("sweep", "beveloid.sweep:Options", {"samples": 10_000_000, "positions": 10_000}),
     ("sweep", "beveloid.sweep:Options", {"ranges": {"dx_mm": -1.0}}),
     ("tooth", "beveloid.tooth:Options", {"contact_per_pitch": 2}),
-    ("ltca", "beveloid.ltca:Options", {"torque_nm": 100.0, "positions": 0}),
-    ("ltca", "beveloid.ltca:Options", {"torque_nm": -1.0}),
-    ("rating", "beveloid.rating:Options", {"torque_nm": 100.0, "positions": 0}),
-    ("rating", "beveloid.rating:Options", {"torque_nm": 100.0, "flank": "up"}),
-    ("fecheck", "beveloid.fecheck.check:CheckOptions", {"torque_nm": 100.0, "refinement": 9}),
+    ("ltca", "beveloid.ltca:Options", {"positions": 0}),
+    ("ltca", "beveloid.ltca:Options", {"flank": "up"}),
+    ("ltca", "beveloid.ltca:Options", {"tooth_model": "beam"}),
+    ("ltca", "beveloid.ltca:LoadCase", {"torque_nm": -1.0}),
+    ("ltca", "beveloid.ltca:LoadCase", {"torque_nm": 100.0, "errors": (0.0, 1.0)}),
+    ("rating", "beveloid.rating:Options", {"ltca": "positions=0"}),
+    ("fecheck", "beveloid.fecheck:Options", {"refinement": 9}),
+    ("fecheck", "beveloid.fecheck:Options", {"position": 20}),
     ("export", "beveloid.export:ExportOptions", {"chord_um": 9.0}),
 ]
 #: (analysis, the refused keyword) still refused otherwise than by an OptionError naming its key, owned by
 #: other work items
-PENDING_OPTION_ERRORS = {("rating", "flank"), ("fecheck", "refinement")}
+PENDING_OPTION_ERRORS: set = set()
 
 
 def test_a_bad_option_is_one_option_error_naming_its_key_not_a_flag():

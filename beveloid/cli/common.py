@@ -66,3 +66,135 @@ def solver_of(backend: str):
         return Solver(backend)
     except BackendError as exc:
         raise UserError(f"--backend = {backend}: {exc.requirement}") from None
+
+
+# ---------------------------------------------------------------------------------------------
+# the loaded analyses' options and load case: declared once, read by every command that takes them
+# ---------------------------------------------------------------------------------------------
+
+def _grid_help(default):
+    from ..ltca.options import DEFAULT_GRID
+
+    return (f"contact cells across x along the contact line per tooth pair (default {DEFAULT_GRID[0]}x{DEFAULT_GRID[1]}, "
+            "each cell a fixed fraction of the pair's Hertz semi-axes)")
+
+
+def _positions_help(default):
+    from ..mesh import cycle_positions_help
+
+    return cycle_positions_help(default)
+
+
+#: every field of ltca.Options a command line sets: (field, flag, argparse keywords, help(default)); the one
+#: declaration of these flags (``ltca``, ``rating``, ``optimize``, ``fe-check``: :func:`add_ltca_flags`)
+LTCA_FLAGS = (
+    ("flank", "--flank", {"choices": ("left", "right")}, lambda d: f"loaded flank pair (default {d})"),
+    ("positions", "--positions", {"type": int, "metavar": "N"}, _positions_help),
+    ("pairs", "--pairs", {"type": int, "metavar": "K"}, lambda d: f"neighbouring tooth pairs (default {d})"),
+    ("grid", "--grid", {"metavar": "ACROSSxALONG"}, _grid_help),
+    ("tooth_model", "--tooth-model", {"choices": ("fe", "plate")},
+     lambda d: "how the teeth bend: fe = finite-element tooth from the real geometry with root stress (default when "
+               "gmsh and scikit-fem are installed; its data is cached per design), plate = the fast "
+               "equivalent-spur-tooth plate (no root stress)"),
+    ("fe_refinement", "--fe-refinement", {"type": int, "metavar": "N"},
+     lambda d: f"FE tooth mesh refinement, 1-4 (default {d}; 2 halves every element size)"),
+    ("fe_coarsen", "--fe-coarsen", {"type": float, "metavar": "F"},
+     lambda d: f"every FE tooth element size times F, 1-8 (default {d:g}; 2-4: a quick, rougher tooth)"),
+)
+#: the flag of each ltca.Options field a command line sets
+LTCA_FLAG_OF_KEY = {key: flag for key, flag, _, _ in LTCA_FLAGS}
+
+
+def add_ltca_flags(p: argparse.ArgumentParser, only=None, **defaults) -> None:
+    """The flags of :data:`LTCA_FLAGS` (``only``: those fields) with ltca.Options' defaults, or a command's own
+    (``positions=10``)."""
+    import dataclasses
+
+    from ..ltca.options import Options
+
+    base = {f.name: f.default for f in dataclasses.fields(Options)}
+    unknown = set(defaults) - set(LTCA_FLAG_OF_KEY)
+    assert not unknown, f"not flags of ltca.Options: {sorted(unknown)}"
+    for key, flag, kwargs, text in LTCA_FLAGS:
+        if only is not None and key not in only:
+            continue
+        default = defaults.get(key, base[key])
+        p.add_argument(flag, dest=key, default=default, help=text(default), **kwargs)
+
+
+def parse_grid(text):
+    """(across, along) from 'AxB', None when not given; the range is ltca.options' (one line if bad)."""
+    import re
+
+    from ..errors import OptionError
+    from ..ltca.options import check_grid
+
+    if text is None or isinstance(text, tuple):
+        return text
+    m = re.fullmatch(r"\s*(\d+)\s*[xX]\s*(\d+)\s*", text)
+    try:
+        return check_grid((int(m[1]), int(m[2])) if m else text, key="--grid")
+    except OptionError as exc:  # named by its fields: the flag and the text as typed
+        raise UserError(exc.for_flag("--grid", shown=text)) from None
+
+
+class named_by_flag:
+    """``with named_by_flag(flags): ...``: an OptionError becomes a UserError naming the command-line flag of
+    its key (``flags``, else an ltca.Options flag, else ``--key-with-dashes``)."""
+
+    def __init__(self, flags=None):
+        self.flags = {**LTCA_FLAG_OF_KEY, "torque_nm": "--torque-nm", **(flags or {})}
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, kind, exc, tb):
+        from ..errors import OptionError
+
+        if isinstance(exc, OptionError):
+            flag = self.flags.get(exc.key, "--" + str(exc.key).replace("_", "-"))
+            raise UserError(exc.for_flag(flag)) from None
+        return False
+
+
+def ltca_options(args: argparse.Namespace, **over):
+    """The ltca.Options of the flags of :func:`add_ltca_flags` (``over``: fields set by the command),
+    checked against its range table and the memory; a bad value: one line naming the flag."""
+    from ..ltca.options import Options
+
+    values = {key: getattr(args, key) for key in LTCA_FLAG_OF_KEY}
+    values["grid"] = parse_grid(values["grid"])
+    values.update(over)
+    with named_by_flag({"grid": "--grid"}):
+        options = Options(**values)
+        options.check_memory()
+    return options
+
+
+def parse_torques(text) -> list:
+    """The torques of ``--torque-nm`` (one or a comma list), each checked as ltca.LoadCase does."""
+    from ..errors import OptionError
+    from ..ltca.options import check_torque
+
+    out = []
+    for part in str(text).split(","):
+        try:
+            value = float(part)
+        except ValueError:
+            value = part.strip()
+        try:
+            out.append(check_torque(value, key="--torque-nm"))
+        except OptionError as exc:
+            raise UserError(exc.for_flag("--torque-nm", shown=text)) from None
+    return out
+
+
+def load_case(torque, errors=None):
+    """The ltca.LoadCase of ``--torque-nm`` (a number, or a text with one torque or a comma list: a map)."""
+    from ..ltca.load import LoadCase
+
+    if isinstance(torque, str):
+        torques = parse_torques(torque)
+        torque = torques[0] if len(torques) == 1 else torques
+    with named_by_flag():
+        return LoadCase(torque, errors)

@@ -1,4 +1,5 @@
-"""``beveloid fe-check FILE --torque-nm T [--position K] [--flank left|right] [--refinement N]
+"""``beveloid fe-check FILE --torque-nm T [--position K] [--flank left|right] [--positions N] [--tooth-model fe|plate]
+[...the other flags of ``beveloid ltca``'s loaded analysis] [--refinement N]
 [--no-local-refinement] [--contact-size-um UM] [--max-strip-elements N] [--coarsen F] [--out DIR] [--json]``.
 
 An independent check of the loaded contact: both members' sectors meshed as second-order
@@ -19,20 +20,23 @@ import math
 import sys
 
 from ..fe.sizes import MAX_STRIP_ELEMENTS
-from .common import add_error_flags, apply_error_flags
+from .common import add_error_flags, add_ltca_flags, apply_error_flags
 
 __all__ = ["configure", "run", "format_summary"]
 
 #: the name of the check's files in --out (the deck fe_check.inp, CalculiX's fe_check.frd, .dat, ...)
 JOB = "fe_check"
+#: the flag of each fecheck.Options key whose flag is not its key's (--key-with-dashes)
+FLAGS = {"out_dir": "--out", "local_refinement": "--no-local-refinement"}
 
 
 def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("file", metavar="FILE", help="TOML design spec (`beveloid example case1` prints one)")
     p.add_argument("--torque-nm", type=float, required=True, metavar="T", help="pinion torque (N m), > 0")
     p.add_argument("--position", type=int, default=None, metavar="K",
-                   help="the LTCA's position (0-19) to check (default: the one with the most tooth pairs in contact)")
-    p.add_argument("--flank", choices=("left", "right"), default="right", help="flank pair (default right)")
+                   help="the LTCA's position (0 to --positions - 1) to check (default: the one with the most tooth pairs in "
+                        "contact)")
+    add_ltca_flags(p)  # the LTCA beside the check, as `beveloid ltca` takes it
     p.add_argument("--refinement", type=int, default=1, metavar="N",
                    help="mesh refinement 1-4 (default 1, the coarse check: loads, TE, root stress; N divides every "
                         "size, 3 is the FE tooth's own sizes, for the peak pressure where that reaches the contact's "
@@ -58,17 +62,19 @@ def run(args: argparse.Namespace) -> int:
 
     Needs CalculiX's ccx (Debian: apt-get install calculix-ccx).  Progress goes to stderr.
     """
+    from .. import fecheck
     from ..errors import UserError
-    from ..fecheck.check import CheckOptions, fe_check
     from ..fecheck.run import CCX_MISSING, ccx_path
     from ..pair import Pair
     from ..spec import load_spec
+    from .common import load_case, ltca_options, named_by_flag
     from .paths import check_output_dir
 
-    options = CheckOptions(torque_nm=args.torque_nm, flank=args.flank, position=args.position,
-                           refinement=args.refinement, out_dir=args.out, coarsen=args.coarsen,
-                           local_refinement=not args.no_local_refinement, contact_size_um=args.contact_size_um,
-                           max_strip_elements=args.max_strip_elements)
+    load = load_case(args.torque_nm)
+    with named_by_flag(FLAGS):
+        options = fecheck.Options(ltca=ltca_options(args), position=args.position, refinement=args.refinement,
+                                  out_dir=args.out, coarsen=args.coarsen, local_refinement=not args.no_local_refinement,
+                                  contact_size_um=args.contact_size_um, max_strip_elements=args.max_strip_elements)
     if args.out is not None:
         check_output_dir(args.out, "--out")
     if ccx_path() is None:
@@ -79,9 +85,9 @@ def run(args: argparse.Namespace) -> int:
 
     progress = Lines(sys.stderr)
     if args.out is None:
-        out = fe_check(pair, options, progress=progress).to_json()
+        out = fecheck.analyze(pair, load, options, progress=progress).to_json()
     else:
-        out = _into_folder(pair, options, progress, args.out).to_json()
+        out = _into_folder(pair, load, options, progress, args.out).to_json()
     if args.json:
         print(json.dumps(out, allow_nan=False))
     else:
@@ -89,20 +95,20 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _into_folder(pair, options, progress, folder):
+def _into_folder(pair, load, options, progress, folder):
     """The check with its files (deck, CalculiX's output, VTU) kept in ``folder``; a Ctrl-C removes the
     files this run had written there (a deck without results, CalculiX's partial output, its spooles.out:
     every file new since the start and the job's files rewritten) and says so."""
     import time
     from pathlib import Path
 
-    from ..fecheck.check import fe_check
+    from .. import fecheck
     from ..outputs import interrupted_files_note
 
     t0 = time.time()
     before = {p.name for p in Path(folder).iterdir()} if Path(folder).is_dir() else set()
     try:
-        return fe_check(pair, options, progress=progress)
+        return fecheck.analyze(pair, load, options, progress=progress)
     except KeyboardInterrupt:  # the job's files of this run, and whatever else CalculiX made (spooles.out)
         mine = [p for p in sorted(Path(folder).iterdir()) if p.is_file() and (
             p.name not in before or (p.name.startswith(f"{JOB}.") and p.stat().st_mtime >= t0 - 1.0))]

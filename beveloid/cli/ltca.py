@@ -28,34 +28,19 @@ import argparse
 import json
 import math
 import os
-import re
 
 from .paths import check_output_dir, check_output_file
-from .common import add_error_flags, apply_error_flags, error_vector, errors_label, number
-from ..errors import OptionError, UserError
+from .common import add_error_flags, add_ltca_flags, apply_error_flags, errors_label, ltca_options, number, parse_torques
+from ..errors import UserError
 
 
 def configure(p: argparse.ArgumentParser) -> None:
-    from ..mesh import cycle_positions_help
-
     p.add_argument("file", metavar="FILE", help="TOML design spec (`beveloid example case1` prints one)")
     p.add_argument("--torque-nm", required=True, metavar="T[,T...]",
                    help="pinion torque (N m), > 0; a comma list (50,100,200,400) gives the torque map: the whole "
                         "analysis at each torque")
-    p.add_argument("--positions", type=int, default=20, metavar="N", help=cycle_positions_help(20))
-    p.add_argument("--pairs", type=int, default=3, metavar="K", help="neighbouring tooth pairs (default 3)")
-    p.add_argument("--flank", choices=("left", "right"), default="right", help="flank pair (default right)")
+    add_ltca_flags(p)
     add_error_flags(p)
-    p.add_argument("--grid", default=None, metavar="ACROSSxALONG",
-                   help="contact cells across x along the contact line per tooth pair (default "
-                        "11x17, each cell a fixed fraction of the pair's Hertz semi-axes)")
-    p.add_argument("--tooth-model", choices=("fe", "plate"), default=None,
-                   help="how the teeth bend: fe = finite-element tooth from the real geometry with root stress "
-                        "(default; its data is cached per design), plate = the fast equivalent-spur-tooth plate")
-    p.add_argument("--fe-refinement", type=int, default=1, metavar="N",
-                   help="FE tooth mesh refinement, 1-4 (default 1; 2 halves every element size)")
-    p.add_argument("--fe-coarsen", type=float, default=1.0, metavar="F",
-                   help="every FE tooth element size times F, 1-8 (default 1; 2-4: a quick, rougher tooth)")
     p.add_argument("--plot", metavar="OUT.png", help="write the contact patterns, loaded TE and load sharing here "
                                                      "(and the per-position pressure maps beside it; with"
                                                      " --samples the error sets at OUT_tolerance.png)")
@@ -78,36 +63,6 @@ def configure(p: argparse.ArgumentParser) -> None:
     where.add_argument("--scheduler", metavar="ADDRESS", help="analyse them on an existing Dask distributed cluster")
 
 
-def parse_torques(text) -> list:
-    """The torques of ``--torque-nm`` (one or a comma list), each checked as ltca.Options does."""
-    from ..ltca.options import check_torque
-
-    out = []
-    for part in str(text).split(","):
-        try:
-            value = float(part)
-        except ValueError:
-            value = part.strip()
-        try:
-            out.append(check_torque(value, key="--torque-nm"))
-        except OptionError as exc:
-            raise UserError(exc.for_flag("--torque-nm", shown=text)) from None
-    return out
-
-
-def parse_grid(text):
-    """(across, along) from 'AxB', None when not given; the range is ltca.options' (one line if bad)."""
-    from ..ltca.options import check_grid
-
-    if text is None:
-        return None
-    m = re.fullmatch(r"\s*(\d+)\s*[xX]\s*(\d+)\s*", text)
-    try:
-        return check_grid((int(m[1]), int(m[2])) if m else text, key="--grid")
-    except OptionError as exc:  # named by its fields: the flag and the text as typed
-        raise UserError(exc.for_flag("--grid", shown=text)) from None
-
-
 def run(args: argparse.Namespace) -> int:
     """Loaded tooth contact analysis under a pinion torque (approximate: Boussinesq half-space + the FE tooth, or the plate tooth's beams with --tooth-model plate).
 
@@ -121,15 +76,8 @@ def run(args: argparse.Namespace) -> int:
     from ..pair import Pair
     from ..solver import Solver
 
-    grid = parse_grid(args.grid)
     torques = parse_torques(args.torque_nm)
-    try:
-        ltca.options.check_positions(args.positions, key="--positions")
-        ltca.options.check_pairs(args.pairs, key="--pairs")
-        ltca.options.check_fe_refinement(args.fe_refinement, key="--fe-refinement")
-        ltca.options.check_fe_coarsen(args.fe_coarsen, key="--fe-coarsen")
-    except OptionError as exc:
-        raise UserError(exc.for_flag(exc.key)) from None
+    options = ltca_options(args)
     if not 0 <= args.samples <= 100_000:
         raise UserError(f"--samples = {args.samples}: must be an integer from 0 (no tolerance box) to 100000")
     if not 0 <= args.seed < 2 ** 63:
@@ -144,28 +92,23 @@ def run(args: argparse.Namespace) -> int:
     speeds = parse_speeds(args.speed_rpm, spec)
     tolerances = _tolerances(args, spec) if args.samples else None
     pair = Pair.from_spec(spec)
-    options = ltca.Options(torque_nm=torques[0], flank=args.flank, positions=args.positions, pairs=args.pairs,
-                           grid=grid, errors=tuple(error_vector(spec)), material=ltca.Material.from_spec(spec),
-                           tooth_model=args.tooth_model, fe_refinement=args.fe_refinement,
-                           fe_coarsen=args.fe_coarsen)
-    try:
-        options.check_memory()
-    except OptionError as exc:
-        raise UserError(exc.for_flag("--grid")) from None
     from ..parallel import executor
 
     if args.workers is not None or args.scheduler is not None:
         executor(args.workers, args.scheduler)  # checks the flags (one line) before any work
     solver = Solver()
+    load = ltca.LoadCase(torques)
     # the contact patterns once per run: the JSON, the table and the figures read them
-    results = [r.with_patterns() for r in ltca.analyze_many(pair, options, torques_nm=torques, solver=solver).results[0]]
+    results = [r.with_patterns() for r in ltca.analyze_many(pair, load, options, solver=solver).results[0]]
     box = None
     if tolerances is not None:
         from .. import sweep
+        from ..progress import for_terminal
 
         nominal = {key: float(getattr(spec.misalignment, key)) for key in tolerances}
         draws = sweep.draw_errors(args.samples, ranges=tolerances, seed=args.seed, nominal=nominal)
-        box = tolerance_sets(pair, options, torques, draws, args.workers, args.scheduler)
+        box = ltca.studies.tolerance_box(pair, load.at(errors=draws), options, workers=args.workers,
+                                         scheduler=args.scheduler, progress=for_terminal())
     geom = pair.geometry
     label = f"{spec.source}: {errors_label(spec)}"
     if args.plot is not None:
@@ -191,14 +134,14 @@ def run(args: argparse.Namespace) -> int:
     for t, r in enumerate(results):
         d = r.to_json()
         if box is not None:
-            d["tolerance"] = tolerance_json(box, t, args.samples, args.seed, tolerances)
+            d["tolerance"] = ltca.studies.tolerance_json(box, t, args.samples, args.seed, tolerances)
         if trib is not None:
             if len(speeds) == 1:
                 d.update(trib[t][0].to_json())
             else:
                 d["speeds"] = [x.to_json() for x in trib[t]]
         entries.append(d)
-    out = entries[0] if len(results) == 1 else {"map": entries, "torque_map": torque_map_json(results)}
+    out = entries[0] if len(results) == 1 else {"map": entries, "torque_map": ltca.studies.torque_map_json(results)}
     if trib is not None and len(speeds) > 1:
         from ..tribology.report import map_json
 
@@ -283,90 +226,6 @@ def _tolerances(args, spec) -> dict:
                             f" {centre + half:g}; |nominal| + half-width must be <= "
                             f"{assembly_errors.BY_KEY[key].limit:g}")
     return tol
-
-
-#: error sets per chunk of the tolerance box (the unit of work of --workers; the numbers do not depend on it)
-CHUNK_SETS = 8
-
-
-def _chunk(task):
-    """One chunk of the tolerance box: (pair, options, torques, draws) -> [[summary per torque] per set]."""
-    from .. import ltca
-
-    pair, options, torques, draws = task
-    batch = ltca.analyze_many(pair, options, torques_nm=torques, error_sets=draws)
-    return [[dict(ltca.results.batch.summary(r), errors=e) for r in row] for e, row in zip(draws, batch.results)]
-
-
-def tolerance_sets(pair, options, torques, draws, workers=None, scheduler=None) -> list:
-    """[[summary (ltca.results.batch.summary) per torque] per error set] of the draws, in chunks of CHUNK_SETS:
-    here, on local workers or on a Dask cluster (beveloid.parallel); a progress bar on a terminal."""
-    from contextlib import nullcontext
-
-    from ..parallel import executor
-    from ..progress import for_terminal
-
-    tasks = [(pair, options, torques, draws[i:i + CHUNK_SETS]) for i in range(0, len(draws), CHUNK_SETS)]
-    out = [None] * len(tasks)
-    progress, done = for_terminal(), 0
-    parallel = workers is not None or scheduler is not None
-    with (executor(workers, scheduler) if parallel else nullcontext()) as ex:
-        items = ex.map_unordered(_chunk, tasks) if parallel else ((i, _chunk(t)) for i, t in enumerate(tasks))
-        for i, res in items:
-            out[i] = res
-            done += len(res)
-            if progress is not None:
-                progress(done, len(draws), "error sets")
-    return [row for chunk in out for row in chunk]
-
-
-def _stats(values) -> dict:
-    import numpy as np
-
-    v = np.asarray([x for x in values if x is not None and math.isfinite(x)], dtype=float)
-    if v.size == 0:
-        return {"p50": None, "p90": None, "max": None, "sets": 0}
-    return {"p50": float(np.percentile(v, 50)), "p90": float(np.percentile(v, 90)), "max": float(v.max()),
-            "sets": int(v.size)}
-
-
-def tolerance_json(box, t, samples, seed, tolerances) -> dict:
-    """The "tolerance" block of torque index t (issue 43's contract)."""
-    from .. import assembly_errors
-    from ..ltca.model.teeth import MEMBERS
-
-    num = lambda v: float(v) if v is not None and math.isfinite(v) else None  # noqa: E731
-    rows = [sets[t] for sets in box]
-    return {
-        "samples": samples, "seed": seed,
-        "tolerances": {k: float(v) for k, v in tolerances.items()},
-        "te_peak_to_peak_urad": _stats(r["te_peak_to_peak_urad"] for r in rows),
-        "max_pressure_mpa": _stats(r["max_pressure_mpa"] for r in rows),
-        "root_stress_max_mpa": {m: _stats(r["root_stress_max_mpa"][m] for r in rows) for m in MEMBERS},
-        "edge_contact_fraction": sum(r["edge_contact"] for r in rows) / len(rows),
-        "sets": [{"errors": assembly_errors.from_layout(r["errors"]),
-                  "te_peak_to_peak_urad": num(r["te_peak_to_peak_urad"]),
-                  "max_pressure_mpa": num(r["max_pressure_mpa"]),
-                  "root_stress_max_mpa": {m: num(r["root_stress_max_mpa"][m]) for m in MEMBERS}} for r in rows],
-        "note": "each set a full loaded analysis with that error set in [misalignment] (the draws of sweep and "
-                "explore: uniform in the box about the file's misalignment); p50, p90 and max over the sets "
-                "with a value (sets: how many)",
-    }
-
-
-def torque_map_json(results) -> dict:
-    """The "torque_map" block: per torque the TE peak-to-peak, the largest pair_max_pressure_mpa (edge peaks
-    included), the members' largest root stress and the mean mesh stiffness (null where not known)."""
-    from ..ltca.results.batch import summary
-    from ..ltca.model.teeth import MEMBERS
-
-    num = lambda v: float(v) if v is not None and math.isfinite(v) else None  # noqa: E731
-    s = [summary(r) for r in results]
-    return {"torque_nm": [float(r.torque_nm) for r in results],
-            "te_peak_to_peak_urad": [num(x["te_peak_to_peak_urad"]) for x in s],
-            "max_pressure_mpa": [num(x["max_pressure_mpa"]) for x in s],
-            "root_stress_max_mpa": {m: [num(x["root_stress_max_mpa"][m]) for x in s] for m in MEMBERS},
-            "mesh_stiffness_mean_n_per_um": [num(x["mesh_stiffness_mean_n_per_um"]) for x in s]}
 
 
 def write_csv(results, geom, folder):

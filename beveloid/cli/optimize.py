@@ -16,7 +16,7 @@ from ..errors import OptionError, StopReason, UserError
 
 
 def configure(p: argparse.ArgumentParser) -> None:
-    from ..mesh import cycle_positions_help
+    from .common import add_ltca_flags
     from .explore import add_tolerances_flag
 
     p.add_argument("file", metavar="FILE", nargs="?", help="TOML design spec: the unmodified design (not with --resume)")
@@ -40,14 +40,7 @@ def configure(p: argparse.ArgumentParser) -> None:
                    help="rating: `beveloid rating`'s verdict at the highest torque must pass (every safety"
                         " meets its minimum, no edge beyond the edge-contact rule) (default); none: not computed"
                         " (quicker looks)")
-    p.add_argument("--flank", choices=("left", "right"), default="right", help="loaded flank pair (default right)")
-    p.add_argument("--positions", type=int, default=20, metavar="N", help=cycle_positions_help(20))
-    p.add_argument("--pairs", type=int, default=3, metavar="K", help="neighbouring tooth pairs (default 3)")
-    p.add_argument("--grid", default=None, metavar="ACROSSxALONG", help="contact cells per tooth pair (default 11x17)")
-    p.add_argument("--tooth-model", choices=("fe", "plate"), default=None,
-                   help="fe = finite-element tooth with root stress (default when installed), plate = fast")
-    p.add_argument("--fe-refinement", type=int, default=1, metavar="N", help="FE tooth mesh refinement, 1-4")
-    p.add_argument("--fe-coarsen", type=float, default=1.0, metavar="F", help="FE element sizes times F, 1-8")
+    add_ltca_flags(p)
     where = p.add_mutually_exclusive_group()
     where.add_argument("--workers", type=int, metavar="N", help="local worker processes (default: the cores)")
     where.add_argument("--scheduler", metavar="ADDRESS", help="run on an existing Dask distributed cluster")
@@ -62,8 +55,8 @@ def _request(args):
     from ..optimize import request as rq
     from ..spec import load_spec
     from ..sweep import MAX_SEED
+    from .common import ltca_options
     from .explore import _raw, parse_tolerances
-    from .ltca import parse_grid
 
     if not args.file:
         raise UserError("FILE is missing: give the design's TOML spec (or --resume DIR)")
@@ -97,14 +90,8 @@ def _request(args):
     population = rq.default_population(len(varies)) if args.population is None else args.population
     if not 4 <= population <= 1000:
         raise UserError(f"--population = {population}: must be an integer from 4 to 1000")
-    grid = parse_grid(args.grid)
     tooth = args.tooth_model or default_tooth_model()
-    try:  # the loaded analysis' own range table, named by the flags
-        analysis = ltca.Options(torque_nm=max(torques), positions=args.positions, pairs=args.pairs, grid=grid,
-                                tooth_model=tooth, fe_refinement=args.fe_refinement, fe_coarsen=args.fe_coarsen)
-        analysis.check_memory()
-    except OptionError as exc:
-        raise UserError(exc.for_flag("--" + exc.key.replace("_", "-"))) from None
+    analysis = ltca_options(args, tooth_model=tooth)  # the loaded analysis' own range table, named by the flags
     if args.positions < 3:
         raise UserError(f"--positions = {args.positions}: must be at least 3 (a TE peak-to-peak needs a cycle)")
     objectives = rq.parse_objectives(args.objectives, tooth)
@@ -122,9 +109,7 @@ def _request(args):
                                 f" {centre + half:g}; |nominal| + half-width must be <= {limit:g}")
     req = rq.Request(base=_raw(args.file, spec), varies=varies, torques_nm=torques, weights=weights,
                      objectives=objectives, samples=args.samples, seed=args.seed, tolerances=tolerances, budget=budget,
-                     population=population, flank=args.flank, positions=args.positions, pairs=args.pairs, grid=grid,
-                     tooth_model=tooth, fe_refinement=args.fe_refinement, fe_coarsen=float(args.fe_coarsen),
-                     constraints=args.constraints, source=str(args.file))
+                     population=population, ltca=analysis, constraints=args.constraints, source=str(args.file))
     req.check()
     return req
 

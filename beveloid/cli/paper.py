@@ -13,8 +13,9 @@ def configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--out", default="paper_out", metavar="DIR", help="output folder (default paper_out)")
     p.add_argument("--positions", type=int, default=200, metavar="N",
                    help="pinion positions per error set (default 200)")
-    p.add_argument("--tooth-model", choices=("fe", "plate"), default=None,
-                   help="the loaded contact's tooth (Figs 24-25): fe (default) or plate, as in beveloid ltca")
+    from .common import add_ltca_flags
+
+    add_ltca_flags(p, only=("tooth_model",))  # the loaded contact's tooth (Figs 24-25), as beveloid ltca takes it
 
 
 def run(args: argparse.Namespace) -> int:

@@ -1,4 +1,5 @@
-"""``beveloid rating FILE --torque-nm T [--flank left|right] [--positions N] [--json] [--plot OUT.png]``.
+"""``beveloid rating FILE --torque-nm T [--flank left|right] [--positions N] [--pairs K] [--grid ACROSSxALONG]
+[--tooth-model fe|plate] [--fe-refinement N] [--fe-coarsen F] [--json] [--plot OUT.png]``.
 
 Strength rating (docs/rating.md): ISO 6336-2/-3:2019 (method B) on the virtual cylindrical gear of the
 toe, middle and heel sections of each member, and the local stresses of the loaded contact (LTCA
@@ -22,27 +23,17 @@ from __future__ import annotations
 import argparse
 import json
 
-from ..errors import OptionError, UserError
+from ..errors import UserError
 from .paths import check_output_file
 
 
 def configure(p: argparse.ArgumentParser) -> None:
-    from ..mesh import cycle_positions_help
+    from .. import rating
+    from .common import add_ltca_flags
 
     p.add_argument("file", metavar="FILE", help="TOML design spec (`beveloid example case1` prints one)")
     p.add_argument("--torque-nm", type=float, required=True, metavar="T", help="nominal pinion torque (N m), > 0")
-    p.add_argument("--flank", choices=("left", "right"), default="right", help="loaded flank pair (default right)")
-    from ..rating.analysis import POSITIONS
-
-    p.add_argument("--positions", type=int, default=POSITIONS, metavar="N",
-                   help="the LTCA's " + cycle_positions_help(POSITIONS) + "; every other one checks the maxima")
-    p.add_argument("--tooth-model", choices=("fe", "plate"), default=None,
-                   help="the LTCA's tooth: fe = finite-element tooth with the root stress (default when gmsh and "
-                        "scikit-fem are installed; its data is cached per design), plate = fast, no root stress")
-    p.add_argument("--fe-refinement", type=int, default=1, metavar="N",
-                   help="FE tooth mesh refinement, 1-4 (default 1)")
-    p.add_argument("--fe-coarsen", type=float, default=1.0, metavar="F",
-                   help="every FE tooth element size times F, 1-8 (default 1; 2-4: a quick, rougher tooth)")
+    add_ltca_flags(p, positions=rating.POSITIONS)  # the LTCA's flags, as `beveloid ltca` takes them
     p.add_argument("--plot", metavar="OUT.png", help="write S_F and S_H along the face of both members here")
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
 
@@ -56,16 +47,14 @@ def run(args: argparse.Namespace) -> int:
     from ..rating.report import table
     from ..spec import load_spec
 
-    try:
-        options = rating.Options(torque_nm=args.torque_nm, flank=args.flank, positions=args.positions,
-                                 tooth_model=args.tooth_model, fe_refinement=args.fe_refinement,
-                                 fe_coarsen=args.fe_coarsen)
-    except OptionError as exc:  # named by its fields: the flag of the key (not a replace in the text)
-        raise UserError(exc.for_flag("--" + exc.key.replace("_", "-"))) from None
+    from .common import load_case, ltca_options
+
+    load = load_case(args.torque_nm)
+    options = rating.Options(ltca=ltca_options(args))
     if args.plot is not None:
         check_output_file(args.plot, "--plot", ".png")
     pair = Pair.from_spec(load_spec(args.file))
-    result = rating.analyze(pair, options, face_points=21 if args.plot else 0)
+    result = rating.analyze(pair, load, options, face_points=21 if args.plot else 0)
     if args.plot is not None:
         from ..rating.plots import safety_along_face
 

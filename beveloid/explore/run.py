@@ -12,6 +12,7 @@ finished chunks, and ``--resume DIR`` computes only the missing ones.
 """
 from __future__ import annotations
 
+import functools
 import hashlib
 import os
 import sys
@@ -84,9 +85,10 @@ class Request:
     def chunks(self) -> int:
         return -(-self.plan.count // self.chunk)
 
-    @property
+    @functools.cached_property
     def solver(self):
-        """The :class:`beveloid.solver.Solver` of the request's ``backend`` (the name it is stored by)."""
+        """The :class:`beveloid.solver.Solver` of the request's ``backend`` (the name it is stored by), made
+        once per request: every chunk of the run solves with the same Solver."""
         from ..solver import Solver
 
         return Solver(self.backend)

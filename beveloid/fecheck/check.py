@@ -13,19 +13,19 @@ from __future__ import annotations
 import contextlib
 import tempfile
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from ..errors import UserError
+from ..errors import OptionError, UserError
 from ..fe.sizes import MAX_STRIP_ELEMENTS
 from ..outputs import check_output_dir
 from ..names import MEMBERS
 from ..status import LoadedStatus
 from .result import CheckResult, ContactNumbers
 
-__all__ = ["CheckOptions", "CheckResult", "PEAK_RESOLVED_PER_SEMI_AXIS", "choose_position", "fe_check"]
+__all__ = ["CheckResult", "Options", "PEAK_RESOLVED_PER_SEMI_AXIS", "analyze", "choose_position"]
 
 #: a pair's peak pressure and contact area count as resolved where the elements over its contact are
 #: at most this many times its half-width b (docs/validation.md section 11: at 0.76-1.1 b the FE's
@@ -33,44 +33,71 @@ __all__ = ["CheckOptions", "CheckResult", "PEAK_RESOLVED_PER_SEMI_AXIS", "choose
 PEAK_RESOLVED_PER_SEMI_AXIS = 1.1
 
 
-@dataclass(frozen=True)
-class CheckOptions:
-    """The request: pinion torque (N m), flank, position (None: the most pairs in contact), mesh
-    refinement, the folder to keep (None: a temporary one), the LTCA's positions over the cycle,
-    the local refinement over the LTCA's patches (docs/fe_check.md)."""
+def _default_ltca():
+    from ..ltca.options import Options as LTCAOptions
 
-    torque_nm: float
-    flank: str = "right"
+    return LTCAOptions()
+
+
+@dataclass(frozen=True)
+class Options:
+    """How the check is computed: the LTCA beside it (``ltca``, an ``ltca.Options``: flank, positions,
+    tooth model, ...), the position (None: the most pairs in contact), the mesh refinement, the folder to
+    keep (None: a temporary one), every element size times ``coarsen``, the local refinement over the
+    LTCA's patches (docs/fe_check.md).  The torque is the load case's (``ltca.LoadCase``).  A bad value
+    raises :class:`beveloid.errors.OptionError` naming the key."""
+
+    ltca: object = field(default_factory=_default_ltca)
     position: int | None = None
     refinement: int = 1
     out_dir: str | None = None
-    ltca_positions: int = 20
     coarsen: float = 1.0  #: multiplies every element size (tests and quick looks; beveloid.fe.mesh's coarsen)
-    ltca_tooth_model: str | None = None  #: the LTCA's tooth model ("fe", "plate"; None: its default)
     local_refinement: bool = True  #: refine the mesh over the LTCA's loaded patches (beveloid.fecheck.strips)
     contact_size_um: float | None = None  #: the element size there (None: b / 3 of each patch)
     max_strip_elements: int = MAX_STRIP_ELEMENTS  #: cap on the estimated elements in one sector's strips at refinement 3, the FE tooth's sizes (beveloid.fe.sizes.strip_sizes)
 
     def __post_init__(self):
-        from ..ltca.options import check_positions, check_torque
+        from ..ltca.options import Options as LTCAOptions
 
-        check_torque(self.torque_nm, key="--torque-nm")  # OptionError: a UserError, one line
-        check_positions(self.ltca_positions, key="positions")
-        if self.flank not in ("left", "right"):
-            raise UserError(f"--flank = {self.flank!r}: must be left or right")
+        if not isinstance(self.ltca, LTCAOptions):
+            raise OptionError("ltca", self.ltca, "must be an ltca.Options")
         if not (isinstance(self.refinement, int) and 1 <= self.refinement <= 4):
-            raise UserError(f"--refinement = {self.refinement!r}: must be an integer from 1 to 4")
+            raise OptionError("refinement", self.refinement, "must be an integer from 1 to 4")
         if self.contact_size_um is not None and not (isinstance(self.contact_size_um, (int, float))
                                                      and 10 <= self.contact_size_um <= 2000):
-            raise UserError(f"--contact-size-um = {self.contact_size_um!r}: must be a number from 10 to 2000 (um)")
+            raise OptionError("contact_size_um", self.contact_size_um, "must be a number from 10 to 2000 (um)")
         if not (isinstance(self.coarsen, (int, float)) and 0.125 <= self.coarsen <= 2.5):
-            raise UserError(f"--coarsen = {self.coarsen!r}: must be a number from 0.125 to 2.5")
+            raise OptionError("coarsen", self.coarsen, "must be a number from 0.125 to 2.5")
         if not (isinstance(self.max_strip_elements, int) and self.max_strip_elements >= 1000):
-            raise UserError(f"--max-strip-elements = {self.max_strip_elements!r}: must be an integer >= 1000")
-        if self.position is not None and not (isinstance(self.position, int)
-                                              and 0 <= self.position < self.ltca_positions):
-            raise UserError(f"--position = {self.position!r}: must be an integer from 0 to {self.ltca_positions - 1}"
-                            " (the LTCA's positions over one mesh cycle)")
+            raise OptionError("max_strip_elements", self.max_strip_elements, "must be an integer >= 1000")
+        n = self.ltca.positions
+        if self.position is not None and not (isinstance(self.position, int) and 0 <= self.position < n):
+            raise OptionError("position", self.position, f"must be an integer from 0 to {n - 1} (the LTCA's "
+                              "positions over one mesh cycle)")
+
+    @property
+    def flank(self) -> str:
+        return self.ltca.flank
+
+
+def _request(pair, load, options):
+    """(load, options) checked: one torque, the pair's own errors (the FE model is placed with them)."""
+    from ..ltca.load import LoadCase
+
+    if not isinstance(load, LoadCase):
+        raise TypeError(f"fecheck.analyze(pair, load, options=None, *, solver=None) needs an ltca.LoadCase as load, "
+                        f"not {type(load).__name__}")
+    if load.is_map:
+        raise OptionError("torque_nm", load.torque_nm, "fe-check takes one torque and one error set")
+    own = getattr(pair, "errors", None)
+    if load.errors is not None and (own is None or not np.array_equal(np.asarray(load.errors), np.asarray(own))):
+        raise OptionError("errors", load.errors, "fe-check takes the pair's own [misalignment] (None); set the "
+                          "errors in the pair's spec")
+    options = Options() if options is None else options
+    if not isinstance(options, Options):
+        raise TypeError(f"fecheck.analyze(pair, load, options=None, *, solver=None) needs a fecheck.Options or None, "
+                        f"not {type(options).__name__}")
+    return load, options
 
 
 def choose_position(result) -> int:
@@ -140,10 +167,11 @@ def root_stress_notes(calculix, ltca, refinement: int) -> list[str]:
 STEPS = 3
 
 
-def fe_check(pair, options: CheckOptions, *, progress=None, solver=None) -> CheckResult:
-    """Run the check: a :class:`beveloid.fecheck.result.CheckResult`, its ``to_json()`` the contract
-    (docs/fe_check.md); ``progress``: a :class:`beveloid.progress.Progress` (its steps, and CalculiX's
-    lines) or None."""
+def analyze(pair, load, options: Options | None = None, *, solver=None, progress=None) -> CheckResult:
+    """The FE check of ``pair`` under ``load`` (an ``ltca.LoadCase``: one pinion torque; its errors None
+    or the pair's own, which the FE model is placed with) with ``options`` (None: the defaults): a
+    :class:`beveloid.fecheck.result.CheckResult`, its ``to_json()`` the contract (docs/fe_check.md);
+    ``progress``: a :class:`beveloid.progress.Progress` (its steps, and CalculiX's lines) or None."""
     from .. import ltca, tca
     from ..solver import Solver
     from .deck import write_deck
@@ -152,6 +180,7 @@ def fe_check(pair, options: CheckOptions, *, progress=None, solver=None) -> Chec
     from .run import ccx_path, ccx_version, run_ccx
     from .pair_results import read_pair_results
 
+    load, options = _request(pair, load, options)
     if options.out_dir:  # the one output rule (beveloid/outputs.py), before any work
         check_output_dir(str(options.out_dir), "out_dir")
     if ccx_path() is None:
@@ -163,16 +192,14 @@ def fe_check(pair, options: CheckOptions, *, progress=None, solver=None) -> Chec
         if progress is not None:
             progress(step, STEPS, text)
 
-    say(0, f"fe-check: LTCA at {options.torque_nm:g} N m over {options.ltca_positions} positions")
-    result = ltca.analyze(pair, ltca.Options(torque_nm=options.torque_nm, flank=options.flank,
-                                             positions=options.ltca_positions,
-                                             tooth_model=options.ltca_tooth_model), solver=Solver.of(solver))
+    say(0, f"fe-check: LTCA at {load.torque_nm:g} N m over {options.ltca.positions} positions")
+    result = ltca.analyze(pair, load, options.ltca, solver=Solver.of(solver))
     j = choose_position(result) if options.position is None else options.position
     if result.status[j] != LoadedStatus.OK or not np.isfinite(result.unloaded_te[j]):
-        raise UserError(f"--position = {j}: the LTCA has no converged contact there ({result.status[j]}); choose "
+        raise UserError(f"position = {j}: the LTCA has no converged contact there ({result.status[j]}); choose "
                         f"one of {[i for i, s in enumerate(result.status) if s == LoadedStatus.OK]}")
     ratio = geom.pinion.teeth / geom.gear.teeth
-    ref = tca.reference_contact(geom, options.flank)
+    ref = tca.reference_contact(geom, options.flank, Solver.of(solver).options)
     phi1 = float(result.pinion_angle[j])
     phi2 = float(result.unloaded_te[j] + tca.unknowns(ref.x).gear_angle_rad - ratio * (phi1 - ref.pinion_angle))
     say(1, f"fe-check: position {j} (pinion angle {phi1:.6f} rad); meshing both sectors (refinement "
@@ -187,7 +214,7 @@ def fe_check(pair, options: CheckOptions, *, progress=None, solver=None) -> Chec
     for m in ("pinion", "gear"):
         for entry, h in zip(about, meshes[m].strip_sizes_mm):
             entry[f"{m}_element_mm"] = h
-    req = ModelRequest(pair, options.flank, options.torque_nm, phi1, phi2,
+    req = ModelRequest(pair, options.flank, load.torque_nm, phi1, phi2,
                        float(np.nanmax(result.pair_max_pressure_mpa[j])),
                        float((result.loaded_te[j] - result.unloaded_te[j]) / ratio), tuple(result.tooth_pairs))
     model = pair_model(req, meshes)
@@ -205,8 +232,8 @@ def fe_check(pair, options: CheckOptions, *, progress=None, solver=None) -> Chec
                                  fe.root_stress_mpa, fe.moment_nmm * 1e-3)
     files = {"deck": str(deck_path), "frd": str(run.file("frd")), "dat": str(run.file("dat")),
              "vtu": str(folder / "fe_check.vtu")} if options.out_dir else {}
-    notes = [f"position {j} of {options.ltca_positions} over one mesh cycle, {options.flank} flank, pinion torque "
-             f"{options.torque_nm:g} N m; tooth pairs {list(model.tooth_pairs)} in the LTCA's order in both blocks",
+    notes = [f"position {j} of {options.ltca.positions} over one mesh cycle, {options.flank} flank, pinion torque "
+             f"{load.torque_nm:g} N m; tooth pairs {list(model.tooth_pairs)} in the LTCA's order in both blocks",
              f"calculix: C3D10 sectors of {SECTOR_TEETH} teeth (beveloid.fe.mesh; the teeth of the tooth pairs "
              "at the loaded tooth's sizes, the radial cuts free), frictionless surface-to-surface penalty "
              "contact (slope 50 E per mm), gear rim fixed, pinion rim a rigid body under the moment; pair loads "
@@ -230,4 +257,5 @@ def fe_check(pair, options: CheckOptions, *, progress=None, solver=None) -> Chec
         run.version or ccx_version(), int(j), phi1, getattr(result, "tooth_model", "plate"),
         tuple(model.tooth_pairs), float(result.unloaded_te[j] * 1e6), model.elements, model.dof, run.wall_s,
         run.cpu_s, mesh_s, calculix, _ltca_block(result, j), files, notes, result.pair_hertz_max_pressure_mpa[j],
-        result.patch_semi_axes_mm()[j], about if options.local_refinement else None, pair=pair, options=options)
+        result.patch_semi_axes_mm()[j], about if options.local_refinement else None, pair=pair, options=options,
+        load=load)

@@ -1,11 +1,12 @@
-"""What :func:`beveloid.fecheck.check.fe_check` returns: the FE check at one position beside the LTCA's
+"""What :func:`beveloid.fecheck.analyze` returns: the FE check at one position beside the LTCA's
 numbers there, a deep-frozen :class:`beveloid.result.Result` (its arrays read-only, its mappings
 :class:`beveloid.result.FrozenMap`), with the JSON of the contract (docs/fe_check.md) from
 :meth:`CheckResult.to_json`, which needs nothing passed back in."""
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import Any
 from typing import Mapping
 
 import numpy as np
@@ -75,9 +76,9 @@ class ContactNumbers(Frozen):
 
 @dataclass(frozen=True, eq=False)
 class CheckResult(Result):
-    """The FE check of ``pair`` under ``options`` (a :class:`beveloid.fecheck.check.CheckOptions`) at the
-    LTCA's position ``position``: CalculiX's numbers and the LTCA's side by side, the run's sizes and
-    times, the files kept, the notes."""
+    """The FE check of ``pair`` under ``load`` (an ``ltca.LoadCase``) with ``options`` (a
+    :class:`beveloid.fecheck.Options`) at the LTCA's position ``position``: CalculiX's numbers and the LTCA's
+    side by side, the run's sizes and times, the files kept, the notes."""
 
     calculix_version: str | None
     position: int
@@ -99,6 +100,7 @@ class CheckResult(Result):
     #: per loaded pair its refinement strip ({"tooth_pair", "semi_axes_mm", "size_mm", element sizes});
     #: None: not refined
     local_refinement: tuple | None
+    load: Any = field(default=None, kw_only=True, repr=False)  # the ltca.LoadCase
 
     def __post_init__(self):
         for name in ("ltca_hertz_max_pressure_mpa", "ltca_patch_semi_axes_mm"):
@@ -109,7 +111,7 @@ class CheckResult(Result):
         """The JSON of ``beveloid fe-check --json`` (docs/fe_check.md)."""
         o = self.options
         return {"calculix_version": self.calculix_version, "position": self.position,
-                "pinion_angle_rad": self.pinion_angle_rad, "torque_nm": o.torque_nm, "flank": o.flank,
+                "pinion_angle_rad": self.pinion_angle_rad, "torque_nm": self.load.torque_nm, "flank": o.flank,
                 "ltca_tooth_model": self.ltca_tooth_model, "refinement": o.refinement,
                 "tooth_pairs": list(self.tooth_pairs),
                 "unloaded_transmission_error_urad": self.unloaded_transmission_error_urad,

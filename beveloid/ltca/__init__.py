@@ -2,13 +2,18 @@
 (Boussinesq half-space + thin-slice tooth beams, frictionless, static); the model, its choices and
 its limits are in docs/loaded_contact.md.
 
-    from beveloid.ltca import Options, analyze
+    from beveloid import ltca
     from beveloid.pair import Pair
     from beveloid.solver import Solver
-    result = analyze(Pair.example("case1"), Options(torque_nm=200.0, flank="left"), solver=Solver())
+    pair = Pair.example("case1")
+    result = ltca.analyze(pair, ltca.LoadCase(torque_nm=200.0), ltca.Options(flank="left"), solver=Solver())
+    tmap = ltca.analyze(pair, ltca.LoadCase(torque_nm=[50, 100, 200]))  # a torque list: a Batch (the map)
 
-``analyze_many(pair, options, torques_nm, error_sets, *, solver=None)`` -> :class:`Batch`: N positions x T
-torques x K error sets in one call, the one engine of ``analyze`` (``batch``).
+``analyze(pair, load, options=None, *, solver=None)``: ``load`` a :class:`LoadCase` (torque(s) and
+assembly errors: the load), ``options`` an :class:`Options` (grid, positions, pairs, tooth model,
+refinement: how it is computed).  One torque and one error set give an :class:`LTCAResult`; a torque
+list or several error sets a :class:`Batch` (``results[k][t]``), as ``analyze_many`` always does:
+N positions x T torques x K error sets in one call, the one engine of both.
 
 Its folders, from the request down: ``options`` (the request and its range table); ``passes`` (the
 passes over the positions of a mesh cycle: ``analysis``, ``cycle``); ``model`` (the pair under load:
@@ -22,59 +27,70 @@ from __future__ import annotations
 
 import numpy as np
 
-from .results.batch import Batch
+from . import studies
+from .load import LoadCase
 from .model.compliance import BeveloidCompliance
 from .options import DEFAULT_GRID, RANGES, Material, Options
+from .results.batch import Batch
 from .results.pattern import FlankPattern, flank_pattern
 from .results.result import LTCAResult
 
-__all__ = ["Batch", "BeveloidCompliance", "DEFAULT_GRID", "FlankPattern", "LTCAResult", "Material",
-           "Options", "RANGES", "analyze", "analyze_many", "flank_pattern"]
+__all__ = ["Batch", "BeveloidCompliance", "DEFAULT_GRID", "FlankPattern", "LTCAResult", "LoadCase", "Material",
+           "Options", "RANGES", "analyze", "analyze_many", "flank_pattern", "studies"]
 
 
-def analyze(pair, options: Options, *, solver=None) -> LTCAResult:
-    """The loaded TCA of one flank over one mesh cycle: ``analyze(pair_or_geometry, options, *,
-    solver=None)`` -> a deep-frozen :class:`LTCAResult` (its JSON: ``result.to_json()``).
+def _checked(pair, load, options, caller):
+    if not isinstance(load, LoadCase):
+        raise TypeError(f"ltca.{caller}(pair, load, options=None, *, solver=None) needs an ltca.LoadCase as load, "
+                        f"not {type(load).__name__}")
+    if options is None:
+        options = Options()
+    if not isinstance(options, Options):
+        raise TypeError(f"ltca.{caller}(pair, load, options=None, *, solver=None) needs an ltca.Options or None as "
+                        f"options, not {type(options).__name__}")
+    return options
+
+
+def _material(pair, options):
+    if options.material is not None:
+        return options.material
+    spec = getattr(pair, "spec", None)
+    return Material.from_spec(spec) if spec is not None else Material()
+
+
+def analyze(pair, load: LoadCase, options: Options | None = None, *, solver=None):
+    """The loaded TCA of one flank over one mesh cycle: ``analyze(pair, load, options=None, *,
+    solver=None)`` -> a deep-frozen :class:`LTCAResult` (its JSON: ``result.to_json()``), or a :class:`Batch` when ``load`` holds a
+    torque list or several error sets (``load.is_map``; :func:`analyze_many`).
 
     ``pair`` a :class:`beveloid.pair.Pair` (its misalignment and ``[material]`` are used unless
-    ``options`` sets them) or a ``PairGeometry``; ``options`` an :class:`Options`
-    (``Options.tooth_model`` defaults to the FE tooth); ``solver`` a :class:`beveloid.solver.Solver`
-    or None (the default solver).
+    ``load`` / ``options`` set them) or a ``PairGeometry``; ``load`` a :class:`LoadCase`; ``options``
+    an :class:`Options` or None (the defaults; ``Options.tooth_model`` defaults to the FE tooth);
+    ``solver`` a :class:`beveloid.solver.Solver` or None (the default solver).
     """
+    options = _checked(pair, load, options, "analyze")
+    if load.is_map:
+        return analyze_many(pair, load, options, solver=solver)
     from ..solver import Solver
     from .passes.analysis import run
 
-    if not isinstance(options, Options):
-        raise TypeError(f"ltca.analyze(pair, options, *, solver=None) needs an ltca.Options, not {type(options).__name__}")
     geom = getattr(pair, "geometry", pair)
-    errors = options.errors
-    if errors is None:
-        errors = getattr(pair, "errors", np.zeros(5))
-    material = options.material
-    if material is None:
-        spec = getattr(pair, "spec", None)
-        material = Material.from_spec(spec) if spec is not None else Material()
-    return run(geom, errors, options, material, Solver.of(solver), pair=pair)
+    return run(geom, load.error_sets(pair)[0], load.torque_nm, options, _material(pair, options), Solver.of(solver),
+               pair=pair)
 
 
-def analyze_many(pair, options: Options, torques_nm=None, error_sets=None, *, solver=None) -> Batch:
+def analyze_many(pair, load: LoadCase, options: Options | None = None, *, solver=None) -> Batch:
     """N positions x T torques x K error sets of one pair in one call: a :class:`Batch` whose
-    ``results[k][t]`` equals ``analyze(pair, options with torque_nm = torques_nm[t] and errors =
-    error_sets[k], solver=solver)``.  ``torques_nm`` None: the options' torque; ``error_sets`` (K, 5) None:
-    the options' errors (else the pair's misalignment).  ``options.material`` None: the pair's."""
+    ``results[k][t]`` equals ``analyze(pair, LoadCase(load.torques_nm[t], errors=error set k), options,
+    solver=solver)``; the error sets are ``load.errors`` (one set or a list), else the pair's misalignment."""
     from ..solver import Solver
     from .passes.analysis import run_many
-    from .results.batch import check_error_sets, check_torques
 
-    torques = check_torques([options.torque_nm] if torques_nm is None else torques_nm)
-    if error_sets is None:
-        error_sets = [options.errors if options.errors is not None else getattr(pair, "errors", np.zeros(5))]
-    errors = check_error_sets(error_sets)
+    options = _checked(pair, load, options, "analyze_many")
+    torques = np.array(load.torques_nm, dtype=float)
+    errors = load.error_sets(pair)
     geom = getattr(pair, "geometry", pair)
-    material = options.material
-    if material is None:
-        spec = getattr(pair, "spec", None)
-        material = Material.from_spec(spec) if spec is not None else Material()
-    results = run_many(geom, list(errors), list(torques), options, material, Solver.of(solver), pair=pair)
+    results = run_many(geom, list(errors), list(torques), options, _material(pair, options), Solver.of(solver),
+                       pair=pair)
     return Batch(torque_nm=torques, errors=errors, results=tuple(tuple(r) for r in results), pair=pair,
                  options=options)

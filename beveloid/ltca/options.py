@@ -109,7 +109,7 @@ def default_tooth_model() -> str:
 
 def check_tooth_model(value, key="tooth_model"):
     if value not in TOOTH_MODELS:
-        raise ValueError(f"{key} = {value!r}: must be one of {', '.join(TOOTH_MODELS)}")
+        raise OptionError(key, value, f"must be one of {', '.join(TOOTH_MODELS)}")
     return value
 
 
@@ -142,19 +142,17 @@ def available_memory_bytes() -> float:
 
 @dataclass(frozen=True)
 class Options:
-    """One LTCA request.  ``grid``: cells (across, along) per tooth pair, None = :data:`DEFAULT_GRID`
-    (their size follows the local Hertz semi-axes in both cases); ``errors``: None = the pair's own
-    misalignment; ``material``: None = the pair's ``[material]`` (steel without a spec);
-    ``tooth_model``: "fe" or "plate", None = "fe" when gmsh and scikit-fem import
+    """How a loaded analysis is computed (the load itself is a :class:`beveloid.ltca.LoadCase`).
+    ``grid``: cells (across, along) per tooth pair, None = :data:`DEFAULT_GRID` (their size follows
+    the local Hertz semi-axes in both cases); ``material``: None = the pair's ``[material]`` (steel
+    without a spec); ``tooth_model``: "fe" or "plate", None = "fe" when gmsh and scikit-fem import
     (:func:`default_tooth_model`); ``fe_refinement``: the FE tooth's mesh refinement N (1-4);
     ``fe_coarsen``: every FE element size times this (1-8; > 1 a quick, rougher tooth)."""
 
-    torque_nm: float
     flank: str = "right"
     positions: int = 20
     pairs: int = 3
     grid: tuple | None = None
-    errors: tuple | None = None
     material: Material | None = None
     tooth_model: str | None = None
     fe_refinement: int = 1
@@ -166,20 +164,13 @@ class Options:
         check_tooth_model(self.tooth_model)
         check_fe_refinement(self.fe_refinement)
         object.__setattr__(self, "fe_coarsen", check_fe_coarsen(self.fe_coarsen))
-        object.__setattr__(self, "torque_nm", check_torque(self.torque_nm))
         if self.flank not in FLANKS:
-            raise ValueError(f"flank = {self.flank!r}: must be one of {', '.join(FLANKS)}")
+            raise OptionError("flank", self.flank, f"must be one of {', '.join(FLANKS)}")
         check_positions(self.positions)
         check_pairs(self.pairs)
         object.__setattr__(self, "grid", check_grid(self.grid))
-        if self.errors is not None:
-            e = tuple(float(v) for v in self.errors)
-            if len(e) != 5 or not all(math.isfinite(v) for v in e):
-                raise ValueError(f"errors = {self.errors}: must be 5 finite numbers (dx, dy, dz mm; vertical, "
-                                 "horizontal rad)")
-            object.__setattr__(self, "errors", e)
         if self.material is not None and not isinstance(self.material, Material):
-            raise ValueError(f"material = {self.material!r}: must be an ltca.Material")
+            raise OptionError("material", self.material, "must be an ltca.Material")
 
     @property
     def cells(self) -> tuple:

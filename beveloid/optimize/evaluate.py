@@ -21,6 +21,8 @@ takes no part in the front.
 """
 from __future__ import annotations
 
+import functools
+import json
 import math
 import time
 from typing import NamedTuple
@@ -31,9 +33,6 @@ from ..status import EvaluationStatus
 from .request import OBJECTIVES, PERCENTILE, Request
 
 QUANTITIES = tuple(OBJECTIVES.values())
-#: error sets per call of the batched engine: those of ``beveloid ltca --samples`` (cli/ltca.py CHUNK_SETS),
-#: whose numbers then equal these to the last bit (tests/optimize)
-CHUNK_SETS = 8
 
 
 class LoadedQuantities(NamedTuple):
@@ -46,25 +45,19 @@ class LoadedQuantities(NamedTuple):
     mesh_power_loss_w: np.ndarray = None  # (T, K); nan without a speed
 
 
-def loaded_quantities(pair, torques_nm, error_sets, options, *, solver=None, speed_rpm=None) -> LoadedQuantities:
-    """The quantities of the loaded analysis of ``pair`` at every torque (N m, pinion) and error set
-    ((K, 5) mm, rad), with ``options`` (an ltca.Options; its torque and errors are replaced): one call of
-    the batched loaded engine (``ltca.analyze_many``: N positions x T torques x K error sets) per
-    :data:`CHUNK_SETS` sets, the calls of ``beveloid ltca --samples``, so that it reproduces them exactly.
-    ``solver``: the Solver of every call (None: the default one); ``speed_rpm``: the pinion speed of the mesh
-    power loss (the pair's [lubricant]; None: not computed)."""
-    from .. import ltca
-    from ..solver import Solver
+def loaded_quantities(pair, load, options, *, solver=None, speed_rpm=None) -> LoadedQuantities:
+    """The quantities of the loaded analysis of ``pair`` at every torque (N m, pinion) and error set of
+    ``load`` (an ltca.LoadCase), with ``options`` (an ltca.Options): the tolerance box under load of
+    ``beveloid ltca --samples`` (:func:`beveloid.ltca.studies.box_results`, the same calls of the batched
+    engine), so that it reproduces them exactly.  ``solver``: the Solver of every call (None: the default one);
+    ``speed_rpm``: the pinion speed of the mesh power loss (the pair's [lubricant]; None: not computed)."""
+    from ..ltca.studies import box_results
 
-    shape = (len(torques_nm), len(error_sets))
+    sets = load.error_sets(pair)
+    shape = (len(load.torques_nm), len(sets))
     te, p, root, loss = (np.full(shape, np.nan) for _ in range(4))
     conv = np.zeros(shape, dtype=int)
-    sets = np.asarray(error_sets, dtype=float)
-    solver = Solver() if solver is None else solver
-    results = []
-    for start in range(0, len(sets), CHUNK_SETS):
-        results += ltca.analyze_many(pair, options, torques_nm=[float(t) for t in torques_nm],
-                                     error_sets=sets[start:start + CHUNK_SETS], solver=solver).results
+    results = box_results(pair, load, options, solver=solver)
     for k, row in enumerate(results):
         for i, r in enumerate(row):
             ok = r.converged
@@ -111,7 +104,9 @@ def safeties(req: Request, pair, *, solver=None) -> dict:
     ``solver``: that of the loaded analyses (None: the default one)."""
     from .. import rating
 
-    r = rating.analyze(pair, req.rating_options(), solver=solver)
+    from ..ltca import LoadCase
+
+    r = rating.analyze(pair, LoadCase(max(req.torques_nm)), req.rating_options(), solver=solver)
     v = rating.verdict(r)
     sf = [m.safety_bending for m in r.members.values() if m.safety_bending is not None]
     sh = [m.safety_pitting for m in r.members.values() if m.safety_pitting is not None]
@@ -146,7 +141,6 @@ def evaluate(req: Request, values: dict, error_sets: np.ndarray | None = None) -
     objectives, the safeties."""
     from ..errors import UserError
     from ..pair import Pair
-    from ..solver import Solver
     from ..spec import SpecError
 
     t0 = time.perf_counter()
@@ -156,11 +150,10 @@ def evaluate(req: Request, values: dict, error_sets: np.ndarray | None = None) -
     except (SpecError, UserError) as exc:  # the spec's rules or the design refuse these values
         return _failed(rec, req, EvaluationStatus.REFUSED, exc, t0)
     sets = req.error_sets() if error_sets is None else error_sets
-    solver = Solver()  # one for the candidate's loaded analyses and its rating
+    solver = req.solver  # the run's: the candidate's loaded analyses and its rating
     try:
         speed = pair.spec.rating.pinion_speed_rpm if "loss" in req.objectives else None
-        lq = loaded_quantities(pair, req.torques_nm, sets, req.ltca_options(max(req.torques_nm)), solver=solver,
-                               speed_rpm=speed)
+        lq = loaded_quantities(pair, req.load_case(sets), req.ltca, solver=solver, speed_rpm=speed)
         rec["safety"] = safeties(req, pair, solver=solver) if req.constraints == "rating" else None
     except UserError as exc:  # no contact at all (the flank is turned off its mate)
         return _failed(rec, req, EvaluationStatus.FAILED, exc, t0)
@@ -174,7 +167,7 @@ def evaluate(req: Request, values: dict, error_sets: np.ndarray | None = None) -
         least = int(lq.converged_positions.min())
         rec["status"] = EvaluationStatus.INCOMPLETE
         rec["reason"] = (f"no {', '.join(missing)} at some torque or error set (fewest converged positions:"
-                         f" {least} of {req.positions})")
+                         f" {least} of {req.ltca.positions})")
     rec["seconds"] = time.perf_counter() - t0
     return rec
 
@@ -186,12 +179,18 @@ def _failed(rec: dict, req: Request, status: str, exc: Exception, t0: float) -> 
     return rec
 
 
+@functools.lru_cache(maxsize=1)
+def _request(text: str) -> Request:
+    """The run's Request in this worker, read once per run (and with it its one Solver)."""
+    return Request.from_json(json.loads(text))
+
+
 def evaluate_task(task) -> dict:
     """What a worker runs: (request JSON, candidate index, values) -> the record (module level: pickled)."""
     from .. import parallel
 
     parallel.single_threaded()
     request, index, values = task
-    rec = evaluate(Request.from_json(request), values)
+    rec = evaluate(_request(json.dumps(request, sort_keys=True)), values)
     rec["candidate"] = index
     return rec

@@ -133,17 +133,18 @@ def toml_text(data: dict, header: str = "") -> str:
 def reproduce_commands(req, spec_file: str) -> list:
     """The commands that reproduce a candidate's numbers: ``beveloid ltca`` over the duty cycle (with
     ``--samples``, the same error sets: the "tolerance" blocks' p90) and ``beveloid rating``."""
-    grid = "" if req.grid is None else f" --grid {req.grid[0]}x{req.grid[1]}"
-    tooth = f" --tooth-model {req.tooth_model}"
-    if req.tooth_model == "fe":
-        tooth += f" --fe-refinement {req.fe_refinement} --fe-coarsen {req.fe_coarsen:g}"
-    common = f" --flank {req.flank} --positions {req.positions}{tooth}"
+    lt = req.ltca
+    grid = "" if lt.grid is None else f" --grid {lt.grid[0]}x{lt.grid[1]}"
+    tooth = f" --tooth-model {lt.tooth_model}"
+    if lt.tooth_model == "fe":
+        tooth += f" --fe-refinement {lt.fe_refinement} --fe-coarsen {lt.fe_coarsen:g}"
+    common = f" --flank {lt.flank} --positions {lt.positions}{tooth} --pairs {lt.pairs}{grid}"
     box = ""
     if req.samples:
         tol = ",".join(f"{k.rsplit('_', 1)[0]}={v!r}" for k, v in req.tolerances.items())  # dx_mm -> dx
         box = f" --samples {req.samples} --seed {req.seed} --tolerances {tol}"
     torques = ",".join(f"{t:g}" for t in req.torques_nm)
-    out = [f"beveloid ltca {spec_file} --torque-nm {torques}{common} --pairs {req.pairs}{grid}{box} --json"]
+    out = [f"beveloid ltca {spec_file} --torque-nm {torques}{common}{box} --json"]
     if req.constraints == "rating":
         out.append(f"beveloid rating {spec_file} --torque-nm {max(req.torques_nm):g}{common} --json")
     return out
@@ -230,9 +231,8 @@ def summary(req, records: list, base: dict, info: RunInfo, fr: Front) -> dict:
         "aggregation": ("each torque's quantity at the file's errors" if req.samples == 0 else
                         "each torque's quantity: the 90th percentile over the error sets (numpy.percentile)")
                        + "; an objective: sum w_i q_i / sum w_i",
-        "ltca": {"flank": req.flank, "positions": req.positions, "pairs": req.pairs,
-                 "grid": None if req.grid is None else list(req.grid), "tooth_model": req.tooth_model,
-                 "fe_refinement": req.fe_refinement, "fe_coarsen": req.fe_coarsen},
+        "ltca": {k: req.to_json()["ltca"][k] for k in ("flank", "positions", "pairs", "grid", "tooth_model",
+                                                       "fe_refinement", "fe_coarsen")},
         "constraints": req.constraints, "search": {"algorithm": "NSGA-II (pymoo)", "population": req.population,
                                                    "budget": req.budget, "initial": "Latin hypercube (scipy.stats.qmc)"},
         "evaluated": len(records), "complete": info.complete, "stopped": info.why or None,
@@ -324,11 +324,11 @@ def figures(out_dir: str, req, records: list, base: dict, on: np.ndarray) -> lis
     plt.close(fig)
     written.append("te_vs_torque.png")
     if pk["knee"] is not None:
-        written += knee_pattern(out_dir, req, records[pk["knee"]])
+        written += knee_pattern(out_dir, req, records[pk["knee"]], solver=req.solver)
     return written
 
 
-def knee_pattern(out_dir: str, req, rec: dict) -> list:
+def knee_pattern(out_dir: str, req, rec: dict, *, solver=None) -> list:
     """The knee's contact pattern on both flanks at the highest torque, at the file's errors."""
     from .. import ltca
     from ..ltca.results.plots import PRESSURE_LABEL, _colorbar, ltca_pattern, surface_scale_mpa
@@ -338,7 +338,7 @@ def knee_pattern(out_dir: str, req, rec: dict) -> list:
     plt = _plt()
 
     pair = Pair.from_spec(req.spec(rec["values"]))
-    result = ltca.analyze(pair, req.ltca_options(max(req.torques_nm)))
+    result = ltca.analyze(pair, ltca.LoadCase(max(req.torques_nm)), req.ltca, solver=solver)
     fig, axes = plt.subplots(1, 2, figsize=(10, 4))
     vmax = surface_scale_mpa(result)
     for ax, member in zip(axes, ("pinion", "gear")):

@@ -14,6 +14,7 @@ model key the file gives), so that all candidates of a run share one surface mod
 from __future__ import annotations
 
 import copy
+import functools
 import math
 import re
 from dataclasses import asdict, dataclass, field
@@ -131,6 +132,20 @@ def default_population(n_vary: int) -> int:
     return int(min(32, max(8, 8 * n_vary)))
 
 
+def _default_ltca():
+    from ..ltca.options import Options
+
+    return Options()
+
+
+def _ltca_json(options) -> dict:
+    """An ltca.Options as JSON (its material: the spec's, not written)."""
+    d = asdict(options)
+    d.pop("material")
+    d["grid"] = None if options.grid is None else list(options.grid)
+    return d
+
+
 @dataclass(frozen=True)
 class Request:
     """Everything that defines the candidates and their numbers (DIR/request.json)."""
@@ -145,29 +160,34 @@ class Request:
     tolerances: dict = field(default_factory=dict)
     budget: int = DEFAULT_BUDGET
     population: int = 8
-    flank: str = "right"
-    positions: int = 20
-    pairs: int = 3
-    grid: tuple | None = None
-    tooth_model: str = "fe"
-    fe_refinement: int = 1
-    fe_coarsen: float = 1.0
+    ltca: object = field(default_factory=_default_ltca)  # the loaded analysis of every candidate: an ltca.Options
     constraints: str = "rating"  # "rating": the local safeties at the highest torque; "none"
     source: str = ""
     code: dict = field(default_factory=dict)
 
+    def __post_init__(self):
+        from ..ltca.options import Options
+
+        if not isinstance(self.ltca, Options):
+            raise TypeError(f"optimize.Request's ltca must be an ltca.Options, not {type(self.ltca).__name__}")
+
     def to_json(self) -> dict:
-        d = asdict(self)
+        d = {f: getattr(self, f) for f in self.__dataclass_fields__}
         d["varies"] = [asdict(v) for v in self.varies]
-        return d
+        d["ltca"] = _ltca_json(self.ltca)
+        return copy.deepcopy(d)
 
     @classmethod
     def from_json(cls, d: dict) -> "Request":
+        from ..ltca.options import Options
+
         d = dict(d)
         d["varies"] = tuple(Vary(**v) for v in d["varies"])
         for k in ("torques_nm", "weights", "objectives"):
             d[k] = tuple(d[k])
-        d["grid"] = None if d.get("grid") is None else tuple(d["grid"])
+        lt = dict(d["ltca"])
+        lt["grid"] = None if lt.get("grid") is None else tuple(lt["grid"])
+        d["ltca"] = Options(**lt)
         return cls(**d)
 
     @property
@@ -241,23 +261,26 @@ class Request:
         nominal = {k: float(getattr(spec.misalignment, k)) for k in assembly_errors.KEYS}
         return draw_errors(self.samples, self.tolerances, self.seed, nominal)
 
-    def ltca_options(self, torque_nm: float):
-        """The loaded analysis of a candidate (errors set per error set; material: the spec's)."""
-        from .. import ltca
+    @functools.cached_property
+    def solver(self):
+        """The run's :class:`beveloid.solver.Solver` (the default backend), made once per request: every
+        candidate's loaded analyses, its rating and the knee's pattern solve with it."""
+        from ..solver import Solver
 
-        return ltca.Options(torque_nm=torque_nm, flank=self.flank, positions=self.positions, pairs=self.pairs,
-                            grid=self.grid, tooth_model=self.tooth_model, fe_refinement=self.fe_refinement,
-                            fe_coarsen=self.fe_coarsen)
+        return Solver()
+
+    def load_case(self, error_sets=None):
+        """The loaded analysis' load: the duty cycle's torques at ``error_sets`` ((K, 5); None: the file's)."""
+        from ..ltca import LoadCase
+
+        return LoadCase(tuple(float(t) for t in self.torques_nm), None if error_sets is None else error_sets)
 
     def rating_options(self):
         """The rating at the highest torque: what ``beveloid rating FILE --torque-nm T`` runs with the run's
-        --flank, --positions, --tooth-model, --fe-refinement and --fe-coarsen (its default grid and pairs, the file's
-        errors)."""
+        LTCA options (the file's errors)."""
         from .. import rating
 
-        return rating.Options(torque_nm=max(self.torques_nm), flank=self.flank, positions=self.positions,
-                              tooth_model=self.tooth_model, fe_refinement=self.fe_refinement,
-                              fe_coarsen=self.fe_coarsen)
+        return rating.Options(ltca=self.ltca)
 
     def check(self) -> None:
         """Every corner of the ranges passes the spec's rules between keys (a relief's extent needs the

@@ -4,9 +4,9 @@ the local stresses of the loaded contact, with permissible stresses and safety f
 ``analysis``, ``report``)."""
 from __future__ import annotations
 
-from .analysis import LoadedContact, MemberRating, Options, SectionRating, analyze
+from .analysis import POSITIONS, LoadedContact, MemberRating, Options, SectionRating, analyze
 from .report import RatingResult
 from .verdict import EXIT_STATUS, verdict
 
-__all__ = ["EXIT_STATUS", "LoadedContact", "MemberRating", "Options", "RatingResult", "SectionRating", "analyze",
-           "verdict"]
+__all__ = ["EXIT_STATUS", "LoadedContact", "MemberRating", "Options", "POSITIONS", "RatingResult",
+           "SectionRating", "analyze", "verdict"]

@@ -1,8 +1,9 @@
 """The rating of a designed pair at a pinion torque: ISO per section and the loaded contact's
 local stresses (docs/rating.md).
 
-    from beveloid.rating import Options, analyze
-    result = analyze(Pair.example("case1"), Options(torque_nm=1000.0))
+    from beveloid import ltca, rating
+    result = rating.analyze(Pair.example("case1"), ltca.LoadCase(torque_nm=1000.0))
+    rating.analyze(pair, ltca.LoadCase(1000.0), rating.Options(ltca.Options(positions=20, tooth_model="plate")))
 """
 from __future__ import annotations
 
@@ -34,28 +35,43 @@ POSITIONS = 21
 POSITIONS_TOLERANCE = 0.03
 
 
+def _default_ltca():
+    from ..ltca.options import Options as LTCAOptions
+
+    return LTCAOptions(positions=POSITIONS)
+
+
 @dataclass(frozen=True)
 class Options:
-    """A rating request: the nominal pinion torque (N m) and the LTCA it runs."""
+    """How a rating is computed: the LTCA it runs (an ``ltca.Options``: flank, positions, pairs, grid,
+    tooth model, refinement; default: :data:`POSITIONS` positions).  The torque and the
+    assembly errors are the load case (``ltca.LoadCase``)."""
 
-    torque_nm: float
-    flank: str = "right"
-    positions: int = 21  # POSITIONS: every other one of them is the 11-position run (positions_check)
-    pairs: int = 3
-    tooth_model: str | None = None  # the LTCA's: None = "fe" when gmsh and scikit-fem import (root stress)
-    fe_refinement: int = 1
-    fe_coarsen: float = 1.0  # the FE tooth's element sizes times this (ltca.Options)
+    ltca: object = field(default_factory=_default_ltca)
 
     def __post_init__(self):
-        self.ltca_options(1.0)  # the LTCA's own range table checks the request
-
-    def ltca_options(self, load_factor: float):
-        """The LTCA at load_factor (K_A K_v) times the torque, the pair's own errors and material."""
+        from ..errors import OptionError
         from ..ltca.options import Options as LTCAOptions
 
-        return LTCAOptions(torque_nm=self.torque_nm * load_factor, flank=self.flank, positions=self.positions,
-                           pairs=self.pairs, tooth_model=self.tooth_model, fe_refinement=self.fe_refinement,
-                           fe_coarsen=self.fe_coarsen)
+        if not isinstance(self.ltca, LTCAOptions):
+            raise OptionError("ltca", self.ltca, "must be an ltca.Options")
+
+    @property
+    def flank(self) -> str:
+        return self.ltca.flank
+
+
+def _one_torque(load):
+    """The rating's load case: one torque (N m), its errors (None: the pair's)."""
+    from ..errors import OptionError
+    from ..ltca.load import LoadCase
+
+    if not isinstance(load, LoadCase):
+        raise TypeError(f"rating.analyze(pair, load, options=None, *, solver=None) needs an ltca.LoadCase as load, "
+                        f"not {type(load).__name__}")
+    if load.is_map:
+        raise OptionError("torque_nm", load.torque_nm, "a rating takes one torque and one error set")
+    return load
 
 
 @dataclass(frozen=True)
@@ -373,11 +389,19 @@ def _lowest(values) -> float:
     return min(finite) if finite else math.nan
 
 
-def analyze(pair, options: Options, *, solver=None, ltca_result=None, face_points: int = 0):
-    """Rate ``pair`` at ``options.torque_nm``; ``ltca_result``: an LTCA already run at K_A K_v T
-    (else it is run here); ``face_points`` > 0 adds that many ISO sections along each face (plot)."""
+def analyze(pair, load, options: Options | None = None, *, solver=None, ltca_result=None, face_points: int = 0):
+    """Rate ``pair`` under ``load`` (an ``ltca.LoadCase``: one pinion torque, N m, and the assembly errors,
+    None: the pair's); ``options`` a :class:`Options` (None: the defaults); ``ltca_result``: an LTCA already
+    run at K_A K_v T (else it is run here); ``face_points`` > 0 adds that many ISO sections along each face
+    (plot)."""
     from .. import ltca
     from .report import RatingResult
+
+    load = _one_torque(load)
+    options = Options() if options is None else options
+    if not isinstance(options, Options):
+        raise TypeError(f"rating.analyze(pair, load, options=None, *, solver=None) needs a rating.Options or None, "
+                        f"not {type(options).__name__}")
 
     spec, geom = pair.spec, pair.geometry
     factors = Factors.from_spec(spec)
@@ -391,15 +415,16 @@ def analyze(pair, options: Options, *, solver=None, ltca_result=None, face_point
         solver = solver or Solver()
         if factors.K_v_source == "method B":
             # the mesh stiffness at K_A T (ISO's c' is that of the load K_A F_t), then the local stresses at K_A K_v T
-            first = ltca.analyze(pair, options.ltca_options(factors.K_A), solver=solver)
-            dyn, factors = _with_dynamic_factor(pair, options, factors, loaded_contact(first, geom, b), elastic)
-        ltca_result = ltca.analyze(pair, options.ltca_options(factors.K_A * factors.K_v), solver=solver)
+            first = ltca.analyze(pair, load.at(load.torque_nm * factors.K_A), options.ltca, solver=solver)
+            dyn, factors = _with_dynamic_factor(pair, load, options, factors, loaded_contact(first, geom, b), elastic)
+        ltca_result = ltca.analyze(pair, load.at(load.torque_nm * (factors.K_A * factors.K_v)), options.ltca,
+                                   solver=solver)
     lc = loaded_contact(ltca_result, geom, b)
     if lc.edge is not None:
         lc = replace(lc, edge=replace(lc.edge, relief_now_um=edge_relief_um(spec, lc.edge.member, lc.edge.edge)))
     if factors.K_v_source == "method B" and dyn is None:  # the caller's LTCA: its own stiffness
-        dyn, factors = _with_dynamic_factor(pair, options, factors, lc, elastic)
-    inp = RateInput(geom, options.flank, options.torque_nm, b, lc.face_load, factors, elastic)
+        dyn, factors = _with_dynamic_factor(pair, load, options, factors, lc, elastic)
+    inp = RateInput(geom, options.flank, load.torque_nm, b, lc.face_load, factors, elastic)
     members = {}
     for member in MEMBERS:
         w = sections.half_face(geom, member)
@@ -426,7 +451,7 @@ def analyze(pair, options: Options, *, solver=None, ltca_result=None, face_point
         notes.append(f"edge contact: the largest edge cell pressure is {lc.edge_pressure_max_mpa:.0f} MPa (singular, "
                      "grid-dependent; not in S_H); the edge-contact rule of the verdict judges the load within a "
                      "band of the edge instead" + ("" if lc.edge is None else f" ({lc.edge.where})"))
-    return RatingResult(options.torque_nm, options.flank, members, lc, factors, tuple(notes), dyn,
+    return RatingResult(load.torque_nm, options.flank, members, lc, factors, tuple(notes), dyn,
                         scuffing_tribology(pair, ltca_result), pair=pair, options=options)
 
 
@@ -441,11 +466,11 @@ def scuffing_tribology(pair, ltca_result):
     return tribology.evaluate(ltca_result, pair, spec.rating.pinion_speed_rpm)
 
 
-def _with_dynamic_factor(pair, options, factors, lc, elastic):
+def _with_dynamic_factor(pair, load, options, factors, lc, elastic):
     """(DynamicFactor or None, factors with its K_v); K_v = 1 ("not computed") without a mesh stiffness."""
     if lc.mesh_stiffness_n_per_um is None:
         return None, replace(factors, K_v=1.0, K_v_source="not computed")
-    dyn = dynamic_factor(pair, options, factors, lc, elastic)
+    dyn = dynamic_factor(pair, load, options, factors, lc, elastic)
     return dyn, replace(factors, K_v=dyn.K_v)
 
 
@@ -457,14 +482,14 @@ def mesh_stiffness_per_face_width(mesh_stiffness_n_per_um: float, pinion: iso633
     return mesh_stiffness_n_per_um * math.cos(pinion.base_helix_angle) ** 2 / face_width_mm
 
 
-def dynamic_factor(pair, options: Options, factors: Factors, lc: LoadedContact, elastic) -> dynamic.DynamicFactor:
+def dynamic_factor(pair, load, options: Options, factors: Factors, lc: LoadedContact, elastic) -> dynamic.DynamicFactor:
     """K_v by ISO 6336-1 method B (docs/rating.md 4.2) from the pinion speed and the LTCA's mesh stiffness:
     c_gamma_alpha = (mean normal mesh stiffness) cos^2 beta_b1 / b on the pinion's middle virtual gear (its
     transverse plane), the gear's mass referred to it through the ratio (d_b2 -> u d_b1)."""
     spec, geom = pair.spec, pair.geometry
     flank = options.flank
     b = min(geom.pinion.face_width_mm, geom.gear.face_width_mm)
-    inp = RateInput(geom, flank, options.torque_nm, b, lc.face_load, factors, elastic)
+    inp = RateInput(geom, flank, load.torque_nm, b, lc.face_load, factors, elastic)
     p_sec, g_sec = section_gear(geom, "pinion", 0.0, flank), section_gear(geom, "gear", 0.0, flank)
     p1 = p_sec.gear
     pair_v = iso6336.CylindricalPair(p1, mate_gear(geom, p_sec, flank), inp.loaded_length_mm("pinion"))
@@ -483,7 +508,7 @@ def dynamic_factor(pair, options: Options, factors: Factors, lc: LoadedContact, 
     m_red = dynamic.reduced_mass_kg_per_mm(d_m["pinion"], d_b1, q["pinion"], rho["pinion"],
                                            d_m["gear"], u * d_b1, q["gear"], rho["gear"])
     d1 = p1.reference_diameter_mm
-    f_t = 1000.0 * options.torque_nm / (d1 / 2)
+    f_t = 1000.0 * load.torque_nm / (d1 / 2)
     n1 = spec.rating.pinion_speed_rpm
     v = math.pi * d1 * n1 / 60000.0
     f_pt, f_fa = dynamic.accuracy_deviations_um(spec.rating.accuracy_grade, geom.normal_module_mm,

@@ -119,6 +119,20 @@ def scuffing_criterion(result) -> dict | None:
     return c
 
 
+def film_criterion(result) -> dict | None:
+    """The smallest specific film thickness lambda = h_min / Ra of the rated contact (micropitting's
+    quantity, ISO/TS 6336-22's lambda_GF form), reported, not judged: its permissible value needs the oil's
+    micropitting test (no key for it); None without a tribology."""
+    t = getattr(result, "tribology", None)
+    if t is None or t.lambda_min_at is None:
+        return None
+    at = t.lambda_min_at
+    where = f"position {at.position}, pair {int(t.tooth_pairs[at.pair])}"
+    value = _num(t.lambda_min)
+    return {"criterion": "micropitting film", "kind": "lambda", "member": "pair", "source": "local",
+            "where": where, "value": value, "required": None, "meets": None, "governs": False, "condition": False}
+
+
 def _disagreements(result, criteria) -> list:
     """Where a member's local and ISO safety of one kind differ by more than DISAGREEMENT_FACTOR, with the
     reasons the rating can name."""
@@ -182,6 +196,9 @@ def verdict(result) -> dict:
     scuffing = scuffing_criterion(result)
     if scuffing is not None:
         criteria.append(scuffing)
+    film = film_criterion(result)
+    if film is not None:
+        criteria.append(film)
     deciding = [c for c in criteria if c["governs"] and c["value"] is not None and not c["condition"]]
     governs = {kind: ("local" if any(c["source"] == "local" and c["kind"] == kind for c in deciding)
                       else ("iso" if any(c["kind"] == kind for c in deciding) else None)) for kind, _ in KINDS}

@@ -45,7 +45,7 @@ def _fe_source(case):
     from .. import ltca
     from ..pair import Pair
 
-    return Pair.example(case).geometry, ltca.Material(), ltca.Options(torque_nm=1.0, tooth_model="fe")
+    return Pair.example(case).geometry, ltca.Material(), ltca.Options(tooth_model="fe")
 
 
 def _fe_member(case, member, compute=True):
@@ -93,7 +93,7 @@ def case_task(case, out, model):
     rows, lines, results = [], [], []
     for t in TORQUES_NM:
         _say(f"loaded contact {case}, T1 = {t:g} N m")
-        r = ltca.analyze(g, ltca.Options(torque_nm=t, flank=FLANK, positions=POSITIONS, tooth_model=model)).with_patterns()
+        r = ltca.analyze(g, ltca.LoadCase(t), ltca.Options(flank=FLANK, positions=POSITIONS, tooth_model=model)).with_patterns()
         results.append(r)
         ok = r.converged
         fr = {m: r.pattern(m).area_fraction for m in ("pinion", "gear")}

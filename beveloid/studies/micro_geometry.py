@@ -82,8 +82,7 @@ def loaded_rows(geom, label, torques=TORQUES_NM, errors=(0, 0, 0, 0, 0), grid=GR
 
     rows = []
     for t in torques:
-        r = ltca.analyze(geom, ltca.Options(torque_nm=t, flank=FLANK, errors=tuple(errors), positions=POSITIONS,
-                                            grid=tuple(grid), tooth_model="plate"))
+        r = ltca.analyze(geom, ltca.LoadCase(t, errors=tuple(errors)), ltca.Options(flank=FLANK, positions=POSITIONS, grid=tuple(grid), tooth_model="plate"))
         ok = r.converged
         te = r.loaded_te[ok] * 1e6
         rows.append((label, t, float(np.nanmax(r.pair_max_pressure_mpa)) if ok.any() else math.nan,

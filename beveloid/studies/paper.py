@@ -278,8 +278,7 @@ def _small_ltca(solver=None):
     from .. import ltca
     from ..pair import Pair
 
-    ltca.analyze(Pair.example("case1").geometry, ltca.Options(torque_nm=100.0, flank=FLANK, positions=2,
-                                                               tooth_model="plate"), solver=solver)
+    ltca.analyze(Pair.example("case1").geometry, ltca.LoadCase(100.0), ltca.Options(flank=FLANK, positions=2, tooth_model="plate"), solver=solver)
 
 
 def _ltca_kernels_task():
@@ -318,7 +317,7 @@ def write_study(out: Path, positions=200, progress=_progress, tooth_model=None, 
 
     t0 = time.perf_counter()
     workers = min(MAX_WORKERS, default_workers()) if workers is None else workers
-    model = ltca.Options(torque_nm=1.0, tooth_model=tooth_model).tooth_model
+    model = ltca.Options(tooth_model=tooth_model).tooth_model
     steps = 6  # Table 1, the FE teeth, compile and the TCA studies, Fig 22 and sensitivity, the LTCA studies, report
     k = 0
 

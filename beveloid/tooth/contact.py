@@ -60,8 +60,8 @@ def _pair0(geom, flank, phi, solver):
     return sol.x[0], sol.status[0], sol.boundary[0], sol.active[0]
 
 
-def _te(geom, flank, x, status, phi):
-    ref = tca.reference_contact(geom, flank)
+def _te(geom, flank, x, status, phi, solver):
+    ref = tca.reference_contact(geom, flank, solver.options)  # the Solver's tolerances
     n1, n2 = geom.pinion.teeth, geom.gear.teeth
     te = tca.unknowns(x).gear_angle_rad - tca.unknowns(ref.x).gear_angle_rad + (n1 / n2) * (phi - ref.pinion_angle)
     return np.where(carries_numbers(status), te, np.nan)
@@ -89,7 +89,7 @@ class _Path:
         """(in contact, x, status, boundary, active) of pair 0 at one angle."""
         angles = np.concatenate([[phi], phi - self.ks * self.p1])
         x, st, bnd, act = _pair0(self.geom, self.flank, angles, self.solver)
-        te = _te(self.geom, self.flank, x, st, angles)
+        te = _te(self.geom, self.flank, x, st, angles, self.solver)
         return bool(_carries(te[:1], te[None, 1:], self.sign)[0]), x[0], st[0], bnd[0], act[0]
 
 
@@ -120,12 +120,12 @@ def flank_contact(geom, flank, per_pitch=24, span_pitches=3, neighbours=2, *, so
     solved by ``solver`` (a :class:`beveloid.solver.Solver`; None: the default)."""
     solver = Solver.of(solver)
     path = _Path(geom, flank, neighbours, solver)
-    p1, ref = path.p1, tca.reference_contact(geom, flank).pinion_angle
+    p1, ref = path.p1, tca.reference_contact(geom, flank, solver.options).pinion_angle
     n = span_pitches + neighbours
     idx = np.arange(-n * per_pitch, n * per_pitch + 1)
     phi = ref + idx * (p1 / per_pitch)
     x, st, bnd, act = _pair0(geom, flank, phi, solver)
-    te = _te(geom, flank, x, st, phi)
+    te = _te(geom, flank, x, st, phi, solver)
     central = np.nonzero(np.abs(idx) <= span_pitches * per_pitch)[0]
     shifts = np.array([k * per_pitch for k in path.ks])
     te_k = te[central[:, None] - shifts[None, :]]

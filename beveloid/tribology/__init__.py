@@ -3,7 +3,7 @@ efficiency and flash-temperature scuffing, on every contact cell of a loaded ana
 (docs/tribology.md: the model, each formula's source and the checks).
 
     from beveloid import ltca, tribology
-    result = ltca.analyze(pair, ltca.Options(torque_nm=200.0))
+    result = ltca.analyze(pair, ltca.LoadCase(200.0))
     tri = tribology.evaluate(result, pair, speed_rpm=1500.0)       # the pair's [lubricant]
     tri.mesh_power_loss_w, tri.efficiency, tri.scuffing_safety
 

@@ -99,3 +99,16 @@ def test_the_slow_examples_run(readme_namespace):
         exec(compile(block, f"slow python block {i + 1}", "exec"), ns)
     assert ns["check"].pair is ns["case1"]
     json.dumps(ns["check"].to_json(), allow_nan=False)
+
+
+def test_the_loaded_example_takes_a_load_case_apart_from_its_options(readme_namespace):
+    """docs/api.md's loaded block (issue 56): one torque gives an LTCAResult, a torque list a Batch with a
+    torque map, the tolerance box one row per error set, the rating its options' LTCA."""
+    from beveloid import ltca, rating
+
+    ns = readme_namespace
+    assert isinstance(ns["at200"], ltca.LTCAResult) and ns["at200"].torque_nm == 200.0
+    assert isinstance(ns["tmap"], ltca.Batch) and ns["tmap"].te_peak_to_peak_urad.shape == (1, 2)
+    assert [r.torque_nm for r in ns["tmap"].results[0]] == [100.0, 300.0]
+    assert len(ns["box"]) == 2 and len(ns["box"][0]) == 1
+    assert isinstance(ns["rated800"], rating.RatingResult) and ns["rated800"].options.ltca == ns["quick"]

@@ -269,3 +269,16 @@ def test_explore_and_optimize_keep_their_runs_in_one_store(tmp_path):
     from beveloid.optimize import search
     for module in (run, search):
         assert "RunStore(" in inspect.getsource(module.prepare) and "json.dump" not in inspect.getsource(module.prepare)
+
+
+def test_a_request_makes_its_solver_once():
+    """Issue 56: every chunk of a run solves with the one Solver of its request (it was made anew on each
+    access); a request read back from its JSON makes its own, of the same backend."""
+    from beveloid.explore.grid import Plan, Vary
+    from beveloid.spec import load_example, spec_to_dict
+
+    plan = Plan(spec_to_dict(load_example("case1")), (Vary("pinion.cone_angle_deg", 1.0, 2.0, 2),))
+    req = runner.Request(plan, {"dx_mm": 0.5}, backend="numpy")
+    assert req.solver is req.solver and req.solver.backend == "numpy"
+    again = runner.Request.from_json(req.to_json())
+    assert again.solver is again.solver and again.solver == req.solver

@@ -19,7 +19,7 @@ def results(case1, coarse_teeth):
     # the session's coarse FE data stands for the cached data of the default mesh
     mp.setattr(cache, "cached_tooth_data", lambda pair, member, *a, **k: (coarse_teeth[member], "hit"))
     try:
-        out = {m: ltca.analyze(case1, ltca.Options(torque_nm=300.0, positions=4, tooth_model=m))
+        out = {m: ltca.analyze(case1, ltca.LoadCase(300.0), ltca.Options(positions=4, tooth_model=m))
                for m in ("fe", "plate")}
     finally:
         mp.undo()

@@ -40,16 +40,16 @@ def test_coarse_fe_check_of_case1_agrees_with_the_ltca(tmp_path):
     """A very coarse model (every element size x 3 of refinement 1, a low strip cap, 5 LTCA positions, the
     LTCA's plate tooth: cheaper than its FE tooth, which tests/fe checks): the loads share the torque like
     the LTCA's, the pinion lags like the LTCA's, and the files are kept."""
-    from beveloid.fecheck.check import CheckOptions, fe_check
+    from beveloid import fecheck, ltca
     from beveloid.pair import Pair
 
-    result = fe_check(Pair.example("case1"), CheckOptions(torque_nm=200.0, flank="right", out_dir=str(tmp_path),
-                                                          coarsen=COARSEN, ltca_positions=5, ltca_tooth_model="plate",
-                                                          max_strip_elements=STRIP_CAP),
+    result = fecheck.analyze(Pair.example("case1"), ltca.LoadCase(200.0),
+                             fecheck.Options(ltca=ltca.Options(flank="right", positions=5, tooth_model="plate"),
+                                             out_dir=str(tmp_path), coarsen=COARSEN, max_strip_elements=STRIP_CAP),
                       progress=None)
     out = result.to_json()
     json.dumps(out, allow_nan=False)
-    assert result.options.torque_nm == out["torque_nm"] == 200.0 and result.pair.spec.source == "case1.toml"
+    assert result.load.torque_nm == out["torque_nm"] == 200.0 and result.pair.spec.source == "case1.toml"
     assert not result.calculix.pair_normal_load_n.flags.writeable
     fe, lt = out["calculix"], out["ltca"]
     # (the moment of the contact forces equals the torque in any converged solution: it checks nothing, and
@@ -86,17 +86,17 @@ def test_a_pair_meshed_coarser_than_its_contact_width_is_named_in_the_notes():
 
 
 def test_api_out_dir_with_a_missing_parent_is_refused_before_any_work(tmp_path, monkeypatch):
-    """fe_check()'s out_dir keeps the one output rule (beveloid/outputs.py): a missing tree is refused
+    """fecheck.analyze()'s out_dir keeps the one output rule (beveloid/outputs.py): a missing tree is refused
     in one line before the LTCA runs, whether or not CalculiX is installed."""
-    from beveloid import ltca
-    from beveloid.fecheck.check import CheckOptions, fe_check
+    from beveloid import fecheck, ltca
     from beveloid.outputs import OutputError
     from beveloid.pair import Pair
 
     monkeypatch.setattr(ltca, "analyze", lambda *a, **k: pytest.fail("the LTCA ran before the output was checked"))
     target = tmp_path / "no" / "such" / "dir"
     with pytest.raises(OutputError, match=r"^out_dir = .*: the folder .* does not exist; create it first"):
-        fe_check(Pair.example("case1"), CheckOptions(torque_nm=100.0, out_dir=str(target)), progress=None)
+        fecheck.analyze(Pair.example("case1"), ltca.LoadCase(100.0), fecheck.Options(out_dir=str(target)),
+                        progress=None)
     assert not (tmp_path / "no").exists()
 
 
@@ -130,11 +130,11 @@ def test_ctrl_c_while_calculix_runs_keeps_nothing_and_says_so(tmp_path, made_her
     # the check up to CalculiX: its deck written into --out, then ccx run by the real runner (the LTCA and
     # the meshes before it are the coarse test's above: here they would cost seconds and change nothing)
     code = ("import sys; from pathlib import Path; from beveloid import cli; from beveloid.fecheck import check, run\n"
-            "def fe_check(pair, options, progress=None):\n"
+            "def analyze(pair, load, options, progress=None):\n"
             "    deck = Path(options.out_dir) / 'fe_check.inp'\n"
             "    deck.write_text('*HEADING\\n')\n"
             "    run.run_ccx(deck, progress)\n"
-            "check.fe_check = fe_check\n"
+            "import beveloid.fecheck as face; face.analyze = check.analyze = analyze\n"
             "sys.exit(cli.main())")
     proc = subprocess.run([sys.executable, "-c", code, "fe-check", os.path.abspath(CASE1), "--torque-nm", "200",
                            "--out", str(out)],

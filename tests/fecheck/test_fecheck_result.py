@@ -9,7 +9,8 @@ import math
 
 import pytest
 
-from beveloid.fecheck.check import CheckOptions
+from beveloid import ltca as lt
+from beveloid.fecheck.check import Options
 from beveloid.fecheck.result import CheckResult, ContactNumbers
 
 
@@ -20,7 +21,7 @@ def _result(about):
     return CheckResult("2.21", 3, 0.25, "plate",
                        (0, 1), -1.5, 1000, 4000, 1.0, 2.0, 3.0, calculix, ltca, {"deck": "d.inp"}, ["a note"],
                        [1000.0, None], [[0.2, 5.0], [0.1, math.nan]], about,
-                       options=CheckOptions(torque_nm=200.0, flank="left", refinement=2))
+                       options=Options(ltca=lt.Options(flank="left"), refinement=2), load=lt.LoadCase(200.0))
 
 
 def test_to_json_writes_the_contract():

@@ -149,6 +149,8 @@ PHYSICAL = {
     "l": uniform(0, 15), "u": uniform(-20, 20),
     "l_mm": uniform(0, 15), "u_mm": uniform(-20, 20), "angle_rad": uniform(-0.5, 0.5),  # tca_kernels.UNKNOWNS
     "angle": uniform(-0.5, 0.5),  # pinion_angle, gear_angle
+    "speed": uniform(1, 600),  # contact_kinematics: pinion_speed, rad/s
+    "teeth": teeth(40, 25),  # contact_kinematics: pinion_teeth, gear_teeth
     "normal_pressure_angle": degrees(14, 25),
     "helix_angle": degrees(-40, 40),
     "cone_angle": signed(0.5, 8, DEG),

@@ -25,7 +25,7 @@ CASE1 = ROOT / "examples" / "case1.toml"
 
 @pytest.fixture(scope="module")
 def loaded200(geom1):
-    return ltca.analyze(geom1, ltca.Options(torque_nm=200.0, flank="right", positions=6, pairs=3, tooth_model="plate"))
+    return ltca.analyze(geom1, ltca.LoadCase(200.0), ltca.Options(flank="right", positions=6, pairs=3, tooth_model="plate"))
 
 
 def _cell_coordinates(result, j, k):
@@ -90,7 +90,7 @@ def test_hertz_limit_on_the_point_contact_flank(case, flank, torque_nm):
     from beveloid import curvature
 
     geom = Pair.example(case).geometry
-    r = ltca.analyze(geom, ltca.Options(torque_nm=torque_nm, flank=flank, positions=3, pairs=1, tooth_model="plate"))
+    r = ltca.analyze(geom, ltca.LoadCase(torque_nm), ltca.Options(flank=flank, positions=3, pairs=1, tooth_model="plate"))
     nx, ny = r.grid.across_cells, r.grid.along_cells
     j, k = 1, 0
     rc = curvature.relative_curvature(geom, flank, r.tangency_unknowns[j, k], r.pair_pinion_angle[j, k],
@@ -116,7 +116,7 @@ def test_hertz_limit_on_the_point_contact_flank(case, flank, torque_nm):
 
 def test_light_load_pattern_follows_the_unloaded_path(geom1):
     """At 5 N m each loaded patch is centred on its pair's rigid-body tangency (within a cell)."""
-    r = ltca.analyze(geom1, ltca.Options(torque_nm=5.0, flank="right", positions=5, pairs=3, tooth_model="plate"))
+    r = ltca.analyze(geom1, ltca.LoadCase(5.0), ltca.Options(flank="right", positions=5, pairs=3, tooth_model="plate"))
     origin = r.gap.pinion_point  # cells; the tangency is the grid origin
     for j in range(5):
         for k in range(3):
@@ -133,7 +133,7 @@ def test_light_load_pattern_follows_the_unloaded_path(geom1):
 
 def test_misaligned_pair_solves_and_balances(geom1):
     """A vertical angular error shifts the patch: still converged, balanced, loads only on the flanks."""
-    r = ltca.analyze(geom1, ltca.Options(torque_nm=100.0, flank="right", positions=4, pairs=3, errors=(0, 0, 0, math.radians(0.05), 0), tooth_model="plate"))
+    r = ltca.analyze(geom1, ltca.LoadCase(100.0, errors=(0, 0, 0, math.radians(0.05), 0)), ltca.Options(flank="right", positions=4, pairs=3, tooth_model="plate"))
     assert all(s == "ok" for s in r.status)
     assert np.all(np.abs(r.pinion_moment_nmm / 100e3 - 1) < 1e-6)
     assert not np.any((r.pressure_mpa > 0) & ~r.gap.in_flank)
@@ -204,8 +204,8 @@ def test_material_section_reaches_the_compliance(geom1, tmp_path, capsys):
     soft_file.write_text(text)
     mat = ltca.Material.from_spec(load_spec(soft_file))
     assert mat.gear_e_mpa == 103e3 and mat.e_star_mpa < ltca.Material().e_star_mpa
-    stiff = ltca.analyze(geom1, ltca.Options(torque_nm=100.0, flank="right", positions=3, pairs=3, tooth_model="plate"))
-    soft = ltca.analyze(geom1, ltca.Options(torque_nm=100.0, flank="right", positions=3, pairs=3, material=mat, tooth_model="plate"))
+    stiff = ltca.analyze(geom1, ltca.LoadCase(100.0), ltca.Options(flank="right", positions=3, pairs=3, tooth_model="plate"))
+    soft = ltca.analyze(geom1, ltca.LoadCase(100.0), ltca.Options(flank="right", positions=3, pairs=3, material=mat, tooth_model="plate"))
     assert np.all(np.abs(soft.loaded_te - soft.unloaded_te) > np.abs(stiff.loaded_te - stiff.unloaded_te))
     bad = tmp_path / "bad.toml"
     bad.write_text(CASE1.read_text() + "\n[material]\npinion_poisson_ratio = 0.5\n")

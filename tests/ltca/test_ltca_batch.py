@@ -32,11 +32,10 @@ def _same(a, b, rtol=1e-9):
 
 def test_a_batch_entry_equals_its_single_run(pair):
     errors = [(0.0, 0.0, 0.0, 0.0, 0.0), (0.03, -0.02, 0.01, math.radians(0.02), 0.0)]
-    batch = ltca.analyze_many(pair, ltca.Options(torque_nm=100.0, **SMALL), torques_nm=[60.0, 250.0],
-                              error_sets=errors)
+    batch = ltca.analyze_many(pair, ltca.LoadCase([60.0, 250.0], errors=errors), ltca.Options(**SMALL))
     assert batch.te_peak_to_peak_urad.shape == (2, 2)
     for k, t in ((1, 0), (0, 1)):
-        one = ltca.analyze(pair, ltca.Options(torque_nm=[60.0, 250.0][t], errors=errors[k], **SMALL))
+        one = ltca.analyze(pair, ltca.LoadCase([60.0, 250.0][t], errors=errors[k]), ltca.Options(**SMALL))
         got = batch.results[k][t]
         assert got.torque_nm == one.torque_nm
         for name in ("loaded_te", "pair_load_n", "pair_max_pressure_mpa", "mesh_stiffness_n_per_um"):
@@ -47,8 +46,8 @@ def test_a_batch_entry_equals_its_single_run(pair):
 
 
 def test_near_zero_torque_gives_the_unloaded_te(pair):
-    low = ltca.analyze(pair, ltca.Options(torque_nm=0.01, **SMALL))
-    high = ltca.analyze(pair, ltca.Options(torque_nm=200.0, **SMALL))
+    low = ltca.analyze(pair, ltca.LoadCase(0.01), ltca.Options(**SMALL))
+    high = ltca.analyze(pair, ltca.LoadCase(200.0), ltca.Options(**SMALL))
     assert all(s == "ok" for s in low.status)
     gap_low = np.max(np.abs(low.loaded_te - low.unloaded_te))
     gap_high = np.max(np.abs(high.loaded_te - high.unloaded_te))
@@ -74,7 +73,7 @@ def test_harmonics_of_a_known_curve_over_one_cycle_with_the_end_repeated():
 
 def test_harmonics_of_a_run_keep_its_power(pair):
     """Parseval: the TE's variance over the cycle is the power of orders 1..M/2 - 1 plus the Nyquist term."""
-    r = ltca.analyze(pair, ltca.Options(torque_nm=200.0, positions=13, grid=(7, 9), tooth_model="plate"))
+    r = ltca.analyze(pair, ltca.LoadCase(200.0), ltca.Options(positions=13, grid=(7, 9), tooth_model="plate"))
     te = r.loaded_te[:-1]
     M = te.size  # 12: orders 1-5 reported, 6 is the Nyquist order
     h = te_harmonics(r)
@@ -155,8 +154,7 @@ def test_tolerance_sets_are_sweeps_draws_and_equal_plain_runs(capsys, pair):
     for s, e in zip(t["sets"], draws):
         assert [s["errors"][k] for k in ("dx_mm", "dy_mm", "dz_mm")] == pytest.approx(e[:3], rel=1e-12)
         assert math.radians(s["errors"]["vertical_deg"]) == pytest.approx(e[3], rel=1e-12)
-    one = ltca.analyze(pair, ltca.Options(torque_nm=150.0, positions=4, grid=(7, 9), tooth_model="plate",
-                                          errors=tuple(draws[2])))
+    one = ltca.analyze(pair, ltca.LoadCase(150.0, errors=tuple(draws[2])), ltca.Options(positions=4, grid=(7, 9), tooth_model="plate"))
     assert t["sets"][2]["te_peak_to_peak_urad"] == pytest.approx(one.loaded_te_peak_to_peak * 1e6, rel=1e-9)
     assert t["sets"][2]["max_pressure_mpa"] == pytest.approx(np.nanmax(one.pair_max_pressure_mpa), rel=1e-9)
     ptp = [s["te_peak_to_peak_urad"] for s in t["sets"]]
@@ -222,10 +220,10 @@ def test_a_pass_started_from_the_previous_ones_contact_set_solves_the_same(monke
     numbers as from the uncoupled estimate, in fewer iterations."""
     from beveloid.ltca.passes import cycle
 
-    warm = ltca.analyze(pair, ltca.Options(torque_nm=150.0, **SMALL))
+    warm = ltca.analyze(pair, ltca.LoadCase(150.0), ltca.Options(**SMALL))
     with monkeypatch.context() as m:
         m.setattr(cycle, "mapped_contact", lambda source, grid, gap: np.zeros_like(gap.in_flank))
-        cold = ltca.analyze(pair, ltca.Options(torque_nm=150.0, **SMALL))
+        cold = ltca.analyze(pair, ltca.LoadCase(150.0), ltca.Options(**SMALL))
     for name in ("loaded_te", "pair_load_n", "pair_max_pressure_mpa", "mesh_stiffness_n_per_um"):
         _same(getattr(warm, name), getattr(cold, name), rtol=1e-10)
     assert np.array_equal(warm.convergence.pressure_change, cold.convergence.pressure_change, equal_nan=True)

@@ -42,7 +42,7 @@ def test_default_grid_holds_hertz(name, flank):
     the relative curvature at its tangency) at the default grid, and the indicator says converged."""
     pair = Pair.from_spec(_spec(**DESIGNS[name]))
     torque = 100.0 * (pair.geometry.normal_module_mm / 6) ** 2
-    r = ltca.analyze(pair, ltca.Options(torque_nm=torque, flank=flank, positions=5, tooth_model="plate"))
+    r = ltca.analyze(pair, ltca.LoadCase(torque), ltca.Options(flank=flank, positions=5, tooth_model="plate"))
     checked = 0
     for j in range(5):
         for k in range(3):
@@ -68,7 +68,7 @@ def test_pair_loads_continuous_over_the_cycle():
     d = _spec(pinion__profile_crowning_um=10.0, pinion__lead_crowning_um=10.0, gear__profile_crowning_um=10.0,
               gear__lead_crowning_um=10.0)
     pair = Pair.from_spec(d)
-    r = ltca.analyze(pair, ltca.Options(torque_nm=200.0, positions=12, tooth_model="plate"))
+    r = ltca.analyze(pair, ltca.LoadCase(200.0), ltca.Options(positions=12, tooth_model="plate"))
     assert all(s == "ok" for s in r.status)
     # the case means something: the rigid TCA leaves one loaded pair's tangency unsolved here
     from beveloid.ltca.passes.cycle import Setup
@@ -89,7 +89,7 @@ def test_one_and_two_positions_accepted(capsys):
     from beveloid import cli
 
     pair = Pair.example("case1")
-    r = ltca.analyze(pair, ltca.Options(torque_nm=50.0, positions=1, tooth_model="plate"))
+    r = ltca.analyze(pair, ltca.LoadCase(50.0), ltca.Options(positions=1, tooth_model="plate"))
     assert r.status == ("ok",) and math.isnan(r.loaded_te_peak_to_peak)
     from pathlib import Path
 
@@ -104,10 +104,10 @@ def test_one_and_two_positions_accepted(capsys):
 
 
 def test_extreme_torque_leaves_the_models_validity():
-    r = ltca.analyze(Pair.example("case1"), ltca.Options(torque_nm=1e6, positions=1, tooth_model="plate"))
+    r = ltca.analyze(Pair.example("case1"), ltca.LoadCase(1e6), ltca.Options(positions=1, tooth_model="plate"))
     assert r.validity[0] is not None and "elastic" in r.validity[0]
     assert any("validity" in w for w in r.warnings())
-    low = ltca.analyze(Pair.example("case1"), ltca.Options(torque_nm=50.0, positions=1, tooth_model="plate"))
+    low = ltca.analyze(Pair.example("case1"), ltca.LoadCase(50.0), ltca.Options(positions=1, tooth_model="plate"))
     assert low.validity == (None,)
     # a reason shared by positions that leave for different sets of reasons is named once
     mixed = dataclasses.replace(low, validity=(r.validity[0], r.validity[0].split("; ")[0]))
@@ -117,11 +117,10 @@ def test_extreme_torque_leaves_the_models_validity():
 
 
 @pytest.mark.parametrize("kwargs, needle", [
-    (dict(torque_nm=0.0), "torque_nm = 0.0: must be"),
-    (dict(torque_nm=10.0, positions=0), "positions = 0: must be"),
-    (dict(torque_nm=10.0, pairs=4), "pairs = 4: must be an odd"),
-    (dict(torque_nm=10.0, grid=(2, 40)), "grid = (2, 40): must be"),
-    (dict(torque_nm=10.0, flank="top"), "flank = 'top': must be"),
+    (dict(positions=0), "positions = 0: must be"),
+    (dict(pairs=4), "pairs = 4: must be an odd"),
+    (dict(grid=(2, 40)), "grid = (2, 40): must be"),
+    (dict(flank="top"), "flank = 'top': must be"),
 ])
 def test_options_validate_themselves(kwargs, needle):
     with pytest.raises(ValueError, match=None) as exc:
@@ -129,12 +128,43 @@ def test_options_validate_themselves(kwargs, needle):
     assert needle in str(exc.value) and "\n" not in str(exc.value)
 
 
+@pytest.mark.parametrize("kwargs, needle", [
+    (dict(torque_nm=0.0), "torque_nm = 0.0: must be"),
+    (dict(torque_nm=[100.0, -5.0]), "torque_nm = "),
+    (dict(torque_nm=10.0, errors=(0.0, 0.0)), "errors = (0.0, 0.0): must be"),
+    (dict(torque_nm=10.0, errors=(0.0, 0.0, float("nan"), 0.0, 0.0)), "errors = "),
+])
+def test_the_load_case_validates_itself(kwargs, needle):
+    from beveloid.errors import OptionError
+
+    with pytest.raises(OptionError) as exc:
+        ltca.LoadCase(**kwargs)
+    assert needle in str(exc.value) and "\n" not in str(exc.value)
+
+
+def test_the_load_case_is_one_torque_or_a_map_and_its_errors_default_to_the_pairs():
+    from beveloid.pair import Pair
+
+    pair = Pair.example("case1")
+    one = ltca.LoadCase(200)
+    assert one.torque_nm == 200.0 and not one.is_map and one.torques_nm == (200.0,)
+    assert np.array_equal(one.error_sets(pair), pair.errors[None, :])
+    tmap = ltca.LoadCase([50, 100], errors=(0.01, 0, 0, 0, 0))
+    assert tmap.is_map and tmap.torques_nm == (50.0, 100.0) and tmap.errors == (0.01, 0.0, 0.0, 0.0, 0.0)
+    box = ltca.LoadCase(100.0, errors=[(0, 0, 0, 0, 0), (0.02, 0, 0, 0, 0)])
+    assert box.is_map and box.error_sets(pair).shape == (2, 5)
+    with pytest.raises(TypeError):
+        ltca.analyze(pair, ltca.Options())  # the options in place of the load case
+    with pytest.raises(TypeError):
+        ltca.Options(torque_nm=10.0)  # the load is no option any more
+
+
 def test_memory_estimate_refuses_what_does_not_fit():
-    big = ltca.Options(torque_nm=10.0, grid=(201, 201), positions=3)
+    big = ltca.Options(grid=(201, 201), positions=3)
     assert big.memory_bytes() > 3e10  # three dense 40401-cell blocks
     with pytest.raises(ValueError, match="needs about"):
         big.check_memory(available=16e9)
-    ltca.Options(torque_nm=10.0).check_memory(available=2e9)
+    ltca.Options().check_memory(available=2e9)
 
 
 def test_the_grid_warning_names_each_change_or_says_it_was_not_compared():

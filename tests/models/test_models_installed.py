@@ -52,11 +52,11 @@ out = {"models": list(surface_models.MODELS), "gear_model": plug.gear.tooth_surf
 numpy = Solver("numpy")
 b = tca.analyze(base, tca.Options(flanks=("right",), positions=40, approach_mm=None, errors=(0.0, 0.0, shift, 0.0, 0.0)),
                 solver=numpy).flanks["right"]
-lb = ltca.analyze(base, ltca.Options(torque_nm=100.0, flank="right", errors=(0.0, 0.0, shift, 0.0, 0.0), positions=3,
-                                     pairs=3, tooth_model="plate"), solver=numpy)
+lb = ltca.analyze(base, ltca.LoadCase(100.0, errors=(0.0, 0.0, shift, 0.0, 0.0)),
+                  ltca.Options(flank="right", positions=3, pairs=3, tooth_model="plate"), solver=numpy)
 elastic = lambda r: (r.loaded_te - r.unloaded_te) * 1e6  # noqa: E731
 a = tca.analyze(plug, tca.Options(flanks=("right",), positions=40, approach_mm=None), solver=numpy).flanks["right"]
-la = ltca.analyze(plug, ltca.Options(torque_nm=100.0, flank="right", positions=3, pairs=3, tooth_model="plate"),
+la = ltca.analyze(plug, ltca.LoadCase(100.0), ltca.Options(flank="right", positions=3, pairs=3, tooth_model="plate"),
                   solver=numpy)
 # surface contacts only: the shifted model moves the flank, not its blank, so edge contacts differ
 both = (np.array(a.status) == "ok") & (np.array(b.status) == "ok")
@@ -69,8 +69,8 @@ out["numpy"] = {"compared": int(both.sum()),
 # the default loaded analysis, the FE tooth (coarsened for the suite), on the model: the tooth bends as its
 # body, the unmodified rack's, loaded at the shifted flank's points (issues 46 and 48); before, a flank
 # that does not meet the rack's root fillet was refused ("... um apart at the form limit")
-fe = ltca.analyze(Pair.from_spec(sys.argv[1]), ltca.Options(torque_nm=200.0, positions=3, grid=(5, 5),
-                                                            tooth_model="fe", fe_coarsen=8.0), solver=numpy)
+fe = ltca.analyze(Pair.from_spec(sys.argv[1]), ltca.LoadCase(200.0),
+                  ltca.Options(positions=3, grid=(5, 5), tooth_model="fe", fe_coarsen=8.0), solver=numpy)
 out["fe"] = {"tooth_model": fe.tooth_model, "root_stress_max_mpa": fe.root_stress_max_mpa()}
 # the compiled core composed with the model: its point Newton (the step every path and gap calls) from the
 # aligned reference contact, at every surface contact of the numpy paths, against the numpy backend's

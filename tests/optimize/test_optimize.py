@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from beveloid import ltca
 from beveloid.cli import main
 from beveloid.optimize import evaluate, search
 from beveloid.optimize.request import Request, Vary
@@ -66,7 +67,7 @@ def test_the_best_candidate_is_the_brute_force_optimum_within_the_scan_resolutio
 
     base = tomllib.loads(tilted.read_text())
     req = Request(base=base, varies=(Vary(KEY, LOW, HIGH),), torques_nm=(TORQUE,), weights=(1.0,),
-                  objectives=("pressure",), positions=3, grid=(5, 5), tooth_model="plate", constraints="none")
+                  objectives=("pressure",), ltca=ltca.Options(positions=3, grid=(5, 5), tooth_model="plate"), constraints="none")
     xs = np.linspace(LOW, HIGH, 9)
     f = np.array([evaluate.evaluate(req, {KEY: x})["objectives"]["max_pressure_mpa"] for x in xs])
     i = int(np.argmin(f))
@@ -131,14 +132,12 @@ def test_the_tolerance_box_of_ltca_reproduces_a_candidate(tilted, capsys):
     front candidate's spec names) gives each torque's 90th percentile of the candidate, to the last bit."""
     import tomllib
 
-    from beveloid.cli.ltca import CHUNK_SETS
     from beveloid.optimize import report
 
-    assert evaluate.CHUNK_SETS == CHUNK_SETS  # the same calls of the batched engine
     req = Request(base=tomllib.loads(tilted.read_text()), varies=(Vary(KEY, LOW, HIGH),), torques_nm=(100.0, 300.0),
                   weights=(1.0, 2.0), samples=3, seed=5, tolerances={"dx_mm": 0.05, "dy_mm": 0.05, "dz_mm": 0.05,
                                                                      "vertical_deg": 0.05, "horizontal_deg": 0.02},
-                  positions=3, grid=(5, 5), tooth_model="plate", constraints="none")
+                  ltca=ltca.Options(positions=3, grid=(5, 5), tooth_model="plate"), constraints="none")
     rec = evaluate.evaluate(req, {KEY: 15.0})
     path = tilted.parent / "boxed.toml"
     path.write_text(report.toml_text(report.spec_to_dict(req.spec({KEY: 15.0}))))
@@ -166,13 +165,13 @@ def test_the_safeties_are_the_ratings(tilted, capsys):
     its spec (its verdict); its rating runs on the Solver of its loaded analyses."""
     import tomllib
 
-    from beveloid import ltca, rating
+    from beveloid import rating
     from beveloid.optimize import report
     from beveloid.spec import spec_to_dict
 
     solvers = []
     req = Request(base=tomllib.loads(tilted.read_text()), varies=(Vary(KEY, LOW, HIGH),), torques_nm=(TORQUE,),
-                  weights=(1.0,), positions=3, grid=(5, 5), tooth_model="plate", constraints="rating")
+                  weights=(1.0,), ltca=ltca.Options(positions=3, grid=(5, 5), tooth_model="plate"), constraints="rating")
     with pytest.MonkeyPatch.context() as mp:
         for module, name in ((ltca, "analyze_many"), (rating, "analyze")):
             def spy(*a, _fn=getattr(module, name), **k):
@@ -183,8 +182,8 @@ def test_the_safeties_are_the_ratings(tilted, capsys):
     assert len(solvers) == 2 and solvers[0] is not None and solvers[1] is solvers[0]
     path = tilted.parent / "rated.toml"
     path.write_text(report.toml_text(spec_to_dict(req.spec({KEY: 15.0}))))
-    assert main(["rating", str(path), "--torque-nm", f"{TORQUE:g}", "--positions", "3", "--tooth-model", "plate",
-                 "--json"]) == 0
+    assert main(["rating", str(path), "--torque-nm", f"{TORQUE:g}", "--positions", "3", "--grid", "5x5",
+                 "--tooth-model", "plate", "--json"]) == 0  # the run's LTCA options, its grid too
     d = json.loads(capsys.readouterr().out)
     assert rec["safety"]["safety_pitting_local"] == min(d[m]["safety_pitting"] for m in ("pinion", "gear"))
     assert rec["safety"]["safety_bending_local"] is None  # the plate has no root fillet
@@ -242,3 +241,28 @@ def test_a_dask_cluster_gives_the_candidates_of_one_worker(run, result, cluster,
     assert "Dask cluster" in json.dumps(summary)
     assert (remote / "candidates.csv").read_text() == (out / "candidates.csv").read_text()
     capsys.readouterr()
+
+
+def test_one_solver_per_run_not_per_candidate(tilted, monkeypatch):
+    """Issue 56: every candidate of a run (here two, and the same request read back by a worker) solves with
+    the request's one Solver; before, each candidate made its own."""
+    import tomllib
+
+    solvers = []
+    req = Request(base=tomllib.loads(tilted.read_text()), varies=(Vary(KEY, LOW, HIGH),), torques_nm=(TORQUE,),
+                  weights=(1.0,), ltca=ltca.Options(positions=3, grid=(5, 5), tooth_model="plate"), constraints="none")
+    real = ltca.analyze_many
+
+    def spy(*a, **k):
+        solvers.append(k.get("solver"))
+        return real(*a, **k)
+
+    from beveloid import parallel
+
+    monkeypatch.setattr(ltca, "analyze_many", spy)
+    monkeypatch.setattr(parallel, "single_threaded", lambda: None)  # a worker's setting, not this process's
+    evaluate.evaluate(req, {KEY: 10.0})
+    evaluate.evaluate(req, {KEY: 20.0})
+    evaluate.evaluate_task((req.to_json(), 0, {KEY: 10.0}))
+    evaluate.evaluate_task((req.to_json(), 1, {KEY: 20.0}))
+    assert len(solvers) == 4 and solvers[0] is solvers[1] is req.solver and solvers[2] is solvers[3]

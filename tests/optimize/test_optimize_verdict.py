@@ -11,6 +11,7 @@ from pathlib import Path
 
 import pytest
 
+from beveloid import ltca
 from beveloid.cli import main
 from beveloid.optimize import evaluate, search
 from beveloid.optimize.request import Request, Vary
@@ -26,7 +27,7 @@ def _request(**kw):
     import tomllib
 
     return Request(base=tomllib.loads(PAIR), varies=(Vary(KEY, 0.0, 30.0),), torques_nm=(TORQUE,), weights=(1.0,),
-                   positions=3, tooth_model="plate", constraints="rating", **kw)
+                   ltca=ltca.Options(positions=3, tooth_model="plate"), constraints="rating", **kw)
 
 
 def test_a_conditional_verdict_is_not_feasible():

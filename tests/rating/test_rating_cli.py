@@ -24,9 +24,9 @@ def case1_rating():
     d = spec_to_dict(load_example("case1"))
     d["rating"].update(K_A=1.25, K_v=1.1, pinion_speed_rpm=1000.0, life_hours=2000.0)
     pair = Pair.from_spec(spec_from_dict(d))
-    options = rating.Options(torque_nm=800.0, positions=2, tooth_model="plate")
-    lt = ltca.analyze(pair, options.ltca_options(1.25 * 1.1), solver=Solver())
-    return pair, lt, rating.analyze(pair, options, ltca_result=lt)
+    options = rating.Options(ltca.Options(positions=2, tooth_model="plate"))
+    lt = ltca.analyze(pair, ltca.LoadCase(800.0 * 1.25 * 1.1), options.ltca, solver=Solver())
+    return pair, lt, rating.analyze(pair, ltca.LoadCase(800.0), options, ltca_result=lt)
 
 
 def test_json_contract_is_complete_and_strict(case1_rating):
@@ -117,7 +117,8 @@ def test_a_section_without_a_method_b_answer_is_null_with_its_reason(case1_ratin
         raise ValueError("method B: no fillet tangent of 30 deg (test)")
 
     monkeypatch.setattr(iso6336, "bending_geometry", no_tangent)
-    result = analysis.analyze(pair, rating.Options(torque_nm=800.0, positions=2, tooth_model="plate"), ltca_result=lt)
+    result = analysis.analyze(pair, ltca.LoadCase(800.0), rating.Options(ltca.Options(positions=2, tooth_model="plate")),
+                              ltca_result=lt)
     out = result.to_json()
     json.dumps(out, allow_nan=False)
     assert all(v is None for v in out["pinion"]["sections"]["toe"].values())
@@ -141,7 +142,7 @@ def test_plot_target_is_refused_before_computing(capsys, monkeypatch, tmp_path):
 def test_plot_and_table(tmp_path, capsys, monkeypatch, case1_rating):
     pair, lt, _ = case1_rating
     real = rating.analyze
-    monkeypatch.setattr(rating, "analyze", lambda p, o, **k: real(pair, o, ltca_result=lt, **k))
+    monkeypatch.setattr(rating, "analyze", lambda p, load, o, **k: real(pair, load, o, ltca_result=lt, **k))
     target = tmp_path / "r.png"
     rc, out, err = run_cli(capsys, ["rating", C1, "--torque-nm", "800", "--plot", target])
     assert rc in (0, 4) and target.stat().st_size > 10_000
@@ -184,9 +185,10 @@ def test_the_table_has_units_and_no_null_with_a_unit(capsys, monkeypatch, case1_
     """Issue 45: a units row under the header; a value that is not computed is "null", never "null MPa"."""
     pair, lt, _ = case1_rating
     real = rating.analyze
-    monkeypatch.setattr(rating, "analyze", lambda p, o, **k: real(pair, o, ltca_result=lt, **k))
+    monkeypatch.setattr(rating, "analyze", lambda p, load, o, **k: real(pair, load, o, ltca_result=lt, **k))
     rc, out, _ = run_cli(capsys, ["rating", C1, "--torque-nm", "800", "--tooth-model", "plate"])
-    assert rc == rating.verdict(real(pair, rating.Options(torque_nm=800.0, positions=2, tooth_model="plate"),
+    assert rc == rating.verdict(real(pair, ltca.LoadCase(800.0), rating.Options(ltca.Options(positions=2,
+                                                                                             tooth_model="plate")),
                                      ltca_result=lt))["exit_status"]
     lines = out.splitlines()
     assert "[MPa]" in lines[2] and "[mm]" in lines[2] and "[deg]" in lines[2]

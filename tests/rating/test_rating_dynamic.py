@@ -92,9 +92,9 @@ def test_the_rating_computes_k_v_from_the_ltca_mesh_stiffness():
     d = spec_to_dict(load_example("case1"))
     d["rating"].update(pinion_speed_rpm=3000.0)
     pair = Pair.from_spec(spec_from_dict(d))
-    options = rating.Options(torque_nm=800.0, positions=3, tooth_model="plate")
-    lt = ltca.analyze(pair, options.ltca_options(1.0), solver=Solver())
-    result = rating.analyze(pair, options, ltca_result=lt)
+    options = rating.Options(ltca.Options(positions=3, tooth_model="plate"))
+    lt = ltca.analyze(pair, ltca.LoadCase(800.0), options.ltca, solver=Solver())
+    result = rating.analyze(pair, ltca.LoadCase(800.0), options, ltca_result=lt)
     dyn, f = result.dynamic, result.factors
     assert f.K_v_source == "method B" and f.K_v == dyn.K_v
     g = pair.geometry
@@ -141,7 +141,7 @@ def test_the_ltca_mesh_stiffness_of_a_near_parallel_pair_lies_between_iso_and_it
                                                                                    g.gear.face_width_mm)
     torque = 500.0
     assert 2000.0 * torque / p_sec.gear.reference_diameter_mm / 50.0 >= 100.0  # ISO's load range
-    lt = ltca.analyze(pair, ltca.Options(torque_nm=torque, positions=9, tooth_model="plate"), solver=Solver())
+    lt = ltca.analyze(pair, ltca.LoadCase(torque), ltca.Options(positions=9, tooth_model="plate"), solver=Solver())
     k = np.asarray(lt.mesh_stiffness_n_per_um)
     single = (np.nan_to_num(lt.pair_load_n) > 0).sum(axis=1) == 1
     assert lt.converged.all() and single.any() and not single.all()

@@ -78,7 +78,7 @@ def test_the_line_load_carries_every_pair_load_of_the_ltca():
     from beveloid.solver import Solver
 
     pair = Pair.example("case1")
-    lt = ltca.analyze(pair, ltca.Options(torque_nm=800.0, positions=2, tooth_model="plate"), solver=Solver())
+    lt = ltca.analyze(pair, ltca.LoadCase(800.0), ltca.Options(positions=2, tooth_model="plate"), solver=Solver())
     for j in np.flatnonzero(lt.converged):
         for member in ("pinion", "gear"):
             edges, w = line_load_on_face(lt, pair.geometry, member, j)

@@ -45,14 +45,14 @@ def test_the_ltca_root_stress_gives_the_local_bending_safety():
     root_stress_max_mpa, its face position and S_F = sigma_Flim Y_ST Y_NT / sigma_F,local; the
     verdict's bending side is then the local one."""
     pair = Pair.example("case1")
-    lt = ltca.analyze(pair, ltca.Options(torque_nm=800.0, positions=2, tooth_model="plate"), solver=Solver())
+    lt = ltca.analyze(pair, ltca.LoadCase(800.0), ltca.Options(positions=2, tooth_model="plate"), solver=Solver())
     stress = {"pinion": 3.0 * np.nan_to_num(lt.pair_load_n) / 100.0, "gear": 2.0 * np.nan_to_num(lt.pair_load_n) / 100}
     where = {m: np.zeros(lt.pair_load_n.shape + (2,)) for m in stress}
     for m in where:
         where[m][..., 0] = pair.geometry.member(m).reference_section_offset_mm + 5.0  # 5 mm from the middle
         where[m][..., 1] = 0.4
     fe = dataclasses.replace(lt, tooth_model="fe", pair_root_stress_mpa=stress, pair_root_stress_where=where)
-    result = rating.analyze(pair, rating.Options(torque_nm=800.0, positions=2, tooth_model="plate"), ltca_result=fe)
+    result = rating.analyze(pair, ltca.LoadCase(800.0), rating.Options(ltca.Options(positions=2, tooth_model="plate")), ltca_result=fe)
     f = result.factors
     for m in ("pinion", "gear"):
         top = float(np.max(stress[m]))
@@ -73,9 +73,9 @@ def test_the_local_bending_safety_decides_over_the_iso_one():
     """Where the FE root stress exists its S_F decides: an FE stress 10 x the pair's the ISO sigma_F makes the
     local S_F the lowest of all; an FE stress well below ISO's passes a minimum the ISO S_F fails."""
     pair = Pair.example("case1")
-    lt = ltca.analyze(pair, ltca.Options(torque_nm=800.0, positions=2, tooth_model="plate"), solver=Solver())
-    options = rating.Options(torque_nm=800.0, positions=2, tooth_model="plate")
-    iso = rating.analyze(pair, options, ltca_result=lt)
+    lt = ltca.analyze(pair, ltca.LoadCase(800.0), ltca.Options(positions=2, tooth_model="plate"), solver=Solver())
+    options = rating.Options(ltca.Options(positions=2, tooth_model="plate"))
+    iso = rating.analyze(pair, ltca.LoadCase(800.0), options, ltca_result=lt)
     iso_min = min(s.safety_bending_iso for m in iso.members.values() for s in m.sections.values())
 
     def with_root_stress(mpa, s_fmin):
@@ -84,7 +84,7 @@ def test_the_local_bending_safety_decides_over_the_iso_one():
         fe = dataclasses.replace(lt, tooth_model="fe", pair_root_stress_mpa=stress, pair_root_stress_where=where)
         d = spec_to_dict(pair.spec)
         d["rating"]["S_Fmin"] = s_fmin
-        return rating.analyze(Pair.from_spec(spec_from_dict(d)), options, ltca_result=fe).verdict()
+        return rating.analyze(Pair.from_spec(spec_from_dict(d)), ltca.LoadCase(800.0), options, ltca_result=fe).verdict()
 
     sigma_flim = iso.factors.root_limit_mpa["pinion"]
     v = with_root_stress(20.0 * sigma_flim, 1.4)  # local S_F = 2 sigma_Flim / (20 sigma_Flim) = 0.1

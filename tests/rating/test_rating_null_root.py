@@ -30,7 +30,7 @@ class _FeReading:
 
 def test_no_tensile_root_stress_and_an_unknown_place_are_null_not_an_error():
     pair = Pair.example("case1")
-    lt = ltca.analyze(pair, ltca.Options(torque_nm=200.0, positions=2, grid=(5, 5), tooth_model="plate"), solver=Solver())
+    lt = ltca.analyze(pair, ltca.LoadCase(200.0), ltca.Options(positions=2, grid=(5, 5), tooth_model="plate"), solver=Solver())
     unknown = {"position": 0, "pair": 0, "z_mm": None, "height_mm": None, "flank": lt.flank}
     lc = loaded_contact(_FeReading(lt, {"pinion": 0.0, "gear": 50.0}, {"pinion": unknown, "gear": unknown}),
                         pair.geometry, 30.0)

@@ -26,14 +26,14 @@ def _pair(**sections):
 @pytest.fixture(scope="module")
 def plate800():
     pair = _pair()
-    options = rating.Options(torque_nm=800.0, positions=2, tooth_model="plate")
-    lt = ltca.analyze(pair, options.ltca_options(1.0), solver=Solver())
+    options = rating.Options(ltca.Options(positions=2, tooth_model="plate"))
+    lt = ltca.analyze(pair, ltca.LoadCase(800.0), options.ltca, solver=Solver())
     return pair, options, lt
 
 
 def _rate(plate800, **sections):
     pair, options, lt = plate800
-    return rating.analyze(_pair(**sections), options, ltca_result=lt)
+    return rating.analyze(_pair(**sections), ltca.LoadCase(800.0), options, ltca_result=lt)
 
 
 @pytest.mark.parametrize(("minimum", "status", "code"), [(10.0, "fails", 3), (0.5, None, 0)])
@@ -42,14 +42,15 @@ def test_rating_exits_with_the_verdicts_status(plate800, capsys, monkeypatch, tm
     tells them apart without parsing the output."""
     pair, _, lt = plate800
     real = rating.analyze
-    monkeypatch.setattr(rating, "analyze", lambda p, o, **k: real(p, o, ltca_result=lt, **k))
+    monkeypatch.setattr(rating, "analyze", lambda p, load, o, **k: real(p, load, o, ltca_result=lt, **k))
     spec = tmp_path / "p.toml"
     text = (Path(__file__).resolve().parents[2] / "examples" / "case1.toml").read_text(encoding="utf-8")
     spec.write_text(text + f"\n[rating]\nS_Fmin = {minimum}\nS_Hmin = {min(minimum, 1.0)}\n", encoding="utf-8")
     rc = cli.main(["rating", str(spec), "--torque-nm", "800", "--tooth-model", "plate", "--positions", "2"])
     out = capsys.readouterr().out
     v = rating.verdict(real(Pair.from_spec(load_spec(str(spec))),
-                            rating.Options(torque_nm=800.0, positions=2, tooth_model="plate"), ltca_result=lt))
+                            ltca.LoadCase(800.0), rating.Options(ltca.Options(positions=2, tooth_model="plate")),
+                            ltca_result=lt))
     assert rc == rating.EXIT_STATUS[v["status"]] == v["exit_status"]
     if status == "fails":
         assert v["status"] == "fails" and rc == code and "FAILS" in out
@@ -136,7 +137,7 @@ def test_the_edge_band_converges_with_the_grid_where_the_edge_peak_does_not():
     pair = Pair.example("case1")
     share, peak = [], []
     for grid in ((7, 11), (15, 25)):
-        r = ltca.analyze(pair, ltca.Options(torque_nm=1500.0, positions=10, grid=grid, tooth_model="plate"))
+        r = ltca.analyze(pair, ltca.LoadCase(1500.0), ltca.Options(positions=10, grid=grid, tooth_model="plate"))
         e = edge_loads(r, pair.geometry)
         share.append(e.share)
         peak.append(float(np.nanmax(r.pair_edge_max_pressure_mpa[r.converged])))
@@ -170,9 +171,9 @@ def test_the_default_positions_check_their_own_maxima():
     position to all of them; every other position of 21 is the 11-position run itself."""
     from beveloid.rating.analysis import positions_check
 
-    assert rating.Options(torque_nm=100.0).positions == 21
+    assert rating.Options().ltca.positions == 21
     pair = Pair.example("case1")
-    runs = {n: ltca.analyze(pair, ltca.Options(torque_nm=1500.0, positions=n, tooth_model="plate")) for n in (21, 11)}
+    runs = {n: ltca.analyze(pair, ltca.LoadCase(1500.0), ltca.Options(positions=n, tooth_model="plate")) for n in (21, 11)}
     check = positions_check(runs[21], pair.geometry, 50.0)
     assert check["positions"] == 21 and check["subset_positions"] == 11
     eleven = positions_check(runs[11], pair.geometry, 50.0)["quantities"]

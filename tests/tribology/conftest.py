@@ -24,8 +24,8 @@ def spec_dict(base=FZG_C14, **sections):
     return out
 
 
-def plate_options(torque_nm=200.0, **kw):
-    return ltca.Options(torque_nm=torque_nm, flank="left", tooth_model="plate", **kw)
+def plate_options(**kw):
+    return ltca.Options(flank="left", tooth_model="plate", **kw)
 
 
 @pytest.fixture(scope="session")
@@ -35,7 +35,7 @@ def fzg_pair():
 
 @pytest.fixture(scope="session")
 def fzg_ltca(fzg_pair):
-    return ltca.analyze(fzg_pair, plate_options())
+    return ltca.analyze(fzg_pair, ltca.LoadCase(200.0), plate_options())
 
 
 def crossed_helical(shaft_angle_deg, mu=0.05):

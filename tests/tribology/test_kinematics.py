@@ -15,7 +15,7 @@ from beveloid.pair import Pair
 @pytest.fixture(scope="module")
 def case1(cases):
     pair = Pair.example("case1")
-    return pair, ltca.analyze(pair, cases.plate_options(torque_nm=100.0, positions=5))
+    return pair, ltca.analyze(pair, ltca.LoadCase(100.0), cases.plate_options(positions=5))
 
 
 def test_sliding_velocity_is_the_difference_of_omega_cross_r(case1):
@@ -51,7 +51,7 @@ def test_sliding_velocity_is_the_difference_of_omega_cross_r(case1):
 def test_crossed_helical_efficiency_below_the_bound(shaft_deg, cases):
     mu = 0.05
     pair = cases.crossed_helical(shaft_deg, mu)
-    tri = tribology.evaluate(ltca.analyze(pair, cases.plate_options()), pair, 1500.0)
+    tri = tribology.evaluate(ltca.analyze(pair, ltca.LoadCase(200.0), cases.plate_options()), pair, 1500.0)
     phi, s = math.atan(mu), math.radians(shaft_deg)
     assert tri.efficiency < (math.cos(s + phi) + 1) / (math.cos(s - phi) + 1)
 
@@ -60,7 +60,7 @@ def test_crossed_efficiency_approaches_the_parallel_axis_value(cases):
     effs = {}
     for shaft in (0.0001, 1.0, 5.0, 10.0):
         pair = cases.crossed_helical(shaft, 0.05)
-        effs[shaft] = tribology.evaluate(ltca.analyze(pair, cases.plate_options()), pair, 1500.0).efficiency
+        effs[shaft] = tribology.evaluate(ltca.analyze(pair, ltca.LoadCase(200.0), cases.plate_options()), pair, 1500.0).efficiency
     gaps = [abs(effs[s] - effs[0.0001]) for s in (10.0, 5.0, 1.0)]
     assert gaps[0] > gaps[1] > gaps[2]
     assert gaps[2] < 0.1 * gaps[0]

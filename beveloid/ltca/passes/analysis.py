@@ -1,4 +1,4 @@
-"""``analyze(pair, options, solver) -> LTCAResult``: the loaded TCA of one flank over one mesh cycle.
+"""``run(geom, errors, torque_nm, options, material, solver) -> LTCAResult``: the loaded TCA of one flank over one mesh cycle.
 
 1. The rigid-body reference (:class:`cycle.Setup`): each pair's tangency, its principal curvature
    axes and curvatures.
@@ -30,11 +30,11 @@ from ..results.result import (MAX_HALF_WIDTH_TIMES_CURVATURE, MAX_PRESSURE_OVER_
 from ..model.teeth import member_teeth, one_blas_thread, root_stresses
 
 
-def run(geom, errors, options: Options, material: Material, solver, pair=None) -> LTCAResult:
+def run(geom, errors, torque_nm: float, options: Options, material: Material, solver, pair=None) -> LTCAResult:
     """The LTCA of ``geom`` (a PairGeometry) with the assembly ``errors``; see the module docstring.
     ``pair``: the Pair when known (the FE tooth reads the bores from its spec).  One case of
     :func:`run_many`."""
-    return run_many(geom, [errors], [options.torque_nm], options, material, solver, pair)[0][0]
+    return run_many(geom, [errors], [torque_nm], options, material, solver, pair)[0][0]
 
 
 def run_many(geom, error_sets, torques_nm, options: Options, material: Material, solver, pair=None) -> list:
@@ -129,7 +129,7 @@ def _run(cases, options, material, teeth, body_notes=()):
         fr, geom = s.frame, s.geom
         line = geom.pinion.face_width_mm / max(math.cos(geom.pinion.helix_angle), 0.3)
         hertz_ref = grids.hertz_peak_mpa(fr.curvature_across, fr.curvature_along, sol.pair_load_n(), e_star, line)
-        out.append(_result(s, dataclasses.replace(options, torque_nm=T), sol, check, e_star, nt, hertz_ref, teeth))
+        out.append(_result((s, T), options, sol, check, e_star, nt, hertz_ref, teeth))
     return out
 
 
@@ -145,7 +145,8 @@ def _peaks(sol):
     return np.where(np.isfinite(surf), surf, np.nan), np.where(np.isfinite(edge), edge, np.nan)
 
 
-def _result(setup, options, sol, check, e_star, notes, hertz_ref, teeth):
+def _result(case, options, sol, check, e_star, notes, hertz_ref, teeth):
+    setup, torque_nm = case  # (the Setup, the torque N m)
     N = options.positions
     ok = sol.converged
     p = sol.pressure_mpa
@@ -195,7 +196,7 @@ def _result(setup, options, sol, check, e_star, notes, hertz_ref, teeth):
                    else LoadedStatus.NOT_CONVERGED for j in range(N))
     okc = ok[:, None]
     return LTCAResult(
-        options=options, flank=options.flank, torque_nm=options.torque_nm, pinion_angle=setup.phi1, tooth_pairs=setup.ks,
+        options=options, flank=options.flank, torque_nm=torque_nm, pinion_angle=setup.phi1, tooth_pairs=setup.ks,
         status=status, loaded_te=np.where(ok, te_rigid_ref + gear_rot, np.nan), unloaded_te=setup.unloaded_te,
         pair_load_n=np.where(okc, loads, np.nan), pair_max_pressure_mpa=np.where(okc, p.max(axis=-1), np.nan),
         pair_surface_max_pressure_mpa=np.where(okc, surface, np.nan),

@@ -35,7 +35,7 @@ class Setup:
         # the Solver itself, its tolerances with its backend (issue 42)
         fr = tca.mesh_flank(geom, flank, self.errors, positions=positions, pairs=pairs, window_pitches=1,
                             solver=solver)
-        ref = tca.reference_contact(geom, flank)
+        ref = tca.reference_contact(geom, flank, solver.options)  # the Solver's tolerances
         self.reference = ref
         ref_gear = tca.unknowns(ref.x).gear_angle_rad
         p1, p2 = geom.pitch_angles

@@ -1,8 +1,8 @@
 """Many loaded analyses of one pair in one call: N positions x T torques x K assembly error sets.
 
     from beveloid import ltca
-    batch = ltca.analyze_many(pair, ltca.Options(torque_nm=200.0), torques_nm=[50, 100, 200, 400],
-                              error_sets=[(0, 0, 0, 0, 0), (0.02, 0, 0, 0, 0)])
+    batch = ltca.analyze_many(pair, ltca.LoadCase([50, 100, 200, 400],
+                                                  errors=[(0, 0, 0, 0, 0), (0.02, 0, 0, 0, 0)]))
     batch.te_peak_to_peak_urad  # (K, T)
     batch.results[k][t]         # the LTCAResult of error set k at torque t
 

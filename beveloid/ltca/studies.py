@@ -1,0 +1,119 @@
+"""The studies of a loaded pair: the torque map and the tolerance box under load.
+
+    from beveloid import ltca
+    batch = ltca.analyze_many(pair, ltca.LoadCase([50, 100, 200, 400]), options)
+    ltca.studies.torque_map_json(batch.results[0])       # per torque: TE p-p, peaks, root, stiffness
+    box = ltca.studies.tolerance_box(pair, ltca.LoadCase([100, 200], errors=draws), options)
+    ltca.studies.tolerance_json(box, 0, len(draws), seed, tolerances)   # the box at the first torque
+
+:func:`box_results` is the one loop of the tolerance box: :func:`beveloid.ltca.analyze_many` over
+:data:`CHUNK_SETS` error sets at a time, the calls that ``beveloid ltca --samples`` (here, on local
+workers or a Dask cluster: :func:`tolerance_box`) and ``beveloid optimize`` both make, so that their
+numbers are the same to the last bit.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..names import MEMBERS
+
+__all__ = ["CHUNK_SETS", "box_results", "tolerance_box", "tolerance_json", "torque_map_json"]
+
+#: error sets per call of the batched engine: the unit of work of ``--workers`` (the numbers do not depend
+#: on where a chunk runs)
+CHUNK_SETS = 8
+
+
+def box_results(pair, load, options=None, *, solver=None) -> list:
+    """``[[LTCAResult per torque] per error set]`` of ``load`` (its torques x its error sets), one
+    :func:`beveloid.ltca.analyze_many` per :data:`CHUNK_SETS` sets, all with ``solver``."""
+    from . import analyze_many
+
+    sets = load.error_sets(pair)
+    out = []
+    for start in range(0, len(sets), CHUNK_SETS):
+        out += analyze_many(pair, load.at(errors=sets[start:start + CHUNK_SETS]), options, solver=solver).results
+    return out
+
+
+def _chunk(task):
+    """One chunk of the tolerance box: (pair, load, options) -> [[summary per torque] per set]."""
+    from .results.batch import summary
+
+    pair, load, options = task
+    rows = box_results(pair, load, options)
+    return [[dict(summary(r), errors=e) for r in row] for e, row in zip(load.error_sets(pair), rows)]
+
+
+def tolerance_box(pair, load, options=None, *, workers=None, scheduler=None, progress=None) -> list:
+    """``[[summary (ltca.results.batch.summary, with "errors") per torque] per error set]`` of ``load``'s
+    error sets (the draws), in chunks of :data:`CHUNK_SETS`: here, on ``workers`` local processes or on
+    the Dask cluster at ``scheduler`` (beveloid.parallel); ``progress(done, total, "error sets")`` after each
+    chunk (a :class:`beveloid.progress.Progress`)."""
+    from contextlib import nullcontext
+
+    from ..parallel import executor
+
+    sets = load.error_sets(pair)
+    tasks = [(pair, load.at(errors=sets[i:i + CHUNK_SETS]), options) for i in range(0, len(sets), CHUNK_SETS)]
+    out = [None] * len(tasks)
+    done = 0
+    parallel = workers is not None or scheduler is not None
+    with (executor(workers, scheduler) if parallel else nullcontext()) as ex:
+        items = ex.map_unordered(_chunk, tasks) if parallel else ((i, _chunk(t)) for i, t in enumerate(tasks))
+        for i, res in items:
+            out[i] = res
+            done += len(res)
+            if progress is not None:
+                progress(done, len(sets), "error sets")
+    return [row for chunk in out for row in chunk]
+
+
+def _stats(values) -> dict:
+    v = np.asarray([x for x in values if x is not None and math.isfinite(x)], dtype=float)
+    if v.size == 0:
+        return {"p50": None, "p90": None, "max": None, "sets": 0}
+    return {"p50": float(np.percentile(v, 50)), "p90": float(np.percentile(v, 90)), "max": float(v.max()),
+            "sets": int(v.size)}
+
+
+def _num(v):
+    return float(v) if v is not None and math.isfinite(v) else None
+
+
+def tolerance_json(box, t, samples, seed, tolerances) -> dict:
+    """The "tolerance" block of torque index t of a :func:`tolerance_box` (issue 43's contract)."""
+    from .. import assembly_errors
+
+    rows = [sets[t] for sets in box]
+    return {
+        "samples": samples, "seed": seed,
+        "tolerances": {k: float(v) for k, v in tolerances.items()},
+        "te_peak_to_peak_urad": _stats(r["te_peak_to_peak_urad"] for r in rows),
+        "max_pressure_mpa": _stats(r["max_pressure_mpa"] for r in rows),
+        "root_stress_max_mpa": {m: _stats(r["root_stress_max_mpa"][m] for r in rows) for m in MEMBERS},
+        "edge_contact_fraction": sum(r["edge_contact"] for r in rows) / len(rows),
+        "sets": [{"errors": assembly_errors.from_layout(r["errors"]),
+                  "te_peak_to_peak_urad": _num(r["te_peak_to_peak_urad"]),
+                  "max_pressure_mpa": _num(r["max_pressure_mpa"]),
+                  "root_stress_max_mpa": {m: _num(r["root_stress_max_mpa"][m]) for m in MEMBERS}} for r in rows],
+        "note": "each set a full loaded analysis with that error set in [misalignment] (the draws of sweep and "
+                "explore: uniform in the box about the file's misalignment); p50, p90 and max over the sets "
+                "with a value (sets: how many)",
+    }
+
+
+def torque_map_json(results) -> dict:
+    """The "torque_map" block of the results at each torque: per torque the TE peak-to-peak, the largest
+    pair_max_pressure_mpa (edge peaks included), the members' largest root stress and the mean mesh
+    stiffness (null where not known)."""
+    from .results.batch import summary
+
+    s = [summary(r) for r in results]
+    return {"torque_nm": [float(r.torque_nm) for r in results],
+            "te_peak_to_peak_urad": [_num(x["te_peak_to_peak_urad"]) for x in s],
+            "max_pressure_mpa": [_num(x["max_pressure_mpa"]) for x in s],
+            "root_stress_max_mpa": {m: [_num(x["root_stress_max_mpa"][m]) for x in s] for m in MEMBERS},
+            "mesh_stiffness_mean_n_per_um": [_num(x["mesh_stiffness_mean_n_per_um"]) for x in s]}
