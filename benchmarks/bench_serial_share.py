@@ -7,7 +7,8 @@ Not a test.  Each command runs as its own process (start-up, imports and numba's
 one worker: ``--workers 1`` (this process: ``beveloid.parallel``'s serial executor) for explore, ltca
 and optimize, ``NUMBA_NUM_THREADS=1`` for sweep.  Inside the parallel section: the time of the function
 the workers run, timed around each call in the command's process (explore ``explore.run.compute_chunk``,
-ltca ``cli.ltca._chunk``, optimize ``optimize.search.evaluate_task``), and for sweep its own
+ltca ``ltca.studies._task``: its chunks and the analyses at the file's errors, optimize
+``optimize.search.evaluate_task``), and for sweep its own
 ``seconds`` (the error sets solved on the threads, ``SweepResult.seconds``).  Outside (serial): the rest
 of the command's wall time: start-up, reading the spec, set-up, gathering, writing, figures.
 
@@ -49,7 +50,7 @@ kind, argv = sys.argv[1], sys.argv[2:]
 took = []
 if kind != "sweep":
     import importlib
-    module, name = {"explore": ("beveloid.explore.run", "compute_chunk"), "ltca": ("beveloid.cli.ltca", "_chunk"),
+    module, name = {"explore": ("beveloid.explore.run", "compute_chunk"), "ltca": ("beveloid.ltca.studies", "_task"),
                     "optimize": ("beveloid.optimize.search", "evaluate_task")}[kind]
     mod = importlib.import_module(module)
     fn = getattr(mod, name)

@@ -94,8 +94,9 @@ LTCA_FLAGS = (
     ("grid", "--grid", {"metavar": "ACROSSxALONG"}, _grid_help),
     ("tooth_model", "--tooth-model", {"choices": ("fe", "plate")},
      lambda d: "how the teeth bend: fe = finite-element tooth from the real geometry with root stress (default when "
-               "gmsh and scikit-fem are installed; its data is cached per design), plate = the fast "
-               "equivalent-spur-tooth plate (no root stress)"),
+               "gmsh and scikit-fem are installed; its data is cached per design), plate = the "
+               "equivalent-spur-tooth plate (no FE data to compute, no root stress; slower per analysis than "
+               "a cached FE tooth)"),
     ("fe_refinement", "--fe-refinement", {"type": int, "metavar": "N"},
      lambda d: f"FE tooth mesh refinement, 1-4 (default {d}; 2 halves every element size)"),
     ("fe_coarsen", "--fe-coarsen", {"type": float, "metavar": "F"},

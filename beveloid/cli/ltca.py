@@ -96,19 +96,20 @@ def run(args: argparse.Namespace) -> int:
 
     if args.workers is not None or args.scheduler is not None:
         executor(args.workers, args.scheduler)  # checks the flags (one line) before any work
-    solver = Solver()
     load = ltca.LoadCase(torques)
-    # the contact patterns once per run: the JSON, the table and the figures read them
-    results = [r.with_patterns() for r in ltca.analyze_many(pair, load, options, solver=solver).results[0]]
     box = None
-    if tolerances is not None:
+    if tolerances is None:
+        # the contact patterns once per run: the JSON, the table and the figures read them
+        results = [r.with_patterns() for r in ltca.analyze_many(pair, load, options, solver=Solver()).results[0]]
+    else:
         from .. import sweep
         from ..progress import for_terminal
 
         nominal = {key: float(getattr(spec.misalignment, key)) for key in tolerances}
         draws = sweep.draw_errors(args.samples, ranges=tolerances, seed=args.seed, nominal=nominal)
-        box = ltca.studies.tolerance_box(pair, load.at(errors=draws), options, workers=args.workers,
-                                         scheduler=args.scheduler, progress=for_terminal())
+        # the file's errors (with their patterns) one more task of the box's workers: no analysis here
+        results, box = ltca.studies.tolerance_box(pair, load.at(errors=draws), options, workers=args.workers,
+                                                  scheduler=args.scheduler, progress=for_terminal(), nominal=load)
     geom = pair.geometry
     label = f"{spec.source}: {errors_label(spec)}"
     if args.plot is not None:

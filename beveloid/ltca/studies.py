@@ -19,7 +19,7 @@ import numpy as np
 
 from ..names import MEMBERS
 
-__all__ = ["CHUNK_SETS", "box_results", "tolerance_box", "tolerance_json", "torque_map_json"]
+__all__ = ["CHUNK_SETS", "box_results", "nominal_results", "tolerance_box", "tolerance_json", "torque_map_json"]
 
 #: error sets per call of the batched engine: the unit of work of ``--workers`` (the numbers do not depend
 #: on where a chunk runs)
@@ -47,28 +47,54 @@ def _chunk(task):
     return [[dict(summary(r), errors=e) for r in row] for e, row in zip(load.error_sets(pair), rows)]
 
 
-def tolerance_box(pair, load, options=None, *, workers=None, scheduler=None, progress=None) -> list:
+def nominal_results(task) -> list:
+    """(pair, load, options) -> ``[LTCAResult per torque]`` of ``load`` (one error set: the file's) with both
+    contact patterns (``with_patterns``): what ``beveloid ltca`` reports besides its tolerance box."""
+    from . import analyze_many
+
+    pair, load, options = task
+    return [r.with_patterns() for r in analyze_many(pair, load, options).results[0]]
+
+
+def _task(task):
+    """What a worker of :func:`tolerance_box` runs: ("box", pair, load, options) a chunk (:func:`_chunk`),
+    ("nominal", pair, load, options) the analyses at the file's errors (:func:`nominal_results`)."""
+    kind, rest = task[0], task[1:]
+    return nominal_results(rest) if kind == "nominal" else _chunk(rest)
+
+
+def tolerance_box(pair, load, options=None, *, workers=None, scheduler=None, progress=None, nominal=None):
     """``[[summary (ltca.results.batch.summary, with "errors") per torque] per error set]`` of ``load``'s
     error sets (the draws), in chunks of :data:`CHUNK_SETS`: here, on ``workers`` local processes or on
     the Dask cluster at ``scheduler`` (beveloid.parallel); ``progress(done, total, "error sets")`` after each
-    chunk (a :class:`beveloid.progress.Progress`)."""
+    chunk (a :class:`beveloid.progress.Progress`).
+
+    ``nominal``: a LoadCase (the file's errors) analysed as one more task on the same workers, the first
+    (:func:`nominal_results`, patterns included), so that the main process runs no analysis (issue 59: the
+    serial part of ``ltca --samples``); then ``(its [LTCAResult per torque], the rows)``."""
     from contextlib import nullcontext
 
     from ..parallel import executor
 
     sets = load.error_sets(pair)
-    tasks = [(pair, load.at(errors=sets[i:i + CHUNK_SETS]), options) for i in range(0, len(sets), CHUNK_SETS)]
+    tasks = [("box", pair, load.at(errors=sets[i:i + CHUNK_SETS]), options) for i in range(0, len(sets), CHUNK_SETS)]
+    first = 0 if nominal is None else 1
+    if nominal is not None:
+        tasks.insert(0, ("nominal", pair, nominal, options))
     out = [None] * len(tasks)
     done = 0
     parallel = workers is not None or scheduler is not None
     with (executor(workers, scheduler) if parallel else nullcontext()) as ex:
-        items = ex.map_unordered(_chunk, tasks) if parallel else ((i, _chunk(t)) for i, t in enumerate(tasks))
+        items = ex.map_unordered(_task, tasks) if parallel else ((i, _task(t)) for i, t in enumerate(tasks))
         for i, res in items:
             out[i] = res
+            if i < first:
+                continue
             done += len(res)
             if progress is not None:
                 progress(done, len(sets), "error sets")
-    return [row for chunk in out for row in chunk]
+    rows = [row for chunk in out[first:] for row in chunk]
+    return rows if nominal is None else (out[0], rows)
 
 
 def _stats(values) -> dict:

@@ -170,8 +170,8 @@ def assumptions(result) -> list:
     aligned = errors is None or not np.any(np.asarray(errors, dtype=float))
     out = [("K_H_beta of the " + ("aligned pair" if aligned else "pair's [misalignment]")
             + " only (no f_ma, f_sh or lead deviations)"),
-           "Z_L = Z_v = Z_R = 1 (no lubricant, speed or roughness given: up to ~15 % too high S_H for unground "
-           "flanks)"]
+           "Z_L = Z_v = Z_R = 1 (the rating does not take the [lubricant], speed or roughness into S_H: up to "
+           "~15 % too high S_H for unground flanks)"]
     m_n = None if pair is None else pair.geometry.normal_module_mm
     if m_n is not None and m_n > 5.0:
         y_x = max(1.05 - 0.01 * m_n, 0.8)  # ISO 6336-3, case-hardened / nitrided, 5 < m_n < 25 (the largest fall)

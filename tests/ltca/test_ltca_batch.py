@@ -311,3 +311,33 @@ def test_the_plot_of_a_tolerance_box_draws_its_sets(capsys, tmp_path, monkeypatc
     assert rc == 0 and out.is_file()
     assert (tmp_path / "box_tolerance.png").read_bytes()[:4] == b"\x89PNG"
     assert "the file's errors" in titles[0] and "2 error sets: box_tolerance.png" in titles[0]
+
+
+def test_the_tolerance_box_analyses_the_file_errors_as_one_of_its_tasks(pair):
+    """``tolerance_box(..., nominal=load)``: the analyses at the file's errors (patterns included) run as one
+    more task beside the chunks (the main process of ``ltca --samples`` runs none), the same numbers as
+    ``analyze_many``; the rows the same as without it."""
+    options = ltca.Options(**SMALL)
+    load = ltca.LoadCase([150.0])
+    draws = np.array([[0.01, 0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.02, 0.0, 0.0]])
+    ran = []
+    real = ltca.studies.nominal_results
+
+    def counted(task):
+        ran.append(task)
+        return real(task)
+
+    import unittest.mock
+
+    with unittest.mock.patch.object(ltca.studies, "nominal_results", counted):
+        results, rows = ltca.studies.tolerance_box(pair, load.at(errors=draws), options, nominal=load)
+    assert len(ran) == 1
+    plain = ltca.studies.tolerance_box(pair, load.at(errors=draws), options)
+    assert [[r["te_peak_to_peak_urad"] for r in row] for row in rows] == \
+        [[r["te_peak_to_peak_urad"] for r in row] for row in plain]
+    direct = ltca.analyze_many(pair, load, options).results[0]
+    assert len(results) == len(direct) == 1
+    for a, b in zip(results, direct):
+        np.testing.assert_array_equal(a.loaded_te, b.loaded_te)
+        np.testing.assert_array_equal(a.pressure_mpa, b.pressure_mpa)
+        assert set(a.patterns) == {"pinion", "gear"}
