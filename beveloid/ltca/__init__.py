@@ -15,7 +15,8 @@ refinement: how it is computed).  One torque and one error set give an :class:`L
 list or several error sets a :class:`Batch` (``results[k][t]``), as ``analyze_many`` always does:
 N positions x T torques x K error sets in one call, the one engine of both.
 
-Its folders, from the request down: ``options`` (the request and its range table); ``passes`` (the
+Its modules and folders, from the request down: ``load`` (the load case), ``options`` (how it is
+computed: the range table), ``studies`` (the torque map and the tolerance box under load); ``passes`` (the
 passes over the positions of a mesh cycle: ``analysis``, ``cycle``); ``model`` (the pair under load:
 ``gaps`` the unloaded gap from the generated surfaces, ``grid`` each pair's grid sized from Hertz,
 ``compliance`` the beveloid compliance operator, ``teeth`` the plate or the FE tooth); ``mechanics``
