@@ -111,7 +111,7 @@ class Lubricant:
 
 
 def density_at(rho15_kg_m3, t_c):
-    """ISO/TR 14179-2's expansion: 0.7 kg/m^3 less per K above 15 C."""
+    """A mineral oil's typical thermal expansion, 0.7 kg/m^3 less per K above 15 C (docs/tribology.md)."""
     return rho15_kg_m3 - 0.7 * (t_c - 15.0)
 
 

@@ -61,7 +61,8 @@ def test_scuffing_constrains_the_search(cases):
         base = cases.spec_dict(material=strong, rating=dict(pinion_speed_rpm=1500.0, S_Bmin=1.2),
                                lubricant=dict(fzg_load_stage=stage))
         req = Request(base=base, varies=(Vary(KEY, 0.0, 10.0),), torques_nm=(200.0,), weights=(1.0,),
-                      objectives=("loss",), positions=6, grid=(7, 9), tooth_model="plate", flank="left")
+                      objectives=("loss",),
+                      ltca=ltca.Options(positions=6, grid=(7, 9), tooth_model="plate", flank="left"))
         safety[stage] = evaluate.evaluate(req, {KEY: 5.0})["safety"]
     assert "S_B FAILS" in safety[4]["verdict"] and safety[4]["verdict_status"] == "fails"
     assert safety[4]["feasible"] is False and safety[4]["shortfall"] > 0
