@@ -46,10 +46,10 @@ def test_global_friction_is_iso_tr_14179_2_at_the_pitch_point(tri):
     assert tri.friction_coefficient_global == pytest.approx(expected, rel=2e-4)  # eta 13.2799 against 13.28
 
 
-@pytest.mark.xfail(strict=True, reason="the formula as written in ISO/TR 14179-2 gives 0.04509 here, the "
-                   "published calculation 0.0449 (0.4 % apart; docs/tribology.md, 'The FZG C14 check')")
-def test_global_friction_prints_as_published(tri):
-    assert f"{tri.friction_coefficient_global:.4f}" == f"{PUBLISHED_MU:.4f}"
+def test_global_friction_within_half_a_percent_of_the_published(tri):
+    """ISO/TR 14179-2's formula gives 0.04509 here, the published calculation prints 0.0449: 0.4 % apart,
+    not to its printed digits (docs/tribology.md, 'The FZG C14 check'). This holds the gap, not the digits."""
+    assert abs(tri.friction_coefficient_global / PUBLISHED_MU - 1) < 0.005
 
 
 def test_line_contact_film_at_the_pitch_point(tri, fzg_ltca):
