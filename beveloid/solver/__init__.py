@@ -15,6 +15,13 @@ from . import backends
 from .options import DEFAULT_OPTIONS, SolverOptions
 
 
+#: why :attr:`Solver.dense_backend` does not follow the solver's backend
+DENSE_BACKEND_WHY = ("the backend chooses how the TCA core runs (\"numpy\": its interpreted reference); the dense "
+                     "kernels outside it (the LTCA's active-set solve, the FE tooth's root stresses) interpreted are "
+                     "pure-Python loops over dense blocks, ~100x slower for the same numbers "
+                     "(tests/ltca/test_ltca_batch.py compares the two), so they run compiled wherever numba is installed")
+
+
 @dataclass(frozen=True)
 class Solver:
     """A resolved backend ("numpy" or "compiled") and the solver's tolerances.
@@ -37,6 +44,13 @@ class Solver:
         """The core's functions on this backend (compiled, or loaded from numba's cache, on first use)."""
         return backends.namespace(self.backend)
 
+    @property
+    def dense_backend(self) -> str:
+        """The backend of the dense kernels outside the core (the LTCA's contact solve and assembly,
+        the FE tooth's root stresses): "compiled" wherever numba is installed, whatever :attr:`backend`
+        (:data:`DENSE_BACKEND_WHY`); "numpy" without numba."""
+        return "compiled" if backends.AVAILABLE else "numpy"
+
     def announced_core(self) -> types.SimpleNamespace:
         """:attr:`core`, saying on the terminal when numba has to compile it first."""
         ns = self.core
@@ -56,4 +70,4 @@ class Solver:
                         f"expected a beveloid.solver.Solver or None, not {type(solver).__name__}")
 
 
-__all__ = ["DEFAULT_OPTIONS", "Solver", "SolverOptions"]
+__all__ = ["DENSE_BACKEND_WHY", "DEFAULT_OPTIONS", "Solver", "SolverOptions"]

@@ -341,3 +341,16 @@ def test_the_tolerance_box_analyses_the_file_errors_as_one_of_its_tasks(pair):
         np.testing.assert_array_equal(a.loaded_te, b.loaded_te)
         np.testing.assert_array_equal(a.pressure_mpa, b.pressure_mpa)
         assert set(a.patterns) == {"pinion", "gear"}
+
+
+def test_the_solver_says_which_backend_runs_the_contact_kernel_and_why():
+    """The LTCA's dense kernel follows Solver.dense_backend (compiled wherever numba is installed,
+    whatever the TCA backend), and the solver says why it does not follow its backend."""
+    from beveloid.ltca.mechanics import kernel
+    from beveloid.solver import DENSE_BACKEND_WHY, Solver, backends
+
+    numpy_solver, default = Solver("numpy"), Solver()
+    assert numpy_solver.dense_backend == default.dense_backend == ("compiled" if backends.AVAILABLE else "numpy")
+    assert kernel.kernels(numpy_solver) is kernel.kernels(default)
+    assert (kernel.kernels(numpy_solver) is kernel) == (numpy_solver.dense_backend == "numpy")
+    assert "100x slower" in DENSE_BACKEND_WHY

@@ -396,14 +396,14 @@ def assemble(d, tooth, area, loaded, nx, ny, out):
 
 
 def kernels(solver=None):
-    """The module of :func:`active_set` and :func:`solve_positions`: its compiled twin
+    """The module of :func:`active_set` and :func:`solve_positions` on the solver's
+    :attr:`~beveloid.solver.Solver.dense_backend`: its compiled twin
     (:func:`beveloid.solver.backends.compiled_module`) wherever numba is installed, whatever the
-    solver's backend (as fe/principal.py's): the backend chooses how the TCA core runs, and this
-    module interpreted is pure-Python loops over dense blocks, ~100x slower for the same numbers
-    (tests/ltca/test_ltca_batch.py compares the two); this module itself without numba."""
-    from ...solver import backends
+    solver's backend (as fe/principal.py's; why: :data:`beveloid.solver.DENSE_BACKEND_WHY`); this
+    module itself without numba."""
+    from ...solver import Solver, backends
 
-    if not backends.AVAILABLE:
+    if Solver.of(solver).dense_backend == "numpy":
         return sys.modules[__name__]
 
     return backends.compiled_module(__name__, ("_dot", "_factor_solve", "_matvec", "initial_set", "active_set",
