@@ -20,17 +20,21 @@ export XDG_CACHE_HOME="$work/cache"
 # shellcheck disable=SC1091
 source "$work/venv/bin/activate"
 load() { cut -d' ' -f1 /proc/loadavg 2>/dev/null || echo "?"; }
-cpu() { times | tail -1 | awk '{ split($1, u, "m"); split($2, s, "m"); print 60 * u[1] + u[2] + 60 * s[1] + s[2] }'; }
+# the children's user + system CPU from `times`, run in this shell (in a command substitution it
+# would report the subshell's children: none)
+cpu() { tail -1 "$1" | awk '{ split($1, u, "m"); split($2, s, "m"); print 60 * u[1] + u[2] + 60 * s[1] + s[2] }'; }
 load0=$(load)
 start=$(date +%s.%N)
 pip install -q ".[test]" || exit 1
 mid=$(date +%s.%N)
-cpu_mid=$(cpu)
+times > "$work/times_mid"
+cpu_mid=$(cpu "$work/times_mid")
 load1=$(load)
 pytest -p no:cacheprovider --durations=0 -q > "$log" 2>&1
 rc=$?
 end=$(date +%s.%N)
-cpu_end=$(cpu)
+times > "$work/times_end"
+cpu_end=$(cpu "$work/times_end")
 load2=$(load)
 python - "$start" "$mid" "$end" "$rc" "$cpu_mid" "$cpu_end" "$load0" "$load1" "$load2" <<'PY'
 import os, sys
