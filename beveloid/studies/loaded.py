@@ -63,7 +63,7 @@ def _fe_member(case, member, compute=True):
     name = f"FE tooth of the {case.replace('case', 'case ')} {member}"
     _say(f"{name}: first time, about {FE_FIRST_TIME_S} s of CPU; cached after ({cache.cache_dir()})")
     t0 = time.perf_counter()
-    _, how = cache.cached_tooth_data(*args, progress=lambda text: _say(f"{name}: {text.split(': ', 1)[-1]}"),
+    _, how = cache.cached_tooth_data(*args, progress=lambda done, total, what: _say(f"{name}: {what.split(': ', 1)[-1]}"),
                                      coarsen=options.fe_coarsen)
     return how, time.perf_counter() - t0
 

@@ -80,9 +80,9 @@ def test_the_fe_teeth_not_cached_are_submitted_each_announced_with_its_progress(
     loaded.submit_fe_teeth(Record(), ("case1", "case2"), "plate")
     assert submitted == []
 
-    def computed(*args, progress=None, **kw):  # the FE computation's own lines (beveloid/fe/tooth.py)
-        progress("FE tooth pinion: meshing (refinement 1)")
-        progress("FE tooth pinion: done in 1.0 s")
+    def computed(*args, progress=None, **kw):  # the FE computation's own steps (beveloid/fe/tooth.py's protocol)
+        progress(1, 2, "FE tooth pinion: meshing (refinement 1)")
+        progress(2, 2, "FE tooth pinion: done in 1.0 s")
         return None, "miss"
 
     monkeypatch.setattr(cache, "cached_tooth_data", computed)
