@@ -125,7 +125,7 @@ def workers(plan, n):
         with tempfile.TemporaryDirectory() as out:
             runner.prepare(out, req, resume=False)
             t = time.perf_counter()
-            stop, _ = runner.execute(out, req, ex)
+            stop = runner.execute(out, req, ex).stop
             assert stop is None
             rate = plan.count / (time.perf_counter() - t)
         cpu = {}

@@ -731,6 +731,42 @@ def test_every_result_is_frozen_all_the_way_down(contract_results, name):
     assert not found, f"{len(found)} writable places, e.g. {found[:8]}"
 
 
+def _run_results():
+    """How a run of explore and of optimize ended (explore.run.ExploreRun, optimize.search.OptimizeRun),
+    built from their parts: their runs are tested in tests/explore and tests/optimize."""
+    from beveloid.errors import StopReason
+    from beveloid.explore import run as explore_run
+    from beveloid.explore.grid import Plan
+    from beveloid.optimize import search
+    from beveloid.optimize.request import Request, Vary
+    from beveloid.spec import load_example, spec_to_dict
+
+    plan = Plan(spec_to_dict(load_example("case1")), ())
+    opt = Request(base={"pair": {"x": [1.0]}}, varies=(Vary("pinion.lead_crowning_um", 0.0, 40.0),),
+                  torques_nm=(100.0,), weights=(1.0,))
+    record = {"candidate": 0, "values": {"pinion.lead_crowning_um": 5.0}, "status": "ok",
+              "objectives": {"pressure_mpa": 1.5}, "per_torque": {"pressure_mpa": [1.5]}}
+    return {"explore": explore_run.ExploreRun("run", StopReason.INTERRUPTED, "interrupted (Ctrl-C)",
+                                              options=explore_run.Request(plan, {"dx_mm": 0.5})),
+            "optimize": search.OptimizeRun("opt", [record], None, "", options=opt)}
+
+
+@pytest.mark.parametrize("name", ["explore", "optimize"])
+def test_a_runs_result_is_frozen_all_the_way_down_with_strict_json(name):
+    """explore's and optimize's runs return a Result too (no tuple): frozen, its JSON strict."""
+    import json
+
+    from beveloid.result import Result
+
+    r = _run_results()[name]
+    assert isinstance(r, Result) and r.pair is None and r.options is not None
+    found = _writable(r, name, set())
+    assert not found, f"{len(found)} writable places, e.g. {found[:8]}"
+    out = r.to_json()
+    assert isinstance(out, dict) and out["request"] and out["out_dir"]
+    assert json.loads(json.dumps(out, allow_nan=False)) == out
+
+
 #: a bad value of each analysis' options: (the analysis, the Options' import path, keyword arguments)
 BAD_OPTIONS = [
     ("tca", "beveloid.tca:Options", {"positions": 0}),

@@ -160,10 +160,11 @@ def run(args: argparse.Namespace) -> int:
                                                      " designs first (Ctrl-C again to stop at once)"))
     try:
         with ex:
-            stop, why = runner.execute(out, req, ex, runner.Progress(chunks.designs), chunks)
+            ran = runner.execute(out, req, ex, runner.Progress(chunks.designs), chunks)
             where = ex.description
             late.start()
-        return _finish(args, out, req, chunks, (stop, why, where, time.perf_counter() - t0), late, created_here)
+        return _finish(args, out, req, chunks, (ran.stop, ran.why, where, time.perf_counter() - t0), late,
+                       created_here)
     except KeyboardInterrupt:  # a second Ctrl-C while the outputs were written (whole files or none)
         interrupts.reported()
         if not chunks.parts and created_here(out):

@@ -142,12 +142,13 @@ def run(args: argparse.Namespace) -> int:
         base = search.baseline(out, req)
         ex = parallel.executor(args.workers, args.scheduler)
         with ex:
-            records, stop, why = search.run(out, req, ex, search.Progress(), base)
+            ran = search.run(out, req, ex, search.Progress(), base)
             where = ex.description
     except KeyboardInterrupt:
         if not args.resume:
             print(f"beveloid optimize: {_nothing_kept(out)}", file=sys.stderr, flush=True)
         raise
+    stop, why, records = ran.stop, ran.why, ran.record_dicts()
     if stop is not None and not records and not args.resume:  # stopped before its first candidate
         print(f"beveloid optimize: stopped ({why}) before the first candidate; {_nothing_kept(out)}", file=sys.stderr)
         return 130 if stop is StopReason.INTERRUPTED else 1

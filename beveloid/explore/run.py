@@ -25,6 +25,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..errors import StopReason
+from ..result import Result, thaw
 from ..runstore import REQUEST, RunStore, version_text  # noqa: F401  (REQUEST: the CLI reads it here)
 from .grid import Plan, Vary
 
@@ -306,11 +307,31 @@ class Progress:
         self.stream.flush()
 
 
+@dataclass(frozen=True, eq=False)
+class ExploreRun(Result):
+    """How a run of :func:`execute` ended (its rows are in ``out_dir``): ``stop`` None when every chunk
+    and the base design's row finished, else why it stopped (a StopReason) and ``why``, a line saying so.
+    ``options``: the run's :class:`Request`; ``pair`` None (a run explores many designs)."""
+
+    out_dir: str
+    stop: StopReason | None
+    why: str
+
+    @property
+    def complete(self) -> bool:
+        return self.stop is None
+
+    def to_json(self) -> dict:
+        return {"out_dir": self.out_dir, "complete": self.complete,
+                "stop": None if self.stop is None else str(self.stop), "why": self.why or None,
+                "request": thaw(self.options.to_json())}
+
+
 def execute(out_dir: str, req: Request, ex, progress=None,
-            chunks: Chunks | None = None) -> tuple[StopReason | None, str]:
+            chunks: Chunks | None = None) -> ExploreRun:
     """Compute the missing chunks and the base design's row on the executor ``ex``, keeping them in
-    ``chunks`` (read from ``out_dir`` if not given): (None, "") when complete, else (why it stopped, a line
-    saying so)."""
+    ``chunks`` (read from ``out_dir`` if not given): an :class:`ExploreRun`, its ``stop`` None when
+    complete, else why it stopped and a line saying so."""
     from ..parallel import WorkLost
 
     chunks = Chunks(out_dir, req) if chunks is None else chunks
@@ -326,7 +347,7 @@ def execute(out_dir: str, req: Request, ex, progress=None,
             if progress:
                 progress(chunks.designs, req.plan.count, "designs")
     except KeyboardInterrupt:
-        return StopReason.INTERRUPTED, str(StopReason.INTERRUPTED)
+        return ExploreRun(out_dir, StopReason.INTERRUPTED, str(StopReason.INTERRUPTED), options=req)
     except WorkLost as exc:
-        return StopReason.WORK_LOST, str(exc)
-    return None, ""
+        return ExploreRun(out_dir, StopReason.WORK_LOST, str(exc), options=req)
+    return ExploreRun(out_dir, None, "", options=req)

@@ -20,10 +20,12 @@ import json
 import os
 import sys
 import time
+from dataclasses import dataclass
 
 import numpy as np
 
 from ..errors import StopReason
+from ..result import Result, thaw
 from ..runstore import REQUEST, RunStore  # noqa: F401  (REQUEST: the CLI reads it here)
 from ..status import EvaluationStatus
 from .evaluate import evaluate, evaluate_task
@@ -142,9 +144,35 @@ def baseline(out_dir: str, req: Request) -> dict:
     return rec
 
 
-def run(out_dir: str, req: Request, ex, progress=None, base: dict | None = None) -> tuple:
-    """Ask, evaluate (on ``ex``) and tell until the budget: (records in candidate order, None or a StopReason,
-    a line saying why it stopped).  ``base``: the unmodified design's record (:func:`baseline`), the first
+@dataclass(frozen=True, eq=False)
+class OptimizeRun(Result):
+    """How a run of :func:`run` ended: ``records``, the candidates' records in the order the algorithm asked
+    for them (each as kept in ``out_dir``/candidates/, frozen); ``stop`` None when the budget was spent, else
+    why it stopped (a StopReason) and ``why``, a line saying so.  ``options``: the run's :class:`Request`;
+    ``pair`` None (a run evaluates many designs)."""
+
+    out_dir: str
+    records: tuple
+    stop: StopReason | None
+    why: str
+
+    @property
+    def complete(self) -> bool:
+        return self.stop is None
+
+    def record_dicts(self) -> list:
+        """The records as the JSON files hold them (dicts and lists), for the report."""
+        return thaw(self.records)
+
+    def to_json(self) -> dict:
+        return {"out_dir": self.out_dir, "complete": self.complete,
+                "stop": None if self.stop is None else str(self.stop), "why": self.why or None,
+                "records": self.record_dicts(), "request": thaw(self.options.to_json())}
+
+
+def run(out_dir: str, req: Request, ex, progress=None, base: dict | None = None) -> OptimizeRun:
+    """Ask, evaluate (on ``ex``) and tell until the budget: an :class:`OptimizeRun` (the records in candidate
+    order, None or a StopReason, a line saying why it stopped).  ``base``: the unmodified design's record (:func:`baseline`), the first
     candidate when its values lie inside the ranges (its numbers are taken, not computed again)."""
     from ..parallel import WorkLost
 
@@ -174,13 +202,15 @@ def run(out_dir: str, req: Request, ex, progress=None, base: dict | None = None)
                 save(out_dir, start + todo[k], rec)
                 batch[todo[k]] = rec
         except KeyboardInterrupt:
-            return records + [r for r in batch if r is not None], StopReason.INTERRUPTED, str(StopReason.INTERRUPTED)
+            return OptimizeRun(out_dir, records + [r for r in batch if r is not None], StopReason.INTERRUPTED,
+                               str(StopReason.INTERRUPTED), options=req)
         except WorkLost as exc:
-            return records + [r for r in batch if r is not None], StopReason.WORK_LOST, str(exc)
+            return OptimizeRun(out_dir, records + [r for r in batch if r is not None], StopReason.WORK_LOST,
+                               str(exc), options=req)
         if progress:
             progress(len(records) + len(X), req.budget, f"candidates ({len(X) - len(todo)} from disk)")
         FG = [told(req, r) for r in batch]
         pop.set("F", np.array([f for f, _ in FG]), "G", np.array([g for _, g in FG]))
         alg.tell(infills=pop)
         records += batch
-    return records, None, ""
+    return OptimizeRun(out_dir, records, None, "", options=req)

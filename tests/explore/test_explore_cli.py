@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import csv
+import dataclasses
 import json
 import os
 
@@ -139,7 +140,7 @@ def test_chunks_of_another_version_are_recomputed_or_refused(case1, tmp_path, ca
     plan = Plan(spec_to_dict(load_example("case1")), (parse_vary("pinion.cone_angle_deg=1:2:2"),))
     req = runner.prepare(str(out), runner.Request(plan, {"dx_mm": 0.5}, chunk=1), resume=False)
     with parallel.executor(workers=1) as ex:
-        assert runner.execute(str(out), req, ex)[0] is None
+        assert runner.execute(str(out), req, ex).stop is None
     request = json.loads((out / "request.json").read_text())
     assert request["code"] == runner.code_version()
     assert request["code"]["package_version"] == beveloid.__version__
@@ -177,8 +178,14 @@ def test_interrupted_run_keeps_finished_chunks(case1, tmp_path):
     out = str(tmp_path / "run")
     plan = Plan(spec_to_dict(load_example("case1")), (parse_vary("pinion.cone_angle_deg=1:3:3"),))
     req = runner.prepare(out, runner.Request(plan, {"dx_mm": 0.5}, chunk=1), resume=False)
-    stop, why = runner.execute(out, req, _Interrupted())
-    assert stop is StopReason.INTERRUPTED and "Ctrl-C" in why
+    ran = runner.execute(out, req, _Interrupted())
+    assert ran.stop is StopReason.INTERRUPTED and "Ctrl-C" in ran.why
+    # the run's result: frozen, its JSON strict and naming how it ended
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        ran.stop = None
+    got = json.loads(json.dumps(ran.to_json(), allow_nan=False))
+    assert got["stop"] == str(StopReason.INTERRUPTED) and got["complete"] is False and got["out_dir"] == out
+    assert got["request"] == json.loads(json.dumps(req.to_json()))
     assert runner.finished(out, req) == [0]
     table = runner.load_table(out, req)
     assert table["design"].tolist() == [0]

@@ -118,8 +118,8 @@ def test_run_that_loses_a_worker_keeps_its_chunks(tmp_path):
     plan = Plan(spec_to_dict(load_example("case1")), (parse_vary("pinion.cone_angle_deg=1:3:3"),))
     out = str(tmp_path / "run")
     req = runner.prepare(out, runner.Request(plan, {"dx_mm": 0.5}, chunk=2), resume=False)
-    stop, why = runner.execute(out, req, _LosesWorker())
-    assert stop is StopReason.WORK_LOST and "KilledWorker" in why
+    ran = runner.execute(out, req, _LosesWorker())
+    assert ran.stop is StopReason.WORK_LOST and "KilledWorker" in ran.why and not ran.complete
     assert runner.finished(out, req) == [0]
 
 

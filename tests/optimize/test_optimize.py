@@ -266,3 +266,37 @@ def test_one_solver_per_run_not_per_candidate(tilted, monkeypatch):
     evaluate.evaluate_task((req.to_json(), 0, {KEY: 10.0}))
     evaluate.evaluate_task((req.to_json(), 1, {KEY: 20.0}))
     assert len(solvers) == 4 and solvers[0] is solvers[1] is req.solver and solvers[2] is solvers[3]
+
+
+class _LosesWorker:
+    """An executor that returns the first candidate's record, then loses its worker."""
+
+    def map_unordered(self, fn, items):
+        (payload, index, values), *_ = list(items)
+        yield 0, {"candidate": index, "values": values, "status": "ok", "objectives": {"pressure_mpa": 1.5}}
+        from beveloid import parallel
+
+        raise parallel.WorkLost("the Dask cluster lost a candidate (KilledWorker)")
+
+
+def test_the_search_returns_a_frozen_run_whose_json_is_strict(tmp_path):
+    """search.run's OptimizeRun: the records by name (not a tuple's positions), frozen all the way down,
+    and its JSON a dict json.dumps takes with allow_nan=False."""
+    import dataclasses
+
+    from beveloid.errors import StopReason
+
+    req = Request(base={}, varies=(Vary(KEY, LOW, HIGH),), torques_nm=(TORQUE,), weights=(1.0,), population=4)
+    out = str(tmp_path / "opt")
+    (tmp_path / "opt" / search.CANDIDATES).mkdir(parents=True)
+    ran = search.run(out, req, _LosesWorker())
+    assert ran.stop is StopReason.WORK_LOST and "KilledWorker" in ran.why and not ran.complete
+    assert [r["candidate"] for r in ran.records] == [0] and ran.options.budget == req.budget
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        ran.records = ()
+    with pytest.raises(TypeError):
+        ran.records[0]["status"] = "failed"
+    got = json.loads(json.dumps(ran.to_json(), allow_nan=False))
+    assert got["records"] == [json.loads((tmp_path / "opt" / search.CANDIDATES / "000000.json").read_text())]
+    assert got["stop"] == str(StopReason.WORK_LOST) and got["complete"] is False
+    assert got["request"] == json.loads(json.dumps(req.to_json()))
