@@ -6,18 +6,41 @@ stopped early goes on with ``--resume`` and a second run cannot mix its pieces i
 that holds another request is refused, one line; ``--resume`` of a folder without a request, or of one
 whose pieces another version of the code computed, is refused, one line saying how to go on (that last
 one with :attr:`beveloid.errors.ErrorCode.STALE_RESULTS`); the request is written before any piece.
+:class:`RunResult` is what both runs return: how the run ended, a :class:`beveloid.result.Result`.
 """
 from __future__ import annotations
 
 import json
 import os
+from dataclasses import dataclass
 
-from .errors import ErrorCode, UserError
+from .errors import ErrorCode, StopReason, UserError
+from .result import Result, thaw
 
-__all__ = ["REQUEST", "RunStore", "version_text"]
+__all__ = ["REQUEST", "RunResult", "RunStore", "version_text"]
 
 #: the request's file in the run's folder
 REQUEST = "request.json"
+
+
+@dataclass(frozen=True, eq=False)
+class RunResult(Result):
+    """How a run that keeps its pieces in ``out_dir`` ended: ``stop`` None when it finished, else why it
+    stopped (a StopReason) and ``why``, a line saying so.  ``options``: the run's request (its ``to_json()``
+    is in the JSON); ``pair`` None (a run computes many designs)."""
+
+    out_dir: str
+    stop: StopReason | None
+    why: str
+
+    @property
+    def complete(self) -> bool:
+        return self.stop is None
+
+    def to_json(self) -> dict:
+        return {"out_dir": self.out_dir, "complete": self.complete,
+                "stop": None if self.stop is None else str(self.stop), "why": self.why or None,
+                "request": thaw(self.options.to_json())}
 
 
 def version_text(code: dict | None) -> str:

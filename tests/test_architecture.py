@@ -748,7 +748,7 @@ def _run_results():
               "objectives": {"pressure_mpa": 1.5}, "per_torque": {"pressure_mpa": [1.5]}}
     return {"explore": explore_run.ExploreRun("run", StopReason.INTERRUPTED, "interrupted (Ctrl-C)",
                                               options=explore_run.Request(plan, {"dx_mm": 0.5})),
-            "optimize": search.OptimizeRun("opt", [record], None, "", options=opt)}
+            "optimize": search.OptimizeRun("opt", None, "", [record], options=opt)}
 
 
 @pytest.mark.parametrize("name", ["explore", "optimize"])

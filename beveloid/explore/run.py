@@ -25,8 +25,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..errors import StopReason
-from ..result import Result, thaw
-from ..runstore import REQUEST, RunStore, version_text  # noqa: F401  (REQUEST: the CLI reads it here)
+from ..runstore import REQUEST, RunResult, RunStore, version_text  # noqa: F401  (REQUEST: the CLI reads it here)
 from .grid import Plan, Vary
 
 #: designs per chunk: large enough for the batched kernels, small enough to lose little on a stop
@@ -308,23 +307,9 @@ class Progress:
 
 
 @dataclass(frozen=True, eq=False)
-class ExploreRun(Result):
-    """How a run of :func:`execute` ended (its rows are in ``out_dir``): ``stop`` None when every chunk
-    and the base design's row finished, else why it stopped (a StopReason) and ``why``, a line saying so.
-    ``options``: the run's :class:`Request`; ``pair`` None (a run explores many designs)."""
-
-    out_dir: str
-    stop: StopReason | None
-    why: str
-
-    @property
-    def complete(self) -> bool:
-        return self.stop is None
-
-    def to_json(self) -> dict:
-        return {"out_dir": self.out_dir, "complete": self.complete,
-                "stop": None if self.stop is None else str(self.stop), "why": self.why or None,
-                "request": thaw(self.options.to_json())}
+class ExploreRun(RunResult):
+    """How a run of :func:`execute` ended (:class:`beveloid.runstore.RunResult`; its rows are in
+    ``out_dir``); ``options``: the run's :class:`Request`."""
 
 
 def execute(out_dir: str, req: Request, ex, progress=None,

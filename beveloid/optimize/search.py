@@ -25,8 +25,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import StopReason
-from ..result import Result, thaw
-from ..runstore import REQUEST, RunStore  # noqa: F401  (REQUEST: the CLI reads it here)
+from ..result import thaw
+from ..runstore import REQUEST, RunResult, RunStore  # noqa: F401  (REQUEST: the CLI reads it here)
 from ..status import EvaluationStatus
 from .evaluate import evaluate, evaluate_task
 from .request import Request
@@ -145,29 +145,19 @@ def baseline(out_dir: str, req: Request) -> dict:
 
 
 @dataclass(frozen=True, eq=False)
-class OptimizeRun(Result):
-    """How a run of :func:`run` ended: ``records``, the candidates' records in the order the algorithm asked
-    for them (each as kept in ``out_dir``/candidates/, frozen); ``stop`` None when the budget was spent, else
-    why it stopped (a StopReason) and ``why``, a line saying so.  ``options``: the run's :class:`Request`;
-    ``pair`` None (a run evaluates many designs)."""
+class OptimizeRun(RunResult):
+    """How a run of :func:`run` ended (:class:`beveloid.runstore.RunResult`), and its ``records``: the
+    candidates' records in the order the algorithm asked for them (each as kept in ``out_dir``/candidates/,
+    frozen); ``options``: the run's :class:`Request`."""
 
-    out_dir: str
-    records: tuple
-    stop: StopReason | None
-    why: str
-
-    @property
-    def complete(self) -> bool:
-        return self.stop is None
+    records: tuple = ()
 
     def record_dicts(self) -> list:
         """The records as the JSON files hold them (dicts and lists), for the report."""
         return thaw(self.records)
 
     def to_json(self) -> dict:
-        return {"out_dir": self.out_dir, "complete": self.complete,
-                "stop": None if self.stop is None else str(self.stop), "why": self.why or None,
-                "records": self.record_dicts(), "request": thaw(self.options.to_json())}
+        return dict(super().to_json(), records=self.record_dicts())
 
 
 def run(out_dir: str, req: Request, ex, progress=None, base: dict | None = None) -> OptimizeRun:
@@ -202,15 +192,15 @@ def run(out_dir: str, req: Request, ex, progress=None, base: dict | None = None)
                 save(out_dir, start + todo[k], rec)
                 batch[todo[k]] = rec
         except KeyboardInterrupt:
-            return OptimizeRun(out_dir, records + [r for r in batch if r is not None], StopReason.INTERRUPTED,
-                               str(StopReason.INTERRUPTED), options=req)
+            return OptimizeRun(out_dir, StopReason.INTERRUPTED, str(StopReason.INTERRUPTED),
+                               records + [r for r in batch if r is not None], options=req)
         except WorkLost as exc:
-            return OptimizeRun(out_dir, records + [r for r in batch if r is not None], StopReason.WORK_LOST,
-                               str(exc), options=req)
+            return OptimizeRun(out_dir, StopReason.WORK_LOST, str(exc), records + [r for r in batch if r is not None],
+                               options=req)
         if progress:
             progress(len(records) + len(X), req.budget, f"candidates ({len(X) - len(todo)} from disk)")
         FG = [told(req, r) for r in batch]
         pop.set("F", np.array([f for f, _ in FG]), "G", np.array([g for _, g in FG]))
         alg.tell(infills=pop)
         records += batch
-    return OptimizeRun(out_dir, records, None, "", options=req)
+    return OptimizeRun(out_dir, None, "", records, options=req)
