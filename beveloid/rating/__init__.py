@@ -4,9 +4,10 @@ the local stresses of the loaded contact, with permissible stresses and safety f
 ``analysis``, ``report``)."""
 from __future__ import annotations
 
-from .analysis import POSITIONS, LoadedContact, MemberRating, Options, SectionRating, analyze
+from .analysis import (BOX_PERCENTILE, MAX_TOLERANCE_SAMPLES, POSITIONS, LoadedContact, MemberRating, Options,
+                       SectionRating, analyze)
 from .report import RatingResult
 from .verdict import EXIT_STATUS, verdict
 
-__all__ = ["EXIT_STATUS", "LoadedContact", "MemberRating", "Options", "POSITIONS", "RatingResult",
-           "SectionRating", "analyze", "verdict"]
+__all__ = ["BOX_PERCENTILE", "EXIT_STATUS", "MAX_TOLERANCE_SAMPLES", "LoadedContact", "MemberRating", "Options",
+           "POSITIONS", "RatingResult", "SectionRating", "analyze", "verdict"]
