@@ -140,7 +140,7 @@ def strength_factors(spec, geometry, flank: str, contact_limit_mpa: dict, materi
         c_zl, c_zr = iso6336.lubricant_constant(s_hlim), iso6336.roughness_constant(s_hlim)
         if nu40 is None:
             z_l = StrengthFactor("Z_L", 1.0, {"sigma_Hlim_mpa": s_hlim},
-                                 "no oil viscosity at 40 C ([lubricant] iso_vg or kinematic_viscosity_40_mm2_s)")
+                                 "no oil viscosity at 40 C: [lubricant] iso_vg or kinematic_viscosity_40_mm2_s")
         else:
             z_l = StrengthFactor("Z_L", iso6336.lubricant_factor(c_zl, nu40),
                                  {"nu_40_mm2_s": nu40, "nu_40_from": nu40_from, "sigma_Hlim_mpa": s_hlim, "C_ZL": c_zl})
@@ -153,8 +153,8 @@ def strength_factors(spec, geometry, flank: str, contact_limit_mpa: dict, materi
         missing = [m for m in MEMBERS if rz[m][0] is None]
         if missing:
             z_r = StrengthFactor("Z_R", 1.0, {"sigma_Hlim_mpa": s_hlim},
-                                 f"no flank roughness of the {' and the '.join(missing)} (roughness_rz_um or "
-                                 "roughness_ra_um)")
+                                 f"no flank roughness of the {' and the '.join(missing)}: roughness_rz_um or "
+                                 "roughness_ra_um")
         else:
             sec = section_gear(geometry, member, 0.0, flank)
             virtual = iso6336.CylindricalPair(sec.gear, mate_gear(geometry, sec, flank), 1.0)
@@ -172,7 +172,7 @@ def strength_factors(spec, geometry, flank: str, contact_limit_mpa: dict, materi
         root_rz = getattr(spec, member).root_roughness_rz_um
         if root_rz is None:
             y_r = StrengthFactor("Y_RrelT", 1.0, {"group": mat.surface_group},
-                                 "no root_roughness_rz_um (taken as the reference test gear's root, R_z about 10 um)")
+                                 "no root_roughness_rz_um: taken as the reference test gear's root, R_z about 10 um")
         else:
             y_r = StrengthFactor("Y_RrelT", iso6336.relative_surface_factor(mat.surface_group, float(root_rz)),
                                  {"root_R_z_um": float(root_rz), "group": mat.surface_group})

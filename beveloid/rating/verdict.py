@@ -186,7 +186,7 @@ def assumptions(result) -> list:
                  "Z_R": "S_H up to ~15 % high for unground flanks", "Y_RrelT": "S_F as for the reference test gear"}
     for (name, why), members in left.items():
         whose = "" if len(members) == len(f.strength) else f" on the {members[0]}"
-        out.append(f"{name} = 1{whose} ({why}: {direction[name]})")
+        out.append(f"{name} = 1{whose} ({why}; {direction[name]})")
     if not f.strength:
         out.append("Z_L = Z_v = Z_R = Y_X = Y_RrelT = 1 (no strength factors computed)")
     out.append("Y_deltarelT = Z_W = Z_X = 1")

@@ -186,8 +186,8 @@ def test_the_tolerance_box_p90_raises_k_h_beta_above_the_aligned_value():
     (("teeth = 29 ", "roughness_rz_um = -1.0\nteeth = 29 "), (), "pinion.roughness_rz_um = -1"),
     (("teeth = 45 ", "root_roughness_rz_um = 500.0\nteeth = 45 "), (), "gear.root_roughness_rz_um = 500"),
     (("[misalignment]", "[rating]\ntolerance_samples = 2.5\n[misalignment]"), (), "rating.tolerance_samples = 2.5"),
-    (None, ("--samples", "-1"), "--samples = -1"),
-    (None, ("--samples", "2", "--tolerances", "vertical=9"), "--tolerances vertical=9"),
+    (None, ("--samples", "-1"), "--samples = -1: must be an integer from 0"),
+    (None, ("--samples", "2", "--tolerances", "vertical=9"), "--tolerances vertical=9: must be a number from 0 to 5"),
 ])
 def test_bad_strength_and_box_input_is_one_line_exit_2(capsys, tmp_path, edit, flags, fragment):
     text = CASE1_TEXT if edit is None else CASE1_TEXT.replace(*edit, 1)
