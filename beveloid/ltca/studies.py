@@ -28,13 +28,16 @@ CHUNK_SETS = 8
 
 def box_results(pair, load, options=None, *, solver=None) -> list:
     """``[[LTCAResult per torque] per error set]`` of ``load`` (its torques x its error sets), one
-    :func:`beveloid.ltca.analyze_many` per :data:`CHUNK_SETS` sets, all with ``solver``."""
+    :func:`beveloid.ltca.analyze_many` per :data:`CHUNK_SETS` sets, all with ``solver``, without the
+    grid-convergence indicator (``convergence=False``: neither the box nor optimize reports it; each
+    result's ``convergence`` is nan, every other number that of :func:`beveloid.ltca.analyze`)."""
     from . import analyze_many
 
     sets = load.error_sets(pair)
     out = []
     for start in range(0, len(sets), CHUNK_SETS):
-        out += analyze_many(pair, load.at(errors=sets[start:start + CHUNK_SETS]), options, solver=solver).results
+        out += analyze_many(pair, load.at(errors=sets[start:start + CHUNK_SETS]), options, solver=solver,
+                            convergence=False).results
     return out
 
 
