@@ -10,8 +10,8 @@ from __future__ import annotations
 
 from .verdict import EXIT_STATUS, verdict
 
-__all__ = ["EXIT_STATUS", "LoadedContact", "MemberRating", "Options", "POSITIONS", "RatingResult",
-           "SectionRating", "analyze", "verdict"]
+__all__ = ["BOX_PERCENTILE", "EXIT_STATUS", "LoadedContact", "MAX_TOLERANCE_SAMPLES", "MemberRating", "Options",
+           "POSITIONS", "RatingResult", "SectionRating", "analyze", "verdict"]
 
 
 def __getattr__(name):
