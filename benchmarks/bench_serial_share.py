@@ -21,8 +21,11 @@ M_W the tasks' makespan on W workers (each takes the next task in order as soon 
 or uneven tasks it exceeds P / W) and U what every worker pays again before its first task that the
 one-worker run counts inside P: the start of a worker process (a fresh Python's imports and numba's cache
 loads, measured here by a process that runs ``beveloid.parallel.warm_up`` with the command's initializer,
-its exit included) and, for a command without an initializer, the excess of the first task over the
-median task (the FE data read in the worker); U = 0 for sweep (threads of one process).  F_W: the figure tasks on W workers
+its exit included) and, for optimize, the excess of the first task over the median task (the FE data read
+in the worker); for ltca, whose first task (the file's errors) is smaller than the others, a fresh
+process that starts so and then analyses the pair at one position (the LTCA's imports and cache loads,
+the FE data read: ``LTCA_FIRST``; what it takes more than a bare start is taken off the one-worker run's
+first task, which paid it too); U = 0 for sweep (threads of one process).  F_W: the figure tasks on W workers
 (W >= 4: the longest one plus matplotlib's import, measured in a fresh process, which each of those
 workers pays; the one-worker run paid it once).  Speed-up T_1 / T_W.
 
@@ -128,15 +131,21 @@ def child(kind: str, argv: list) -> dict:
 
 #: the initializer each command gives its local workers (beveloid.parallel.executor's ``initializer``)
 INITIALIZERS = {"explore": "beveloid.explore.run:warm_up"}
+#: what a worker of ltca --samples does before its first task's own work, as a fresh process does it: its
+#: start, then a one-position analysis of the pair (the LTCA's imports and cache loads, the FE data read)
+LTCA_FIRST = ("from beveloid import ltca; from beveloid.ltca import studies; from beveloid.pair import Pair;"
+              " from beveloid.spec import load_spec; studies._task(('box', Pair.from_spec(load_spec({spec!r})),"
+              " ltca.LoadCase([100.0]), ltca.Options(positions=1)))")
 
 
-def worker_start(initializer: str | None = None) -> float:
+def worker_start(initializer: str | None = None, then: str = "") -> float:
     """Wall seconds of a fresh process that starts as a local worker does (beveloid.parallel.warm_up with the
-    command's ``initializer``, "module:function"), its exit included."""
+    command's ``initializer``, "module:function"), then runs ``then``, its exit included."""
     code = "from beveloid import parallel; parallel.warm_up()"
     if initializer:
         module, name = initializer.split(":")
         code = f"from beveloid import parallel; from {module} import {name}; parallel.warm_up({name})"
+    code += f"; {then}" if then else ""
     t = time.perf_counter()
     subprocess.run([sys.executable, "-c", code], check=True, env=dict(os.environ, PYTHONPATH=str(ROOT)),
                    cwd=tempfile.gettempdir())
@@ -172,11 +181,11 @@ def main():
     with tempfile.TemporaryDirectory(prefix="serial_") as tmp_name:
         tmp = Path(tmp_name)
         cmds = commands(tmp, a.budget)
-        starts = {k: worker_start(INITIALIZERS.get(k)) for k in a.kinds if k != "sweep"}
+        starts = {k: worker_start(INITIALIZERS.get(k)) for k in a.kinds if k not in ("sweep", "ltca")}
         mpl = figures_start() if "explore" in a.kinds else 0.0
         print(f"a worker's start (beveloid.parallel.warm_up with the command's initializer, in a fresh process):"
-              f" {', '.join(f'{k} {v:.2f} s' for k, v in starts.items())}; load average {os.getloadavg()[0]:.1f}",
-              flush=True)
+              f" {', '.join(f'{k} {v:.2f} s' for k, v in starts.items()) or '-'}; load average"
+              f" {os.getloadavg()[0]:.1f}", flush=True)
         for kind in a.kinds:
             small = list(cmds[kind])  # a small run first: numba's cache (and the FE data of the tilted pair)
             if kind == "ltca":
@@ -188,6 +197,9 @@ def main():
             if kind == "sweep":
                 small[small.index("--samples") + 1] = "4"
             child(kind, small)
+            if kind == "ltca":  # (after the small run: the FE data is on disk, as for the command's workers)
+                starts[kind] = worker_start(then=LTCA_FIRST.format(spec=cmds[kind][1]))
+                loads = max(0.0, starts[kind] - worker_start())  # the LTCA's imports, cache loads, FE data read
             for r in range(a.rounds):
                 for path in tmp.glob("*/"):
                     subprocess.run(["rm", "-rf", str(path)], check=True)
@@ -200,8 +212,11 @@ def main():
                 S = T1 - P - F
                 # what the one-worker run loaded in its first task a worker loads before its first: in its
                 # initializer (then in its measured start) or in its first task (then this excess)
-                first = (tasks[0] - statistics.median(tasks)) if len(tasks) > 2 and kind not in INITIALIZERS else 0.0
+                first = ((tasks[0] - statistics.median(tasks)) if len(tasks) > 2 and kind not in INITIALIZERS
+                         and kind != "ltca" else 0.0)
                 U = 0.0 if kind == "sweep" else starts[kind] + max(first, 0.0)
+                if kind == "ltca":  # the one-worker run's first task paid the loads each worker pays in U
+                    first = min(loads, tasks[0])
                 if first > 0:
                     tasks[0] -= first  # (paid once per worker, in U)
                 # the figures, one task each, at once on min(W, figures) workers: each of those workers imports
@@ -222,6 +237,8 @@ def main():
                       f"{cpu:.2f} s, outside {cpu_share}); each worker's "
                       f"start {U:.2f} s; projected on {a.workers} workers {TW:.2f} s, speed-up {T1 / TW:.1f}x "
                       f"(load {os.getloadavg()[0]:.1f})", flush=True)
+                print(f"  tasks (s): first {res['took'][0][0]:.2f}, median {statistics.median(tasks):.2f}, largest"
+                      f" {max(tasks):.2f}", flush=True)
                 print(f"  command: beveloid {' '.join(Path(x).name if x.startswith(str(tmp)) else x for x in cmds[kind])}",
                       flush=True)
 

@@ -379,3 +379,22 @@ def test_without_the_convergence_indicator_every_other_number_is_the_same(pair):
     rows = ltca.studies.tolerance_box(pair, load, options)
     assert [[r["te_peak_to_peak_urad"] for r in row] for row in rows] == \
         [[summary(r)["te_peak_to_peak_urad"] for r in row] for row in full]
+
+
+def test_the_tolerance_box_hands_out_small_tasks_with_the_numbers_of_whole_batches(pair, monkeypatch):
+    """Issue 59: the box's workers get TASK_SETS error sets a task (64 sets in tasks of 8 kept at most 8 workers
+    busy); every set's row is bit-identical to those of box_results, which batches CHUNK_SETS sets a call (a
+    set's numbers do not depend on the sets analysed with it)."""
+    options = ltca.Options(**SMALL)
+    draws = np.array([[0.01 * k, 0.0, -0.005 * k, 0.0, 0.0] for k in range(5)])
+    load = ltca.LoadCase([150.0, 300.0]).at(errors=draws)
+    tasks = []
+    real = ltca.studies._chunk
+    monkeypatch.setattr(ltca.studies, "_chunk", lambda task: tasks.append(len(task[1].error_sets(pair))) or real(task))
+    rows = ltca.studies.tolerance_box(pair, load, options)
+    assert ltca.studies.TASK_SETS < ltca.studies.CHUNK_SETS and tasks == [2, 2, 1]
+    whole = ltca.studies.box_results(pair, load, options)  # one call of 5 sets
+    assert [[r["te_peak_to_peak_urad"] for r in row] for row in rows] == \
+        [[summary(r)["te_peak_to_peak_urad"] for r in row] for row in whole]
+    assert [[r["max_pressure_mpa"] for r in row] for row in rows] == \
+        [[summary(r)["max_pressure_mpa"] for r in row] for row in whole]
