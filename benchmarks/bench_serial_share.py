@@ -12,11 +12,22 @@ ltca ``ltca.studies._task``: its chunks and the analyses at the file's errors, o
 ``seconds`` (the error sets solved on the threads, ``SweepResult.seconds``).  Outside (serial): the rest
 of the command's wall time: start-up, reading the spec, set-up, gathering, writing, figures.
 
-The projection for W workers: T_W = S + U + P / W, T_1 = S + P (S outside, P inside, wall seconds) and
-U what every worker pays again before its first task that the one-worker run counts inside P: the
-start of a worker process (a fresh Python's imports and numba's cache loads, measured here by a process
-that runs ``beveloid.parallel.warm_up``) and the excess of the first task over the median task (the FE
-data read in the worker); U = 0 for sweep (threads of one process).  Speed-up T_1 / T_W.
+explore's figures are tasks of its executor too (``explore.report.draw_figure``, one per figure, drawn by
+the workers while the command writes its data files): timed apart (F), they are neither outside nor
+divided by W, as they run on at most as many workers as there are figures.
+
+The projection for W workers: T_W = S + U + M_W + F_W, T_1 = S + P + F (S outside, P inside, wall seconds);
+M_W the tasks' makespan on W workers (each takes the next task in order as soon as it is free: with fewer
+or uneven tasks it exceeds P / W) and U what every worker pays again before its first task that the
+one-worker run counts inside P: the start of a worker process (a fresh Python's imports and numba's cache
+loads, measured here by a process that runs ``beveloid.parallel.warm_up`` with the command's initializer,
+its exit included) and, for optimize, the excess of the first task over the median task (the FE data read
+in the worker); for ltca, whose first task (the file's errors) is smaller than the others, a fresh
+process that starts so and then analyses the pair at one position (the LTCA's imports and cache loads,
+the FE data read: ``LTCA_FIRST``; what it takes more than a bare start is taken off the one-worker run's
+first task, which paid it too); U = 0 for sweep (threads of one process).  F_W: the figure tasks on W workers
+(W >= 4: the longest one plus matplotlib's import, measured in a fresh process, which each of those
+workers pays; the one-worker run paid it once).  Speed-up T_1 / T_W.
 
 The commands (case 1 from ``beveloid example``; ltca and optimize on it tilted by vertical_deg = 0.05,
 docs/optimize.md's spec, FE tooth, FE data cached by a warm-up run):
@@ -31,6 +42,7 @@ docs/optimize.md's spec, FE tooth, FE data cached by a warm-up run):
 from __future__ import annotations
 
 import argparse
+import heapq
 import json
 import os
 import statistics
@@ -47,28 +59,33 @@ import json, os, sys, tempfile, time
 t_start = time.perf_counter()
 from beveloid.cli import main
 kind, argv = sys.argv[1], sys.argv[2:]
-took = []
+took, figures = [], []
 if kind != "sweep":
     import importlib
-    module, name = {"explore": ("beveloid.explore.run", "compute_chunk"), "ltca": ("beveloid.ltca.studies", "_task"),
-                    "optimize": ("beveloid.optimize.search", "evaluate_task")}[kind]
-    mod = importlib.import_module(module)
-    fn = getattr(mod, name)
-    def timed(*a, **k):
-        t, c = time.perf_counter(), time.process_time()
-        try:
-            return fn(*a, **k)
-        finally:
-            took.append((time.perf_counter() - t, time.process_time() - c))
-    setattr(mod, name, timed)  # looked up by the command at each call
+    timed_fns = {"explore": [("beveloid.explore.run", "compute_chunk", took),
+                             ("beveloid.explore.report", "draw_figure", figures)],
+                 "ltca": [("beveloid.ltca.studies", "_task", took)],
+                 "optimize": [("beveloid.optimize.search", "evaluate_task", took)]}[kind]
+    def timing(fn, into):
+        def timed(*a, **k):
+            t, c = time.perf_counter(), time.process_time()
+            try:
+                return fn(*a, **k)
+            finally:
+                into.append((time.perf_counter() - t, time.process_time() - c))
+        return timed
+    for module, name, into in timed_fns:
+        mod = importlib.import_module(module)
+        setattr(mod, name, timing(getattr(mod, name), into))  # looked up by the command at each call
 import contextlib, io
 buf = io.StringIO()
+sys.argv = ["beveloid", *argv]  # main() as the script calls it: its collector settings and gc.freeze before the exit
 with contextlib.redirect_stdout(buf):
-    rc = main(argv)
+    rc = main()
 out = buf.getvalue()
 if kind == "sweep":
     took.append((json.loads(out)["seconds"], float("nan")))
-print(json.dumps({"rc": rc, "took": took, "in_process": time.perf_counter() - t_start}))
+print(json.dumps({"rc": rc, "took": took, "figures": figures, "in_process": time.perf_counter() - t_start}))
 """
 
 
@@ -112,12 +129,46 @@ def child(kind: str, argv: list) -> dict:
     return out
 
 
-def worker_start() -> float:
-    """Wall seconds of a fresh process that starts as a local worker does (beveloid.parallel.warm_up)."""
+#: the initializer each command gives its local workers (beveloid.parallel.executor's ``initializer``)
+INITIALIZERS = {"explore": "beveloid.explore.run:warm_up"}
+#: what a worker of ltca --samples does before its first task's own work, as a fresh process does it: its
+#: start, then a one-position analysis of the pair (the LTCA's imports and cache loads, the FE data read)
+LTCA_FIRST = ("from beveloid import ltca; from beveloid.ltca import studies; from beveloid.pair import Pair;"
+              " from beveloid.spec import load_spec; studies._task(('box', Pair.from_spec(load_spec({spec!r})),"
+              " ltca.LoadCase([100.0]), ltca.Options(positions=1)))")
+
+
+def worker_start(initializer: str | None = None, then: str = "") -> float:
+    """Wall seconds of a fresh process that starts as a local worker does (beveloid.parallel.warm_up with the
+    command's ``initializer``, "module:function"), then runs ``then``, its exit included."""
+    code = "from beveloid import parallel; parallel.warm_up()"
+    if initializer:
+        module, name = initializer.split(":")
+        code = f"from beveloid import parallel; from {module} import {name}; parallel.warm_up({name})"
+    code += f"; {then}" if then else ""
     t = time.perf_counter()
-    subprocess.run([sys.executable, "-c", "from beveloid import parallel; parallel.warm_up()"], check=True,
-                   env=dict(os.environ, PYTHONPATH=str(ROOT)), cwd=tempfile.gettempdir())
+    subprocess.run([sys.executable, "-c", code], check=True, env=dict(os.environ, PYTHONPATH=str(ROOT)),
+                   cwd=tempfile.gettempdir())
     return time.perf_counter() - t
+
+
+def makespan(tasks: list, workers: int) -> float:
+    """Seconds until the last of ``tasks`` (seconds each, in the order they are handed out) ends on ``workers``
+    workers that each take the next task as soon as they are free (a process pool's queue)."""
+    free = [0.0] * workers
+    for t in tasks:
+        heapq.heapreplace(free, free[0] + t)
+    return max(free)
+
+
+def figures_start() -> float:
+    """Wall seconds of matplotlib's import in a fresh process (what each worker that draws a figure pays once),
+    less a bare Python's start."""
+    def timed(code):
+        t = time.perf_counter()
+        subprocess.run([sys.executable, "-c", code], check=True, cwd=tempfile.gettempdir())
+        return time.perf_counter() - t
+    return max(0.0, timed("import matplotlib.figure, matplotlib.backends.backend_agg") - timed("pass"))
 
 
 def main():
@@ -130,9 +181,11 @@ def main():
     with tempfile.TemporaryDirectory(prefix="serial_") as tmp_name:
         tmp = Path(tmp_name)
         cmds = commands(tmp, a.budget)
-        start = worker_start()
-        print(f"a worker's start (beveloid.parallel.warm_up in a fresh process): {start:.2f} s; load average "
-              f"{os.getloadavg()[0]:.1f}", flush=True)
+        starts = {k: worker_start(INITIALIZERS.get(k)) for k in a.kinds if k not in ("sweep", "ltca")}
+        mpl = figures_start() if "explore" in a.kinds else 0.0
+        print(f"a worker's start (beveloid.parallel.warm_up with the command's initializer, in a fresh process):"
+              f" {', '.join(f'{k} {v:.2f} s' for k, v in starts.items()) or '-'}; load average"
+              f" {os.getloadavg()[0]:.1f}", flush=True)
         for kind in a.kinds:
             small = list(cmds[kind])  # a small run first: numba's cache (and the FE data of the tilted pair)
             if kind == "ltca":
@@ -144,25 +197,48 @@ def main():
             if kind == "sweep":
                 small[small.index("--samples") + 1] = "4"
             child(kind, small)
+            if kind == "ltca":  # (after the small run: the FE data is on disk, as for the command's workers)
+                starts[kind] = worker_start(then=LTCA_FIRST.format(spec=cmds[kind][1]))
+                loads = max(0.0, starts[kind] - worker_start())  # the LTCA's imports, cache loads, FE data read
             for r in range(a.rounds):
                 for path in tmp.glob("*/"):
                     subprocess.run(["rm", "-rf", str(path)], check=True)
                 res = child(kind, cmds[kind])
                 tasks = [w for w, _ in res["took"]]
-                cpu_in = sum(c for _, c in res["took"])
-                P = sum(tasks)
+                figs = [w for w, _ in res["figures"]]
+                cpu_in = sum(c for _, c in res["took"] + res["figures"])
+                P, F = sum(tasks), sum(figs)
                 T1 = res["wall"]
-                S = T1 - P
-                first = (tasks[0] - statistics.median(tasks)) if len(tasks) > 2 else 0.0
-                U = 0.0 if kind == "sweep" else start + max(first, 0.0)
-                TW = S + U + P / a.workers
+                S = T1 - P - F
+                # what the one-worker run loaded in its first task a worker loads before its first: in its
+                # initializer (then in its measured start) or in its first task (then this excess)
+                first = ((tasks[0] - statistics.median(tasks)) if len(tasks) > 2 and kind not in INITIALIZERS
+                         and kind != "ltca" else 0.0)
+                U = 0.0 if kind == "sweep" else starts[kind] + max(first, 0.0)
+                if kind == "ltca":  # the one-worker run's first task paid the loads each worker pays in U
+                    first = min(loads, tasks[0])
+                if first > 0:
+                    tasks[0] -= first  # (paid once per worker, in U)
+                # the figures, one task each, at once on min(W, figures) workers: each of those workers imports
+                # matplotlib (the one-worker run paid it once, in its first figure)
+                FW = 0.0
+                if figs:
+                    imp = min(mpl, figs[0])
+                    draws = sorted([figs[0] - imp] + figs[1:], reverse=True)
+                    FW = imp + sum(draws[::min(a.workers, len(draws))])  # (W >= figures: the longest)
+                TW = S + U + makespan(tasks, a.workers) + FW
                 cpu = res["cpu"]
                 cpu_share = f"{100 * (cpu - cpu_in) / cpu:.1f} %" if kind != "sweep" else "-"
+                fig_text = (f", in the figure tasks {F:.2f} s ({len(figs)}; on {a.workers} workers {FW:.2f} s with"
+                            f" matplotlib's import {mpl:.2f} s)" if figs else "")
                 print(f"{kind} (round {r + 1}): one worker {T1:.2f} s wall, inside the workers' function "
-                      f"{P:.2f} s ({len(tasks)} calls), outside {S:.2f} s = {100 * S / T1:.1f} % (CPU: "
+                      f"{P:.2f} s ({len(tasks)} calls; on {a.workers} workers {makespan(tasks, a.workers):.2f} s)"
+                      f"{fig_text}, outside {S:.2f} s = {100 * S / T1:.1f} % (CPU: "
                       f"{cpu:.2f} s, outside {cpu_share}); each worker's "
                       f"start {U:.2f} s; projected on {a.workers} workers {TW:.2f} s, speed-up {T1 / TW:.1f}x "
                       f"(load {os.getloadavg()[0]:.1f})", flush=True)
+                print(f"  tasks (s): first {res['took'][0][0]:.2f}, median {statistics.median(tasks):.2f}, largest"
+                      f" {max(tasks):.2f}", flush=True)
                 print(f"  command: beveloid {' '.join(Path(x).name if x.startswith(str(tmp)) else x for x in cmds[kind])}",
                       flush=True)
 

@@ -1,7 +1,7 @@
 """Where the batched loaded engine's CPU time goes: one ``ltca.analyze_many`` call split into its parts.
 
     python benchmarks/ltca_time_split.py [SPEC | --case case1] [--torques-nm 100,200,400] [--sets 8]
-                                         [--tooth-model fe] [--positions 20] [--repeats 3]
+                                         [--tooth-model fe] [--positions 20] [--repeats 3] [--convergence]
 
 Not a test.  One BLAS thread; one warm-up call (numba's cache, the FE data); then the call with the
 least process CPU time of ``--repeats``, its parts timed by wrapping the engine's functions (CPU time
@@ -10,8 +10,9 @@ compliance tables (``ltca.passes.cycle.compliance_tables``: half-space tables, t
 compliances), the contact solve of every pass (``ltca.passes.cycle.solve_many`` less the two before: the
 dense blocks and the active set), the root stresses (``ltca.model.teeth.root_stresses``) and the rest (the rigid reference, grids, results).  The
 error sets: none, then ``--sets - 1`` small ones, as benchmarks/bench_ltca.py draws them.  The
-default (case 1 tilted by 0.05 deg, three torques, 8 sets) is one call of ``beveloid optimize``'s
-candidate (docs/optimize.md section 6: the candidate makes two).
+default (case 1 tilted by 0.05 deg, three torques, 8 sets, no convergence indicator) is one call of
+``beveloid optimize``'s candidate (docs/optimize.md section 6: the candidate makes two);
+``--convergence``: with the indicator, as ``ltca.analyze`` runs by default.
 """
 from __future__ import annotations
 
@@ -42,6 +43,9 @@ def main():
     ap.add_argument("--tooth-model", choices=("fe", "plate"), default="fe")
     ap.add_argument("--positions", type=int, default=20)
     ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--convergence", action="store_true",
+                    help="with the grid-convergence indicator (ltca.analyze's default; the tolerance box and optimize "
+                         "leave it out: ltca.studies.box_results)")
     a = ap.parse_args()
 
     import importlib
@@ -77,7 +81,8 @@ def main():
         setattr(owner, name_, timed)
 
     def call():
-        return ltca.analyze_many(pair, ltca.LoadCase(torques, errors=sets), options, solver=Solver())
+        return ltca.analyze_many(pair, ltca.LoadCase(torques, errors=sets), options, solver=Solver(),
+                                 convergence=a.convergence)
 
     call()
     best = None
@@ -95,7 +100,8 @@ def main():
             ("the rest", total - s["passes"] - s["root"])]
     cases = len(torques) * len(sets)
     print(f"{name}: {a.tooth_model} tooth, {a.positions} positions x {len(torques)} torques x {len(sets)} error sets "
-          f"({cases} analyses) in one call: {total:.3f} CPU s ({1e3 * total / cases:.1f} ms an analysis)")
+          f"({cases} analyses) in one call, {'with' if a.convergence else 'without'} the convergence indicator: "
+          f"{total:.3f} CPU s ({1e3 * total / cases:.1f} ms an analysis)")
     for label, v in rows:
         print(f"  {label:30s} {v:7.3f} s  {100 * v / total:5.1f} %")
 

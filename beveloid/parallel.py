@@ -22,6 +22,11 @@ workers, so one worker, N local workers and a cluster give the same results bit 
   once per worker process when the client registers it; a worker on a machine without numba's
   cache compiles it there once.
 
+``map_unordered`` hands every item to the workers when it is called (local processes and a cluster
+start on them at once, so that the caller can do other work meanwhile; in this process they run as
+they are iterated).  ``shares_files``: whether the workers write to this process's file system (this
+process and local processes do; a cluster's workers may be other machines).
+
 A lost local worker or a cluster that gives up on a chunk ends the iteration with
 :class:`WorkLost` after every finished result was yielded; Ctrl-C (KeyboardInterrupt) passes
 through the same way.  The callers keep what finished.
@@ -77,9 +82,16 @@ def load_solver() -> None:
 
 def warm_up(initializer=None) -> None:
     """A worker's start: numba single-threaded, then ``initializer`` (a module-level function that runs
-    the work once, so that every compiled function it needs is loaded) or :func:`load_solver`."""
+    the work once, so that every compiled function it needs is loaded) or :func:`load_solver`; then the
+    objects made so far (imports, numba's cache loads: ~10^5 that live as long as the worker) are moved
+    out of the garbage collector's reach (``gc.freeze``, as the ``beveloid`` script does before its exit):
+    neither the collections during its tasks nor its exit walk them (a worker's exit took ~0.35 s
+    more without it, docs/performance.md)."""
+    import gc
+
     single_threaded()
     (initializer or load_solver)()
+    gc.freeze()
 
 
 def single_threaded() -> None:
@@ -101,6 +113,8 @@ def default_workers() -> int:
 
 
 class _Serial:
+    shares_files = True
+
     def __init__(self):
         self.description = "1 worker (this process)"
 
@@ -144,6 +158,8 @@ def _sigint_blocked():
 
 
 class _Local:
+    shares_files = True
+
     def __init__(self, workers: int, initializer=None):
         self.workers = workers
         self.initializer = initializer
@@ -157,6 +173,8 @@ class _Local:
         return self
 
     def __exit__(self, *exc):
+        if exc[0] is not None and issubclass(exc[0], KeyboardInterrupt):
+            self._stop_processes()  # a Ctrl-C outside map_unordered's loop: work still submitted is abandoned
         self._pool.shutdown(wait=exc[0] is None, cancel_futures=True)
         return False
 
@@ -164,6 +182,9 @@ class _Local:
         # the first submits start the processes: they never see the terminal's Ctrl-C, and run on one thread
         with _sigint_blocked(), one_thread_environment():
             futures = {self._pool.submit(fn, item): i for i, item in enumerate(items)}
+        return self._results(futures)
+
+    def _results(self, futures):
         try:
             for fut in cf.as_completed(futures):
                 try:
@@ -246,6 +267,8 @@ def _lost_chunk_errors() -> tuple[type[BaseException], ...]:
 
 
 class _Dask:
+    shares_files = False
+
     def __init__(self, address: str, initializer=None):
         self.address = address
         self.initializer = initializer
@@ -278,10 +301,12 @@ class _Dask:
         return False
 
     def map_unordered(self, fn, items):
+        futures = self._client.map(fn, list(items), pure=False)
+        return self._results(futures)
+
+    def _results(self, futures):
         from distributed import as_completed
 
-        items = list(items)
-        futures = self._client.map(fn, items, pure=False)
         index = {f.key: i for i, f in enumerate(futures)}
         try:
             for fut in as_completed(futures):

@@ -27,6 +27,8 @@ import ast
 import functools
 import importlib
 import re
+import subprocess
+import sys
 import typing
 from pathlib import Path
 
@@ -811,3 +813,25 @@ def test_a_bad_option_is_one_option_error_naming_its_key_not_a_flag():
         found[(analysis, bad)] = f"{where}({kwargs}) accepted"
     only_pending(found, PENDING_OPTION_ERRORS, "a bad option raises OptionError(key, value, requirement)",
                  "PENDING_OPTION_ERRORS")
+
+
+def test_reading_a_spec_imports_no_analysis_and_the_lazy_names_resolve(tmp_path):
+    """Issue 59: the spec's checks of a material and a lubricant (rating.materials, tribology.lubricant) import
+    neither the rating's nor the tribology's analysis (nor the LTCA, scipy.special, sympy): their packages'
+    names are imported on first use, and every one of them still resolves."""
+    heavy = ("beveloid.rating.analysis", "beveloid.tribology.analysis", "beveloid.ltca", "scipy.special", "sympy")
+    code = ("import sys; from beveloid.spec import load_example; load_example('case1');"
+            " assert 'beveloid.rating.materials' in sys.modules and 'beveloid.tribology.lubricant' in sys.modules;"
+            f" print([m for m in {heavy!r} if m in sys.modules])")
+    proc = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True)
+    assert proc.returncode == 0 and proc.stdout.strip() == "[]", proc.stdout + proc.stderr
+    from beveloid import rating, tribology
+    from beveloid.rating import analysis
+    from beveloid.tribology import cells
+
+    assert rating.analyze is analysis.analyze and rating.RatingResult.__name__ == "RatingResult"
+    assert rating.verdict.__module__ == "beveloid.rating.verdict"  # the function, not its module
+    assert tribology.Cells is cells.Cells and tribology.build is cells.build
+    assert callable(tribology.evaluate_cells) and tribology.PitchPoint.__name__ == "PitchPoint"
+    with pytest.raises(AttributeError, match="no attribute 'nothing'"):
+        rating.nothing  # noqa: B018

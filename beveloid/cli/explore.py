@@ -161,10 +161,10 @@ def run(args: argparse.Namespace) -> int:
     try:
         with ex:
             ran = runner.execute(out, req, ex, runner.Progress(chunks.designs), chunks)
-            where = ex.description
             late.start()
-        return _finish(args, out, req, chunks, (ran.stop, ran.why, where, time.perf_counter() - t0), late,
-                       created_here)
+            # the figures are drawn by the workers of a run that ended well (else here)
+            return _finish(args, out, req, chunks, (ran.stop, ran.why, ex.description, time.perf_counter() - t0),
+                           late, created_here, ex if ran.stop is None else None)
     except KeyboardInterrupt:  # a second Ctrl-C while the outputs were written (whole files or none)
         interrupts.reported()
         if not chunks.parts and created_here(out):
@@ -187,9 +187,10 @@ def _designs(n: int) -> str:
     return f"{n} design{'' if n == 1 else 's'}"
 
 
-def _finish(args, out, req, chunks, ended, late, created_here) -> int:
-    """The outputs of what finished: the base design's row, the Pareto front, the files; the lines that say
-    how the run ended (``ended``: why it stopped, in words, where it ran, seconds)."""
+def _finish(args, out, req, chunks, ended, late, created_here, ex=None) -> int:
+    """The outputs of what finished: the base design's row, the Pareto front, the files (the figures drawn on
+    the executor ``ex`` while the data files are written, or here when None); the lines that say how the run
+    ended (``ended``: why it stopped, in words, where it ran, seconds)."""
     from .. import interrupts
     from ..explore import report, rows
     from ..explore import run as runner
@@ -220,8 +221,9 @@ def _finish(args, out, req, chunks, ended, late, created_here) -> int:
     summ = report.summary(req, table, base_row, complete, why, seconds, where)
     figures = []
     if table:
+        drawn = report.drawn_figures(req, table, base_row, ex)
         report.write_data(out, table, chunks.csv_rows(), summ)
-        figures = report.write_figures(out, req, table, base_row, go_on=lambda: not late.pressed)
+        figures = report.write_figures(out, drawn, go_on=lambda: not late.pressed)
     if args.json:
         print(json.dumps(dict(summ, rows=report.records(table)), allow_nan=False))
     else:
@@ -242,9 +244,13 @@ def _finish(args, out, req, chunks, ended, late, created_here) -> int:
 
 
 def _discard(out, runner) -> None:
-    """Remove the request and the (empty) chunk folder a run wrote into ``out``."""
+    """Remove the request, the chunk folder and the chunk files a run wrote into ``out``."""
     import os
 
+    folder = os.path.join(out, runner.CHUNKS)  # (chunk files a worker wrote before its result came back)
+    for name in os.listdir(folder) if os.path.isdir(folder) else ():
+        if name.startswith("chunk_"):
+            os.remove(os.path.join(folder, name))
     for remove, name in ((os.remove, runner.REQUEST), (os.rmdir, runner.CHUNKS)):
         try:
             remove(os.path.join(out, name))

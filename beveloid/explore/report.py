@@ -5,7 +5,9 @@ design or flank carries no number), ``pareto.csv`` (the Pareto designs), ``summa
 ``heatmap_fpd.png`` / ``heatmap_sensitivity.png`` (over the first two varied keys),
 ``pareto.png`` (the objectives, the front and the base design), ``pareto_table.png`` (the first
 :data:`PARETO_ROWS` Pareto designs by FPD angle).  Each file is written under a temporary name and
-renamed, so a stopped run leaves whole files or none.
+renamed, so a stopped run leaves whole files or none.  The figures are drawn as tasks of the run's
+executor (:func:`draw_figure`: the PNG's bytes, from the columns each figure shows), so that on
+several workers they are drawn at once, while this process writes the data files.
 
 The CSV text is made column by column (:func:`cell_texts`): text as it is (quoted as ``csv.writer``
 quotes), ``true``/``false``, integers, floats by ``repr`` (17 significant digits: the same rows give
@@ -15,6 +17,7 @@ chunk is computed (:func:`csv_rows`, on the workers); the files are then those t
 """
 from __future__ import annotations
 
+import io
 import itertools
 import json
 import os
@@ -162,9 +165,13 @@ def _figure(width_in: float, height_in: float):
     return Figure(figsize=(width_in, height_in))
 
 
-def _save(fig, path: str) -> None:
-    """The figure as a PNG at ``path``, written under a temporary name and renamed (whole or absent)."""
-    tmp = path + ".tmp.png"
+def _save(fig, path) -> None:
+    """The figure as a PNG at ``path``, written under a temporary name and renamed (whole or absent); into
+    ``path`` when it is a binary file object (:func:`draw_figure`)."""
+    if not isinstance(path, (str, os.PathLike)):
+        fig.savefig(path, format="png", dpi=90, pil_kwargs={"compress_level": 1})
+        return
+    tmp = os.fspath(path) + ".tmp.png"
     try:
         fig.savefig(tmp, dpi=90, pil_kwargs={"compress_level": 1})  # (small files either way)
         os.replace(tmp, path)
@@ -337,18 +344,72 @@ def write_data(out_dir: str, table: dict, parts: list, summ: dict) -> list[str]:
     return paths
 
 
-def write_figures(out_dir: str, req, table: dict, base_row: dict, go_on=lambda: True) -> list[str]:
-    """The figures, one after the other while ``go_on()``; the paths of those drawn."""
-    base = base_row or {}
-    draw = (lambda p: heatmap(p, req, table, "max_fpd_angle_deg", "largest FPD angle (deg)", base),
-            lambda p: heatmap(p, req, table, "worst_path_shift_mm", "worst path shift in the tolerance box (mm)",
-                              base, log=True),
-            lambda p: pareto_scatter(p, req, table, base),
-            lambda p: pareto_table(p, req, table))
+class FigureTask(NamedTuple):
+    """What a worker gets to draw one figure: its name (of :data:`FIGURES`), the request's ``plan`` (a
+    :class:`beveloid.explore.grid.Plan`) and ``mc`` (all a figure reads of the request), the table's
+    columns the figure shows and the base design's row."""
+
+    name: str
+    plan: object
+    mc: int
+    table: dict
+    base_row: dict
+
+
+def _heatmap_fpd(path, req, table, base_row):
+    heatmap(path, req, table, "max_fpd_angle_deg", "largest FPD angle (deg)", base_row)
+
+
+def _heatmap_sensitivity(path, req, table, base_row):
+    heatmap(path, req, table, "worst_path_shift_mm", "worst path shift in the tolerance box (mm)", base_row, log=True)
+
+
+def _pareto_table(path, req, table, base_row):
+    pareto_table(path, req, table)
+
+
+#: each figure's drawing (path, req, table, base_row) and the columns it reads besides the varied keys
+_DRAW = {"heatmap_fpd.png": (_heatmap_fpd, ("design", "status", "max_fpd_angle_deg")),
+         "heatmap_sensitivity.png": (_heatmap_sensitivity, ("design", "status", "worst_path_shift_mm")),
+         "pareto.png": (pareto_scatter, ("status", "max_fpd_angle_deg", "worst_path_shift_mm", "pareto",
+                                         "mc_edge_fraction")),
+         "pareto_table.png": (_pareto_table, ("pareto",) + TABLE)}
+
+
+def figure_tasks(req, table: dict, base_row: dict) -> list[FigureTask]:
+    """The :class:`FigureTask` of each of :data:`FIGURES`, in order."""
+    out = []
+    for name in FIGURES:
+        names = (*req.plan.keys, *_DRAW[name][1])
+        out.append(FigureTask(name, req.plan, req.mc, {k: table[k] for k in dict.fromkeys(names) if k in table},
+                              base_row or {}))
+    return out
+
+
+def draw_figure(task: FigureTask) -> bytes:
+    """The PNG of one figure (what a worker runs); the task stands for the request (its plan and mc)."""
+    buf = io.BytesIO()
+    _DRAW[task.name][0](buf, task, task.table, task.base_row)
+    return buf.getvalue()
+
+
+def drawn_figures(req, table: dict, base_row: dict, ex=None):
+    """(name, PNG bytes) of each figure as it is drawn: on the executor ``ex`` (every figure handed to its
+    workers at once; this process can write the data files meanwhile), else here, one after the other as
+    they are asked for."""
+    tasks = figure_tasks(req, table, base_row)
+    if ex is None:
+        return ((t.name, draw_figure(t)) for t in tasks)
+    return ((tasks[k].name, png) for k, png in ex.map_unordered(draw_figure, tasks))
+
+
+def write_figures(out_dir: str, drawn, go_on=lambda: True) -> list[str]:
+    """The figures of ``drawn`` (:func:`drawn_figures`) written into ``out_dir`` while ``go_on()``, each whole
+    or absent; the paths of those written, in the order of :data:`FIGURES`."""
     done = []
-    for name, fn in zip(FIGURES, draw):
+    for name, png in (() if not go_on() else drawn):
+        _write_atomic(os.path.join(out_dir, name), [png])
+        done.append(name)
         if not go_on():
             break
-        fn(os.path.join(out_dir, name))
-        done.append(os.path.join(out_dir, name))
-    return done
+    return [os.path.join(out_dir, name) for name in FIGURES if name in done]

@@ -5,7 +5,8 @@ request and the chunk's index (never on the worker or the number of workers), so
 local workers and a Dask cluster write the same rows bit for bit.  A worker computes a chunk's rows
 and their CSV text (report.csv_rows: the per-cell work of the CSV files is done there, in parallel);
 each finished chunk is written at once to ``DIR/chunks/`` (numpy .npz, written to a temporary name
-and renamed) and kept in memory (:class:`Chunks`: a run reads the chunks of an earlier one once, and
+and renamed: by the worker itself where it shares this file system, this process and local
+processes, else here as it arrives) and kept in memory (:class:`Chunks`: a run reads the chunks of an earlier one once, and
 computes again one that is damaged).  The base design's row is a task of its own (:data:`BASE`).
 The request is in ``DIR/request.json``.  An interrupted run (Ctrl-C, a lost worker) keeps its
 finished chunks, and ``--resume DIR`` computes only the missing ones.
@@ -95,17 +96,18 @@ class Request:
 
 
 class ChunkTask(NamedTuple):
-    """What a worker gets: the request (its JSON dict) and the index of the chunk (:data:`BASE`: the base
-    design)."""
+    """What a worker gets: the request (its JSON dict), the index of the chunk (:data:`BASE`: the base
+    design) and the run's folder where the worker writes the chunk file itself (None: the caller does)."""
 
     request: dict
     index: int
+    out_dir: str | None = None
 
 
 def compute_chunk(task: ChunkTask) -> dict:
     """The rows of chunk ``task.index`` of a request, and their CSV text (report.csv_rows, under
-    :data:`TEXT` and :data:`ROW_ENDS`): what a worker runs.  ``task.index == BASE``: the row of the
-    request's base design (no text)."""
+    :data:`TEXT` and :data:`ROW_ENDS`): what a worker runs; written to ``task.out_dir`` too when given
+    (:func:`save_chunk`).  ``task.index == BASE``: the row of the request's base design (no text, no file)."""
     from .. import parallel
     from . import report, rows
 
@@ -123,6 +125,8 @@ def compute_chunk(task: ChunkTask) -> dict:
     cols = {k: (np.asarray(v, dtype=str) if np.asarray(v).dtype == object else np.asarray(v)) for k, v in cols.items()}
     if task.index != BASE:
         cols[TEXT], cols[ROW_ENDS] = report.csv_rows(cols)
+        if task.out_dir is not None:
+            save_chunk(task.out_dir, task.index, cols)
     return cols
 
 
@@ -231,9 +235,10 @@ class Chunks:
         """Designs in the finished chunks."""
         return sum(len(cols["design"]) for cols in self.parts.values())
 
-    def add(self, index: int, cols: dict) -> None:
-        """A chunk that finished: written to DIR and kept."""
-        save_chunk(self.out_dir, index, cols)
+    def add(self, index: int, cols: dict, saved: bool = False) -> None:
+        """A chunk that finished: written to DIR (unless its worker ``saved`` it there) and kept."""
+        if not saved:
+            save_chunk(self.out_dir, index, cols)
         self.parts[index] = cols
 
     def table(self) -> dict:
@@ -321,14 +326,16 @@ def execute(out_dir: str, req: Request, ex, progress=None,
 
     chunks = Chunks(out_dir, req) if chunks is None else chunks
     payload = req.to_json()
+    # workers that share this file system write their chunk files themselves (in parallel)
+    where = out_dir if getattr(ex, "shares_files", False) else None
     # the base design first: a run stopped early has it too (else the caller computes it, here)
-    tasks = [ChunkTask(payload, BASE)] + [ChunkTask(payload, i) for i in chunks.missing()]
+    tasks = [ChunkTask(payload, BASE)] + [ChunkTask(payload, i, where) for i in chunks.missing()]
     try:
         for k, cols in ex.map_unordered(compute_chunk, tasks):
             if tasks[k].index == BASE:
                 chunks.base = cols
                 continue
-            chunks.add(tasks[k].index, cols)
+            chunks.add(tasks[k].index, cols, saved=where is not None)
             if progress:
                 progress(chunks.designs, req.plan.count, "designs")
     except KeyboardInterrupt:

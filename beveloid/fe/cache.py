@@ -11,6 +11,13 @@ tooth or the generated kernels invalidates cached data by construction.  The mem
 every crowning, relief and user flank model of a macro geometry.  The key is stored inside the entry
 and compared on reading: an entry whose key differs (stale) or that cannot be read (corrupt, truncated) is computed
 again and replaced, never used.  Entries are written to a temporary file and renamed into place.
+
+An entry also holds, per flank, the arrays the FE tooth derives from the data
+(:func:`beveloid.fe.contact.tooth_arrays`: the fillets' eigenvalue bounds, the reading-depth matrix; ~0.3 s
+of CPU a member to make, issue 59), so that ``FeTooth(data, flank, arrays)`` is built without that work
+(:func:`stored_tooth_arrays`).  Its large arrays (the stress operator, ~100 MB) are mapped, not read: a
+run reads the pages it uses (the loaded flank's fillet nodes its root stresses visit) and the finite
+check's one pass.
 """
 from __future__ import annotations
 
@@ -31,7 +38,7 @@ from ..errors import UserError
 from . import tooth
 
 __all__ = ["CACHE_ENV", "DEFAULT_LIMIT_MB", "FE_DATA_VERSION", "LIMIT_ENV", "NOT_FE_SOURCES", "cache_dir", "cache_key",
-           "cached_tooth_data", "code_digest", "entry_path", "limit_bytes", "prune"]
+           "cached_tooth_data", "code_digest", "entry_path", "limit_bytes", "prune", "stored_tooth_arrays"]
 
 CACHE_ENV = "BEVELOID_CACHE_DIR"
 #: the FE cache folder's size limit in MB, when set (default :data:`DEFAULT_LIMIT_MB`)
@@ -117,26 +124,46 @@ def entry_path(key: str) -> Path:
     return cache_dir() / f"{member}-{hashlib.sha256(key.encode()).hexdigest()[:24]}.npz"
 
 
+#: the name of flank f's array n (:func:`beveloid.fe.contact.tooth_arrays`) in an entry
+TOOTH_ARRAY = "tooth.{}.{}"
+#: members of an entry larger than this (bytes) are mapped (copy on write), not read
+MAP_BYTES = 1 << 20
+
+
+def _finite(a) -> bool:
+    """Every entry of ``a`` finite, in one pass without a temporary: the sum of finite stresses and
+    coordinates (far below 1e300) is finite, a NaN or an infinity makes it NaN or infinite."""
+    a = np.asarray(a)
+    return a.dtype.kind in "biu" or bool(np.isfinite(np.sum(a, dtype=float)))
+
+
 def _read(path: Path, key: str):
-    """The stored data, or None when absent, stale (another key) or unreadable."""
+    """(the stored data, {flank: its FE tooth arrays} or None, how); data None when absent, stale (another
+    key) or unreadable."""
+    from ..names import FLANKS
+
     if not path.is_file():
-        return None, "miss"
+        return None, None, "miss"
     try:
         z = _stored_arrays(path)
         if str(z["key"]) != key:
-            return None, "stale"
+            return None, None, "stale"
         data = tooth.ToothData(**{f.name: z[f.name] for f in fields(tooth.ToothData)})
-        if not all(np.all(np.isfinite(getattr(data, f.name))) for f in fields(tooth.ToothData)):
-            return None, "corrupt"
-        return data, "hit"
+        arrays = {fl: {n.split(".", 2)[2]: a for n, a in z.items() if n.startswith(TOOTH_ARRAY.format(fl, ""))}
+                  for fl in FLANKS}
+        if not all(_finite(a) for a in [getattr(data, f.name) for f in fields(tooth.ToothData)]
+                   + [a for d in arrays.values() for a in d.values()]):
+            return None, None, "corrupt"
+        return data, (arrays if all(arrays.values()) else None), "hit"
     except Exception:  # noqa: BLE001 - any unreadable entry is recomputed
-        return None, "corrupt"
+        return None, None, "corrupt"
 
 
 def _stored_arrays(path: Path) -> dict:
     """{name: array} of an uncompressed ``.npz`` (as :func:`_write` makes it), each member read in one
-    piece from its place in the file: no second copy and no checksum pass over the ~100 MB of an entry
-    (``numpy.load`` does both; the key and the finite check below guard the content)."""
+    piece from its place in the file, or mapped (copy on write) when larger than :data:`MAP_BYTES`: no
+    second copy and no checksum pass over the ~100 MB of an entry (``numpy.load`` does both; the key and
+    the finite check of :func:`_read` guard the content)."""
     import zipfile
 
     out = {}
@@ -150,25 +177,36 @@ def _stored_arrays(path: Path) -> dict:
                 raise ValueError(f"{info.filename}: no local header")
             f.seek(info.header_offset + 30 + int.from_bytes(local[26:28], "little")
                    + int.from_bytes(local[28:30], "little"))
-            a = np.lib.format.read_array(f, allow_pickle=False)
-            out[info.filename[:-4]] = a
+            name = info.filename[:-4]
+            if info.file_size <= MAP_BYTES:
+                out[name] = np.lib.format.read_array(f, allow_pickle=False)
+                continue
+            version = np.lib.format.read_magic(f)
+            header = np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
+            shape, fortran, dtype = header(f)
+            if dtype.hasobject:
+                raise ValueError(f"{info.filename}: an object array")
+            out[name] = np.memmap(path, dtype=dtype, mode="c", offset=f.tell(), shape=shape,
+                                  order="F" if fortran else "C").view(np.ndarray)
     return out
 
 
-def _write(path: Path, key: str, data) -> None:
+def _write(path: Path, key: str, data, arrays: dict) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".tmp")
+    derived = {TOOTH_ARRAY.format(fl, n): a for fl, d in arrays.items() for n, a in d.items()}
     try:
         with os.fdopen(fd, "wb") as f:
-            np.savez(f, key=np.array(key), **{fl.name: getattr(data, fl.name) for fl in fields(tooth.ToothData)})
+            np.savez(f, key=np.array(key), **{fl.name: getattr(data, fl.name) for fl in fields(tooth.ToothData)},
+                     **derived)
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
 
 
-#: the data of the last few keys read or computed in this process ("compute once per pair and reuse":
-#: an analysis repeated on the same macro geometry does not read the file again; ~80 MB an entry)
+#: the data (and FE tooth arrays) of the last few keys read or computed in this process ("compute once per
+#: pair and reuse": an analysis repeated on the same macro geometry does not read the file again)
 _KEPT: "collections.OrderedDict" = collections.OrderedDict()
 KEPT_ENTRIES = 4
 
@@ -187,11 +225,12 @@ def cached_tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: in
     if kept is not None and stamp is not None and kept[0] == stamp:
         _KEPT.move_to_end((path, key))
         return kept[1], "hit"
-    data, how = _read(path, key)
+    data, arrays, how = _read(path, key)
     if data is None:
         data = tooth.tooth_data(pair, member, e_mpa, nu, refinement, progress=progress, coarsen=coarsen)
+        arrays = _tooth_arrays(data)
         try:
-            _write(path, key, data)
+            _write(path, key, data, arrays)
             prune(keep=path)
         except OSError:
             pass
@@ -200,10 +239,36 @@ def cached_tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: in
             os.utime(path)  # used now: the last to go when the folder is pruned
     stamp = _stamp(path)
     if stamp is not None:
-        _KEPT[path, key] = (stamp, data)
+        _KEPT[path, key] = (stamp, data, arrays)
         while len(_KEPT) > KEPT_ENTRIES:
             _KEPT.popitem(last=False)
     return data, how
+
+
+def _tooth_arrays(data) -> dict:
+    """{flank: :func:`beveloid.fe.contact.tooth_arrays`} of new data, under one BLAS thread (as the
+    analyses build their teeth: the same eigendecomposition)."""
+    from ..names import FLANKS
+    from .contact import tooth_arrays
+
+    try:
+        from threadpoolctl import threadpool_limits
+    except ImportError:  # optional: without it BLAS keeps its own thread count
+        limit = contextlib.nullcontext()
+    else:
+        limit = threadpool_limits(limits=1, user_api="blas")
+    with limit:
+        return {fl: tooth_arrays(data, fl) for fl in FLANKS}
+
+
+def stored_tooth_arrays(data, flank: str) -> dict | None:
+    """The FE tooth arrays of ``flank`` (:func:`beveloid.fe.contact.tooth_arrays`) kept with ``data`` (as
+    :func:`cached_tooth_data` returned it, the same object) in this process; None when not known (data
+    the cache did not give)."""
+    for _, kept, arrays in _KEPT.values():
+        if kept is data:
+            return None if arrays is None else arrays.get(flank)
+    return None
 
 
 def limit_bytes() -> int:

@@ -27,7 +27,7 @@ import numpy as np
 from ..names import FLANKS
 from . import principal
 
-__all__ = ["FeTooth", "RootStress"]
+__all__ = ["FeTooth", "RootStress", "tooth_arrays"]
 
 #: fillet nodes per block of fe.principal.extreme's bound (docs/performance.md, The FE tooth)
 BLOCK_NODES = 32
@@ -40,38 +40,53 @@ class RootStress(typing.NamedTuple):
     compression_mpa: float  # most compressive min-principal stress in the other fillet
 
 
+def tooth_arrays(data, flank: str) -> dict:
+    """The arrays :class:`FeTooth` derives from ``data`` (a ToothData) for ``flank``: ``compliance_mm_per_n``
+    (C made positive semi-definite), ``near`` (2, G, nf) uint8 and per fillet i (0 the loaded side's, 1 the
+    other's) ``order_i``, ``bound_i``, ``top_i`` (:func:`beveloid.fe.principal.fillet`).  They depend on the data
+    alone: :mod:`beveloid.fe.cache` keeps them in the data's entry, so that a tooth is built without them."""
+    index = FLANKS.index(flank)
+    c = np.asarray(data.compliance_mm_per_n[index], dtype=float)
+    lam, vec = np.linalg.eigh(0.5 * (c + c.T))
+    out = {"compliance_mm_per_n": (vec * np.maximum(lam, 0.0)) @ vec.T}
+    # a fillet node nearer a loaded load-grid node than the reading depth sees that point force's
+    # local (singular) stress, not the tooth's: near[s][c, i] marks fillet node i of fillet s within
+    # the reading depth of grid node c, left out of a load set that loads c
+    grid = np.asarray(data.points_mm[index]).reshape(-1, 3)
+    reach = float(np.max(data.depth_mm[index]))
+    fp = np.asarray(data.fillet_points_mm)
+    near = np.ascontiguousarray(
+        (np.linalg.norm(fp[:, None, :, :] - grid[None, :, None, :], axis=-1) <= reach).astype(np.uint8))
+    out["near"] = near
+    stress = np.asarray(data.stress_mpa_per_n[index])
+    for i, (s, sign) in enumerate(zip((index, 1 - index), (1.0, -1.0))):
+        # the nodes along the face, then up it: a block of BLOCK_NODES neighbours
+        order = np.lexsort((np.asarray(data.fillet_height_mm[s]), fp[s][:, 2])).astype(np.int64)
+        f = principal.fillet(np.ascontiguousarray(stress[s]), sign, order, BLOCK_NODES, near[s])
+        out[f"order_{i}"], out[f"bound_{i}"], out[f"top_{i}"] = f.order, f.bound, f.top
+    return out
+
+
 class FeTooth:
     """One member's FE tooth on one flank (see the module docstring)."""
 
-    def __init__(self, data, flank: str):
+    def __init__(self, data, flank: str, arrays: dict | None = None):
         if flank not in FLANKS:
             raise ValueError(f"flank = {flank!r}: must be one of {', '.join(FLANKS)}")
         self.data = data
         self.index = FLANKS.index(flank)
-        c = np.asarray(data.compliance_mm_per_n[self.index], dtype=float)
-        lam, vec = np.linalg.eigh(0.5 * (c + c.T))
-        self.compliance_mm_per_n = (vec * np.maximum(lam, 0.0)) @ vec.T
+        a = tooth_arrays(data, flank) if arrays is None else arrays
+        self.compliance_mm_per_n = a["compliance_mm_per_n"]
         self.radius_mm = np.asarray(data.radius_mm[self.index])  # (ns, nz)
         self.z_mm = np.asarray(data.z_mm)
         self.stress = np.asarray(data.stress_mpa_per_n[self.index])  # (2, nf, 6, G)
-        # a fillet node nearer a loaded load-grid node than the reading depth sees that point force's
-        # local (singular) stress, not the tooth's: near[s][c, i] marks fillet node i of fillet s within
-        # the reading depth of grid node c, left out of a load set that loads c
-        grid = np.asarray(data.points_mm[self.index]).reshape(-1, 3)
-        reach = float(np.max(data.depth_mm[self.index]))
-        fp = np.asarray(data.fillet_points_mm)
-        self.near = np.ascontiguousarray(
-            (np.linalg.norm(fp[:, None, :, :] - grid[None, :, None, :], axis=-1) <= reach).astype(np.uint8))
+        self.near = a["near"]
         # the stress operators (rows node-major, 6 components, G columns) of the loaded side's fillet (0)
         # and the other's (1), with their bounds, blocks and near-matrices (fe.principal.extreme)
         self.sides = (self.index, 1 - self.index)
-        self.fillets = []
-        for s, sign in zip(self.sides, (1.0, -1.0)):
-            # the nodes along the face, then up it: a block of BLOCK_NODES neighbours
-            order = np.lexsort((np.asarray(data.fillet_height_mm[s]), fp[s][:, 2])).astype(np.int64)
-            self.fillets.append(principal.fillet(np.ascontiguousarray(self.stress[s]), sign, order, BLOCK_NODES,
-                                                 self.near[s]))
-        self.fillets = tuple(self.fillets)
+        self.fillets = tuple(principal.Fillet(np.ascontiguousarray(self.stress[s]), a[f"bound_{i}"], a[f"top_{i}"],
+                                              a[f"order_{i}"], BLOCK_NODES, self.near[s])
+                             for i, s in enumerate(self.sides))
 
     def corners(self, points) -> tuple:
         """(nodes (n, 4) int, weights (n, 4)): the four load-grid nodes (profile-major) of each point (n, 3)

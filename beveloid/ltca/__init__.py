@@ -80,10 +80,13 @@ def analyze(pair, load: LoadCase, options: Options | None = None, *, solver=None
                pair=pair)
 
 
-def analyze_many(pair, load: LoadCase, options: Options | None = None, *, solver=None) -> Batch:
+def analyze_many(pair, load: LoadCase, options: Options | None = None, *, solver=None, convergence=True) -> Batch:
     """N positions x T torques x K error sets of one pair in one call: a :class:`Batch` whose
     ``results[k][t]`` equals ``analyze(pair, LoadCase(load.torques_nm[t], errors=error set k), options,
-    solver=solver)``; the error sets are ``load.errors`` (one set or a list), else the pair's misalignment."""
+    solver=solver)``; the error sets are ``load.errors`` (one set or a list), else the pair's misalignment.
+    ``convergence=False``: the grid-convergence indicator (a once-coarsened grid solved again, about a tenth of
+    an analysis) is not computed, every other number the same to the last bit; each result's ``convergence``
+    is nan (not computed), as the tolerance box and optimize use it (they report none of it)."""
     from ..solver import Solver
     from .passes.analysis import run_many
 
@@ -92,6 +95,6 @@ def analyze_many(pair, load: LoadCase, options: Options | None = None, *, solver
     errors = load.error_sets(pair)
     geom = getattr(pair, "geometry", pair)
     results = run_many(geom, list(errors), list(torques), options, _material(pair, options), Solver.of(solver),
-                       pair=pair)
+                       pair=pair, convergence=convergence)
     return Batch(torque_nm=torques, errors=errors, results=tuple(tuple(r) for r in results), pair=pair,
                  options=options)

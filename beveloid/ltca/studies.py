@@ -19,22 +19,28 @@ import numpy as np
 
 from ..names import MEMBERS
 
-__all__ = ["CHUNK_SETS", "box_results", "nominal_results", "tolerance_box", "tolerance_json", "torque_map_json"]
+__all__ = ["CHUNK_SETS", "TASK_SETS", "box_results", "nominal_results", "tolerance_box", "tolerance_json", "torque_map_json"]
 
-#: error sets per call of the batched engine: the unit of work of ``--workers`` (the numbers do not depend
-#: on where a chunk runs)
+#: error sets per call of the batched engine (the numbers do not depend on where a chunk runs)
 CHUNK_SETS = 8
+#: error sets per task of :func:`tolerance_box`'s workers: small, so that many workers share a box (64 sets
+#: in tasks of 8 kept at most 8 busy); a set's numbers do not depend on the sets analysed with it, and an
+#: analysis costs the same in a batch of 2 as of 8 (issue 59)
+TASK_SETS = 2
 
 
 def box_results(pair, load, options=None, *, solver=None) -> list:
     """``[[LTCAResult per torque] per error set]`` of ``load`` (its torques x its error sets), one
-    :func:`beveloid.ltca.analyze_many` per :data:`CHUNK_SETS` sets, all with ``solver``."""
+    :func:`beveloid.ltca.analyze_many` per :data:`CHUNK_SETS` sets, all with ``solver``, without the
+    grid-convergence indicator (``convergence=False``: neither the box nor optimize reports it; each
+    result's ``convergence`` is nan, every other number that of :func:`beveloid.ltca.analyze`)."""
     from . import analyze_many
 
     sets = load.error_sets(pair)
     out = []
     for start in range(0, len(sets), CHUNK_SETS):
-        out += analyze_many(pair, load.at(errors=sets[start:start + CHUNK_SETS]), options, solver=solver).results
+        out += analyze_many(pair, load.at(errors=sets[start:start + CHUNK_SETS]), options, solver=solver,
+                            convergence=False).results
     return out
 
 
@@ -65,7 +71,7 @@ def _task(task):
 
 def tolerance_box(pair, load, options=None, *, workers=None, scheduler=None, progress=None, nominal=None):
     """``[[summary (ltca.results.batch.summary, with "errors") per torque] per error set]`` of ``load``'s
-    error sets (the draws), in chunks of :data:`CHUNK_SETS`: here, on ``workers`` local processes or on
+    error sets (the draws), in tasks of :data:`TASK_SETS`: here, on ``workers`` local processes or on
     the Dask cluster at ``scheduler`` (beveloid.parallel); ``progress(done, total, "error sets")`` after each
     chunk (a :class:`beveloid.progress.Progress`).
 
@@ -77,7 +83,7 @@ def tolerance_box(pair, load, options=None, *, workers=None, scheduler=None, pro
     from ..parallel import executor
 
     sets = load.error_sets(pair)
-    tasks = [("box", pair, load.at(errors=sets[i:i + CHUNK_SETS]), options) for i in range(0, len(sets), CHUNK_SETS)]
+    tasks = [("box", pair, load.at(errors=sets[i:i + TASK_SETS]), options) for i in range(0, len(sets), TASK_SETS)]
     first = 0 if nominal is None else 1
     if nominal is not None:
         tasks.insert(0, ("nominal", pair, nominal, options))

@@ -19,6 +19,7 @@ from ..tooth import sections
 from . import dynamic, iso6336, materials
 from .face_load import face_load
 from .factors import Factors, face_factor_exponent
+from .strength import pitch_line_velocity_m_s
 from .virtual import mate_gear, section_gear
 from .root_convergence import convergence_notes, root_stress_convergence
 
@@ -42,20 +43,50 @@ def _default_ltca():
     return LTCAOptions(positions=POSITIONS)
 
 
+#: the percentile of the tolerance box's K_Hbeta that the rating takes (``tolerance_samples`` > 0)
+BOX_PERCENTILE = 90.0
+#: the most error sets of the rating's tolerance box (the [rating] key's range)
+MAX_TOLERANCE_SAMPLES = 10_000
+
+
 @dataclass(frozen=True)
 class Options:
     """How a rating is computed: the LTCA it runs (an ``ltca.Options``: flank, positions, pairs, grid,
     tooth model, refinement; default: :data:`POSITIONS` positions).  The torque and the
-    assembly errors are the load case (``ltca.LoadCase``)."""
+    assembly errors are the load case (``ltca.LoadCase``).
+
+    ``tolerance_samples`` > 0 rates K_Hbeta at the :data:`BOX_PERCENTILE` th percentile over that many
+    error sets of the tolerance box under load (``ltca.studies.box_results`` on the draws of
+    ``sweep.draw_errors`` about the load case's errors, half-widths ``tolerances``: keys of
+    ``assembly_errors.DEFAULT_RANGES``, missing ones its defaults; seed ``tolerance_seed``); None: the
+    spec's ``[rating] tolerance_samples``; 0: the load case's errors alone."""
 
     ltca: object = field(default_factory=_default_ltca)
+    tolerance_samples: int | None = None
+    tolerance_seed: int = 0
+    tolerances: dict | None = None
 
     def __post_init__(self):
+        from ..assembly_errors import BY_KEY
         from ..errors import OptionError
         from ..ltca.options import Options as LTCAOptions
 
         if not isinstance(self.ltca, LTCAOptions):
             raise OptionError("ltca", self.ltca, "must be an ltca.Options")
+        n = self.tolerance_samples
+        if n is not None and (isinstance(n, bool) or not isinstance(n, (int, np.integer))
+                              or not 0 <= n <= MAX_TOLERANCE_SAMPLES):
+            raise OptionError("tolerance_samples", n, f"must be an integer from 0 to {MAX_TOLERANCE_SAMPLES} (or None: "
+                                                      "the spec's [rating] tolerance_samples)")
+        if isinstance(self.tolerance_seed, bool) or not isinstance(self.tolerance_seed, (int, np.integer)) \
+                or not 0 <= self.tolerance_seed < 2 ** 63:
+            raise OptionError("tolerance_seed", self.tolerance_seed, "must be an integer from 0 to 2**63 - 1")
+        for key, half in (self.tolerances or {}).items():
+            if key not in BY_KEY:
+                raise OptionError("tolerances", {key: half}, f"unknown error {key!r}; valid: {', '.join(BY_KEY)}")
+            if not (isinstance(half, (int, float)) and 0 <= half <= BY_KEY[key].limit):
+                raise OptionError("tolerances", {key: half}, f"{key} must be a number from 0 to {BY_KEY[key].limit:g} "
+                                                             f"({BY_KEY[key].unit})")
 
     @property
     def flank(self) -> str:
@@ -274,6 +305,8 @@ class RateInput:
     face_load: dict  # member -> FaceLoad
     factors: Factors
     elastic: tuple  # (E_pinion MPa, nu_pinion, E_gear MPa, nu_gear)
+    #: member -> K_Hbeta of the tolerance box's percentile (:func:`tolerance_face_load`), None: the face load's
+    K_H_beta_box: dict | None = None
 
     @property
     def face_exponent(self) -> float:
@@ -283,7 +316,11 @@ class RateInput:
         return face_factor_exponent(self.face_width_mm, depth)
 
     def K_H_beta(self, member: str) -> float:
-        """K_Hbeta of the member's line load (1 without a loaded position; at least 1)."""
+        """K_Hbeta of the member's line load (1 without a loaded position; at least 1), or the tolerance
+        box's percentile of it where the rating ran the box."""
+        box = None if self.K_H_beta_box is None else self.K_H_beta_box.get(member)
+        if box is not None:
+            return max(box, 1.0)
         fl = self.face_load[member]
         return 1.0 if fl.K_H_beta is None else max(fl.K_H_beta, 1.0)
 
@@ -392,11 +429,12 @@ def _lowest(values) -> float:
     return min(finite) if finite else math.nan
 
 
-def analyze(pair, load, options: Options | None = None, *, solver=None, ltca_result=None, face_points: int = 0):
+def analyze(pair, load, options: Options | None = None, *, solver=None, ltca_result=None, face_points: int = 0,
+            progress=None):
     """Rate ``pair`` under ``load`` (an ``ltca.LoadCase``: one pinion torque, N m, and the assembly errors,
     None: the pair's); ``options`` a :class:`Options` (None: the defaults); ``ltca_result``: an LTCA already
     run at K_A K_v T (else it is run here); ``face_points`` > 0 adds that many ISO sections along each face
-    (plot)."""
+    (plot); ``progress(done, total, what)`` after each chunk of the tolerance box, if it runs."""
     from .. import ltca
     from .report import RatingResult
 
@@ -407,7 +445,7 @@ def analyze(pair, load, options: Options | None = None, *, solver=None, ltca_res
                         f"not {type(options).__name__}")
 
     spec, geom = pair.spec, pair.geometry
-    factors = Factors.from_spec(spec)
+    factors = Factors.from_spec(spec).with_strength(spec, geom, options.flank)
     b = min(geom.pinion.face_width_mm, geom.gear.face_width_mm)
     mat = ltca.Material.from_spec(spec)
     elastic = (mat.pinion_e_mpa, mat.pinion_nu, mat.gear_e_mpa, mat.gear_nu)
@@ -430,7 +468,13 @@ def analyze(pair, load, options: Options | None = None, *, solver=None, ltca_res
         lc = replace(lc, edge=replace(lc.edge, relief_now_um=edge_relief_um(spec, lc.edge.member, lc.edge.edge)))
     if factors.K_v_source == "method B" and dyn is None:  # the caller's LTCA: its own stiffness
         dyn, factors = _with_dynamic_factor(pair, load, options, factors, lc, elastic)
-    inp = RateInput(geom, options.flank, load.torque_nm, b, lc.face_load, factors, elastic)
+    samples = spec.rating.tolerance_samples if options.tolerance_samples is None else options.tolerance_samples
+    box = None
+    if samples:
+        box = tolerance_face_load(pair, load.at(load.torque_nm * (factors.K_A * factors.K_v)), options, samples,
+                                  lc.face_load, solver=solver, progress=progress)
+    inp = RateInput(geom, options.flank, load.torque_nm, b, lc.face_load, factors, elastic,
+                    None if box is None else {m: box["members"][m]["rated"] for m in MEMBERS})
     members = {}
     for member in MEMBERS:
         w = sections.half_face(geom, member)
@@ -457,8 +501,57 @@ def analyze(pair, load, options: Options | None = None, *, solver=None, ltca_res
         notes.append(f"edge contact: the largest edge cell pressure is {lc.edge_pressure_max_mpa:.0f} MPa (singular, "
                      "grid-dependent; not in S_H); the edge-contact rule of the verdict judges the load within a "
                      "band of the edge instead" + ("" if lc.edge is None else f" ({lc.edge.where})"))
+    if box is not None:
+        notes.append(f"K_H_beta (and K_F_beta = K_H_beta^N_F) of the ISO sections: the {BOX_PERCENTILE:g}th percentile "
+                     f"of {box['sets']} error sets of the tolerance box (seed {box['seed']}) about the load case's "
+                     "errors; the local stresses and the loaded face length stay those of the load case's errors")
     return RatingResult(load.torque_nm, options.flank, members, lc, factors, tuple(notes), dyn,
-                        scuffing_tribology(pair, ltca_result), pair=pair, options=options)
+                        scuffing_tribology(pair, ltca_result), pair=pair, options=options, tolerance_box=box)
+
+
+def tolerance_face_load(pair, load, options: Options, samples: int, nominal_face_load: dict, *, solver=None,
+                        progress=None) -> dict:
+    """K_Hbeta over the tolerance box under load: ``samples`` error sets drawn by ``sweep.draw_errors``
+    (half-widths ``options.tolerances`` over ``assembly_errors.DEFAULT_RANGES``, seed
+    ``options.tolerance_seed``) about ``load``'s errors (the pair's where it has none), each a full LTCA
+    at ``load``'s torque through ``ltca.studies.box_results`` (the one loop of the box, chunk by chunk
+    for ``progress``), and each member's :func:`face_load` of it.  Returns {"samples", "sets" (with a
+    K_Hbeta), "seed", "percentile", "tolerances", "members": member -> {"nominal", "p50", "p90", "max",
+    "rated" (the percentile, None without a set), "K_H_beta" per set (None where no position loaded)}}."""
+    from .. import assembly_errors, sweep
+    from ..errors import OptionError
+    from ..ltca import studies
+
+    geom = pair.geometry
+    b = min(geom.pinion.face_width_mm, geom.gear.face_width_mm)
+    nominal = assembly_errors.from_layout(load.error_sets(pair)[0])
+    ranges = dict(assembly_errors.DEFAULT_RANGES, **(options.tolerances or {}))
+    for key, half in ranges.items():
+        limit = assembly_errors.BY_KEY[key].limit
+        if abs(nominal[key]) + half > limit:
+            raise OptionError("tolerances", {key: half}, f"about the errors' {key} = {nominal[key]:g} it reaches "
+                                                         f"{abs(nominal[key]) + half:g}; |nominal| + half-width must "
+                                                         f"be <= {limit:g}")
+    draws = sweep.draw_errors(samples, ranges=ranges, seed=options.tolerance_seed, nominal=nominal)
+    rows = []
+    for start in range(0, samples, studies.CHUNK_SETS):
+        rows += studies.box_results(pair, load.at(errors=draws[start:start + studies.CHUNK_SETS]), options.ltca,
+                                    solver=solver)
+        if progress is not None:
+            progress(len(rows), samples, "error sets")
+    members = {}
+    for m in MEMBERS:
+        per_set = [face_load(row[0], geom, m, b).K_H_beta for row in rows]
+        values = np.asarray([k for k in per_set if k is not None and math.isfinite(k)], dtype=float)
+        stats = ({"p50": None, "p90": None, "max": None, "rated": None} if values.size == 0 else
+                 {"p50": float(np.percentile(values, 50)), "p90": float(np.percentile(values, 90)),
+                  "max": float(values.max()), "rated": float(np.percentile(values, BOX_PERCENTILE))})
+        members[m] = {"nominal": nominal_face_load[m].K_H_beta, **stats,
+                      "K_H_beta": [None if k is None or not math.isfinite(k) else float(k) for k in per_set]}
+    sets = min(sum(k is not None for k in members[m]["K_H_beta"]) for m in MEMBERS)
+    return {"samples": int(samples), "sets": int(sets), "seed": int(options.tolerance_seed),
+            "percentile": BOX_PERCENTILE, "tolerances": {k: float(v) for k, v in ranges.items()},
+            "nominal_errors": nominal, "members": members}
 
 
 def scuffing_tribology(pair, ltca_result):
@@ -516,7 +609,7 @@ def dynamic_factor(pair, load, options: Options, factors: Factors, lc: LoadedCon
     d1 = p1.reference_diameter_mm
     f_t = 1000.0 * load.torque_nm / (d1 / 2)
     n1 = spec.rating.pinion_speed_rpm
-    v = math.pi * d1 * n1 / 60000.0
+    v, _ = pitch_line_velocity_m_s(geom, flank, n1)  # the v of Z_v too
     f_pt, f_fa = dynamic.accuracy_deviations_um(spec.rating.accuracy_grade, geom.normal_module_mm,
                                                 max(d1, g_sec.gear.reference_diameter_mm))
     f_pb = f_pt * math.cos(p1.transverse_pressure_angle)

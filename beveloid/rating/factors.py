@@ -37,6 +37,8 @@ class Factors:
     cycles: dict  # member -> load cycles N_L, or None (no speed / life given)
     material: dict = field(default_factory=dict)  # member -> {"type", "quality", "hardness", "limits_from"}
     K_v_source: str = "user"  # "user" (rating.K_v), "method B" (computed), "static" (no speed: 1), "not computed"
+    #: member -> strength.MemberStrength (Z_L, Z_v, Z_R, Y_X, Y_RrelT; :meth:`with_strength`); empty: all 1
+    strength: dict = field(default_factory=dict)
 
     @classmethod
     def from_spec(cls, spec) -> "Factors":
@@ -70,6 +72,25 @@ class Factors:
         return cls(r.K_A, k_v, r.S_Fmin, r.S_Hmin, root, contact,
                    {"pinion": n1, "gear": None if n1 is None else n1 * ratio}, mats, source)
 
+    def with_strength(self, spec, geometry, flank: str) -> "Factors":
+        """These factors with each member's Z_L, Z_v, Z_R, Y_X and Y_RrelT (``strength.strength_factors``)."""
+        from dataclasses import replace
+
+        from .strength import strength_factors
+
+        return replace(self, strength=strength_factors(spec, geometry, flank, self.contact_limit_mpa,
+                                                       {m: self.material[m]["type"] for m in self.material}))
+
+    def root_influence(self, member: str) -> float:
+        """Y_X Y_RrelT at the member's load cycles (1 without :meth:`with_strength`)."""
+        s = self.strength.get(member)
+        return 1.0 if s is None else s.root_at(self.life_curves(member).y_nt, self.cycles[member])
+
+    def contact_influence(self, member: str) -> float:
+        """Z_L Z_v Z_R at the member's load cycles (1 without :meth:`with_strength`)."""
+        s = self.strength.get(member)
+        return 1.0 if s is None else s.contact_at(self.life_curves(member).z_nt, self.cycles[member])
+
     def life_curves(self, member: str):
         return materials.MATERIALS[self.material[member]["type"]]
 
@@ -80,16 +101,17 @@ class Factors:
         return life_factor(self.life_curves(member).z_nt, self.cycles[member])
 
     def root_strength_mpa(self, member: str) -> float:
-        """sigma_Flim Y_ST Y_NT (Y_deltarelT = Y_RrelT = Y_X = 1): what S_F divides by sigma_F."""
-        return self.root_limit_mpa[member] * Y_ST * self.Y_NT(member)
+        """sigma_Flim Y_ST Y_NT Y_X Y_RrelT (Y_deltarelT = 1): what S_F divides by sigma_F."""
+        return self.root_limit_mpa[member] * Y_ST * self.Y_NT(member) * self.root_influence(member)
 
     def contact_strength_mpa(self, member: str) -> float:
-        """sigma_Hlim Z_NT (Z_L = Z_v = Z_R = Z_W = Z_X = 1): what S_H divides by sigma_H."""
-        return self.contact_limit_mpa[member] * self.Z_NT(member)
+        """sigma_Hlim Z_NT Z_L Z_v Z_R (Z_W = Z_X = 1): what S_H divides by sigma_H."""
+        return self.contact_limit_mpa[member] * self.Z_NT(member) * self.contact_influence(member)
 
     def material_json(self, member: str) -> dict:
         out = dict(self.material[member])
-        out.update(Z_NT=self.Z_NT(member), Y_NT=self.Y_NT(member), load_cycles=self.cycles[member])
+        out.update(Z_NT=self.Z_NT(member), Y_NT=self.Y_NT(member), load_cycles=self.cycles[member],
+                   Z_L_Z_v_Z_R=self.contact_influence(member), Y_X_Y_RrelT=self.root_influence(member))
         return out
 
     def notes(self) -> list:
@@ -102,8 +124,9 @@ class Factors:
         out = [f"{ISO_EDITION} on the virtual helical gear of each section "
                "(docs/rating.md); Y_B = Y_DT = Z_B = Z_D = K_Falpha = K_Halpha = 1",
                f"K_A = {self.K_A:g} is the user's; {k_v[self.K_v_source]}; the local stresses are at K_A K_v T",
-               "permissible stresses: sigma_Flim Y_ST Y_NT (Y_ST = 2) and sigma_Hlim Z_NT; size, roughness, "
-               "lubricant, velocity and work-hardening factors (Y_X, Y_deltarelT, Y_RrelT, Z_X, Z_L, Z_v, Z_R, Z_W) = 1"]
+               "permissible stresses: sigma_Flim Y_ST Y_NT Y_X Y_RrelT (Y_ST = 2) and sigma_Hlim Z_NT Z_L Z_v Z_R "
+               "(ISO 6336-2/-3 method B where their inputs are given, else 1: strength_factors); Y_deltarelT = Z_W "
+               "= Z_X = 1"]
         for member in ("pinion", "gear"):
             m = self.material[member]
             out.append(f"{member}: {m['type']} {m['quality']} ({m['iso']}), sigma_Hlim {self.contact_limit_mpa[member]:g} "

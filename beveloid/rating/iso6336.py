@@ -31,6 +31,19 @@ Pure functions over plain records; nothing here knows about beveloids.  Implemen
   Z_beta = 1/sqrt(cos beta) and sigma_H0 = Z_H Z_E Z_eps Z_beta sqrt(F_t/(d_1 b) (u+1)/u).  Left at
   1: the single pair tooth contact factors Z_B, Z_D.
 
+* ISO 6336-2:2019 method B, the lubricant, velocity and roughness factors of the permissible contact
+  stress: C_ZL = 0.83 (sigma_Hlim < 850 MPa), sigma_Hlim/4375 + 0.6357 (850 ... 1200), 0.91 (> 1200);
+  Z_L = C_ZL + 4 (1 - C_ZL) / (1.2 + 134/nu_40)^2; C_Zv = C_ZL + 0.02, Z_v = C_Zv + 2 (1 - C_Zv) /
+  sqrt(0.8 + 32/v); C_ZR = 0.15 (sigma_Hlim < 850), 0.32 - 0.0002 sigma_Hlim (850 ... 1200), 0.08
+  (> 1200); Z_R = (3 / R_z10)^C_ZR with R_z10 = R_z (10/rho_red)^(1/3), R_z the mean of the two flanks'
+  R_z (um), rho_red in mm (:func:`lubricant_factor`, :func:`velocity_factor`, :func:`roughness_factor`;
+  the constants as gfsReboucas/Drivetrain ``ISO_6336.m`` transcribes them, docs/rating.md 4.4).
+* ISO 6336-3:2019 method B, the size factor Y_X (5 < m_n: 1.03 - 0.006 m_n down to 0.85 for St, V,
+  GGG perl.; 1.05 - 0.01 m_n down to 0.8 for Eh, IF, NT, NV; 1.075 - 0.015 m_n down to 0.7 for GG) and
+  the relative surface factor Y_RrelT of the root fillet's R_z (1 ... 40 um: 1.674 - 0.529 (R_z+1)^0.1
+  for V, GGG perl., Eh, IF; 5.306 - 4.203 (R_z+1)^0.01 for St; 4.299 - 3.259 (R_z+1)^0.0058 for GG, NT,
+  NV; below 1 um 1.120 / 1.070 / 1.025): :func:`size_factor_bending`, :func:`relative_surface_factor`.
+
 Units: mm, N, MPa; angles in rad.  The fillet parameter theta of method B is found by a safeguarded
 fixed point (bracketed Newton), which converges for every rack the spec admits.
 """
@@ -43,7 +56,9 @@ __all__ = ["BendingGeometry", "CylindricalGear", "CylindricalPair", "bending_geo
            "ContactFactors", "helix_factor_bending", "nominal_contact_stress_mpa", "nominal_root_stress_mpa",
            "stress_correction_factor", "form_factor", "ISO_EDITION", "EDITIONS", "load_distribution_factor",
            "virtual_teeth", "Q_COEFFICIENTS", "theoretical_single_stiffness_n_per_mm_um", "single_stiffness_n_per_mm_um", "mesh_to_single_stiffness",
-           "mesh_stiffness_n_per_mm_um"]
+           "mesh_stiffness_n_per_mm_um", "lubricant_constant", "lubricant_factor", "velocity_factor",
+           "roughness_constant", "roughness_factor", "SIZE_FACTOR", "SURFACE_FACTOR", "size_factor_bending",
+           "relative_surface_factor"]
 
 ISO_EDITION = ("ISO 6336-2:2019 and ISO 6336-3:2019 method B (2019 helix factors: "
                "Y_beta = (1 - eps_beta beta/120 deg)/cos^3 beta and f_eps in Y_F)")
@@ -355,3 +370,76 @@ def nominal_contact_stress_mpa(factors: ContactFactors, tangential_load_n, pinio
     f = factors
     return f.Z_H * f.Z_E * f.Z_eps * f.Z_beta * math.sqrt(
         tangential_load_n / (pinion_reference_diameter_mm * face_width_mm) * (u + 1) / u)
+
+
+# --------------------------------------------------------------------------
+# The factors of the permissible stresses (ISO 6336-2/-3:2019 method B)
+# --------------------------------------------------------------------------
+
+
+def _by_limit(sigma_Hlim_mpa: float, low: float, slope: float, offset: float, high: float) -> float:
+    """A constant of sigma_Hlim: ``low`` below 850 MPa, ``high`` above 1200 MPa, linear in between."""
+    if sigma_Hlim_mpa < 850.0:
+        return low
+    if sigma_Hlim_mpa > 1200.0:
+        return high
+    return slope * sigma_Hlim_mpa + offset
+
+
+def lubricant_constant(sigma_Hlim_mpa: float) -> float:
+    """C_ZL of ISO 6336-2: 0.83 below 850 MPa, sigma_Hlim/4375 + 0.6357 up to 1200 MPa, 0.91 above."""
+    return _by_limit(sigma_Hlim_mpa, 0.83, 1.0 / 4375.0, 0.6357, 0.91)
+
+
+def lubricant_factor(C_ZL: float, nu_40_mm2_s: float) -> float:
+    """Z_L = C_ZL + 4 (1 - C_ZL) / (1.2 + 134/nu_40)^2 (nu_40: the oil's kinematic viscosity at 40 C, mm^2/s)."""
+    return C_ZL + 4.0 * (1.0 - C_ZL) / (1.2 + 134.0 / nu_40_mm2_s) ** 2
+
+
+def velocity_factor(C_ZL: float, velocity_m_s: float) -> float:
+    """Z_v = C_Zv + 2 (1 - C_Zv) / sqrt(0.8 + 32/v), C_Zv = C_ZL + 0.02 (v: the pitch line velocity, m/s)."""
+    c_zv = C_ZL + 0.02
+    return c_zv + 2.0 * (1.0 - c_zv) / math.sqrt(0.8 + 32.0 / velocity_m_s)
+
+
+def roughness_constant(sigma_Hlim_mpa: float) -> float:
+    """C_ZR of ISO 6336-2: 0.15 below 850 MPa, 0.32 - 0.0002 sigma_Hlim up to 1200 MPa, 0.08 above."""
+    return _by_limit(sigma_Hlim_mpa, 0.15, -0.0002, 0.32, 0.08)
+
+
+def roughness_factor(C_ZR: float, rz_mean_um: float, rho_red_mm: float) -> tuple:
+    """(Z_R, R_z10): R_z10 = R_z (10/rho_red)^(1/3) (the mean flank roughness R_z, um, referred to a
+    relative radius of 10 mm), Z_R = (3 / R_z10)^C_ZR."""
+    rz10 = rz_mean_um * (10.0 / rho_red_mm) ** (1.0 / 3.0)
+    return (3.0 / rz10) ** C_ZR, rz10
+
+
+#: Y_X of ISO 6336-3 (long life) by material group: (a, b, module where it stops falling, floor), Y_X =
+#: a - b m_n for 5 mm < m_n below that module, 1 up to 5 mm
+SIZE_FACTOR = {"St, V, GGG (perl., bai.), GTS": (1.03, 0.006, 30.0, 0.85),
+               "Eh, IF, NT, NV": (1.05, 0.01, 25.0, 0.80),
+               "GG, GGG (ferr.)": (1.075, 0.015, 25.0, 0.70)}
+#: Y_RrelT of ISO 6336-3 (long life) by material group: (c, d, exponent, value below R_z = 1 um),
+#: Y_RrelT = c - d (R_z + 1)^exponent for 1 <= R_z <= 40 um
+SURFACE_FACTOR = {"V, GGG (perl., bai.), Eh, IF": (1.674, 0.529, 0.1, 1.120),
+                  "St": (5.306, 4.203, 0.01, 1.070),
+                  "GG, GGG (ferr.), NT, NV": (4.299, 3.259, 0.0058, 1.025)}
+
+
+def size_factor_bending(group: str, normal_module_mm: float) -> float:
+    """Y_X of ISO 6336-3 for the long-life (reference) stress: 1 up to m_n = 5 mm, then a - b m_n down to
+    the group's floor (:data:`SIZE_FACTOR`)."""
+    a, b, stop, floor = SIZE_FACTOR[group]
+    if normal_module_mm <= 5.0:
+        return 1.0
+    return floor if normal_module_mm >= stop else a - b * normal_module_mm
+
+
+def relative_surface_factor(group: str, rz_um: float) -> float:
+    """Y_RrelT of ISO 6336-3 for the long-life stress from the root fillet's R_z (um): the group's
+    formula on 1 ... 40 um, its constant below 1 um, the 40 um value above (the standard's range ends
+    there: :data:`SURFACE_FACTOR`)."""
+    c, d, e, smooth = SURFACE_FACTOR[group]
+    if rz_um < 1.0:
+        return smooth
+    return c - d * (min(rz_um, 40.0) + 1.0) ** e

@@ -11,6 +11,7 @@ Pure data and small functions; the spec's ``[material]`` keys name a type and qu
 * **Limits:** sigma_lim = A x + B with x the surface hardness (HV for steels, HBW for cast irons),
   ISO 6336-5:2016 Table 1 by type and quality ML / MQ / ME.
 * **Life factors** (no limited pitting): log-log between the tabulated points, constant beyond.
+* **Groups of Y_X and Y_RrelT** (ISO 6336-3): ``size_group`` and ``surface_group`` of each type.
 """
 from __future__ import annotations
 
@@ -51,6 +52,10 @@ class Material:
     y_nt: tuple
     running_in: str  # ISO 6336-1's running-in allowance group: "hardened", "through-hardened", "cast-iron"
     density_kg_per_mm3: float = 7.83e-6
+    #: ISO 6336-3's groups of the size factor Y_X and the relative surface factor Y_RrelT (keys of
+    #: iso6336.SIZE_FACTOR and iso6336.SURFACE_FACTOR)
+    size_group: str = "Eh, IF, NT, NV"
+    surface_group: str = "V, GGG (perl., bai.), Eh, IF"
 
 
 def _rows(ml, mq, me):
@@ -67,24 +72,25 @@ MATERIALS = {m.name: m for m in (
     Material("through-hardened", "V (wrought alloy steel, through-hardened)", "hv", 300.0,
              _rows((1.313, 188.0, 200, 360), (1.313, 373.0, 200, 360), (2.213, 260.0, 200, 390)),
              _rows((0.423, 104.0, 200, 360), (0.425, 187.0, 200, 360), (0.358, 231.0, 200, 390)),
-             Z_NT_EH_V, Y_NT_V, "through-hardened"),
+             Z_NT_EH_V, Y_NT_V, "through-hardened", size_group="St, V, GGG (perl., bai.), GTS"),
     Material("nitrided", "NT nitr. (nitriding steel, nitrided)", "", None,
              _rows((0.0, 1125.0, 650, 900), (0.0, 1250.0, 650, 900), (0.0, 1450.0, 650, 900)),
              _rows((0.0, 270.0, 650, 900), (0.0, 420.0, 650, 900), (0.0, 468.0, 650, 900)),
-             Z_NT_NT_GG, Y_NT_NT_GG, "hardened"),
+             Z_NT_NT_GG, Y_NT_NT_GG, "hardened", surface_group="GG, GGG (ferr.), NT, NV"),
     Material("nitrocarburised", "NV nitrocar. (wrought steel, nitrocarburised)", "hv", 400.0,
              _rows((0.0, 650.0, 300, 650), (1.167, 425.0, 300, 450), (1.167, 425.0, 300, 450)),
              _rows((0.0, 224.0, 300, 650), (0.653, 94.0, 300, 450), (0.653, 94.0, 300, 450)),
-             Z_NT_NV_NITROCAR, Y_NT_NV_NITROCAR, "hardened"),
+             Z_NT_NV_NITROCAR, Y_NT_NV_NITROCAR, "hardened", surface_group="GG, GGG (ferr.), NT, NV"),
     Material("grey-cast-iron", "GG (grey cast iron)", "hbw", 200.0,
              _rows((1.033, 132.0, 150, 240), (1.033, 132.0, 150, 240), (1.465, 122.0, 175, 275)),
              _rows((0.256, 8.0, 150, 240), (0.256, 8.0, 150, 240), (0.200, 53.0, 175, 275)),
-             Z_NT_NT_GG, Y_NT_NT_GG, "cast-iron", 7.2e-6),
+             Z_NT_NT_GG, Y_NT_NT_GG, "cast-iron", 7.2e-6, size_group="GG, GGG (ferr.)",
+             surface_group="GG, GGG (ferr.), NT, NV"),
     Material("nodular-cast-iron", "GGG (nodular cast iron, pearlitic or bainitic)", "hbw", 250.0,
              _rows((1.434, 211.0, 175, 300), (1.434, 211.0, 175, 300), (1.500, 250.0, 200, 300)),
              _rows((0.350, 119.0, 175, 300), (0.350, 119.0, 175, 300), (0.380, 134.0, 200, 300)),
              # ISO 6336-1 groups GGG (perl., bai.) with St and V for the running-in allowances (issue 57.7)
-             Z_NT_EH_V, Y_NT_V, "through-hardened", 7.1e-6),
+             Z_NT_EH_V, Y_NT_V, "through-hardened", 7.1e-6, size_group="St, V, GGG (perl., bai.), GTS"),
 )}
 
 assert tuple(MATERIALS) == MATERIAL_TYPES, "beveloid/spec/keys.py MATERIAL_TYPES and the table here differ"

@@ -56,6 +56,8 @@ class RatingResult(Result):
     #: tribology.TribologyResult at K_A K_v T and [rating] pinion_speed_rpm when the file has a [lubricant]
     #: (the scuffing criterion of the verdict; docs/tribology.md), else None
     tribology: object = None
+    #: analysis.tolerance_face_load's dict when the rating took K_Hbeta from the tolerance box, else None
+    tolerance_box: object = None
 
     def to_json(self) -> dict:
         """The JSON of ``beveloid rating --json`` (issue 32's contract)."""
@@ -90,9 +92,13 @@ class RatingResult(Result):
 
 
 def _thawed(v):
-    """Plain dicts and finite floats (or None) of a nested mapping."""
+    """Plain dicts and lists, finite floats (or None) of a nested mapping."""
     if hasattr(v, "items"):
         return {k: _thawed(x) for k, x in v.items()}
+    if isinstance(v, (list, tuple)):
+        return [_thawed(x) for x in v]
+    if isinstance(v, bool):
+        return v
     if isinstance(v, (int, str)) or v is None:
         return v
     return _num(v)
@@ -132,9 +138,11 @@ def _json(r: RatingResult) -> dict:
             "K_F_beta": _num(m.sections["middle"].K_F_beta),
             "face_load": _face_load_json(fl),
             "material": {k: (_num(v) if isinstance(v, float) else v) for k, v in f.material_json(name).items()},
+            "strength_factors": _thawed(f.strength[name].as_json()) if name in f.strength else None,
             "edge_pressure_max_mpa": _num(r.loaded.edge_pressure_max_mpa),
         }
     out["positions_check"] = _thawed(r.loaded.positions_check)
+    out["tolerance_box"] = None if r.tolerance_box is None else _thawed(r.tolerance_box)
     out["tribology"] = None if r.tribology is None else r.tribology.to_json()
     out["verdict"] = r.verdict()
     out["notes"] = list(r.notes)

@@ -84,7 +84,7 @@ def safety_criteria(result) -> list:
 def edge_criterion(result) -> dict | None:
     """The edge-contact rule (docs/rating.md 6) as a criterion: the share of the mesh's load within the band
     of the most loaded edge against :data:`EDGE_SHARE` (a maximum), a condition (a relief of that edge
-    fixes it); the band's mean pressure beside sigma_Hlim Z_NT / S_Hmin of the weaker member."""
+    fixes it); the band's mean pressure beside sigma_Hlim Z_NT Z_L Z_v Z_R / S_Hmin of the weaker member."""
     e = result.loaded.edge
     if e is None:
         return None
@@ -163,22 +163,33 @@ def _disagreements(result, criteria) -> list:
 
 
 def assumptions(result) -> list:
-    """What the verdict leaves out (issue 57.7), in words, each with its direction."""
+    """What the verdict leaves out (issue 57.7), in words, each with its direction: K_Hbeta of the load
+    case's errors alone (unless the tolerance box ran), and each strength factor left at 1 with the
+    input it lacks (Z_L, Z_v, Z_R, Y_RrelT; rating.strength)."""
     f = result.factors
     pair = getattr(result, "pair", None)
     errors = getattr(pair, "errors", None)
     aligned = errors is None or not np.any(np.asarray(errors, dtype=float))
-    out = [("K_H_beta of the " + ("aligned pair" if aligned else "pair's [misalignment]")
-            + " only (no f_ma, f_sh or lead deviations)"),
-           "Z_L = Z_v = Z_R = 1 (the rating does not take the [lubricant], speed or roughness into S_H: up to "
-           "~15 % too high S_H for unground flanks)"]
-    m_n = None if pair is None else pair.geometry.normal_module_mm
-    if m_n is not None and m_n > 5.0:
-        y_x = max(1.05 - 0.01 * m_n, 0.8)  # ISO 6336-3, case-hardened / nitrided, 5 < m_n < 25 (the largest fall)
-        out.append(f"Y_X = Z_X = 1 (ISO 6336-3's Y_X at m_n {m_n:g} mm is down to {y_x:.3f}: S_F up to "
-                   f"{1 / y_x - 1:.1%} high)")
+    box = getattr(result, "tolerance_box", None)
+    if box is None:
+        out = [("K_H_beta of the " + ("aligned pair" if aligned else "pair's [misalignment]")
+                + " only (no f_ma, f_sh or lead deviations; rating --samples K takes the tolerance box's p90)")]
     else:
-        out.append("Y_X = Z_X = 1 (ISO's value at m_n <= 5 mm)")
+        out = [f"K_H_beta at the p{box['percentile']:g} of {box['sets']} error sets of the tolerance box about the "
+               "load case's errors (no lead deviations; the local stresses at the load case's errors)"]
+    left = {}
+    for member, s in f.strength.items():
+        for factor in s.contact + s.root:
+            if not factor.computed:
+                left.setdefault((factor.name, factor.why), []).append(member)
+    direction = {"Z_L": "S_H high for a thin oil, low for a thick one", "Z_v": "S_H high at low speed",
+                 "Z_R": "S_H up to ~15 % high for unground flanks", "Y_RrelT": "S_F as for the reference test gear"}
+    for (name, why), members in left.items():
+        whose = "" if len(members) == len(f.strength) else f" on the {members[0]}"
+        out.append(f"{name} = 1{whose} ({why}; {direction[name]})")
+    if not f.strength:
+        out.append("Z_L = Z_v = Z_R = Y_X = Y_RrelT = 1 (no strength factors computed)")
+    out.append("Y_deltarelT = Z_W = Z_X = 1")
     if f.K_v_source == "static":
         out.append("K_v = 1 (no pinion speed)")
     return out
@@ -243,7 +254,7 @@ def verdict(result) -> dict:
         condition = _edge_condition(edge)
         line += (f"; edge contact at {edge['where']}: {edge['load_share']:.1%} of the mesh's load within "
                  f"{edge['band_mm']:.2g} mm of the edge > {EDGE_SHARE:.0%} (edge-contact rule; mean pressure there "
-                 f"{edge['pressure_mpa']:.0f} MPa, sigma_Hlim Z_NT / S_Hmin = {edge['permissible_mpa']:.0f} MPa): ")
+                 f"{edge['pressure_mpa']:.0f} MPa, sigma_HP = sigma_Hlim Z_NT Z_L Z_v Z_R / S_Hmin = {edge['permissible_mpa']:.0f} MPa): ")
         if status == Verdict.PASSES:
             status = Verdict.CONDITIONAL
             line += f"CONDITIONAL, {condition}"

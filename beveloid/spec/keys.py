@@ -176,6 +176,14 @@ def _member_docs(member: str) -> dict[str, KeyDoc]:
         "roughness_ra_um": KeyDoc(
             f"arithmetic mean roughness Ra of the {member}'s flanks (tribology: friction, film parameter lambda;"
             " needed with [lubricant])", "um", lo=0.0, lo_open=True, hi=100.0, requirement="optional"),
+        "roughness_rz_um": KeyDoc(
+            f"mean peak-to-valley roughness Rz of the {member}'s flanks (rating: ISO 6336-2's roughness factor"
+            " Z_R; without it 6 Ra from roughness_ra_um, DIN 3991's approximation)", "um", lo=0.0, lo_open=True,
+            hi=400.0, requirement="optional"),
+        "root_roughness_rz_um": KeyDoc(
+            f"mean peak-to-valley roughness Rz of the {member}'s root fillets (rating: ISO 6336-3's relative"
+            " surface factor Y_RrelT; without it Y_RrelT = 1)", "um", lo=0.0, lo_open=True, hi=400.0,
+            requirement="optional"),
         "tooth_surface": KeyDoc(
             "tooth-surface model (generated/surface_models.py); by default the model whose keys below are"
             f" non-zero, else {surface_models.DEFAULT_MODEL}",
@@ -291,6 +299,10 @@ def _rating_docs() -> dict[str, KeyDoc]:
                          requirement="optional", default=1.4),
         "S_Hmin": KeyDoc("required minimum pitting safety S_Hmin (rating)", lo=0.0, lo_open=True, hi=100.0,
                          requirement="optional", default=1.0),
+        "tolerance_samples": KeyDoc("error sets of the tolerance box under load (rating: K_H_beta at their 90th "
+                                    "percentile instead of the file's errors alone; 0: the file's errors; beveloid "
+                                    "rating --samples)", kind="integer", lo=0, hi=10000, requirement="optional",
+                                    default=0),
         "S_Bmin": KeyDoc("required minimum scuffing safety S_Bmin (rating, flash-temperature method with a "
                          "[lubricant] and pinion_speed_rpm: docs/tribology.md)", lo=0.0, lo_open=True, hi=100.0,
                          requirement="optional", default=1.0),

@@ -75,6 +75,10 @@ class MemberSpec:
     bore_diameter_mm: float = 0.0
     #: Flank roughness Ra (um) for the tribology (None: not given).
     roughness_ra_um: float | None = None
+    #: Flank roughness Rz (um) for ISO 6336-2's Z_R (None: 6 Ra, or not given).
+    roughness_rz_um: float | None = None
+    #: Root fillet roughness Rz (um) for ISO 6336-3's Y_RrelT (None: not given, Y_RrelT = 1).
+    root_roughness_rz_um: float | None = None
     #: Tooth-surface model (generated/surface_models.py MODELS).
     tooth_surface: str = surface_models.DEFAULT_MODEL
     #: The model's own input keys and values, as sorted (key, value) pairs.
@@ -125,6 +129,7 @@ class RatingSpec:
     S_Fmin: float = 1.4
     S_Hmin: float = 1.0
     S_Bmin: float = 1.0
+    tolerance_samples: int = 0  # > 0: K_H_beta at the p90 of that many error sets of the tolerance box
 
 
 @dataclass(frozen=True)

@@ -18,13 +18,24 @@ from __future__ import annotations
 import numpy as np
 
 from ..result import freeze
-from .analysis import PitchPoint, evaluate_cells, pitch_point
-from .cells import Cells, build
 from .lubricant import Lubricant, LubricantError
 from .result import TribologyResult
 
 __all__ = ["Cells", "Lubricant", "LubricantError", "PitchPoint", "TribologyResult", "evaluate", "efficiency_map",
            "Prepared", "prepare"]
+
+
+def __getattr__(name):
+    """The names of ``cells`` and ``analysis`` (``Cells``, ``build``; ``PitchPoint``, ``pitch_point``,
+    ``evaluate_cells``), imported on first use: the spec's check of a lubricant (``tribology.lubricant``,
+    every command) then imports no more of the tribology (nor the LTCA it needs)."""
+    if name in ("Cells", "build"):
+        from . import cells as module
+    elif name in ("PitchPoint", "pitch_point", "evaluate_cells"):
+        from . import analysis as module
+    else:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    return getattr(module, name)
 
 
 class Prepared:
@@ -49,6 +60,9 @@ class Prepared:
             from ..ltca.options import Material
 
             e_star_mpa = (Material.from_spec(spec) if spec is not None else Material()).e_star_mpa
+        from .analysis import pitch_point
+        from .cells import build
+
         self.result, self.geom, self.lubricant = result, geom, lubricant
         self.roughness_ra_um = tuple(float(r) for r in roughness_ra_um)
         self.e_star_mpa = float(e_star_mpa)
@@ -57,6 +71,8 @@ class Prepared:
         self.pitch = pitch_point(geom, result.flank)
 
     def at(self, speed_rpm) -> TribologyResult:
+        from .analysis import evaluate_cells
+
         return evaluate_cells(self.cells, self.result, self.pitch, self.lubricant, speed_rpm, self.roughness_ra_um,
                               self.e_star_mpa, pair=self.pair)
 

@@ -24,8 +24,8 @@ def rpm_to_rad_s(rpm):
 class PitchPoint:
     """The aligned pair at its pitch point, per rad/s of the pinion: ISO/TR 14179-2's global quantities."""
 
-    sum_velocity_m_s: float  #: per rad/s
-    reduced_radius_mm: float  #: relative radius of curvature in the sum velocity's direction
+    sum_velocity_m_s: float  #: per rad/s: the sum velocity's part across the contact line (ISO's v_sum,C)
+    reduced_radius_mm: float  #: relative radius of curvature across the contact line (ISO's rho_C, normal section)
     pinion_arm_mm: float  #: moment arm of the normal about the pinion axis (the base radius of a spur pinion)
     face_width_mm: float  #: the smaller face width
 
@@ -33,7 +33,9 @@ class PitchPoint:
 @functools.lru_cache(maxsize=64)
 def pitch_point(geom, flank) -> PitchPoint:
     """The pitch-point kinematics and curvature (the TE reference contact, aligned); cached per geometry
-    and flank (every torque and speed of a map shares it)."""
+    and flank (every torque and speed of a map shares it).  ISO's sum velocity 2 v_t sin(alpha_wt) is the
+    part of the sum velocity across the contact line (its part along a helical pair's line does not
+    entrain); its radius is the relative radius across the line (docs/tribology.md, "Directions")."""
     from ..generated import contact_kinematics
 
     ref = reference_contact(geom, flank)
@@ -46,11 +48,9 @@ def pitch_point(geom, flank) -> PitchPoint:
     from ..generated import placement
 
     rot = placement.pinion_placement(ref.pinion_angle, geom.placement()).rotation
-    e = kin.sum_velocity / np.linalg.norm(kin.sum_velocity)
-    e1 = rot.T @ e  # in S_1
-    ca, cl = float(e1 @ fr.axes[0, 0]), float(e1 @ fr.axes[0, 1])
-    k = float(fr.curvature_across[0]) * ca ** 2 + float(fr.curvature_along[0]) * cl ** 2
-    return PitchPoint(float(np.linalg.norm(kin.sum_velocity)), 1.0 / max(k, STRAIGHT_CURVATURE),
+    across = rot @ fr.axes[0, 0]  # in S_f, like the velocities
+    k = float(fr.curvature_across[0])
+    return PitchPoint(abs(float(kin.sum_velocity @ across)), 1.0 / max(k, STRAIGHT_CURVATURE),
                       float(fr.pinion_arm_mm[0]), float(min(geom.pinion.face_width_mm, geom.gear.face_width_mm)))
 
 
@@ -74,9 +74,15 @@ def evaluate_cells(cells: Cells, result, pp: PitchPoint, lub: Lubricant, speed_r
     # every law on the loaded cells only (a fraction of the grid), scattered back at the end
     q = c.line_load_n_per_mm[loaded]
     p = c.pressure_mpa[loaded]
-    rx = c.radius_sum_mm[loaded]
     norm = lambda v: np.linalg.norm(v[loaded], axis=-1) * w  # noqa: E731
     vs, vsum, v1, v2 = (norm(v) for v in (c.sliding_velocity, c.sum_velocity, c.pinion_velocity, c.gear_velocity))
+    # a line contact is entrained, and its band crossed, only across the line: there the speeds are the
+    # velocities' parts across it and the radius the principal one across it (docs/tribology.md, "Directions")
+    line = np.broadcast_to(c.line_contact[..., None], loaded.shape)[loaded]
+    rx = np.where(line, c.radius_across_mm[loaded], c.radius_sum_mm[loaded])
+    vsum = np.where(line, c.sum_across[loaded] * w, vsum)
+    v1 = np.where(line, c.pinion_across[loaded] * w, v1)
+    v2 = np.where(line, c.gear_across[loaded] * w, v2)
     area = np.broadcast_to(c.area_mm2[..., None], loaded.shape)[loaded]
     with np.errstate(all="ignore"):
         if lub.friction_coefficient is not None:
@@ -86,10 +92,9 @@ def evaluate_cells(cells: Cells, result, pp: PitchPoint, lub: Lubricant, speed_r
         force = p * area  # N per cell
         loss_density = mu * p * vs  # W/mm^2
         oil = (lub.dynamic_viscosity_pa_s, lub.pressure_viscosity_1_per_pa, e_prime_mpa * 1e6)
-        line = c.line_contact[..., None] & loaded
         hc, hm = laws.hamrock_dowson(0.5 * vsum, rx, c.radius_side_mm[loaded], c.pair_load_n[loaded], *oil)
         lc, lm = laws.line_contact_film(0.5 * vsum, rx, q, *oil)
-        hc, hm = np.where(line[loaded], lc, hc), np.where(line[loaded], lm, hm)
+        hc, hm = np.where(line, lc, hc), np.where(line, lm, hm)
         b = laws.hertz_half_width_mm(q, rx, e_prime_mpa)
         flash = laws.blok_flash_c(mu, q, vs, v1, v2, b)
     full = lambda a: scatter(a, loaded)  # noqa: E731

@@ -35,6 +35,10 @@ class Cells(typing.NamedTuple):
     sliding_profile: np.ndarray  # sliding velocity's part across the contact line (profile direction)
     sliding_lengthwise: np.ndarray  # its part along the contact line
     radius_sum_mm: np.ndarray  # relative radius of curvature in the sum velocity's direction (R_x)
+    radius_across_mm: np.ndarray  # ... across the contact line (the principal one: a helical pair's normal radius)
+    sum_across: np.ndarray  # |sum velocity . across|: what entrains a line contact (its part along the line does not)
+    pinion_across: np.ndarray  # |pinion velocity . across|: the speed at which its surface crosses the band
+    gear_across: np.ndarray  # |gear velocity . across|
     radius_side_mm: np.ndarray  # ... perpendicular to it (R_y)
     entrainment_angle_deg: np.ndarray  # sum velocity to the contact ellipse's minor axis (0: across the line)
     pair_load_n: np.ndarray  # (N, P) broadcast to (N, P, C)
@@ -103,5 +107,9 @@ def build(result, geom, errors, e_star_mpa) -> Cells:
                  sliding_profile=np.einsum("...i,...i->...", vs, across),
                  sliding_lengthwise=np.einsum("...i,...i->...", vs, along),
                  radius_sum_mm=rx, radius_side_mm=ry, entrainment_angle_deg=angle,
+                 radius_across_mm=np.broadcast_to(1.0 / np.maximum(ka, STRAIGHT_CURVATURE), (N, P, C)),
+                 sum_across=np.abs(np.einsum("...i,...i->...", s, across)),
+                 pinion_across=np.abs(np.einsum("...i,...i->...", kin.pinion_velocity, across)),
+                 gear_across=np.abs(np.einsum("...i,...i->...", kin.gear_velocity, across)),
                  pair_load_n=np.broadcast_to(np.nan_to_num(result.pair_load_n)[:, :, None], (N, P, C)),
                  line_contact=np.isinf(a), pinion_lu=lu)

@@ -220,3 +220,74 @@ def _running_in_group(pgid: int) -> list[str]:
         if int(fields[2]) == pgid and fields[0] != "Z":
             running.append(cmdline)
     return running
+
+
+class _Recording:
+    """An executor in this process that keeps its tasks (pickled and back, as to a worker process) and says
+    whether its workers share this file system."""
+
+    description = "test"
+
+    def __init__(self, shares_files):
+        self.shares_files, self.tasks = shares_files, []
+
+    def map_unordered(self, fn, items):
+        import pickle
+
+        items = [pickle.loads(pickle.dumps(t)) for t in items]
+        self.tasks += items
+        return ((k, fn(t)) for k, t in enumerate(items))
+
+
+@pytest.mark.parametrize("shares_files", [True, False])
+def test_a_worker_on_this_file_system_writes_its_chunk_file_itself(tmp_path, monkeypatch, shares_files):
+    """Issue 59: the chunk files are written where the chunks are computed (in parallel) when the workers share
+    this file system (one worker, local processes), else here as they arrive (a cluster); the same files."""
+    from beveloid.explore import run as runner
+    from beveloid.explore.grid import Plan, parse_vary
+    from beveloid.spec import load_example, spec_to_dict
+
+    saved_by = []
+    real = runner.save_chunk
+    monkeypatch.setattr(runner, "save_chunk", lambda *a: saved_by.append(a[1]) or real(*a))
+    plan = Plan(spec_to_dict(load_example("case1")), (parse_vary("pinion.cone_angle_deg=1:3:3"),))
+    out = str(tmp_path / "run")
+    req = runner.prepare(out, runner.Request(plan, {"dx_mm": 0.5}, chunk=2), resume=False)
+    ex = _Recording(shares_files)
+    chunks = runner.Chunks(out, req)
+    saved_here = []
+    real_add = chunks.add
+    chunks.add = lambda i, cols, saved=False: saved_here.append(not saved) or real_add(i, cols, saved)
+    assert runner.execute(out, req, ex, chunks=chunks).stop is None
+    assert [t.out_dir for t in ex.tasks] == [None] + [out if shares_files else None] * 2  # (the base design: no file)
+    assert saved_here == [not shares_files] * 2 and sorted(saved_by) == [0, 1]
+    again = runner.Chunks(out, req)  # the files hold what this process kept
+    for i in (0, 1):
+        for k, v in chunks.parts[i].items():
+            np.testing.assert_array_equal(again.parts[i][k], v)
+
+
+def test_the_figures_drawn_as_tasks_are_the_files_drawn_here(case1, tmp_path, capsys):
+    """Issue 59: each figure is a task (its PNG's bytes, drawn by a worker from the columns it shows) whose
+    bytes are the file the figure's function writes itself."""
+    import json
+
+    from beveloid.explore import run as runner
+
+    out = tmp_path / "run"
+    assert main(["explore", case1, "--vary", "pinion.cone_angle_deg=1:3:3", "--vary",
+                 "pinion.helix_angle_deg=18:28:2", "--workers", "1", "--out", str(out)]) == 0
+    capsys.readouterr()
+    req = runner.Request.from_json(json.loads((out / "request.json").read_text()))
+    table = runner.load_table(str(out), req)
+    report.mark_pareto(table, False)
+    base = json.loads((out / "summary.json").read_text())["base_design"]
+    ex = _Recording(True)
+    written = report.write_figures(str(tmp_path), report.drawn_figures(req, table, base, ex))
+    assert [os.path.basename(p) for p in written] == list(report.FIGURES) and len(ex.tasks) == 4
+    for name in report.FIGURES:
+        assert (tmp_path / name).read_bytes() == (out / name).read_bytes(), name
+    here = tmp_path / "here.png"
+    report.heatmap(str(here), req, table, "max_fpd_angle_deg", "largest FPD angle (deg)", base)
+    assert here.read_bytes() == (out / "heatmap_fpd.png").read_bytes()
+    assert not report.write_figures(str(tmp_path / "none"), report.drawn_figures(req, table, base), go_on=lambda: False)

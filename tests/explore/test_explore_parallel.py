@@ -147,3 +147,20 @@ def test_the_broken_pool_race_after_a_ctrl_c_prints_nothing_and_other_thread_err
         t.start()
         t.join()
     assert seen == [("Other", cf.InvalidStateError)]
+
+
+def _nothing():
+    pass
+
+
+def test_a_workers_start_freezes_what_it_loaded():
+    """Issue 59: after its warm-up a worker's objects (imports, numba's cache loads) are out of the collector's
+    reach (gc.freeze), as the script's before its exit: its tasks' collections and its exit skip them."""
+    import gc
+
+    before = gc.get_freeze_count()
+    try:
+        parallel.warm_up(_nothing)
+        assert gc.get_freeze_count() > before
+    finally:
+        gc.unfreeze()

@@ -64,6 +64,33 @@ def test_a_stale_entry_is_recomputed_not_used(counted, case1):
     assert _get(case1)[1] == "hit"
 
 
+def test_an_entry_keeps_the_fe_tooth_arrays_and_a_tooth_built_from_them_is_the_same(counted, case1):
+    """The arrays the FE tooth derives from the data (eigenvalue bounds, reading-depth matrix, the
+    compliance made semi-definite) are written into the entry and read back with it (issue 59: the tooth
+    is built without making them); a tooth built from the stored arrays equals one that makes its own:
+    every array, its compliances and its root stresses."""
+    from beveloid.fe.contact import FeTooth, tooth_arrays
+    from beveloid.names import FLANKS
+
+    _get(case1)
+    cache._KEPT.clear()  # as a new process: the entry read from the file
+    data, how = _get(case1)
+    assert how == "hit"
+    assert cache.stored_tooth_arrays(object(), "left") is None  # data the cache did not give
+    grid = np.asarray(data.points_mm[0]).reshape(-1, 3)
+    rng = np.random.default_rng(7)
+    pts = np.stack([grid[rng.choice(len(grid), 6, replace=False)] for _ in range(4)])
+    forces = rng.uniform(10.0, 400.0, (4, 6))
+    for flank in FLANKS:
+        kept, fresh = cache.stored_tooth_arrays(data, flank), tooth_arrays(data, flank)
+        assert kept is not None and sorted(kept) == sorted(fresh)
+        assert all(np.array_equal(kept[k], fresh[k]) for k in fresh)
+        a, b = FeTooth(data, flank, kept), FeTooth(data, flank)
+        assert np.array_equal(a.line_compliances(pts), b.line_compliances(pts))
+        assert all(np.array_equal(x, y, equal_nan=True) for x, y in zip(a.root_stresses(pts, forces),
+                                                                         b.root_stresses(pts, forces)))
+
+
 @pytest.mark.parametrize("damage", ["truncate", "garbage", "nan"])
 def test_a_corrupt_entry_is_recomputed_not_used(counted, case1, damage):
     _get(case1)

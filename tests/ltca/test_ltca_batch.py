@@ -354,3 +354,47 @@ def test_the_solver_says_which_backend_runs_the_contact_kernel_and_why():
     assert kernel.kernels(numpy_solver) is kernel.kernels(default)
     assert (kernel.kernels(numpy_solver) is kernel) == (numpy_solver.dense_backend == "numpy")
     assert "100x slower" in DENSE_BACKEND_WHY
+
+
+def test_without_the_convergence_indicator_every_other_number_is_the_same(pair):
+    """``analyze_many(..., convergence=False)`` (what the tolerance box and optimize run: they report no
+    grid-convergence indicator) leaves out the once-coarsened solve: ``convergence`` nan, no "grid not
+    converged" warning, every other array of every result bit-identical to the full analysis; the box's
+    rows are those of the full analyses' summaries."""
+    import dataclasses
+
+    options = ltca.Options(**SMALL)
+    load = ltca.LoadCase([80.0, 300.0], errors=[(0.0, 0.0, 0.0, 0.0, 0.0), (0.02, 0.0, -0.01, 0.0, 0.0)])
+    full = ltca.analyze_many(pair, load, options).results
+    lean = ltca.analyze_many(pair, load, options, convergence=False).results
+    assert any(np.isfinite(r.convergence.pressure_change).any() for row in full for r in row)
+    for row_full, row_lean in zip(full, lean):
+        for a, b in zip(row_full, row_lean):
+            assert np.isnan(b.convergence.pressure_change).all() and np.isnan(b.convergence.load_change).all()
+            assert not any("grid not converged" in w for w in b.warnings())
+            for f in dataclasses.fields(a):
+                if f.name in ("convergence", "pair"):
+                    continue
+                np.testing.assert_equal(getattr(b, f.name), getattr(a, f.name), err_msg=f.name)  # nested, nan == nan
+    rows = ltca.studies.tolerance_box(pair, load, options)
+    assert [[r["te_peak_to_peak_urad"] for r in row] for row in rows] == \
+        [[summary(r)["te_peak_to_peak_urad"] for r in row] for row in full]
+
+
+def test_the_tolerance_box_hands_out_small_tasks_with_the_numbers_of_whole_batches(pair, monkeypatch):
+    """Issue 59: the box's workers get TASK_SETS error sets a task (64 sets in tasks of 8 kept at most 8 workers
+    busy); every set's row is bit-identical to those of box_results, which batches CHUNK_SETS sets a call (a
+    set's numbers do not depend on the sets analysed with it)."""
+    options = ltca.Options(**SMALL)
+    draws = np.array([[0.01 * k, 0.0, -0.005 * k, 0.0, 0.0] for k in range(5)])
+    load = ltca.LoadCase([150.0, 300.0]).at(errors=draws)
+    tasks = []
+    real = ltca.studies._chunk
+    monkeypatch.setattr(ltca.studies, "_chunk", lambda task: tasks.append(len(task[1].error_sets(pair))) or real(task))
+    rows = ltca.studies.tolerance_box(pair, load, options)
+    assert ltca.studies.TASK_SETS < ltca.studies.CHUNK_SETS and tasks == [2, 2, 1]
+    whole = ltca.studies.box_results(pair, load, options)  # one call of 5 sets
+    assert [[r["te_peak_to_peak_urad"] for r in row] for row in rows] == \
+        [[summary(r)["te_peak_to_peak_urad"] for r in row] for row in whole]
+    assert [[r["max_pressure_mpa"] for r in row] for row in rows] == \
+        [[summary(r)["max_pressure_mpa"] for r in row] for row in whole]

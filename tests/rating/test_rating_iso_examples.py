@@ -46,6 +46,9 @@ x in place of x_E, the pinion's Y_F is 2.009 instead of 2.087
    example (docs/rating.md 3.1), so the 2019 Y_beta is held to the standard's Figure 8
    (test_rating_iso6336.py).  alpha_Fen, h_F, the pinion's Y_S and sigma_F0 of that report are held
    to a stated band, not to the printed digits (under 0.1 % in sigma_F0; the cause is open).
+4. The permissible stresses' factors of the FZG-C listing (section 4 below): Z_L, Z_v, Z_R (its R_z10), their
+   product, Y_X and Y_RrelT of STplus 11.1F (ISO 6336:2019), from the listing's oil, flank Ra, root R_z
+   and pitch-line velocity (beveloid/rating/strength.py, docs/rating.md 4.4).
 """
 from __future__ import annotations
 
@@ -349,3 +352,36 @@ def test_kisssoft_helical_bending_load_arm_within_a_stated_band(kiss, where, nam
     ours = kiss[where][name]
     assert ours == pytest.approx(printed, rel=rel)
     assert not _within_printed(ours, printed, 2)  # an honest list: these miss the printed digits
+
+
+# --- 4. the permissible stresses' factors: FZG-C, STplus 11.1F, ISO 6336-2/-3:2019 (sheets 2, 9-12) --------
+# Inputs of the listing: oil FVA-3A, nu_40 = 90.02 mm^2/s (sheet 2; printed "90." on sheet 11); flank Ra
+# 0.3 um both (ARITHM_MITTENRAUHW_FL), which STplus prints as R_zH = 1.80 um (= 6 Ra); root R_zF = 20 um;
+# n_1 = 1500 1/min, v = 5.749 m/s at the working pitch circle (sheet 9); 17CrNiMo6 case-hardened,
+# sigma_Hlim 1510 N/mm^2 (STplus prints the product "Z_L*Z_R*Z_V (sigma_Hlim = 1200.)": C_ZL and C_ZR
+# are clamped there, 0.91 and 0.08 either way); m_n = 4.5 mm.
+FZG_C_FACTORS_PRINTED = [("Z_L", 0.960, 3), ("Z_v", 0.985, 3), ("Z_R", 1.037, 3), ("R_z10_um", 1.9, 1),
+                         ("Z_L Z_R Z_v", 0.981, 3), ("Y_X", 1.000, 3), ("Y_RrelT", 0.957, 3)]
+
+
+@pytest.fixture(scope="module")
+def fzg_c_factors():
+    from beveloid.rating import materials
+    from beveloid.rating.strength import RA_TO_RZ, pitch_point_radii_mm
+
+    pinion, wheel = _stplus_gears(FZG_C)
+    *_, rho_red = pitch_point_radii_mm(iso.CylindricalPair(pinion, wheel, 14.0))
+    c_zl, c_zr = iso.lubricant_constant(1510.0), iso.roughness_constant(1510.0)
+    z_l, z_v = iso.lubricant_factor(c_zl, 90.02), iso.velocity_factor(c_zl, 5.749)
+    z_r, rz10 = iso.roughness_factor(c_zr, RA_TO_RZ * 0.3, rho_red)
+    eh = materials.MATERIALS["case-hardened"]
+    return {"Z_L": z_l, "Z_v": z_v, "Z_R": z_r, "R_z10_um": rz10, "Z_L Z_R Z_v": z_l * z_r * z_v,
+            "Y_X": iso.size_factor_bending(eh.size_group, 4.5), "Y_RrelT": iso.relative_surface_factor(eh.surface_group, 20.0)}
+
+
+@pytest.mark.parametrize("name, printed, decimals", FZG_C_FACTORS_PRINTED, ids=[p[0] for p in FZG_C_FACTORS_PRINTED])
+def test_stplus_fzg_c_lubricant_roughness_velocity_size_and_surface_factors(fzg_c_factors, name, printed, decimals):
+    """FZG-C rated by STplus 11.1F to ISO 6336:2019: Z_L, Z_v, Z_R (with rho_red at the pitch point of the
+    pair and R_z = 6 Ra), their product, Y_X and Y_RrelT round to the printed values."""
+    ours = fzg_c_factors[name]
+    assert _within_printed(ours, printed, decimals), f"{name}: ours {ours!r}, printed {printed}"

@@ -110,11 +110,15 @@ def test_iso_out_of_its_range_is_a_reason_of_the_disagreement(plate800):
 
 
 def test_the_verdict_states_its_assumptions(plate800):
-    """Issue 57.7: aligned K_H_beta, Z_L = Z_v = Z_R = 1 and Y_X (case 1: m_n 6 > 5) in the line."""
+    """Issue 57.7: aligned K_H_beta and, without a lubricant, speed or roughness, Z_L = Z_v = Z_R = 1 each
+    with the input it lacks, in the line; Y_X is ISO's (case 1: m_n 6 > 5, rating.strength), not assumed."""
     v = rating.verdict(_rate(plate800))
     line = v["line"]
     assert "assumes K_H_beta of the aligned pair only" in line
-    assert "Z_L = Z_v = Z_R = 1" in line and "Y_X = Z_X = 1 (ISO 6336-3's Y_X at m_n 6 mm is down to 0.990" in line
+    for factor in ("Z_L = 1 (no oil viscosity at 40 C", "Z_v = 1 (no [rating] pinion_speed_rpm",
+                   "Z_R = 1 (no flank roughness of the pinion and the gear"):
+        assert factor in line
+    assert "Y_X" not in line
     assert v["assumptions"] and all(a in line for a in v["assumptions"])
 
 

@@ -62,7 +62,8 @@ FE_TEETH_KEPT = 4
 def fe_tooth(source, member, moduli, options):
     """The :class:`beveloid.fe.contact.FeTooth` of ``member`` on the options' flank: its data from
     :func:`beveloid.fe.cache.cached_tooth_data` (the body, not the flank modifications or the
-    assembly errors: computed on a miss, read once per process), the tooth built once per data."""
+    assembly errors: computed on a miss, read once per process), the tooth built once per data from
+    the arrays the cache keeps with it (:func:`beveloid.fe.cache.stored_tooth_arrays`)."""
     from ...fe import cache
     from ...fe.contact import FeTooth
 
@@ -72,7 +73,7 @@ def fe_tooth(source, member, moduli, options):
     tooth = _FE_TEETH.get(key)
     if tooth is None or tooth.data is not data:
         with one_blas_thread():
-            tooth = _FE_TEETH[key] = FeTooth(data, options.flank)
+            tooth = _FE_TEETH[key] = FeTooth(data, options.flank, cache.stored_tooth_arrays(data, options.flank))
         while len(_FE_TEETH) > FE_TEETH_KEPT:
             _FE_TEETH.popitem(last=False)
     _FE_TEETH.move_to_end(key)

@@ -8,7 +8,8 @@
    (:data:`grid.EXTENT_ACROSS`, :data:`grid.EXTENT_ALONG` times the semi-axes); a grid whose
    interior loaded cells reach its edge grows (:data:`grid.GROWTH`) and its position is solved again.
 4. The convergence indicator: the same extents once coarsened, solved again, compared; its along-columns
-   placed where the result grid's lie (resampled, not probed again).
+   placed where the result grid's lie (resampled, not probed again).  Skipped on request
+   (``convergence=False``: nothing else reads it; the result's ``convergence`` is then nan).
 Each pass after the first starts its active sets from the previous pass's contact set mapped onto its
 grid (:func:`cycle.mapped_contact`): the same solution, in fewer iterations.
 """
@@ -37,25 +38,27 @@ def run(geom, errors, torque_nm: float, options: Options, material: Material, so
     return run_many(geom, [errors], [torque_nm], options, material, solver, pair)[0][0]
 
 
-def run_many(geom, error_sets, torques_nm, options: Options, material: Material, solver, pair=None) -> list:
+def run_many(geom, error_sets, torques_nm, options: Options, material: Material, solver, pair=None,
+             convergence=True) -> list:
     """``[[LTCAResult of error set k at torque t for t in torques_nm] for k in error_sets]``: every
     (error set, torque) case of one pair in one batch.  The teeth once (the FE data once per pair);
     the rigid reference once per error set (it does not depend on the torque); each pass of the module
     docstring once for every case, its contact problems in one compiled call
-    (:func:`cycle.solve_many`); the root stresses of every loaded (position, pair) of a case at once."""
+    (:func:`cycle.solve_many`); the root stresses of every loaded (position, pair) of a case at once.
+    ``convergence=False``: step 4 of the module docstring left out (each result's convergence nan)."""
     options.check_memory()
     teeth, body_notes = member_teeth(pair, geom, options, material)
     with one_blas_thread(), np.errstate(all="ignore"):
         setups = [Setup(geom, options.flank, e, options.positions, options.pairs, solver) for e in error_sets]
         cases = [(s, float(t)) for s in setups for t in torques_nm]
-        results = _run(cases, options, material, teeth, body_notes)
+        results = _run(cases, options, material, teeth, body_notes, convergence)
     held = geom if pair is None else pair
     results = [dataclasses.replace(r, pair=held) for r in results]  # each holds the pair it was computed for
     T = len(torques_nm)
     return [results[k * T:(k + 1) * T] for k in range(len(setups))]
 
 
-def _run(cases, options, material, teeth, body_notes=()):
+def _run(cases, options, material, teeth, body_notes=(), convergence=True):
     """The passes of the module docstring over every (setup, torque) case at once."""
     N, P = options.positions, options.pairs
     e_star = material.e_star_mpa
@@ -123,7 +126,7 @@ def _run(cases, options, material, teeth, body_notes=()):
     # (the same extents: the result grid's along-columns, resampled, place it; its contact set starts it)
     checks = solve_all([Problem(s, sol.grid.coarsened(), nd, T, start=sol,
                                 shift_mm=grids.resample_along(sol.gap.across_shift_mm, coarse[1]))
-                        for (s, T), sol, nd in zip(cases, sols, need)])
+                        for (s, T), sol, nd in zip(cases, sols, need)]) if convergence else [None] * len(cases)
     out = []
     for (s, T), sol, check, nt in zip(cases, sols, checks, notes):
         fr, geom = s.frame, s.geom
@@ -154,15 +157,18 @@ def _result(case, options, sol, check, e_star, notes, hertz_ref, teeth):
     loads = p.sum(axis=-1) * area
     moment = np.einsum("jkc,jk,jkc->j", p, area, np.where(sol.gap.in_flank, sol.gap.pinion_arm_mm, 0.0))
     surface, edge = _peaks(sol)
-    surface_c, edge_c = _peaks(check)
-    loads_c = check.pair_load_n()
     total = loads.sum(axis=-1)
-    # the surface peaks of pairs clear of the flank edges on both grids (an edge peak is grid-dependent)
-    clear = np.isfinite(surface) & np.isfinite(surface_c) & np.isnan(edge) & np.isnan(edge_c)
-    dp = np.where(clear, np.abs(surface_c / surface - 1.0), np.nan)
-    dp = np.array([np.nanmax(r) if np.isfinite(r).any() else np.nan for r in dp])
-    dl = np.where(check.converged & ok, np.abs(loads_c - loads).max(axis=-1) / np.where(total > 0, total, np.nan),
-                  np.nan)
+    if check is None:  # the indicator not computed (run_many(..., convergence=False))
+        dp = dl = np.full(N, np.nan)
+    else:
+        surface_c, edge_c = _peaks(check)
+        loads_c = check.pair_load_n()
+        # the surface peaks of pairs clear of the flank edges on both grids (an edge peak is grid-dependent)
+        clear = np.isfinite(surface) & np.isfinite(surface_c) & np.isnan(edge) & np.isnan(edge_c)
+        dp = np.where(clear, np.abs(surface_c / surface - 1.0), np.nan)
+        dp = np.array([np.nanmax(r) if np.isfinite(r).any() else np.nan for r in dp])
+        dl = np.where(check.converged & ok, np.abs(loads_c - loads).max(axis=-1) / np.where(total > 0, total, np.nan),
+                      np.nan)
     # the model's validity: elastic, small strain
     semi = _semi_minor(sol)
     validity = []
