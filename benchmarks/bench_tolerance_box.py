@@ -3,7 +3,7 @@
     python benchmarks/bench_tolerance_box.py --old DIR [--new DIR] [--rounds 2] [--samples 16]
         [--torques-nm 100,200,400] [--tooth-model fe] [--keep DIR]
 
-    python benchmarks/bench_tolerance_box.py --old DIR --optimize BUDGET [--rounds 1]
+    python benchmarks/bench_tolerance_box.py --old DIR --optimize BUDGET [--rounds 1] [--constraints none]
 
 Not a test.  The command of issue 59 (docs/optimize.md's spec, case 1 tilted by vertical_deg = 0.05):
 
@@ -23,7 +23,9 @@ a string, a list's length, a key only one tree writes).
 ``--optimize BUDGET``: docs/optimize.md section 6's command instead (``beveloid optimize case1_tilted.toml
 --vary pinion.lead_crowning_um=0:40 --vary pinion.lead_slope_um=-30:30 --torque-nm 100,200,400 --weights
 0.2,0.5,0.3 --samples 16 --tooth-model fe --budget BUDGET --workers 2 --json``), its JSON compared (the
-front, the baseline, the picks); the warm-up runs with ``--budget 2``.
+front, the baseline, the picks); the warm-up runs with ``--budget 2``.  ``--constraints none`` adds that flag
+(the front of the objectives alone: two trees whose rating verdicts differ then still share a front
+where their loaded numbers agree).
 """
 from __future__ import annotations
 
@@ -110,6 +112,9 @@ def main():
     ap.add_argument("--torques-nm", default="100,200,400")
     ap.add_argument("--tooth-model", choices=("fe", "plate"), default="fe")
     ap.add_argument("--keep", help="a folder for the spec and the JSON outputs (default: a temporary one)")
+    ap.add_argument("--constraints", choices=("rating", "none"), default="rating",
+                    help="with --optimize: its --constraints (default rating, section 6's command; none: the front of "
+                         "the objectives alone, independent of the rating's verdict)")
     ap.add_argument("--optimize", type=int, metavar="BUDGET",
                     help="instead: docs/optimize.md section 6's `beveloid optimize` (2 workers, FE tooth, 3 torques, "
                          "16 sets) with --budget BUDGET, its --json compared (the run's seconds left out)")
@@ -123,6 +128,8 @@ def main():
         argv = ["optimize", str(spec), "--vary", "pinion.lead_crowning_um=0:40", "--vary", "pinion.lead_slope_um=-30:30",
                 "--torque-nm", a.torques_nm, "--weights", "0.2,0.5,0.3", "--samples", str(a.samples), "--tooth-model",
                 a.tooth_model, "--budget", str(a.optimize), "--workers", "2", "--json"]
+        if a.constraints != "rating":
+            argv += ["--constraints", a.constraints]
     else:
         argv = ["ltca", str(spec), "--torque-nm", a.torques_nm, "--samples", str(a.samples), "--tooth-model",
                 a.tooth_model, "--json"]
