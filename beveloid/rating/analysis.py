@@ -21,6 +21,7 @@ from .face_load import face_load
 from .factors import Factors, face_factor_exponent
 from .strength import pitch_line_velocity_m_s
 from .virtual import mate_gear, section_gear
+from .root_convergence import convergence_notes, root_stress_convergence
 
 __all__ = ["LoadedContact", "Options", "SectionRating", "MemberRating", "analyze", "loaded_contact",
            "rate_section"]
@@ -144,6 +145,8 @@ class LoadedContact:
     edge: EdgeContact | None = None
     mesh_stiffness_n_per_um: float | None = None  # mean over the converged positions
     positions_check: dict = field(default_factory=dict)  # positions_check(): the maxima against every other position
+    #: member -> the FE root stress's convergence estimate (root_convergence.root_stress_convergence)
+    root_stress_convergence: dict = field(default_factory=dict)
 
 
 def loaded_contact(ltca_result, geometry, face_width_mm: float) -> LoadedContact:
@@ -458,6 +461,9 @@ def analyze(pair, load, options: Options | None = None, *, solver=None, ltca_res
         ltca_result = ltca.analyze(pair, load.at(load.torque_nm * (factors.K_A * factors.K_v)), options.ltca,
                                    solver=solver)
     lc = loaded_contact(ltca_result, geom, b)
+    conv = root_stress_convergence(pair, ltca_result, getattr(ltca_result.options, "material", None) or mat)
+    if conv:
+        lc = replace(lc, root_stress_convergence=conv, notes=lc.notes + tuple(convergence_notes(conv)))
     if lc.edge is not None:
         lc = replace(lc, edge=replace(lc.edge, relief_now_um=edge_relief_um(spec, lc.edge.member, lc.edge.edge)))
     if factors.K_v_source == "method B" and dyn is None:  # the caller's LTCA: its own stiffness

@@ -110,6 +110,11 @@ def _face_load_json(fl) -> dict:
             "loaded_length_mm": _num(fl.loaded_length_mm)}
 
 
+def _convergence_json(e) -> dict | None:
+    """A member's root-stress convergence estimate (rating.root_convergence), null without the FE tooth."""
+    return None if e is None else {k: (_num(v) if isinstance(v, float) else v) for k, v in e.items()}
+
+
 def _json(r: RatingResult) -> dict:
     f = r.factors
     out = {"torque_nm": float(r.torque_nm), "flank": r.flank, "K_A": float(f.K_A), "K_v": _num(f.K_v),
@@ -123,6 +128,7 @@ def _json(r: RatingResult) -> dict:
             "sections": {k: section_json(s) for k, s in m.sections.items()},
             "root_stress_max_mpa": _num(m.root_stress_max_mpa),
             "root_stress_location": None if m.root_stress_location is None else dict(m.root_stress_location),
+            "root_stress_convergence": _convergence_json(r.loaded.root_stress_convergence.get(name)),
             "contact_pressure_max_mpa": _num(m.contact_pressure_max_mpa),
             "safety_bending": _num(m.safety_bending),
             "safety_pitting": _num(m.safety_pitting),

@@ -12,6 +12,12 @@ COARSEN = 3.0
 
 
 @pytest.fixture(scope="session")
+def coarsen():
+    """:data:`COARSEN`, for the tests that build the same tooth's data otherwise."""
+    return COARSEN
+
+
+@pytest.fixture(scope="session")
 def case1():
     return Pair.example("case1")
 

@@ -1,0 +1,134 @@
+"""The rating's estimate of whether the FE root stress is converged (issue 57.5,
+beveloid/rating/root_convergence.py)."""
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from beveloid import ltca, rating
+from beveloid.fe import cache
+from beveloid.fe.contact import FeTooth
+from beveloid.rating import root_convergence
+
+pytestmark = pytest.mark.xdist_group(name="fe_case1")
+
+
+@pytest.fixture(scope="module")
+def coarser_teeth(case1, coarsen):
+    """The session's coarse FE tooth coarsened once more (the check's mesh)."""
+    from beveloid.fe.tooth import tooth_data
+
+    m = ltca.Material.from_spec(case1.spec)
+    c = coarsen * root_convergence.CHECK_COARSEN
+    return {"pinion": tooth_data(case1, "pinion", m.pinion_e_mpa, m.pinion_nu, coarsen=c),
+            "gear": tooth_data(case1, "gear", m.gear_e_mpa, m.gear_nu, coarsen=c)}
+
+
+@pytest.fixture(scope="module")
+def rated(case1, coarse_teeth, coarser_teeth, coarsen):
+    """(the LTCA at the session's coarse tooth, the LTCA at the check's, the rating of the first)."""
+    by_coarsen = {coarsen: coarse_teeth, coarsen * root_convergence.CHECK_COARSEN: coarser_teeth}
+    mp = pytest.MonkeyPatch()
+    mp.setattr(cache, "cached_tooth_data", lambda pair, member, *a, coarsen=1.0, **k: (by_coarsen[coarsen][member], "hit"))
+    try:
+        options = ltca.Options(positions=5, tooth_model="fe", fe_coarsen=coarsen)
+        lt = ltca.analyze(case1, ltca.LoadCase(1500.0), options)
+        lt_coarser = ltca.analyze(case1, ltca.LoadCase(1500.0),
+                                  ltca.Options(positions=5, tooth_model="fe",
+                                               fe_coarsen=coarsen * root_convergence.CHECK_COARSEN))
+        result = rating.analyze(case1, ltca.LoadCase(1500.0), rating.Options(options), ltca_result=lt)
+    finally:
+        mp.undo()
+    return lt, lt_coarser, result
+
+
+def test_the_rating_json_gives_the_root_stress_and_its_reading_on_a_coarser_mesh(rated, coarser_teeth, coarsen, case1):
+    lt, _, result = rated
+    d = json.loads(json.dumps(result.to_json(), allow_nan=False))
+    top = lt.root_stress_max_mpa()
+    for m in ("pinion", "gear"):
+        e = d[m]["root_stress_convergence"]
+        assert e["default_mpa"] == pytest.approx(top[m], rel=1e-12)
+        assert e["default_mpa"] == pytest.approx(d[m]["root_stress_max_mpa"], rel=1e-12)
+        # the coarse value: the same loads read by the coarser tooth, every converged loaded pair
+        tooth = FeTooth(coarser_teeth[m], lt.flank)
+        pts = lt.gap.pinion_point if m == "pinion" else lt.gap.gear_point
+        area = lt.cell_area_mm2
+        forces = np.where(lt.gap.in_flank, lt.pressure_mpa * area[..., None], 0.0)
+        best = -np.inf
+        for j in np.flatnonzero(lt.converged):
+            for k in range(forces.shape[1]):
+                if np.nansum(forces[j, k]) > 0:
+                    best = max(best, tooth.root_stress(pts[j, k], forces[j, k]).tension_mpa)
+        assert e["coarse_mpa"] == pytest.approx(best, rel=1e-9)
+        assert e["change"] == pytest.approx(e["default_mpa"] / e["coarse_mpa"] - 1.0, rel=1e-12)
+        assert e["error_estimate"] == pytest.approx(3.0 * abs(e["change"]), rel=1e-12)
+        face = case1.geometry.member(m).face_width_mm
+        assert e["end_span_mm"] == pytest.approx(face / 16) and 0.0 <= e["face_end_distance_mm"] <= face / 2
+        assert e["converged"] is (e["error_estimate"] <= 0.03 and e["face_end_distance_mm"] >= e["end_span_mm"]
+                                  and e["fillet_radius_mm"] >= e["fillet_element_mm"])
+        assert e["fillet_element_mm"] == pytest.approx(0.04 * 6.0 * coarsen)  # case 1: the fillet's floor, m_n 6
+
+
+def test_reading_the_same_loads_on_the_coarser_mesh_stands_for_its_own_ltca(rated):
+    """The estimate keeps the default's load distribution: the coarser tooth's own LTCA gives nearly the
+    same largest root stress (the load sharing moves little with the mesh)."""
+    _, lt_coarser, result = rated
+    own = lt_coarser.root_stress_max_mpa()
+    for m in ("pinion", "gear"):
+        assert result.loaded.root_stress_convergence[m]["coarse_mpa"] == pytest.approx(own[m], rel=0.02)
+
+
+def test_a_root_stress_not_shown_converged_is_a_note_naming_an_unresolved_notch(rated):
+    _, _, result = rated
+    est = result.loaded.root_stress_convergence
+    notes = [n for n in result.notes if "FE root stress is not shown converged" in n]
+    assert len(notes) == sum(1 for e in est.values() if e["converged"] is False)
+    sharp = {"gear": {"default_mpa": 370.8, "coarse_mpa": 254.5, "change": 370.8 / 254.5 - 1, "check_coarsen": 2.0,
+                      "error_estimate": 3 * (370.8 / 254.5 - 1), "converged": False, "fillet_radius_mm": 0.0086,
+                      "fillet_element_mm": 0.16}}
+    (line,) = root_convergence.convergence_notes(sharp)
+    assert "gear" in line and "+45.7%" in line and "notch the mesh does not resolve" in line
+    rounded = {"gear": dict(sharp["gear"], fillet_radius_mm=0.5)}
+    (line,) = root_convergence.convergence_notes(rounded)
+    assert "notch" not in line
+    assert root_convergence.convergence_notes({"gear": dict(sharp["gear"], converged=True)}) == []
+    # converged by the two meshes, but read at a face end: the note says where and why
+    end = {"pinion": dict(rounded["gear"], change=0.001, error_estimate=0.003, face_end_distance_mm=1.66,
+                          end_span_mm=3.125)}
+    (line,) = root_convergence.convergence_notes(end)
+    assert "1.7 mm from a face end" in line and "lumped" in line
+
+
+def test_the_fillet_of_a_sharp_racks_gear_is_below_its_elements_and_a_rounded_rack_resolves_it():
+    """A 60-tooth gear cut by the default sharp rack (like design B's gear of docs/validation.md 10.2, whose
+    trochoid is 0.04 mm long with a 0.009 mm radius at the bottom, where its root stress was read): the
+    fillet's smallest radius is below the fillet's elements, a notch the mesh does not resolve; a rack tip
+    radius of 0.38 m_n gives a fillet radius above them."""
+    from beveloid.pair import Pair
+    from beveloid.spec import spec_from_toml_bytes
+
+    text = """[pair]
+normal_module_mm = 3.0
+normal_pressure_angle_deg = 20.0
+shaft_angle_deg = 6.0
+offset_mm = 117.5
+[pinion]
+teeth = 20
+cone_angle_deg = 1.0
+helix_angle_deg = 15.0
+profile_shift = 0.0
+face_width_mm = 24.0
+[gear]
+teeth = 60
+cone_angle_deg = 1.0
+face_width_mm = 24.0
+"""
+    sharp = Pair.from_spec(spec_from_toml_bytes(text.encode()))
+    rho, h = root_convergence._fillet(sharp, "gear", 1, 1.0)
+    assert rho < 0.6 * h  # measured 0.061 mm against 0.12 mm (the floor 0.04 m_n)
+    rounded = Pair.from_spec(spec_from_toml_bytes((text + "cutter_tip_radius_coefficient = 0.38\n").encode()))
+    rho, h = root_convergence._fillet(rounded, "gear", 1, 1.0)
+    assert rho > 1.5 * h  # 1.18 mm against 0.59 mm
