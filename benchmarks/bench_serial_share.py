@@ -18,16 +18,21 @@ divided by W, as they run on at most as many workers as there are figures.
 
 The projection for W workers: T_W = S + U + M_W + F_W, T_1 = S + P + F (S outside, P inside, wall seconds);
 M_W the tasks' makespan on W workers (each takes the next task in order as soon as it is free: with fewer
-or uneven tasks it exceeds P / W) and U what every worker pays again before its first task that the
-one-worker run counts inside P: the start of a worker process (a fresh Python's imports and numba's cache
-loads, measured here by a process that runs ``beveloid.parallel.warm_up`` with the command's initializer,
-its exit included) and, for optimize, the excess of the first task over the median task (the FE data read
-in the worker); for ltca, whose first task (the file's errors) is smaller than the others, a fresh
-process that starts so and then analyses the pair at one position (the LTCA's imports and cache loads,
-the FE data read: ``LTCA_FIRST``; what it takes more than a bare start is taken off the one-worker run's
-first task, which paid it too); U = 0 for sweep (threads of one process).  F_W: the figure tasks on W workers
-(W >= 4: the longest one plus matplotlib's import, measured in a fresh process, which each of those
-workers pays; the one-worker run paid it once).  Speed-up T_1 / T_W.
+or uneven tasks it exceeds P / W; sweep's one section of many pieces on threads: P / W) and U what every
+worker pays again before its first task that the one-worker run counts inside P: the start of a worker
+process (a fresh Python's imports and numba's cache loads, measured here by a process that runs
+``beveloid.parallel.warm_up`` with the command's initializer, its exit included; the one-worker run's first
+task paid it too: its excess over the median task is taken off it) and, for optimize, that excess (the FE
+data read in the worker); for ltca, whose first task (the file's errors) is smaller than the others, a
+fresh process that starts so and then analyses the pair at one position (the LTCA's imports and cache
+loads, the FE data read: ``LTCA_FIRST``; what it takes more than a bare start is taken off the one-worker
+run's first task, which paid it too); U = 0 for sweep (threads of one process). F_W: the figure tasks on W
+workers (W >= 4: the longest one plus matplotlib's import, measured in a fresh process, which each of those
+workers pays; the one-worker run paid it once). Speed-up T_1 / T_W.
+
+The projection is made twice: from wall seconds, and from CPU seconds (each process's own, each timed
+call's ``time.process_time``): on a machine shared with other work the CPU figure is the steadier
+estimate of a quiet machine on which every worker has a core of its own.
 
 The commands (case 1 from ``beveloid example``; ltca and optimize on it tilted by vertical_deg = 0.05,
 docs/optimize.md's spec, FE tooth, FE data cached by a warm-up run):
@@ -138,18 +143,25 @@ LTCA_FIRST = ("from beveloid import ltca; from beveloid.ltca import studies; fro
               " ltca.LoadCase([100.0]), ltca.Options(positions=1)))")
 
 
-def worker_start(initializer: str | None = None, then: str = "") -> float:
-    """Wall seconds of a fresh process that starts as a local worker does (beveloid.parallel.warm_up with the
+def worker_start(initializer: str | None = None, then: str = "") -> tuple[float, float]:
+    """(wall, CPU) seconds of a fresh process that starts as a local worker does (beveloid.parallel.warm_up with the
     command's ``initializer``, "module:function"), then runs ``then``, its exit included."""
     code = "from beveloid import parallel; parallel.warm_up()"
     if initializer:
         module, name = initializer.split(":")
         code = f"from beveloid import parallel; from {module} import {name}; parallel.warm_up({name})"
     code += f"; {then}" if then else ""
-    t = time.perf_counter()
+    return _timed(code)
+
+
+def _timed(code: str) -> tuple[float, float]:
+    """(wall, CPU) seconds of a fresh Python running ``code``."""
+    t, before = time.perf_counter(), os.times()
     subprocess.run([sys.executable, "-c", code], check=True, env=dict(os.environ, PYTHONPATH=str(ROOT)),
                    cwd=tempfile.gettempdir())
-    return time.perf_counter() - t
+    after = os.times()
+    return (time.perf_counter() - t,
+            (after.children_user - before.children_user) + (after.children_system - before.children_system))
 
 
 def makespan(tasks: list, workers: int) -> float:
@@ -161,14 +173,35 @@ def makespan(tasks: list, workers: int) -> float:
     return max(free)
 
 
-def figures_start() -> float:
-    """Wall seconds of matplotlib's import in a fresh process (what each worker that draws a figure pays once),
-    less a bare Python's start."""
-    def timed(code):
-        t = time.perf_counter()
-        subprocess.run([sys.executable, "-c", code], check=True, cwd=tempfile.gettempdir())
-        return time.perf_counter() - t
-    return max(0.0, timed("import matplotlib.figure, matplotlib.backends.backend_agg") - timed("pass"))
+def figures_start() -> tuple[float, float]:
+    """(wall, CPU) seconds of matplotlib's import in a fresh process (what each worker that draws a figure pays
+    once), less a bare Python's start."""
+    bare, mpl = _timed("pass"), _timed("import matplotlib.figure, matplotlib.backends.backend_agg")
+    return max(0.0, mpl[0] - bare[0]), max(0.0, mpl[1] - bare[1])
+
+
+def project(kind: str, tasks: list, figs: list, S: float, start: float, loads: float, mpl: float, W: int) -> dict:
+    """The projection on W workers of a one-worker run (seconds of one kind: wall or CPU): ``tasks`` and ``figs``
+    the timed calls in order, ``S`` outside, ``start`` a worker's measured start, ``loads`` (ltca) what the
+    first task loaded, ``mpl`` matplotlib's import."""
+    tasks = list(tasks)
+    # what the one-worker run loaded in its first task a worker loads before its first: in its initializer
+    # (then in its measured start) or in its first task (then this excess)
+    first = max(0.0, tasks[0] - statistics.median(tasks)) if len(tasks) > 2 else 0.0
+    if kind == "ltca":  # the loads of the one-worker run's first task, measured apart
+        first = min(loads, tasks[0])
+    tasks[0] -= first  # (each worker pays it before its first task: in U)
+    U = 0.0 if kind == "sweep" else start + (first if kind == "optimize" else 0.0)
+    # the figures, one task each, at once on min(W, figures) workers: each of those workers imports matplotlib
+    # (the one-worker run paid it once, in its first figure)
+    FW = 0.0
+    if figs:
+        imp = min(mpl, figs[0])
+        draws = sorted([figs[0] - imp] + figs[1:], reverse=True)
+        FW = imp + sum(draws[::min(W, len(draws))])  # (W >= figures: the longest)
+    # sweep: its one timed section is many pieces on threads (benchmarks/bench_sweep_threads.py)
+    M = sum(tasks) / W if kind == "sweep" else makespan(tasks, W)
+    return {"U": U, "M": M, "FW": FW, "TW": S + U + M + FW, "tasks": tasks}
 
 
 def main():
@@ -181,11 +214,9 @@ def main():
     with tempfile.TemporaryDirectory(prefix="serial_") as tmp_name:
         tmp = Path(tmp_name)
         cmds = commands(tmp, a.budget)
-        starts = {k: worker_start(INITIALIZERS.get(k)) for k in a.kinds if k not in ("sweep", "ltca")}
-        mpl = figures_start() if "explore" in a.kinds else 0.0
-        print(f"a worker's start (beveloid.parallel.warm_up with the command's initializer, in a fresh process):"
-              f" {', '.join(f'{k} {v:.2f} s' for k, v in starts.items()) or '-'}; load average"
-              f" {os.getloadavg()[0]:.1f}", flush=True)
+        starts, loads = {}, (0.0, 0.0)
+        mpl = figures_start() if "explore" in a.kinds else (0.0, 0.0)
+        print(f"load average {os.getloadavg()[0]:.1f}", flush=True)
         for kind in a.kinds:
             small = list(cmds[kind])  # a small run first: numba's cache (and the FE data of the tilted pair)
             if kind == "ltca":
@@ -197,47 +228,45 @@ def main():
             if kind == "sweep":
                 small[small.index("--samples") + 1] = "4"
             child(kind, small)
+            if kind in ("explore", "optimize"):  # (after the small run: numba's cache is on disk)
+                starts[kind] = worker_start(INITIALIZERS.get(kind))
             if kind == "ltca":  # (after the small run: the FE data is on disk, as for the command's workers)
                 starts[kind] = worker_start(then=LTCA_FIRST.format(spec=cmds[kind][1]))
-                loads = max(0.0, starts[kind] - worker_start())  # the LTCA's imports, cache loads, FE data read
+                bare = worker_start()
+                loads = tuple(max(0.0, x - y) for x, y in zip(starts[kind], bare))  # the LTCA's loads, FE data read
             for r in range(a.rounds):
                 for path in tmp.glob("*/"):
                     subprocess.run(["rm", "-rf", str(path)], check=True)
                 res = child(kind, cmds[kind])
+                start = starts.get(kind, (0.0, 0.0))
                 tasks = [w for w, _ in res["took"]]
                 figs = [w for w, _ in res["figures"]]
-                cpu_in = sum(c for _, c in res["took"] + res["figures"])
                 P, F = sum(tasks), sum(figs)
                 T1 = res["wall"]
                 S = T1 - P - F
-                # what the one-worker run loaded in its first task a worker loads before its first: in its
-                # initializer (then in its measured start) or in its first task (then this excess)
-                first = ((tasks[0] - statistics.median(tasks)) if len(tasks) > 2 and kind not in INITIALIZERS
-                         and kind != "ltca" else 0.0)
-                U = 0.0 if kind == "sweep" else starts[kind] + max(first, 0.0)
-                if kind == "ltca":  # the one-worker run's first task paid the loads each worker pays in U
-                    first = min(loads, tasks[0])
-                if first > 0:
-                    tasks[0] -= first  # (paid once per worker, in U)
-                # the figures, one task each, at once on min(W, figures) workers: each of those workers imports
-                # matplotlib (the one-worker run paid it once, in its first figure)
-                FW = 0.0
-                if figs:
-                    imp = min(mpl, figs[0])
-                    draws = sorted([figs[0] - imp] + figs[1:], reverse=True)
-                    FW = imp + sum(draws[::min(a.workers, len(draws))])  # (W >= figures: the longest)
-                TW = S + U + makespan(tasks, a.workers) + FW
+                wall = project(kind, tasks, figs, S, start[0], loads[0], mpl[0], a.workers)
                 cpu = res["cpu"]
-                cpu_share = f"{100 * (cpu - cpu_in) / cpu:.1f} %" if kind != "sweep" else "-"
-                fig_text = (f", in the figure tasks {F:.2f} s ({len(figs)}; on {a.workers} workers {FW:.2f} s with"
-                            f" matplotlib's import {mpl:.2f} s)" if figs else "")
+                if kind == "sweep":
+                    cpu_text = f"CPU: {cpu:.2f} s"
+                else:
+                    c_tasks, c_figs = [c for _, c in res["took"]], [c for _, c in res["figures"]]
+                    S_cpu = cpu - sum(c_tasks) - sum(c_figs)
+                    by_cpu = project(kind, c_tasks, c_figs, S_cpu, start[1], loads[1], mpl[1], a.workers)
+                    cpu_text = (f"CPU: {cpu:.2f} s, outside {S_cpu:.2f} s = {100 * S_cpu / cpu:.1f} %, a worker's start"
+                                f" {by_cpu['U']:.2f} s, the tasks on {a.workers} workers {by_cpu['M']:.2f} s, the"
+                                f" figures {by_cpu['FW']:.2f} s; projected {by_cpu['TW']:.2f} s, speed-up"
+                                f" {cpu / by_cpu['TW']:.1f}x")
+                fig_text = (f", in the figure tasks {F:.2f} s ({len(figs)}; on {a.workers} workers {wall['FW']:.2f} s"
+                            f" with matplotlib's import {mpl[0]:.2f} s)" if figs else "")
                 print(f"{kind} (round {r + 1}): one worker {T1:.2f} s wall, inside the workers' function "
-                      f"{P:.2f} s ({len(tasks)} calls; on {a.workers} workers {makespan(tasks, a.workers):.2f} s)"
-                      f"{fig_text}, outside {S:.2f} s = {100 * S / T1:.1f} % (CPU: "
-                      f"{cpu:.2f} s, outside {cpu_share}); each worker's "
-                      f"start {U:.2f} s; projected on {a.workers} workers {TW:.2f} s, speed-up {T1 / TW:.1f}x "
-                      f"(load {os.getloadavg()[0]:.1f})", flush=True)
-                print(f"  tasks (s): first {res['took'][0][0]:.2f}, median {statistics.median(tasks):.2f}, largest"
+                      f"{P:.2f} s ({len(tasks)} calls; on {a.workers} workers {wall['M']:.2f} s)"
+                      f"{fig_text}, outside {S:.2f} s = {100 * S / T1:.1f} %; each worker's "
+                      f"start {wall['U']:.2f} s; projected on {a.workers} workers {wall['TW']:.2f} s, speed-up"
+                      f" {T1 / wall['TW']:.1f}x (load {os.getloadavg()[0]:.1f})", flush=True)
+                print(f"  the same in {cpu_text}", flush=True)
+                tasks = wall["tasks"]
+                print(f"  tasks (s, wall; the first less its loads): first {tasks[0]:.2f}, median"
+                      f" {statistics.median(tasks):.2f}, largest"
                       f" {max(tasks):.2f}", flush=True)
                 print(f"  command: beveloid {' '.join(Path(x).name if x.startswith(str(tmp)) else x for x in cmds[kind])}",
                       flush=True)

@@ -30,14 +30,27 @@ import numpy as np
 
 from . import studies
 from .load import LoadCase
-from .model.compliance import BeveloidCompliance
 from .options import DEFAULT_GRID, RANGES, Material, Options
 from .results.batch import Batch
-from .results.pattern import FlankPattern, flank_pattern
-from .results.result import LTCAResult
 
 __all__ = ["Batch", "BeveloidCompliance", "DEFAULT_GRID", "FlankPattern", "LTCAResult", "LoadCase", "Material",
            "Options", "RANGES", "analyze", "analyze_many", "flank_pattern", "studies"]
+
+
+def __getattr__(name):
+    """``BeveloidCompliance``, ``LTCAResult``, ``FlankPattern`` and ``flank_pattern``, imported on first use: a
+    process that only asks for a load case, options or the tolerance box's tasks (``beveloid ltca --samples``'s
+    own process, whose workers analyse) imports no compliance operator, Hertz sizing (scipy.special) or
+    contact model (issue 59: the serial part of each parallel command)."""
+    if name == "BeveloidCompliance":
+        from .model import compliance as module
+    elif name == "LTCAResult":
+        from .results import result as module
+    elif name in ("FlankPattern", "flank_pattern"):
+        from .results import pattern as module
+    else:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    return getattr(module, name)
 
 
 def _checked(pair, load, options, caller):

@@ -33,8 +33,6 @@ import functools
 import math
 from dataclasses import dataclass
 
-from scipy.special import ellipe, ellipkm1
-
 from . import checks
 
 __all__ = [
@@ -102,6 +100,10 @@ def relative_curvature_coefficients(
 
 def _ratio(q: float) -> tuple[float, float, float, float]:
     """For b/a = q: (A_large/A_small, K, E, e^2)."""
+    # here, not at import: scipy.special (~0.2 s) is then imported only by a process that sizes a contact,
+    # not by one that only reads results (beveloid ltca --samples's own process: issue 59)
+    from scipy.special import ellipe, ellipkm1
+
     m = 1.0 - q * q
     k = float(ellipkm1(q * q))  # K(m) with 1 - m = q^2, accurate as q -> 0
     e = float(ellipe(m))
