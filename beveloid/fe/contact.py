@@ -133,9 +133,12 @@ class FeTooth:
         p = np.asarray(points, dtype=float)
         Q, G = p.shape[0], self.radius_mm.size
         f = np.nan_to_num(np.asarray(forces_n, dtype=float)).reshape(Q, -1)
-        nodes, w = self.corners(p.reshape(-1, 3))
-        at = (nodes.reshape(Q, -1, 4) + G * np.arange(Q)[:, None, None]).ravel()
-        return np.bincount(at, weights=(w.reshape(Q, -1, 4) * f[..., None]).ravel(), minlength=Q * G).reshape(Q, G)
+        # the points that carry a force only (a contact grid's loaded cells, a third of them or fewer): a
+        # point of no force adds zeros to its nodes, so the sums are the same, bit for bit (issue 59)
+        live = f != 0.0
+        nodes, w = self.corners(p.reshape(Q, -1, 3)[live])
+        at = (nodes + G * np.nonzero(live)[0][:, None]).ravel()
+        return np.bincount(at, weights=(w * f[live][:, None]).ravel(), minlength=Q * G).reshape(Q, G)
 
     def counted(self, g) -> np.ndarray:
         """(2, nf) the fillet nodes (0 the loaded side's fillet, 1 the other's) that count in the root

@@ -131,6 +131,32 @@ def test_bad_tooth_flags_are_one_line_and_exit_2(capsys, flags, names):
     assert len([line for line in err.splitlines() if line.strip()]) <= 2  # argparse adds its usage line
 
 
+def test_the_node_loads_of_the_loaded_points_alone_are_those_of_every_point(coarse_teeth):
+    """FeTooth.loads reads the corners of the points that carry a force only (a contact grid's loaded
+    cells); the node loads equal, bit for bit, the bilinear spread of every point of the sets (zero
+    forces and points off the surface included), and W^T f to round-off."""
+    from beveloid.fe.contact import FeTooth
+
+    t = FeTooth(coarse_teeth["pinion"], "right")
+    grid = np.asarray(coarse_teeth["pinion"].points_mm[1]).reshape(-1, 3)
+    rng = np.random.default_rng(11)
+    pts = grid[rng.integers(0, len(grid), (4, 30))] + rng.normal(0.0, 0.2, (4, 30, 3))
+    pts[1, 3] = np.nan  # a cell off the flanks: no point, no force
+    forces = np.where(rng.random((4, 30)) < 0.3, rng.uniform(1.0, 300.0, (4, 30)), 0.0)
+    forces[1, 3] = np.nan
+    forces[2] = 0.0  # a set without load
+    g = t.loads(pts, forces)
+    G = t.radius_mm.size
+    nodes, w = t.corners(pts.reshape(-1, 3))  # every point, as the loads were spread before
+    at = (nodes.reshape(4, -1, 4) + G * np.arange(4)[:, None, None]).ravel()
+    every = np.bincount(at, weights=(w.reshape(4, -1, 4) * np.nan_to_num(forces)[..., None]).ravel(),
+                        minlength=4 * G).reshape(4, G)
+    np.testing.assert_array_equal(g, every)
+    assert not g[2].any() and g[0].sum() > 0
+    for q in range(4):
+        np.testing.assert_allclose(g[q], t.weights(pts[q]).T @ np.nan_to_num(forces[q]), rtol=1e-12, atol=1e-9)
+
+
 def test_root_stresses_of_many_sets_are_those_of_every_node(coarse_teeth):
     """The batched root stress (bounds from each column's eigenvalues, pruned by blocks of nodes and by
     node; closed-form eigenvalues) against numpy's eigenvalues at every counted fillet node, for several
