@@ -43,7 +43,8 @@ __all__ = ["CACHE_ENV", "DEFAULT_LIMIT_MB", "FE_DATA_VERSION", "LIMIT_ENV", "NOT
 CACHE_ENV = "BEVELOID_CACHE_DIR"
 #: the FE cache folder's size limit in MB, when set (default :data:`DEFAULT_LIMIT_MB`)
 LIMIT_ENV = "BEVELOID_FE_CACHE_MB"
-#: an entry of the default mesh is ~80 MB: room for about 25 member designs
+#: an entry of the default mesh is ~135 MB (case 1's members; ~20 MB of it the FE tooth's arrays): room for
+#: about 15 member designs
 DEFAULT_LIMIT_MB = 2000
 #: a temporary file of an interrupted write older than this (s) is removed when the folder is pruned
 ORPHAN_AGE_S = 3600.0
