@@ -147,19 +147,28 @@ def _resolution_notes(about) -> list[str]:
     return out
 
 
-def root_stress_notes(calculix, ltca, refinement: int) -> list[str]:
+def root_stress_notes(calculix, ltca, refinement: int, fillets: dict | None = None) -> list[str]:
     """Where the two FE models' root stresses differ by more than ROOT_STRESS_AGREEMENT: the numbers and what
-    the difference can come from (the rating's local S_F divides by the LTCA's)."""
+    the difference can come from (the rating's local S_F divides by the LTCA's).  ``fillets``: {member:
+    (the fillet's smallest radius, the sector's fillet element, the FE tooth's fillet element), mm}, named
+    in the note; a radius below the FE tooth's element is a notch neither mesh resolves."""
     from .result import ROOT_STRESS_AGREEMENT, root_stress_agreement
 
     out = []
     for m, a in root_stress_agreement(calculix, ltca).items():
         if a["agrees"] is False:
-            out.append(f"{m}: root stress {a['calculix_mpa']:.1f} MPa (calculix) against {a['ltca_mpa']:.1f} MPa (the "
-                       f"LTCA's FE tooth), ratio {a['ratio']:.3f}, beyond +-{ROOT_STRESS_AGREEMENT:.0%}: the sectors' "
-                       f"fillet elements at refinement {refinement} (the root is not refined like the contact "
-                       "strips) and the LTCA's tooth data (its --fe-refinement) are the two meshes; rerun with "
-                       "--refinement 2 to see which moves; the rating's local S_F divides by the LTCA's")
+            line = (f"{m}: root stress {a['calculix_mpa']:.1f} MPa (calculix) against {a['ltca_mpa']:.1f} MPa (the "
+                    f"LTCA's FE tooth), ratio {a['ratio']:.3f}, beyond +-{ROOT_STRESS_AGREEMENT:.0%}: the sectors' "
+                    f"fillet elements at refinement {refinement} (the root is not refined like the contact "
+                    "strips) and the LTCA's tooth data (its --fe-refinement) are the two meshes")
+            if fillets and m in fillets:
+                rho, here, tooth = fillets[m]
+                line += (f" (fillet elements {here:.3f} mm here, {tooth:.3f} mm in the FE tooth; the fillet's "
+                         f"smallest radius {rho:.3f} mm")
+                line += (", a notch neither mesh resolves: both readings are mesh numbers, see the rating's "
+                         "root_stress_convergence)" if rho < tooth else ")")
+            out.append(line + "; rerun with --refinement 2 to see which moves; the rating's local S_F divides "
+                       "by the LTCA's")
     return out
 
 
@@ -175,7 +184,7 @@ def analyze(pair, load, options: Options | None = None, *, solver=None, progress
     from .. import ltca, tca
     from ..solver import Solver
     from .deck import write_deck
-    from .pair_model import SECTOR_TEETH, ModelRequest, pair_model, sector_meshes, sector_teeth
+    from .pair_model import LEVEL_1_COARSEN, SECTOR_TEETH, ModelRequest, pair_model, sector_meshes, sector_teeth
     from .strips import ltca_strips
     from .run import ccx_path, ccx_version, run_ccx
     from .pair_results import read_pair_results
@@ -252,7 +261,12 @@ def analyze(pair, load, options: Options | None = None, *, solver=None, progress
     notes += [f"tooth pair {k}: outside the {SECTOR_TEETH}-tooth sectors (null)" for k, p in zip(model.tooth_pairs,
                                                                                          model.pairs) if p is None]
     notes += _resolution_notes(about if options.local_refinement else None)
-    notes += root_stress_notes(calculix, _ltca_block(result, j), options.refinement)
+    # the FE tooth's sizes scale like the sector's (beveloid.fe.mesh.mesh_sizes: every size / refinement x coarsen)
+    tooth_scale = (result.fe_coarsen or 1.0) / (result.fe_refinement or 1) / (
+        LEVEL_1_COARSEN * options.coarsen / options.refinement)
+    fillets = {m: (meshes[m].sizes.fillet_radius_mm, meshes[m].sizes.fillet_mm, meshes[m].sizes.fillet_mm * tooth_scale)
+               for m in ("pinion", "gear")}
+    notes += root_stress_notes(calculix, _ltca_block(result, j), options.refinement, fillets)
     return CheckResult(
         run.version or ccx_version(), int(j), phi1, getattr(result, "tooth_model", "plate"),
         tuple(model.tooth_pairs), float(result.unloaded_te[j] * 1e6), model.elements, model.dof, run.wall_s,

@@ -132,3 +132,23 @@ face_width_mm = 24.0
     rounded = Pair.from_spec(spec_from_toml_bytes((text + "cutter_tip_radius_coefficient = 0.38\n").encode()))
     rho, h = root_convergence._fillet(rounded, "gear", 1, 1.0)
     assert rho > 1.5 * h  # 1.18 mm against 0.59 mm
+
+
+def test_fe_checks_disagreement_names_both_fillet_meshes_and_an_unresolved_notch():
+    """fe-check's note where the two FE root stresses differ: the fillet elements of both meshes and, where
+    the fillet's radius is below the FE tooth's elements (design B's gear: CalculiX 0.55 of the FE tooth,
+    docs/validation.md 10.2), that neither resolves the notch."""
+    from beveloid.fecheck.check import root_stress_notes
+    from beveloid.fecheck.result import ContactNumbers
+
+    def block(pinion, gear):
+        return ContactNumbers.of([1.0], [1.0], [1.0], 1.0, {"pinion": pinion, "gear": gear}, 1.0)
+
+    fillets = {"pinion": (0.367, 0.551, 0.184), "gear": (0.009, 0.48, 0.16)}
+    notes = root_stress_notes(block(335.4, 196.5), block(386.7, 358.1), 1, fillets)
+    assert len(notes) == 2
+    pinion, gear = notes
+    assert "0.551 mm here, 0.184 mm in the FE tooth" in pinion and "notch" not in pinion
+    assert "radius 0.009 mm, a notch neither mesh resolves" in gear
+    plain = root_stress_notes(block(335.4, 196.5), block(386.7, 358.1), 1)
+    assert len(plain) == 2 and all("in the FE tooth" not in n and "notch" not in n for n in plain)
