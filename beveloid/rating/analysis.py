@@ -59,12 +59,17 @@ class Options:
     error sets of the tolerance box under load (``ltca.studies.box_results`` on the draws of
     ``sweep.draw_errors`` about the load case's errors, half-widths ``tolerances``: keys of
     ``assembly_errors.DEFAULT_RANGES``, missing ones its defaults; seed ``tolerance_seed``); None: the
-    spec's ``[rating] tolerance_samples``; 0: the load case's errors alone."""
+    spec's ``[rating] tolerance_samples``; 0: the load case's errors alone.
+
+    ``root_stress_check``: with the FE tooth, estimate whether its root stress is converged
+    (:mod:`beveloid.rating.root_convergence`: the FE tooth coarsened twice, its data computed once per
+    design); False leaves ``root_stress_convergence`` empty (the verdict does not read it)."""
 
     ltca: object = field(default_factory=_default_ltca)
     tolerance_samples: int | None = None
     tolerance_seed: int = 0
     tolerances: dict | None = None
+    root_stress_check: bool = True
 
     def __post_init__(self):
         from ..assembly_errors import BY_KEY
@@ -73,6 +78,8 @@ class Options:
 
         if not isinstance(self.ltca, LTCAOptions):
             raise OptionError("ltca", self.ltca, "must be an ltca.Options")
+        if not isinstance(self.root_stress_check, bool):
+            raise OptionError("root_stress_check", self.root_stress_check, "must be True or False")
         n = self.tolerance_samples
         if n is not None and (isinstance(n, bool) or not isinstance(n, (int, np.integer))
                               or not 0 <= n <= MAX_TOLERANCE_SAMPLES):
@@ -461,7 +468,8 @@ def analyze(pair, load, options: Options | None = None, *, solver=None, ltca_res
         ltca_result = ltca.analyze(pair, load.at(load.torque_nm * (factors.K_A * factors.K_v)), options.ltca,
                                    solver=solver)
     lc = loaded_contact(ltca_result, geom, b)
-    conv = root_stress_convergence(pair, ltca_result, getattr(ltca_result.options, "material", None) or mat)
+    conv = (root_stress_convergence(pair, ltca_result, getattr(ltca_result.options, "material", None) or mat)
+            if options.root_stress_check else {})
     if conv:
         lc = replace(lc, root_stress_convergence=conv, notes=lc.notes + tuple(convergence_notes(conv)))
     if lc.edge is not None:

@@ -152,3 +152,16 @@ def test_fe_checks_disagreement_names_both_fillet_meshes_and_an_unresolved_notch
     assert "radius 0.009 mm, a notch neither mesh resolves" in gear
     plain = root_stress_notes(block(335.4, 196.5), block(386.7, 358.1), 1)
     assert len(plain) == 2 and all("in the FE tooth" not in n and "notch" not in n for n in plain)
+
+
+def test_the_check_can_be_left_out_and_a_bad_switch_is_refused(rated, case1):
+    """optimize's rating constraint leaves the check out (its verdict does not read it): no coarsened FE tooth."""
+    from beveloid.errors import OptionError
+
+    lt, _, _ = rated
+    off = rating.analyze(case1, ltca.LoadCase(1500.0), rating.Options(lt.options, root_stress_check=False), ltca_result=lt)
+    d = off.to_json()
+    assert d["pinion"]["root_stress_convergence"] is None and d["gear"]["root_stress_convergence"] is None
+    assert not [n for n in off.notes if "not shown converged" in n]
+    with pytest.raises(OptionError, match="root_stress_check"):
+        rating.Options(lt.options, root_stress_check="yes")
