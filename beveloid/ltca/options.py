@@ -121,7 +121,7 @@ def check_fe_coarsen(value, key="fe_coarsen"):
     lo, hi = RANGES["fe_coarsen"]
     v = float(value) if isinstance(value, (int, float)) and not isinstance(value, bool) else math.nan
     if not (math.isfinite(v) and lo <= v <= hi):
-        raise OptionError(key, value, f"must be a number from {lo:g} to {hi:g} (1: the converged default mesh)")
+        raise OptionError(key, value, f"must be a number from {lo:g} to {hi:g} (1: the default mesh; docs/rating.md 5 says how far it is from converged)")
     return v
 
 
