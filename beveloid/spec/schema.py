@@ -37,6 +37,7 @@ def key_schema_text(models=()) -> str:
             elif d.requirement == "required":
                 need = f"required, {d.valid_text_in(section)}"
             else:
-                need = f"optional (default {d.default_text}), {d.valid_text_in(section)}"
+                default = f"default {d.default_text}" if d.default_text else "no default"
+                need = f"optional ({default}), {d.valid_text_in(section)}"
             lines.append(f"{key}: {need}; {d.description}")
     return "\n".join(lines)

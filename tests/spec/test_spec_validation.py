@@ -431,3 +431,12 @@ def test_a_default_that_differs_from_the_field_is_refused(monkeypatch):
     monkeypatch.setitem(KEY_DOCS["pinion"], "addendum_coefficient", dataclasses.replace(doc, default=1.1))
     with pytest.raises(RuntimeError, match="addendum_coefficient"):
         check_fields_match_keys()
+
+
+def test_the_schema_says_no_default_where_a_key_has_none():
+    """`beveloid example --schema` wrote "(default )" for keys whose default is None (the roughness keys)."""
+    from beveloid.spec.schema import key_schema_text
+
+    text = key_schema_text()
+    assert "(default )" not in text
+    assert "roughness_ra_um: optional (no default)" in text
