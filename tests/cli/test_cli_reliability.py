@@ -441,7 +441,7 @@ def test_schema_lists_every_key(capsys):
             if doc.requirement == "required":
                 assert "required" in line and doc.valid_text_in(section) in line
             elif doc.requirement == "optional":
-                assert "optional (default" in line
+                assert (f"optional (default {doc.default_text})" if doc.default_text else "optional (no default)") in line
             else:
                 assert "do not give" in line
 
