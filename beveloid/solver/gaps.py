@@ -17,6 +17,9 @@ PINION_L = UNKNOWNS.index("pinion_l_mm")
 PINION_U = UNKNOWNS.index("pinion_u_mm")
 GEAR_L = UNKNOWNS.index("gear_l_mm")
 GEAR_U = UNKNOWNS.index("gear_u_mm")
+#: how _normal_gap_point starts a point: from the pair's start, ahead along the points before it, or along
+#: the previous point's tangents (where no line of points leads to it: a turn of the serpentine)
+START_COLD, START_AHEAD, START_TANGENT = 0, 1, 2
 
 
 class GapScratch(typing.NamedTuple):
@@ -99,14 +102,15 @@ def normal_gaps(problem, request, out):
         # the retries pass a bool computed at run time (always False), not the literal False: numba typed a
         # literal argument as Literal[bool] and compiled _normal_gap_point a second time for it
         linear = m < 0
-        # the first try (``first``, run time True) may start from the previous point's last evaluation, which the
-        # scratch then still holds
-        first = m >= 0
-        ok = _normal_gap_point(problem, request, m, out, w, warm, t, quad, first)
+        # how each try starts (START_*); only the first may start from the previous point's derivatives (the
+        # scratch then still holds its last evaluation)
+        retry = START_AHEAD if warm else START_COLD
+        first = (START_TANGENT if t == 0.0 else START_AHEAD) if warm else START_COLD
+        ok = _normal_gap_point(problem, request, m, out, w, first, t, quad)
         if not ok and quad:  # an extrapolated start failed: again from fewer points
-            ok = _normal_gap_point(problem, request, m, out, w, warm, t, linear, linear)
+            ok = _normal_gap_point(problem, request, m, out, w, retry, t, linear)
         if not ok and t != 0.0:
-            ok = _normal_gap_point(problem, request, m, out, w, warm, 0.0, linear, linear)
+            ok = _normal_gap_point(problem, request, m, out, w, retry, 0.0, linear)
         warm = ok
 
 
@@ -192,19 +196,19 @@ def _gear_side(problem, x, pinion_angle, s):
         sy.F[0] = math.nan
 
 
-def _normal_gap_point(problem, request, m, out, w, warm, t, quad, first):
-    """Point m of :func:`normal_gaps` with the caller's :class:`GapScratch` w; starts from the previous
-    point's solution when ``warm`` (extrapolated along the line of the points before it: :func:`_ahead`
-    with t from :func:`_line_step`), else from start[q].  When there is no line to extrapolate along (t = 0:
-    a turn of the serpentine) and this is the ``first`` try at point m (w then holds the previous point's
-    last evaluation), each Newton starts with the step from the previous point's solution that its
-    derivatives there give (:func:`_pinion_tangent`, :func:`_gear_tangent`).  True if it converged."""
+def _normal_gap_point(problem, request, m, out, w, how, t, quad):
+    """Point m of :func:`normal_gaps` with the caller's :class:`GapScratch` w; starts (``how``) from start[q]
+    (:data:`START_COLD`), from the previous point's solution extrapolated along the line of the points before
+    it (:data:`START_AHEAD`: :func:`_ahead` with t from :func:`_line_step`), or from the previous point's
+    solution moved by the steps its derivatives give (:data:`START_TANGENT`: :func:`_pinion_tangent`,
+    :func:`_gear_tangent`; w still holds its last evaluation).  True if it converged."""
     q = request.pair_of_point[m]
     coords, start, origin, axes = request.coords, request.start, request.origin, request.axes
     rotation, tol, max_iter = request.rotation, request.tol_mm, request.max_iter
     s, x = w.s, w.x
     ws = s.system.ws
-    tangent = first and warm and t == 0.0
+    warm = how != START_COLD
+    tangent = how == START_TANGENT
     pt, nm, dp, dn = ws.pinion_point, ws.pinion_normal, ws.pinion_point_D_lu, ws.pinion_normal_D_lu
     nf, A, g = w.normal_f, w.matrix, w.rhs
     F, J, Jp, dx = s.system.F, s.system.J, s.system.Jp, s.dx
