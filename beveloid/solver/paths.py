@@ -33,6 +33,10 @@ def solve_off_patch(problem, cells, x_tangency, phi1, e, settings, es, cs):
     return found, a, b, its + more
 
 
+#: two grid angles closer than this (rad) are the same point twice (a step of round-off)
+SAME_ANGLE_RAD = 1e-12
+
+
 def solve_paths(problem, request, settings, out):
     """The :class:`records.PathRequest` ``request``: error sets (K, N_ERRORS) x pinion angles (N,)
     sorted ascending, written to the :class:`records.PathOutput` ``out``: the contact unknowns,
@@ -142,10 +146,14 @@ def solve_paths(problem, request, settings, out):
                                 if curved and hprev != 0.0:
                                     x[i] += 0.5 * (dx[i] - tprev[i]) / hprev * h * h
                     conv, it = newton(problem, x, phi, e, settings, s)
-                curved = conv and predicted
-                if curved:
-                    copy_into(tprev, dx)
-                    hprev = h
+                if abs(h) > SAME_ANGLE_RAD:
+                    curved = conv and predicted
+                    if curved:
+                        copy_into(tprev, dx)
+                        hprev = h
+                # else: the same angle again (pair k's first angle is pair k-1's last, equal to round-off):
+                # the tangent and step behind stay those of the last real step; a step of ~1e-17 rad would
+                # divide the second-order term by it and throw the next prediction off the patches
                 for i in range(N_UNKNOWNS):
                     x_out[k, j, i] = x[i]
                 iters_out[k, j] = it

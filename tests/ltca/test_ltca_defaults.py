@@ -63,18 +63,20 @@ def test_default_grid_holds_hertz(name, flank):
 
 
 def test_pair_loads_continuous_over_the_cycle():
-    """Crowned case 1 at 200 N m: no pair's load drops to 0 and back between neighbouring positions
-    (a pair whose rigid tangency the TCA did not solve at one position keeps its grid)."""
+    """Crowned case 1 at 200 N m: no pair's load drops to 0 and back between neighbouring positions.
+    Here the rigid TCA once left one loaded pair's tangency unsolved (FAILED after the path's repeated
+    angle, tests/solver/test_solver_repeated_angle.py) and the cycle interpolated its neighbours; it now
+    solves every pair at every position."""
     d = _spec(pinion__profile_crowning_um=10.0, pinion__lead_crowning_um=10.0, gear__profile_crowning_um=10.0,
               gear__lead_crowning_um=10.0)
     pair = Pair.from_spec(d)
     r = ltca.analyze(pair, ltca.LoadCase(200.0), ltca.Options(positions=12, tooth_model="plate"))
     assert all(s == "ok" for s in r.status)
-    # the case means something: the rigid TCA leaves one loaded pair's tangency unsolved here
     from beveloid.ltca.passes.cycle import Setup
     from beveloid.solver import Solver
 
-    assert Setup(pair.geometry, "right", pair.errors, 12, 3, Solver()).interpolated.any()
+    setup = Setup(pair.geometry, "right", pair.errors, 12, 3, Solver())
+    assert setup.solved.all() and not setup.interpolated.any()
     F = r.pair_load_n
     total = F.sum(axis=1)
     for k in range(F.shape[1]):
