@@ -185,6 +185,25 @@ def _timed(code: str) -> tuple[float, float]:
             (after.children_user - before.children_user) + (after.children_system - before.children_system))
 
 
+_TINY = """import numba
+
+
+@numba.njit(cache=True)
+def one(x):
+    return x + 1.0
+"""
+
+
+def floor(tmp: Path) -> tuple[float, float]:
+    """(wall, CPU) seconds of a fresh Python that imports numpy and numba and calls one compiled function from
+    numba's cache (its first call sets up numba's compiler context, which imports scipy.linalg for its BLAS
+    check): what any process that runs compiled code pays, a local worker or sweep's own."""
+    (tmp / "floor_tiny.py").write_text(_TINY)
+    code = f"import sys; sys.path.insert(0, {str(tmp)!r}); import numpy, floor_tiny; floor_tiny.one(1.0)"
+    _timed(code)  # (compiles it into the cache)
+    return _timed(code)
+
+
 def makespan(tasks: list, workers: int) -> float:
     """Seconds until the last of ``tasks`` (seconds each, in the order they are handed out) ends on ``workers``
     workers that each take the next task as soon as they are free (a process pool's queue)."""
@@ -246,6 +265,9 @@ def main():
         starts, loads = {}, (0.0, 0.0)
         mpl = figures_start() if "explore" in a.kinds else (0.0, 0.0)
         print(f"load average {os.getloadavg()[0]:.1f}", flush=True)
+        base = floor(tmp)
+        print(f"a process's floor (Python, numpy, numba and one function from numba's cache): {base[0]:.2f} s wall,"
+              f" {base[1]:.2f} s CPU", flush=True)
         for kind in a.kinds:
             small = list(cmds[kind])  # a small run first: numba's cache (and the FE data of the tilted pair)
             if kind == "ltca":
@@ -285,8 +307,8 @@ def main():
                     by_cpu = project(kind, c_tasks, c_figs, S_cpu, start[1], loads[1], mpl[1], a.workers, overlap[1],
                                      writes[1])
                     cpu_text = (f"CPU: {cpu:.2f} s, outside {S_cpu:.2f} s = {100 * S_cpu / cpu:.1f} %, a worker's start"
-                                f" {start[1]:.2f} s, of it before the first task {by_cpu['U']:.2f} s (the command's"
-                                f" own work meanwhile {overlap[1]:.2f} s), the tasks on {a.workers} workers {by_cpu['M']:.2f} s, the"
+                                f" {start[1]:.2f} s ({by_cpu['U']:.2f} s of it not behind the command's own work of"
+                                f" {overlap[1]:.2f} s meanwhile), the tasks on {a.workers} workers {by_cpu['M']:.2f} s, the"
                                 f" figures {by_cpu['FW']:.2f} s; projected {by_cpu['TW']:.2f} s, speed-up"
                                 f" {cpu / by_cpu['TW']:.1f}x")
                 fig_text = (f", in the figure tasks {F:.2f} s ({len(figs)}; on {a.workers} workers {wall['FW']:.2f} s"
@@ -295,8 +317,8 @@ def main():
                 print(f"{kind} (round {r + 1}): one worker {T1:.2f} s wall, inside the workers' function "
                       f"{P:.2f} s ({len(tasks)} calls; on {a.workers} workers {wall['M']:.2f} s)"
                       f"{fig_text}, outside {S:.2f} s = {100 * S / T1:.1f} %; each worker's "
-                      f"start {start[0]:.2f} s, of it before the first task {wall['U']:.2f} s (the command's own work"
-                      f" meanwhile {overlap[0]:.2f} s); projected on {a.workers} workers {wall['TW']:.2f} s, speed-up"
+                      f"start {start[0]:.2f} s ({wall['U']:.2f} s of it not behind the command's own work of"
+                      f" {overlap[0]:.2f} s meanwhile); projected on {a.workers} workers {wall['TW']:.2f} s, speed-up"
                       f" {T1 / wall['TW']:.1f}x (load {os.getloadavg()[0]:.1f})", flush=True)
                 print(f"  the same in {cpu_text}", flush=True)
                 tasks = wall["tasks"]
