@@ -78,6 +78,26 @@ face_width_mm = 24.0
 end_relief_um = 10.0
 end_relief_length_mm = 3.0
 """,
+    "D (m 3, 21/38, untuned: 12 um lead crowning, 8 um pinion tip relief, 6 um gear end relief)": """
+[pair]
+normal_module_mm = 3.0
+normal_pressure_angle_deg = 20.0
+shaft_angle_deg = 13.0
+offset_mm = 90.0
+[pinion]
+teeth = 21
+cone_angle_deg = 2.0
+helix_angle_deg = 23.0
+profile_shift = 0.15
+face_width_mm = 28.0
+lead_crowning_um = 12.0
+tip_relief_um = 8.0
+[gear]
+teeth = 38
+cone_angle_deg = 0.8
+face_width_mm = 32.0
+end_relief_um = 6.0
+""",
 }
 #: (design, pinion torques N m)
 TORQUES = {"case 1": (300.0, 1500.0), **{name: None for name in DESIGNS}}
@@ -101,20 +121,27 @@ def _torques(pair):
 
 
 def rate(pair, torque_nm, grid, positions, tooth_model):
-    """The rating with the LTCA's grid and positions (rating's own options otherwise)."""
+    """The rating with the LTCA's grid and positions (None: the rating's defaults); the rating runs the
+    LTCA itself, at K_A K_v T."""
     import dataclasses
 
     from beveloid import ltca, rating
-    from beveloid.rating.factors import Factors
+    from beveloid.rating.analysis import POSITIONS
 
-    options = rating.Options(torque_nm=torque_nm, tooth_model=tooth_model)
-    if positions is not None:
-        options = dataclasses.replace(options, positions=positions)
-    f = Factors.from_spec(pair.spec)
-    k = f.K_A * (f.K_v if f.K_v_source != "method B" else 1.0)
-    lt_options = dataclasses.replace(options.ltca_options(k), grid=grid)
-    lt = ltca.analyze(pair, lt_options)
-    return rating.analyze(pair, options, ltca_result=lt)
+    lt = ltca.Options(positions=POSITIONS if positions is None else positions)
+    if grid is not None:
+        lt = dataclasses.replace(lt, grid=grid)
+    if tooth_model is not None:
+        lt = dataclasses.replace(lt, tooth_model=tooth_model)
+    return rating.analyze(pair, ltca.LoadCase(torque_nm), rating.Options(ltca=lt))
+
+
+def _lowest_bending(r):
+    """(S_F, source, member) the lowest bending safety of the rating, local or ISO; None without one."""
+    v = r.verdict()
+    found = [(c["value"], c["source"], c["member"]) for c in v["criteria"]
+             if c["kind"] == "S_F" and c.get("governs") and c.get("value") is not None]
+    return min(found) if found else None
 
 
 def main(argv=None) -> int:
@@ -123,13 +150,13 @@ def main(argv=None) -> int:
     p.add_argument("--tooth-model", choices=("fe", "plate"), default=None)
     args = p.parse_args(argv)
     names = ["case 1"] if args.quick else list(TORQUES)
-    print("| design | T (N m) | setting | status | lowest safety | K_Hβ pinion / gear | edge load share |")
-    print("|---|---|---|---|---|---|---|")
+    print("| design | T (N m) | setting | status | lowest safety | lowest S_F | K_Hβ pinion / gear | edge load share |")
+    print("|---|---|---|---|---|---|---|---|")
     summary = []
     for name in names:
         pair = _pair(name)
         for torque in TORQUES[name] or _torques(pair):
-            rows = []
+            rows, bending = [], []
             for label, grid, positions in SETTINGS:
                 t0 = time.perf_counter()
                 r = rate(pair, torque, grid, positions, args.tooth_model)
@@ -138,18 +165,24 @@ def main(argv=None) -> int:
                 kh = " / ".join(f"{r.members[m].sections['middle'].K_H_beta:.2f}" for m in ("pinion", "gear"))
                 low = "null" if v["value"] is None else f"{v['lowest']} {v['value']:.3f} ({v['source']}, {v['member']})"
                 share = "none" if e is None else f"{e['load_share']:.3f} ({e['edge']} of the {e['member']})"
-                print(f"| {name} | {torque:g} | {label} | {v['status']} | {low} | {kh} | {share} |", flush=True)
+                sf = _lowest_bending(r)
+                sf_text = "null" if sf is None else f"{sf[0]:.3f} ({sf[1]}, {sf[2]})"
+                print(f"| {name} | {torque:g} | {label} | {v['status']} | {low} | {sf_text} | {kh} | {share} |", flush=True)
                 print(f"  {label}: {time.perf_counter() - t0:.1f} s", file=sys.stderr, flush=True)
                 rows.append(v)
+                bending.append(sf)
             base = rows[0]["value"]
             same = len({v["status"] for v in rows}) == 1
             move = max(abs(v["value"] / base - 1.0) for v in rows) if base else float("nan")
-            summary.append((name, torque, same, move))
+            sf_move = (max(abs(b[0] / bending[0][0] - 1.0) for b in bending)
+                       if all(b is not None for b in bending) else float("nan"))
+            summary.append((name, torque, same, move, sf_move))
     print()
-    print("| design | T (N m) | status the same | largest change of the lowest safety from the default |")
-    print("|---|---|---|---|")
-    for name, torque, same, move in summary:
-        print(f"| {name} | {torque:g} | {'yes' if same else 'NO'} | {move:.1%} |")
+    print("| design | T (N m) | status the same | largest change of the lowest safety from the default | "
+          "of the lowest S_F |")
+    print("|---|---|---|---|---|")
+    for name, torque, same, move, sf_move in summary:
+        print(f"| {name} | {torque:g} | {'yes' if same else 'NO'} | {move:.1%} | {sf_move:.1%} |")
     return 0
 
 

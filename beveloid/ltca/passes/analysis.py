@@ -117,7 +117,12 @@ def _run(cases, options, material, teeth, body_notes=(), convergence=True):
             todo.append((c, g2, rows))
         if not todo:
             break
-        grown = solve_all([Problem(cases[c][0], g2, need[c], cases[c][1], rows, start=sols[c])
+        # the grown grid keeps the placed columns' across offsets (stretched along, each end's held beyond
+        # it): probed again, the columns of a pair in edge contact centre on its tangency off the flank,
+        # and the patch, held at the blank's edge, falls to the grid's outermost row (truncated, unseen)
+        grown = solve_all([Problem(cases[c][0], g2, need[c], cases[c][1], rows, start=sols[c],
+                                   shift_mm=grids.stretched_along(sols[c].gap.across_shift_mm, sols[c].grid.along_half_mm,
+                                                                  g2.along_half_mm))
                            for c, g2, rows in todo])
         for (c, _, rows), new in zip(todo, grown):
             sols[c] = merge(sols[c], new, rows)
