@@ -26,9 +26,15 @@ task paid it too: its excess over the median task is taken off it) and, for opti
 data read in the worker); for ltca, whose first task (the file's errors) is smaller than the others, a
 fresh process that starts so and then analyses the pair at one position (the LTCA's imports and cache
 loads, the FE data read: ``LTCA_FIRST``; what it takes more than a bare start is taken off the one-worker
-run's first task, which paid it too); U = 0 for sweep (threads of one process). F_W: the figure tasks on W
+run's first task, which paid it too); U = 0 for sweep (threads of one process).  Local workers start when the
+command enters its executor (``beveloid.parallel``), so the part of U that a worker does in its start (its
+imports, numba's loads, its initializer: all of explore's; optimize's and ltca's but what their first task
+loads) runs while the command itself works towards its first task (optimize: its baseline): O, the
+command's own time from entering the executor to handing it the first task in the one-worker run, is taken
+off it: U = max(0, U_start - O) + U_first. F_W: the figure tasks on W
 workers (W >= 4: the longest one plus matplotlib's import, measured in a fresh process, which each of those
-workers pays; the one-worker run paid it once). Speed-up T_1 / T_W.
+workers pays; the one-worker run paid it once), less the time the command writes its data files meanwhile
+(``explore.report.write_data``, timed: part of S, done while the workers draw). Speed-up T_1 / T_W.
 
 The projection is made twice: from wall seconds, and from CPU seconds (each process's own, each timed
 call's ``time.process_time``): on a machine shared with other work the CPU figure is the steadier
@@ -64,11 +70,12 @@ import json, os, sys, tempfile, time
 t_start = time.perf_counter()
 from beveloid.cli import main
 kind, argv = sys.argv[1], sys.argv[2:]
-took, figures = [], []
+took, figures, writes = [], [], []
 if kind != "sweep":
     import importlib
     timed_fns = {"explore": [("beveloid.explore.run", "compute_chunk", took),
-                             ("beveloid.explore.report", "draw_figure", figures)],
+                             ("beveloid.explore.report", "draw_figure", figures),
+                             ("beveloid.explore.report", "write_data", writes)],
                  "ltca": [("beveloid.ltca.studies", "_task", took)],
                  "optimize": [("beveloid.optimize.search", "evaluate_task", took)]}[kind]
     def timing(fn, into):
@@ -82,6 +89,16 @@ if kind != "sweep":
     for module, name, into in timed_fns:
         mod = importlib.import_module(module)
         setattr(mod, name, timing(getattr(mod, name), into))  # looked up by the command at each call
+    # when the command enters its executor (where local workers start) and first hands it tasks
+    from beveloid import parallel
+    marks = {}
+    def first(name, fn):
+        def marked(*a, **k):
+            marks.setdefault(name, (time.perf_counter(), time.process_time()))
+            return fn(*a, **k)
+        return marked
+    parallel._Serial.__enter__ = first("enter", parallel._Serial.__enter__)
+    parallel._Serial.map_unordered = first("submit", parallel._Serial.map_unordered)
 import contextlib, io
 buf = io.StringIO()
 sys.argv = ["beveloid", *argv]  # main() as the script calls it: its collector settings and gc.freeze before the exit
@@ -90,7 +107,11 @@ with contextlib.redirect_stdout(buf):
 out = buf.getvalue()
 if kind == "sweep":
     took.append((json.loads(out)["seconds"], float("nan")))
-print(json.dumps({"rc": rc, "took": took, "figures": figures, "in_process": time.perf_counter() - t_start}))
+overlap = [0.0, 0.0]
+if kind != "sweep" and "enter" in marks and "submit" in marks:
+    overlap = [b - a for a, b in zip(marks["enter"], marks["submit"])]
+print(json.dumps({"rc": rc, "took": took, "figures": figures, "in_process": time.perf_counter() - t_start,
+                  "overlap": overlap, "writes": [sum(w[i] for w in writes) for i in (0, 1)]}))
 """
 
 
@@ -164,6 +185,25 @@ def _timed(code: str) -> tuple[float, float]:
             (after.children_user - before.children_user) + (after.children_system - before.children_system))
 
 
+_TINY = """import numba
+
+
+@numba.njit(cache=True)
+def one(x):
+    return x + 1.0
+"""
+
+
+def floor(tmp: Path) -> tuple[float, float]:
+    """(wall, CPU) seconds of a fresh Python that imports numpy and numba and calls one compiled function from
+    numba's cache (its first call sets up numba's compiler context, which imports scipy.linalg for its BLAS
+    check): what any process that runs compiled code pays, a local worker or sweep's own."""
+    (tmp / "floor_tiny.py").write_text(_TINY)
+    code = f"import sys; sys.path.insert(0, {str(tmp)!r}); import numpy, floor_tiny; floor_tiny.one(1.0)"
+    _timed(code)  # (compiles it into the cache)
+    return _timed(code)
+
+
 def makespan(tasks: list, workers: int) -> float:
     """Seconds until the last of ``tasks`` (seconds each, in the order they are handed out) ends on ``workers``
     workers that each take the next task as soon as they are free (a process pool's queue)."""
@@ -180,10 +220,13 @@ def figures_start() -> tuple[float, float]:
     return max(0.0, mpl[0] - bare[0]), max(0.0, mpl[1] - bare[1])
 
 
-def project(kind: str, tasks: list, figs: list, S: float, start: float, loads: float, mpl: float, W: int) -> dict:
+def project(kind: str, tasks: list, figs: list, S: float, start: float, loads: float, mpl: float, W: int,
+            overlap: float = 0.0, writes: float = 0.0) -> dict:
     """The projection on W workers of a one-worker run (seconds of one kind: wall or CPU): ``tasks`` and ``figs``
     the timed calls in order, ``S`` outside, ``start`` a worker's measured start, ``loads`` (ltca) what the
-    first task loaded, ``mpl`` matplotlib's import."""
+    first task loaded, ``mpl`` matplotlib's import, ``overlap`` the command's own work between entering its
+    executor (where local workers start) and handing it the first task, ``writes`` (explore) what it does
+    while its workers draw the figures (its data files)."""
     tasks = list(tasks)
     # what the one-worker run loaded in its first task a worker loads before its first: in its initializer
     # (then in its measured start) or in its first task (then this excess)
@@ -191,7 +234,11 @@ def project(kind: str, tasks: list, figs: list, S: float, start: float, loads: f
     if kind == "ltca":  # the loads of the one-worker run's first task, measured apart
         first = min(loads, tasks[0])
     tasks[0] -= first  # (each worker pays it before its first task: in U)
-    U = 0.0 if kind == "sweep" else start + (first if kind == "optimize" else 0.0)
+    # a worker's start (its initializer included) runs while the command works towards its first task; what a
+    # worker loads in its first task (optimize's excess, ltca's loads) waits for that task
+    early, late = {"explore": (start, 0.0), "optimize": (start, first), "ltca": (start - loads, loads)}.get(
+        kind, (0.0, 0.0))
+    U = max(0.0, early - overlap) + late
     # the figures, one task each, at once on min(W, figures) workers: each of those workers imports matplotlib
     # (the one-worker run paid it once, in its first figure)
     FW = 0.0
@@ -199,6 +246,7 @@ def project(kind: str, tasks: list, figs: list, S: float, start: float, loads: f
         imp = min(mpl, figs[0])
         draws = sorted([figs[0] - imp] + figs[1:], reverse=True)
         FW = imp + sum(draws[::min(W, len(draws))])  # (W >= figures: the longest)
+        FW = max(0.0, FW - writes)  # the command writes its data files (in S) while they draw
     # sweep: its one timed section is many pieces on threads (benchmarks/bench_sweep_threads.py)
     M = sum(tasks) / W if kind == "sweep" else makespan(tasks, W)
     return {"U": U, "M": M, "FW": FW, "TW": S + U + M + FW, "tasks": tasks}
@@ -217,6 +265,9 @@ def main():
         starts, loads = {}, (0.0, 0.0)
         mpl = figures_start() if "explore" in a.kinds else (0.0, 0.0)
         print(f"load average {os.getloadavg()[0]:.1f}", flush=True)
+        base = floor(tmp)
+        print(f"a process's floor (Python, numpy, numba and one function from numba's cache): {base[0]:.2f} s wall,"
+              f" {base[1]:.2f} s CPU", flush=True)
         for kind in a.kinds:
             small = list(cmds[kind])  # a small run first: numba's cache (and the FE data of the tilted pair)
             if kind == "ltca":
@@ -244,30 +295,36 @@ def main():
                 P, F = sum(tasks), sum(figs)
                 T1 = res["wall"]
                 S = T1 - P - F
-                wall = project(kind, tasks, figs, S, start[0], loads[0], mpl[0], a.workers)
+                overlap = res.get("overlap", [0.0, 0.0])
+                writes = res.get("writes", [0.0, 0.0])
+                wall = project(kind, tasks, figs, S, start[0], loads[0], mpl[0], a.workers, overlap[0], writes[0])
                 cpu = res["cpu"]
                 if kind == "sweep":
                     cpu_text = f"CPU: {cpu:.2f} s"
                 else:
                     c_tasks, c_figs = [c for _, c in res["took"]], [c for _, c in res["figures"]]
                     S_cpu = cpu - sum(c_tasks) - sum(c_figs)
-                    by_cpu = project(kind, c_tasks, c_figs, S_cpu, start[1], loads[1], mpl[1], a.workers)
+                    by_cpu = project(kind, c_tasks, c_figs, S_cpu, start[1], loads[1], mpl[1], a.workers, overlap[1],
+                                     writes[1])
                     cpu_text = (f"CPU: {cpu:.2f} s, outside {S_cpu:.2f} s = {100 * S_cpu / cpu:.1f} %, a worker's start"
-                                f" {by_cpu['U']:.2f} s, the tasks on {a.workers} workers {by_cpu['M']:.2f} s, the"
+                                f" {start[1]:.2f} s ({by_cpu['U']:.2f} s of it not behind the command's own work of"
+                                f" {overlap[1]:.2f} s meanwhile), the tasks on {a.workers} workers {by_cpu['M']:.2f} s, the"
                                 f" figures {by_cpu['FW']:.2f} s; projected {by_cpu['TW']:.2f} s, speed-up"
                                 f" {cpu / by_cpu['TW']:.1f}x")
                 fig_text = (f", in the figure tasks {F:.2f} s ({len(figs)}; on {a.workers} workers {wall['FW']:.2f} s"
-                            f" with matplotlib's import {mpl[0]:.2f} s)" if figs else "")
+                            f" more than the data files' {writes[0]:.2f} s written meanwhile, with matplotlib's import"
+                            f" {mpl[0]:.2f} s)" if figs else "")
                 print(f"{kind} (round {r + 1}): one worker {T1:.2f} s wall, inside the workers' function "
                       f"{P:.2f} s ({len(tasks)} calls; on {a.workers} workers {wall['M']:.2f} s)"
                       f"{fig_text}, outside {S:.2f} s = {100 * S / T1:.1f} %; each worker's "
-                      f"start {wall['U']:.2f} s; projected on {a.workers} workers {wall['TW']:.2f} s, speed-up"
+                      f"start {start[0]:.2f} s ({wall['U']:.2f} s of it not behind the command's own work of"
+                      f" {overlap[0]:.2f} s meanwhile); projected on {a.workers} workers {wall['TW']:.2f} s, speed-up"
                       f" {T1 / wall['TW']:.1f}x (load {os.getloadavg()[0]:.1f})", flush=True)
                 print(f"  the same in {cpu_text}", flush=True)
                 tasks = wall["tasks"]
                 print(f"  tasks (s, wall; the first less its loads): first {tasks[0]:.2f}, median"
                       f" {statistics.median(tasks):.2f}, largest"
-                      f" {max(tasks):.2f}", flush=True)
+                      f" {max(tasks):.2f} (task {tasks.index(max(tasks))} of {len(tasks)})", flush=True)
                 print(f"  command: beveloid {' '.join(Path(x).name if x.startswith(str(tmp)) else x for x in cmds[kind])}",
                       flush=True)
 

@@ -10,7 +10,8 @@ work into chunks whose contents and seeds depend only on the inputs, never on th
 workers, so one worker, N local workers and a cluster give the same results bit for bit.
 
 * ``workers=1``: in this process, in order.
-* ``workers=N``: a ``concurrent.futures.ProcessPoolExecutor`` of N spawned processes.  Each loads
+* ``workers=N``: a ``concurrent.futures.ProcessPoolExecutor`` of N spawned processes, all started when
+  the executor is entered (they start while the caller prepares its work).  Each loads
   the compiled solver once, in its initializer (:func:`warm_up` with the caller's ``initializer``:
   numba's on-disk cache, written by the first process that compiled it), and runs numba and the
   BLAS / OpenMP libraries on one thread (:data:`ONE_THREAD`: the processes are the parallelism; two
@@ -170,16 +171,24 @@ class _Local:
         ctx = multiprocessing.get_context("spawn")
         self._pool = cf.ProcessPoolExecutor(self.workers, mp_context=ctx, initializer=warm_up,
                                             initargs=(self.initializer,))
+        # every process starts now (the pool starts one per submitted task): their start (Python, numba's
+        # cache loads, the initializer) runs while the caller prepares its work (issue 59)
+        with _sigint_blocked(), one_thread_environment():
+            for _ in range(self.workers):
+                self._pool.submit(_started)
         return self
 
     def __exit__(self, *exc):
-        if exc[0] is not None and issubclass(exc[0], KeyboardInterrupt):
-            self._stop_processes()  # a Ctrl-C outside map_unordered's loop: work still submitted is abandoned
+        if exc[0] is not None:
+            # a Ctrl-C or an error outside map_unordered's loop: work still submitted is abandoned, and the
+            # processes are not waited for (they may still be starting)
+            self._stop_processes()
         self._pool.shutdown(wait=exc[0] is None, cancel_futures=True)
         return False
 
     def map_unordered(self, fn, items):
-        # the first submits start the processes: they never see the terminal's Ctrl-C, and run on one thread
+        # (the processes started in __enter__ never see the terminal's Ctrl-C and run on one thread; so does
+        # one started here)
         with _sigint_blocked(), one_thread_environment():
             futures = {self._pool.submit(fn, item): i for i, item in enumerate(items)}
         return self._results(futures)
@@ -206,6 +215,10 @@ class _Local:
         _quiet_broken_pool_race()
         for process in list((getattr(self._pool, "_processes", None) or {}).values()):
             process.terminate()
+
+
+def _started() -> None:
+    """The task that starts a local worker process (:meth:`_Local.__enter__`): nothing after its start."""
 
 
 def _quiet_broken_pool_race() -> None:

@@ -139,9 +139,9 @@ def run(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     print(f"beveloid optimize: the unmodified design of {req.source}", file=sys.stderr)
     try:
-        base = search.baseline(out, req)
         ex = parallel.executor(args.workers, args.scheduler)
-        with ex:
+        with ex:  # (local workers start meanwhile: issue 59)
+            base = search.baseline(out, req)
             ran = search.run(out, req, ex, search.Progress(), base)
             where = ex.description
     except KeyboardInterrupt:

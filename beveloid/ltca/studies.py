@@ -23,10 +23,11 @@ __all__ = ["CHUNK_SETS", "TASK_SETS", "box_results", "nominal_results", "toleran
 
 #: error sets per call of the batched engine (the numbers do not depend on where a chunk runs)
 CHUNK_SETS = 8
-#: error sets per task of :func:`tolerance_box`'s workers: small, so that many workers share a box (64 sets
-#: in tasks of 8 kept at most 8 busy); a set's numbers do not depend on the sets analysed with it, and an
-#: analysis costs the same in a batch of 2 as of 8 (issue 59)
-TASK_SETS = 2
+#: error sets per task of :func:`tolerance_box`'s workers: one, so that many workers share a box evenly (64
+#: sets in tasks of 8 kept at most 8 busy; in tasks of 2, 16 workers took 3 rounds of 2 sets and the file's
+#: errors); a set's numbers do not depend on the sets analysed with it, and an analysis costs the same in a
+#: batch of 1 as of 8 (issue 59)
+TASK_SETS = 1
 
 
 def box_results(pair, load, options=None, *, solver=None) -> list:
@@ -75,18 +76,19 @@ def tolerance_box(pair, load, options=None, *, workers=None, scheduler=None, pro
     the Dask cluster at ``scheduler`` (beveloid.parallel); ``progress(done, total, "error sets")`` after each
     chunk (a :class:`beveloid.progress.Progress`).
 
-    ``nominal``: a LoadCase (the file's errors) analysed as one more task on the same workers, the first
-    (:func:`nominal_results`, patterns included), so that the main process runs no analysis (issue 59: the
-    serial part of ``ltca --samples``); then ``(its [LTCAResult per torque], the rows)``."""
+    ``nominal``: a LoadCase (the file's errors) analysed as more tasks on the same workers, one per torque and
+    the first (:func:`nominal_results`, patterns included; a torque's analysis does not depend on the torques
+    analysed with it), so that the main process runs no analysis (issue 59: the serial part of ``ltca
+    --samples``); then ``(its [LTCAResult per torque], the rows)``."""
     from contextlib import nullcontext
 
     from ..parallel import executor
 
     sets = load.error_sets(pair)
     tasks = [("box", pair, load.at(errors=sets[i:i + TASK_SETS]), options) for i in range(0, len(sets), TASK_SETS)]
-    first = 0 if nominal is None else 1
+    first = 0 if nominal is None else len(nominal.torques_nm)
     if nominal is not None:
-        tasks.insert(0, ("nominal", pair, nominal, options))
+        tasks[:0] = [("nominal", pair, nominal.at(torque_nm=[t]), options) for t in nominal.torques_nm]
     out = [None] * len(tasks)
     done = 0
     parallel = workers is not None or scheduler is not None
@@ -100,7 +102,7 @@ def tolerance_box(pair, load, options=None, *, workers=None, scheduler=None, pro
             if progress is not None:
                 progress(done, len(sets), "error sets")
     rows = [row for chunk in out[first:] for row in chunk]
-    return rows if nominal is None else (out[0], rows)
+    return rows if nominal is None else ([r for part in out[:first] for r in part], rows)
 
 
 def _stats(values) -> dict:

@@ -164,3 +164,20 @@ def test_a_workers_start_freezes_what_it_loaded():
         assert gc.get_freeze_count() > before
     finally:
         gc.unfreeze()
+
+
+def test_local_workers_start_when_the_executor_is_entered_and_an_error_does_not_wait_for_them():
+    """Issue 59: every local worker process starts when the executor is entered (its start, imports and
+    numba's cache loads, runs while the caller prepares its work), not at the first task; an error before
+    any task stops them at once (the caller's one-line error is not held up by their starts)."""
+    import multiprocessing
+
+    before = set(multiprocessing.active_children())
+    with pytest.raises(ValueError, match="bad input"):
+        with parallel.executor(workers=2):
+            started = set(multiprocessing.active_children()) - before
+            assert len(started) == 2
+            raise ValueError("bad input")
+    for process in started:
+        process.join(timeout=5)
+        assert not process.is_alive() and process.exitcode is not None and process.exitcode < 0  # stopped

@@ -313,12 +313,13 @@ def test_the_plot_of_a_tolerance_box_draws_its_sets(capsys, tmp_path, monkeypatc
     assert "the file's errors" in titles[0] and "2 error sets: box_tolerance.png" in titles[0]
 
 
-def test_the_tolerance_box_analyses_the_file_errors_as_one_of_its_tasks(pair):
-    """``tolerance_box(..., nominal=load)``: the analyses at the file's errors (patterns included) run as one
-    more task beside the chunks (the main process of ``ltca --samples`` runs none), the same numbers as
-    ``analyze_many``; the rows the same as without it."""
+def test_the_tolerance_box_analyses_the_file_errors_as_one_task_per_torque(pair):
+    """``tolerance_box(..., nominal=load)``: the analyses at the file's errors (patterns included) run as more
+    tasks beside the chunks, one per torque (the main process of ``ltca --samples`` runs none; issue 59: one
+    task of every torque was the box's longest), the same numbers as ``analyze_many`` of all the torques at
+    once; the rows the same as without it."""
     options = ltca.Options(**SMALL)
-    load = ltca.LoadCase([150.0])
+    load = ltca.LoadCase([150.0, 300.0])
     draws = np.array([[0.01, 0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.02, 0.0, 0.0]])
     ran = []
     real = ltca.studies.nominal_results
@@ -331,15 +332,17 @@ def test_the_tolerance_box_analyses_the_file_errors_as_one_of_its_tasks(pair):
 
     with unittest.mock.patch.object(ltca.studies, "nominal_results", counted):
         results, rows = ltca.studies.tolerance_box(pair, load.at(errors=draws), options, nominal=load)
-    assert len(ran) == 1
+    assert [task[1].torques_nm for task in ran] == [(150.0,), (300.0,)]
     plain = ltca.studies.tolerance_box(pair, load.at(errors=draws), options)
     assert [[r["te_peak_to_peak_urad"] for r in row] for row in rows] == \
         [[r["te_peak_to_peak_urad"] for r in row] for row in plain]
     direct = ltca.analyze_many(pair, load, options).results[0]
-    assert len(results) == len(direct) == 1
+    assert len(results) == len(direct) == 2
     for a, b in zip(results, direct):
+        assert a.torque_nm == b.torque_nm
         np.testing.assert_array_equal(a.loaded_te, b.loaded_te)
         np.testing.assert_array_equal(a.pressure_mpa, b.pressure_mpa)
+        assert json.dumps(a.to_json()) == json.dumps(b.to_json())  # every number it reports, to the last bit
         assert set(a.patterns) == {"pinion", "gear"}
 
 
@@ -382,9 +385,10 @@ def test_without_the_convergence_indicator_every_other_number_is_the_same(pair):
 
 
 def test_the_tolerance_box_hands_out_small_tasks_with_the_numbers_of_whole_batches(pair, monkeypatch):
-    """Issue 59: the box's workers get TASK_SETS error sets a task (64 sets in tasks of 8 kept at most 8 workers
-    busy); every set's row is bit-identical to those of box_results, which batches CHUNK_SETS sets a call (a
-    set's numbers do not depend on the sets analysed with it)."""
+    """Issue 59: the box's workers get TASK_SETS error sets a task, one (64 sets in tasks of 8 kept at most 8
+    workers busy, in tasks of 2 the 16 workers took 3 rounds); every set's row is bit-identical to those of
+    box_results, which batches CHUNK_SETS sets a call (a set's numbers do not depend on the sets analysed
+    with it)."""
     options = ltca.Options(**SMALL)
     draws = np.array([[0.01 * k, 0.0, -0.005 * k, 0.0, 0.0] for k in range(5)])
     load = ltca.LoadCase([150.0, 300.0]).at(errors=draws)
@@ -392,7 +396,7 @@ def test_the_tolerance_box_hands_out_small_tasks_with_the_numbers_of_whole_batch
     real = ltca.studies._chunk
     monkeypatch.setattr(ltca.studies, "_chunk", lambda task: tasks.append(len(task[1].error_sets(pair))) or real(task))
     rows = ltca.studies.tolerance_box(pair, load, options)
-    assert ltca.studies.TASK_SETS < ltca.studies.CHUNK_SETS and tasks == [2, 2, 1]
+    assert ltca.studies.TASK_SETS < ltca.studies.CHUNK_SETS and tasks == [1, 1, 1, 1, 1]
     whole = ltca.studies.box_results(pair, load, options)  # one call of 5 sets
     assert [[r["te_peak_to_peak_urad"] for r in row] for row in rows] == \
         [[summary(r)["te_peak_to_peak_urad"] for r in row] for row in whole]
