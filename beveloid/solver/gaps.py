@@ -10,13 +10,16 @@ import numpy as np
 from ..generated.contact_system_scalar import contact_residual_point
 from ..generated.tca_kernels import UNKNOWNS
 from ..generated.tca_kernels_scalar import N_ERRORS, N_UNKNOWNS, contact_margin_point, surface_jet_point
-from .newton import GEAR_ANGLE, Scratch, scratch
+from .newton import FINAL_STEP_K, FINAL_STEP_RESIDUAL_MM, GEAR_ANGLE, Scratch, scratch
 
 #: where normal_gaps finds each unknown (by the generated names; numba reads them as constants)
 PINION_L = UNKNOWNS.index("pinion_l_mm")
 PINION_U = UNKNOWNS.index("pinion_u_mm")
 GEAR_L = UNKNOWNS.index("gear_l_mm")
 GEAR_U = UNKNOWNS.index("gear_u_mm")
+#: how _normal_gap_point starts a point: from the pair's start, ahead along the points before it, or along
+#: the previous point's tangents (where no line of points leads to it: a turn of the serpentine)
+START_COLD, START_AHEAD, START_TANGENT = 0, 1, 2
 
 
 class GapScratch(typing.NamedTuple):
@@ -50,6 +53,12 @@ def _solve3(A, b, out):
 def _diverging(err, last, it, bound):
     """A Newton point whose residual is not finite, huge, or no longer halving after two steps."""
     return not math.isfinite(err) or err > bound or (it >= 2 and err > 0.5 * last)
+
+
+def _final_step(err, size, tol):
+    """A Newton step of largest component ``size`` (mm) from a residual ``err`` after which the residual is
+    below ``tol`` without evaluating again (the solver core's test: :data:`newton.FINAL_STEP_K`)."""
+    return err <= FINAL_STEP_RESIDUAL_MM and FINAL_STEP_K * size * size <= tol
 
 
 def _gear_system(J, nf, A):
@@ -90,14 +99,18 @@ def normal_gaps(problem, request, out):
         warm = warm and m > 0 and pair_of_point[m - 1] == pair_of_point[m]
         t = _line_step(request, out, m) if warm else 0.0
         quad = abs(t - 1.0) < 1e-9 and m >= 3 and abs(_line_step(request, out, m - 1) - 1.0) < 1e-9
-        ok = _normal_gap_point(problem, request, m, out, w, warm, t, quad)
         # the retries pass a bool computed at run time (always False), not the literal False: numba typed a
         # literal argument as Literal[bool] and compiled _normal_gap_point a second time for it
         linear = m < 0
+        # how each try starts (START_*); only the first may start from the previous point's derivatives (the
+        # scratch then still holds its last evaluation)
+        retry = START_AHEAD if warm else START_COLD
+        first = (START_TANGENT if t == 0.0 else START_AHEAD) if warm else START_COLD
+        ok = _normal_gap_point(problem, request, m, out, w, first, t, quad)
         if not ok and quad:  # an extrapolated start failed: again from fewer points
-            ok = _normal_gap_point(problem, request, m, out, w, warm, t, linear)
+            ok = _normal_gap_point(problem, request, m, out, w, retry, t, linear)
         if not ok and t != 0.0:
-            ok = _normal_gap_point(problem, request, m, out, w, warm, 0.0, linear)
+            ok = _normal_gap_point(problem, request, m, out, w, retry, 0.0, linear)
         warm = ok
 
 
@@ -133,6 +146,41 @@ def _ahead(a, m, c, t, quad):
     return v + t * (v - a[m - 2, c])
 
 
+def _pinion_tangent(request, m, q, dp, x):
+    """x's pinion l, u (the previous point's) moved by the pinion Newton's step to point m's coordinates
+    with the previous point's derivatives dp (its residual taken as zero)."""
+    axes, c = request.axes, request.coords
+    a00 = a01 = a10 = a11 = 0.0
+    for k in range(3):
+        a00 += axes[q, 0, k] * dp[k, 0]
+        a01 += axes[q, 0, k] * dp[k, 1]
+        a10 += axes[q, 1, k] * dp[k, 0]
+        a11 += axes[q, 1, k] * dp[k, 1]
+    det = a00 * a11 - a01 * a10
+    if det == 0.0 or not math.isfinite(det):
+        return
+    f0 = c[m, 0] - c[m - 1, 0]
+    f1 = c[m, 1] - c[m - 1, 1]
+    x[PINION_L] += (f0 * a11 - f1 * a01) / det
+    x[PINION_U] += (a00 * f1 - a10 * f0) / det
+
+
+def _gear_tangent(out, m, x, gap, J, A, dn, dx):
+    """The gear Newton's start (x's gear l, u and the returned gap) for point m: the previous point's
+    moved by the step that cancels, to first order, the change of its residual with the pinion point
+    (J's pinion columns: the previous point's last Eq 38 Jacobian) and the pinion normal (``dn``, the
+    change of n_f1); A: the previous point's gear matrix."""
+    d0 = x[PINION_L] - out.pinion_lu[m - 1, 0]
+    d1 = x[PINION_U] - out.pinion_lu[m - 1, 1]
+    for r in range(3):
+        dn[r] = -(J[r, PINION_L] * d0 + J[r, PINION_U] * d1 + gap * dn[r])
+    if _solve3(A, dn, dx):
+        x[GEAR_L] += dx[0]
+        x[GEAR_U] += dx[1]
+        gap += dx[2]
+    return gap
+
+
 def _gear_side(problem, x, pinion_angle, s):
     """Eq 38 and its Jacobians (s.system) at x, the pinion's jet already in the workspace (the pinion
     Newton's last evaluation, at x's pinion l, u): only the gear's jet is evaluated, the rest as
@@ -148,15 +196,19 @@ def _gear_side(problem, x, pinion_angle, s):
         sy.F[0] = math.nan
 
 
-def _normal_gap_point(problem, request, m, out, w, warm, t, quad):
-    """Point m of :func:`normal_gaps` with the caller's :class:`GapScratch` w; starts from the previous
-    point's solution when ``warm`` (extrapolated along the line of the points before it: :func:`_ahead`
-    with t from :func:`_line_step`), else from start[q].  True if it converged."""
+def _normal_gap_point(problem, request, m, out, w, how, t, quad):
+    """Point m of :func:`normal_gaps` with the caller's :class:`GapScratch` w; starts (``how``) from start[q]
+    (:data:`START_COLD`), from the previous point's solution extrapolated along the line of the points before
+    it (:data:`START_AHEAD`: :func:`_ahead` with t from :func:`_line_step`), or from the previous point's
+    solution moved by the steps its derivatives give (:data:`START_TANGENT`: :func:`_pinion_tangent`,
+    :func:`_gear_tangent`; w still holds its last evaluation).  True if it converged."""
     q = request.pair_of_point[m]
     coords, start, origin, axes = request.coords, request.start, request.origin, request.axes
     rotation, tol, max_iter = request.rotation, request.tol_mm, request.max_iter
     s, x = w.s, w.x
     ws = s.system.ws
+    warm = how != START_COLD
+    tangent = how == START_TANGENT
     pt, nm, dp, dn = ws.pinion_point, ws.pinion_normal, ws.pinion_point_D_lu, ws.pinion_normal_D_lu
     nf, A, g = w.normal_f, w.matrix, w.rhs
     F, J, Jp, dx = s.system.F, s.system.J, s.system.Jp, s.dx
@@ -166,6 +218,8 @@ def _normal_gap_point(problem, request, m, out, w, warm, t, quad):
         x[PINION_L], x[PINION_U] = _ahead(pl, m, 0, t, quad), _ahead(pl, m, 1, t, quad)
         x[GEAR_L], x[GEAR_U], gap = _ahead(gl, m, 0, t, quad), _ahead(gl, m, 1, t, quad), _ahead(gl, m, 2, t, quad)
         x[GEAR_ANGLE] = start[q, GEAR_ANGLE]
+        if tangent:
+            _pinion_tangent(request, m, q, dp, x)
     else:
         for i in range(N_UNKNOWNS):
             x[i] = start[q, i]
@@ -197,12 +251,27 @@ def _normal_gap_point(problem, request, m, out, w, warm, t, quad):
         det = a00 * a11 - a01 * a10
         if det == 0.0:
             break
-        x[PINION_L] += (-f0 * a11 + f1 * a01) / det
-        x[PINION_U] += (-a00 * f1 + a10 * f0) / det
+        d0 = (-f0 * a11 + f1 * a01) / det
+        d1 = (-a00 * f1 + a10 * f0) / det
+        x[PINION_L] += d0
+        x[PINION_U] += d1
+        if _final_step(err, max(abs(d0), abs(d1)), tol):
+            # no confirming evaluation: the point and normal carried to the new l, u to first order (their
+            # error ~|step|^2); the derivatives stay those of the point one step before (the gear Newton
+            # reads none of them)
+            for k in range(3):
+                pt[k] += dp[k, 0] * d0 + dp[k, 1] * d1
+                nm[k] += dn[k, 0] * d0 + dn[k, 1] * d1
+            ok1 = True
+            break
     out.pinion_lu[m, 0] = x[PINION_L]
     out.pinion_lu[m, 1] = x[PINION_U]
     for i in range(3):
-        nf[i] = rotation[q, i, 0] * nm[0] + rotation[q, i, 1] * nm[1] + rotation[q, i, 2] * nm[2]
+        normal = rotation[q, i, 0] * nm[0] + rotation[q, i, 1] * nm[1] + rotation[q, i, 2] * nm[2]
+        g[i] = normal - nf[i]  # (the previous point's normal, for the tangent start)
+        nf[i] = normal
+    if tangent and ok1:
+        gap = _gear_tangent(out, m, x, gap, s.system.J, A, g, dx)
     ok2 = False
     last = 1e300
     if ok1:
@@ -223,6 +292,14 @@ def _normal_gap_point(problem, request, m, out, w, warm, t, quad):
             x[GEAR_L] += dx[0]
             x[GEAR_U] += dx[1]
             gap += dx[2]
+            if _final_step(err, max(abs(dx[0]), max(abs(dx[1]), abs(dx[2]))), tol):
+                # no confirming evaluation: the gear point carried to the new l, u to first order; J, Jp (the
+                # rates) and the margins are those of the point one such step before (as newton.newton_update)
+                gp, gd = ws.gear_point, ws.gear_point_D_lu
+                for k in range(3):
+                    gp[k] += gd[k, 0] * dx[0] + gd[k, 1] * dx[1]
+                ok2 = True
+                break
     out.gear_lu_gap[m, 0] = x[GEAR_L]
     out.gear_lu_gap[m, 1] = x[GEAR_U]
     out.gear_lu_gap[m, 2] = gap

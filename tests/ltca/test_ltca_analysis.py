@@ -281,6 +281,45 @@ def test_a_gap_does_not_depend_on_the_order_of_its_points(geom1):
         assert np.allclose(gap[ok], gap2[ok], rtol=0.0, atol=1e-8)
 
 
+def test_the_gap_newtons_final_step_and_tangent_starts_give_the_confirmed_numbers(geom1, monkeypatch):
+    """normal_gaps ends a Newton after a step too small to leave a residual above the tolerance
+    (newton.FINAL_STEP_K) without evaluating again, and starts a point where no line of points leads to it
+    from the previous point's derivatives: the gaps, rates and points within the Newtons' tolerance of those
+    of Newtons that confirm every point (the shortcut switched off), in fewer surface evaluations."""
+    from beveloid.ltca.model import gaps
+    from beveloid.ltca.passes.cycle import Setup
+    from beveloid.solver import Solver
+    from beveloid.solver import gaps as core_gaps
+
+    numpy = Solver("numpy")  # the interpreted core reads the module's names at each call
+    setup = Setup(geom1, "right", np.zeros(5), 4, 3, numpy)
+    q = np.array([1, 1])
+    frames = gaps.Frames(setup.start[1, q], setup.pair_phi1[1, q], setup.frame.origin[1, q], setup.frame.axes[1, q])
+    xs, ys = np.meshgrid(np.linspace(-0.4, 0.4, 8), np.linspace(-20, 20, 12), indexing="ij")
+    snake = np.stack([xs, ys], axis=-1)
+    snake[1::2] = snake[1::2, ::-1].copy()  # serpentine rows: a turn after each row
+    coords = np.broadcast_to(snake.reshape(-1, 2), (2, xs.size, 2))
+    calls = []
+    jet = core_gaps.surface_jet_point
+
+    def counted(*args):
+        calls.append(1)
+        return jet(*args)
+
+    monkeypatch.setattr(core_gaps, "surface_jet_point", counted)
+    a = gaps.cell_gaps(geom1, "right", setup.errors, frames, coords, numpy)
+    fast = len(calls)
+    monkeypatch.setattr(core_gaps, "FINAL_STEP_K", np.inf)
+    calls.clear()
+    b = gaps.cell_gaps(geom1, "right", setup.errors, frames, coords, numpy)
+    assert fast < 0.85 * len(calls)
+    assert a.on_flanks.all() and np.array_equal(a.on_flanks, b.on_flanks)
+    for name in ("gap_mm", "pinion_lu", "pinion_point", "gear_point", "margin_mm"):
+        assert np.allclose(getattr(a, name), getattr(b, name), rtol=0.0, atol=1e-8), name
+    for name in ("gap_D_gear_angle", "pinion_arm_mm"):
+        assert np.allclose(getattr(a, name), getattr(b, name), rtol=1e-6, atol=0.0), name
+
+
 def test_pattern_colour_scale_is_the_surface_peak_not_the_edge_spike(geom1, loaded200):
     """Case 1 at 200 N m has edge peaks (singular, grid-dependent) far above the surface peak; the
     pattern's colour runs to the surface peak over the cycle and its colour bar says that more lies

@@ -186,3 +186,16 @@ def test_the_batched_face_coupling_is_the_cell_mean_series():
         assert np.abs(k - one).max() <= 1e-12 * np.abs(one).max()
     with pytest.raises(ValueError, match="must lie in"):
         face_couplings_per_mm(np.array([[length]]), hz, length, h, NU)
+
+
+def test_the_mode_cosines_are_the_cosines():
+    """mode_cosines (cos(n theta) from products of exponentials of a B + b) against numpy's cosines of
+    n theta, over the face (theta in [0, pi], both ends included) and for mode counts on both sides of
+    a square (B changes)."""
+    from beveloid.ltca.mechanics.tooth_compliance import mode_cosines
+
+    theta = np.concatenate([[0.0, np.pi], np.random.default_rng(5).uniform(0.0, np.pi, 40)]).reshape(2, 21)
+    for modes in (1, 3, 24, 25, 472):
+        c = mode_cosines(theta, modes)
+        assert c.shape == (2, 21, modes)
+        assert np.abs(c - np.cos(theta[..., None] * np.arange(1, modes + 1))).max() < 2e-12

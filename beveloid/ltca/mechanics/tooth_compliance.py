@@ -63,6 +63,7 @@ __all__ = [
     "plate_edge_compliance_ratio",
     "face_coupling_per_mm",
     "face_couplings_per_mm",
+    "mode_cosines",
     "plate_modes",
     "tooth_influence_mm_per_mpa",
 ]
@@ -244,15 +245,30 @@ def face_couplings_per_mm(z_mm, half_dz_mm: float, face_width_mm: float, plate_h
     half-width ``half_dz_mm`` and inside the face (z - hz >= 0, z + hz <= L: no cell clipped), in one
     product: a cell's mean of cos(k z') is then cos(k z_b) sin(k hz) / (k hz), so that
     K = 1/L + sum_k weight_k cos(k z_a) cos(k z_b) sin(k hz) / (k hz) (the same sum; one cosine per
-    point and mode instead of a cosine and two sines)."""
+    point and mode instead of a cosine and two sines; the cosines by :func:`mode_cosines`)."""
     z = np.asarray(z_mm, dtype=float)
     hz, length = float(half_dz_mm), float(face_width_mm)
     if not (np.all(z - hz >= -1e-9 * length) and np.all(z + hz <= length * (1 + 1e-9))):
         raise ValueError(f"z_mm +- half_dz_mm spans {float((z - hz).min())!r} to {float((z + hz).max())!r}: must "
                          f"lie in [0, {length!r}]")
     k, weight = plate_modes(length, plate_height_mm, nu)
-    c = np.cos(z[..., None] * k)  # (Q, n, modes)
-    return 1.0 / length + (c * weight) @ np.swapaxes(c * (np.sin(k * hz) / (k * hz)), -1, -2)
+    c = mode_cosines(math.pi * z / length, k.size)  # (Q, n, modes): cos(k z), k = n pi / L
+    # (the mode factors on one side: half the time of c weight @ (c sin(k hz) / (k hz))^T, the same to 1e-16)
+    return 1.0 / length + (c * (weight * (np.sin(k * hz) / (k * hz)))) @ np.swapaxes(c, -1, -2)
+
+
+def mode_cosines(theta, modes: int) -> np.ndarray:
+    """(..., modes) cos(n theta) for n = 1 .. modes from 2 sqrt(modes) complex exponentials a point instead of
+    ``modes`` cosines: n = a B + b (B = ceil(sqrt(modes + 1)); a, b < B) and cos(n theta) = Re(e^(i a B theta)
+    e^(i b theta)) (exact; round-off ~5e-13 against the cosines of the rounded arguments, whose own is ~n
+    theta 1e-16).  The plate's ~500 modes (472 and 566 for case 1's members) made the cosines ~60 % of
+    :func:`face_couplings_per_mm`'s time (issue 59); this is ~2x faster."""
+    theta = np.asarray(theta, dtype=float)[..., None]
+    B = int(math.ceil(math.sqrt(modes + 1)))
+    low = np.exp(1j * (theta * np.arange(B)))
+    high = np.exp(1j * (theta * (B * np.arange(B))))
+    both = (high[..., :, None] * low[..., None, :]).real
+    return both.reshape(theta.shape[:-1] + (B * B,))[..., 1:modes + 1]
 
 
 def face_coupling_per_mm(z_mm, half_dz_mm, face_width_mm: float, plate_height_mm: float,
