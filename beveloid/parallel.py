@@ -166,6 +166,7 @@ class _Local:
         self.initializer = initializer
         self.description = f"{workers} local worker processes"
         self._pool = None
+        self._used = False
 
     def __enter__(self):
         ctx = multiprocessing.get_context("spawn")
@@ -179,9 +180,10 @@ class _Local:
         return self
 
     def __exit__(self, *exc):
-        if exc[0] is not None:
-            # a Ctrl-C or an error outside map_unordered's loop: work still submitted is abandoned, and the
-            # processes are not waited for (they may still be starting)
+        if exc[0] is not None or not self._used:
+            # a Ctrl-C or an error outside map_unordered's loop: work still submitted is abandoned; or no work
+            # was handed out (a resumed run with nothing left): the processes are not waited for (they may
+            # still be starting)
             self._stop_processes()
         self._pool.shutdown(wait=exc[0] is None, cancel_futures=True)
         return False
@@ -189,6 +191,7 @@ class _Local:
     def map_unordered(self, fn, items):
         # (the processes started in __enter__ never see the terminal's Ctrl-C and run on one thread; so does
         # one started here)
+        self._used = True
         with _sigint_blocked(), one_thread_environment():
             futures = {self._pool.submit(fn, item): i for i, item in enumerate(items)}
         return self._results(futures)

@@ -169,7 +169,8 @@ def test_a_workers_start_freezes_what_it_loaded():
 def test_local_workers_start_when_the_executor_is_entered_and_an_error_does_not_wait_for_them():
     """Issue 59: every local worker process starts when the executor is entered (its start, imports and
     numba's cache loads, runs while the caller prepares its work), not at the first task; an error before
-    any task stops them at once (the caller's one-line error is not held up by their starts)."""
+    any task stops them at once (the caller's one-line error is not held up by their starts), and so does
+    leaving the block without handing them any."""
     import multiprocessing
 
     before = set(multiprocessing.active_children())
@@ -181,3 +182,8 @@ def test_local_workers_start_when_the_executor_is_entered_and_an_error_does_not_
     for process in started:
         process.join(timeout=5)
         assert not process.is_alive() and process.exitcode is not None and process.exitcode < 0  # stopped
+    with parallel.executor(workers=2):  # no work handed out (a resumed run with nothing left): not waited for
+        started = set(multiprocessing.active_children()) - before
+    for process in started:
+        process.join(timeout=5)
+        assert process.exitcode is not None and process.exitcode < 0
