@@ -13,7 +13,7 @@ from ..generated.tca_kernels_scalar import (
     candidate_system_point, edge_workspace, workspace,
 )
 from .linalg import copy_into, residual_norm, solve_linear
-from .newton import GEAR_ANGLE, newton_update, on_patch
+from .newton import GEAR_ANGLE, SAME_ANGLE_RAD, newton_update, on_patch
 
 #: Active-set rounds of first_touch before it falls back to solving every candidate.
 #: "no boundary" in an active set, typed int64: a literal -1 there makes numba compile a second
@@ -253,7 +253,9 @@ def follow_edge(problem, prev_first, prev_second, phi1, phi_prev, e, settings, e
     h = phi1 - phi_prev
     for i in range(n):
         rhs[i] = -es.system.Jp[i]
-    if solve_linear(es.system.J, rhs, dx):
+    if abs(h) <= SAME_ANGLE_RAD:
+        pass  # the same angle again: no prediction, the stored tangents and steps stay those of the last real step
+    elif solve_linear(es.system.J, rhs, dx):
         valid = track[TRACK_VALID]
         h1 = track[TRACK_H1]
         h2 = track[TRACK_H2]

@@ -26,6 +26,11 @@ FAILED = int(Status.FAILED)
 FINAL_STEP_K = 1.0
 FINAL_STEP_RESIDUAL_MM = 1e-4
 GEAR_ANGLE = UNKNOWNS.index("gear_angle_rad")
+#: two path angles closer than this (rad) are the same point twice (a step of round-off: the loaded
+#: cycle's grid holds pair k's first angle and pair k-1's last); the path predictors keep the tangents
+#: and steps of the last real step over it, since a second-order term divided by ~1e-17 rad throws the
+#: next prediction far off the patches
+SAME_ANGLE_RAD = 1e-12
 
 
 class System(typing.NamedTuple):

@@ -9,7 +9,7 @@ import numpy as np
 
 from ..generated.tca_kernels_scalar import N_UNKNOWNS, contact_margin_point, surface_point
 from .linalg import copy_into, copy_matrix_into, solve_linear
-from .newton import EDGE, FAILED, GEAR_ANGLE, OK, OUTSIDE, classify, homotopy, newton, scratch
+from .newton import EDGE, FAILED, GEAR_ANGLE, OK, OUTSIDE, SAME_ANGLE_RAD, classify, homotopy, newton, scratch
 from .first_touch import NO_BOUNDARY, TRACK_VALID, edge_scratch, enumerate_candidates, first_touch, follow_edge, nearest_turn
 from .clearance import clearance_scratch, patches_apart
 
@@ -31,10 +31,6 @@ def solve_off_patch(problem, cells, x_tangency, phi1, e, settings, es, cs):
         return True, a, b, its
     found, a, b, more = enumerate_candidates(problem, x_tangency, xe, phi1, e, settings, es)
     return found, a, b, its + more
-
-
-#: two grid angles closer than this (rad) are the same point twice (a step of round-off)
-SAME_ANGLE_RAD = 1e-12
 
 
 def solve_paths(problem, request, settings, out):
