@@ -9,7 +9,8 @@ and optimize, ``NUMBA_NUM_THREADS=1`` for sweep.  Inside the parallel section: t
 the workers run, timed around each call in the command's process (explore ``explore.run.compute_chunk``,
 ltca ``ltca.studies._task``: its chunks and the analyses at the file's errors, optimize
 ``optimize.search.evaluate_task``), and for sweep its own
-``seconds`` (the error sets solved on the threads, ``SweepResult.seconds``).  Outside (serial): the rest
+``seconds`` (the error sets solved on the threads, ``SweepResult.seconds``; its CPU: the CPU of its pieces,
+``sweep._solve_sets``, those of the warm-up's small sweep left out).  Outside (serial): the rest
 of the command's wall time: start-up, reading the spec, set-up, gathering, writing, figures.
 
 explore's figures are tasks of its executor too (``explore.report.draw_figure``, one per figure, drawn by
@@ -99,6 +100,27 @@ if kind != "sweep":
         return marked
     parallel._Serial.__enter__ = first("enter", parallel._Serial.__enter__)
     parallel._Serial.map_unordered = first("submit", parallel._Serial.map_unordered)
+if kind == "sweep":  # the solve's CPU: its pieces (on one thread: in this thread, in order), the warm-up's not
+    import beveloid.sweep as sw, beveloid.cli.sweep as cs
+    solving, warming = [], []
+    def warm(fn):
+        def warmed(*a, **k):
+            warming.append(1)
+            try:
+                return fn(*a, **k)
+            finally:
+                warming.pop()
+        return warmed
+    def piece(fn):
+        def timed(*a, **k):
+            c = time.process_time()
+            try:
+                return fn(*a, **k)
+            finally:
+                if not warming:
+                    solving.append(time.process_time() - c)
+        return timed
+    cs._warm_up, sw._solve_sets = warm(cs._warm_up), piece(sw._solve_sets)  # looked up at each call
 import contextlib, io
 buf = io.StringIO()
 sys.argv = ["beveloid", *argv]  # main() as the script calls it: its collector settings and gc.freeze before the exit
@@ -106,7 +128,7 @@ with contextlib.redirect_stdout(buf):
     rc = main()
 out = buf.getvalue()
 if kind == "sweep":
-    took.append((json.loads(out)["seconds"], float("nan")))
+    took.append((json.loads(out)["seconds"], sum(solving)))
 overlap = [0.0, 0.0]
 if kind != "sweep" and "enter" in marks and "submit" in marks:
     overlap = [b - a for a, b in zip(marks["enter"], marks["submit"])]
@@ -299,18 +321,15 @@ def main():
                 writes = res.get("writes", [0.0, 0.0])
                 wall = project(kind, tasks, figs, S, start[0], loads[0], mpl[0], a.workers, overlap[0], writes[0])
                 cpu = res["cpu"]
-                if kind == "sweep":
-                    cpu_text = f"CPU: {cpu:.2f} s"
-                else:
-                    c_tasks, c_figs = [c for _, c in res["took"]], [c for _, c in res["figures"]]
-                    S_cpu = cpu - sum(c_tasks) - sum(c_figs)
-                    by_cpu = project(kind, c_tasks, c_figs, S_cpu, start[1], loads[1], mpl[1], a.workers, overlap[1],
-                                     writes[1])
-                    cpu_text = (f"CPU: {cpu:.2f} s, outside {S_cpu:.2f} s = {100 * S_cpu / cpu:.1f} %, a worker's start"
-                                f" {start[1]:.2f} s ({by_cpu['U']:.2f} s of it not behind the command's own work of"
-                                f" {overlap[1]:.2f} s meanwhile), the tasks on {a.workers} workers {by_cpu['M']:.2f} s, the"
-                                f" figures {by_cpu['FW']:.2f} s; projected {by_cpu['TW']:.2f} s, speed-up"
-                                f" {cpu / by_cpu['TW']:.1f}x")
+                c_tasks, c_figs = [c for _, c in res["took"]], [c for _, c in res["figures"]]
+                S_cpu = cpu - sum(c_tasks) - sum(c_figs)
+                by_cpu = project(kind, c_tasks, c_figs, S_cpu, start[1], loads[1], mpl[1], a.workers, overlap[1],
+                                 writes[1])
+                cpu_text = (f"CPU: {cpu:.2f} s, outside {S_cpu:.2f} s = {100 * S_cpu / cpu:.1f} %, a worker's start"
+                            f" {start[1]:.2f} s ({by_cpu['U']:.2f} s of it not behind the command's own work of"
+                            f" {overlap[1]:.2f} s meanwhile), the tasks on {a.workers} workers {by_cpu['M']:.2f} s, the"
+                            f" figures {by_cpu['FW']:.2f} s; projected {by_cpu['TW']:.2f} s, speed-up"
+                            f" {cpu / by_cpu['TW']:.1f}x")
                 fig_text = (f", in the figure tasks {F:.2f} s ({len(figs)}; on {a.workers} workers {wall['FW']:.2f} s"
                             f" more than the data files' {writes[0]:.2f} s written meanwhile, with matplotlib's import"
                             f" {mpl[0]:.2f} s)" if figs else "")
