@@ -161,7 +161,10 @@ def loaded_contact(ltca_result, geometry, face_width_mm: float) -> LoadedContact
     stiffness from an ``LTCAResult``; ``face_width_mm`` the b of the mean line load."""
     ok = ltca_result.converged
     notes = list(ltca_result.warnings())
-    surf = ltca_result.pair_surface_max_pressure_mpa[ok]
+    from .edge import surface_peaks
+
+    surface = surface_peaks(ltca_result, geometry)
+    surf = surface[ok]
     edge = ltca_result.pair_edge_max_pressure_mpa[ok]
     p_surf = float(np.nanmax(surf)) if np.isfinite(surf).any() else None
     where, face = "mesh cycle peak", {}
@@ -204,7 +207,7 @@ def loaded_contact(ltca_result, geometry, face_width_mm: float) -> LoadedContact
     # the mean over the cycle's distinct states, as the LTCA's JSON and the torque map give it
     k_mesh = ltca_summary(ltca_result)["mesh_stiffness_mean_n_per_um"]
     k_mesh = float(k_mesh) if np.isfinite(k_mesh) else None
-    check = positions_check(ltca_result, geometry, face_width_mm)
+    check = positions_check(ltca_result, geometry, face_width_mm, surface)
     for q, by_member in check.get("quantities", {}).items():
         for m, c in by_member.items():
             if c["change"] is not None and abs(c["change"]) > POSITIONS_TOLERANCE:
@@ -215,7 +218,7 @@ def loaded_contact(ltca_result, geometry, face_width_mm: float) -> LoadedContact
                          _edge_contact(ltca_result, geometry), k_mesh, check)
 
 
-def positions_check(ltca_result, geometry, face_width_mm: float) -> dict:
+def positions_check(ltca_result, geometry, face_width_mm: float, surface=None) -> dict:
     """The maxima over the cycle that the verdict uses (root stress, contact pressure, K_Hbeta) from all
     positions and from every other one of the distinct mesh states (issue 57.4): ``change`` = all / subset
     - 1, the estimate's uncertainty from the positions (a maximum sampled twice as densely moves by about
@@ -234,8 +237,11 @@ def positions_check(ltca_result, geometry, face_width_mm: float) -> dict:
         return {"all": full, "subset": part,
                 "change": None if full is None or not part else full / part - 1.0}
 
-    q = {"contact_pressure_max_mpa": {m: entry(peak(ltca_result.pair_surface_max_pressure_mpa, slice(None)),
-                                               peak(ltca_result.pair_surface_max_pressure_mpa, sub)) for m in MEMBERS}}
+    if surface is None:
+        from .edge import surface_peaks
+
+        surface = surface_peaks(ltca_result, geometry)
+    q = {"contact_pressure_max_mpa": {m: entry(peak(surface, slice(None)), peak(surface, sub)) for m in MEMBERS}}
     q["K_H_beta"] = {m: entry(face_load(ltca_result, geometry, m, face_width_mm).K_H_beta,
                               face_load(ltca_result, geometry, m, face_width_mm, sub).K_H_beta) for m in MEMBERS}
     if ltca_result.pair_root_stress_mpa:

@@ -26,7 +26,7 @@ from ..names import MEMBERS
 from ..tooth import sections
 from .face_load import _affine_slopes, _trapezoid_cdf
 
-__all__ = ["BAND_MODULES", "EdgeLoad", "edge_loads"]
+__all__ = ["BAND_MODULES", "EdgeLoad", "edge_loads", "surface_peaks"]
 
 #: the band's width over the normal module (this work's choice: an edge break of 0.1 m_n, a band of
 #: half of it, where the sharp edge's pressure is still above the flank's)
@@ -97,3 +97,32 @@ def edge_loads(result, geometry, band_mm: float | None = None) -> EdgeLoad | Non
                         best = EdgeLoad(f / a, f, f / total, delta, member,
                                         edge, int(j), float(result.pinion_angle[j]), int(result.tooth_pairs[k]))
     return best
+
+
+def surface_peaks(result, geometry, band_mm: float | None = None) -> np.ndarray:
+    """(N, P) the largest cell pressure (MPa) of each position and pair over the LTCA's surface cells (more
+    than ``grid.INTERIOR_REACH`` cells from an off-flank cell) that lie outside every edge band: farther than
+    ``band_mm`` (default :data:`BAND_MODULES` m_n) from the toe, heel and tip of both members, the band whose
+    load :func:`edge_loads` judges; nan where no such cell is loaded (or the position did not converge).
+    The verdict's local contact pressure (S_H) is read here, so that the two criteria share the band: the
+    pressure in a corner of the flank next to an edge, which the LTCA's cell-count rule counts as surface on
+    a fine grid and as edge on a coarse one, is the edge rule's on every grid (issue 57)."""
+    from ..ltca.model import grid as grids
+
+    delta = BAND_MODULES * geometry.normal_module_mm if band_mm is None else float(band_mm)
+    g = result.grid
+    p = result.pressure_mpa
+    inner = grids.interior(p, result.gap.in_flank, g.across_cells, g.along_cells).reshape(p.shape)
+    out = np.full(p.shape[:2], np.nan)
+    for j in np.flatnonzero(result.converged):
+        for k in range(p.shape[1]):
+            keep = inner[j, k] & (p[j, k] > 0)
+            if not keep.any():
+                continue
+            for member in MEMBERS:
+                pts = (result.gap.pinion_point if member == "pinion" else result.gap.gear_point)[j, k]
+                for d in _distances(geometry, member, pts).values():
+                    keep &= ~(d < delta)
+            if keep.any():
+                out[j, k] = float(p[j, k][keep].max())
+    return out

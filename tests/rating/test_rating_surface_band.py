@@ -1,0 +1,38 @@
+"""The verdict's local contact pressure is read outside the edge rule's bands (issue 57): the pressure in a
+flank corner next to an edge, which the LTCA's cell-count rule counts as surface on a fine grid and as edge
+on a coarse one, belongs to the edge rule on every grid, so S_H does not move with --grid."""
+from __future__ import annotations
+
+import numpy as np
+
+from beveloid import ltca
+from beveloid.pair import Pair
+from beveloid.rating.analysis import loaded_contact
+from beveloid.rating.edge import BAND_MODULES, surface_peaks
+
+
+def test_the_local_contact_pressure_holds_on_a_finer_grid():
+    pair = Pair.example("case1")
+    b = min(pair.geometry.pinion.face_width_mm, pair.geometry.gear.face_width_mm)
+    peaks, raw = [], []
+    for grid in ((11, 17), (15, 25)):
+        r = ltca.analyze(pair, ltca.LoadCase(1500.0), ltca.Options(positions=21, grid=grid, tooth_model="plate"))
+        peaks.append(loaded_contact(r, pair.geometry, b).surface_pressure_max_mpa)
+        raw.append(float(np.nanmax(r.pair_surface_max_pressure_mpa)))
+        # every peak read is one of the LTCA's surface cells' pressures, never above its surface peak
+        s = surface_peaks(r, pair.geometry)
+        ok = np.isfinite(s)
+        assert np.all(s[ok] <= r.pair_surface_max_pressure_mpa[ok] + 1e-9)
+    # the case means something: the LTCA's own surface peak jumps on the finer grid (a corner's wedge)
+    assert raw[1] > 1.10 * raw[0]
+    assert abs(peaks[1] / peaks[0] - 1.0) < 0.05, (peaks, raw)
+
+
+def test_a_band_of_zero_is_the_ltcas_surface_peak():
+    pair = Pair.example("case1")
+    r = ltca.analyze(pair, ltca.LoadCase(300.0), ltca.Options(positions=5, tooth_model="plate"))
+    s = surface_peaks(r, pair.geometry, band_mm=0.0)
+    np.testing.assert_array_equal(np.isfinite(s), np.isfinite(r.pair_surface_max_pressure_mpa))
+    ok = np.isfinite(s)
+    np.testing.assert_allclose(s[ok], r.pair_surface_max_pressure_mpa[ok], rtol=1e-12)
+    assert BAND_MODULES * pair.geometry.normal_module_mm > 0
