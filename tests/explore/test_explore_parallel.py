@@ -170,25 +170,43 @@ def test_local_workers_start_when_the_executor_is_entered_and_an_error_does_not_
     """Issue 59: every local worker process starts when the executor is entered (its start, imports and
     numba's cache loads, runs while the caller prepares its work), not at the first task; an error before
     any task stops them at once (the caller's one-line error is not held up by their starts), and so does
-    leaving the block without handing them any."""
-    import multiprocessing
+    leaving the block without handing them any.  Run in a Python of its own: the workers it starts and
+    stops are that process's children, not the test runner's (a runner's worker whose children are killed
+    while they start shares their stdin and stdout with its controller)."""
+    import subprocess
+    import sys
 
-    import time
+    code = """
+import multiprocessing, sys, time
+from beveloid import parallel
 
-    def stopped(processes):
-        # (the pool's own thread may reap a process first: its exit code shows once that thread has it)
-        deadline = time.monotonic() + 10
-        while any(p.exitcode is None for p in processes) and time.monotonic() < deadline:
-            time.sleep(0.01)
-        return all(p.exitcode is not None and p.exitcode < 0 for p in processes)  # killed, not finished
+def stopped(processes):
+    # (the pool's own thread may reap a process first: its exit code shows once that thread has it)
+    deadline = time.monotonic() + 60
+    while any(p.exitcode is None for p in processes) and time.monotonic() < deadline:
+        time.sleep(0.01)
+    return [p.exitcode for p in processes]
 
-    before = set(multiprocessing.active_children())
-    with pytest.raises(ValueError, match="bad input"):
-        with parallel.executor(workers=2):
-            started = set(multiprocessing.active_children()) - before
-            assert len(started) == 2
-            raise ValueError("bad input")
-    assert stopped(started)
-    with parallel.executor(workers=2):  # no work handed out (a resumed run with nothing left): not waited for
+before = set(multiprocessing.active_children())
+try:
+    with parallel.executor(workers=2):
         started = set(multiprocessing.active_children()) - before
-    assert len(started) == 2 and stopped(started)
+        print(len(started))
+        raise ValueError("bad input")
+except ValueError as exc:
+    print(exc)
+print(*stopped(started))
+with parallel.executor(workers=2):  # no work handed out (a resumed run with nothing left): not waited for
+    started = set(multiprocessing.active_children()) - before
+print(len(started))
+print(*stopped(started))
+"""
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=600,
+                       stdin=subprocess.DEVNULL)
+    assert p.returncode == 0, p.stderr
+    lines = p.stdout.splitlines()
+    assert lines[0] == "2" and lines[1] == "bad input" and lines[3] == "2", p.stdout
+    for codes in (lines[2], lines[4]):
+        assert all(int(c) < 0 for c in codes.split()) and len(codes.split()) == 2, p.stdout  # killed, not finished
+
+
