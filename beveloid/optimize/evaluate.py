@@ -114,7 +114,7 @@ def safeties(req: Request, pair, *, solver=None) -> dict:
     return {"safety_bending_local": min(sf) if sf else None, "safety_pitting_local": min(sh) if sh else None,
             "S_Fmin": f.S_Fmin, "S_Hmin": f.S_Hmin, "torque_nm": max(req.torques_nm),
             "feasible": bool(v["passes"]), "shortfall": shortfall(v), "verdict_status": v["status"],
-            "verdict": v["line"]}
+            "verdict_condition": v.get("condition"), "verdict": v["line"]}
 
 
 def shortfall(verdict: dict) -> float | None:

@@ -86,8 +86,19 @@ def row(req, rec: dict, on_front: bool) -> dict:
             out[f"{q}_at_{t:g}_nm"] = v
     for k in SAFETY_KEYS:
         out[k] = None if s is None else s[k]
-    out["reason"] = rec.get("reason", "")
+    out["reason"] = rec.get("reason", "") or infeasible_reason(s)
     return out
+
+
+def infeasible_reason(safety: dict | None) -> str:
+    """Why a candidate the loaded analyses accepted is not feasible: the rating's verdict status at the
+    rated torque and, for a conditional one, its condition ("" for a feasible or unrated candidate)."""
+    if not safety or safety["feasible"]:
+        return ""
+    status = getattr(safety["verdict_status"], "value", safety["verdict_status"])
+    condition = safety.get("verdict_condition")
+    return (f"rating at {safety['torque_nm']:g} N m: {str(status).upper()}"
+            + (f", {condition}" if isinstance(condition, str) and condition else ""))
 
 
 def _cell(v) -> str:

@@ -47,6 +47,13 @@ def test_a_conditional_verdict_is_not_feasible():
     relieved = evaluate.safeties(req, Pair.from_spec(req.spec({KEY: 18.0})))
     assert relieved["verdict_status"] == Verdict.PASSES
     assert relieved["feasible"] is True and relieved["shortfall"] <= 0
+    # candidates.csv says why the bare one is not feasible (its reason was empty)
+    from beveloid.optimize import report
+
+    assert report.row(req, {**rec, "candidate": 0, "values": {KEY: 0.0}, "per_torque": {}}, False)["reason"] == (
+        "rating at 100 N m: CONDITIONAL, passes only if the tip of the pinion is relieved (tip relief)")
+    assert report.row(req, {**rec, "candidate": 1, "values": {KEY: 18.0}, "per_torque": {}, "safety": relieved},
+                      False)["reason"] == ""
 
 
 @pytest.mark.slow
