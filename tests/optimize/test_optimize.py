@@ -1,7 +1,7 @@
 """beveloid optimize: the optimiser's best against a brute-force scan, a Pareto spec reproduced by `ltca`,
 the safeties by `rating`, resume and determinism, and the one-line refusals of bad --vary keys and ranges.
 
-Cheap by construction: case 1 tilted by vertical_deg = 0.05, the plate tooth, a 5x5 grid, 3 positions,
+Cheap by construction: case 1 tilted by vertical_deg = 0.05, the plate tooth, a 7x7 grid, 3 positions,
 one torque, budgets of a few candidates (one run shared by the tests of the group "optimize")."""
 from __future__ import annotations
 
@@ -22,9 +22,11 @@ pytestmark = pytest.mark.xdist_group("optimize")
 CASE1 = Path(__file__).resolve().parents[2] / "beveloid" / "data" / "case1.toml"
 KEY = "pinion.lead_crowning_um"
 LOW, HIGH = 0.0, 40.0
-#: the analysis of every test here (cheap: plate tooth, 5x5 cells, 3 positions)
-QUICK = ["--tooth-model", "plate", "--grid", "5x5", "--positions", "3"]
+#: the analysis of every test here (cheap: plate tooth, 7x7 cells, 3 positions)
+QUICK = ["--tooth-model", "plate", "--grid", "7x7", "--positions", "3"]
 TORQUE = 200.0
+#: the shared run's candidates (4 generations of 4)
+BUDGET = 16
 
 
 @pytest.fixture(scope="module")
@@ -43,7 +45,7 @@ def run(tilted, tmp_path_factory):
     """One optimisation of the pinion's lead crowning for the peak pressure (8 candidates, population 4)."""
     out = tmp_path_factory.mktemp("optimize") / "out"
     args = [str(tilted), "--vary", f"{KEY}={LOW:g}:{HIGH:g}", "--torque-nm", f"{TORQUE:g}", "--objectives", "pressure",
-            "--budget", "8", "--population", "4", "--seed", "1", "--constraints", "none", "--workers", "1",
+            "--budget", str(BUDGET), "--population", "4", "--seed", "1", "--constraints", "none", "--workers", "1",
             "--out", str(out), "--json", *QUICK]
     return out, args
 
@@ -67,7 +69,7 @@ def test_the_best_candidate_is_the_brute_force_optimum_within_the_scan_resolutio
 
     base = tomllib.loads(tilted.read_text())
     req = Request(base=base, varies=(Vary(KEY, LOW, HIGH),), torques_nm=(TORQUE,), weights=(1.0,),
-                  objectives=("pressure",), ltca=ltca.Options(positions=3, grid=(5, 5), tooth_model="plate"), constraints="none")
+                  objectives=("pressure",), ltca=ltca.Options(positions=3, grid=(7, 7), tooth_model="plate"), constraints="none")
     xs = np.linspace(LOW, HIGH, 9)
     f = np.array([evaluate.evaluate(req, {KEY: x})["objectives"]["max_pressure_mpa"] for x in xs])
     i = int(np.argmin(f))
@@ -77,7 +79,7 @@ def test_the_best_candidate_is_the_brute_force_optimum_within_the_scan_resolutio
     x_best, f_best = best["values"][KEY], best["objectives"]["max_pressure_mpa"]
     assert abs(x_best - xs[i]) <= xs[1] - xs[0]
     assert f_best <= min(f[i - 1], f[i + 1])
-    assert result["evaluated"] == 8
+    assert result["evaluated"] == BUDGET
     # the unmodified design (no crowning: the edge peak) is beaten
     assert f_best < result["baseline"]["objectives"]["max_pressure_mpa"]
     assert len(result["baseline"]["dominated_by"]) >= 1
@@ -123,7 +125,7 @@ def test_resume_recomputes_the_missing_candidates_as_the_first_run_did(run, resu
     (copy / "candidates.csv").unlink()
     assert main(["optimize", "--resume", str(copy), "--workers", "1"]) == 0
     err = capsys.readouterr().err
-    assert "4/8 candidates (4 from disk)" in err and "8/8 candidates (1 from disk)" in err
+    assert f"4/{BUDGET} candidates (4 from disk)" in err and f"8/{BUDGET} candidates (1 from disk)" in err
     assert (copy / "candidates.csv").read_text() == (out / "candidates.csv").read_text()
 
 
@@ -137,7 +139,7 @@ def test_the_tolerance_box_of_ltca_reproduces_a_candidate(tilted, capsys):
     req = Request(base=tomllib.loads(tilted.read_text()), varies=(Vary(KEY, LOW, HIGH),), torques_nm=(100.0, 300.0),
                   weights=(1.0, 2.0), samples=3, seed=5, tolerances={"dx_mm": 0.05, "dy_mm": 0.05, "dz_mm": 0.05,
                                                                      "vertical_deg": 0.05, "horizontal_deg": 0.02},
-                  ltca=ltca.Options(positions=3, grid=(5, 5), tooth_model="plate"), constraints="none")
+                  ltca=ltca.Options(positions=3, grid=(7, 7), tooth_model="plate"), constraints="none")
     rec = evaluate.evaluate(req, {KEY: 15.0})
     path = tilted.parent / "boxed.toml"
     path.write_text(report.toml_text(report.spec_to_dict(req.spec({KEY: 15.0}))))
@@ -171,7 +173,7 @@ def test_the_safeties_are_the_ratings(tilted, capsys):
 
     solvers = []
     req = Request(base=tomllib.loads(tilted.read_text()), varies=(Vary(KEY, LOW, HIGH),), torques_nm=(TORQUE,),
-                  weights=(1.0,), ltca=ltca.Options(positions=3, grid=(5, 5), tooth_model="plate"), constraints="rating")
+                  weights=(1.0,), ltca=ltca.Options(positions=3, grid=(7, 7), tooth_model="plate"), constraints="rating")
     with pytest.MonkeyPatch.context() as mp:
         for module, name in ((ltca, "analyze_many"), (rating, "analyze")):
             def spy(*a, _fn=getattr(module, name), **k):
@@ -182,7 +184,7 @@ def test_the_safeties_are_the_ratings(tilted, capsys):
     assert len(solvers) == 2 and solvers[0] is not None and solvers[1] is solvers[0]
     path = tilted.parent / "rated.toml"
     path.write_text(report.toml_text(spec_to_dict(req.spec({KEY: 15.0}))))
-    assert main(["rating", str(path), "--torque-nm", f"{TORQUE:g}", "--positions", "3", "--grid", "5x5",
+    assert main(["rating", str(path), "--torque-nm", f"{TORQUE:g}", "--positions", "3", "--grid", "7x7",
                  "--tooth-model", "plate", "--json"]) == 0  # the run's LTCA options, its grid too
     d = json.loads(capsys.readouterr().out)
     assert rec["safety"]["safety_pitting_local"] == min(d[m]["safety_pitting"] for m in ("pinion", "gear"))
@@ -250,7 +252,7 @@ def test_one_solver_per_run_not_per_candidate(tilted, monkeypatch):
 
     solvers = []
     req = Request(base=tomllib.loads(tilted.read_text()), varies=(Vary(KEY, LOW, HIGH),), torques_nm=(TORQUE,),
-                  weights=(1.0,), ltca=ltca.Options(positions=3, grid=(5, 5), tooth_model="plate"), constraints="none")
+                  weights=(1.0,), ltca=ltca.Options(positions=3, grid=(7, 7), tooth_model="plate"), constraints="none")
     real = ltca.analyze_many
 
     def spy(*a, **k):

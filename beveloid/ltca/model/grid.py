@@ -19,7 +19,7 @@ from ..mechanics import hertz
 
 EXTENT_ACROSS = 1.5  #: grid half-extent across the contact line / Hertz semi-minor axis b
 EXTENT_ALONG = 1.5  #: grid half-extent along the contact line / Hertz semi-major axis a
-GROWTH = 1.5  #: a grid whose interior loaded cells reach its edge grows by this factor
+GROWTH = 1.5  #: a grid whose loaded flank cells reach its outermost rows grows by this factor
 MAX_GROWTHS = 3
 LOAD_FLOOR = 0.02  #: a pair is sized for at least this share of the full load
 PATCH_MARGIN = 1.25  #: the result grid's along extent / the first pass's loaded half-length (plus a cell)
@@ -144,8 +144,10 @@ def interior(p, in_flank, nx, ny, reach=INTERIOR_REACH):
 
 
 def reaches_edge(p, in_flank, nx, ny):
-    """(N, P, 2): an interior loaded cell in the outermost (across, along) rows of each grid."""
-    q = interior(p, in_flank, nx, ny)
+    """(N, P, 2): a loaded cell on the flank in the outermost (across, along) rows of each grid: the grid,
+    not the blank, would cut the patch there.  Also a cell near a blank edge (edge contact): a patch in a
+    corner of the flank, cut by the tip and an end, is otherwise truncated by the grid unseen (issue 57)."""
+    q = (p > 0).reshape(p.shape[:-1] + (nx, ny)) & in_flank.reshape(p.shape[:-1] + (nx, ny))
     return np.stack([q[..., [0, -1], :].any(axis=(-1, -2)), q[..., :, [0, -1]].any(axis=(-1, -2))], axis=-1)
 
 

@@ -6,7 +6,8 @@
    sized from Hertz for the pair carrying the whole torque: the load of every pair.
 3. The result pass: each pair's grid sized from Hertz at its first-pass load
    (:data:`grid.EXTENT_ACROSS`, :data:`grid.EXTENT_ALONG` times the semi-axes); a grid whose
-   interior loaded cells reach its edge grows (:data:`grid.GROWTH`) and its position is solved again.
+   loaded flank cells reach its outermost rows grows (:data:`grid.GROWTH`, :func:`grid.reaches_edge`) and
+   its position is solved again.
 4. The convergence indicator: the same extents once coarsened, solved again, compared; its along-columns
    placed where the result grid's lie (resampled, not probed again).  Skipped on request
    (``convergence=False``: nothing else reads it; the result's ``convergence`` is then nan).
