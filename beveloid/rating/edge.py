@@ -26,11 +26,15 @@ from ..names import MEMBERS
 from ..tooth import sections
 from .face_load import _affine_slopes, _trapezoid_cdf
 
-__all__ = ["BAND_MODULES", "EdgeLoad", "edge_loads", "surface_peaks"]
+__all__ = ["BAND_MODULES", "SURFACE_BAND_MODULES", "EdgeLoad", "edge_loads", "surface_peaks"]
 
 #: the band's width over the normal module (this work's choice: an edge break of 0.1 m_n, a band of
 #: half of it, where the sharp edge's pressure is still above the flank's)
 BAND_MODULES = 0.05
+#: the verdict's local contact pressure (S_H) is read beyond the edge break itself, this over the normal module
+#: from every edge: nearer a sharp edge, and most in a corner of two, the pressure carries the edge's d^-1/2 tail
+#: and grows as the grid is refined (docs/rating.md 5)
+SURFACE_BAND_MODULES = 2 * BAND_MODULES
 #: the edges of a member's flank
 EDGES = ("toe", "heel", "tip")
 
@@ -101,15 +105,15 @@ def edge_loads(result, geometry, band_mm: float | None = None) -> EdgeLoad | Non
 
 def surface_peaks(result, geometry, band_mm: float | None = None) -> np.ndarray:
     """(N, P) the largest cell pressure (MPa) of each position and pair over the LTCA's surface cells (more
-    than ``grid.INTERIOR_REACH`` cells from an off-flank cell) that lie outside every edge band: farther than
-    ``band_mm`` (default :data:`BAND_MODULES` m_n) from the toe, heel and tip of both members, the band whose
-    load :func:`edge_loads` judges; nan where no such cell is loaded (or the position did not converge).
-    The verdict's local contact pressure (S_H) is read here, so that the two criteria share the band: the
-    pressure in a corner of the flank next to an edge, which the LTCA's cell-count rule counts as surface on
-    a fine grid and as edge on a coarse one, is the edge rule's on every grid (issue 57)."""
+    than ``grid.INTERIOR_REACH`` cells from an off-flank cell) that lie farther than ``band_mm`` (default
+    :data:`SURFACE_BAND_MODULES` m_n, the edge break) from the toe, heel and tip of both members; nan where
+    no such cell is loaded (or the position did not converge).  The verdict's local contact pressure (S_H)
+    is read here: the pressure within the break of a sharp edge, and most in a flank corner between two
+    edges, is the edge's (the edge rule judges the load within :data:`BAND_MODULES` m_n), and read there it
+    grows as the grid is refined (issue 57; docs/rating.md 5)."""
     from ..ltca.model import grid as grids
 
-    delta = BAND_MODULES * geometry.normal_module_mm if band_mm is None else float(band_mm)
+    delta = SURFACE_BAND_MODULES * geometry.normal_module_mm if band_mm is None else float(band_mm)
     g = result.grid
     p = result.pressure_mpa
     inner = grids.interior(p, result.gap.in_flank, g.across_cells, g.along_cells).reshape(p.shape)
