@@ -211,8 +211,9 @@ def loaded_contact(ltca_result, geometry, face_width_mm: float) -> LoadedContact
     for q, by_member in check.get("quantities", {}).items():
         for m, c in by_member.items():
             if c["change"] is not None and abs(c["change"]) > POSITIONS_TOLERANCE:
-                notes.append(f"{m}: {q} moves {c['change']:+.1%} from every other position ({check['subset_positions']}) "
-                             f"to all {check['positions']}: its maximum over the cycle is not resolved to "
+                notes.append(f"{m}: {q} moves {c['change']:+.1%} from every other position (either half: "
+                             f"{check['subset_positions']} / {check['offset_subset_positions']}) to all "
+                             f"{check['positions']}: its maximum over the cycle is not resolved to "
                              f"{POSITIONS_TOLERANCE:.0%} (more --positions)")
     return LoadedContact(p_surf, p_edge, loads, root, root_where, tuple(notes), where, face,
                          _edge_contact(ltca_result, geometry), k_mesh, check)
@@ -220,34 +221,41 @@ def loaded_contact(ltca_result, geometry, face_width_mm: float) -> LoadedContact
 
 def positions_check(ltca_result, geometry, face_width_mm: float, surface=None) -> dict:
     """The maxima over the cycle that the verdict uses (root stress, contact pressure, K_Hbeta) from all
-    positions and from every other one of the distinct mesh states (issue 57.4): ``change`` = all / subset
-    - 1, the estimate's uncertainty from the positions (a maximum sampled twice as densely moves by about
-    this much or less).  Empty with fewer than 5 positions."""
+    positions and from each half of the distinct mesh states (issue 57.4): ``subset`` every other position
+    from the first (of 21, the 11-position run), ``offset_subset`` the positions between them; ``change`` =
+    all / the smaller of the two - 1, the estimate's uncertainty from the positions (a maximum sampled twice
+    as densely moves by about this much or less).  Both halves are read because a maximum that lasts less
+    than two positions (a pair entering on an edge, a corner contact just before a pair leaves) is in one
+    of them only: the half that holds it reads no change, the other the whole drop.  Empty with fewer than
+    5 positions."""
     n = len(ltca_result.pinion_angle)
     if n < 5:
         return {}
-    sub = np.arange(0, n - 1, 2)
+    sub, other = np.arange(0, n - 1, 2), np.arange(1, n - 1, 2)
     ok = ltca_result.converged
 
     def peak(a, rows):
         a = np.asarray(a)[rows][ok[rows]]
         return float(np.nanmax(a)) if a.size and np.isfinite(a).any() else None
 
-    def entry(full, part):
-        return {"all": full, "subset": part,
-                "change": None if full is None or not part else full / part - 1.0}
+    def entry(full, part, offset):
+        halves = [v for v in (part, offset) if v]
+        return {"all": full, "subset": part, "offset_subset": offset,
+                "change": None if full is None or not halves else full / min(halves) - 1.0}
 
     if surface is None:
         from .edge import surface_peaks
 
         surface = surface_peaks(ltca_result, geometry)
-    q = {"contact_pressure_max_mpa": {m: entry(peak(surface, slice(None)), peak(surface, sub)) for m in MEMBERS}}
-    q["K_H_beta"] = {m: entry(face_load(ltca_result, geometry, m, face_width_mm).K_H_beta,
-                              face_load(ltca_result, geometry, m, face_width_mm, sub).K_H_beta) for m in MEMBERS}
+    q = {"contact_pressure_max_mpa": {m: entry(peak(surface, slice(None)), peak(surface, sub), peak(surface, other))
+                                      for m in MEMBERS}}
+    q["K_H_beta"] = {m: entry(*(face_load(ltca_result, geometry, m, face_width_mm, rows).K_H_beta
+                                for rows in (None, sub, other))) for m in MEMBERS}
     if ltca_result.pair_root_stress_mpa:
-        q["root_stress_max_mpa"] = {m: entry(peak(a, slice(None)), peak(a, sub))
+        q["root_stress_max_mpa"] = {m: entry(peak(a, slice(None)), peak(a, sub), peak(a, other))
                                     for m, a in ltca_result.pair_root_stress_mpa.items()}
-    return {"positions": n, "subset_positions": int(sub.size) + 1, "tolerance": POSITIONS_TOLERANCE, "quantities": q}
+    return {"positions": n, "subset_positions": int(sub.size) + 1, "offset_subset_positions": int(other.size),
+            "tolerance": POSITIONS_TOLERANCE, "quantities": q}
 
 
 def _edge_contact(result, geometry) -> EdgeContact | None:
