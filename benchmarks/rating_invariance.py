@@ -4,10 +4,10 @@ For case 1 at 300 and 1500 N m and ten designs made up for this check (A-J: othe
 pressure and shaft angles, face widths, profile shifts, crowning, reliefs and misalignments), the
 rating at its default settings and with the LTCA's contact grid 7x11 / 15x25 and 10 / 20 / 30
 positions: the verdict's status, its lowest safety and lowest S_F, K_Hbeta and the edge rule's load
-share.  Prints a markdown table; per design and torque, whether the status is the same everywhere and
-the largest change of the lowest safety (and of the lowest S_F) from the default; and the rating's
-notes (their numbers aside) that appear on some settings only (a grid not converged, a maximum the
-positions do not resolve, another edge).
+share (of every edge over the rule's 2 %, the most loaded first).  Prints a markdown table; per design
+and torque, whether the status is the same everywhere and the largest change of the lowest safety (and
+of the lowest S_F) from the default; and the rating's notes (their numbers aside) that appear on some
+settings only (a grid not converged, a maximum the positions do not resolve, another edge).
 
     python benchmarks/rating_invariance.py [--quick] [--designs case1,A,F] [--tooth-model fe|plate]
 
@@ -315,7 +315,8 @@ def main(argv=None) -> int:
                 e = v["edge_contact"]
                 kh = " / ".join(f"{r.members[m].sections['middle'].K_H_beta:.2f}" for m in ("pinion", "gear"))
                 low = "null" if v["value"] is None else f"{v['lowest']} {v['value']:.3f} ({v['source']}, {v['member']})"
-                share = "none" if e is None else f"{e['load_share']:.3f} ({e['edge']} of the {e['member']})"
+                share = "none" if e is None else f"{e['load_share']:.3f} ({e['edge']} of the {e['member']})" + "".join(
+                    f"; {o['load_share']:.3f} ({o['edge']} of the {o['member']})" for o in e.get("also", ()))
                 sf = _lowest_bending(r)
                 sf_text = "null" if sf is None else f"{sf[0]:.3f} ({sf[1]}, {sf[2]})"
                 print(f"| {name} | {torque:g} | {label} | {v['status']} | {low} | {sf_text} | {kh} | {share} |", flush=True)

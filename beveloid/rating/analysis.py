@@ -154,6 +154,8 @@ class LoadedContact:
     positions_check: dict = field(default_factory=dict)  # positions_check(): the maxima against every other position
     #: member -> the FE root stress's convergence estimate (root_convergence.root_stress_convergence)
     root_stress_convergence: dict = field(default_factory=dict)
+    #: every edge that carries load within its band, largest share first (``edge`` is the first)
+    edges: tuple = ()
 
 
 def loaded_contact(ltca_result, geometry, face_width_mm: float) -> LoadedContact:
@@ -215,8 +217,9 @@ def loaded_contact(ltca_result, geometry, face_width_mm: float) -> LoadedContact
                              f"{check['subset_positions']} / {check['offset_subset_positions']}) to all "
                              f"{check['positions']}: its maximum over the cycle is not resolved to "
                              f"{POSITIONS_TOLERANCE:.0%} (more --positions)")
+    edges = _edge_contacts(ltca_result, geometry)
     return LoadedContact(p_surf, p_edge, loads, root, root_where, tuple(notes), where, face,
-                         _edge_contact(ltca_result, geometry), k_mesh, check)
+                         edges[0] if edges else None, k_mesh, check, edges=edges)
 
 
 def positions_check(ltca_result, geometry, face_width_mm: float, surface=None) -> dict:
@@ -258,15 +261,12 @@ def positions_check(ltca_result, geometry, face_width_mm: float, surface=None) -
             "tolerance": POSITIONS_TOLERANCE, "quantities": q}
 
 
-def _edge_contact(result, geometry) -> EdgeContact | None:
-    """The edge band of largest mean pressure (``edge.edge_loads``), None when no load comes near an edge."""
+def _edge_contacts(result, geometry) -> tuple:
+    """Every flank edge whose band carries load (``edge.edge_loads`` by edge), largest share first."""
     from .edge import edge_loads
 
-    e = edge_loads(result, geometry)
-    if e is None:
-        return None
-    return EdgeContact(e.pressure_mpa, e.member, e.edge, e.pinion_angle_rad, e.tooth_pair, e.force_n, e.share,
-                       e.band_mm)
+    return tuple(EdgeContact(e.pressure_mpa, e.member, e.edge, e.pinion_angle_rad, e.tooth_pair, e.force_n, e.share,
+                             e.band_mm) for e in edge_loads(result, geometry, by_edge=True))
 
 
 def edge_relief_um(spec, member: str, edge: str) -> float:
@@ -486,8 +486,9 @@ def analyze(pair, load, options: Options | None = None, *, solver=None, ltca_res
             if options.root_stress_check else {})
     if conv:
         lc = replace(lc, root_stress_convergence=conv, notes=lc.notes + tuple(convergence_notes(conv)))
-    if lc.edge is not None:
-        lc = replace(lc, edge=replace(lc.edge, relief_now_um=edge_relief_um(spec, lc.edge.member, lc.edge.edge)))
+    if lc.edges:
+        edges = tuple(replace(e, relief_now_um=edge_relief_um(spec, e.member, e.edge)) for e in lc.edges)
+        lc = replace(lc, edge=edges[0], edges=edges)
     if factors.K_v_source == "method B" and dyn is None:  # the caller's LTCA: its own stiffness
         dyn, factors = _with_dynamic_factor(pair, load, options, factors, lc, elastic)
     samples = spec.rating.tolerance_samples if options.tolerance_samples is None else options.tolerance_samples

@@ -63,13 +63,15 @@ def _distances(geometry, member, pts):
     return {"toe": w + z, "heel": w - z, "tip": tip - np.hypot(pts[..., 0], pts[..., 1])}
 
 
-def edge_loads(result, geometry, band_mm: float | None = None) -> EdgeLoad | None:
+def edge_loads(result, geometry, band_mm: float | None = None, by_edge: bool = False):
     """The edge band carrying the largest share of the mesh's load over the LTCA's converged positions, pairs,
     both members and their toe, heel and tip; None when no loaded cell comes within ``band_mm`` (default
-    :data:`BAND_MODULES` m_n) of an edge."""
+    :data:`BAND_MODULES` m_n) of an edge.  ``by_edge``: each edge's own largest instead, as a tuple of
+    EdgeLoad, largest share first (empty when none): a pair may run onto several edges (the tips of both
+    members, a toe), each of which the edge rule judges."""
     delta = BAND_MODULES * geometry.normal_module_mm if band_mm is None else float(band_mm)
     g = result.grid
-    best = None
+    best = {}  # (member, edge) -> its EdgeLoad of largest share
     for j in np.flatnonzero(result.converged):
         total = float(np.nansum(result.pair_load_n[j]))
         if not total > 0:
@@ -97,10 +99,14 @@ def edge_loads(result, geometry, band_mm: float | None = None) -> EdgeLoad | Non
                     if a <= 0:
                         continue
                     f = float(np.sum(p[use] * share)) * area
-                    if best is None or f / total > best.share:
-                        best = EdgeLoad(f / a, f, f / total, delta, member,
-                                        edge, int(j), float(result.pinion_angle[j]), int(result.tooth_pairs[k]))
-    return best
+                    now = best.get((member, edge))
+                    if now is None or f / total > now.share:
+                        best[member, edge] = EdgeLoad(f / a, f, f / total, delta, member, edge, int(j),
+                                                      float(result.pinion_angle[j]), int(result.tooth_pairs[k]))
+    ranked = tuple(sorted(best.values(), key=lambda e: -e.share))
+    if by_edge:
+        return ranked
+    return ranked[0] if ranked else None
 
 
 def surface_peaks(result, geometry, band_mm: float | None = None) -> np.ndarray:

@@ -34,8 +34,8 @@ EDGE_SHARE = 0.02
 #: the edge-contact rule (docs/rating.md 6), quoted in the JSON
 EDGE_RULE = ("edge contact: a pair whose loaded pattern puts more than 2 % of the mesh's load within 0.05 m_n of a "
              "flank edge (toe, heel or tip of either member) at K_A K_v T does not pass cleanly; it passes only if "
-             "that edge is relieved (more, where it already is: end relief at a toe or heel, tip relief at a tip), "
-             "and fails if it would fail anyway")
+             "every such edge is relieved (more, where it already is: end relief at a toe or heel, tip relief at a "
+             "tip), and fails if it would fail anyway")
 #: the keys of one criterion
 CRITERION_KEYS = ("criterion", "kind", "member", "source", "where", "value", "required", "meets", "governs",
                   "condition")
@@ -88,6 +88,8 @@ def edge_criterion(result) -> dict | None:
     e = result.loaded.edge
     if e is None:
         return None
+    also = [o for o in getattr(result.loaded, "edges", ()) if (o.member, o.edge) != (e.member, e.edge)
+            and o.share > EDGE_SHARE]
     f = result.factors
     strength = min(f.contact_strength_mpa(m) for m in result.members)
     c = _criterion(("edge contact", "edge_load_share", e.member, "local"), e.where, e.share, EDGE_SHARE, True,
@@ -98,7 +100,10 @@ def edge_criterion(result) -> dict | None:
              safety=None if not share else EDGE_SHARE / share, exceeds=c["meets"] is False,
              pressure_mpa=_num(e.pressure_mpa), permissible_mpa=_num(strength / f.S_Hmin),
              band_mm=_num(e.band_mm), force_n=_num(e.force_n), edge=e.edge, relief=e.relief,
-             relief_now_um=_num(e.relief_now_um), pinion_angle_rad=_num(e.pinion_angle_rad), tooth_pair=e.tooth_pair)
+             relief_now_um=_num(e.relief_now_um), pinion_angle_rad=_num(e.pinion_angle_rad), tooth_pair=e.tooth_pair,
+             also=[{"member": o.member, "edge": o.edge, "where": o.where, "load_share": _num(o.share),
+                    "force_n": _num(o.force_n), "band_mm": _num(o.band_mm), "relief": o.relief,
+                    "relief_now_um": _num(o.relief_now_um)} for o in also])
     return c
 
 
@@ -254,7 +259,10 @@ def verdict(result) -> dict:
         condition = _edge_condition(edge)
         line += (f"; edge contact at {edge['where']}: {edge['load_share']:.1%} of the mesh's load within "
                  f"{edge['band_mm']:.2g} mm of the edge > {EDGE_SHARE:.0%} (edge-contact rule; mean pressure there "
-                 f"{edge['pressure_mpa']:.0f} MPa, sigma_HP = sigma_Hlim Z_NT Z_L Z_v Z_R / S_Hmin = {edge['permissible_mpa']:.0f} MPa): ")
+                 f"{edge['pressure_mpa']:.0f} MPa, sigma_HP = sigma_Hlim Z_NT Z_L Z_v Z_R / S_Hmin = {edge['permissible_mpa']:.0f} MPa)")
+        if edge.get("also"):
+            line += ", and at " + ", ".join(f"{o['where']} ({o['load_share']:.1%})" for o in edge["also"])
+        line += ": "
         if status == Verdict.PASSES:
             status = Verdict.CONDITIONAL
             line += f"CONDITIONAL, {condition}"
@@ -273,13 +281,17 @@ def verdict(result) -> dict:
 
 
 def _edge_condition(edge) -> str:
-    """Which edge to relieve, and how the relief already there counts (issue 57.3)."""
-    now = edge.get("relief_now_um")
-    if now:
-        return (f"passes only if {edge['where']} is relieved more: its {edge['relief']} of {now:g} um still leaves "
-                f"{edge['force_n']:.0f} N ({edge['load_share']:.1%} of the mesh's load) within {edge['band_mm']:.2g} mm "
-                "of the edge (more relief, or a longer one)")
-    return f"passes only if {edge['where']} is relieved ({edge['relief']})"
+    """Which edges to relieve (every edge over the rule's limit, the most loaded first), and how the relief
+    already there counts (issue 57.3)."""
+    def relieved(e):
+        now = e.get("relief_now_um")
+        if now:
+            return (f"{e['where']} is relieved more: its {e['relief']} of {now:g} um still leaves {e['force_n']:.0f} N "
+                    f"({e['load_share']:.1%} of the mesh's load) within {e['band_mm']:.2g} mm of the edge (more relief, "
+                    "or a longer one)")
+        return f"{e['where']} is relieved ({e['relief']})"
+
+    return "passes only if " + ", and ".join(relieved(e) for e in [edge, *edge.get("also", ())])
 
 
 def exit_status(result) -> int:
