@@ -73,6 +73,7 @@ def solve_paths(problem, request, settings, out):
     xt = np.empty(N_UNKNOWNS)
     x = np.empty(N_UNKNOWNS)
     xs = np.empty(N_UNKNOWNS)  # the homotopy's solution at phi_ref
+    xl = np.empty(N_UNKNOWNS)  # the last solution of the march (the start of a prediction that failed)
     Jst = np.empty((N_UNKNOWNS, N_UNKNOWNS))
     Jpst = np.empty(N_UNKNOWNS)
     tprev = np.empty(N_UNKNOWNS)  # tangent at the previous converged point
@@ -133,6 +134,7 @@ def solve_paths(problem, request, settings, out):
                     skipped = False
                 else:
                     if good:
+                        copy_into(xl, x)  # the last solution, before the prediction moves it
                         for i in range(N_UNKNOWNS):
                             rhs[i] = -Jp[i]
                         if solve_linear(J, rhs, dx):
@@ -142,6 +144,13 @@ def solve_paths(problem, request, settings, out):
                                 if curved and hprev != 0.0:
                                     x[i] += 0.5 * (dx[i] - tprev[i]) / hprev * h * h
                     conv, it = newton(problem, x, phi, e, settings, s)
+                    if predicted and not conv:
+                        # the prediction threw Newton off (the tangency turned sharply over the last step: where
+                        # a relief begins it stays at the relief's start): again from the last solution itself
+                        copy_into(x, xl)
+                        conv, more = newton(problem, x, phi, e, settings, s)
+                        it += more
+                        predicted = False
                 if abs(h) > SAME_ANGLE_RAD:
                     curved = conv and predicted
                     if curved:
