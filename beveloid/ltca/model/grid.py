@@ -25,8 +25,7 @@ LOAD_FLOOR = 0.02  #: a pair is sized for at least this share of the full load
 PATCH_MARGIN = 1.25  #: the result grid's along extent / the first pass's loaded half-length (plus a cell)
 INTERIOR_REACH = 2  #: loaded cells within this many cells of an off-flank cell are edge contact
 #: a patch of edge cells only (a flank corner, a narrow strip at a face end) grows its grid when it carries
-#: this share of its position's load: the narrow strips of a misaligned pair's face ends carry less, and
-#: growing them cost 13 % of the tolerance box's time for nothing its numbers show
+#: this share of its position's load (the edge rule's limit, docs/rating.md 6); a lighter one is left as it is
 CORNER_SHARE = 0.02
 
 
@@ -154,8 +153,8 @@ def reaches_edge(p, in_flank, nx, ny, load_share=None):
     neighbour is loaded too.  Such a patch lies in a corner of the flank, cut by the tip and an end (every
     cell within :data:`INTERIOR_REACH` of the blank), and the grid, not the blank, cut it unseen (issue 57);
     a lone loaded cell at the grid's edge, the end of an edge line's sliver, does not grow the grid, nor does
-    the edge line of a patch whose interior is held inside the grid (growing those cost 30 % of the
-    tolerance box's time and moved its numbers by no more than the grid itself does)."""
+    the edge line of a patch whose interior is held inside the grid (growing those too cost 32 % of the
+    tolerance box's analysis time: ``python benchmarks/ltca_growth_rules.py``, docs/loaded_contact.md 8.1)."""
     shape = p.shape[:-1] + (nx, ny)
     q = (p > 0).reshape(shape) & in_flank.reshape(shape)
     inner = interior(p, in_flank, nx, ny)
