@@ -68,7 +68,7 @@ def test_the_rating_json_gives_the_root_stress_and_its_reading_on_a_coarser_mesh
         face = case1.geometry.member(m).face_width_mm
         assert e["end_span_mm"] == pytest.approx(face / 16) and 0.0 <= e["face_end_distance_mm"] <= face / 2
         assert e["converged"] is (e["error_estimate"] <= 0.03 and e["face_end_distance_mm"] >= e["end_span_mm"]
-                                  and e["fillet_radius_mm"] >= e["fillet_element_mm"])
+                                  and e["fillet_radius_mm"] >= 4.0 * e["fillet_element_mm"])
         assert e["fillet_element_mm"] == pytest.approx(0.04 * 6.0 * coarsen)  # case 1: the fillet's floor, m_n 6
 
 
@@ -93,7 +93,9 @@ def test_a_root_stress_not_shown_converged_is_a_note_naming_an_unresolved_notch(
     assert "gear" in line and "+45.7%" in line and "notch the mesh does not resolve" in line
     rounded = {"gear": dict(sharp["gear"], fillet_radius_mm=0.5)}
     (line,) = root_convergence.convergence_notes(rounded)
-    assert "notch" not in line
+    assert "notch" not in line and "fewer than 4 of its elements" in line
+    (line,) = root_convergence.convergence_notes({"gear": dict(sharp["gear"], fillet_radius_mm=0.7)})
+    assert "notch" not in line and "fewer than" not in line
     assert root_convergence.convergence_notes({"gear": dict(sharp["gear"], converged=True)}) == []
     # converged by the two meshes, but read at a face end: the note says where and why
     end = {"pinion": dict(rounded["gear"], change=0.001, error_estimate=0.003, face_end_distance_mm=1.66,
