@@ -14,9 +14,9 @@ z and their radius (bilinear weights W, points x grid nodes; outside the grid: i
 C is the FE compliance of :mod:`beveloid.fe.tooth` (local deformation removed) made positive
 semi-definite: its eigenvalues below zero (a load at the root of a tooth on a rim stiffer than
 the half-space subtracted from it) are set to zero.  Fillet nodes nearer than the reading depth to
-a load-grid node that the load set loads are left out of its root stress (they see that point
-force's local stress); a node near only unloaded grid nodes counts, so a short fillet under the
-flank's lowest grid row still reads the stress of loads higher up.
+a load-grid node that the load set loads, or to its neighbours up and down the profile, are left out
+of its root stress (they see that point force's local stress); a node near only other grid nodes
+counts, so a short fillet under the flank's lowest grid rows still reads the stress of loads higher up.
 """
 from __future__ import annotations
 
@@ -51,12 +51,22 @@ def tooth_arrays(data, flank: str) -> dict:
     out = {"compliance_mm_per_n": (vec * np.maximum(lam, 0.0)) @ vec.T}
     # a fillet node nearer a loaded load-grid node than the reading depth sees that point force's
     # local (singular) stress, not the tooth's: near[s][c, i] marks fillet node i of fillet s within
-    # the reading depth of grid node c, left out of a load set that loads c
-    grid = np.asarray(data.points_mm[index]).reshape(-1, 3)
+    # the reading depth of grid node c or of its neighbours up and down the profile, left out of a load
+    # set that loads c.  The neighbours: a contact lumped onto c stands for a load spread over the grid
+    # rows beside it, and whether its lower neighbour (the form limit's row) gets a weight depends on
+    # where the contact grid's cells fall; a fillet node just beyond the depth of c then read c's point
+    # force or did not (issue 57: a design's pinion root stress 1086 MPa on one contact grid, 685-814 on
+    # the others)
+    points = np.asarray(data.points_mm[index])
+    ns, nz = points.shape[:2]
+    grid = points.reshape(-1, 3)
     reach = float(np.max(data.depth_mm[index]))
     fp = np.asarray(data.fillet_points_mm)
-    near = np.ascontiguousarray(
-        (np.linalg.norm(fp[:, None, :, :] - grid[None, :, None, :], axis=-1) <= reach).astype(np.uint8))
+    within = (np.linalg.norm(fp[:, None, :, :] - grid[None, :, None, :], axis=-1) <= reach).reshape(2, ns, nz, -1)
+    spread = within.copy()
+    spread[:, 1:] |= within[:, :-1]
+    spread[:, :-1] |= within[:, 1:]
+    near = np.ascontiguousarray(spread.reshape(2, ns * nz, -1).astype(np.uint8))
     out["near"] = near
     stress = np.asarray(data.stress_mpa_per_n[index])
     for i, (s, sign) in enumerate(zip((index, 1 - index), (1.0, -1.0))):

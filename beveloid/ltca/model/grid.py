@@ -24,6 +24,10 @@ MAX_GROWTHS = 3
 LOAD_FLOOR = 0.02  #: a pair is sized for at least this share of the full load
 PATCH_MARGIN = 1.25  #: the result grid's along extent / the first pass's loaded half-length (plus a cell)
 INTERIOR_REACH = 2  #: loaded cells within this many cells of an off-flank cell are edge contact
+#: a patch of edge cells only (a flank corner, a narrow strip at a face end) grows its grid when it carries
+#: this share of its position's load: the narrow strips of a misaligned pair's face ends carry less, and
+#: growing them cost 13 % of the tolerance box's time for nothing its numbers show
+CORNER_SHARE = 0.02
 
 
 class PairGrid(typing.NamedTuple):
@@ -143,12 +147,25 @@ def interior(p, in_flank, nx, ny, reach=INTERIOR_REACH):
     return q & inner
 
 
-def reaches_edge(p, in_flank, nx, ny):
-    """(N, P, 2): a loaded cell on the flank in the outermost (across, along) rows of each grid: the grid,
-    not the blank, would cut the patch there.  Also a cell near a blank edge (edge contact): a patch in a
-    corner of the flank, cut by the tip and an end, is otherwise truncated by the grid unseen (issue 57)."""
-    q = (p > 0).reshape(p.shape[:-1] + (nx, ny)) & in_flank.reshape(p.shape[:-1] + (nx, ny))
-    return np.stack([q[..., [0, -1], :].any(axis=(-1, -2)), q[..., :, [0, -1]].any(axis=(-1, -2))], axis=-1)
+def reaches_edge(p, in_flank, nx, ny, load_share=None):
+    """(N, P, 2): the loaded patch runs into the outermost (across, along) rows of each grid: an interior
+    loaded cell there; or, for a patch with no interior cell at all carrying at least :data:`CORNER_SHARE`
+    of its position's load (``load_share`` (N, P); None: any), a loaded flank cell there whose inward
+    neighbour is loaded too.  Such a patch lies in a corner of the flank, cut by the tip and an end (every
+    cell within :data:`INTERIOR_REACH` of the blank), and the grid, not the blank, cut it unseen (issue 57);
+    a lone loaded cell at the grid's edge, the end of an edge line's sliver, does not grow the grid, nor does
+    the edge line of a patch whose interior is held inside the grid (growing those cost 30 % of the
+    tolerance box's time and moved its numbers by no more than the grid itself does)."""
+    shape = p.shape[:-1] + (nx, ny)
+    q = (p > 0).reshape(shape) & in_flank.reshape(shape)
+    inner = interior(p, in_flank, nx, ny)
+    corner = ~inner.any(axis=(-1, -2))
+    if load_share is not None:
+        corner &= load_share >= CORNER_SHARE
+    corner = corner[..., None, None]
+    across = (corner & q[..., [0, -1], :] & q[..., [1, -2], :]) | inner[..., [0, -1], :]
+    along = (corner & q[..., :, [0, -1]] & q[..., :, [1, -2]]) | inner[..., :, [0, -1]]
+    return np.stack([across.any(axis=(-1, -2)), along.any(axis=(-1, -2))], axis=-1)
 
 
 def loaded_along_mm(solution):

@@ -103,7 +103,9 @@ def _run(cases, options, material, teeth, body_notes=(), convergence=True):
         todo = []
         for c in active:
             sol, s = sols[c], cases[c][0]
-            hit = grids.reaches_edge(sol.pressure_mpa, sol.gap.in_flank, *fine) & sol.converged[:, None, None]
+            loads = sol.pair_load_n()
+            share = loads / np.where(loads.sum(axis=1, keepdims=True) > 0, loads.sum(axis=1, keepdims=True), np.inf)
+            hit = grids.reaches_edge(sol.pressure_mpa, sol.gap.in_flank, *fine, share) & sol.converged[:, None, None]
             hit[..., 1] &= sol.grid.along_half_mm < s.max_along_mm
             rows = np.flatnonzero(hit.any(axis=(1, 2)))
             if rows.size == 0:
