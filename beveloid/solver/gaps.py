@@ -82,7 +82,9 @@ def normal_gaps(problem, request, out):
     start[q]'s gear angle; rotation[q] is the pinion's L_f1).  Outputs per point: pinion_lu
     (l1, u1); gear_lu_gap (l2, u2, s); rates (ds/dphi'_2 by the implicit function theorem, the
     moment arm n_f1 . dR_f1/dphi'_1); margin the smallest margin of both points to their blanks;
-    ok 1 when both Newtons converged; pinion_point, gear_point the points in S_1 and S_2.
+    ok 1 when both Newtons converged; pinion_point, gear_point the points in S_1 and S_2 (nan, and the gap
+    nan, where they did not).  A continued point whose gap jumps (:func:`_jumped`) is solved again from
+    start[q].
     """
     pair_of_point = request.pair_of_point
     M = request.coords.shape[0]
@@ -346,4 +348,5 @@ def _normal_gap_point(problem, request, m, out, w, how, t, quad):
     for i in range(3):
         out.pinion_point[m, i] = math.nan
         out.gear_point[m, i] = math.nan
+    out.gear_lu_gap[m, 2] = math.nan  # no gap (the last iterate's would be read as one: column_shifts fits through it)
     return False

@@ -4,7 +4,8 @@ across placement of a grid (ltca.model.gaps.column_shifts, 30 positions, positio
 another intersection of its normal line with the extended gear surface, 281 mm away, and every probe after
 it started there: the middle row read 565 mm where the tangency is, every column's offset was clipped to
 -3 half-widths, the patch sat in the grid's outermost row and its peak pressure read 1289 MPa against
-1110-1120 at the positions beside it (the verdict's S_H 12 % low at 30 positions)."""
+1110-1120 at the positions beside it (the verdict's S_H 12 % low at 30 positions).  And a probe that did not
+converge left its last iterate as its gap, which the placement fitted through."""
 from __future__ import annotations
 
 import numpy as np
@@ -40,10 +41,11 @@ def test_a_probe_that_jumps_to_another_intersection_is_solved_again_from_the_tan
     gap = cg.gap_mm.reshape(3, ALONG_MM.size)
     ok = np.isfinite(gap)
     # the gap of two mating flanks: tens of um here, a few tenths of a mm at most, never tens of mm
-    assert ok[1].all() and np.all(np.abs(gap[ok]) < 1.0)
+    assert ok[1, 1:-1].all() and np.all(np.abs(gap[ok]) < 1.0)
     # the middle row runs through the tangency: the gap there is its minimum, about zero
     assert abs(gap[1, ALONG_MM.size // 2]) < 1e-3
+    # the columns centre on the contact line, inside the grid: where a probe did not converge (column 15's
+    # first, off the flank) its gap is nan, not the last iterate's (0 from a cold start: the parabola's
+    # vertex at -12 half-widths, clipped to -3), and the column takes its neighbour's offset
     shift = gaps.column_shifts(setup, frames, X, ALONG_MM[None, :], solver)[0]
-    # where the three probes lie on the flanks, the columns centre on the contact line, inside the grid
-    on = cg.on_flanks.reshape(3, ALONG_MM.size).all(axis=0)
-    assert on.sum() >= 9 and np.all(np.abs(shift[on]) < X[0])
+    assert np.all(np.abs(shift) < X[0])
