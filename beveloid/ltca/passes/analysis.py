@@ -104,7 +104,8 @@ def _run(cases, options, material, teeth, body_notes=(), convergence=True):
         for c in active:
             sol, s = sols[c], cases[c][0]
             loads = sol.pair_load_n()
-            share = loads / np.where(loads.sum(axis=1, keepdims=True) > 0, loads.sum(axis=1, keepdims=True), np.inf)
+            total = loads.sum(axis=1, keepdims=True)
+            share = loads / np.where(total > 0, total, np.inf)  # each pair's share of its position's load
             hit = grids.reaches_edge(sol.pressure_mpa, sol.gap.in_flank, *fine, share) & sol.converged[:, None, None]
             hit[..., 1] &= sol.grid.along_half_mm < s.max_along_mm
             rows = np.flatnonzero(hit.any(axis=(1, 2)))
