@@ -27,7 +27,8 @@ import numpy as np
 from ..names import FLANKS
 from . import principal
 
-__all__ = ["FeTooth", "RootStress", "tooth_arrays"]
+__all__ = ["FeTooth", "RootStress", "SMOOTH_FACE_PER_MODULE", "SMOOTH_HEIGHT_PER_FILLET_SIZE", "smoothed_data",
+           "smoothing_matrix", "tooth_arrays"]
 
 #: fillet nodes per block of fe.principal.extreme's bound (docs/performance.md, The FE tooth)
 BLOCK_NODES = 32
@@ -40,11 +41,13 @@ class RootStress(typing.NamedTuple):
     compression_mpa: float  # most compressive min-principal stress in the other fillet
 
 
-def tooth_arrays(data, flank: str) -> dict:
+def tooth_arrays(data, flank: str, widen_mm: float = 0.0) -> dict:
     """The arrays :class:`FeTooth` derives from ``data`` (a ToothData) for ``flank``: ``compliance_mm_per_n``
     (C made positive semi-definite), ``near`` (2, G, nf) uint8 and per fillet i (0 the loaded side's, 1 the
     other's) ``order_i``, ``bound_i``, ``top_i`` (:func:`beveloid.fe.principal.fillet`).  They depend on the data
-    alone: :mod:`beveloid.fe.cache` keeps them in the data's entry, so that a tooth is built without them."""
+    alone: :mod:`beveloid.fe.cache` keeps them in the data's entry, so that a tooth is built without them.
+    ``widen_mm``: the reading depth's reach widened by this (a smoothed read-out, :func:`smoothed_data`,
+    whose node stands for its neighbours within that distance along the face)."""
     index = FLANKS.index(flank)
     c = np.asarray(data.compliance_mm_per_n[index], dtype=float)
     lam, vec = np.linalg.eigh(0.5 * (c + c.T))
@@ -60,7 +63,7 @@ def tooth_arrays(data, flank: str) -> dict:
     points = np.asarray(data.points_mm[index])
     ns, nz = points.shape[:2]
     grid = points.reshape(-1, 3)
-    reach = float(np.max(data.depth_mm[index]))
+    reach = float(np.max(data.depth_mm[index])) + float(widen_mm)
     fp = np.asarray(data.fillet_points_mm)
     within = (np.linalg.norm(fp[:, None, :, :] - grid[None, :, None, :], axis=-1) <= reach).reshape(2, ns, nz, -1)
     spread = within.copy()
@@ -75,6 +78,67 @@ def tooth_arrays(data, flank: str) -> dict:
         f = principal.fillet(np.ascontiguousarray(stress[s]), sign, order, BLOCK_NODES, near[s])
         out[f"order_{i}"], out[f"bound_{i}"], out[f"top_{i}"] = f.order, f.bound, f.top
     return out
+
+
+#: the smoothed read-out's window (:func:`smoothed_data`): along the face +- this times m_n, and in
+#: height +- SMOOTH_HEIGHT_PER_FILLET_SIZE times the fillet's element size at refinement 1
+#: (``fe.mesh.mesh_sizes``), the same physical window at every refinement
+SMOOTH_FACE_PER_MODULE = 0.15
+SMOOTH_HEIGHT_PER_FILLET_SIZE = 0.15
+#: a node with fewer neighbours in its window than this keeps its own stress
+SMOOTH_MIN_NODES = 4
+
+
+def smoothing_matrix(points_mm, height_mm, face_mm: float, height_band_mm: float):
+    """(nf, nf) scipy CSR: row i the weights of a local linear least-squares fit, s(z, h) = c0 + c1 dz + c2 dh
+    over the fillet nodes j within |z_j - z_i| <= ``face_mm`` and |h_j - h_i| <= ``height_band_mm`` (h the
+    height above the root cone), evaluated at node i (c0).  Linear in the nodes' stresses, so that the
+    smoothed tensors of a load set are the smoothed sum of its columns' (fe.principal's bounds hold), and
+    exact for a stress that varies linearly along the face and in height.  Padding repeats of the last
+    node (``ToothData.fillet_points_mm``) take the last node's row; a node with fewer than
+    :data:`SMOOTH_MIN_NODES` in its window keeps its own value."""
+    import scipy.sparse
+    from scipy.spatial import cKDTree
+
+    p = np.asarray(points_mm, dtype=float)
+    h = np.asarray(height_mm, dtype=float)
+    nf = len(p)
+    n = nf
+    while n > 1 and np.array_equal(p[n - 2], p[-1]) and h[n - 2] == h[-1]:
+        n -= 1
+    x = np.stack([p[:n, 2] / face_mm, h[:n] / height_band_mm], axis=1)
+    pairs = cKDTree(x).query_pairs(r=1.0, p=np.inf, output_type="ndarray")
+    i = np.concatenate([np.arange(n), pairs[:, 0], pairs[:, 1]])  # each node with itself and its neighbours
+    j = np.concatenate([np.arange(n), pairs[:, 1], pairs[:, 0]])
+    a = np.column_stack([np.ones(len(i)), x[j] - x[i]])  # the fit's rows [1, dz, dh] (window units)
+    normal = np.zeros((n, 3, 3))
+    np.add.at(normal, i, a[:, :, None] * a[:, None, :])
+    # the fit's value at the node: row 0 of pinv(A) = (A^T A)^+ A^T, rank-deficient windows included
+    w = np.einsum("pk,pk->p", np.linalg.pinv(normal, rcond=1e-12)[i, 0], a)
+    alone = np.bincount(i, minlength=n) < SMOOTH_MIN_NODES
+    keep = ~alone[i]
+    rows = [i[keep], np.flatnonzero(alone), np.arange(n, nf)]
+    cols = [j[keep], np.flatnonzero(alone), np.full(nf - n, n - 1)]
+    vals = [w[keep], np.ones(int(alone.sum())), np.ones(nf - n)]
+    return scipy.sparse.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                                   shape=(nf, nf))
+
+
+def smoothed_data(data, face_mm: float, height_band_mm: float):
+    """``data`` (a ToothData) with every fillet node's stress tensor (per unit load on each load-grid
+    node) replaced by its local fit over the window (:func:`smoothing_matrix`).  Each node's stress is
+    the mean of its tets' P2 stresses at the node and scatters from node to node by a few percent on an
+    unstructured mesh; the largest of thousands of nodes sits on that scatter (docs/validation.md 12.2).
+    The window is narrow in height (the notch's peak at the bottom of the fillet is kept) and short along
+    the face against the root stress of a contact patch (several mm wide)."""
+    import dataclasses
+
+    st = np.array(data.stress_mpa_per_n, dtype=float)  # (2 flanks loaded, 2 fillets, nf, 6, G)
+    for side in range(2):
+        w = smoothing_matrix(data.fillet_points_mm[side], data.fillet_height_mm[side], face_mm, height_band_mm)
+        for f in range(2):
+            st[f, side] = (w @ st[f, side].reshape(st.shape[2], -1)).reshape(st.shape[2:])
+    return dataclasses.replace(data, stress_mpa_per_n=st)
 
 
 class FeTooth:

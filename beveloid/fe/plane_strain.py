@@ -63,11 +63,15 @@ TIP = math.inf
 class NotchOptions:
     """The 2D model's knobs: ``refinement`` divides every element size; ``points`` per profile segment
     of the section (the FE tooth's lofted sections take ``fe.mesh.SEGMENT_POINTS`` = 9); ``teeth`` of
-    the sector (odd, >= 3: the FE tooth's 3)."""
+    the sector (odd, >= 3: the FE tooth's 3); ``fe_sizes``: a :class:`beveloid.fe.mesh.MeshSizes` to mesh
+    the section as the FE tooth meshes its sector instead (its fillet, flank and far sizes, the load
+    points at the flank's size, grown from the fillets as the FE tooth grows them; ``refinement`` then
+    unused): the same notch at the FE tooth's own elements (``rating.root_convergence``)."""
 
     refinement: float = 1.0
     points: int = 41
     teeth: int = 3
+    fe_sizes: object = None
 
     def __post_init__(self):
         if not (isinstance(self.refinement, (int, float)) and 0.1 <= self.refinement <= 64):
@@ -180,20 +184,23 @@ class _SectionMesh:
 GROWTH = 2.0
 
 
-def _sizes(profile: SectionProfile, normal_module_mm: float, refinement: float) -> dict:
+def _sizes(profile: SectionProfile, normal_module_mm: float, refinement: float, fe_sizes=None) -> dict:
+    if fe_sizes is not None:
+        return {"fillet": fe_sizes.fillet_mm, "flank": fe_sizes.flank_mm, "load": fe_sizes.flank_mm, "far": fe_sizes.far_mm,
+                "growth": sector.FILLET_GROWTH}
     m = normal_module_mm
     return {"fillet": min(FILLET_SIZE_PER_MODULE * m, FILLET_SIZE_PER_RADIUS * profile.fillet_radius_mm) / refinement,
             "flank": FLANK_SIZE_PER_MODULE * m / refinement, "load": LOAD_SIZE_PER_MODULE * m / refinement,
             "far": FAR_SIZE_PER_MODULE * m / refinement}
 
 
-def _threshold(field, distance, fine, far):
+def _threshold(field, distance, fine, far, growth=None):
     t = field.add("Threshold")
     field.setNumber(t, "InField", distance)
     field.setNumber(t, "SizeMin", fine)
     field.setNumber(t, "SizeMax", far)
     field.setNumber(t, "DistMin", 0.5 * fine)
-    field.setNumber(t, "DistMax", 0.5 * fine + GROWTH * (far - fine))
+    field.setNumber(t, "DistMax", 0.5 * fine + (GROWTH if growth is None else growth) * (far - fine))
     return t
 
 
@@ -233,13 +240,13 @@ def _mesh_section(profile: SectionProfile, sizes: dict) -> _SectionMesh:
             field.setNumbers(d, "CurvesList", [t for n, t in curves.items() if n.startswith((f"{kind}_left_0",
                                                                                            f"{kind}_right_0"))])
             field.setNumber(d, "Sampling", 400)
-            fine.append(_threshold(field, d, sizes[kind], sizes["far"]))
+            fine.append(_threshold(field, d, sizes[kind], sizes["far"], sizes.get("growth")))
         if len(profile.load_points_mm):
             pts = [occ.addPoint(x, y, 0.0) for x, y in profile.load_points_mm]
             occ.synchronize()
             d = field.add("Distance")
             field.setNumbers(d, "PointsList", pts)
-            fine.append(_threshold(field, d, sizes["load"], sizes["far"]))
+            fine.append(_threshold(field, d, sizes["load"], sizes["far"], sizes.get("growth")))
         mn = field.add("Min")
         field.setNumbers(mn, "FieldsList", fine)
         field.setAsBackgroundMesh(mn)
@@ -377,7 +384,7 @@ def notch_stress(pair, member: str, loads, options: NotchOptions = NotchOptions(
     if z_mm is None:
         z_mm = 0.5 * sum(ToothSampler(geometry, member).z_range_mm)
     profile = section_profile(geometry, member, z_mm, loads, options, bore)
-    sm = _mesh_section(profile, _sizes(profile, geometry.normal_module_mm, options.refinement))
+    sm = _mesh_section(profile, _sizes(profile, geometry.normal_module_mm, options.refinement, options.fe_sizes))
     U = solve_point_loads(sm.mesh, np.concatenate([sm.facets[k] for k in CLAMPED]), sm.load_vertices,
                           -profile.load_normals, material)  # 1 N/mm along each inward normal
     reads = {side: edge_stresses(sm.mesh, _fillet_facets(sm.facets, side), U, material) for side in FLANKS}
@@ -427,12 +434,14 @@ class LineLoadReading:
     face_z_mm: float
 
 
-def fe_tooth_line_load(data, geometry, member: str, load: SectionLoad, points: int = 41) -> LineLoadReading:
+def fe_tooth_line_load(data, geometry, member: str, load: SectionLoad, points: int = 41,
+                       widen_mm: float = 0.0) -> LineLoadReading:
     """The FE tooth ``data`` of ``member`` under ``load`` (:class:`SectionLoad`) on every section of the
     face: ``points`` flank points from toe to heel at its radius, forces by the trapezoidal rule (the
-    FE tooth's load grid takes them as it takes the LTCA's), 1 N/mm in all."""
+    FE tooth's load grid takes them as it takes the LTCA's), 1 N/mm in all.  ``widen_mm``: the reading
+    depth's reach widened (``fe.contact.tooth_arrays``; a smoothed tooth's face window)."""
     from ..tooth.profile import flank_at_radius
-    from .contact import FeTooth
+    from .contact import FeTooth, tooth_arrays
     from .solve import principal_stresses
 
     sampler = ToothSampler(geometry, member)
@@ -444,7 +453,7 @@ def fe_tooth_line_load(data, geometry, member: str, load: SectionLoad, points: i
         at = flank_at_radius(geometry, member, load.flank, z, np.full(z.shape, float(load.radius_mm)))[0]
     forces = np.full(points, (hi - lo) / (points - 1))
     forces[[0, -1]] *= 0.5
-    tooth = FeTooth(data, load.flank)
+    tooth = FeTooth(data, load.flank, tooth_arrays(data, load.flank, widen_mm) if widen_mm else None)
     top = tooth.root_stress(at, forces)
     centres, along = tooth.along_face(at, forces)
     middle = np.abs(centres - 0.5 * (lo + hi)) <= 0.25 * (hi - lo)

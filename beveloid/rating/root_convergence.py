@@ -47,7 +47,7 @@ from ..fe.tooth import FACE_FRACTIONS
 from ..names import MEMBERS
 
 __all__ = ["CHECK_COARSEN", "RESOLVED_RADIUS_ELEMENTS", "SAFETY_FACTOR", "ORDER", "TOLERANCE", "root_stress_convergence",
-           "convergence_notes"]
+           "smoothed_teeth", "convergence_notes"]
 
 #: the check's mesh: every element size of the LTCA's FE tooth times this
 CHECK_COARSEN = 2.0
@@ -61,16 +61,43 @@ TOLERANCE = 0.03
 RESOLVED_RADIUS_ELEMENTS = 4.0
 
 
-def _fillet(pair, member, refinement, coarsen) -> tuple:
-    """(the fillet's smallest radius of curvature mm, its element size mm) of the FE tooth's mesh."""
+def _sizes(pair, member, refinement, coarsen):
+    """The FE tooth's mesh sizes (``fe.mesh.MeshSizes``) of ``member`` at ``refinement`` / ``coarsen``."""
     from ..fe.mesh import mesh_sizes
     from ..tooth.body import body_pair
     from ..tooth.sampling import ToothSampler
 
     body = body_pair(pair, member)
     geometry = getattr(body, "geometry", body)
-    sizes = mesh_sizes(ToothSampler(geometry, member), geometry.normal_module_mm, refinement / coarsen)
+    return mesh_sizes(ToothSampler(geometry, member), geometry.normal_module_mm, refinement / coarsen)
+
+
+def _fillet(pair, member, refinement, coarsen) -> tuple:
+    """(the fillet's smallest radius of curvature mm, its element size mm) of the FE tooth's mesh."""
+    sizes = _sizes(pair, member, refinement, coarsen)
     return sizes.fillet_radius_mm, sizes.fillet_mm
+
+
+def smoothed_teeth(pair, teeth, flank) -> tuple:
+    """The FE teeth ``teeth`` (pinion, gear) with every fillet node's stress smoothed
+    (:func:`beveloid.fe.contact.smoothed_data`: a local linear fit over the nodes within +-
+    ``SMOOTH_FACE_PER_MODULE`` m_n along the face and +- ``SMOOTH_HEIGHT_PER_FILLET_SIZE`` times the
+    fillet's element size at refinement 1 in height: the same window at every refinement), their
+    reading depth widened by the face window."""
+    from ..fe.contact import (SMOOTH_FACE_PER_MODULE, SMOOTH_HEIGHT_PER_FILLET_SIZE, FeTooth, smoothed_data,
+                              tooth_arrays)
+
+    out = []
+    for tooth, m in zip(teeth, MEMBERS):
+        face = SMOOTH_FACE_PER_MODULE * pair.geometry.normal_module_mm
+        data = smoothed_data(tooth.data, face, SMOOTH_HEIGHT_PER_FILLET_SIZE * _sizes(pair, m, 1, 1.0).fillet_mm)
+        out.append(FeTooth(data, flank, tooth_arrays(data, flank, widen_mm=face)))
+    return tuple(out)
+
+
+def _largest(stresses, m):
+    a = stresses["tension"].get(m)
+    return float(np.nanmax(a)) if a is not None and np.isfinite(a).any() and np.nanmax(a) > 0.0 else None
 
 
 def root_stress_convergence(pair, ltca_result, material) -> dict:
@@ -94,7 +121,8 @@ def root_stress_convergence(pair, ltca_result, material) -> dict:
         rho, h = _fillet(pair, m, options.fe_refinement, options.fe_coarsen)
         out[m] = {"default_mpa": top.get(m), "coarse_mpa": None, "change": None, "error_estimate": None,
                   "converged": None, "fillet_radius_mm": float(rho), "fillet_element_mm": float(h),
-                  "check_coarsen": float(coarsen), "face_end_distance_mm": None, "end_span_mm": None, "why": None}
+                  "check_coarsen": float(coarsen), "face_end_distance_mm": None, "end_span_mm": None,
+                  "smoothed_mpa": None, "smoothed_coarse_mpa": None, "smoothed_error_estimate": None, "why": None}
     if coarsen > RANGES["fe_coarsen"][1]:
         for e in out.values():
             e["why"] = (f"not checked: the LTCA's FE tooth is already coarsened {options.fe_coarsen:g} times, and the "
@@ -104,6 +132,9 @@ def root_stress_convergence(pair, ltca_result, material) -> dict:
     coarse_options = dataclasses.replace(options, fe_coarsen=coarsen)
     teeth = tuple(fe_tooth(pair, m, moduli[m], coarse_options) for m in MEMBERS)
     coarse = root_stresses(teeth, ltca_result, ltca_result.converged)["tension"]
+    default = tuple(fe_tooth(pair, m, moduli[m], options) for m in MEMBERS)
+    smooth = {level: root_stresses(smoothed_teeth(pair, t, options.flank), ltca_result, ltca_result.converged)
+              for level, t in (("default", default), ("coarse", teeth))}
     at = ltca_result.root_stress_location()
     for tooth, m in zip(teeth, MEMBERS):
         lo, hi = float(tooth.data.z_mm[0]), float(tooth.data.z_mm[-1])
@@ -114,6 +145,10 @@ def root_stress_convergence(pair, ltca_result, material) -> dict:
         d, a = out[m]["default_mpa"], coarse.get(m)
         c = float(np.nanmax(a)) if a is not None and np.isfinite(a).any() else None
         out[m]["coarse_mpa"] = c
+        sd, sc = _largest(smooth["default"], m), _largest(smooth["coarse"], m)
+        out[m].update(smoothed_mpa=sd, smoothed_coarse_mpa=sc)
+        if sd is not None and sc is not None:
+            out[m]["smoothed_error_estimate"] = float(SAFETY_FACTOR * abs(sd / sc - 1.0) / (2.0 ** ORDER - 1.0))
         if d is None or c is None or not c > 0.0:
             out[m]["why"] = "no tensile root stress to compare"
             continue

@@ -72,6 +72,29 @@ def test_the_rating_json_gives_the_root_stress_and_its_reading_on_a_coarser_mesh
         assert e["fillet_element_mm"] == pytest.approx(0.04 * 6.0 * coarsen)  # case 1: the fillet's floor, m_n 6
 
 
+def test_the_rating_json_gives_the_smoothed_root_stress_and_its_reading_on_a_coarser_mesh(rated, coarse_teeth, coarser_teeth,
+                                                                                          case1):
+    """The estimate of issue 57.5: the LTCA's loads read with every fillet node's stress smoothed
+    (fe.contact.smoothed_data), on the LTCA's tooth and on the check's coarser one."""
+    from beveloid.ltca.model.teeth import root_stresses
+
+    lt, _, result = rated
+    d = json.loads(json.dumps(result.to_json(), allow_nan=False))
+    read = {}
+    for name, teeth in (("default", coarse_teeth), ("coarse", coarser_teeth)):
+        t = tuple(FeTooth(teeth[m], lt.flank) for m in ("pinion", "gear"))
+        read[name] = root_stresses(root_convergence.smoothed_teeth(case1, t, lt.flank), lt, lt.converged)
+    for m in ("pinion", "gear"):
+        e = d[m]["root_stress_convergence"]
+        assert e["smoothed_mpa"] == pytest.approx(float(np.nanmax(read["default"]["tension"][m])), rel=1e-9)
+        assert e["smoothed_coarse_mpa"] == pytest.approx(float(np.nanmax(read["coarse"]["tension"][m])), rel=1e-9)
+        assert e["smoothed_error_estimate"] == pytest.approx(3.0 * abs(e["smoothed_mpa"] / e["smoothed_coarse_mpa"] - 1),
+                                                              rel=1e-12)
+        # near the raw largest value (which sits on the nodes' scatter; the fit can extrapolate a little
+        # above it at the fillet's bottom row), not a flattened peak
+        assert 0.8 * e["default_mpa"] < e["smoothed_mpa"] < 1.05 * e["default_mpa"]
+
+
 def test_reading_the_same_loads_on_the_coarser_mesh_stands_for_its_own_ltca(rated):
     """The estimate keeps the default's load distribution: the coarser tooth's own LTCA gives nearly the
     same largest root stress (the load sharing moves little with the mesh)."""
