@@ -1,7 +1,8 @@
 """Does the rating's verdict hold when the numerical settings change?  (issue 57, docs/validation.md)
 
-For case 1 at 300 and 1500 N m and ten designs made up for this check (A-J: other teeth, modules,
-pressure and shaft angles, face widths, profile shifts, crowning, reliefs and misalignments), the
+For case 1 at 300 and 1500 N m, ten designs made up for this check (A-J: other teeth, modules,
+pressure and shaft angles, face widths, profile shifts, crowning, reliefs and misalignments) and two
+random ones that an audit's generator drew (K, L), the
 rating at its default settings and with the LTCA's contact grid 7x11 / 15x25 and 10 / 20 / 30
 positions: the verdict's status, its lowest safety and lowest S_F, K_Hbeta and the edge rule's load
 share (of every edge over the rule's 2 %, the most loaded first).  Prints a markdown table; per design
@@ -230,6 +231,44 @@ teeth = 29
 cone_angle_deg = 1.0
 face_width_mm = 40.0
 """,
+    "K (random R3-2: m 5, 15/59, 11.8 deg, no crowning, tip relief on both: a line contact inclined to its grid)": """
+[pair]
+normal_module_mm = 5.0
+normal_pressure_angle_deg = 20.0
+shaft_angle_deg = 11.8
+offset_mm = 182.8
+[pinion]
+teeth = 15
+cone_angle_deg = 2.2
+helix_angle_deg = 27.6
+profile_shift = 0.33
+face_width_mm = 51.0
+tip_relief_um = 15.0
+[gear]
+teeth = 59
+cone_angle_deg = 2.4
+face_width_mm = 44.0
+tip_relief_um = 14.0
+""",
+    "L (random R4-5: m 3, 14/46, 13.6 deg, 4 um crowning, pinion end relief: an entering pair on the gear's tip edge)": """
+[pair]
+normal_module_mm = 3.0
+normal_pressure_angle_deg = 20.0
+shaft_angle_deg = 13.6
+offset_mm = 86.8
+[pinion]
+teeth = 14
+cone_angle_deg = 3.2
+helix_angle_deg = 15.4
+profile_shift = 0.35
+face_width_mm = 34.0
+lead_crowning_um = 4.0
+end_relief_um = 9.0
+[gear]
+teeth = 46
+cone_angle_deg = 2.0
+face_width_mm = 30.0
+""",
 }
 #: (design, pinion torques N m)
 TORQUES = {"case 1": (300.0, 1500.0), **{name: None for name in DESIGNS}}
@@ -237,7 +276,9 @@ TORQUES = {"case 1": (300.0, 1500.0), **{name: None for name in DESIGNS}}
 TORQUES[next(name for name in DESIGNS if name.startswith("E "))] = (90.0, 450.0, 600.0)
 #: designs F-J (made up after the fixes of 2026-11-29, issue 57): the two line-load torques and one between
 #: them whose lowest safety is near 1.2-1.5, away from any decision boundary
-for _key, _torques_nm in (("F", (40.0, 60.0, 190.0)), ("G", (60.0, 100.0, 290.0)), ("I", (70.0, 200.0, 350.0))):
+#: K and L: two of the issue-57 audit's random designs (2026-11-29), at the torques where their grids lost the patch
+for _key, _torques_nm in (("F", (40.0, 60.0, 190.0)), ("G", (60.0, 100.0, 290.0)), ("I", (70.0, 200.0, 350.0)),
+                          ("K", (130.0, 300.0)), ("L", (120.0, 230.0))):
     TORQUES[next(name for name in DESIGNS if name.startswith(_key + " "))] = _torques_nm
 #: (label, grid, positions); None: the rating's default
 SETTINGS = (("default", None, None), ("grid 7x11", (7, 11), None), ("grid 15x25", (15, 25), None),

@@ -33,6 +33,18 @@ def test_stretched_along_interpolates_inside_and_holds_the_ends():
     np.testing.assert_allclose(longer[0, 0], [0.0, 0.75, 2.25, 3.0])
 
 
+def test_a_grown_grid_continues_its_columns_line_beyond_the_loaded_ones():
+    nan = np.nan
+    a = np.array([[[nan, 0.0, 1.0, 2.0]]])  # centres at -1.5, -0.5, 0.5, 1.5 mm; the first column unloaded
+    same = grids.continued_line(a, np.array([[2.0]]), np.array([[2.0]]))
+    np.testing.assert_allclose(same[0, 0], [-1.0, 0.0, 1.0, 2.0])  # the line y + 0.5 continued
+    longer = grids.continued_line(a, np.array([[2.0]]), np.array([[3.0]]))
+    np.testing.assert_allclose(longer[0, 0], [-1.75, -0.25, 1.25, 2.75])
+    # one known column: held; none: 0
+    one = grids.continued_line(np.array([[[nan, 0.4, nan, nan]], [[nan] * 4]]), np.ones((2, 1)), np.ones((2, 1)))
+    np.testing.assert_allclose(one[:, 0], [[0.4] * 4, [0.0] * 4])
+
+
 def test_the_entering_pair_keeps_its_load_where_its_grid_grows():
     pair = Pair.from_spec(SPEC)
     r = ltca.analyze(pair, ltca.LoadCase(440.9), ltca.Options(positions=21, fe_coarsen=3.0))
@@ -92,3 +104,31 @@ def test_a_corner_pair_keeps_its_load_on_the_default_grid():
     assert (carrying & (loads[1] < 0.15 * total)).sum() >= 3
     change = np.abs(loads[0][carrying] / loads[1][carrying] - 1.0)
     assert change.max() < 0.07, change.max()
+
+
+#: random design R4-5 of the issue-57 audit (m_n 3, 14/46 teeth, 13.6 deg, no tip relief): at 120 N m its
+#: entering pair touches the gear's tip edge, its rigid tangency off the flank
+R4_5 = {
+    "pair": {"normal_module_mm": 3.0, "normal_pressure_angle_deg": 20.0, "shaft_angle_deg": 13.6, "offset_mm": 86.8},
+    "pinion": {"teeth": 14, "cone_angle_deg": 3.2, "helix_angle_deg": 15.4, "profile_shift": 0.35,
+               "face_width_mm": 34.0, "lead_crowning_um": 4.0, "end_relief_um": 9.0},
+    "gear": {"teeth": 46, "cone_angle_deg": 2.0, "face_width_mm": 30.0},
+}
+
+
+def test_a_grown_grid_centres_its_columns_on_the_loaded_patch():
+    """R4-5 at 120 N m (plate tooth): the entering pair's columns were placed about its tangency off the
+    flank (every one clipped to three half-widths), the grown grid kept them, and its patch stayed in the
+    outermost rows, truncated: the largest surface pressure read 1547 / 1739 / 1831 MPa at 20 / 21
+    positions / the 15x25 grid (S_H 0.81-1.38 over the rating's settings).  Grown grids now centre each
+    column on the loaded cells."""
+    from beveloid.rating.edge import surface_peaks
+
+    pair = Pair.from_spec(R4_5)
+    peaks = []
+    for positions, grid in ((20, (11, 17)), (21, (15, 25))):
+        r = ltca.analyze(pair, ltca.LoadCase(120.0), ltca.Options(positions=positions, tooth_model="plate", grid=grid))
+        assert np.all(r.converged)
+        assert not any("still reaches the grid edge" in n for n in r.notes), r.notes
+        peaks.append(np.nanmax(surface_peaks(r, pair.geometry)))
+    assert abs(peaks[1] / peaks[0] - 1.0) < 0.05, peaks

@@ -167,6 +167,47 @@ def reaches_edge(p, in_flank, nx, ny, load_share=None):
     return np.stack([across.any(axis=(-1, -2)), along.any(axis=(-1, -2))], axis=-1)
 
 
+def loaded_across_centres_mm(solution):
+    """(N, P, along cells) the across coordinate (mm, the pair's tangent-plane frame, as the column
+    offsets) of each along-column's pressure centroid; nan for a column without load."""
+    g = solution.grid
+    nx, ny = g.across_cells, g.along_cells
+    p = solution.pressure_mpa.reshape(solution.pressure_mpa.shape[:2] + (nx, ny))
+    x = (centres(1.0, nx)[None, None, :, None] * g.across_half_mm[..., None, None]
+         + solution.gap.across_shift_mm[:, :, None, :])
+    w = p.sum(axis=-2)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(w > 0, (p * x).sum(axis=-2) / w, np.nan)
+
+
+#: the loaded columns at each end of a patch whose centroids' straight line continues it beyond them
+LINE_END_COLUMNS = 3
+
+
+def continued_line(a, old_half, new_half):
+    """a (N, P, n) given at the n along-cell centres of grids of half-extents ``old_half`` (N, P) along
+    (nan where unknown), at the centres of grids of the same cell count and half-extents ``new_half``:
+    linear between the known values, and beyond the first and last known ones the straight line fitted
+    through the :data:`LINE_END_COLUMNS` known values at that end (a contact line is straight to first
+    order); a row without a known value is 0."""
+    n = a.shape[-1]
+    u = centres(1.0, n)
+    out = np.zeros_like(a)
+    for idx in np.ndindex(a.shape[:-1]):
+        ok = np.isfinite(a[idx])
+        if not ok.any():
+            continue
+        y, v, t = u[ok] * old_half[idx], a[idx][ok], u * new_half[idx]
+        out[idx] = np.interp(t, y, v)
+        if y.size < 2:
+            continue
+        m = min(LINE_END_COLUMNS, y.size)
+        for side, beyond in ((slice(0, m), t < y[0]), (slice(y.size - m, y.size), t > y[-1])):
+            slope, offset = np.polyfit(y[side], v[side], 1)
+            out[idx][beyond] = offset + slope * t[beyond]
+    return out
+
+
 def loaded_along_mm(solution):
     """(N, P) half-length along the line of each pair's loaded cells, plus one cell (nan if unloaded)."""
     g = solution.grid
