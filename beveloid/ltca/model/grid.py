@@ -203,8 +203,11 @@ def continued_line(a, old_half, new_half):
             continue
         m = min(LINE_END_COLUMNS, y.size)
         for side, beyond in ((slice(0, m), t < y[0]), (slice(y.size - m, y.size), t > y[-1])):
-            slope, offset = np.polyfit(y[side], v[side], 1)
-            out[idx][beyond] = offset + slope * t[beyond]
+            if beyond.any():  # the least-squares line through the end's values
+                ys, vs = y[side], v[side]
+                dy = ys - ys.mean()
+                slope = float(dy @ (vs - vs.mean()) / (dy @ dy))
+                out[idx][beyond] = vs.mean() + slope * (t[beyond] - ys.mean())
     return out
 
 

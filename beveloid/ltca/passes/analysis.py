@@ -150,11 +150,12 @@ def _grown_shifts(sol, grown, hit):
     grid's outermost rows (random design R4-5 of benchmarks/rating_invariance.py); a contact line
     inclined to the grid leaves it across when its columns are held at their ends' offsets (R3-2;
     issue 57)."""
-    shift = sol.gap.across_shift_mm
-    centred = grids.loaded_across_centres_mm(sol)
-    centred = np.where(np.isfinite(centred).any(axis=-1, keepdims=True), centred, shift)
-    line = grids.continued_line(centred, sol.grid.along_half_mm, grown.along_half_mm)
-    return np.where(hit[..., None], line, shift)
+    shift = sol.gap.across_shift_mm.copy()
+    centred = grids.loaded_across_centres_mm(sol)[hit]
+    centred = np.where(np.isfinite(centred).any(axis=-1, keepdims=True), centred, shift[hit])
+    shift[hit] = grids.continued_line(centred[None], sol.grid.along_half_mm[hit][None],
+                                      grown.along_half_mm[hit][None])[0]
+    return shift
 
 
 def _peaks(sol):
