@@ -2,7 +2,7 @@
 
 For case 1 at 300 and 1500 N m, ten designs made up for this check (A-J: other teeth, modules,
 pressure and shaft angles, face widths, profile shifts, crowning, reliefs and misalignments) and two
-random ones that an audit's generator drew (K, L), the
+random ones that an audit's generator drew (K, L; and M, whose S_H still moves 10-12 %), the
 rating at its default settings and with the LTCA's contact grid 7x11 / 15x25 and 10 / 20 / 30
 positions: the verdict's status, its lowest safety and lowest S_F, K_Hbeta and the edge rule's load
 share (of every edge over the rule's 2 %, the most loaded first).  Prints a markdown table; per design
@@ -276,6 +276,26 @@ teeth = 46
 cone_angle_deg = 2.0
 face_width_mm = 30.0
 """,
+    "M (random R6-2: m 4, 27/37, 16.9 deg, 8 um crowning, 0.024 deg horizontal error: a patch pushed onto a face end)": """
+[pair]
+normal_module_mm = 4.0
+normal_pressure_angle_deg = 20.0
+shaft_angle_deg = 16.9
+offset_mm = 123.7
+[pinion]
+teeth = 27
+cone_angle_deg = 4.7
+helix_angle_deg = 19.9
+profile_shift = -0.04
+face_width_mm = 58.0
+lead_crowning_um = 8.0
+[gear]
+teeth = 37
+cone_angle_deg = 0.7
+face_width_mm = 58.0
+[misalignment]
+horizontal_deg = 0.024
+""",
 }
 #: (design, pinion torques N m)
 TORQUES = {"case 1": (300.0, 1500.0), **{name: None for name in DESIGNS}}
@@ -283,9 +303,9 @@ TORQUES = {"case 1": (300.0, 1500.0), **{name: None for name in DESIGNS}}
 TORQUES[next(name for name in DESIGNS if name.startswith("E "))] = (90.0, 450.0, 600.0)
 #: designs F-J (made up after the fixes of 2026-11-29, issue 57): the two line-load torques and one between
 #: them whose lowest safety is near 1.2-1.5, away from any decision boundary
-#: K and L: two of the issue-57 audit's random designs (2026-11-29), at the torques where their grids lost the patch
+#: K, L, M: random designs of the issue-57 audits (2026-11-29); K and L at the torques where their grids lost the patch
 for _key, _torques_nm in (("F", (40.0, 60.0, 190.0)), ("G", (60.0, 100.0, 290.0)), ("I", (70.0, 200.0, 350.0)),
-                          ("K", (130.0, 300.0)), ("L", (120.0, 230.0))):
+                          ("K", (130.0, 300.0)), ("L", (120.0, 230.0)), ("M", (230.0, 1150.0))):
     TORQUES[next(name for name in DESIGNS if name.startswith(_key + " "))] = _torques_nm
 #: (label, grid, positions); None: the rating's default
 SETTINGS = (("default", None, None), ("grid 7x11", (7, 11), None), ("grid 15x25", (15, 25), None),

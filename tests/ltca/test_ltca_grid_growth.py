@@ -1,11 +1,13 @@
-"""A grid that grows keeps its columns where they were placed (issue 57).
+"""A grid that grows follows its loaded patch (issue 57).
 
 The loaded TCA grows a pair's grid when its loaded patch reaches the grid's edge.  The grown grid's
-along-columns were placed again about the pair's rigid tangency; for a pair entering on the gear's
+along-columns were once placed again about the pair's rigid tangency; for a pair entering on the gear's
 tip edge that tangency lies off the flank, the columns centred there, and the patch, held at the
 blank's edge, fell into the grid's outermost row: at one position of the cycle the entering pair lost
 60 % of its load to its neighbour, whose root stress jumped 20 %, at 20 and 21 positions and not
-at 10 or 30 (the rating's S_F moved 14 % between --positions settings)."""
+at 10 or 30 (the rating's S_F moved 14 % between --positions settings).  Then the grown grid kept the
+columns as first placed, which held a patch off its grid where the first placement was already off
+(random designs R4-5 and R3-2); now each grown column is centred on its loaded cells."""
 from __future__ import annotations
 
 import numpy as np
