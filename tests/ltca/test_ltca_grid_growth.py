@@ -89,6 +89,26 @@ def test_a_patch_at_a_blank_edge_that_reaches_the_grid_edge_grows_the_grid():
     assert not grids.reaches_edge(p2.reshape(1, 1, -1), in_flank.reshape(1, 1, -1), nx, ny).any()
 
 
+def test_a_strip_held_in_the_outermost_row_grows_the_grid():
+    """A patch one cell wide lying in the outermost across row only, every cell beside the blank's end (no
+    interior cell), its inward neighbours unloaded: the grid's placement held it off the patch (random
+    design R4-5 on the 7x11 grid: 3803-4114 MPa in that row, 970-1549 MPa once grown).  It grows; a
+    lone loaded cell there still does not."""
+    nx, ny = 7, 11
+    in_flank = np.zeros((1, 1, nx, ny), bool)
+    in_flank[..., 1:5] = True  # a flank 4 columns wide: every cell within 2 cells of its ends
+    p = np.zeros((1, 1, nx, ny))
+    p[..., -1, 1:5] = 4000.0
+    flat = (p.reshape(1, 1, -1), in_flank.reshape(1, 1, -1))
+    assert not grids.interior(*flat, nx, ny).any()
+    hit = grids.reaches_edge(*flat, nx, ny)
+    assert hit[0, 0, 0] and not hit[0, 0, 1]
+    lone = np.zeros_like(p)
+    lone[..., -1, 2] = 4000.0
+    lone[..., 3, 2] = 100.0  # and a patch inside
+    assert not grids.reaches_edge(lone.reshape(1, 1, -1), in_flank.reshape(1, 1, -1), nx, ny)[0, 0, 0]
+
+
 def test_a_corner_pair_keeps_its_load_on_the_default_grid():
     """Design E at 600 N m (plate tooth): near the end of the cycle the leaving pair touches in the corner
     between the pinion's tip edge and its toe, and the entering one along an edge.  Their patches, all edge

@@ -150,7 +150,8 @@ def reaches_edge(p, in_flank, nx, ny, load_share=None):
     """(N, P, 2): the loaded patch runs into the outermost (across, along) rows of each grid: an interior
     loaded cell there; or, for a patch with no interior cell at all carrying at least :data:`CORNER_SHARE`
     of its position's load (``load_share`` (N, P); None: any), a loaded flank cell there whose inward
-    neighbour is loaded too.  Such a patch lies in a corner of the flank, cut by the tip and an end (every
+    neighbour is loaded too, or any loaded cell there if the patch lies in the two outermost rows only
+    (a strip one cell wide that the placement held at the grid's edge).  Such a patch lies in a corner of the flank, cut by the tip and an end (every
     cell within :data:`INTERIOR_REACH` of the blank), and the grid, not the blank, cut it unseen (issue 57);
     a lone loaded cell at the grid's edge, the end of an edge line's sliver, does not grow the grid, nor does
     the edge line of a patch whose interior is held inside the grid (growing those too cost 32 % of the
@@ -162,8 +163,12 @@ def reaches_edge(p, in_flank, nx, ny, load_share=None):
     if load_share is not None:
         corner &= load_share >= CORNER_SHARE
     corner = corner[..., None, None]
-    across = (corner & q[..., [0, -1], :] & q[..., [1, -2], :]) | inner[..., [0, -1], :]
-    along = (corner & q[..., :, [0, -1]] & q[..., :, [1, -2]]) | inner[..., :, [0, -1]]
+    # a patch whose every loaded cell lies in the two outermost rows (a strip one cell wide held at the grid's
+    # edge by a placement off the patch) is cut there too
+    strip_across = q.any(axis=(-1, -2)) & ~q[..., 1:-1, :].any(axis=(-1, -2))
+    strip_along = q.any(axis=(-1, -2)) & ~q[..., :, 1:-1].any(axis=(-1, -2))
+    across = (corner & (q[..., [0, -1], :] & q[..., [1, -2], :] | strip_across[..., None, None])) | inner[..., [0, -1], :]
+    along = (corner & (q[..., :, [0, -1]] & q[..., :, [1, -2]] | strip_along[..., None, None])) | inner[..., :, [0, -1]]
     return np.stack([across.any(axis=(-1, -2)), along.any(axis=(-1, -2))], axis=-1)
 
 
