@@ -26,15 +26,6 @@ SPEC = {
 }
 
 
-def test_stretched_along_interpolates_inside_and_holds_the_ends():
-    a = np.array([[[0.0, 1.0, 2.0, 3.0]]])
-    same = grids.stretched_along(a, np.array([[2.0]]), np.array([[2.0]]))
-    np.testing.assert_array_equal(same, a)
-    longer = grids.stretched_along(a, np.array([[2.0]]), np.array([[3.0]]))
-    # old centres at -1.5, -0.5, 0.5, 1.5 mm; new at -2.25, -0.75, 0.75, 2.25 mm
-    np.testing.assert_allclose(longer[0, 0], [0.0, 0.75, 2.25, 3.0])
-
-
 def test_a_grown_grid_continues_its_columns_line_beyond_the_loaded_ones():
     nan = np.nan
     a = np.array([[[nan, 0.0, 1.0, 2.0]]])  # centres at -1.5, -0.5, 0.5, 1.5 mm; the first column unloaded

@@ -72,18 +72,6 @@ def resample_along(a, n):
     return a @ w.T
 
 
-def stretched_along(a, old_half, new_half):
-    """a (N, P, n) given at the n along-cell centres of grids of half-extents ``old_half`` (N, P) along,
-    at the centres of grids of the same cell count and half-extents ``new_half``: linear in between,
-    each end's value held beyond it."""
-    n = a.shape[-1]
-    u = centres(1.0, n)
-    out = np.empty_like(a)
-    for idx in np.ndindex(a.shape[:-1]):
-        out[idx] = np.interp(u * new_half[idx], u * old_half[idx], a[idx])
-    return out
-
-
 def edges(half, n):
     return np.linspace(-half, half, n + 1)
 
