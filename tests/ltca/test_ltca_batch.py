@@ -231,9 +231,10 @@ def test_a_pass_started_from_the_previous_ones_contact_set_solves_the_same(monke
 
 
 def test_a_torque_starts_from_the_contact_set_of_the_torque_before(monkeypatch, pair):
-    """The first and the result pass run torque after torque, each position of a later torque started from
-    the same error set's contact set at the torque before, cell for cell (analysis._torque_after_torque):
-    the numbers of each torque analysed alone, bit for bit, in fewer iterations."""
+    """The first and the result pass run in waves, each position started from the same error set's contact
+    set at the torque before, at the first torque from the first error set's, cell for cell
+    (analysis._torque_after_torque): the numbers of each (error set, torque) analysed alone, bit for bit, in
+    fewer iterations."""
     from beveloid.ltca.passes import cycle
 
     options = ltca.Options(**SMALL)
