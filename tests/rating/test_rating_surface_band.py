@@ -4,6 +4,8 @@ and as edge on a coarse one and which grows there with the grid, belongs to the 
 S_H does not move with --grid."""
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 
 from beveloid import ltca
@@ -15,26 +17,7 @@ from beveloid.spec import spec_from_toml_bytes
 
 #: random design R6-2 of the issue-57 audits (design M of benchmarks/rating_invariance.py): a horizontal error
 #: pushes its patch into the corner of the tip and an end
-DESIGN_M = """
-[pair]
-normal_module_mm = 4.0
-normal_pressure_angle_deg = 20.0
-shaft_angle_deg = 16.9
-offset_mm = 123.7
-[pinion]
-teeth = 27
-cone_angle_deg = 4.7
-helix_angle_deg = 19.9
-profile_shift = -0.04
-face_width_mm = 58.0
-lead_crowning_um = 8.0
-[gear]
-teeth = 37
-cone_angle_deg = 0.7
-face_width_mm = 58.0
-[misalignment]
-horizontal_deg = 0.024
-"""
+DESIGN_M = Path(__file__).resolve().parents[1] / "data" / "random_r6_2.toml"
 
 
 def test_the_local_contact_pressure_holds_on_a_finer_grid():
@@ -84,7 +67,7 @@ def test_the_local_contact_pressure_holds_where_a_patch_runs_into_a_corner():
     towards the corner over many cells.  Beyond 0.1 m_n of the edges the largest pressure moves 21 % between
     the grids 7x11 and 15x25 (808 against 977 MPa; the code before, which counted 2 cells from the blank instead of a cell's footprint, read 704 against 898); read where
     the verdict reads it, it holds within 7 %."""
-    pair = Pair.from_spec(spec_from_toml_bytes(DESIGN_M.encode()))
+    pair = Pair.from_spec(spec_from_toml_bytes(DESIGN_M.read_bytes()))
     m = pair.geometry.normal_module_mm
     b = min(pair.geometry.pinion.face_width_mm, pair.geometry.gear.face_width_mm)
     read, near = [], []
