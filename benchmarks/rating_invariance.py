@@ -27,6 +27,7 @@ import math
 import re
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -276,26 +277,9 @@ teeth = 46
 cone_angle_deg = 2.0
 face_width_mm = 30.0
 """,
-    "M (random R6-2: m 4, 27/37, 16.9 deg, 8 um crowning, 0.024 deg horizontal error: a patch pushed onto a face end)": """
-[pair]
-normal_module_mm = 4.0
-normal_pressure_angle_deg = 20.0
-shaft_angle_deg = 16.9
-offset_mm = 123.7
-[pinion]
-teeth = 27
-cone_angle_deg = 4.7
-helix_angle_deg = 19.9
-profile_shift = -0.04
-face_width_mm = 58.0
-lead_crowning_um = 8.0
-[gear]
-teeth = 37
-cone_angle_deg = 0.7
-face_width_mm = 58.0
-[misalignment]
-horizontal_deg = 0.024
-""",
+    # the TOML lives beside the test that holds its S_H (tests/rating/test_rating_surface_band.py)
+    "M (random R6-2: m 4, 27/37, 16.9 deg, 8 um crowning, 0.024 deg horizontal error: a patch pushed onto a face end)":
+        (Path(__file__).resolve().parents[1] / "tests" / "data" / "random_r6_2.toml").read_text(),
 }
 #: (design, pinion torques N m)
 TORQUES = {"case 1": (300.0, 1500.0), **{name: None for name in DESIGNS}}

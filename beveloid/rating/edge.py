@@ -26,15 +26,21 @@ from ..names import MEMBERS
 from ..tooth import sections
 from .face_load import _affine_slopes, _trapezoid_cdf
 
-__all__ = ["BAND_MODULES", "SURFACE_BAND_MODULES", "EdgeLoad", "edge_loads", "surface_peaks"]
+__all__ = ["BAND_MODULES", "SURFACE_BAND_MODULES", "SURFACE_REACH", "EdgeLoad", "edge_loads", "surface_peaks"]
 
 #: the band's width over the normal module (this work's choice: an edge break of 0.1 m_n, a band of
 #: half of it, where the sharp edge's pressure is still above the flank's)
 BAND_MODULES = 0.05
-#: the verdict's local contact pressure (S_H) is read beyond the edge break itself, this over the normal module
-#: from every edge: nearer a sharp edge, and most in a corner of two, the pressure carries the edge's d^-1/2 tail
-#: and grows as the grid is refined (docs/rating.md 5)
-SURFACE_BAND_MODULES = 2 * BAND_MODULES
+#: the verdict's local contact pressure (S_H) is read beyond this over the normal module from every edge:
+#: nearer a sharp edge, and most in a corner of two, the pressure carries the edge's d^-1/2 tail, and where
+#: the edge crosses the contact lines at a shallow angle (a patch pushed into the corner of a tip and an end)
+#: that tail and the load rising towards the corner run over many cells: read there, the largest pressure
+#: grows as the grid is refined (docs/rating.md 5; design M of docs/validation.md 10.1 beyond 0.1 / 0.2 / 0.3 /
+#: 0.5 m_n: 827-973 / 787-921 / 773-882 / 740-803 MPa over the grids 7x11 to 21x33)
+SURFACE_BAND_MODULES = 0.5
+#: S_H is read on cells more than this many cells (8-neighbourhood) from an off-flank cell; the bands of
+#: the toe, heel and tip, lengths, bound it there
+SURFACE_REACH = 1
 #: the edges of a member's flank
 EDGES = ("toe", "heel", "tip")
 
@@ -110,28 +116,37 @@ def edge_loads(result, geometry, band_mm: float | None = None, by_edge: bool = F
 
 
 def surface_peaks(result, geometry, band_mm: float | None = None) -> np.ndarray:
-    """(N, P) the largest cell pressure (MPa) of each position and pair over the LTCA's surface cells (more
-    than ``grid.INTERIOR_REACH`` cells from an off-flank cell) that lie farther than ``band_mm`` (default
-    :data:`SURFACE_BAND_MODULES` m_n, the edge break) from the toe, heel and tip of both members; nan where
-    no such cell is loaded (or the position did not converge).  The verdict's local contact pressure (S_H)
-    is read here: the pressure within the break of a sharp edge, and most in a flank corner between two
-    edges, is the edge's (the edge rule judges the load within :data:`BAND_MODULES` m_n), and read there it
-    grows as the grid is refined (issue 57; docs/rating.md 5)."""
+    """(N, P) the largest cell pressure (MPa) of each position and pair over the LTCA's loaded flank cells
+    more than :data:`SURFACE_REACH` cell from an off-flank cell whose whole footprint lies farther than
+    ``band_mm`` (default :data:`SURFACE_BAND_MODULES` m_n) from the toe, heel and tip of both members; nan
+    where no such cell is loaded (or the position did not converge).  The verdict's local contact pressure
+    (S_H) is read here: the pressure near a sharp edge, and most in a flank corner between two edges, is the
+    edge's (the edge rule judges the load within :data:`BAND_MODULES` m_n), and read there it grows as the
+    grid is refined (issue 57; docs/rating.md 5).  A cell's footprint (its distance to an edge over its
+    widths, as :func:`edge_loads` spreads it), not a count of cells, bounds the reading: the band is the same
+    length on every grid."""
     from ..ltca.model import grid as grids
 
     delta = SURFACE_BAND_MODULES * geometry.normal_module_mm if band_mm is None else float(band_mm)
     g = result.grid
     p = result.pressure_mpa
-    inner = grids.interior(p, result.gap.in_flank, g.across_cells, g.along_cells).reshape(p.shape)
+    inner = grids.interior(p, result.gap.in_flank, g.across_cells, g.along_cells,
+                           reach=SURFACE_REACH).reshape(p.shape)
     out = np.full(p.shape[:2], np.nan)
     for j in np.flatnonzero(result.converged):
         for k in range(p.shape[1]):
             keep = inner[j, k] & (p[j, k] > 0)
             if not keep.any():
                 continue
+            x, y = (c.reshape(-1) for c in result.cell_coordinates_mm(j, k))
+            dx, dy = 2 * g.across_half_mm[j, k] / g.across_cells, 2 * g.along_half_mm[j, k] / g.along_cells
             for member in MEMBERS:
                 pts = (result.gap.pinion_point if member == "pinion" else result.gap.gear_point)[j, k]
+                finite = np.isfinite(pts).all(axis=-1)
                 for d in _distances(geometry, member, pts).values():
+                    if int(finite.sum()) >= 3:
+                        gx, gy = _affine_slopes(d, x, y, finite)
+                        d = d - 0.5 * (abs(gx) * dx + abs(gy) * dy)  # the footprint's nearest point
                     keep &= ~(d < delta)
             if keep.any():
                 out[j, k] = float(p[j, k][keep].max())

@@ -436,8 +436,9 @@ def test_the_positions_span_one_cycle_and_the_output_says_how_many_states_they_a
 
 
 def test_the_pattern_skips_only_nodes_neither_field_reaches(geom1, loaded200, monkeypatch):
-    """The sub-steps between two positions evaluate their fields only at the nodes whose swept boxes
-    reach them (``_Field.reached``): the same pattern, bit for bit, as every node near the pair."""
+    """Each position's field is evaluated only at the nodes its box reaches, and the sub-steps between two
+    positions only at the nodes whose swept boxes reach them (``_Field.reached``): the same pattern, bit
+    for bit, as every node (every node near the pair)."""
     from beveloid.ltca.results import pattern
 
     fast = [pattern.flank_pattern(loaded200, geom1, m) for m in ("pinion", "gear")]

@@ -155,7 +155,9 @@ class Problem(typing.NamedTuple):
     of the same setup and torque on another grid, whose contact set mapped onto this grid
     (:func:`mapped_contact`) starts the active-set iteration (the solution does not depend on the start,
     only the iterations to it do); None: the uncoupled estimate.  ``shift_mm`` (N, P, along cells): the
-    across offsets of the along-columns (:func:`beveloid.ltca.model.gaps.grid_gaps`) when known, None: probed."""
+    across offsets of the along-columns (:func:`beveloid.ltca.model.gaps.grid_gaps`) when known, None: probed.
+    ``start_cells`` (N, P, cells): a start set taken cell for cell (:func:`held_contact` of a Solution on a
+    grid of the same cell counts), at each position where it holds a cell instead of ``start``'s."""
 
     setup: Setup
     grid: typing.Any  # grid.PairGrid
@@ -164,6 +166,7 @@ class Problem(typing.NamedTuple):
     positions: typing.Any = None
     start: typing.Any = None  # Solution
     shift_mm: typing.Any = None
+    start_cells: typing.Any = None
 
 
 def solve(setup: Setup, grid, need, torque_nm, e_star_mpa, teeth, positions=None) -> Solution:
@@ -214,10 +217,14 @@ def solve_many(problems, e_star_mpa, teeth) -> list:
         h = np.ascontiguousarray(gap.gap_mm[jj].reshape(jj.size, -1))
         r2s[sl] = r2
         tables = compliance_tables(pr.grid, gap, jj, inside.any(axis=-1), e_star_mpa, teeth)
-        if pr.start is None:
-            starts = np.zeros((jj.size, 1), dtype=np.bool_)
-        else:
-            starts = np.ascontiguousarray(mapped_contact(pr.start, pr.grid, gap)[jj].reshape(jj.size, -1))
+        warm = pr.start is not None or pr.start_cells is not None
+        starts = np.zeros((jj.size, P * n if warm else 1), dtype=np.bool_)
+        if pr.start is not None:
+            starts = mapped_contact(pr.start, pr.grid, gap)[jj].reshape(jj.size, -1)
+        if pr.start_cells is not None:
+            held = (pr.start_cells & gap.in_flank)[jj].reshape(jj.size, -1)
+            starts = np.where(held.any(axis=-1, keepdims=True), held, starts)
+        starts = np.ascontiguousarray(starts)
         load = pr.torque_nm * 1e3 / r1
         for c0 in range(0, jj.size, CHUNK_POSITIONS):
             c = slice(c0, min(c0 + CHUNK_POSITIONS, jj.size))
@@ -229,9 +236,8 @@ def solve_many(problems, e_star_mpa, teeth) -> list:
             k.solve_positions(kernel.Layout(blocks.reshape(-1), off, np.arange(P, dtype=np.int64) * n,
                                             np.full(P, n, dtype=np.int64), np.ones((m, P), dtype=np.bool_)),
                               kernel.Cells(h[c], w[c], at[c], load[c]),
-                              kernel.Start(limits.tolerance, limits.max_iterations,
-                                           starts if pr.start is None else starts[c],
-                                           np.full(m, pr.start is not None)),
+                              kernel.Start(limits.tolerance, limits.max_iterations, starts[c] if warm else starts,
+                                           np.full(m, warm)),
                               kernel.Output(p[rows_c], result[rows_c]))
     out, at_row = [], 0
     for (pr, gap, todo, live), jj in zip(parts, rows):
@@ -276,6 +282,12 @@ def mapped_contact(source: Solution, grid, gap) -> np.ndarray:
     hit = loaded[np.arange(N)[:, None, None, None], np.arange(P)[None, :, None, None], np.maximum(i, 0),
                  np.maximum(j, 0)[:, :, None, :]] & (i >= 0)
     return hit.reshape(N, P, nx * ny) & gap.in_flank
+
+
+def held_contact(sol: Solution) -> np.ndarray:
+    """(N, P, cells) the loaded cells of ``sol`` at its converged positions: a start set for a grid of the
+    same cell counts (:attr:`Problem.start_cells`)."""
+    return (sol.pressure_mpa > 0) & sol.converged[:, None, None]
 
 
 def masked_median(values, mask) -> np.ndarray:

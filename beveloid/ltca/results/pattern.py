@@ -115,15 +115,19 @@ class _Field:
         d = np.asarray(move) @ self.map
         lo, hi = self.box
         lo, hi = np.minimum(lo, lo + d), np.maximum(hi, hi + d)
-        return np.all((c >= lo) & (c <= hi), axis=1)
+        x, y = c[:, 0], c[:, 1]
+        return (x >= lo[0]) & (x <= hi[0]) & (y >= lo[1]) & (y <= hi[1])
 
     def __call__(self, q):
-        c = (q - self.centre) @ self.map + self.c0
+        return self.at(self.coordinates(q))
+
+    def at(self, c):
+        """(n,) the pressure at the grid coordinates c (n, 2) (:meth:`coordinates`)."""
         xu = c[:, 0] - np.interp(c[:, 1], self.yc, self.shift)
         fi = (xu / self.X + 1.0) * self.nx / 2 - 0.5
         fj = (c[:, 1] / self.Y + 1.0) * self.ny / 2 - 0.5
         inside = (fi > -1) & (fi < self.nx) & (fj > -1) & (fj < self.ny)
-        out = np.zeros(len(q))  # 0 off the grid; the bilinear pressure only where it is needed
+        out = np.zeros(len(c))  # 0 off the grid; the bilinear pressure only where it is needed
         fi, fj = fi[inside], fj[inside]
         i0, j0 = np.floor(fi).astype(int), np.floor(fj).astype(int)
         a, b = fi - i0, fj - j0
@@ -149,22 +153,22 @@ def flank_pattern(result, geom, member, raster=RASTER) -> FlankPattern:
     for j in range(N):
         for k in range(P):
             if ok[j] and result.pressure_mpa[j, k].max() > 0:
-                fields[j, k] = _Field(result, pts, j, k)
-                pmax = np.maximum(pmax, fields[j, k](nodes))
-                at[j, k] = fields[j, k].coordinates(nodes)
+                f = fields[j, k] = _Field(result, pts, j, k)
+                at[j, k] = f.coordinates(nodes)
+                idx = np.flatnonzero(f.reached(at[j, k], np.zeros(3)))  # the field is 0 at the others
+                pmax[idx] = np.maximum(pmax[idx], f.at(at[j, k][idx]))
     for (j, k), f in fields.items():
         g = fields.get((j + 1, k))
         if g is None:
             continue
         delta = g.centroid - f.centroid
         dist = float(np.linalg.norm(delta))
-        reach = dist + 2 * max(f.Y, g.Y)
-        near = np.linalg.norm(nodes - 0.5 * (f.centroid + g.centroid), axis=-1) < reach
-        if not near.any() or dist == 0:
+        if dist == 0:
             continue
+        reach = dist + 2 * max(f.Y, g.Y)
         # only the nodes that either field can reach on the way: the others stay as they are (0 from both)
-        idx = np.flatnonzero(near)
-        idx = idx[f.reached(at[j, k][idx], delta) | g.reached(at[j + 1, k][idx], -delta)]
+        idx = np.flatnonzero(f.reached(at[j, k], delta) | g.reached(at[j + 1, k], -delta))
+        idx = idx[np.linalg.norm(nodes[idx] - 0.5 * (f.centroid + g.centroid), axis=-1) < reach]
         if idx.size == 0:
             continue
         q = nodes[idx]
