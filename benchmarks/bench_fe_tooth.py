@@ -34,15 +34,15 @@ def _pair(case):
     return Pair.example(case)
 
 
-def cost(member="pinion"):
+def cost(member="pinion", case="case1", refinement=1):
     from beveloid.fe.tooth import tooth_data
     from beveloid.ltca import Material
 
-    pair = _pair("case1")
+    pair = _pair(case)
     m = Material.from_spec(pair.spec)
     e_mpa, nu = (m.pinion_e_mpa, m.pinion_nu) if member == "pinion" else (m.gear_e_mpa, m.gear_nu)
     t, cpu = time.perf_counter(), time.process_time()
-    d = tooth_data(pair, member, e_mpa, nu, 1, progress=lambda s: print(s, file=sys.stderr))
+    d = tooth_data(pair, member, e_mpa, nu, refinement, progress=lambda *s: print(s[-1], file=sys.stderr))
     out = {name: d.stat(name) for name in d.STATS}
     out["total_s"] = time.perf_counter() - t
     out["cpu_s"] = time.process_time() - cpu  # all threads' CPU time: the machine is shared
@@ -310,13 +310,14 @@ def main(argv=None):
                                      "sizes", "locate"))
     p.add_argument("refinements", nargs="*", type=int, default=[1, 2, 3])
     p.add_argument("--member", choices=("pinion", "gear"), default="pinion", help="cost: the member (default pinion)")
+    p.add_argument("--case", choices=("case1", "case2"), default="case1", help="cost: the design (default case1)")
     a = p.parse_args(argv)
     if a.what == "refinement":  # MKL on one thread, as on `beveloid paper`'s worker processes (read as MKL loads)
         os.environ["MKL_NUM_THREADS"] = "1"
     fresh = tempfile.TemporaryDirectory(prefix="beveloid-fe-bench-") if a.what in ("cost", "convergence") else None
     if fresh is not None:
         os.environ["BEVELOID_CACHE_DIR"] = fresh.name
-    fn = {"cost": lambda: cost(a.member), "solvers": solvers, "refinement": refinement, "compare": compare, "startup": startup,
+    fn = {"cost": lambda: cost(a.member, a.case, (a.refinements or [1])[0]), "solvers": solvers, "refinement": refinement, "compare": compare, "startup": startup,
           "convergence": lambda: convergence(a.refinements), "meshes": lambda: meshes(a.refinements),
           "sizes": lambda: sizes(a.refinements),
           "locate": locate}[a.what]

@@ -177,14 +177,13 @@ def _sector_line_load(pair, member, radii_mm, refinement, ends="free", points=20
 
 def fe_tooth(args):
     from beveloid.fe.cache import cached_tooth_data
-    from beveloid.fe.contact import SMOOTH_FACE_PER_MODULE, SMOOTH_HEIGHT_PER_FILLET_SIZE, smoothed_data
-    from beveloid.rating.root_convergence import _sizes
 
     print("FE tooth (fe.tooth, fe.contact.FeTooth) against the 2D model (refinement 4), near-spur pinion z 29, "
           "x 0.15, m 6, face 50 mm: a uniform line load along the face; sigma in MPa per N/mm and its ratio to the "
-          "2D; max: the largest over the fillet (what the LTCA reads); level: plane_strain.fillet_level (the mean "
-          "over the middle half of the face in bands of height, the largest band), then the largest there; smoothed "
-          "max: the largest of the smoothed read-out (fe.contact.smoothed_data, the rating's root_stress_convergence)")
+          "2D; max: the largest over the fillet of the nodal means (tooth_data(smooth=False)); level: "
+          "plane_strain.fillet_level of the nodal means (the mean over the middle half of the face in bands of height, "
+          "the largest band), then the largest there; smoothed max: the largest of the smoothed fillet stresses "
+          "(fe.contact.smoothed_data: the FE tooth's data, what the LTCA and the rating read)")
     print("| rack | load | 2D | refinement | FE tooth max | FE tooth level | smoothed max | FE tooth's sector, smooth "
           "load: ends free | ends held (u_z = 0) | 6 mm slice, ends held |")
     print("|---|---|---|---|---|---|---|---|---|---|")
@@ -194,15 +193,14 @@ def fe_tooth(args):
         loads = loads_of(iso_case(pair))
         two = ps.notch_stress(pair, "pinion", loads, ps.NotchOptions(refinement=4), material=material(pair))
         for ref in args.refinement:
-            data, _ = cached_tooth_data(pair, "pinion", *material(pair), ref)
+            data, _ = cached_tooth_data(pair, "pinion", *material(pair), ref, smooth=False)
+            smooth, _ = cached_tooth_data(pair, "pinion", *material(pair), ref)
             radii = [ld.radius_mm for ld in loads]
             sectors = [] if args.no_sectors else [_sector_line_load(p, "pinion", radii, ref, ends) for p, ends in
                                                   ((pair, "free"), (pair, "held"), (thin, "held"))]
-            face = SMOOTH_FACE_PER_MODULE * MODULE_MM
-            smooth = smoothed_data(data, face, SMOOTH_HEIGHT_PER_FILLET_SIZE * _sizes(pair, "pinion", 1, 1.0).fillet_mm)
             for k, (load, flat) in enumerate(zip(loads, two)):
                 fe = ps.fe_tooth_line_load(data, pair.geometry, "pinion", load)
-                sm = ps.fe_tooth_line_load(smooth, pair.geometry, "pinion", load, widen_mm=face)
+                sm = ps.fe_tooth_line_load(smooth, pair.geometry, "pinion", load)
                 base = flat.tension_mpa_per_n_mm
                 what = "tip" if math.isinf(load.radius_mm) else f"d_en (r {load.radius_mm:.2f} mm)"
                 cells = [f"{fe.max_mpa_per_n_mm:.4f} = {fe.max_mpa_per_n_mm / base:.3f}",

@@ -1,19 +1,24 @@
 """Is the FE tooth's root stress, the one that decides the rating's local S_F, converged?  (issue 57.5)
 
 For each design and member: the largest root stress over the mesh cycle of the LTCA at the rating's
-torque (K_A = K_v = 1 here) and default positions, with the FE tooth at --fe-coarsen 2 (every element
-twice as large), at its default (refinement 1) and at --fe-refinement 2 (every element half as large),
-and the default's distance from the refined value and from the Richardson extrapolation of the three
-(order from the three levels, h = 2, 1, 1/2).  Prints a markdown table, and a second one: where the
-default reads its maximum (face z from the toe and the heel, height above the root cone), the fillet's
-smallest radius against its element size, and the rating's own estimate (beveloid/rating/root_convergence.py:
-the default's loads read with the coarsened tooth, 3 |default / coarse - 1|) beside the default's
-distance from refinement 2.
+torque (K_A = K_v = 1 here) and default positions (the FE tooth's smoothed fillet stresses, what the LTCA,
+the rating's S_F and optimize read), with the FE tooth at --fe-coarsen 2 (every element twice as large),
+at its default (refinement 1) and at --fe-refinement 2 (every element half as large), each level under its
+own LTCA; the default's distance from the refined value and from the Richardson extrapolation of the three
+(order from the three levels, h = 2, 1, 1/2); and the refined tooth reading the default's LTCA loads, which
+splits the default's distance from refinement 2 into the read-out's part (the same loads, two meshes) and
+the load distribution's (the refined tooth under its own LTCA against under the default's loads).  Prints a
+markdown table, and a second one: where the default reads its maximum (face z from the toe and the heel,
+height above the root cone), the fillet's smallest radius against its element size, and the rating's own
+estimate (beveloid/rating/root_convergence.py: the default's loads read with the coarsened tooth,
+3 |default / coarse - 1|).
 
-    python benchmarks/rating_root_convergence.py [--designs case1,case2,A,B,C] [--levels 0,1,2]
+    python benchmarks/rating_root_convergence.py [--designs case1,case2,A,B,C,R1,R2,R3] [--levels 0,1,2] [--notch]
 
-``--levels 0,1``: coarsen 2 and the default only (refinement 2 takes up to 17 GB and minutes a member).
-The FE data of each level is built once per design and cached.
+``--levels 0,1``: coarsen 2 and the default only (refinement 2 takes up to 5 GB and minutes a member).
+``--notch``: a last column, the 2D section (fe.plane_strain) meshed at each level's sizes over its converged
+value, at the maximum's section.  The FE data of each level is built once per design and cached; run one
+design per invocation, so that each refinement-2 tooth's memory is returned.
 """
 from __future__ import annotations
 
@@ -148,19 +153,21 @@ def main(argv=None) -> int:
     from beveloid.ltca.model.teeth import fe_tooth, root_stresses
     from beveloid.names import MEMBERS
     from beveloid.rating.analysis import POSITIONS
-    from beveloid.rating.root_convergence import _sizes, root_stress_convergence, smoothed_teeth
+    from beveloid.rating.root_convergence import _sizes, root_stress_convergence
 
     a = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     a.add_argument("--designs", default="case1,case2,A,B,C,R1,R2,R3")
     a.add_argument("--levels", default="0,1,2", help="of coarsen 2, default, refinement 2 (0-based)")
+    a.add_argument("--notch", action="store_true",
+                   help="add the 2D section at each level's mesh sizes over its converged value (fe.plane_strain)")
     args = a.parse_args(argv)
     levels = [LEVELS[int(i)] for i in args.levels.split(",")]
     where_rows = []
-    print("| design | T (N m) | member | root stress max (MPa): coarsen 2 / default / refinement 2 | default / "
-          "refinement 2 − 1 | Richardson (order) | default / Richardson − 1 | smoothed: coarsen 2 / default / "
-          "refinement 2 | default / refinement 2 − 1 | 2D section at the mesh's sizes / converged: coarsen 2 / "
-          "default / refinement 2 |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+    print("| design | T (N m) | member | fillet radius / element (mm) | root stress max (MPa): coarsen 2 / default / "
+          "refinement 2 | default / refinement 2 − 1 | Richardson (order) | default / Richardson − 1 | refinement 2 "
+          "reading the default's loads (MPa) | default / that − 1 (read-out) | that / refinement 2 − 1 (loads) |"
+          + (" 2D section at the mesh's sizes / converged: coarsen 2 / default / refinement 2 |" if args.notch else ""))
+    print("|---|---|---|---|---|---|---|---|---|---|---|" + ("---|" if args.notch else ""))
     for name in args.designs.split(","):
         pair = _pair(name)
         material = ltca.Material.from_spec(pair.spec)
@@ -168,36 +175,44 @@ def main(argv=None) -> int:
         torque = 1500.0 if name in ("case1", "case2") else _torques(pair)[1]
         nan = {"pinion": math.nan, "gear": math.nan}
         values = {label: dict(nan) for label, _, _ in LEVELS}
-        smooth = {label: dict(nan) for label, _, _ in LEVELS}
         notch = {label: dict(nan) for label, _, _ in LEVELS}
+        kept, default_result = dict(nan), None
         for label, refinement, coarsen in levels:
             t0 = time.perf_counter()
             options = ltca.Options(positions=POSITIONS, tooth_model="fe", fe_refinement=refinement, fe_coarsen=coarsen)
             r = ltca.analyze(pair, ltca.LoadCase(torque), options)
             values[label] = r.root_stress_max_mpa()
-            teeth = tuple(fe_tooth(pair, m, moduli[m], options) for m in MEMBERS)
-            s = root_stresses(smoothed_teeth(pair, teeth, options.flank), r, r.converged)
-            for m in MEMBERS:
-                j, k = np.unravel_index(int(np.nanargmax(s["tension"][m])), s["tension"][m].shape)
-                smooth[label][m] = float(s["tension"][m][j, k])
-                notch[label][m] = _notch_ratio(pair, m, float(s["where"][m][j, k, 0]), options.flank,
-                                               _sizes(pair, m, refinement, coarsen), moduli[m])
-            print(f"  {name} {label}: {time.perf_counter() - t0:.0f} s", file=sys.stderr, flush=True)
+            if args.notch:
+                at = r.root_stress_location()
+                for m in MEMBERS:
+                    notch[label][m] = _notch_ratio(pair, m, float(at[m]["z_mm"]), options.flank,
+                                                   _sizes(pair, m, refinement, coarsen), moduli[m])
             if label == "default":
+                default_result = r
                 where_rows += _where(name, torque, pair, r, root_stress_convergence(pair, r, material))
+            elif label == "refinement 2" and default_result is not None:
+                # the refined tooth under the default's LTCA loads: separates the read-out's change from the
+                # load distribution's (each level runs its own LTCA)
+                teeth = tuple(fe_tooth(pair, m, moduli[m], options) for m in MEMBERS)
+                read = root_stresses(teeth, default_result, default_result.converged)["tension"]
+                kept = {m: float(np.nanmax(read[m])) for m in MEMBERS}
+            del r
+            print(f"  {name} {label}: {time.perf_counter() - t0:.0f} s", file=sys.stderr, flush=True)
         for m in ("pinion", "gear"):
             c, d, f = (values[label][m] for label, _, _ in LEVELS)
             ext, p = richardson(c, d, f) if math.isfinite(f) else (None, None)
             rich = "not monotonic" if ext is None else f"{ext:.1f} ({p:.2f})"
             off = "" if ext is None else f"{d / ext - 1:+.1%}"
-            sc, sd, sf = (smooth[label][m] for label, _, _ in LEVELS)
-            nc, nd, nf = (notch[label][m] for label, _, _ in LEVELS)
-            print(f"| {name} | {torque:g} | {m} | {c:.1f} / {d:.1f} / {f:.1f} | {d / f - 1:+.1%} | {rich} | {off} | "
-                  f"{sc:.1f} / {sd:.1f} / {sf:.1f} | {sd / sf - 1:+.1%} | {nc:.3f} / {nd:.3f} / {nf:.3f} |", flush=True)
+            sizes = _sizes(pair, m, 1, 1.0)
+            row = (f"| {name} | {torque:g} | {m} | {sizes.fillet_radius_mm:.3f} / {sizes.fillet_mm:.3f} | {c:.1f} / "
+                   f"{d:.1f} / {f:.1f} | {d / f - 1:+.1%} | {rich} | {off} | {kept[m]:.1f} | {d / kept[m] - 1:+.1%} | "
+                   f"{kept[m] / f - 1:+.1%} |")
+            if args.notch:
+                row += " " + " / ".join(f"{notch[label][m]:.3f}" for label, _, _ in LEVELS) + " |"
+            print(row, flush=True)
     print("\n| design | member | max at face z from toe / heel (mm), height above root (mm) | fillet radius min / "
-          "fillet element (mm) | coarse reading of the default's loads / default (MPa) | rating's estimate "
-          "3 x change | smoothed: coarse / default (MPa), 3 x change |")
-    print("|---|---|---|---|---|---|---|")
+          "fillet element (mm) | coarse reading of the default's loads / default (MPa) | rating's estimate 3 x change |")
+    print("|---|---|---|---|---|---|")
     for row in where_rows:
         print(row)
     return 0
@@ -212,8 +227,7 @@ def _where(name, torque, pair, result, estimate) -> list:
         toe, heel = sorted(pair.geometry.member(m).face_limits)
         rows.append(f"| {name} | {m} | {w['z_mm'] - toe:.2f} / {heel - w['z_mm']:.2f}, {w['height_mm']:.3f} | "
                     f"{e['fillet_radius_mm']:.3f} / {e['fillet_element_mm']:.3f} | {e['coarse_mpa']:.1f} / "
-                    f"{e['default_mpa']:.1f} | {e['error_estimate']:.1%} | {e['smoothed_coarse_mpa']:.1f} / "
-                    f"{e['smoothed_mpa']:.1f}, {e['smoothed_error_estimate']:.1%} |")
+                    f"{e['default_mpa']:.1f} | {e['error_estimate']:.1%} |")
     return rows
 
 

@@ -49,7 +49,7 @@ DEFAULT_LIMIT_MB = 2000
 #: a temporary file of an interrupted write older than this (s) is removed when the folder is pruned
 ORPHAN_AGE_S = 3600.0
 #: raise when the FE data's meaning changes without a change of its inputs
-FE_DATA_VERSION = 2  # 2: isoparametric (curved) P2 tets, stresses from them
+FE_DATA_VERSION = 3  # 2: isoparametric (curved) P2 tets, stresses from them; 3: the fillet stresses smoothed
 
 
 #: the package's folders whose code never runs while FE data is made (the analyses above the FE
@@ -92,11 +92,12 @@ def _floats(values) -> list:
     return [float(v) for v in np.asarray(values, dtype=float).ravel()]
 
 
-def cache_key(pair, member: str, e_mpa: float, nu: float, refinement: int, coarsen: float = 1.0) -> str:
+def cache_key(pair, member: str, e_mpa: float, nu: float, refinement: int, coarsen: float = 1.0,
+              smooth: bool = True) -> str:
     """The entry's key, a JSON text (see the module docstring)."""
     from .. import __version__
     from ..tooth import fillet
-    from . import mesh
+    from . import contact, mesh
 
     from ..tooth.body import body_pair
 
@@ -115,7 +116,10 @@ def cache_key(pair, member: str, e_mpa: float, nu: float, refinement: int, coars
         "grid": list(tooth.GRID), "face_fractions": list(tooth.FACE_FRACTIONS), "depth": [tooth.DEPTH_PER_MODULE, tooth.DEPTH_PER_THICKNESS],
         "mesh_rules": mesh.MESH_RULES_VERSION,
         "mesh": [mesh.FLANK_SIZE_PER_MODULE, mesh.FAR_GROWTH, mesh.FILLET_GROWTH, mesh.FAR_SIZE_PER_MODULE, mesh.FILLET_SIZE_PER_RADIUS,
-                 mesh.FILLET_SIZE_MIN_PER_MODULE, mesh.RIM_DEPTH_PER_HEIGHT, mesh.SECTIONS, mesh.SEGMENT_POINTS],
+                 mesh.FILLET_SIZE_MIN_PER_MODULE, mesh.FILLET_RADIUS_ELEMENTS, mesh.FILLET_SIZE_NOTCH_PER_MODULE,
+                 mesh.RIM_DEPTH_PER_HEIGHT, mesh.SECTIONS, mesh.SEGMENT_POINTS],
+        "smooth": [contact.SMOOTH_FACE_PER_MODULE, contact.SMOOTH_HEIGHT_PER_FILLET_SIZE, contact.SMOOTH_MIN_NODES]
+        if smooth else None,
     }
     return json.dumps(data, sort_keys=True)
 
@@ -213,13 +217,14 @@ KEPT_ENTRIES = 4
 
 
 def cached_tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: int = 1, progress=None,
-                      coarsen: float = 1.0):
-    """(ToothData, how: "hit" | "miss" | "stale" | "corrupt") from the cache, computing on a miss.
+                      coarsen: float = 1.0, smooth: bool = True):
+    """(ToothData, how: "hit" | "miss" | "stale" | "corrupt") from the cache, computing on a miss
+    (``smooth``: :func:`beveloid.fe.tooth.tooth_data`'s; False for the nodal means, a benchmark's comparison).
     A cache folder that cannot be written is not an error: the data is then computed each time.
     The data of a key already read in this process is returned again ("hit") while its file is
     unchanged (same size and modification time)."""
     limit_bytes()  # a bad $BEVELOID_FE_CACHE_MB: one line before any work
-    key = cache_key(pair, member, e_mpa, nu, refinement, coarsen)
+    key = cache_key(pair, member, e_mpa, nu, refinement, coarsen, smooth)
     path = entry_path(key)
     stamp = _stamp(path)
     kept = _KEPT.get((path, key))
@@ -228,7 +233,7 @@ def cached_tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: in
         return kept[1], "hit"
     data, arrays, how = _read(path, key)
     if data is None:
-        data = tooth.tooth_data(pair, member, e_mpa, nu, refinement, progress=progress, coarsen=coarsen)
+        data = tooth.tooth_data(pair, member, e_mpa, nu, refinement, progress=progress, coarsen=coarsen, smooth=smooth)
         arrays = _tooth_arrays(data)
         try:
             _write(path, key, data, arrays)

@@ -11,6 +11,10 @@ z and their radius (bilinear weights W, points x grid nodes; outside the grid: i
   it is (z, height above the root cone), and the most compressive min-principal stress in the
   other fillet.
 
+The fillet stress tensors are the **smoothed** ones of :func:`beveloid.fe.tooth.tooth_data` (each fillet
+node's tensor a local linear fit over its neighbours, :func:`smoothed_data`): the root stress the LTCA
+reports, the rating's local S_F divides by and optimize ranks by is their largest principal stress.
+
 C is the FE compliance of :mod:`beveloid.fe.tooth` (local deformation removed) made positive
 semi-definite: its eigenvalues below zero (a load at the root of a tooth on a rim stiffer than
 the half-space subtracted from it) are set to zero.  Fillet nodes nearer than the reading depth to
@@ -27,8 +31,8 @@ import numpy as np
 from ..names import FLANKS
 from . import principal
 
-__all__ = ["FeTooth", "RootStress", "SMOOTH_FACE_PER_MODULE", "SMOOTH_HEIGHT_PER_FILLET_SIZE", "smoothed_data",
-           "smoothing_matrix", "tooth_arrays"]
+__all__ = ["FeTooth", "RootStress", "SMOOTH_FACE_PER_MODULE", "SMOOTH_HEIGHT_PER_FILLET_SIZE", "SMOOTH_MIN_NODES",
+           "smooth_stress", "smoothed_data", "smoothing_matrix", "smoothing_window_mm", "tooth_arrays"]
 
 #: fillet nodes per block of fe.principal.extreme's bound (docs/performance.md, The FE tooth)
 BLOCK_NODES = 32
@@ -41,13 +45,14 @@ class RootStress(typing.NamedTuple):
     compression_mpa: float  # most compressive min-principal stress in the other fillet
 
 
-def tooth_arrays(data, flank: str, widen_mm: float = 0.0) -> dict:
+def tooth_arrays(data, flank: str) -> dict:
     """The arrays :class:`FeTooth` derives from ``data`` (a ToothData) for ``flank``: ``compliance_mm_per_n``
     (C made positive semi-definite), ``near`` (2, G, nf) uint8 and per fillet i (0 the loaded side's, 1 the
     other's) ``order_i``, ``bound_i``, ``top_i`` (:func:`beveloid.fe.principal.fillet`).  They depend on the data
     alone: :mod:`beveloid.fe.cache` keeps them in the data's entry, so that a tooth is built without them.
-    ``widen_mm``: the reading depth's reach widened by this (a smoothed read-out, :func:`smoothed_data`,
-    whose node stands for its neighbours within that distance along the face)."""
+    The reading depth's reach is widened by the data's smoothing window along the face
+    (``data.smoothing_mm[0]``, :func:`smoothed_data`: a smoothed node stands for its neighbours within that
+    distance along the face)."""
     index = FLANKS.index(flank)
     c = np.asarray(data.compliance_mm_per_n[index], dtype=float)
     lam, vec = np.linalg.eigh(0.5 * (c + c.T))
@@ -63,7 +68,7 @@ def tooth_arrays(data, flank: str, widen_mm: float = 0.0) -> dict:
     points = np.asarray(data.points_mm[index])
     ns, nz = points.shape[:2]
     grid = points.reshape(-1, 3)
-    reach = float(np.max(data.depth_mm[index])) + float(widen_mm)
+    reach = float(np.max(data.depth_mm[index])) + float(np.asarray(data.smoothing_mm)[0])
     fp = np.asarray(data.fillet_points_mm)
     within = (np.linalg.norm(fp[:, None, :, :] - grid[None, :, None, :], axis=-1) <= reach).reshape(2, ns, nz, -1)
     spread = within.copy()
@@ -87,6 +92,14 @@ SMOOTH_FACE_PER_MODULE = 0.15
 SMOOTH_HEIGHT_PER_FILLET_SIZE = 0.15
 #: a node with fewer neighbours in its window than this keeps its own stress
 SMOOTH_MIN_NODES = 4
+
+
+def smoothing_window_mm(normal_module_mm: float, fillet_size_mm: float) -> tuple:
+    """(along the face, in height) mm: the half-widths of the smoothing window of a member of normal module
+    ``normal_module_mm`` whose fillet elements are ``fillet_size_mm`` at refinement 1
+    (``fe.mesh.mesh_sizes``): :data:`SMOOTH_FACE_PER_MODULE` m_n and :data:`SMOOTH_HEIGHT_PER_FILLET_SIZE`
+    times that size, the same physical window at every refinement and coarsening."""
+    return SMOOTH_FACE_PER_MODULE * float(normal_module_mm), SMOOTH_HEIGHT_PER_FILLET_SIZE * float(fillet_size_mm)
 
 
 def smoothing_matrix(points_mm, height_mm, face_mm: float, height_band_mm: float):
@@ -124,21 +137,33 @@ def smoothing_matrix(points_mm, height_mm, face_mm: float, height_band_mm: float
                                    shape=(nf, nf))
 
 
+def smooth_stress(stress, fillet_points_mm, fillet_height_mm, face_mm: float, height_band_mm: float) -> None:
+    """Smooth ``stress`` (2 flanks loaded, 2 fillets, nf, 6, G; MPa per N) in place: every fillet node's
+    tensor per load-grid node replaced by its local fit (:func:`smoothing_matrix`), one (flank, fillet)
+    slice at a time (no second copy of the whole operator)."""
+    nf = stress.shape[2]
+    for side in range(2):
+        w = smoothing_matrix(fillet_points_mm[side], fillet_height_mm[side], face_mm, height_band_mm)
+        for f in range(2):
+            stress[f, side] = (w @ stress[f, side].reshape(nf, -1)).reshape(stress.shape[2:])
+
+
 def smoothed_data(data, face_mm: float, height_band_mm: float):
-    """``data`` (a ToothData) with every fillet node's stress tensor (per unit load on each load-grid
-    node) replaced by its local fit over the window (:func:`smoothing_matrix`).  Each node's stress is
-    the mean of its tets' P2 stresses at the node and scatters from node to node by a few percent on an
-    unstructured mesh; the largest of thousands of nodes sits on that scatter (docs/validation.md 12.2).
-    The window is narrow in height (the notch's peak at the bottom of the fillet is kept) and short along
-    the face against the root stress of a contact patch (several mm wide)."""
+    """``data`` (a ToothData, unsmoothed: ``tooth_data(..., smooth=False)``) with every fillet node's stress
+    tensor (per unit load on each load-grid node) replaced by its local fit over the window
+    (:func:`smoothing_matrix`), and the window in ``smoothing_mm``.  Each node's stress is the mean of its
+    tets' P2 stresses at the node and scatters from node to node by a few percent on an unstructured mesh;
+    the largest of thousands of nodes sits on that scatter (docs/validation.md 12.2).  The window is narrow
+    in height (the notch's peak at the bottom of the fillet is kept) and short along the face against the
+    root stress of a contact patch (several mm wide).  :func:`beveloid.fe.tooth.tooth_data` returns its
+    data smoothed this way."""
     import dataclasses
 
-    st = np.array(data.stress_mpa_per_n, dtype=float)  # (2 flanks loaded, 2 fillets, nf, 6, G)
-    for side in range(2):
-        w = smoothing_matrix(data.fillet_points_mm[side], data.fillet_height_mm[side], face_mm, height_band_mm)
-        for f in range(2):
-            st[f, side] = (w @ st[f, side].reshape(st.shape[2], -1)).reshape(st.shape[2:])
-    return dataclasses.replace(data, stress_mpa_per_n=st)
+    if np.any(np.asarray(data.smoothing_mm) != 0.0):
+        raise ValueError(f"smoothing_mm = {list(np.asarray(data.smoothing_mm))}: the data is already smoothed")
+    st = np.array(data.stress_mpa_per_n, dtype=float)
+    smooth_stress(st, data.fillet_points_mm, data.fillet_height_mm, face_mm, height_band_mm)
+    return dataclasses.replace(data, stress_mpa_per_n=st, smoothing_mm=np.array([face_mm, height_band_mm], dtype=float))
 
 
 class FeTooth:

@@ -18,8 +18,10 @@ not weakening the tooth), or the bore where the member has one outside that cyli
 
 Element size (mm, ``refinement`` N divides every size): on the flanks of the loaded tooth
 h_flank = FLANK_SIZE_PER_MODULE m_n / N; in the fillets of the loaded tooth
-h_fillet = min(max(FILLET_SIZE_PER_RADIUS rho_F, FILLET_SIZE_MIN_PER_MODULE m_n), h_flank) (rho_F the smallest radius of curvature of
-the fillet section at mid-face) / N; elsewhere h_far = FAR_SIZE_PER_MODULE m_n / N, grown linearly
+h_fillet = min(max(FILLET_SIZE_PER_RADIUS rho_F, FILLET_SIZE_MIN_PER_MODULE m_n),
+max(rho_F / FILLET_RADIUS_ELEMENTS, FILLET_SIZE_NOTCH_PER_MODULE m_n), h_flank) (rho_F the smallest radius
+of curvature of the fillet section at mid-face) / N: the second term binds only where the floor would leave
+the radius fewer than FILLET_RADIUS_ELEMENTS elements (rho_F < 0.06 m_n); elsewhere h_far = FAR_SIZE_PER_MODULE m_n / N, grown linearly
 from the fine faces (over FAR_GROWTH times the size difference from the flanks, over FILLET_GROWTH
 times it from the fillets: the fine fillet band stays thin).
 """
@@ -36,10 +38,10 @@ from .sizes import FAR_GROWTH, FILLET_GROWTH, ContactStrips, size_field
 
 __all__ = ["FACE_KINDS", "SectorMesh", "MeshSizes", "mesh_sizes", "sector_mesh", "fillet_radius_mm",
            "FLANK_SIZE_PER_MODULE", "FAR_SIZE_PER_MODULE", "MESH_RULES_VERSION", "FAR_GROWTH", "FILLET_GROWTH",
-           "FILLET_SIZE_PER_RADIUS", "RIM_DEPTH_PER_HEIGHT", "SectorShape", "record_from_gmsh"]
+           "FILLET_SIZE_PER_RADIUS", "FILLET_RADIUS_ELEMENTS", "FILLET_SIZE_NOTCH_PER_MODULE", "RIM_DEPTH_PER_HEIGHT", "SectorShape", "record_from_gmsh"]
 
 #: raise when the meshing rules change (it is part of the FE cache's key)
-MESH_RULES_VERSION = 4  # 4: a fillet far thinner than its elements takes a strip of land
+MESH_RULES_VERSION = 5  # 4: a fillet far thinner than its elements takes a strip of land; 5: FILLET_RADIUS_ELEMENTS
 FLANK_SIZE_PER_MODULE = 0.3
 FAR_SIZE_PER_MODULE = 1.0
 FILLET_SIZE_PER_RADIUS = 0.5
@@ -53,6 +55,17 @@ RIM_DEPTH_PER_HEIGHT = 1.2
 #: 1 2`); 0.8 rho_F had left the pinion's 11 % short of refinement 2 (measured when this rule was
 #: chosen, commit c09e4f1's docs/loaded_contact.md 9.6)
 FILLET_SIZE_MIN_PER_MODULE = 0.04
+#: ... but the floor gives way where it would leave the fillet's smallest radius fewer than this many
+#: elements: a radius near the floor's size is a notch whose peak the floor's elements do not resolve.
+#: Measured on docs/validation.md 10.2's designs before this rule (the smoothed root stress, default
+#: against refinement 2): every member with rho_F >= 1.76 floor elements read within +3.3 %, while
+#: case 1's and case 2's gears (rho_F 1.16 and 1.12 elements) read 2.9 % and 5.0 % low; 1.5 refines those
+#: and leaves the members at 1.76 and above (case 1's and case 2's pinions) as they were
+FILLET_RADIUS_ELEMENTS = 1.5
+#: and not below this fraction of the module: a trochoid's bottom sharper than 1.5 times it (a sharp rack
+#: on many teeth: design B's gear, 0.009 mm on a 4 mm module) is a notch no affordable mesh resolves, which
+#: the rating reports (rating.root_convergence)
+FILLET_SIZE_NOTCH_PER_MODULE = 0.025
 #: transverse sections the solid is lofted through, and points per face segment in a section
 SECTIONS = 9
 SEGMENT_POINTS = 9
@@ -133,7 +146,8 @@ def mesh_sizes(sampler: ToothSampler, normal_module_mm: float, refinement: float
     """The element sizes of the module docstring."""
     rho = fillet_radius_mm(sampler)
     flank = FLANK_SIZE_PER_MODULE * normal_module_mm
-    fillet = min(max(FILLET_SIZE_PER_RADIUS * rho, FILLET_SIZE_MIN_PER_MODULE * normal_module_mm), flank)
+    fillet = min(max(FILLET_SIZE_PER_RADIUS * rho, FILLET_SIZE_MIN_PER_MODULE * normal_module_mm),
+                 max(rho / FILLET_RADIUS_ELEMENTS, FILLET_SIZE_NOTCH_PER_MODULE * normal_module_mm), flank)
     return MeshSizes(flank / refinement, fillet / refinement,
                      FAR_SIZE_PER_MODULE * normal_module_mm / refinement, rho)
 

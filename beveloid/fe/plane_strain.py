@@ -66,7 +66,7 @@ class NotchOptions:
     the sector (odd, >= 3: the FE tooth's 3); ``fe_sizes``: a :class:`beveloid.fe.mesh.MeshSizes` to mesh
     the section as the FE tooth meshes its sector instead (its fillet, flank and far sizes, the load
     points at the flank's size, grown from the fillets as the FE tooth grows them; ``refinement`` then
-    unused): the same notch at the FE tooth's own elements (``rating.root_convergence``)."""
+    unused): the same notch at the FE tooth's own elements (``benchmarks/rating_root_convergence.py``)."""
 
     refinement: float = 1.0
     points: int = 41
@@ -434,14 +434,12 @@ class LineLoadReading:
     face_z_mm: float
 
 
-def fe_tooth_line_load(data, geometry, member: str, load: SectionLoad, points: int = 41,
-                       widen_mm: float = 0.0) -> LineLoadReading:
+def fe_tooth_line_load(data, geometry, member: str, load: SectionLoad, points: int = 41) -> LineLoadReading:
     """The FE tooth ``data`` of ``member`` under ``load`` (:class:`SectionLoad`) on every section of the
     face: ``points`` flank points from toe to heel at its radius, forces by the trapezoidal rule (the
-    FE tooth's load grid takes them as it takes the LTCA's), 1 N/mm in all.  ``widen_mm``: the reading
-    depth's reach widened (``fe.contact.tooth_arrays``; a smoothed tooth's face window)."""
+    FE tooth's load grid takes them as it takes the LTCA's), 1 N/mm in all."""
     from ..tooth.profile import flank_at_radius
-    from .contact import FeTooth, tooth_arrays
+    from .contact import FeTooth
     from .solve import principal_stresses
 
     sampler = ToothSampler(geometry, member)
@@ -453,7 +451,7 @@ def fe_tooth_line_load(data, geometry, member: str, load: SectionLoad, points: i
         at = flank_at_radius(geometry, member, load.flank, z, np.full(z.shape, float(load.radius_mm)))[0]
     forces = np.full(points, (hi - lo) / (points - 1))
     forces[[0, -1]] *= 0.5
-    tooth = FeTooth(data, load.flank, tooth_arrays(data, load.flank, widen_mm) if widen_mm else None)
+    tooth = FeTooth(data, load.flank)
     top = tooth.root_stress(at, forces)
     centres, along = tooth.along_face(at, forces)
     middle = np.abs(centres - 0.5 * (lo + hi)) <= 0.25 * (hi - lo)

@@ -23,15 +23,20 @@ loaded tooth 0): a unit force along the inward flank normal.  From the solutions
   one further than :data:`MAX_OUTSIDE_PER_FLANK_SIZE` of the flank element size from the mesh is
   an error.
 * **Fillet stress**: the stress tensor (MPa per N) at every node of both root fillets of the
-  loaded tooth (mean over the tets sharing it), per load case.  Superposed over a pressure field
-  (linear) its principal stresses give the root stress.
+  loaded tooth (mean over the tets sharing it), per load case, **smoothed**: each node's tensor
+  replaced by a local linear fit over the fillet nodes within +-0.15 m_n along the face and +-0.15
+  fillet elements (refinement 1) in height (:func:`beveloid.fe.contact.smoothed_data`; ``smooth=False``
+  keeps the nodal means).  The nodal means scatter from node to node by a few percent on the unstructured
+  mesh, and the largest of thousands of them sits on that scatter, above the fillet's level
+  (docs/loaded_contact.md 9.2); the fit is linear in the tensors, so superposed over a pressure field its
+  principal stresses give the root stress as before.
 """
 from __future__ import annotations
 
 import math
 import time
 import typing
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from ..names import FLANKS
@@ -39,7 +44,8 @@ from ..tooth.sampling import ToothSampler
 from ..tooth.body import body_pair
 from ..tooth.departure import flank_thickness_mm
 from . import solve
-from .mesh import sector_mesh
+from .contact import smooth_stress, smoothing_window_mm
+from .mesh import mesh_sizes, sector_mesh
 
 __all__ = ["DEPTH_PER_MODULE", "DEPTH_PER_THICKNESS", "FACE_FRACTIONS", "GRID", "MAX_OUTSIDE_PER_FLANK_SIZE",
            "LoadGrid", "ToothData", "flank_at", "load_grid", "flank_compliance", "flank_grid", "halfspace_at_depth", "reading_feet", "reading_points",
@@ -89,6 +95,8 @@ class ToothData:
     fillet_height_mm: np.ndarray  # (2, nf) above the root cone
     stress_mpa_per_n: np.ndarray  # (2 flanks loaded, 2 fillets, nf, 6, G)
     stats: np.ndarray  # [nodes, tets, free dofs, mesh s, assemble s, factor s, solve s]
+    #: the smoothing window of stress_mpa_per_n (along the face, in height; mm): zeros for the nodal means
+    smoothing_mm: np.ndarray = field(default_factory=lambda: np.zeros(2))
 
     STATS = ("nodes", "tets", "free_dofs", "mesh_s", "assemble_s", "factor_s", "solve_s")
 
@@ -230,10 +238,11 @@ def _say(progress, stage, text):
         progress(stage, STAGES, text)
 
 
-def tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: int = 1, progress=None, coarsen=1.0
-               ) -> ToothData:
+def tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: int = 1, progress=None, coarsen=1.0,
+               smooth: bool = True) -> ToothData:
     """Mesh, factor and solve the member's FE tooth (see the module docstring): on its body, the member
-    cut by the unmodified rack (:mod:`beveloid.tooth.body`)."""
+    cut by the unmodified rack (:mod:`beveloid.tooth.body`).  ``smooth``: the fillet stresses smoothed
+    (the default: what the LTCA and the rating read) or the nodal means."""
     pair = body_pair(pair, member)
     geometry = getattr(pair, "geometry", pair)
     t0 = time.perf_counter()
@@ -271,10 +280,15 @@ def tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: int = 1, 
         fp[side, :len(nodes)] = mesh.nodes[nodes]
         fp[side, len(nodes):] = mesh.nodes[nodes[-1]]
     height = np.hypot(fp[..., 0], fp[..., 1]) - sampler.root_radius_mm(fp[..., 2])
+    window = np.zeros(2)
+    if smooth:
+        window = np.array(smoothing_window_mm(geometry.normal_module_mm,
+                                              mesh_sizes(sampler, geometry.normal_module_mm, 1.0).fillet_mm))
+        smooth_stress(stress, fp, height, *window)
     _say(progress, STAGES, f"FE tooth {member}: done in {t3 - t0:.1f} s")
     stats = np.array([mesh.nodes.shape[0], mesh.tets.shape[0], elastic.timings_s["free_dofs"], t1 - t0,
                       elastic.timings_s["assemble_s"], elastic.timings_s["factor_s"], t3 - t2], dtype=float)
     return ToothData(s=s, z_mm=z, points_mm=pts, normals=nrm, radius_mm=np.hypot(pts[..., 0], pts[..., 1]),
                      depth_mm=grid.depth_mm, reading_points_mm=reading, compliance_mm_per_n=comp,
                      raw_compliance_mm_per_n=raw, fillet_points_mm=fp, fillet_height_mm=height,
-                     stress_mpa_per_n=stress, stats=stats)
+                     stress_mpa_per_n=stress, stats=stats, smoothing_mm=window)

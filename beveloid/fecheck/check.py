@@ -160,7 +160,8 @@ def root_stress_notes(calculix, ltca, refinement: int, fillets: dict | None = No
             line = (f"{m}: root stress {a['calculix_mpa']:.1f} MPa (calculix) against {a['ltca_mpa']:.1f} MPa (the "
                     f"LTCA's FE tooth), ratio {a['ratio']:.3f}, beyond +-{ROOT_STRESS_AGREEMENT:.0%}: the sectors' "
                     f"fillet elements at refinement {refinement} (the root is not refined like the contact "
-                    "strips) and the LTCA's tooth data (its --fe-refinement) are the two meshes")
+                    "strips) and the LTCA's tooth data (its --fe-refinement) are the two meshes, the LTCA's "
+                    "fillet stresses smoothed, CalculiX's its nodal maximum")
             if fillets and m in fillets:
                 rho, here, tooth = fillets[m]
                 line += (f" (fillet elements {here:.3f} mm here, {tooth:.3f} mm in the FE tooth; the fillet's "

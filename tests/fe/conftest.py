@@ -29,3 +29,12 @@ def coarse_teeth(case1):
     m = Material.from_spec(case1.spec)
     return {"pinion": tooth_data(case1, "pinion", m.pinion_e_mpa, m.pinion_nu, coarsen=COARSEN),
             "gear": tooth_data(case1, "gear", m.gear_e_mpa, m.gear_nu, coarsen=COARSEN)}
+
+
+@pytest.fixture(scope="session")
+def raw_coarse_pinion(case1):
+    """The session's coarse pinion with the fillet stresses unsmoothed (the nodal means)."""
+    from beveloid.fe.tooth import tooth_data
+
+    m = Material.from_spec(case1.spec)
+    return tooth_data(case1, "pinion", m.pinion_e_mpa, m.pinion_nu, coarsen=COARSEN, smooth=False)

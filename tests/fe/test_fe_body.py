@@ -43,7 +43,7 @@ def counted(monkeypatch, tmp_path, coarse_teeth):
     monkeypatch.setenv("BEVELOID_CACHE_DIR", str(tmp_path))
     calls = []
 
-    def compute(pair, member, e_mpa, nu, refinement=1, progress=None, coarsen=1.0):
+    def compute(pair, member, e_mpa, nu, refinement=1, progress=None, coarsen=1.0, smooth=True):
         calls.append((member, getattr(pair, "geometry", pair).member(member).tooth_surface))
         return coarse_teeth[member]
 

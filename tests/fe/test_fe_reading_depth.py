@@ -33,7 +33,7 @@ def _data(ns=4, nz=3):
                            compliance_mm_per_n=np.broadcast_to(np.eye(G), (2, G, G)).copy(),
                            fillet_points_mm=np.broadcast_to(fillet, (2, 2, 3)).copy(),
                            fillet_height_mm=np.array([[0.1, 0.0], [0.1, 0.0]]),
-                           stress_mpa_per_n=rng.normal(size=(2, 2, 2, 6, G)))
+                           stress_mpa_per_n=rng.normal(size=(2, 2, 2, 6, G)), smoothing_mm=np.zeros(2))
 
 
 @pytest.mark.parametrize("flank", ["left", "right"])

@@ -1,11 +1,12 @@
-"""The smoothed read-out of the FE tooth's fillet stress (issue 57.5, beveloid/fe/contact.py smoothed_data):
-a local linear fit over a window along the face and in height, linear in the nodes' stresses."""
+"""The smoothed fillet stress of the FE tooth (issue 57.5, beveloid/fe/contact.py smoothed_data): a local
+linear fit over a window along the face and in height, linear in the nodes' stresses; the FE tooth's data
+(fe.tooth.tooth_data) carries it, so that the LTCA's, the rating's and optimize's root stress is its maximum."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from beveloid.fe.contact import FeTooth, smoothed_data, smoothing_matrix, tooth_arrays
+from beveloid.fe.contact import FeTooth, smoothed_data, smoothing_matrix, smoothing_window_mm
 
 pytestmark = pytest.mark.xdist_group(name="fe_case1")
 
@@ -44,14 +45,27 @@ def test_a_padding_repeat_takes_the_last_nodes_row_and_a_lonely_node_keeps_its_v
     assert np.all(out[501:] == out[500])
 
 
-def test_the_smoothed_tooth_reads_a_contact_on_the_coarse_tooth_without_its_largest_nodes_scatter(coarse_teeth, case1):
-    data = coarse_teeth["pinion"]
-    face, band = 0.15 * 6.0, 0.15 * 0.24
-    s = smoothed_data(data, face, band)
-    assert s.stress_mpa_per_n.shape == data.stress_mpa_per_n.shape
-    raw = FeTooth(data, "right")
-    smooth = FeTooth(s, "right", tooth_arrays(s, "right", widen_mm=face))
-    # the smoothed tooth's reading-depth matrix is the raw one widened
+def test_the_fe_tooths_data_carries_the_smoothed_fillet_stresses(coarse_teeth, raw_coarse_pinion, case1):
+    """tooth_data's fillet stresses are the nodal means smoothed over the window of the member's module and its
+    fillet elements at refinement 1 (fe.mesh.mesh_sizes), whatever the mesh's coarsening: what every FE
+    tooth reads (the old data held the nodal means)."""
+    from beveloid.fe.mesh import mesh_sizes
+    from beveloid.tooth.sampling import ToothSampler
+
+    data, raw = coarse_teeth["pinion"], raw_coarse_pinion
+    face, band = smoothing_window_mm(6.0, mesh_sizes(ToothSampler(case1.geometry, "pinion"), 6.0, 1.0).fillet_mm)
+    assert (face, band) == pytest.approx((0.9, 0.15 * 0.24))
+    assert np.array_equal(data.smoothing_mm, [face, band]) and np.array_equal(raw.smoothing_mm, [0.0, 0.0])
+    assert np.array_equal(data.stress_mpa_per_n, smoothed_data(raw, face, band).stress_mpa_per_n)
+    assert not np.allclose(data.stress_mpa_per_n, raw.stress_mpa_per_n)
+    with pytest.raises(ValueError, match="already smoothed"):
+        smoothed_data(data, face, band)
+
+
+def test_the_smoothed_tooth_reads_a_contact_without_its_largest_nodes_scatter(coarse_teeth, raw_coarse_pinion):
+    data, raw_data = coarse_teeth["pinion"], raw_coarse_pinion
+    raw, smooth = FeTooth(raw_data, "right"), FeTooth(data, "right")
+    # the smoothed tooth's reading-depth matrix is the raw one widened by the window along the face
     assert np.all(smooth.near >= raw.near) and smooth.near.sum() > raw.near.sum()
     # a load spread over the middle columns of the flank at mid-height: the smoothed largest root stress is a
     # few percent below the raw one (the raw sits on the nodes' scatter), not a flattened peak
