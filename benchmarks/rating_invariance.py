@@ -1,8 +1,8 @@
 """Does the rating's verdict hold when the numerical settings change?  (issue 57, docs/validation.md)
 
 For case 1 at 300 and 1500 N m, ten designs made up for this check (A-J: other teeth, modules,
-pressure and shaft angles, face widths, profile shifts, crowning, reliefs and misalignments) and two
-random ones that an audit's generator drew (K, L; and M, whose S_H still moves 10-12 %), the
+pressure and shaft angles, face widths, profile shifts, crowning, reliefs and misalignments) and three
+random ones that an audit's generator drew (K, L, M: M's patch runs into a flank corner), the
 rating at its default settings and with the LTCA's contact grid 7x11 / 15x25 and 10 / 20 / 30
 positions: the verdict's status, its lowest safety and lowest S_F, K_Hbeta and the edge rule's load
 share (of every edge over the rule's 2 %, the most loaded first).  Prints a markdown table; per design
