@@ -250,8 +250,9 @@ def analyze(pair, load, options: Options | None = None, *, solver=None, progress
              "and areas are CalculiX's contact totals (CF), peak pressure the largest nodal CPRESS on the gear "
              "flank",
              "root_stress_max_mpa: the largest principal stress on each member's fillet faces (calculix, the "
-             "teeth of the tooth pairs); the LTCA's largest pair root stress at the position (its FE tooth; null with the plate "
-             f"tooth), tooth model here: {getattr(result, 'tooth_model', 'plate')}",
+             "teeth of the tooth pairs, nodal values); the LTCA's largest pair root stress at the position (its FE "
+             "tooth, the fillet stresses smoothed as the rating's S_F reads them; null with the plate tooth), tooth "
+             f"model here: {getattr(result, 'tooth_model', 'plate')}",
              "loaded_transmission_error_urad: unloaded TE + (N1/N2) x the pinion's rotation under the moment "
              "(calculix); the LTCA's loaded TE",
              f"mesh {mesh_s:.1f} s, CalculiX {run.wall_s:.1f} s wall ({run.cpu_s:.1f} s CPU), {model.elements} "
