@@ -26,6 +26,36 @@ def results(case1, coarse_teeth):
     return out
 
 
+def test_the_box_leaves_out_the_root_stress_along_the_face_and_nothing_else(case1, coarse_teeth, monkeypatch):
+    """``analyze_many(..., along_face=False)`` (the tolerance box's and optimize's call,
+    ``ltca.studies.box_results``): every result's ``root_stress_along_face`` empty, every other field
+    bit-identical to the full analysis's, which has it."""
+    import collections.abc
+    import dataclasses
+
+    def same(x, y, name):
+        if isinstance(x, collections.abc.Mapping):  # the members' FrozenMaps
+            assert set(x) == set(y), name
+            for k in x:
+                np.testing.assert_equal(x[k], y[k], err_msg=f"{name}[{k}]")
+        else:
+            np.testing.assert_equal(x, y, err_msg=name)
+
+    monkeypatch.setattr(cache, "cached_tooth_data", lambda pair, member, *a, **k: (coarse_teeth[member], "hit"))
+    options = ltca.Options(positions=4, tooth_model="fe")
+    load = ltca.LoadCase([150.0, 300.0])
+    full = ltca.analyze_many(case1, load, options, convergence=False).results[0]
+    lean = ltca.analyze_many(case1, load, options, convergence=False, along_face=False).results[0]
+    boxed = ltca.studies.box_results(case1, load, options)[0]
+    for a, b, c in zip(full, lean, boxed):
+        assert set(a.root_stress_along_face) == {"pinion", "gear"}
+        assert b.root_stress_along_face == {} and c.root_stress_along_face == {}
+        for f in dataclasses.fields(a):
+            if f.name not in ("pair", "root_stress_along_face"):
+                same(getattr(b, f.name), getattr(a, f.name), f.name)
+                same(getattr(c, f.name), getattr(a, f.name), f.name)
+
+
 def test_json_has_the_fe_keys_and_is_strict(results, case1):
     d = results["fe"].to_json()
     json.dumps(d, allow_nan=False)

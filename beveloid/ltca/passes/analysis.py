@@ -42,26 +42,27 @@ def run(geom, errors, torque_nm: float, options: Options, material: Material, so
 
 
 def run_many(geom, error_sets, torques_nm, options: Options, material: Material, solver, pair=None,
-             convergence=True) -> list:
+             convergence=True, along_face=True) -> list:
     """``[[LTCAResult of error set k at torque t for t in torques_nm] for k in error_sets]``: every
     (error set, torque) case of one pair in one batch.  The teeth once (the FE data once per pair);
     the rigid reference once per error set (it does not depend on the torque); each pass of the module
     docstring once for every case, its contact problems in one compiled call
     (:func:`cycle.solve_many`); the root stresses of every loaded (position, pair) of a case at once.
-    ``convergence=False``: step 4 of the module docstring left out (each result's convergence nan)."""
+    ``convergence=False``: step 4 of the module docstring left out (each result's convergence nan);
+    ``along_face=False``: no result's ``root_stress_along_face`` (each empty)."""
     options.check_memory()
     teeth, body_notes = member_teeth(pair, geom, options, material)
     with one_blas_thread(), np.errstate(all="ignore"):
         setups = [Setup(geom, options.flank, e, options.positions, options.pairs, solver) for e in error_sets]
         cases = [(s, float(t)) for s in setups for t in torques_nm]
-        results = _run(cases, options, material, teeth, body_notes, convergence)
+        results = _run(cases, options, material, teeth, body_notes, convergence, along_face)
     held = geom if pair is None else pair
     results = [dataclasses.replace(r, pair=held) for r in results]  # each holds the pair it was computed for
     T = len(torques_nm)
     return [results[k * T:(k + 1) * T] for k in range(len(setups))]
 
 
-def _run(cases, options, material, teeth, body_notes=(), convergence=True):
+def _run(cases, options, material, teeth, body_notes=(), convergence=True, along_face=True):
     """The passes of the module docstring over every (setup, torque) case at once."""
     N, P = options.positions, options.pairs
     e_star = material.e_star_mpa
@@ -142,7 +143,7 @@ def _run(cases, options, material, teeth, body_notes=(), convergence=True):
         fr, geom = s.frame, s.geom
         line = geom.pinion.face_width_mm / max(math.cos(geom.pinion.helix_angle), 0.3)
         hertz_ref = grids.hertz_peak_mpa(fr.curvature_across, fr.curvature_along, sol.pair_load_n(), e_star, line)
-        out.append(_result((s, T), options, sol, check, e_star, nt, hertz_ref, teeth))
+        out.append(_result((s, T), options, sol, check, e_star, nt, hertz_ref, teeth, along_face))
     return out
 
 
@@ -199,7 +200,7 @@ def _peaks(sol):
     return np.where(np.isfinite(surf), surf, np.nan), np.where(np.isfinite(edge), edge, np.nan)
 
 
-def _result(case, options, sol, check, e_star, notes, hertz_ref, teeth):
+def _result(case, options, sol, check, e_star, notes, hertz_ref, teeth, along_face=True):
     setup, torque_nm = case  # (the Setup, the torque N m)
     N = options.positions
     ok = sol.converged
@@ -244,7 +245,7 @@ def _result(case, options, sol, check, e_star, notes, hertz_ref, teeth):
     ref = setup.reference
     te_rigid_ref = (setup.gear_angle - tca.unknowns(ref.x).gear_angle_rad
                     + setup.n1_over_n2 * (setup.phi1 - ref.pinion_angle))
-    root = root_stresses(teeth, sol, ok)
+    root = root_stresses(teeth, sol, ok, along_face)
     notes = list(notes) + [
         f"{m}: no root stress at {n} loaded tooth pair(s): every fillet node lies within the FE tooth's reading"
         f" depth of the load (the contact reaches the fillet); the largest root stress is that of the other pairs"
