@@ -355,10 +355,11 @@ def test_the_plot_of_a_tolerance_box_draws_its_sets(capsys, tmp_path, monkeypatc
 
 def test_the_tolerance_box_analyses_the_file_errors_as_one_task_per_torque(pair):
     """``tolerance_box(..., nominal=load)``: the analyses at the file's errors (patterns included) run as more
-    tasks beside the chunks, one per torque (the main process of ``ltca --samples`` runs none; issue 59: one
-    task of every torque was the box's longest), the same numbers as ``analyze_many`` of all the torques at
-    once (but the active-set iterations: there a torque starts from the torque before it); the rows the same
-    as without it."""
+    tasks beside the chunks, on workers one per torque (the main process of ``ltca --samples`` runs none;
+    issue 59: one task of every torque was the box's longest), without workers one task of every torque; the
+    same numbers as ``analyze_many`` of all the torques at once either way (but the active-set iterations of
+    a torque analysed alone: in one call a torque starts from the torque before it); the rows the same as
+    without it."""
     options = ltca.Options(**SMALL)
     load = ltca.LoadCase([150.0, 300.0])
     draws = np.array([[0.01, 0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.02, 0.0, 0.0]])
@@ -373,13 +374,17 @@ def test_the_tolerance_box_analyses_the_file_errors_as_one_task_per_torque(pair)
 
     with unittest.mock.patch.object(ltca.studies, "nominal_results", counted):
         results, rows = ltca.studies.tolerance_box(pair, load.at(errors=draws), options, nominal=load)
-    assert [task[1].torques_nm for task in ran] == [(150.0,), (300.0,)]
+    # here (no workers) one task of every torque; on workers one a torque (each analysed alone: the same numbers)
+    assert [task[1].torques_nm for task in ran] == [(150.0, 300.0)]
+    on_workers = ltca.studies._box_tasks(pair, load.at(errors=draws), options, load, parallel=True)
+    assert [t[2].torques_nm for t in on_workers if t[0] == "nominal"] == [(150.0,), (300.0,)]
+    alone = [ltca.studies.nominal_results(t[1:])[0] for t in on_workers if t[0] == "nominal"]
     plain = ltca.studies.tolerance_box(pair, load.at(errors=draws), options)
     assert [[r["te_peak_to_peak_urad"] for r in row] for row in rows] == \
         [[r["te_peak_to_peak_urad"] for r in row] for row in plain]
     direct = ltca.analyze_many(pair, load, options).results[0]
-    assert len(results) == len(direct) == 2
-    for a, b in zip(results, direct):
+    assert len(results) == len(direct) == len(alone) == 2
+    for a, b in [*zip(results, direct), *zip(alone, direct)]:
         assert a.torque_nm == b.torque_nm
         np.testing.assert_array_equal(a.loaded_te, b.loaded_te)
         np.testing.assert_array_equal(a.pressure_mpa, b.pressure_mpa)
@@ -432,9 +437,9 @@ def test_without_the_convergence_indicator_every_other_number_is_the_same(pair):
 
 def test_the_tolerance_box_hands_out_small_tasks_with_the_numbers_of_whole_batches(pair, monkeypatch):
     """Issue 59: the box's workers get TASK_SETS error sets a task, one (64 sets in tasks of 8 kept at most 8
-    workers busy, in tasks of 2 the 16 workers took 3 rounds); every set's row is bit-identical to those of
-    box_results, which batches CHUNK_SETS sets a call (a set's numbers do not depend on the sets analysed
-    with it)."""
+    workers busy, in tasks of 2 the 16 workers took 3 rounds), the box without workers CHUNK_SETS; every set's
+    row is bit-identical either way and to those of box_results, which batches CHUNK_SETS sets a call (a set's
+    numbers do not depend on the sets analysed with it)."""
     options = ltca.Options(**SMALL)
     draws = np.array([[0.01 * k, 0.0, -0.005 * k, 0.0, 0.0] for k in range(5)])
     load = ltca.LoadCase([150.0, 300.0]).at(errors=draws)
@@ -442,9 +447,12 @@ def test_the_tolerance_box_hands_out_small_tasks_with_the_numbers_of_whole_batch
     real = ltca.studies._chunk
     monkeypatch.setattr(ltca.studies, "_chunk", lambda task: tasks.append(len(task[1].error_sets(pair))) or real(task))
     rows = ltca.studies.tolerance_box(pair, load, options)
-    assert ltca.studies.TASK_SETS < ltca.studies.CHUNK_SETS and tasks == [1, 1, 1, 1, 1]
+    assert tasks == [min(5, ltca.studies.CHUNK_SETS)]  # here (no workers): CHUNK_SETS sets a task
+    on_workers = ltca.studies._box_tasks(pair, load, options, parallel=True)
+    assert ltca.studies.TASK_SETS < ltca.studies.CHUNK_SETS
+    assert [len(t[2].error_sets(pair)) for t in on_workers] == [1, 1, 1, 1, 1]
+    rows_alone = [r for t in on_workers for r in ltca.studies._chunk(t[1:])]
     whole = ltca.studies.box_results(pair, load, options)  # one call of 5 sets
-    assert [[r["te_peak_to_peak_urad"] for r in row] for row in rows] == \
-        [[summary(r)["te_peak_to_peak_urad"] for r in row] for row in whole]
-    assert [[r["max_pressure_mpa"] for r in row] for row in rows] == \
-        [[summary(r)["max_pressure_mpa"] for r in row] for row in whole]
+    for key in ("te_peak_to_peak_urad", "max_pressure_mpa"):
+        assert [[r[key] for r in row] for row in rows] == [[r[key] for r in row] for row in rows_alone] == \
+            [[summary(r)[key] for r in row] for row in whole]
