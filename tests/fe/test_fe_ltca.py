@@ -187,6 +187,63 @@ def test_the_node_loads_of_the_loaded_points_alone_are_those_of_every_point(coar
         np.testing.assert_allclose(g[q], t.weights(pts[q]).T @ np.nan_to_num(forces[q]), rtol=1e-12, atol=1e-9)
 
 
+def _numpy_corners(t, points):
+    """FeTooth.corners as numpy arrays compute it (the form before fe.lines.corners)."""
+    p = np.asarray(points, dtype=float).reshape(-1, 3)
+    ns, nz = t.radius_mm.shape
+    ok = np.all(np.isfinite(p), axis=1)
+    p = np.where(ok[:, None], p, t.data.points_mm[t.index][0, 0])
+    z = np.clip(p[:, 2], t.z_mm[0], t.z_mm[-1])
+    fz = np.interp(z, t.z_mm, np.arange(nz))
+    jz = np.minimum(fz.astype(int), nz - 2)
+    tz = fz - jz
+    r = np.hypot(p[:, 0], p[:, 1])
+    col = (1 - tz)[:, None] * t.radius_mm[:, jz].T + tz[:, None] * t.radius_mm[:, jz + 1].T
+    js = np.clip(np.sum(col <= r[:, None], axis=1) - 1, 0, ns - 2)
+    rows = np.arange(p.shape[0])
+    lo, hi = col[rows, js], col[rows, js + 1]
+    ts = np.clip((r - lo) / (hi - lo), 0.0, 1.0)
+    nodes = np.stack([(js + da) * nz + jz + dz for da in (0, 1) for dz in (0, 1)], axis=1)
+    w = np.stack([wa * wz for wa in (1 - ts, ts) for wz in (1 - tz, tz)], axis=1)
+    return nodes, np.where(ok[:, None], w, 0.0)
+
+
+@pytest.mark.parametrize("member", ["pinion", "gear"])
+def test_the_compiled_corners_and_line_compliances_are_those_of_numpy(coarse_teeth, member):
+    """fe.lines (compiled): each point's four load-grid nodes and weights bit for bit those of the numpy
+    form (points between and on the grid's nodes and z levels, beyond its ends, off the surfaces), on both
+    backends; the line compliances W C W^T those of the dense product to round-off, symmetric."""
+    from beveloid.fe import lines
+    from beveloid.fe.contact import FeTooth
+
+    t = FeTooth(coarse_teeth[member], "right")
+    grid = np.asarray(coarse_teeth[member].points_mm[1]).reshape(-1, 3)
+    rng = np.random.default_rng(5)
+    pts = grid[rng.integers(0, len(grid), 6000)] * (1.0 + rng.normal(0.0, 0.05, (6000, 3)))
+    pts[::50] = grid[rng.integers(0, len(grid), 120)]  # on the nodes
+    pts[1::50, 2] = t.z_mm[rng.integers(0, t.z_mm.size, 120)]  # on the z levels
+    pts[2::97] = np.nan
+    pts[3::89, 0] = np.inf
+    ref_nodes, ref_w = _numpy_corners(t, pts)
+    nodes, w = t.corners(pts)
+    np.testing.assert_array_equal(nodes, ref_nodes)
+    np.testing.assert_array_equal(w.view(np.int64), ref_w.view(np.int64))  # to the bit, signed zeros too
+    few = slice(0, 300)
+    n2, w2 = np.empty((300, 4), dtype=np.int64), np.empty((300, 4))
+    lines.corners(pts[few], t._radius, t._z, t._spare, n2, w2)  # the interpreted form
+    np.testing.assert_array_equal(n2, ref_nodes[few])
+    np.testing.assert_array_equal(w2, ref_w[few])
+    line = pts[:440].reshape(40, 11, 3)
+    W = t.weights(line.reshape(-1, 3)).reshape(40, 11, -1)
+    dense = (W @ t.compliance_mm_per_n) @ np.swapaxes(W, 1, 2)
+    got = t.line_compliances(line)
+    np.testing.assert_allclose(got, dense, rtol=1e-13, atol=1e-15 * np.abs(dense).max())
+    np.testing.assert_allclose(got, np.swapaxes(got, 1, 2), rtol=1e-13, atol=1e-15 * np.abs(dense).max())
+    interpreted = np.empty((2, 11, 11))
+    lines.line_compliances(t.compliance_mm_per_n, *(a.reshape(-1, 11, 4)[:2] for a in t.corners(line[:2])), interpreted)
+    np.testing.assert_array_equal(interpreted, got[:2])
+
+
 def test_root_stresses_of_many_sets_are_those_of_every_node(coarse_teeth):
     """The batched root stress (bounds from each column's eigenvalues, pruned by blocks of nodes and by
     node; closed-form eigenvalues) against numpy's eigenvalues at every counted fillet node (beyond the
