@@ -111,7 +111,8 @@ def analyze_many(pair, load: LoadCase, options: Options | None = None, *, solver
     torques = np.array(load.torques_nm, dtype=float)
     errors = load.error_sets(pair)
     geom = getattr(pair, "geometry", pair)
+    leave_out = tuple(k for k, kept in (("convergence", convergence), ("along_face", along_face)) if not kept)
     results = run_many(geom, list(errors), list(torques), options, _material(pair, options), Solver.of(solver),
-                       pair=pair, convergence=convergence, along_face=along_face)
+                       pair=pair, leave_out=leave_out)
     return Batch(torque_nm=torques, errors=errors, results=tuple(tuple(r) for r in results), pair=pair,
                  options=options)
