@@ -56,6 +56,27 @@ def test_the_box_leaves_out_the_root_stress_along_the_face_and_nothing_else(case
                 same(getattr(c, f.name), getattr(a, f.name), f.name)
 
 
+def test_a_pairs_flank_departure_is_measured_once_per_pair(case1, coarse_teeth, monkeypatch):
+    """The FE tooth's departure note (the flank against its body) is measured once per (pair, member, FE
+    data): optimize's candidate calls the loaded engine three times on one pair; another pair object is
+    measured again; the notes are those of the first call."""
+    from beveloid.ltca.model import teeth
+    from beveloid.pair import Pair
+    from beveloid.tooth import departure
+
+    monkeypatch.setattr(cache, "cached_tooth_data", lambda pair, member, *a, **k: (coarse_teeth[member], "hit"))
+    calls = []
+    real = departure.flank_departure
+    monkeypatch.setattr(departure, "flank_departure", lambda *a, **k: calls.append(a[1]) or real(*a, **k))
+    getattr(teeth, "_DEPARTURES", {}).clear()  # (a module of the older code has none: it measures every call)
+    options = ltca.Options(positions=4, tooth_model="fe")
+    first = ltca.analyze_many(case1, ltca.LoadCase([150.0]), options, convergence=False).results[0][0]
+    again = ltca.analyze_many(case1, ltca.LoadCase([300.0]), options, convergence=False).results[0][0]
+    assert calls == ["pinion", "gear"] and first.notes[:1] == again.notes[:1]
+    ltca.analyze_many(Pair.example("case1"), ltca.LoadCase([150.0]), options, convergence=False)
+    assert calls == ["pinion", "gear"] * 2
+
+
 def test_json_has_the_fe_keys_and_is_strict(results, case1):
     d = results["fe"].to_json()
     json.dumps(d, allow_nan=False)
