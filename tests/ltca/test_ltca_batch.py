@@ -456,3 +456,22 @@ def test_the_tolerance_box_hands_out_small_tasks_with_the_numbers_of_whole_batch
     for key in ("te_peak_to_peak_urad", "max_pressure_mpa"):
         assert [[r[key] for r in row] for row in rows] == [[r[key] for r in row] for row in rows_alone] == \
             [[summary(r)[key] for r in row] for row in whole]
+
+
+def test_the_setups_of_many_error_sets_are_each_sets_own(pair):
+    """``cycle.setups`` (what ``analyze_many`` builds: the principal frames of every error set in one
+    evaluation of the surfaces) gives every Setup array and frame of each set's own ``Setup`` bit for bit."""
+    from beveloid.ltca.passes.cycle import Setup, setups
+    from beveloid.solver import Solver
+
+    sets = [(0.0, 0.0, 0.0, 0.0, 0.0), (0.02, 0.0, -0.01, 0.0, 0.0), (0.0, 0.01, 0.0, 1e-4, -1e-4)]
+    together = setups(pair.geometry, "right", sets, 5, 3, Solver())
+    for e, a in zip(sets, together):
+        b = Setup(pair.geometry, "right", e, 5, 3, Solver())
+        assert set(vars(a)) == set(vars(b))
+        for key, value in vars(b).items():
+            if isinstance(value, np.ndarray):
+                np.testing.assert_array_equal(getattr(a, key), value, err_msg=key)
+        for field, value in zip(b.frame._fields, b.frame):
+            np.testing.assert_array_equal(getattr(a.frame, field), value, err_msg=field)
+        assert (a.gear_sign, a.pinion_sign, a.max_along_mm) == (b.gear_sign, b.pinion_sign, b.max_along_mm)

@@ -27,7 +27,8 @@ from ... import tca
 from ...mesh import cycle_positions_text
 from ...status import LoadedStatus
 from ..model import grid as grids
-from .cycle import Problem, Setup, held_contact, merge, solve_many
+from .cycle import Problem, held_contact, merge, solve_many
+from .cycle import setups as cycle_setups
 from ..options import Material, Options
 from ..results.result import (MAX_HALF_WIDTH_TIMES_CURVATURE, MAX_PRESSURE_OVER_E_STAR, VALIDITY_SEPARATOR, Convergence,
                      LTCAResult)
@@ -53,7 +54,7 @@ def run_many(geom, error_sets, torques_nm, options: Options, material: Material,
     options.check_memory()
     teeth, body_notes = member_teeth(pair, geom, options, material)
     with one_blas_thread(), np.errstate(all="ignore"):
-        setups = [Setup(geom, options.flank, e, options.positions, options.pairs, solver) for e in error_sets]
+        setups = cycle_setups(geom, options.flank, error_sets, options.positions, options.pairs, solver)
         cases = [(s, float(t)) for s in setups for t in torques_nm]
         results = _run(cases, options, material, teeth, body_notes, leave_out)
     held = geom if pair is None else pair
