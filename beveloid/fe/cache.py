@@ -241,8 +241,7 @@ def cached_tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: in
         except OSError:
             pass
     else:
-        with contextlib.suppress(OSError):
-            os.utime(path)  # used now: the last to go when the folder is pruned
+        _used(path)
     stamp = _stamp(path)
     if stamp is not None:
         _KEPT[path, key] = (stamp, data, arrays)
@@ -292,7 +291,7 @@ def limit_bytes() -> int:
 
 
 def prune(keep: Path | None = None) -> list:
-    """Remove the least recently used entries (by modification time: written or read) until the
+    """Remove the least recently used entries (by access time: written or read, :func:`_used`) until the
     folder's ``.npz`` files fit in :func:`limit_bytes`, never ``keep`` (the entry just written), and
     the temporary files of interrupted writes older than :data:`ORPHAN_AGE_S`.  Entries made by
     other code (another :func:`code_digest`) are never read again by this install and age out this
@@ -311,7 +310,7 @@ def prune(keep: Path | None = None) -> list:
                 p.unlink()
                 removed.append(p)
         elif p.suffix == ".npz":
-            entries.append((st.st_mtime, st.st_size, p))
+            entries.append((max(st.st_atime, st.st_mtime), st.st_size, p))
     total, limit = sum(e[1] for e in entries), limit_bytes()
     for _, size, p in sorted(entries, key=lambda e: e[0]):
         if total <= limit:
@@ -325,8 +324,18 @@ def prune(keep: Path | None = None) -> list:
     return removed
 
 
+def _used(path: Path) -> None:
+    """Mark an entry read now: its access time (what :func:`prune` orders by), not its modification time,
+    which stays the entry's :func:`_stamp`: a read by one process (another worker of the same command)
+    must not make every other process's copy of the entry look changed (issue 59: the two workers of
+    ``optimize --workers 2`` read a ~100 MB entry again on most of their calls, each read marking it)."""
+    with contextlib.suppress(OSError):
+        os.utime(path, ns=(time.time_ns(), path.stat().st_mtime_ns))
+
+
 def _stamp(path: Path):
-    """(size, mtime_ns) of a cache entry, None when it is not there."""
+    """(size, mtime_ns) of a cache entry, None when it is not there: it changes when the entry is written
+    (replaced or rewritten), not when it is read (:func:`_used`)."""
     try:
         st = path.stat()
     except OSError:

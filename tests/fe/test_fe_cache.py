@@ -41,6 +41,27 @@ def test_miss_then_hit_in_the_folder_named_by_the_environment(counted, case1, tm
     assert np.array_equal(again.stress_mpa_per_n, data.stress_mpa_per_n)
 
 
+def test_a_read_by_another_process_keeps_this_processs_copy(counted, case1, monkeypatch):
+    """The workers of one command read the same entry: a read marks the entry used (for the size limit)
+    without changing what says it was rewritten, so the other workers keep their copies in memory (issue
+    59: two optimize workers each read a ~100 MB entry again on most of their calls).  The other process
+    is emulated here: this process's copy set aside, the entry read from the file as a second process does,
+    then this process's copy put back."""
+    reads = []
+    read = cache._read
+    monkeypatch.setattr(cache, "_read", lambda *a: reads.append(1) or read(*a))
+    mine, _ = _get(case1)  # computed and written: kept in this process
+    kept = dict(cache._KEPT)
+    cache._KEPT.clear()
+    other, how = _get(case1)  # "another process": read from the file, marked used
+    assert how == "hit" and len(reads) == 2 and other is not mine
+    cache._KEPT.clear()
+    cache._KEPT.update(kept)
+    again, how = _get(case1)
+    assert how == "hit" and again is mine and len(reads) == 2  # no third read of the file
+    assert counted == ["pinion"]
+
+
 def test_every_input_is_in_the_key(counted, case1):
     _get(case1)
     _get(case1, e=2.0e5)  # another material: another entry
@@ -128,8 +149,8 @@ def test_the_folder_keeps_to_its_size_limit_dropping_the_least_recently_used(cou
     os.utime(entry, (old, old))
     _get(case1, "pinion", e=2.1e5)  # a second entry: both fit
     assert len(list(folder.glob("*.npz"))) == 2 and not orphan.exists()
-    _get(case1, "pinion")  # read: the first entry is now the most recently used
-    assert entry.stat().st_mtime > old + 1
+    _get(case1, "pinion")  # read: the first entry is now the most recently used (its access time)
+    assert entry.stat().st_atime > old + 1
     _get(case1, "pinion", e=2.2e5)  # a third: the least recently used (the second) goes
     names = {p.name for p in folder.glob("*.npz")}
     assert len(names) == 2 and entry.name in names
