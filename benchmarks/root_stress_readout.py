@@ -25,12 +25,14 @@ table: per member the default / refinement 2 - 1 of each candidate.
 
 ``--notch``: the candidates on the near-spur pinions of ``benchmarks/notch_benchmark.py fe-tooth`` (a line
 load uniform along the face at the tip and at d_en) over the converged 2D section (refinement 4).
-Peak memory: the refinement-2 tooth of one member, 5-10 GB; FE data cached (BEVELOID_CACHE_DIR).
+Peak memory: 9-13 GB a design measured while the script held every candidate's copy at once (it now holds
+one); FE data cached (BEVELOID_CACHE_DIR).
 """
 from __future__ import annotations
 
 import argparse
 import dataclasses
+import itertools
 import sys
 import time
 from pathlib import Path
@@ -74,17 +76,17 @@ def fillet_profile_mm(sampler, flank: str, points_mm, height_mm) -> np.ndarray:
     return (1.0 - t) * at[k, cols] + t * at[k + 1, cols]
 
 
-def readouts(raw, sampler, face_mm: float, fillet_mm: float, refinement: int) -> dict:
-    """{candidate: ToothData} the nodal means ``raw`` smoothed by each candidate; ``fillet_mm`` the fillet
-    element at refinement 1."""
+def readouts(raw, sampler, face_mm: float, fillet_mm: float, refinement: int):
+    """(candidate, ToothData) the nodal means ``raw`` smoothed by each candidate in turn (one copy of the
+    stresses at a time); ``fillet_mm`` the fillet element at refinement 1."""
     from beveloid.fe.contact import smoothed_data
     from beveloid.names import FLANKS
 
     u = np.stack([fillet_profile_mm(sampler, f, raw.fillet_points_mm[i], raw.fillet_height_mm[i])
                   for i, f in enumerate(FLANKS)])
     across = {"height": raw, "profile": dataclasses.replace(raw, fillet_height_mm=u)}
-    return {c: smoothed_data(across[c[0]], face_mm, c[1] * fillet_mm / (refinement if c[3] else 1), c[2])
-            for c in CANDIDATES}
+    for c in CANDIDATES:
+        yield c, smoothed_data(across[c[0]], face_mm, c[1] * fillet_mm / (refinement if c[3] else 1), c[2])
 
 
 def designs(args) -> None:
@@ -122,11 +124,12 @@ def designs(args) -> None:
             read = {}
             for ref in (1, 2):
                 raw, _ = cached_tooth_data(pair, m, *moduli[m], ref, smooth=False)
-                for c, d in [("nodal", raw)] + list(readouts(raw, sampler, 0.15 * geometry.normal_module_mm,
-                                                            sizes.fillet_mm, ref).items()):
+                for c, d in itertools.chain([("nodal", raw)], readouts(raw, sampler, 0.15 * geometry.normal_module_mm,
+                                                                       sizes.fillet_mm, ref)):
                     tooth = FeTooth(d, flank)
                     s = root_stresses((tooth, mate) if m == "pinion" else (mate, tooth), r, r.converged)
                     read[c, ref] = float(np.nanmax(s["tension"][m]))
+                    del d, tooth
                 del raw
             cells = [f"{read[c, 1]:.1f} / {read[c, 2]:.1f} ({read[c, 1] / read[c, 2] - 1:+.1%})" for c in CANDIDATES]
             print(f"| {name} | {m} | {sizes.fillet_radius_mm:.3f} / {sizes.fillet_mm:.3f} | {read['nodal', 1]:.1f} / "
@@ -153,7 +156,8 @@ def notch(args) -> None:
         for ref in args.refinement:
             raw, _ = cached_tooth_data(pair, "pinion", *material(pair), ref, smooth=False)
             cells = []
-            for d in [raw] + list(readouts(raw, sampler, 0.15 * pair.geometry.normal_module_mm, fillet, ref).values()):
+            for _, d in itertools.chain([(None, raw)], readouts(raw, sampler, 0.15 * pair.geometry.normal_module_mm,
+                                                                fillet, ref)):
                 cells.append(" / ".join(f"{ps.fe_tooth_line_load(d, pair.geometry, 'pinion', ld).max_mpa_per_n_mm / t.tension_mpa_per_n_mm:.3f}"
                                         for ld, t in zip(loads, two)))
             print(f"| {name} | {ref} | " + " | ".join(cells) + " |", flush=True)
