@@ -267,11 +267,11 @@ def _compile_outside_core():
 
 
 def _principal_stresses():
-    """fe/principal.py's compiled functions called as fe/contact.py calls them (C-contiguous float64
-    operators (nodes, 6, G), loads (Q, G)), on a made-up tensor field."""
+    """fe/principal.py's and fe/lines.py's compiled functions called as fe/contact.py calls them (C-contiguous
+    float64 operators (nodes, 6, G), loads (Q, G)), on a made-up tensor field."""
     import numpy as np
 
-    from beveloid.fe import principal
+    from beveloid.fe import lines, principal
 
     fn = principal.functions()
     op = np.ascontiguousarray(np.arange(2 * 6 * 3, dtype=float).reshape(2, 6, 3))
@@ -281,6 +281,11 @@ def _principal_stresses():
     fn.extreme(fillet, np.ones((1, 3)), 1.0, np.zeros(1, dtype=np.int64), np.full(1, np.nan))
     fn.slice_extremes(fillet, np.ones((1, 3)), 0, 1.0, np.ones(2, dtype=np.bool_), np.zeros(2, dtype=np.int64),
                       np.empty(1))
+    # fe/lines.py's W C W^T, as FeTooth.line_compliances calls it
+    lines.functions().line_compliances(np.eye(4), np.zeros((1, 2, 4), dtype=np.int64), np.ones((1, 2, 4)),
+                                       np.empty((1, 2, 2)))
+    lines.functions().corners(np.zeros((1, 3)), np.array([[1.0, 1.0], [2.0, 2.0]]), np.arange(2.0), np.zeros(3),
+                              np.empty((1, 4), dtype=np.int64), np.empty((1, 4)))
 
 
 def _compile_solver():

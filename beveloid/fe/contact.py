@@ -29,7 +29,7 @@ import typing
 import numpy as np
 
 from ..names import FLANKS
-from . import principal
+from . import lines, principal
 
 __all__ = ["FeTooth", "RootStress", "SMOOTH_FACE_PER_MODULE", "SMOOTH_HEIGHT_PER_FILLET_SIZE", "SMOOTH_MIN_NODES",
            "smooth_stress", "smoothed_data", "smoothing_matrix", "smoothing_window_mm", "tooth_arrays"]
@@ -186,6 +186,9 @@ class FeTooth:
         self.compliance_mm_per_n = a["compliance_mm_per_n"]
         self.radius_mm = np.asarray(data.radius_mm[self.index])  # (ns, nz)
         self.z_mm = np.asarray(data.z_mm)
+        # as fe.lines.corners reads them
+        self._radius, self._z = np.ascontiguousarray(self.radius_mm, dtype=float), np.ascontiguousarray(self.z_mm, dtype=float)
+        self._spare = np.ascontiguousarray(data.points_mm[self.index][0, 0], dtype=float)
         self.stress = np.asarray(data.stress_mpa_per_n[self.index])  # (2, nf, 6, G)
         self.near = a["near"]
         # the stress operators (rows node-major, 6 components, G columns) of the loaded side's fillet (0)
@@ -196,27 +199,15 @@ class FeTooth:
                              for i, s in enumerate(self.sides))
 
     def corners(self, points) -> tuple:
-        """(nodes (n, 4) int, weights (n, 4)): the four load-grid nodes (profile-major) of each point (n, 3)
-        and their bilinear weights; weights of zero for a point that is not finite."""
-        p = np.asarray(points, dtype=float).reshape(-1, 3)
-        ns, nz = self.radius_mm.shape
+        """(nodes (n, 4) int, weights (n, 4)): the four load-grid nodes (profile-major) of each point (n, 3) and
+        their bilinear weights (:func:`beveloid.fe.lines.corners`); weights of zero for a point that is not
+        finite."""
+        p = np.ascontiguousarray(points, dtype=float).reshape(-1, 3)
+        nodes, w = np.empty((p.shape[0], 4), dtype=np.int64), np.empty((p.shape[0], 4))
         # a point off the surfaces (NaN: a cell of a pair without contact) carries no load: zero weights,
         # placed anywhere finite so that no index is made of a NaN
-        ok = np.all(np.isfinite(p), axis=1)
-        p = np.where(ok[:, None], p, self.data.points_mm[self.index][0, 0])
-        z = np.clip(p[:, 2], self.z_mm[0], self.z_mm[-1])
-        fz = np.interp(z, self.z_mm, np.arange(nz))
-        jz = np.minimum(fz.astype(int), nz - 2)
-        tz = fz - jz
-        r = np.hypot(p[:, 0], p[:, 1])
-        col = (1 - tz)[:, None] * self.radius_mm[:, jz].T + tz[:, None] * self.radius_mm[:, jz + 1].T  # (n, ns)
-        js = np.clip(np.sum(col <= r[:, None], axis=1) - 1, 0, ns - 2)
-        rows = np.arange(p.shape[0])
-        lo, hi = col[rows, js], col[rows, js + 1]
-        ts = np.clip((r - lo) / (hi - lo), 0.0, 1.0)
-        nodes = np.stack([(js + da) * nz + jz + dz for da in (0, 1) for dz in (0, 1)], axis=1)  # four distinct
-        w = np.stack([wa * wz for wa in (1 - ts, ts) for wz in (1 - tz, tz)], axis=1)
-        return nodes, np.where(ok[:, None], w, 0.0)
+        lines.functions().corners(p, self._radius, self._z, self._spare, nodes, w)
+        return nodes, w
 
     def weights(self, points) -> np.ndarray:
         """(n, G) the bilinear weights of the load grid's nodes for points (n, 3) (:meth:`corners`)."""
@@ -229,10 +220,15 @@ class FeTooth:
         return self.line_compliances(np.asarray(points, dtype=float)[None])[0]
 
     def line_compliances(self, points) -> np.ndarray:
-        """(Q, n, n) W C W^T of Q point sets (Q, n, 3) in one product."""
+        """(Q, n, n) W C W^T of Q point sets (Q, n, 3): each point's four load-grid nodes gather their rows
+        and entries of C (:mod:`beveloid.fe.lines`: the dense product's sums, in another order)."""
         p = np.asarray(points, dtype=float)
-        W = self.weights(p.reshape(-1, 3)).reshape(p.shape[0], p.shape[1], -1)
-        return (W @ self.compliance_mm_per_n) @ np.swapaxes(W, 1, 2)
+        Q, n = p.shape[:2]
+        nodes, w = self.corners(p.reshape(-1, 3))
+        out = np.empty((Q, n, n))
+        lines.functions().line_compliances(np.ascontiguousarray(self.compliance_mm_per_n), nodes.reshape(Q, n, 4),
+                                           w.reshape(Q, n, 4), out)
+        return out
 
     def loads(self, points, forces_n) -> np.ndarray:
         """(Q, G) the load-grid node forces g = W^T f of Q load sets: ``points`` (Q, n, 3), ``forces_n``

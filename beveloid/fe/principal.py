@@ -143,7 +143,7 @@ def extreme(fillet, g, sign, node, value):
     equal values), among the nodes not ``near`` (G, nc, non-zero: within the reading depth) a column
     the set loads; node -1 and value NaN where every node is near a loaded column.  The tensors are
     summed over the set's non-zero loads only.  The blocks are visited by their bound @ g, largest
-    first, until one cannot reach the best value found; in a block a node is solved only where its
+    first (the largest left picked at each step), until one cannot reach the best value found; in a block a node is solved only where its
     bound (:func:`bounds` @ g) can: every other node cannot hold the extreme (module docstring)."""
     op, bound, top, order, size, near = fillet
     Q, G = g.shape
@@ -161,13 +161,17 @@ def extreme(fillet, g, sign, node, value):
             w = g[q, c]
             for blk in range(nb):
                 bb[blk] += top[c, blk] * w
-        rank = np.argsort(-bb)
         k = -1
         best = -np.inf
         for r in range(nb):
-            blk = rank[r]
-            if k >= 0 and bb[blk] < best:
+            # the block of the largest bound not yet visited (a few of the blocks are visited: no sort of all)
+            blk = -1
+            for c in range(nb):
+                if blk < 0 or bb[c] > bb[blk]:
+                    blk = c
+            if bb[blk] == -np.inf or (k >= 0 and bb[blk] < best):
                 break
+            bb[blk] = -np.inf  # visited
             for s in range(blk * size, min(nc, (blk + 1) * size)):
                 i = order[s]
                 b = 0.0
@@ -201,7 +205,7 @@ def fillet(op, sign, order, size, near) -> Fillet:
 
 
 def compile_now() -> None:
-    """Every compiled function made ready now (compiled, or loaded from numba's cache) by a fillet of two
+    """Every compiled function (and fe/lines.py's) made ready now (compiled, or loaded from numba's cache) by a fillet of two
     nodes under three load columns, passed as the FE tooth passes its own (beveloid/fe/contact.py): the
     same argument types, so that its root stresses compile nothing more.  ``beveloid paper`` calls it on
     a worker at the start, before the FE teeth exist, so that its loaded pieces do not compile these
@@ -213,6 +217,12 @@ def compile_now() -> None:
     g = np.ones((1, 3))
     fn.extreme(f, g, 1.0, np.zeros(1, dtype=np.int64), np.full(1, np.nan))
     fn.slice_extremes(f, g, 0, 1.0, np.ones(2, dtype=bool), np.zeros(2, dtype=np.int64), np.empty(1))
+    from . import lines  # the FE tooth's line compliances (FeTooth.line_compliances), compiled with them
+
+    lines.functions().line_compliances(np.eye(3), np.zeros((1, 2, 4), dtype=np.int64), np.ones((1, 2, 4)),
+                                       np.empty((1, 2, 2)))
+    lines.functions().corners(np.zeros((1, 3)), np.array([[1.0, 1.0], [2.0, 2.0]]), np.arange(2.0), np.zeros(3),
+                              np.empty((1, 4), dtype=np.int64), np.empty((1, 4)))
 
 
 def functions():

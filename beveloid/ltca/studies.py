@@ -25,23 +25,27 @@ __all__ = ["CHUNK_SETS", "TASK_SETS", "box_results", "nominal_results", "toleran
 CHUNK_SETS = 8
 #: error sets per task of :func:`tolerance_box`'s workers: one, so that many workers share a box evenly (64
 #: sets in tasks of 8 kept at most 8 busy; in tasks of 2, 16 workers took 3 rounds of 2 sets and the file's
-#: errors); a set's numbers do not depend on the sets analysed with it, and an analysis costs the same in a
-#: batch of 1 as of 8 (issue 59)
+#: errors); a set's numbers do not depend on the sets analysed with it (issue 59).  Without workers the box
+#: runs :data:`CHUNK_SETS` sets a task and the file's errors as one task of every torque: the sets of a
+#: call share its waves (``ltca.passes.analysis``: a set's first torque starts from the first set's contact
+#: set, a torque from the torque before's), 5-10 % less CPU, the same numbers but the active-set iterations
 TASK_SETS = 1
 
 
 def box_results(pair, load, options=None, *, solver=None) -> list:
     """``[[LTCAResult per torque] per error set]`` of ``load`` (its torques x its error sets), one
     :func:`beveloid.ltca.analyze_many` per :data:`CHUNK_SETS` sets, all with ``solver``, without the
-    grid-convergence indicator (``convergence=False``: neither the box nor optimize reports it; each
-    result's ``convergence`` is nan, every other number that of :func:`beveloid.ltca.analyze`)."""
+    grid-convergence indicator and the root stress along the face (``convergence=False``,
+    ``along_face=False``: neither the box, optimize nor the rating's box reports them; each result's
+    ``convergence`` is nan, its ``root_stress_along_face`` empty, every other number that of
+    :func:`beveloid.ltca.analyze`)."""
     from . import analyze_many
 
     sets = load.error_sets(pair)
     out = []
     for start in range(0, len(sets), CHUNK_SETS):
         out += analyze_many(pair, load.at(errors=sets[start:start + CHUNK_SETS]), options, solver=solver,
-                            convergence=False).results
+                            convergence=False, along_face=False).results
     return out
 
 
@@ -72,26 +76,24 @@ def _task(task):
 
 def tolerance_box(pair, load, options=None, *, workers=None, scheduler=None, progress=None, nominal=None):
     """``[[summary (ltca.results.batch.summary, with "errors") per torque] per error set]`` of ``load``'s
-    error sets (the draws), in tasks of :data:`TASK_SETS`: here, on ``workers`` local processes or on
-    the Dask cluster at ``scheduler`` (beveloid.parallel); ``progress(done, total, "error sets")`` after each
-    chunk (a :class:`beveloid.progress.Progress`).
+    error sets (the draws), in tasks of :data:`TASK_SETS` on ``workers`` local processes or on the Dask
+    cluster at ``scheduler`` (beveloid.parallel), of :data:`CHUNK_SETS` here (:func:`_box_tasks`);
+    ``progress(done, total, "error sets")`` after each task (a :class:`beveloid.progress.Progress`).
 
     ``nominal``: a LoadCase (the file's errors) analysed as more tasks on the same workers, one per torque and
     the first (:func:`nominal_results`, patterns included; a torque's analysis does not depend on the torques
     analysed with it), so that the main process runs no analysis (issue 59: the serial part of ``ltca
-    --samples``); then ``(its [LTCAResult per torque], the rows)``."""
+    --samples``); here one task of every torque; then ``(its [LTCAResult per torque], the rows)``."""
     from contextlib import nullcontext
 
     from ..parallel import executor
 
+    parallel = workers is not None or scheduler is not None
+    tasks = _box_tasks(pair, load, options, nominal, parallel)
+    first = sum(t[0] == "nominal" for t in tasks)
     sets = load.error_sets(pair)
-    tasks = [("box", pair, load.at(errors=sets[i:i + TASK_SETS]), options) for i in range(0, len(sets), TASK_SETS)]
-    first = 0 if nominal is None else len(nominal.torques_nm)
-    if nominal is not None:
-        tasks[:0] = [("nominal", pair, nominal.at(torque_nm=[t]), options) for t in nominal.torques_nm]
     out = [None] * len(tasks)
     done = 0
-    parallel = workers is not None or scheduler is not None
     with (executor(workers, scheduler) if parallel else nullcontext()) as ex:
         items = ex.map_unordered(_task, tasks) if parallel else ((i, _task(t)) for i, t in enumerate(tasks))
         for i, res in items:
@@ -103,6 +105,19 @@ def tolerance_box(pair, load, options=None, *, workers=None, scheduler=None, pro
                 progress(done, len(sets), "error sets")
     rows = [row for chunk in out[first:] for row in chunk]
     return rows if nominal is None else ([r for part in out[:first] for r in part], rows)
+
+
+def _box_tasks(pair, load, options, nominal=None, parallel=True) -> list:
+    """The tasks of :func:`tolerance_box` (:func:`_task`'s): on workers (``parallel``) the error sets
+    :data:`TASK_SETS` a task and the file's errors (``nominal``, a LoadCase) one task per torque, first; here
+    :data:`CHUNK_SETS` sets a task and the file's errors one task."""
+    sets = load.error_sets(pair)
+    size = TASK_SETS if parallel else CHUNK_SETS
+    tasks = [("box", pair, load.at(errors=sets[i:i + size]), options) for i in range(0, len(sets), size)]
+    if nominal is not None:
+        tasks[:0] = ([("nominal", pair, nominal.at(torque_nm=[t]), options) for t in nominal.torques_nm] if parallel
+                     else [("nominal", pair, nominal, options)])
+    return tasks
 
 
 def _stats(values) -> dict:

@@ -26,6 +26,57 @@ def results(case1, coarse_teeth):
     return out
 
 
+def test_the_box_leaves_out_the_root_stress_along_the_face_and_nothing_else(case1, coarse_teeth, monkeypatch):
+    """``analyze_many(..., along_face=False)`` (the tolerance box's and optimize's call,
+    ``ltca.studies.box_results``): every result's ``root_stress_along_face`` empty, every other field
+    bit-identical to the full analysis's, which has it."""
+    import collections.abc
+    import dataclasses
+
+    def same(x, y, name):
+        if isinstance(x, collections.abc.Mapping):  # the members' FrozenMaps
+            assert set(x) == set(y), name
+            for k in x:
+                np.testing.assert_equal(x[k], y[k], err_msg=f"{name}[{k}]")
+        else:
+            np.testing.assert_equal(x, y, err_msg=name)
+
+    monkeypatch.setattr(cache, "cached_tooth_data", lambda pair, member, *a, **k: (coarse_teeth[member], "hit"))
+    options = ltca.Options(positions=4, tooth_model="fe")
+    load = ltca.LoadCase([150.0, 300.0])
+    full = ltca.analyze_many(case1, load, options, convergence=False).results[0]
+    lean = ltca.analyze_many(case1, load, options, convergence=False, along_face=False).results[0]
+    boxed = ltca.studies.box_results(case1, load, options)[0]
+    for a, b, c in zip(full, lean, boxed):
+        assert set(a.root_stress_along_face) == {"pinion", "gear"}
+        assert b.root_stress_along_face == {} and c.root_stress_along_face == {}
+        for f in dataclasses.fields(a):
+            if f.name not in ("pair", "root_stress_along_face"):
+                same(getattr(b, f.name), getattr(a, f.name), f.name)
+                same(getattr(c, f.name), getattr(a, f.name), f.name)
+
+
+def test_a_pairs_flank_departure_is_measured_once_per_pair(case1, coarse_teeth, monkeypatch):
+    """The FE tooth's departure note (the flank against its body) is measured once per (pair, member, FE
+    data): optimize's candidate calls the loaded engine three times on one pair; another pair object is
+    measured again; the notes are those of the first call."""
+    from beveloid.ltca.model import teeth
+    from beveloid.pair import Pair
+    from beveloid.tooth import departure
+
+    monkeypatch.setattr(cache, "cached_tooth_data", lambda pair, member, *a, **k: (coarse_teeth[member], "hit"))
+    calls = []
+    real = departure.flank_departure
+    monkeypatch.setattr(departure, "flank_departure", lambda *a, **k: calls.append(a[1]) or real(*a, **k))
+    getattr(teeth, "_DEPARTURES", {}).clear()  # (a module of the older code has none: it measures every call)
+    options = ltca.Options(positions=4, tooth_model="fe")
+    first = ltca.analyze_many(case1, ltca.LoadCase([150.0]), options, convergence=False).results[0][0]
+    again = ltca.analyze_many(case1, ltca.LoadCase([300.0]), options, convergence=False).results[0][0]
+    assert calls == ["pinion", "gear"] and first.notes[:1] == again.notes[:1]
+    ltca.analyze_many(Pair.example("case1"), ltca.LoadCase([150.0]), options, convergence=False)
+    assert calls == ["pinion", "gear"] * 2
+
+
 def test_json_has_the_fe_keys_and_is_strict(results, case1):
     d = results["fe"].to_json()
     json.dumps(d, allow_nan=False)
@@ -155,6 +206,63 @@ def test_the_node_loads_of_the_loaded_points_alone_are_those_of_every_point(coar
     assert not g[2].any() and g[0].sum() > 0
     for q in range(4):
         np.testing.assert_allclose(g[q], t.weights(pts[q]).T @ np.nan_to_num(forces[q]), rtol=1e-12, atol=1e-9)
+
+
+def _numpy_corners(t, points):
+    """FeTooth.corners as numpy arrays compute it (the form before fe.lines.corners)."""
+    p = np.asarray(points, dtype=float).reshape(-1, 3)
+    ns, nz = t.radius_mm.shape
+    ok = np.all(np.isfinite(p), axis=1)
+    p = np.where(ok[:, None], p, t.data.points_mm[t.index][0, 0])
+    z = np.clip(p[:, 2], t.z_mm[0], t.z_mm[-1])
+    fz = np.interp(z, t.z_mm, np.arange(nz))
+    jz = np.minimum(fz.astype(int), nz - 2)
+    tz = fz - jz
+    r = np.hypot(p[:, 0], p[:, 1])
+    col = (1 - tz)[:, None] * t.radius_mm[:, jz].T + tz[:, None] * t.radius_mm[:, jz + 1].T
+    js = np.clip(np.sum(col <= r[:, None], axis=1) - 1, 0, ns - 2)
+    rows = np.arange(p.shape[0])
+    lo, hi = col[rows, js], col[rows, js + 1]
+    ts = np.clip((r - lo) / (hi - lo), 0.0, 1.0)
+    nodes = np.stack([(js + da) * nz + jz + dz for da in (0, 1) for dz in (0, 1)], axis=1)
+    w = np.stack([wa * wz for wa in (1 - ts, ts) for wz in (1 - tz, tz)], axis=1)
+    return nodes, np.where(ok[:, None], w, 0.0)
+
+
+@pytest.mark.parametrize("member", ["pinion", "gear"])
+def test_the_compiled_corners_and_line_compliances_are_those_of_numpy(coarse_teeth, member):
+    """fe.lines (compiled): each point's four load-grid nodes and weights bit for bit those of the numpy
+    form (points between and on the grid's nodes and z levels, beyond its ends, off the surfaces), on both
+    backends; the line compliances W C W^T those of the dense product to round-off, symmetric."""
+    from beveloid.fe import lines
+    from beveloid.fe.contact import FeTooth
+
+    t = FeTooth(coarse_teeth[member], "right")
+    grid = np.asarray(coarse_teeth[member].points_mm[1]).reshape(-1, 3)
+    rng = np.random.default_rng(5)
+    pts = grid[rng.integers(0, len(grid), 6000)] * (1.0 + rng.normal(0.0, 0.05, (6000, 3)))
+    pts[::50] = grid[rng.integers(0, len(grid), 120)]  # on the nodes
+    pts[1::50, 2] = t.z_mm[rng.integers(0, t.z_mm.size, 120)]  # on the z levels
+    pts[2::97] = np.nan
+    pts[3::89, 0] = np.inf
+    ref_nodes, ref_w = _numpy_corners(t, pts)
+    nodes, w = t.corners(pts)
+    np.testing.assert_array_equal(nodes, ref_nodes)
+    np.testing.assert_array_equal(w.view(np.int64), ref_w.view(np.int64))  # to the bit, signed zeros too
+    few = slice(0, 300)
+    n2, w2 = np.empty((300, 4), dtype=np.int64), np.empty((300, 4))
+    lines.corners(pts[few], t._radius, t._z, t._spare, n2, w2)  # the interpreted form
+    np.testing.assert_array_equal(n2, ref_nodes[few])
+    np.testing.assert_array_equal(w2, ref_w[few])
+    line = pts[:440].reshape(40, 11, 3)
+    W = t.weights(line.reshape(-1, 3)).reshape(40, 11, -1)
+    dense = (W @ t.compliance_mm_per_n) @ np.swapaxes(W, 1, 2)
+    got = t.line_compliances(line)
+    np.testing.assert_allclose(got, dense, rtol=1e-13, atol=1e-15 * np.abs(dense).max())
+    np.testing.assert_allclose(got, np.swapaxes(got, 1, 2), rtol=1e-13, atol=1e-15 * np.abs(dense).max())
+    interpreted = np.empty((2, 11, 11))
+    lines.line_compliances(t.compliance_mm_per_n, *(a.reshape(-1, 11, 4)[:2] for a in t.corners(line[:2])), interpreted)
+    np.testing.assert_array_equal(interpreted, got[:2])
 
 
 def test_root_stresses_of_many_sets_are_those_of_every_node(coarse_teeth):

@@ -355,10 +355,11 @@ def test_the_plot_of_a_tolerance_box_draws_its_sets(capsys, tmp_path, monkeypatc
 
 def test_the_tolerance_box_analyses_the_file_errors_as_one_task_per_torque(pair):
     """``tolerance_box(..., nominal=load)``: the analyses at the file's errors (patterns included) run as more
-    tasks beside the chunks, one per torque (the main process of ``ltca --samples`` runs none; issue 59: one
-    task of every torque was the box's longest), the same numbers as ``analyze_many`` of all the torques at
-    once (but the active-set iterations: there a torque starts from the torque before it); the rows the same
-    as without it."""
+    tasks beside the chunks, on workers one per torque (the main process of ``ltca --samples`` runs none;
+    issue 59: one task of every torque was the box's longest), without workers one task of every torque; the
+    same numbers as ``analyze_many`` of all the torques at once either way (but the active-set iterations of
+    a torque analysed alone: in one call a torque starts from the torque before it); the rows the same as
+    without it."""
     options = ltca.Options(**SMALL)
     load = ltca.LoadCase([150.0, 300.0])
     draws = np.array([[0.01, 0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.02, 0.0, 0.0]])
@@ -373,13 +374,17 @@ def test_the_tolerance_box_analyses_the_file_errors_as_one_task_per_torque(pair)
 
     with unittest.mock.patch.object(ltca.studies, "nominal_results", counted):
         results, rows = ltca.studies.tolerance_box(pair, load.at(errors=draws), options, nominal=load)
-    assert [task[1].torques_nm for task in ran] == [(150.0,), (300.0,)]
+    # here (no workers) one task of every torque; on workers one a torque (each analysed alone: the same numbers)
+    assert [task[1].torques_nm for task in ran] == [(150.0, 300.0)]
+    on_workers = ltca.studies._box_tasks(pair, load.at(errors=draws), options, load, parallel=True)
+    assert [t[2].torques_nm for t in on_workers if t[0] == "nominal"] == [(150.0,), (300.0,)]
+    alone = [ltca.studies.nominal_results(t[1:])[0] for t in on_workers if t[0] == "nominal"]
     plain = ltca.studies.tolerance_box(pair, load.at(errors=draws), options)
     assert [[r["te_peak_to_peak_urad"] for r in row] for row in rows] == \
         [[r["te_peak_to_peak_urad"] for r in row] for row in plain]
     direct = ltca.analyze_many(pair, load, options).results[0]
-    assert len(results) == len(direct) == 2
-    for a, b in zip(results, direct):
+    assert len(results) == len(direct) == len(alone) == 2
+    for a, b in [*zip(results, direct), *zip(alone, direct)]:
         assert a.torque_nm == b.torque_nm
         np.testing.assert_array_equal(a.loaded_te, b.loaded_te)
         np.testing.assert_array_equal(a.pressure_mpa, b.pressure_mpa)
@@ -403,23 +408,26 @@ def test_the_solver_says_which_backend_runs_the_contact_kernel_and_why():
 
 
 def test_without_the_convergence_indicator_every_other_number_is_the_same(pair):
-    """``analyze_many(..., convergence=False)`` (what the tolerance box and optimize run: they report no
-    grid-convergence indicator) leaves out the once-coarsened solve: ``convergence`` nan, no "grid not
-    converged" warning, every other array of every result bit-identical to the full analysis; the box's
-    rows are those of the full analyses' summaries."""
+    """``analyze_many(..., convergence=False, along_face=False)`` (what the tolerance box and optimize run:
+    they report no grid-convergence indicator and no root stress along the face) leaves out the
+    once-coarsened solve and the fillet along the face: ``convergence`` nan, no "grid not converged"
+    warning, ``root_stress_along_face`` empty, every other array of every result bit-identical to the full
+    analysis; the box's rows are those of the full analyses' summaries.  (The plate tooth here, which has
+    no fillet: the FE tooth's in tests/fe/test_fe_ltca.py.)"""
     import dataclasses
 
     options = ltca.Options(**SMALL)
     load = ltca.LoadCase([80.0, 300.0], errors=[(0.0, 0.0, 0.0, 0.0, 0.0), (0.02, 0.0, -0.01, 0.0, 0.0)])
     full = ltca.analyze_many(pair, load, options).results
-    lean = ltca.analyze_many(pair, load, options, convergence=False).results
+    lean = ltca.analyze_many(pair, load, options, convergence=False, along_face=False).results
     assert any(np.isfinite(r.convergence.pressure_change).any() for row in full for r in row)
     for row_full, row_lean in zip(full, lean):
         for a, b in zip(row_full, row_lean):
             assert np.isnan(b.convergence.pressure_change).all() and np.isnan(b.convergence.load_change).all()
             assert not any("grid not converged" in w for w in b.warnings())
+            assert b.root_stress_along_face == {}
             for f in dataclasses.fields(a):
-                if f.name in ("convergence", "pair"):
+                if f.name in ("convergence", "pair", "root_stress_along_face"):
                     continue
                 np.testing.assert_equal(getattr(b, f.name), getattr(a, f.name), err_msg=f.name)  # nested, nan == nan
     rows = ltca.studies.tolerance_box(pair, load, options)
@@ -429,9 +437,9 @@ def test_without_the_convergence_indicator_every_other_number_is_the_same(pair):
 
 def test_the_tolerance_box_hands_out_small_tasks_with_the_numbers_of_whole_batches(pair, monkeypatch):
     """Issue 59: the box's workers get TASK_SETS error sets a task, one (64 sets in tasks of 8 kept at most 8
-    workers busy, in tasks of 2 the 16 workers took 3 rounds); every set's row is bit-identical to those of
-    box_results, which batches CHUNK_SETS sets a call (a set's numbers do not depend on the sets analysed
-    with it)."""
+    workers busy, in tasks of 2 the 16 workers took 3 rounds), the box without workers CHUNK_SETS; every set's
+    row is bit-identical either way and to those of box_results, which batches CHUNK_SETS sets a call (a set's
+    numbers do not depend on the sets analysed with it)."""
     options = ltca.Options(**SMALL)
     draws = np.array([[0.01 * k, 0.0, -0.005 * k, 0.0, 0.0] for k in range(5)])
     load = ltca.LoadCase([150.0, 300.0]).at(errors=draws)
@@ -439,9 +447,31 @@ def test_the_tolerance_box_hands_out_small_tasks_with_the_numbers_of_whole_batch
     real = ltca.studies._chunk
     monkeypatch.setattr(ltca.studies, "_chunk", lambda task: tasks.append(len(task[1].error_sets(pair))) or real(task))
     rows = ltca.studies.tolerance_box(pair, load, options)
-    assert ltca.studies.TASK_SETS < ltca.studies.CHUNK_SETS and tasks == [1, 1, 1, 1, 1]
+    assert tasks == [min(5, ltca.studies.CHUNK_SETS)]  # here (no workers): CHUNK_SETS sets a task
+    on_workers = ltca.studies._box_tasks(pair, load, options, parallel=True)
+    assert ltca.studies.TASK_SETS < ltca.studies.CHUNK_SETS
+    assert [len(t[2].error_sets(pair)) for t in on_workers] == [1, 1, 1, 1, 1]
+    rows_alone = [r for t in on_workers for r in ltca.studies._chunk(t[1:])]
     whole = ltca.studies.box_results(pair, load, options)  # one call of 5 sets
-    assert [[r["te_peak_to_peak_urad"] for r in row] for row in rows] == \
-        [[summary(r)["te_peak_to_peak_urad"] for r in row] for row in whole]
-    assert [[r["max_pressure_mpa"] for r in row] for row in rows] == \
-        [[summary(r)["max_pressure_mpa"] for r in row] for row in whole]
+    for key in ("te_peak_to_peak_urad", "max_pressure_mpa"):
+        assert [[r[key] for r in row] for row in rows] == [[r[key] for r in row] for row in rows_alone] == \
+            [[summary(r)[key] for r in row] for row in whole]
+
+
+def test_the_setups_of_many_error_sets_are_each_sets_own(pair):
+    """``cycle.setups`` (what ``analyze_many`` builds: the principal frames of every error set in one
+    evaluation of the surfaces) gives every Setup array and frame of each set's own ``Setup`` bit for bit."""
+    from beveloid.ltca.passes.cycle import Setup, setups
+    from beveloid.solver import Solver
+
+    sets = [(0.0, 0.0, 0.0, 0.0, 0.0), (0.02, 0.0, -0.01, 0.0, 0.0), (0.0, 0.01, 0.0, 1e-4, -1e-4)]
+    together = setups(pair.geometry, "right", sets, 5, 3, Solver())
+    for e, a in zip(sets, together):
+        b = Setup(pair.geometry, "right", e, 5, 3, Solver())
+        assert set(vars(a)) == set(vars(b))
+        for key, value in vars(b).items():
+            if isinstance(value, np.ndarray):
+                np.testing.assert_array_equal(getattr(a, key), value, err_msg=key)
+        for field, value in zip(b.frame._fields, b.frame):
+            np.testing.assert_array_equal(getattr(a.frame, field), value, err_msg=field)
+        assert (a.gear_sign, a.pinion_sign, a.max_along_mm) == (b.gear_sign, b.pinion_sign, b.max_along_mm)

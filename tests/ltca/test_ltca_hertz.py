@@ -135,3 +135,29 @@ def test_user_errors(call, match):
     with pytest.raises(ValueError, match=match) as err:
         call()
     assert "\n" not in str(err.value)
+
+
+def test_the_grids_semi_axes_are_those_of_hertz_point_contact_to_the_bit():
+    """``grid.hertz_semi_axes`` (every pair's grid, unchecked ``hertz.semi_axes_mm`` in a loop) gives
+    ``hertz_point_contact``'s semi-axes bit for bit, and the line contact's half-width beyond the line."""
+    from beveloid.ltca.model import grid
+
+    rng = np.random.default_rng(4)
+    k_across = 10.0 ** rng.uniform(-2.0, 1.0, 300)
+    k_along = k_across * 10.0 ** rng.uniform(-9.0, 0.0, 300)
+    load = 10.0 ** rng.uniform(0.0, 4.0, 300)
+    k_along[::17], load[::23], k_across[::29] = np.nan, 0.0, -1.0
+    b, a = grid.hertz_semi_axes(k_across.reshape(20, 15), k_along.reshape(20, 15), load.reshape(20, 15), 1.1e5, 30.0)
+    assert b.shape == a.shape == (20, 15)
+    b, a = b.ravel(), a.ravel()
+    for i in range(300):
+        ka, kl, f = k_across[i], k_along[i], load[i]
+        if not (ka > 0 and f > 0):
+            assert np.isnan(b[i]) and np.isnan(a[i])
+            continue
+        if np.isfinite(kl) and ka / kl < 1e8:
+            h = hertz_point_contact(kl / 2, ka / 2, f, 1.1e5)
+            if h.semi_major_mm < 30.0:
+                assert (b[i], a[i]) == (h.semi_minor_mm, h.semi_major_mm)
+                continue
+        assert a[i] == np.inf and b[i] == hertz_line_contact(1.0 / ka, f / 30.0, 1.1e5).half_width_mm

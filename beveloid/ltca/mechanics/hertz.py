@@ -140,13 +140,22 @@ def hertz_point_contact(
     target = large / small
     if target > 1e10:
         raise ValueError(f"curvature ratio {target!r}: must be <= 1e10 (use hertz_line_contact beyond)")
-    q, k, e, m, k_minus_e_over_m = _shape(target)
-    a = (3.0 * p * k_minus_e_over_m / (2.0 * math.pi * es * small)) ** (1.0 / 3.0)
-    b = q * a
+    q, k, e, m, _ = _shape(target)
+    a, b = semi_axes_mm(ax, by, p, es)
     p0 = 3.0 * p / (2.0 * math.pi * a * b)
     delta = p0 * b * k / es
     ax_x, ax_y = (a, b) if ax <= by else (b, a)
     return HertzPointContact(a, b, ax_x, ax_y, p0, delta, math.sqrt(m), p)
+
+
+def semi_axes_mm(a_coef_per_mm: float, b_coef_per_mm: float, load_n: float, e_star_mpa: float) -> tuple:
+    """(semi-major, semi-minor) mm of :func:`hertz_point_contact`'s ellipse, by its arithmetic, for arguments it
+    would accept (floats, finite and > 0, the ratio of the coefficients at most 1e10), unchecked: the LTCA
+    sizes every pair's grid by it (ltca.model.grid.hertz_semi_axes, thousands of pairs a call)."""
+    small, large = min(a_coef_per_mm, b_coef_per_mm), max(a_coef_per_mm, b_coef_per_mm)
+    q, _, _, _, k_minus_e_over_m = _shape(large / small)
+    a = (3.0 * load_n * k_minus_e_over_m / (2.0 * math.pi * e_star_mpa * small)) ** (1.0 / 3.0)
+    return a, q * a
 
 
 def hertz_line_contact(radius_mm: float, load_per_length_n_per_mm: float, e_star_mpa: float) -> HertzLineContact:

@@ -10,6 +10,7 @@ Newtons converged and both points are on their blanks by the one boundary rule,
 """
 from __future__ import annotations
 
+import functools
 import typing
 
 import numpy as np
@@ -82,16 +83,22 @@ def serpentine_gaps(setup, frames: Frames, coords, shape, solver, by_columns=Fal
 
 def _serpentine(a, shape, by_columns, back=False):
     """a (Q, rows x columns, ...) row-major in ``shape`` put in the order its rows (``by_columns``: its
-    columns) are visited, every other one reversed; ``back``: the order undone."""
-    lead, tail = a.shape[:1], a.shape[2:]
+    columns) are visited, every other one reversed; ``back``: the order undone (one gather, C-contiguous)."""
+    return np.take(a, _serpentine_order(tuple(shape), bool(by_columns), bool(back)), axis=1)
+
+
+@functools.lru_cache(maxsize=64)
+def _serpentine_order(shape, by_columns, back):
+    """The indices of :func:`_serpentine` (rows x columns,): the visit order, or (``back``) its inverse."""
     walk = shape[::-1] if by_columns else shape
-    if by_columns and not back:
-        a = a.reshape(lead + shape + tail).swapaxes(1, 2)
-    b = a.reshape(lead + walk + tail).copy()
-    b[:, 1::2] = b[:, 1::2, ::-1]  # its own inverse
-    if by_columns and back:
-        b = b.swapaxes(1, 2)
-    return np.ascontiguousarray(b).reshape(lead + (-1,) + tail)
+    idx = np.arange(shape[0] * shape[1]).reshape(shape)
+    b = (idx.T if by_columns else idx).reshape(walk).copy()
+    b[1::2] = b[1::2, ::-1]
+    order = b.ravel()
+    if back:
+        order = np.argsort(order)
+    order.flags.writeable = False
+    return order
 
 
 class PrincipalFrame(typing.NamedTuple):

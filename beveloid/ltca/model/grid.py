@@ -15,7 +15,7 @@ import typing
 
 import numpy as np
 
-from ..mechanics import hertz
+from ..mechanics import checks, hertz
 
 EXTENT_ACROSS = 1.5  #: grid half-extent across the contact line / Hertz semi-minor axis b
 EXTENT_ALONG = 1.5  #: grid half-extent along the contact line / Hertz semi-major axis a
@@ -87,19 +87,20 @@ def hertz_semi_axes(k_across, k_along, load_n, e_star_mpa, line_length_mm):
     2-D half-width with the load spread over ``line_length_mm`` and a = inf."""
     k_across, k_along, load = np.broadcast_arrays(np.asarray(k_across, float), np.asarray(k_along, float),
                                                   np.asarray(load_n, float))
-    b = np.full(k_across.shape, np.nan)
-    a = np.full(k_across.shape, np.nan)
-    for i in np.ndindex(k_across.shape):
-        ka, kl, f = float(k_across[i]), float(k_along[i]), float(load[i])
+    b = np.full(k_across.size, np.nan)
+    a = np.full(k_across.size, np.nan)
+    e_star = checks.positive("e_star_mpa", e_star_mpa)
+    for i, (ka, kl, f) in enumerate(zip(k_across.ravel().tolist(), k_along.ravel().tolist(), load.ravel().tolist())):
         if not (math.isfinite(ka) and ka > 0 and math.isfinite(f) and f > 0):
             continue
         if math.isfinite(kl) and kl > 0 and ka / kl < 1e8:
-            h = hertz.hertz_point_contact(kl / 2, ka / 2, f, e_star_mpa)
-            if h.semi_major_mm < line_length_mm:
-                b[i], a[i] = h.semi_minor_mm, h.semi_major_mm
+            major, minor = hertz.semi_axes_mm(kl / 2, ka / 2, f, e_star)  # hertz_point_contact's, unchecked
+            if major < line_length_mm:
+                b[i], a[i] = minor, major
                 continue
-        line = hertz.hertz_line_contact(1.0 / ka, f / line_length_mm, e_star_mpa)
+        line = hertz.hertz_line_contact(1.0 / ka, f / line_length_mm, e_star)
         b[i], a[i] = line.half_width_mm, math.inf
+    b, a = b.reshape(k_across.shape), a.reshape(k_across.shape)
     return b, a
 
 

@@ -10,7 +10,7 @@
    its position is solved again.
 4. The convergence indicator: the same extents once coarsened, solved again, compared; its along-columns
    placed where the result grid's lie (resampled, not probed again).  Skipped on request
-   (``convergence=False``: nothing else reads it; the result's ``convergence`` is then nan).
+   (``leave_out`` holding "convergence": nothing else reads it; the result's ``convergence`` is then nan).
 Each pass after the first starts its active sets from the previous pass's contact set mapped onto its
 grid (:func:`cycle.mapped_contact`): the same solution, in fewer iterations.  The first and the result pass
 run in waves (:func:`_torque_after_torque`): a position starts from the same error set's contact set at the
@@ -27,7 +27,8 @@ from ... import tca
 from ...mesh import cycle_positions_text
 from ...status import LoadedStatus
 from ..model import grid as grids
-from .cycle import Problem, Setup, held_contact, merge, solve_many
+from .cycle import Problem, held_contact, merge, solve_many
+from .cycle import setups as cycle_setups
 from ..options import Material, Options
 from ..results.result import (MAX_HALF_WIDTH_TIMES_CURVATURE, MAX_PRESSURE_OVER_E_STAR, VALIDITY_SEPARATOR, Convergence,
                      LTCAResult)
@@ -42,26 +43,27 @@ def run(geom, errors, torque_nm: float, options: Options, material: Material, so
 
 
 def run_many(geom, error_sets, torques_nm, options: Options, material: Material, solver, pair=None,
-             convergence=True) -> list:
+             leave_out=()) -> list:
     """``[[LTCAResult of error set k at torque t for t in torques_nm] for k in error_sets]``: every
     (error set, torque) case of one pair in one batch.  The teeth once (the FE data once per pair);
     the rigid reference once per error set (it does not depend on the torque); each pass of the module
     docstring once for every case, its contact problems in one compiled call
     (:func:`cycle.solve_many`); the root stresses of every loaded (position, pair) of a case at once.
-    ``convergence=False``: step 4 of the module docstring left out (each result's convergence nan)."""
+    ``leave_out``: "convergence": step 4 of the module docstring left out (each result's convergence nan);
+    "along_face": no result's ``root_stress_along_face`` (each empty)."""
     options.check_memory()
     teeth, body_notes = member_teeth(pair, geom, options, material)
     with one_blas_thread(), np.errstate(all="ignore"):
-        setups = [Setup(geom, options.flank, e, options.positions, options.pairs, solver) for e in error_sets]
+        setups = cycle_setups(geom, options.flank, error_sets, options.positions, options.pairs, solver)
         cases = [(s, float(t)) for s in setups for t in torques_nm]
-        results = _run(cases, options, material, teeth, body_notes, convergence)
+        results = _run(cases, options, material, teeth, body_notes, leave_out)
     held = geom if pair is None else pair
     results = [dataclasses.replace(r, pair=held) for r in results]  # each holds the pair it was computed for
     T = len(torques_nm)
     return [results[k * T:(k + 1) * T] for k in range(len(setups))]
 
 
-def _run(cases, options, material, teeth, body_notes=(), convergence=True):
+def _run(cases, options, material, teeth, body_notes=(), leave_out=()):
     """The passes of the module docstring over every (setup, torque) case at once."""
     N, P = options.positions, options.pairs
     e_star = material.e_star_mpa
@@ -136,13 +138,14 @@ def _run(cases, options, material, teeth, body_notes=(), convergence=True):
     # (the same extents: the result grid's along-columns, resampled, place it; its contact set starts it)
     checks = solve_all([Problem(s, sol.grid.coarsened(), nd, T, start=sol,
                                 shift_mm=grids.resample_along(sol.gap.across_shift_mm, coarse[1]))
-                        for (s, T), sol, nd in zip(cases, sols, need)]) if convergence else [None] * len(cases)
+                        for (s, T), sol, nd in zip(cases, sols, need)]) if "convergence" not in leave_out else [None] * len(cases)
     out = []
     for (s, T), sol, check, nt in zip(cases, sols, checks, notes):
         fr, geom = s.frame, s.geom
         line = geom.pinion.face_width_mm / max(math.cos(geom.pinion.helix_angle), 0.3)
         hertz_ref = grids.hertz_peak_mpa(fr.curvature_across, fr.curvature_along, sol.pair_load_n(), e_star, line)
-        out.append(_result((s, T), options, sol, check, e_star, nt, hertz_ref, teeth))
+        out.append(_result((s, T), options, sol, check, e_star, nt, hertz_ref,
+                           root_stresses(teeth, sol, sol.converged, "along_face" not in leave_out)))
     return out
 
 
@@ -199,7 +202,9 @@ def _peaks(sol):
     return np.where(np.isfinite(surf), surf, np.nan), np.where(np.isfinite(edge), edge, np.nan)
 
 
-def _result(case, options, sol, check, e_star, notes, hertz_ref, teeth):
+def _result(case, options, sol, check, e_star, notes, hertz_ref, root):
+    """The LTCAResult of one case from its Solution ``sol``, the indicator's ``check`` (None: not computed)
+    and its ``root`` stresses (:func:`root_stresses`)."""
     setup, torque_nm = case  # (the Setup, the torque N m)
     N = options.positions
     ok = sol.converged
@@ -209,7 +214,7 @@ def _result(case, options, sol, check, e_star, notes, hertz_ref, teeth):
     moment = np.einsum("jkc,jk,jkc->j", p, area, np.where(sol.gap.in_flank, sol.gap.pinion_arm_mm, 0.0))
     surface, edge = _peaks(sol)
     total = loads.sum(axis=-1)
-    if check is None:  # the indicator not computed (run_many(..., convergence=False))
+    if check is None:  # the indicator not computed (run_many(..., leave_out=("convergence",)))
         dp = dl = np.full(N, np.nan)
     else:
         surface_c, edge_c = _peaks(check)
@@ -244,7 +249,6 @@ def _result(case, options, sol, check, e_star, notes, hertz_ref, teeth):
     ref = setup.reference
     te_rigid_ref = (setup.gear_angle - tca.unknowns(ref.x).gear_angle_rad
                     + setup.n1_over_n2 * (setup.phi1 - ref.pinion_angle))
-    root = root_stresses(teeth, sol, ok)
     notes = list(notes) + [
         f"{m}: no root stress at {n} loaded tooth pair(s): every fillet node lies within the FE tooth's reading"
         f" depth of the load (the contact reaches the fillet); the largest root stress is that of the other pairs"

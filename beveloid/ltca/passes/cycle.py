@@ -28,7 +28,9 @@ from ..model.grid import edges
 class Setup:
     """Everything of one (geometry, flank, errors, positions, pairs) that does not depend on the grid."""
 
-    def __init__(self, geom, flank, errors, positions, pairs, solver):
+    def __init__(self, geom, flank, errors, positions, pairs, solver, frame=True):
+        """``frame=False``: the principal frames left to the caller (:meth:`with_frame`; :func:`setups`
+        computes those of many error sets at once)."""
         self.geom, self.flank, self.solver = geom, flank, solver
         self.problem = geom.problem(flank)  # the packed surfaces of the gap solves, once
         self.errors = tca.errors_array(errors)
@@ -75,7 +77,13 @@ class Setup:
         self.x = x
         self.start = np.concatenate([x[..., :4], np.where(np.isfinite(self.pair_phi2), self.pair_phi2,
                                                           x[..., 4])[..., None]], axis=-1)
-        self.frame = gaps.principal_frame(geom, flank, x, self.pair_phi1, self.errors)
+        if frame:
+            self.with_frame(gaps.principal_frame(geom, flank, x, self.pair_phi1, self.errors))
+
+    def with_frame(self, frame):
+        """The rest of the set-up, from the principal frames (:func:`gaps.principal_frame`) of ``self.x``."""
+        geom = self.geom
+        self.frame = frame
         self.solved &= np.isfinite(self.frame.axes).all(axis=(-1, -2))
         mn = geom.normal_module_mm
         depth = (geom.pinion.tip_height_mm + geom.pinion.cutter_addendum_mm) / math.cos(geom.normal_pressure_angle)
@@ -108,6 +116,19 @@ class Setup:
         bound = 3.0 * np.abs(rotation_rad) + 2e-6
         with np.errstate(invalid="ignore"):
             return np.abs(self.pair_te - self.te_any[:, None]) > np.where(np.isfinite(bound), bound, np.inf)[:, None]
+
+
+def setups(geom, flank, error_sets, positions, pairs, solver) -> list:
+    """The :class:`Setup` of each error set, their principal frames in one evaluation of the surfaces (the
+    same numbers as each set's own: elementwise arrays, only longer; a crowned candidate's 16 sets 2.6 ms a
+    set one by one, 0.5 ms together)."""
+    out = [Setup(geom, flank, e, positions, pairs, solver, frame=False) for e in error_sets]
+    if out:
+        frames = gaps.principal_frame(geom, flank, np.stack([s.x for s in out]), np.stack([s.pair_phi1 for s in out]),
+                                      np.stack([s.errors for s in out])[:, None, None, :])
+        for k, s in enumerate(out):
+            s.with_frame(gaps.PrincipalFrame(*[a[k] for a in frames]))
+    return out
 
 
 def _fill_between(x, phi1, solved):
