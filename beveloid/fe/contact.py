@@ -102,17 +102,22 @@ def smoothing_window_mm(normal_module_mm: float, fillet_size_mm: float) -> tuple
     return SMOOTH_FACE_PER_MODULE * float(normal_module_mm), SMOOTH_HEIGHT_PER_FILLET_SIZE * float(fillet_size_mm)
 
 
-def smoothing_matrix(points_mm, height_mm, face_mm: float, height_band_mm: float):
+def smoothing_matrix(points_mm, height_mm, face_mm: float, height_band_mm: float, height_order: int = 1):
     """(nf, nf) scipy CSR: row i the weights of a local linear least-squares fit, s(z, h) = c0 + c1 dz + c2 dh
     over the fillet nodes j within |z_j - z_i| <= ``face_mm`` and |h_j - h_i| <= ``height_band_mm`` (h the
     height above the root cone), evaluated at node i (c0).  Linear in the nodes' stresses, so that the
     smoothed tensors of a load set are the smoothed sum of its columns' (fe.principal's bounds hold), and
-    exact for a stress that varies linearly along the face and in height.  Padding repeats of the last
+    exact for a stress that varies linearly along the face and in height.  ``height_order`` 2 adds c3 dh^2:
+    exact for a stress quadratic across the fillet, a curved peak's top not read as its window's mean
+    (``benchmarks/root_stress_readout.py`` measures it against the linear fit; it needs nodes at three
+    heights in a window, and the FE tooth's data uses the linear fit).  Padding repeats of the last
     node (``ToothData.fillet_points_mm``) take the last node's row; a node with fewer than
     :data:`SMOOTH_MIN_NODES` in its window keeps its own value."""
     import scipy.sparse
     from scipy.spatial import cKDTree
 
+    if height_order not in (1, 2):
+        raise ValueError(f"height_order = {height_order!r}: must be 1 (linear across the fillet) or 2 (quadratic)")
     p = np.asarray(points_mm, dtype=float)
     h = np.asarray(height_mm, dtype=float)
     nf = len(p)
@@ -123,8 +128,10 @@ def smoothing_matrix(points_mm, height_mm, face_mm: float, height_band_mm: float
     pairs = cKDTree(x).query_pairs(r=1.0, p=np.inf, output_type="ndarray")
     i = np.concatenate([np.arange(n), pairs[:, 0], pairs[:, 1]])  # each node with itself and its neighbours
     j = np.concatenate([np.arange(n), pairs[:, 1], pairs[:, 0]])
-    a = np.column_stack([np.ones(len(i)), x[j] - x[i]])  # the fit's rows [1, dz, dh] (window units)
-    normal = np.zeros((n, 3, 3))
+    d = x[j] - x[i]
+    a = np.column_stack([np.ones(len(i)), d] + ([d[:, 1] ** 2] if height_order == 2 else []))
+    k = a.shape[1]
+    normal = np.zeros((n, k, k))
     np.add.at(normal, i, a[:, :, None] * a[:, None, :])
     # the fit's value at the node: row 0 of pinv(A) = (A^T A)^+ A^T, rank-deficient windows included
     w = np.einsum("pk,pk->p", np.linalg.pinv(normal, rcond=1e-12)[i, 0], a)
@@ -137,18 +144,19 @@ def smoothing_matrix(points_mm, height_mm, face_mm: float, height_band_mm: float
                                    shape=(nf, nf))
 
 
-def smooth_stress(stress, fillet_points_mm, fillet_height_mm, face_mm: float, height_band_mm: float) -> None:
+def smooth_stress(stress, fillet_points_mm, fillet_height_mm, face_mm: float, height_band_mm: float,
+                  height_order: int = 1) -> None:
     """Smooth ``stress`` (2 flanks loaded, 2 fillets, nf, 6, G; MPa per N) in place: every fillet node's
-    tensor per load-grid node replaced by its local fit (:func:`smoothing_matrix`), one (flank, fillet)
-    slice at a time (no second copy of the whole operator)."""
+    tensor per load-grid node replaced by its local fit (:func:`smoothing_matrix`, ``height_order`` its
+    order across the fillet), one (flank, fillet) slice at a time (no second copy of the whole operator)."""
     nf = stress.shape[2]
     for side in range(2):
-        w = smoothing_matrix(fillet_points_mm[side], fillet_height_mm[side], face_mm, height_band_mm)
+        w = smoothing_matrix(fillet_points_mm[side], fillet_height_mm[side], face_mm, height_band_mm, height_order)
         for f in range(2):
             stress[f, side] = (w @ stress[f, side].reshape(nf, -1)).reshape(stress.shape[2:])
 
 
-def smoothed_data(data, face_mm: float, height_band_mm: float):
+def smoothed_data(data, face_mm: float, height_band_mm: float, height_order: int = 1):
     """``data`` (a ToothData, unsmoothed: ``tooth_data(..., smooth=False)``) with every fillet node's stress
     tensor (per unit load on each load-grid node) replaced by its local fit over the window
     (:func:`smoothing_matrix`), and the window in ``smoothing_mm``.  Each node's stress is the mean of its
@@ -162,7 +170,7 @@ def smoothed_data(data, face_mm: float, height_band_mm: float):
     if np.any(np.asarray(data.smoothing_mm) != 0.0):
         raise ValueError(f"smoothing_mm = {list(np.asarray(data.smoothing_mm))}: the data is already smoothed")
     st = np.array(data.stress_mpa_per_n, dtype=float)
-    smooth_stress(st, data.fillet_points_mm, data.fillet_height_mm, face_mm, height_band_mm)
+    smooth_stress(st, data.fillet_points_mm, data.fillet_height_mm, face_mm, height_band_mm, height_order)
     return dataclasses.replace(data, stress_mpa_per_n=st, smoothing_mm=np.array([face_mm, height_band_mm], dtype=float))
 
 

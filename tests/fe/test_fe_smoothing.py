@@ -33,6 +33,26 @@ def test_the_fit_keeps_a_stress_linear_along_the_face_and_in_height_and_takes_th
     assert abs(np.max(w @ noisy) - np.max(linear)) < 0.25 * excess
 
 
+def test_a_quadratic_fit_across_the_fillet_reads_a_curved_peak_where_the_linear_reads_its_windows_mean():
+    """A stress whose peak is curved across the fillet (benchmarks/root_stress_readout.py's candidates): the
+    linear fit centred on the top reads the window's mean, below the peak by about f'' b^2 / 6; the quadratic
+    fit keeps it, and still takes the scatter out."""
+    rng = np.random.default_rng(571)
+    p, h = _nodes(rng)
+    band = 0.3
+    curved = 300.0 + 2.5 * p[:, 2] - 400.0 * (h - 0.6) ** 2
+    lin = smoothing_matrix(p, h, face_mm=0.9, height_band_mm=band)
+    quad = smoothing_matrix(p, h, face_mm=0.9, height_band_mm=band, height_order=2)
+    assert np.allclose(quad @ curved, curved, rtol=0, atol=1e-8)
+    top = np.abs(h - 0.6) < 0.02
+    drop = np.mean((curved - lin @ curved)[top])
+    assert drop == pytest.approx(400.0 * band ** 2 / 3.0, rel=0.15)  # the mean of dh^2 over +-band: band^2 / 3
+    noisy = curved + rng.normal(0.0, 6.0, len(h))
+    assert np.std(quad @ noisy - curved) < 0.6 * 6.0
+    with pytest.raises(ValueError, match="height_order = 3"):
+        smoothing_matrix(p, h, face_mm=0.9, height_band_mm=band, height_order=3)
+
+
 def test_a_padding_repeat_takes_the_last_nodes_row_and_a_lonely_node_keeps_its_value():
     rng = np.random.default_rng(5)
     p, h = _nodes(rng, 500)

@@ -1,0 +1,178 @@
+"""Which smoothed read-out of the FE tooth's fillet stresses reads the same on the default mesh and on
+refinement 2?  (issue 57.5; docs/validation.md 10.2)
+
+The LTCA's, the rating's and optimize's root stress is the largest principal stress of the FE tooth's fillet
+tensors smoothed by a local least-squares fit (``fe.contact.smoothing_matrix``): along the face +-0.15 m_n,
+in height above the root cone +-0.15 of the fillet element at refinement 1, linear in both.  Candidates for
+that fit, each measured on the same loads: the default's LTCA at the rating's torque and default positions
+(the load redistribution between meshes is at most 0.5 %: ``benchmarks/rating_root_convergence.py``), read
+by the FE tooth at refinement 1 (the default) and at refinement 2 with its nodal means
+(``tooth_data(..., smooth=False)``) smoothed by the candidate.  A candidate is a window across the fillet,
+in one of two coordinates, and a fit across it that is linear or quadratic (always linear along the face):
+
+* ``height``: the height above the root cone, today's coordinate.  The fillet's node rows (the mesh is
+  lofted through sections: its nodes lie in rows along the face) crowd in height where the fillet turns
+  into the root (h ~ u^2 / 2 rho), where the largest stress sits;
+* ``profile``: the distance u along the section's fillet profile from the root cone
+  (:func:`fillet_profile_mm`), in which the rows lie evenly, at most half a fillet element apart (P2).
+
+Widths in fillet elements at refinement 1 (the same physical window on both meshes), or, marked
+``per mesh``, in the mesh's own fillet elements (the same number of rows on both).  Prints a markdown
+table: per member the default / refinement 2 - 1 of each candidate.
+
+    python benchmarks/root_stress_readout.py [--designs case1,case2,R1,R2,R3]   # one design per process
+    python benchmarks/root_stress_readout.py --notch [--refinement 1 2]   # against the 2D notch benchmark
+
+``--notch``: the candidates on the near-spur pinions of ``benchmarks/notch_benchmark.py fe-tooth`` (a line
+load uniform along the face at the tip and at d_en) over the converged 2D section (refinement 4).
+Peak memory: 9-13 GB a design measured while the script held every candidate's copy at once (it now holds
+one); FE data cached (BEVELOID_CACHE_DIR).
+"""
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import itertools
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+import numpy as np  # noqa: E402
+
+#: (coordinate, half-width in fillet elements, fit order across the fillet, per mesh)
+CANDIDATES = (("height", 0.15, 1, False), ("height", 0.5, 1, False), ("height", 0.5, 2, False),
+              ("profile", 0.5, 2, False), ("profile", 0.75, 2, False), ("profile", 1.0, 2, False),
+              ("profile", 0.75, 2, True), ("profile", 1.0, 2, True))
+#: the fillet profile's tables (fillet_profile_mm): sections along the face, points along each profile
+PROFILE_SECTIONS = 17
+PROFILE_POINTS = 257
+
+
+def label(c) -> str:
+    coord, width, order, per_mesh = c
+    return f"{coord} ±{width:g} h{' per mesh' if per_mesh else ''}, {('linear', 'quadratic')[order - 1]}"
+
+
+def fillet_profile_mm(sampler, flank: str, points_mm, height_mm) -> np.ndarray:
+    """(n,) each of the ``flank`` fillet's nodes' (``points_mm`` (n, 3), ``height_mm`` (n,) above the root
+    cone) distance along its section's fillet profile from the root cone (``fillet_points`` s = 0), read
+    from its height through tables of :data:`PROFILE_SECTIONS` sections (the height rises along each
+    profile), linear between sections; a node below the profile's foot (root land meshed with a short
+    fillet) or above its top carries its height's distance from there."""
+    z0, z1 = sampler.z_range_mm
+    zt = np.linspace(z0, z1, PROFILE_SECTIONS)
+    prof = sampler.fillet_points(flank, np.linspace(0.0, 1.0, PROFILE_POINTS), zt)  # (n_s, n_z, 3)
+    h = np.maximum.accumulate(np.hypot(prof[..., 0], prof[..., 1]) - sampler.root_radius_mm(zt)[None], axis=0)
+    arc = np.concatenate([np.zeros((1, len(zt))), np.cumsum(np.linalg.norm(np.diff(prof, axis=0), axis=-1), axis=0)])
+    p, hh = np.asarray(points_mm, dtype=float), np.asarray(height_mm, dtype=float)
+    at = np.stack([np.interp(hh, h[:, k], arc[:, k]) + np.minimum(hh - h[0, k], 0.0) + np.maximum(hh - h[-1, k], 0.0)
+                   for k in range(len(zt))])  # (n_z, n)
+    f = np.interp(p[:, 2], zt, np.arange(len(zt)))
+    k = np.minimum(f.astype(int), len(zt) - 2)
+    t = f - k
+    cols = np.arange(len(hh))
+    return (1.0 - t) * at[k, cols] + t * at[k + 1, cols]
+
+
+def readouts(raw, sampler, face_mm: float, fillet_mm: float, refinement: int):
+    """(candidate, ToothData) the nodal means ``raw`` smoothed by each candidate in turn (one copy of the
+    stresses at a time); ``fillet_mm`` the fillet element at refinement 1."""
+    from beveloid.fe.contact import smoothed_data
+    from beveloid.names import FLANKS
+
+    u = np.stack([fillet_profile_mm(sampler, f, raw.fillet_points_mm[i], raw.fillet_height_mm[i])
+                  for i, f in enumerate(FLANKS)])
+    across = {"height": raw, "profile": dataclasses.replace(raw, fillet_height_mm=u)}
+    for c in CANDIDATES:
+        yield c, smoothed_data(across[c[0]], face_mm, c[1] * fillet_mm / (refinement if c[3] else 1), c[2])
+
+
+def designs(args) -> None:
+    from rating_invariance import _torques
+    from rating_root_convergence import _pair
+
+    from beveloid import ltca
+    from beveloid.fe.cache import cached_tooth_data
+    from beveloid.fe.contact import FeTooth
+    from beveloid.ltca.model.teeth import root_stresses
+    from beveloid.names import MEMBERS
+    from beveloid.rating.analysis import POSITIONS
+    from beveloid.rating.root_convergence import _sizes
+    from beveloid.tooth.body import body_pair
+    from beveloid.tooth.sampling import ToothSampler
+
+    print("| design | member | fillet radius / element (mm) | nodal max: default / refinement 2 (MPa) | "
+          + " | ".join(label(c) for c in CANDIDATES) + " |")
+    print("|---|---|---|---|" + "---|" * len(CANDIDATES))
+    for name in args.designs.split(","):
+        t0 = time.perf_counter()
+        pair = _pair(name)
+        material = ltca.Material.from_spec(pair.spec)
+        moduli = {"pinion": (material.pinion_e_mpa, material.pinion_nu), "gear": (material.gear_e_mpa, material.gear_nu)}
+        torque = 1500.0 if name in ("case1", "case2") else _torques(pair)[1]
+        r = ltca.analyze(pair, ltca.LoadCase(torque), ltca.Options(positions=POSITIONS, tooth_model="fe"))
+        flank = r.options.flank
+        for m in MEMBERS:
+            other = MEMBERS[1 - MEMBERS.index(m)]
+            mate = FeTooth(cached_tooth_data(pair, other, *moduli[other], 1)[0], flank)
+            body = body_pair(pair, m)
+            geometry = getattr(body, "geometry", body)
+            sampler = ToothSampler(geometry, m)
+            sizes = _sizes(pair, m, 1, 1.0)
+            read = {}
+            for ref in (1, 2):
+                raw, _ = cached_tooth_data(pair, m, *moduli[m], ref, smooth=False)
+                for c, d in itertools.chain([("nodal", raw)], readouts(raw, sampler, 0.15 * geometry.normal_module_mm,
+                                                                       sizes.fillet_mm, ref)):
+                    tooth = FeTooth(d, flank)
+                    s = root_stresses((tooth, mate) if m == "pinion" else (mate, tooth), r, r.converged)
+                    read[c, ref] = float(np.nanmax(s["tension"][m]))
+                    del d, tooth
+                del raw
+            cells = [f"{read[c, 1]:.1f} / {read[c, 2]:.1f} ({read[c, 1] / read[c, 2] - 1:+.1%})" for c in CANDIDATES]
+            print(f"| {name} | {m} | {sizes.fillet_radius_mm:.3f} / {sizes.fillet_mm:.3f} | {read['nodal', 1]:.1f} / "
+                  f"{read['nodal', 2]:.1f} | " + " | ".join(cells) + " |", flush=True)
+        print(f"  {name}: {time.perf_counter() - t0:.0f} s", file=sys.stderr, flush=True)
+
+
+def notch(args) -> None:
+    from notch_benchmark import BENCH, iso_case, loads_of, material, near_spur_pair
+
+    from beveloid.fe import plane_strain as ps
+    from beveloid.fe.cache import cached_tooth_data
+    from beveloid.fe.mesh import mesh_sizes
+    from beveloid.tooth.sampling import ToothSampler
+
+    print("| rack | refinement | nodal max: tip / d_en | " + " | ".join(label(c) for c in CANDIDATES) + " |")
+    print("|---|---|---|" + "---|" * len(CANDIDATES))
+    for name, (z, x, rho) in BENCH.items():
+        pair = near_spur_pair(z, x, rho)
+        loads = loads_of(iso_case(pair))
+        two = ps.notch_stress(pair, "pinion", loads, ps.NotchOptions(refinement=4), material=material(pair))
+        sampler = ToothSampler(pair.geometry, "pinion")
+        fillet = mesh_sizes(sampler, pair.geometry.normal_module_mm, 1.0).fillet_mm
+        for ref in args.refinement:
+            raw, _ = cached_tooth_data(pair, "pinion", *material(pair), ref, smooth=False)
+            cells = []
+            for _, d in itertools.chain([(None, raw)], readouts(raw, sampler, 0.15 * pair.geometry.normal_module_mm,
+                                                                fillet, ref)):
+                cells.append(" / ".join(f"{ps.fe_tooth_line_load(d, pair.geometry, 'pinion', ld).max_mpa_per_n_mm / t.tension_mpa_per_n_mm:.3f}"
+                                        for ld, t in zip(loads, two)))
+            print(f"| {name} | {ref} | " + " | ".join(cells) + " |", flush=True)
+            del raw
+
+
+def main(argv=None) -> int:
+    a = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    a.add_argument("--designs", default="case1,case2,R1,R2,R3")
+    a.add_argument("--notch", action="store_true", help="the candidates against the 2D notch benchmark instead")
+    a.add_argument("--refinement", type=int, nargs="+", default=[1, 2])
+    args = a.parse_args(argv)
+    (notch if args.notch else designs)(args)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
