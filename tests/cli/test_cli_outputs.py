@@ -79,6 +79,23 @@ def test_the_named_folder_is_created_one_level(tmp_path, capsys):
     assert not (tmp_path / "out").exists()
 
 
+def test_a_folder_it_made_holding_only_a_probe_a_ctrl_c_stopped_is_removed(tmp_path):
+    """The folder check writes and removes an empty probe file; a Ctrl-C between the two (right after the
+    folder is made: what test_ctrl_c_removes_the_folder_it_made_and_left_empty[export] sends) left the probe,
+    and the folder was kept for it."""
+    from beveloid import outputs
+
+    out = tmp_path / "out"
+    paths.check_output_dir(str(out), "--out")
+    (out / (outputs.PROBE_PREFIX + "abc123")).write_bytes(b"")  # the probe the interrupt left
+    assert paths.remove_empty_created() == [out.absolute()]
+    assert not out.exists()
+    kept = tmp_path / "kept"
+    paths.check_output_dir(str(kept), "--out")
+    (kept / "result.csv").write_text("x")  # a real output keeps its folder
+    assert paths.remove_empty_created() == [] and (kept / "result.csv").exists()
+
+
 def test_a_failed_run_leaves_no_folder_it_made(tmp_path, capsys):
     """A plot folder made for a run that then stops on bad input is removed again."""
     bad = tmp_path / "bad.toml"
