@@ -17,7 +17,7 @@ from ..plots import pinion_angle_text
 from ..status import Validity
 from ..tooth import sections
 from . import dynamic, iso6336, materials
-from .face_load import face_load
+from .face_load import face_load, line_loads
 from .factors import Factors, face_factor_exponent
 from .strength import pitch_line_velocity_m_s
 from .virtual import mate_gear, section_gear
@@ -63,13 +63,18 @@ class Options:
 
     ``root_stress_check``: with the FE tooth, estimate whether its root stress is converged
     (:mod:`beveloid.rating.root_convergence`: the FE tooth coarsened twice, its data computed once per
-    design); False leaves ``root_stress_convergence`` empty (the verdict does not read it)."""
+    design); False leaves ``root_stress_convergence`` empty (the verdict does not read it).
+
+    ``grid_check``: the LTCA's grid-convergence indicator (a once-coarsened grid solved again, its warning in
+    the notes); False leaves it out with the root stress along the face, every other number the same to the
+    last bit (``ltca.analyze_many(..., convergence=False, along_face=False)``: the verdict reads neither)."""
 
     ltca: object = field(default_factory=_default_ltca)
     tolerance_samples: int | None = None
     tolerance_seed: int = 0
     tolerances: dict | None = None
     root_stress_check: bool = True
+    grid_check: bool = True
 
     def __post_init__(self):
         from ..assembly_errors import BY_KEY
@@ -78,8 +83,9 @@ class Options:
 
         if not isinstance(self.ltca, LTCAOptions):
             raise OptionError("ltca", self.ltca, "must be an ltca.Options")
-        if not isinstance(self.root_stress_check, bool):
-            raise OptionError("root_stress_check", self.root_stress_check, "must be True or False")
+        for key in ("root_stress_check", "grid_check"):
+            if not isinstance(getattr(self, key), bool):
+                raise OptionError(key, getattr(self, key), "must be True or False")
         n = self.tolerance_samples
         if n is not None and (isinstance(n, bool) or not isinstance(n, (int, np.integer))
                               or not 0 <= n <= MAX_TOLERANCE_SAMPLES):
@@ -177,7 +183,8 @@ def loaded_contact(ltca_result, geometry, face_width_mm: float) -> LoadedContact
         where = (f"mesh cycle peak ({pinion_angle_text(phi)}, tooth pair {int(ltca_result.tooth_pairs[k])}; "
                  f"patch centre at face z {face['pinion']:.1f} mm on the pinion, {face['gear']:.1f} mm on the gear)")
     p_edge = float(np.nanmax(edge)) if np.isfinite(edge).any() else None
-    loads = {m: face_load(ltca_result, geometry, m, face_width_mm) for m in MEMBERS}
+    lines = {m: line_loads(ltca_result, geometry, m) for m in MEMBERS}  # read by K_Hbeta and the positions check
+    loads = {m: face_load(ltca_result, geometry, m, face_width_mm, lines=lines[m]) for m in MEMBERS}
     if not ok.any():
         notes.append("no LTCA position converged: local stresses are null")
     root = {m: None for m in MEMBERS}
@@ -209,7 +216,7 @@ def loaded_contact(ltca_result, geometry, face_width_mm: float) -> LoadedContact
     # the mean over the cycle's distinct states, as the LTCA's JSON and the torque map give it
     k_mesh = ltca_summary(ltca_result)["mesh_stiffness_mean_n_per_um"]
     k_mesh = float(k_mesh) if np.isfinite(k_mesh) else None
-    check = positions_check(ltca_result, geometry, face_width_mm, surface)
+    check = positions_check(ltca_result, geometry, face_width_mm, surface, lines)
     for q, by_member in check.get("quantities", {}).items():
         for m, c in by_member.items():
             if c["change"] is not None and abs(c["change"]) > POSITIONS_TOLERANCE:
@@ -222,7 +229,7 @@ def loaded_contact(ltca_result, geometry, face_width_mm: float) -> LoadedContact
                          edges[0] if edges else None, k_mesh, check, edges=edges)
 
 
-def positions_check(ltca_result, geometry, face_width_mm: float, surface=None) -> dict:
+def positions_check(ltca_result, geometry, face_width_mm: float, surface=None, lines=None) -> dict:
     """The maxima over the cycle that the verdict uses (root stress, contact pressure, K_Hbeta) from all
     positions and from each half of the distinct mesh states (issue 57.4): ``subset`` every other position
     from the first (of 21, the 11-position run), ``offset_subset`` the positions between them; ``change`` =
@@ -230,7 +237,8 @@ def positions_check(ltca_result, geometry, face_width_mm: float, surface=None) -
     as densely moves by about this much or less).  Both halves are read because a maximum that lasts less
     than two positions (a pair entering on an edge, a corner contact just before a pair leaves) is in one
     of them only: the half that holds it reads no change, the other the whole drop.  Empty with fewer than
-    5 positions."""
+    5 positions.  ``surface``
+    (``edge.surface_peaks``) and ``lines`` ({member: ``face_load.line_loads``}) of this result where known."""
     n = len(ltca_result.pinion_angle)
     if n < 5:
         return {}
@@ -252,7 +260,8 @@ def positions_check(ltca_result, geometry, face_width_mm: float, surface=None) -
         surface = surface_peaks(ltca_result, geometry)
     q = {"contact_pressure_max_mpa": {m: entry(peak(surface, slice(None)), peak(surface, sub), peak(surface, other))
                                       for m in MEMBERS}}
-    q["K_H_beta"] = {m: entry(*(face_load(ltca_result, geometry, m, face_width_mm, rows).K_H_beta
+    lines = lines or {m: line_loads(ltca_result, geometry, m) for m in MEMBERS}
+    q["K_H_beta"] = {m: entry(*(face_load(ltca_result, geometry, m, face_width_mm, rows, lines[m]).K_H_beta
                                 for rows in (None, sub, other))) for m in MEMBERS}
     if ltca_result.pair_root_stress_mpa:
         q["root_stress_max_mpa"] = {m: entry(peak(a, slice(None)), peak(a, sub), peak(a, other))
@@ -450,6 +459,17 @@ def _lowest(values) -> float:
     return min(finite) if finite else math.nan
 
 
+def _loaded(pair, load, options: Options, solver):
+    """The rating's LTCA of ``load`` (one torque), without the grid-convergence indicator and the root stress
+    along the face unless ``options.grid_check``."""
+    from .. import ltca
+
+    if options.grid_check:
+        return ltca.analyze(pair, load, options.ltca, solver=solver)
+    return ltca.analyze_many(pair, load, options.ltca, solver=solver, convergence=False,
+                             along_face=False).results[0][0]
+
+
 def analyze(pair, load, options: Options | None = None, *, solver=None, ltca_result=None, face_points: int = 0,
             progress=None):
     """Rate ``pair`` under ``load`` (an ``ltca.LoadCase``: one pinion torque, N m, and the assembly errors,
@@ -477,10 +497,9 @@ def analyze(pair, load, options: Options | None = None, *, solver=None, ltca_res
         solver = solver or Solver()
         if factors.K_v_source == "method B":
             # the mesh stiffness at K_A T (ISO's c' is that of the load K_A F_t), then the local stresses at K_A K_v T
-            first = ltca.analyze(pair, load.at(load.torque_nm * factors.K_A), options.ltca, solver=solver)
+            first = _loaded(pair, load.at(load.torque_nm * factors.K_A), options, solver)
             dyn, factors = _with_dynamic_factor(pair, load, options, factors, loaded_contact(first, geom, b), elastic)
-        ltca_result = ltca.analyze(pair, load.at(load.torque_nm * (factors.K_A * factors.K_v)), options.ltca,
-                                   solver=solver)
+        ltca_result = _loaded(pair, load.at(load.torque_nm * (factors.K_A * factors.K_v)), options, solver)
     lc = loaded_contact(ltca_result, geom, b)
     conv = (root_stress_convergence(pair, ltca_result, getattr(ltca_result.options, "material", None) or mat)
             if options.root_stress_check else {})
