@@ -169,9 +169,10 @@ def loaded_contact(ltca_result, geometry, face_width_mm: float) -> LoadedContact
     stiffness from an ``LTCAResult``; ``face_width_mm`` the b of the mean line load."""
     ok = ltca_result.converged
     notes = list(ltca_result.warnings())
-    from .edge import surface_peaks
+    from .edge import EdgeDistances, surface_peaks
 
-    surface = surface_peaks(ltca_result, geometry)
+    distances = EdgeDistances(ltca_result, geometry)  # read by the surface peaks and the edge rule
+    surface = surface_peaks(ltca_result, geometry, distances=distances)
     surf = surface[ok]
     edge = ltca_result.pair_edge_max_pressure_mpa[ok]
     p_surf = float(np.nanmax(surf)) if np.isfinite(surf).any() else None
@@ -224,7 +225,7 @@ def loaded_contact(ltca_result, geometry, face_width_mm: float) -> LoadedContact
                              f"{check['subset_positions']} / {check['offset_subset_positions']}) to all "
                              f"{check['positions']}: its maximum over the cycle is not resolved to "
                              f"{POSITIONS_TOLERANCE:.0%} (more --positions)")
-    edges = _edge_contacts(ltca_result, geometry)
+    edges = _edge_contacts(ltca_result, geometry, distances)
     return LoadedContact(p_surf, p_edge, loads, root, root_where, tuple(notes), where, face,
                          edges[0] if edges else None, k_mesh, check, edges=edges)
 
@@ -270,12 +271,12 @@ def positions_check(ltca_result, geometry, face_width_mm: float, surface=None, l
             "tolerance": POSITIONS_TOLERANCE, "quantities": q}
 
 
-def _edge_contacts(result, geometry) -> tuple:
+def _edge_contacts(result, geometry, distances=None) -> tuple:
     """Every flank edge whose band carries load (``edge.edge_loads`` by edge), largest share first."""
     from .edge import edge_loads
 
     return tuple(EdgeContact(e.pressure_mpa, e.member, e.edge, e.pinion_angle_rad, e.tooth_pair, e.force_n, e.share,
-                             e.band_mm) for e in edge_loads(result, geometry, by_edge=True))
+                             e.band_mm) for e in edge_loads(result, geometry, by_edge=True, distances=distances))
 
 
 def edge_relief_um(spec, member: str, edge: str) -> float:

@@ -198,9 +198,11 @@ def test_the_default_positions_check_their_own_maxima():
     assert spike["change"] == pytest.approx(0.2)
 
 
-def test_the_rating_reads_each_positions_line_load_once(monkeypatch):
+def test_the_rating_reads_each_positions_line_load_and_edge_distances_once(monkeypatch):
     """K_Hbeta and the positions check (all positions and each half) read one line load per (member, position),
-    computed once (they were four times: K_Hbeta, then all / either half again); the same numbers to the bit."""
+    computed once (they were four times: K_Hbeta, then all / either half again); the surface peaks and the edge
+    rule one set of edge distances per (position, pair, member) (they were two); the same numbers to the bit."""
+    from beveloid.rating import edge
     from beveloid.rating import face_load as fl
     from beveloid.rating.analysis import loaded_contact, positions_check
 
@@ -209,14 +211,21 @@ def test_the_rating_reads_each_positions_line_load_once(monkeypatch):
     b = 50.0
     plain = {m: fl.face_load(lt, pair.geometry, m, b) for m in ("pinion", "gear")}
     check = positions_check(lt, pair.geometry, b)
-    calls = []
-    real = fl.line_load_on_face
+    surface, edges = edge.surface_peaks(lt, pair.geometry), edge.edge_loads(lt, pair.geometry, by_edge=True)
+    calls, distances = [], []
+    real, real_d = fl.line_load_on_face, edge._distances
     monkeypatch.setattr(fl, "line_load_on_face", lambda *a: calls.append(a[2:]) or real(*a))
+    monkeypatch.setattr(edge, "_distances", lambda g, m, pts: distances.append((m, pts.tobytes())) or real_d(g, m, pts))
     lc = loaded_contact(lt, pair.geometry, b)
     loaded = int((lt.converged & (np.nansum(lt.pair_load_n, axis=1) > 0)).sum())
     assert loaded >= 5 and len(calls) == 2 * loaded and len(set(calls)) == len(calls)
+    assert len(distances) >= 2 * loaded and len(set(distances)) == len(distances)
     assert lc.face_load == plain
     assert lc.positions_check == check
+    np.testing.assert_array_equal(lc.positions_check["quantities"]["contact_pressure_max_mpa"]["pinion"]["all"],
+                                  float(np.nanmax(surface[lt.converged])))
+    assert [(e.member, e.edge, e.share, e.force_n, e.pressure_mpa) for e in lc.edges] == \
+        [(e.member, e.edge, e.share, e.force_n, e.pressure_mpa) for e in edges]
 
 
 def test_the_rating_without_the_grid_check_is_the_same_but_for_it(monkeypatch):
