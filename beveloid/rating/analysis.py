@@ -66,8 +66,9 @@ class Options:
     design); False leaves ``root_stress_convergence`` empty (the verdict does not read it).
 
     ``grid_check``: the LTCA's grid-convergence indicator (a once-coarsened grid solved again, its warning in
-    the notes); False leaves it out with the root stress along the face, every other number the same to the
-    last bit (``ltca.analyze_many(..., convergence=False, along_face=False)``: the verdict reads neither)."""
+    the notes); False leaves it out with the root stress along the face and the compressive root stress,
+    every other number the same to the last bit (``ltca.analyze_many(..., convergence=False, along_face=False,
+    compression=False)``: the verdict reads none of them)."""
 
     ltca: object = field(default_factory=_default_ltca)
     tolerance_samples: int | None = None
@@ -461,14 +462,14 @@ def _lowest(values) -> float:
 
 
 def _loaded(pair, load, options: Options, solver):
-    """The rating's LTCA of ``load`` (one torque), without the grid-convergence indicator and the root stress
-    along the face unless ``options.grid_check``."""
+    """The rating's LTCA of ``load`` (one torque), without the grid-convergence indicator, the root stress
+    along the face and the compressive root stress unless ``options.grid_check``."""
     from .. import ltca
 
     if options.grid_check:
         return ltca.analyze(pair, load, options.ltca, solver=solver)
-    return ltca.analyze_many(pair, load, options.ltca, solver=solver, convergence=False,
-                             along_face=False).results[0][0]
+    return ltca.analyze_many(pair, load, options.ltca, solver=solver, convergence=False, along_face=False,
+                             compression=False).results[0][0]
 
 
 def analyze(pair, load, options: Options | None = None, *, solver=None, ltca_result=None, face_points: int = 0,

@@ -50,7 +50,8 @@ def run_many(geom, error_sets, torques_nm, options: Options, material: Material,
     docstring once for every case, its contact problems in one compiled call
     (:func:`cycle.solve_many`); the root stresses of every loaded (position, pair) of a case at once.
     ``leave_out``: "convergence": step 4 of the module docstring left out (each result's convergence nan);
-    "along_face": no result's ``root_stress_along_face`` (each empty)."""
+    "along_face": no result's ``root_stress_along_face`` (each empty); "compression": no result's
+    ``pair_root_compressive_stress_mpa`` (each empty: the other fillet's extreme not sought)."""
     options.check_memory()
     teeth, body_notes = member_teeth(pair, geom, options, material)
     with one_blas_thread(), np.errstate(all="ignore"):
@@ -145,7 +146,8 @@ def _run(cases, options, material, teeth, body_notes=(), leave_out=()):
         line = geom.pinion.face_width_mm / max(math.cos(geom.pinion.helix_angle), 0.3)
         hertz_ref = grids.hertz_peak_mpa(fr.curvature_across, fr.curvature_along, sol.pair_load_n(), e_star, line)
         out.append(_result((s, T), options, sol, check, e_star, nt, hertz_ref,
-                           root_stresses(teeth, sol, sol.converged, "along_face" not in leave_out)))
+                           root_stresses(teeth, sol, sol.converged, "along_face" not in leave_out,
+                                         "compression" not in leave_out)))
     return out
 
 
