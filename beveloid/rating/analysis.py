@@ -23,7 +23,7 @@ from .strength import pitch_line_velocity_m_s
 from .virtual import mate_gear, section_gear
 from .root_convergence import convergence_notes, root_stress_convergence
 
-__all__ = ["LoadedContact", "Options", "SectionRating", "MemberRating", "analyze", "loaded_contact",
+__all__ = ["LoadedContact", "Options", "SectionRating", "MemberRating", "analyze", "loaded_contact", "ltca_case",
            "rate_section"]
 
 
@@ -470,6 +470,22 @@ def _loaded(pair, load, options: Options, solver):
         return ltca.analyze(pair, load, options.ltca, solver=solver)
     return ltca.analyze_many(pair, load, options.ltca, solver=solver, convergence=False, along_face=False,
                              compression=False).results[0][0]
+
+
+def ltca_case(pair, load, options: Options | None = None):
+    """(error set (5,), torque N m) of the LTCA :func:`analyze` runs for ``load`` (one torque) with ``options``
+    of ``grid_check=False``: the load case's errors at K_A K_v T, with the leave-outs of the tolerance box's
+    calls (``ltca.studies.box_results``), so that a caller may run it in a batch of its own and pass it as
+    ``ltca_result`` (optimize's candidate: in its box's call); None where the rating's LTCA is not one such
+    case: with the grid check, or where K_v is ISO's method B (the LTCA at K_A T gives the mesh stiffness that
+    sets K_v: two LTCAs, the second's torque known after the first)."""
+    load = _one_torque(load)
+    options = Options() if options is None else options
+    spec = pair.spec
+    factors = Factors.from_spec(spec).with_strength(spec, pair.geometry, options.flank)
+    if options.grid_check or factors.K_v_source == "method B":
+        return None
+    return load.error_sets(pair)[0], load.torque_nm * (factors.K_A * factors.K_v)
 
 
 def analyze(pair, load, options: Options | None = None, *, solver=None, ltca_result=None, face_points: int = 0,

@@ -514,3 +514,31 @@ def test_the_rigid_meshes_of_many_error_sets_are_one_call_of_the_solver_core(pai
             np.testing.assert_array_equal(m.gear_angle[k], fr.gear_angle)
             np.testing.assert_array_equal(m.active[k], fr.active)
             assert tuple(Status.labels(m.code[k])) == tuple(fr.status)
+
+
+def test_an_extra_case_of_a_batch_is_its_own_analysis(pair):
+    """``analyze_many(..., extra=[(errors, torque)])`` (optimize's candidate: its rating's LTCA in its box's call)
+    analyses each extra case in the same call, its result that case's own analysis to the last bit, the
+    batch's rows unchanged."""
+    import collections.abc
+    import dataclasses
+
+    options = ltca.Options(**SMALL)
+    load = ltca.LoadCase([60.0, 250.0], errors=[(0.0, 0.0, 0.0, 0.0, 0.0), (0.03, -0.02, 0.01, 0.0, 0.0)])
+    case = ((0.01, 0.0, 0.0, math.radians(0.02), 0.0), 400.0)
+    plain = ltca.analyze_many(pair, load, options, convergence=False)
+    batch = ltca.analyze_many(pair, load, options, convergence=False, extra=[case])
+    alone = ltca.analyze_many(pair, ltca.LoadCase(case[1], errors=case[0]), options, convergence=False).results[0][0]
+    assert plain.extra == () and len(batch.extra) == 1
+    for got, want in [(batch.extra[0], alone)] + [(a, b) for ra, rb in zip(batch.results, plain.results)
+                                                   for a, b in zip(ra, rb)]:
+        for f in dataclasses.fields(want):
+            if f.name in ("pair", "options", "iterations"):  # the active-set iterations depend on the start
+                continue
+            x, y = getattr(got, f.name), getattr(want, f.name)
+            if isinstance(y, collections.abc.Mapping):  # the members' FrozenMaps
+                assert set(x) == set(y), f.name
+                for k in y:
+                    np.testing.assert_equal(x[k], y[k], err_msg=f"{f.name}[{k}]")
+            else:
+                np.testing.assert_equal(x, y, err_msg=f.name)
