@@ -267,20 +267,22 @@ class FeTooth:
         r = self.root_stresses(np.asarray(points, dtype=float)[None], np.asarray(forces_n, dtype=float)[None])
         return RootStress(*(float(v[0]) for v in r))
 
-    def root_stresses(self, points, forces_n) -> RootStress:
+    def root_stresses(self, points, forces_n, compression=True) -> RootStress:
         """:meth:`root_stress` of Q load sets at once (``points`` (Q, n, 3), ``forces_n`` (Q, n)): a
         RootStress of (Q,) arrays: the extreme principal stresses by :func:`beveloid.fe.principal.extreme`
         (each set's tensors over its non-zero node loads, only at the nodes whose bound can reach them);
-        NaN (and no place) for a set whose every fillet node lies within the reading depth of its loads."""
+        NaN (and no place) for a set whose every fillet node lies within the reading depth of its loads.
+        ``compression=False``: the other fillet's compressive extreme is not sought (NaN; the tolerance box
+        and optimize read the tension alone), the rest the same to the last bit."""
         g = np.ascontiguousarray(self.loads(points, forces_n))
         Q = g.shape[0]
         fn = principal.functions()
         out = []
-        for side, sign in ((0, 1.0), (1, -1.0)):
+        for side, sign in ((0, 1.0), (1, -1.0))[:2 if compression else 1]:
             node, value = np.zeros(Q, dtype=np.int64), np.full(Q, np.nan)
             fn.extreme(self.fillets[side], g, sign, node, value)
             out.append((node, value))
-        (k, tension), (_, compression) = out
+        (k, tension), compression = out[0], (out[1][1] if compression else np.full(Q, np.nan))
         found = k >= 0
         where = np.where(found[:, None], self.data.fillet_points_mm[self.index][np.maximum(k, 0)], np.nan)
         height = np.where(found, np.asarray(self.data.fillet_height_mm[self.index])[np.maximum(k, 0)], np.nan)

@@ -94,7 +94,7 @@ def analyze(pair, load: LoadCase, options: Options | None = None, *, solver=None
 
 
 def analyze_many(pair, load: LoadCase, options: Options | None = None, *, solver=None, convergence=True,
-                 along_face=True) -> Batch:
+                 along_face=True, compression=True, extra=()) -> Batch:
     """N positions x T torques x K error sets of one pair in one call: a :class:`Batch` whose
     ``results[k][t]`` equals ``analyze(pair, LoadCase(load.torques_nm[t], errors=error set k), options,
     solver=solver)``; the error sets are ``load.errors`` (one set or a list), else the pair's misalignment.
@@ -103,7 +103,12 @@ def analyze_many(pair, load: LoadCase, options: Options | None = None, *, solver
     is nan (not computed), as the tolerance box and optimize use it (they report none of it).
     ``along_face=False``: no result's ``root_stress_along_face`` (the FE tooth's fillet along the face at the
     largest root stress, read only by the plots of one analysis) is computed (each is empty), every other
-    number the same to the last bit."""
+    number the same to the last bit.  ``compression=False``: no result's ``pair_root_compressive_stress_mpa``
+    (the FE tooth's other fillet's compressive extreme, read only by one analysis's JSON) is sought (each is
+    empty), every other number the same to the last bit.  ``extra``: more cases, (error set (5,), torque N m)
+    each, analysed in the same call after the load's (one set-up, the same waves: optimize's candidate adds
+    its rating's LTCA to its tolerance box), their results in ``Batch.extra``; each result is that case's
+    own, to the last bit, whatever it is analysed with."""
     from ..solver import Solver
     from .passes.analysis import run_many
 
@@ -111,8 +116,12 @@ def analyze_many(pair, load: LoadCase, options: Options | None = None, *, solver
     torques = np.array(load.torques_nm, dtype=float)
     errors = load.error_sets(pair)
     geom = getattr(pair, "geometry", pair)
-    leave_out = tuple(k for k, kept in (("convergence", convergence), ("along_face", along_face)) if not kept)
-    results = run_many(geom, list(errors), list(torques), options, _material(pair, options), Solver.of(solver),
-                       pair=pair, leave_out=leave_out)
-    return Batch(torque_nm=torques, errors=errors, results=tuple(tuple(r) for r in results), pair=pair,
-                 options=options)
+    leave_out = tuple(k for k, kept in (("convergence", convergence), ("along_face", along_face),
+                                        ("compression", compression)) if not kept)
+    from .results.batch import check_error_sets
+
+    extra = [(check_error_sets(e, "extra")[0], float(t)) for e, t in extra]
+    results = run_many(geom, list(errors) + [e for e, _ in extra], [list(torques)] * len(errors) + [[t] for _, t in extra],
+                       options, _material(pair, options), Solver.of(solver), pair=pair, leave_out=leave_out)
+    return Batch(torque_nm=torques, errors=errors, results=tuple(tuple(r) for r in results[:len(errors)]), pair=pair,
+                 options=options, extra=tuple(r[0] for r in results[len(errors):]))

@@ -34,21 +34,25 @@ CHUNK_SETS = 16
 TASK_SETS = 1
 
 
-def box_results(pair, load, options=None, *, solver=None) -> list:
+def box_results(pair, load, options=None, *, solver=None, extra=()) -> list:
     """``[[LTCAResult per torque] per error set]`` of ``load`` (its torques x its error sets), one
     :func:`beveloid.ltca.analyze_many` per :data:`CHUNK_SETS` sets, all with ``solver``, without the
-    grid-convergence indicator and the root stress along the face (``convergence=False``,
-    ``along_face=False``: neither the box, optimize nor the rating's box reports them; each result's
-    ``convergence`` is nan, its ``root_stress_along_face`` empty, every other number that of
-    :func:`beveloid.ltca.analyze`)."""
+    grid-convergence indicator, the root stress along the face and the compressive root stress
+    (``convergence=False``, ``along_face=False``, ``compression=False``: neither the box, optimize nor the
+    rating's box reports them; each result's ``convergence`` is nan, its ``root_stress_along_face`` and
+    ``pair_root_compressive_stress_mpa`` empty, every other number that of :func:`beveloid.ltca.analyze`).
+    ``extra``: more (error set, torque) cases analysed in the first call (``analyze_many(..., extra=)``: optimize's
+    candidate adds its rating's LTCA), each a row of its one LTCAResult after the load's sets."""
     from . import analyze_many
 
     sets = load.error_sets(pair)
-    out = []
+    out, more = [], []
     for start in range(0, len(sets), CHUNK_SETS):
-        out += analyze_many(pair, load.at(errors=sets[start:start + CHUNK_SETS]), options, solver=solver,
-                            convergence=False, along_face=False).results
-    return out
+        batch = analyze_many(pair, load.at(errors=sets[start:start + CHUNK_SETS]), options, solver=solver,
+                             convergence=False, along_face=False, compression=False, extra=() if start else extra)
+        out += batch.results
+        more += [[r] for r in batch.extra]
+    return out + more
 
 
 def _chunk(task):

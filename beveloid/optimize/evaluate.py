@@ -43,21 +43,25 @@ class LoadedQuantities(NamedTuple):
     root_stress_max_mpa: np.ndarray
     converged_positions: np.ndarray  # (T, K) int
     mesh_power_loss_w: np.ndarray = None  # (T, K); nan without a speed
+    extra: tuple = ()  # the LTCAResult of each ``extra`` case of loaded_quantities
 
 
-def loaded_quantities(pair, load, options, *, solver=None, speed_rpm=None) -> LoadedQuantities:
+def loaded_quantities(pair, load, options, *, solver=None, speed_rpm=None, extra=()) -> LoadedQuantities:
     """The quantities of the loaded analysis of ``pair`` at every torque (N m, pinion) and error set of
     ``load`` (an ltca.LoadCase), with ``options`` (an ltca.Options): the tolerance box under load of
     ``beveloid ltca --samples`` (:func:`beveloid.ltca.studies.box_results`, the same calls of the batched
     engine), so that it reproduces them exactly.  ``solver``: the Solver of every call (None: the default one);
-    ``speed_rpm``: the pinion speed of the mesh power loss (the pair's [lubricant]; None: not computed)."""
+    ``speed_rpm``: the pinion speed of the mesh power loss (the pair's [lubricant]; None: not computed);
+    ``extra``: more (error set, torque) cases analysed in the same first call (the rating's LTCA:
+    ``rating.ltca_case``), their results in ``extra``."""
     from ..ltca.studies import box_results
 
     sets = load.error_sets(pair)
     shape = (len(load.torques_nm), len(sets))
     te, p, root, loss = (np.full(shape, np.nan) for _ in range(4))
     conv = np.zeros(shape, dtype=int)
-    results = box_results(pair, load, options, solver=solver)
+    results = box_results(pair, load, options, solver=solver, extra=extra)
+    results, more = results[:len(sets)], results[len(sets):]
     for k, row in enumerate(results):
         for i, r in enumerate(row):
             ok = r.converged
@@ -73,7 +77,7 @@ def loaded_quantities(pair, load, options, *, solver=None, speed_rpm=None) -> Lo
                 from .. import tribology
 
                 loss[i, k] = tribology.evaluate(r, pair, speed_rpm, errors=sets[k]).mesh_power_loss_w
-    return LoadedQuantities(te, p, root, conv, loss)
+    return LoadedQuantities(te, p, root, conv, loss, tuple(r[0] for r in more))
 
 
 def per_torque(q: np.ndarray, samples: int) -> np.ndarray:
@@ -96,17 +100,18 @@ def _num(v):
     return v if math.isfinite(v) else None
 
 
-def safeties(req: Request, pair, *, solver=None) -> dict:
+def safeties(req: Request, pair, *, solver=None, ltca_result=None) -> dict:
     """The rating at the highest torque (``beveloid rating`` with the run's options) and its verdict, the one
     the command prints: ``feasible`` is the verdict's ``passes`` (every deciding safety meets its minimum and no
     edge contact exceeds the edge-contact rule; a CONDITIONAL verdict is not feasible), ``shortfall`` the
     constraint the search is told (:func:`shortfall`).  The lowest local S_F and S_H are kept for the tables.
-    ``solver``: that of the loaded analyses (None: the default one)."""
+    ``solver``: that of the loaded analyses (None: the default one); ``ltca_result``: the rating's LTCA already
+    run (``rating.ltca_case``'s case: :func:`evaluate` runs it in the candidate's box call), else run here."""
     from .. import rating
 
     from ..ltca import LoadCase
 
-    r = rating.analyze(pair, LoadCase(max(req.torques_nm)), req.rating_options(), solver=solver)
+    r = rating.analyze(pair, LoadCase(max(req.torques_nm)), req.rating_options(), solver=solver, ltca_result=ltca_result)
     v = rating.verdict(r)
     sf = [m.safety_bending for m in r.members.values() if m.safety_bending is not None]
     sh = [m.safety_pitting for m in r.members.values() if m.safety_pitting is not None]
@@ -153,8 +158,12 @@ def evaluate(req: Request, values: dict, error_sets: np.ndarray | None = None) -
     solver = req.solver  # the run's: the candidate's loaded analyses and its rating
     try:
         speed = pair.spec.rating.pinion_speed_rpm if "loss" in req.objectives else None
-        lq = loaded_quantities(pair, req.load_case(sets), req.ltca, solver=solver, speed_rpm=speed)
-        rec["safety"] = safeties(req, pair, solver=solver) if req.constraints == "rating" else None
+        # the rating's LTCA one more case of the box's call where it is one (its set-up and waves shared)
+        case = _rating_case(req, pair) if req.constraints == "rating" else None
+        lq = loaded_quantities(pair, req.load_case(sets), req.ltca, solver=solver, speed_rpm=speed,
+                               extra=() if case is None else (case,))
+        rec["safety"] = (safeties(req, pair, solver=solver, ltca_result=lq.extra[0] if lq.extra else None)
+                         if req.constraints == "rating" else None)
     except UserError as exc:  # no contact at all (the flank is turned off its mate)
         return _failed(rec, req, EvaluationStatus.FAILED, exc, t0)
     rec["quantities"] = {q: [[_num(v) for v in row] for row in getattr(lq, q)] for q in QUANTITIES}
@@ -170,6 +179,14 @@ def evaluate(req: Request, values: dict, error_sets: np.ndarray | None = None) -
                          f" {least} of {req.ltca.positions})")
     rec["seconds"] = time.perf_counter() - t0
     return rec
+
+
+def _rating_case(req: Request, pair):
+    """The (error set, torque) of the candidate's rating's LTCA (``rating.ltca_case``), or None."""
+    from .. import rating
+    from ..ltca import LoadCase
+
+    return rating.ltca_case(pair, LoadCase(max(req.torques_nm)), req.rating_options())
 
 
 def _failed(rec: dict, req: Request, status: str, exc: Exception, t0: float) -> dict:

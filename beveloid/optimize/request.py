@@ -280,8 +280,9 @@ class Request:
         LTCA options (the file's errors)."""
         from .. import rating
 
-        # the verdict does not read the FE root stress's convergence estimate: no coarsened FE tooth per candidate
-        return rating.Options(ltca=self.ltca, root_stress_check=False)
+        # the verdict reads neither the FE root stress's convergence estimate (no coarsened FE tooth per candidate)
+        # nor the LTCA's grid-convergence indicator
+        return rating.Options(ltca=self.ltca, root_stress_check=False, grid_check=False)
 
     def check(self) -> None:
         """Every corner of the ranges passes the spec's rules between keys (a relief's extent needs the

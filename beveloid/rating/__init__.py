@@ -11,7 +11,7 @@ from __future__ import annotations
 from .verdict import EXIT_STATUS, verdict
 
 __all__ = ["BOX_PERCENTILE", "EXIT_STATUS", "LoadedContact", "MAX_TOLERANCE_SAMPLES", "MemberRating", "Options",
-           "POSITIONS", "RatingResult", "SectionRating", "analyze", "verdict"]
+           "POSITIONS", "RatingResult", "SectionRating", "analyze", "ltca_case", "verdict"]
 
 
 def __getattr__(name):

@@ -17,13 +17,13 @@ from ..plots import pinion_angle_text
 from ..status import Validity
 from ..tooth import sections
 from . import dynamic, iso6336, materials
-from .face_load import face_load
+from .face_load import face_load, line_loads
 from .factors import Factors, face_factor_exponent
 from .strength import pitch_line_velocity_m_s
 from .virtual import mate_gear, section_gear
 from .root_convergence import convergence_notes, root_stress_convergence
 
-__all__ = ["LoadedContact", "Options", "SectionRating", "MemberRating", "analyze", "loaded_contact",
+__all__ = ["LoadedContact", "Options", "SectionRating", "MemberRating", "analyze", "loaded_contact", "ltca_case",
            "rate_section"]
 
 
@@ -63,13 +63,19 @@ class Options:
 
     ``root_stress_check``: with the FE tooth, estimate whether its root stress is converged
     (:mod:`beveloid.rating.root_convergence`: the FE tooth coarsened twice, its data computed once per
-    design); False leaves ``root_stress_convergence`` empty (the verdict does not read it)."""
+    design); False leaves ``root_stress_convergence`` empty (the verdict does not read it).
+
+    ``grid_check``: the LTCA's grid-convergence indicator (a once-coarsened grid solved again, its warning in
+    the notes); False leaves it out with the root stress along the face and the compressive root stress,
+    every other number the same to the last bit (``ltca.analyze_many(..., convergence=False, along_face=False,
+    compression=False)``: the verdict reads none of them)."""
 
     ltca: object = field(default_factory=_default_ltca)
     tolerance_samples: int | None = None
     tolerance_seed: int = 0
     tolerances: dict | None = None
     root_stress_check: bool = True
+    grid_check: bool = True
 
     def __post_init__(self):
         from ..assembly_errors import BY_KEY
@@ -78,8 +84,9 @@ class Options:
 
         if not isinstance(self.ltca, LTCAOptions):
             raise OptionError("ltca", self.ltca, "must be an ltca.Options")
-        if not isinstance(self.root_stress_check, bool):
-            raise OptionError("root_stress_check", self.root_stress_check, "must be True or False")
+        for key in ("root_stress_check", "grid_check"):
+            if not isinstance(getattr(self, key), bool):
+                raise OptionError(key, getattr(self, key), "must be True or False")
         n = self.tolerance_samples
         if n is not None and (isinstance(n, bool) or not isinstance(n, (int, np.integer))
                               or not 0 <= n <= MAX_TOLERANCE_SAMPLES):
@@ -163,9 +170,10 @@ def loaded_contact(ltca_result, geometry, face_width_mm: float) -> LoadedContact
     stiffness from an ``LTCAResult``; ``face_width_mm`` the b of the mean line load."""
     ok = ltca_result.converged
     notes = list(ltca_result.warnings())
-    from .edge import surface_peaks
+    from .edge import EdgeDistances, surface_peaks
 
-    surface = surface_peaks(ltca_result, geometry)
+    distances = EdgeDistances(ltca_result, geometry)  # read by the surface peaks and the edge rule
+    surface = surface_peaks(ltca_result, geometry, distances=distances)
     surf = surface[ok]
     edge = ltca_result.pair_edge_max_pressure_mpa[ok]
     p_surf = float(np.nanmax(surf)) if np.isfinite(surf).any() else None
@@ -177,7 +185,8 @@ def loaded_contact(ltca_result, geometry, face_width_mm: float) -> LoadedContact
         where = (f"mesh cycle peak ({pinion_angle_text(phi)}, tooth pair {int(ltca_result.tooth_pairs[k])}; "
                  f"patch centre at face z {face['pinion']:.1f} mm on the pinion, {face['gear']:.1f} mm on the gear)")
     p_edge = float(np.nanmax(edge)) if np.isfinite(edge).any() else None
-    loads = {m: face_load(ltca_result, geometry, m, face_width_mm) for m in MEMBERS}
+    lines = {m: line_loads(ltca_result, geometry, m) for m in MEMBERS}  # read by K_Hbeta and the positions check
+    loads = {m: face_load(ltca_result, geometry, m, face_width_mm, lines=lines[m]) for m in MEMBERS}
     if not ok.any():
         notes.append("no LTCA position converged: local stresses are null")
     root = {m: None for m in MEMBERS}
@@ -209,7 +218,7 @@ def loaded_contact(ltca_result, geometry, face_width_mm: float) -> LoadedContact
     # the mean over the cycle's distinct states, as the LTCA's JSON and the torque map give it
     k_mesh = ltca_summary(ltca_result)["mesh_stiffness_mean_n_per_um"]
     k_mesh = float(k_mesh) if np.isfinite(k_mesh) else None
-    check = positions_check(ltca_result, geometry, face_width_mm, surface)
+    check = positions_check(ltca_result, geometry, face_width_mm, surface, lines)
     for q, by_member in check.get("quantities", {}).items():
         for m, c in by_member.items():
             if c["change"] is not None and abs(c["change"]) > POSITIONS_TOLERANCE:
@@ -217,12 +226,12 @@ def loaded_contact(ltca_result, geometry, face_width_mm: float) -> LoadedContact
                              f"{check['subset_positions']} / {check['offset_subset_positions']}) to all "
                              f"{check['positions']}: its maximum over the cycle is not resolved to "
                              f"{POSITIONS_TOLERANCE:.0%} (more --positions)")
-    edges = _edge_contacts(ltca_result, geometry)
+    edges = _edge_contacts(ltca_result, geometry, distances)
     return LoadedContact(p_surf, p_edge, loads, root, root_where, tuple(notes), where, face,
                          edges[0] if edges else None, k_mesh, check, edges=edges)
 
 
-def positions_check(ltca_result, geometry, face_width_mm: float, surface=None) -> dict:
+def positions_check(ltca_result, geometry, face_width_mm: float, surface=None, lines=None) -> dict:
     """The maxima over the cycle that the verdict uses (root stress, contact pressure, K_Hbeta) from all
     positions and from each half of the distinct mesh states (issue 57.4): ``subset`` every other position
     from the first (of 21, the 11-position run), ``offset_subset`` the positions between them; ``change`` =
@@ -230,7 +239,8 @@ def positions_check(ltca_result, geometry, face_width_mm: float, surface=None) -
     as densely moves by about this much or less).  Both halves are read because a maximum that lasts less
     than two positions (a pair entering on an edge, a corner contact just before a pair leaves) is in one
     of them only: the half that holds it reads no change, the other the whole drop.  Empty with fewer than
-    5 positions."""
+    5 positions.  ``surface``
+    (``edge.surface_peaks``) and ``lines`` ({member: ``face_load.line_loads``}) of this result where known."""
     n = len(ltca_result.pinion_angle)
     if n < 5:
         return {}
@@ -252,7 +262,8 @@ def positions_check(ltca_result, geometry, face_width_mm: float, surface=None) -
         surface = surface_peaks(ltca_result, geometry)
     q = {"contact_pressure_max_mpa": {m: entry(peak(surface, slice(None)), peak(surface, sub), peak(surface, other))
                                       for m in MEMBERS}}
-    q["K_H_beta"] = {m: entry(*(face_load(ltca_result, geometry, m, face_width_mm, rows).K_H_beta
+    lines = lines or {m: line_loads(ltca_result, geometry, m) for m in MEMBERS}
+    q["K_H_beta"] = {m: entry(*(face_load(ltca_result, geometry, m, face_width_mm, rows, lines[m]).K_H_beta
                                 for rows in (None, sub, other))) for m in MEMBERS}
     if ltca_result.pair_root_stress_mpa:
         q["root_stress_max_mpa"] = {m: entry(peak(a, slice(None)), peak(a, sub), peak(a, other))
@@ -261,12 +272,12 @@ def positions_check(ltca_result, geometry, face_width_mm: float, surface=None) -
             "tolerance": POSITIONS_TOLERANCE, "quantities": q}
 
 
-def _edge_contacts(result, geometry) -> tuple:
+def _edge_contacts(result, geometry, distances=None) -> tuple:
     """Every flank edge whose band carries load (``edge.edge_loads`` by edge), largest share first."""
     from .edge import edge_loads
 
     return tuple(EdgeContact(e.pressure_mpa, e.member, e.edge, e.pinion_angle_rad, e.tooth_pair, e.force_n, e.share,
-                             e.band_mm) for e in edge_loads(result, geometry, by_edge=True))
+                             e.band_mm) for e in edge_loads(result, geometry, by_edge=True, distances=distances))
 
 
 def edge_relief_um(spec, member: str, edge: str) -> float:
@@ -450,6 +461,33 @@ def _lowest(values) -> float:
     return min(finite) if finite else math.nan
 
 
+def _loaded(pair, load, options: Options, solver):
+    """The rating's LTCA of ``load`` (one torque), without the grid-convergence indicator, the root stress
+    along the face and the compressive root stress unless ``options.grid_check``."""
+    from .. import ltca
+
+    if options.grid_check:
+        return ltca.analyze(pair, load, options.ltca, solver=solver)
+    return ltca.analyze_many(pair, load, options.ltca, solver=solver, convergence=False, along_face=False,
+                             compression=False).results[0][0]
+
+
+def ltca_case(pair, load, options: Options | None = None):
+    """(error set (5,), torque N m) of the LTCA :func:`analyze` runs for ``load`` (one torque) with ``options``
+    of ``grid_check=False``: the load case's errors at K_A K_v T, with the leave-outs of the tolerance box's
+    calls (``ltca.studies.box_results``), so that a caller may run it in a batch of its own and pass it as
+    ``ltca_result`` (optimize's candidate: in its box's call); None where the rating's LTCA is not one such
+    case: with the grid check, or where K_v is ISO's method B (the LTCA at K_A T gives the mesh stiffness that
+    sets K_v: two LTCAs, the second's torque known after the first)."""
+    load = _one_torque(load)
+    options = Options() if options is None else options
+    spec = pair.spec
+    factors = Factors.from_spec(spec).with_strength(spec, pair.geometry, options.flank)
+    if options.grid_check or factors.K_v_source == "method B":
+        return None
+    return load.error_sets(pair)[0], load.torque_nm * (factors.K_A * factors.K_v)
+
+
 def analyze(pair, load, options: Options | None = None, *, solver=None, ltca_result=None, face_points: int = 0,
             progress=None):
     """Rate ``pair`` under ``load`` (an ``ltca.LoadCase``: one pinion torque, N m, and the assembly errors,
@@ -477,10 +515,9 @@ def analyze(pair, load, options: Options | None = None, *, solver=None, ltca_res
         solver = solver or Solver()
         if factors.K_v_source == "method B":
             # the mesh stiffness at K_A T (ISO's c' is that of the load K_A F_t), then the local stresses at K_A K_v T
-            first = ltca.analyze(pair, load.at(load.torque_nm * factors.K_A), options.ltca, solver=solver)
+            first = _loaded(pair, load.at(load.torque_nm * factors.K_A), options, solver)
             dyn, factors = _with_dynamic_factor(pair, load, options, factors, loaded_contact(first, geom, b), elastic)
-        ltca_result = ltca.analyze(pair, load.at(load.torque_nm * (factors.K_A * factors.K_v)), options.ltca,
-                                   solver=solver)
+        ltca_result = _loaded(pair, load.at(load.torque_nm * (factors.K_A * factors.K_v)), options, solver)
     lc = loaded_contact(ltca_result, geom, b)
     conv = (root_stress_convergence(pair, ltca_result, getattr(ltca_result.options, "material", None) or mat)
             if options.root_stress_check else {})

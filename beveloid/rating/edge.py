@@ -26,7 +26,8 @@ from ..names import MEMBERS
 from ..tooth import sections
 from .face_load import _affine_slopes, _trapezoid_cdf
 
-__all__ = ["BAND_MODULES", "SURFACE_BAND_MODULES", "SURFACE_REACH", "EdgeLoad", "edge_loads", "surface_peaks"]
+__all__ = ["BAND_MODULES", "SURFACE_BAND_MODULES", "SURFACE_REACH", "EdgeDistances", "EdgeLoad", "edge_loads",
+           "surface_peaks"]
 
 #: the band's width over the normal module (this work's choice: an edge break of 0.1 m_n, a band of
 #: half of it, where the sharp edge's pressure is still above the flank's)
@@ -69,13 +70,44 @@ def _distances(geometry, member, pts):
     return {"toe": w + z, "heel": w - z, "tip": tip - np.hypot(pts[..., 0], pts[..., 1])}
 
 
-def edge_loads(result, geometry, band_mm: float | None = None, by_edge: bool = False):
+class EdgeDistances:
+    """The distances of each (position, pair)'s cell points to a member's toe, heel and tip (``_distances``) and
+    their plane slopes over the pair's grid, each computed once for one result: :func:`surface_peaks` and
+    :func:`edge_loads` read the same ones (the rating reads both)."""
+
+    def __init__(self, result, geometry):
+        self.result, self.geometry = result, geometry
+        self._distances, self._slopes = {}, {}
+
+    def points(self, j, k, member):
+        return (self.result.gap.pinion_point if member == "pinion" else self.result.gap.gear_point)[j, k]
+
+    def distances(self, j, k, member) -> dict:
+        """{edge: distance (mm)} of pair k's cell points at position j (nan where no point)."""
+        key = (j, k, member)
+        if key not in self._distances:
+            self._distances[key] = _distances(self.geometry, member, self.points(j, k, member))
+        return self._distances[key]
+
+    def slopes(self, j, k, member, edge) -> tuple:
+        """(d/dx, d/dy) of that distance over the grid (``face_load._affine_slopes`` over the cells with a point)."""
+        key = (j, k, member, edge)
+        if key not in self._slopes:
+            x, y = (c.reshape(-1) for c in self.result.cell_coordinates_mm(j, k))
+            finite = np.isfinite(self.points(j, k, member)).all(axis=-1)
+            self._slopes[key] = _affine_slopes(self.distances(j, k, member)[edge], x, y, finite)
+        return self._slopes[key]
+
+
+def edge_loads(result, geometry, band_mm: float | None = None, by_edge: bool = False, distances=None):
     """The edge band carrying the largest share of the mesh's load over the LTCA's converged positions, pairs,
     both members and their toe, heel and tip; None when no loaded cell comes within ``band_mm`` (default
     :data:`BAND_MODULES` m_n) of an edge.  ``by_edge``: each edge's own largest instead, as a tuple of
     EdgeLoad, largest share first (empty when none): a pair may run onto several edges (the tips of both
-    members, a toe), each of which the edge rule judges."""
+    members, a toe), each of which the edge rule judges.  ``distances``: this result's :class:`EdgeDistances`
+    (None: made here)."""
     delta = BAND_MODULES * geometry.normal_module_mm if band_mm is None else float(band_mm)
+    distances = distances or EdgeDistances(result, geometry)
     g = result.grid
     best = {}  # (member, edge) -> its EdgeLoad of largest share
     for j in np.flatnonzero(result.converged):
@@ -87,19 +119,17 @@ def edge_loads(result, geometry, band_mm: float | None = None, by_edge: bool = F
             loaded = (p > 0) & result.gap.in_flank[j, k]
             if not loaded.any():
                 continue
-            x, y = (c.reshape(-1) for c in result.cell_coordinates_mm(j, k))
             dx, dy = 2 * g.across_half_mm[j, k] / g.across_cells, 2 * g.along_half_mm[j, k] / g.along_cells
             area = float(result.cell_area_mm2[j, k])
             for member in MEMBERS:
-                pts = (result.gap.pinion_point if member == "pinion" else result.gap.gear_point)[j, k]
-                finite = np.isfinite(pts).all(axis=-1)
+                finite = np.isfinite(distances.points(j, k, member)).all(axis=-1)
                 use = loaded & finite
                 if not use.any():
                     continue
-                for edge, d in _distances(geometry, member, pts).items():
+                for edge, d in distances.distances(j, k, member).items():
                     if not np.nanmin(d[use]) < delta + dx + dy:  # not within a cell of the band
                         continue
-                    gx, gy = _affine_slopes(d, x, y, finite)
+                    gx, gy = distances.slopes(j, k, member, edge)
                     share = _trapezoid_cdf(delta - d[use], abs(gx) * dx, abs(gy) * dy)
                     a = float(np.sum(share)) * area
                     if a <= 0:
@@ -115,7 +145,7 @@ def edge_loads(result, geometry, band_mm: float | None = None, by_edge: bool = F
     return ranked[0] if ranked else None
 
 
-def surface_peaks(result, geometry, band_mm: float | None = None) -> np.ndarray:
+def surface_peaks(result, geometry, band_mm: float | None = None, distances=None) -> np.ndarray:
     """(N, P) the largest cell pressure (MPa) of each position and pair over the LTCA's loaded flank cells
     more than :data:`SURFACE_REACH` cell from an off-flank cell whose whole footprint lies farther than
     ``band_mm`` (default :data:`SURFACE_BAND_MODULES` m_n) from the toe, heel and tip of both members; nan
@@ -124,8 +154,10 @@ def surface_peaks(result, geometry, band_mm: float | None = None) -> np.ndarray:
     edge's (the edge rule judges the load within :data:`BAND_MODULES` m_n), and read there it grows as the
     grid is refined (issue 57; docs/rating.md 5).  A cell's footprint (its distance to an edge over its
     widths, as :func:`edge_loads` spreads it), not a count of cells, bounds the reading: the band is the same
-    length on every grid."""
+    length on every grid.  ``distances``: this result's :class:`EdgeDistances` (None: made here)."""
     from ..ltca.model import grid as grids
+
+    distances = distances or EdgeDistances(result, geometry)
 
     delta = SURFACE_BAND_MODULES * geometry.normal_module_mm if band_mm is None else float(band_mm)
     g = result.grid
@@ -138,14 +170,12 @@ def surface_peaks(result, geometry, band_mm: float | None = None) -> np.ndarray:
             keep = inner[j, k] & (p[j, k] > 0)
             if not keep.any():
                 continue
-            x, y = (c.reshape(-1) for c in result.cell_coordinates_mm(j, k))
             dx, dy = 2 * g.across_half_mm[j, k] / g.across_cells, 2 * g.along_half_mm[j, k] / g.along_cells
             for member in MEMBERS:
-                pts = (result.gap.pinion_point if member == "pinion" else result.gap.gear_point)[j, k]
-                finite = np.isfinite(pts).all(axis=-1)
-                for d in _distances(geometry, member, pts).values():
+                finite = np.isfinite(distances.points(j, k, member)).all(axis=-1)
+                for edge, d in distances.distances(j, k, member).items():
                     if int(finite.sum()) >= 3:
-                        gx, gy = _affine_slopes(d, x, y, finite)
+                        gx, gy = distances.slopes(j, k, member, edge)
                         d = d - 0.5 * (abs(gx) * dx + abs(gy) * dy)  # the footprint's nearest point
                     keep &= ~(d < delta)
             if keep.any():

@@ -23,7 +23,7 @@ import numpy as np
 
 from ..tooth import sections
 
-__all__ = ["FaceLoad", "face_load", "line_load_on_face"]
+__all__ = ["FaceLoad", "face_load", "line_load_on_face", "line_loads"]
 
 #: face bins per smallest cell footprint (the peak of the binned marginal is then within ~1 % of its
 #: continuous peak for a Hertz parabola 10 cells long)
@@ -105,9 +105,19 @@ def line_load_on_face(result, geometry, member, j):
     return edges, w
 
 
-def face_load(result, geometry, member, face_width_mm, positions=None) -> FaceLoad:
+def line_loads(result, geometry, member) -> dict:
+    """{position j: :func:`line_load_on_face` (or None)} of every converged position whose pairs carry load: what
+    :func:`face_load` reads, computed once where several of its calls read the same result (the rating's
+    K_Hbeta and its positions check: all positions and each half)."""
+    take = np.flatnonzero(result.converged)
+    return {int(j): line_load_on_face(result, geometry, member, j) for j in take
+            if float(np.nansum(result.pair_load_n[j])) > 0}
+
+
+def face_load(result, geometry, member, face_width_mm, positions=None, lines=None) -> FaceLoad:
     """K_Hbeta of ``member`` from an ``LTCAResult`` (module docstring); b = ``face_width_mm``; ``positions``:
-    the position indices to take (None: all; the rating's positions check takes every other one)."""
+    the position indices to take (None: all; the rating's positions check takes every other one); ``lines``:
+    :func:`line_loads` of this result and member (None: computed here)."""
     best = None
     take = result.converged.copy()
     if positions is not None:
@@ -116,7 +126,7 @@ def face_load(result, geometry, member, face_width_mm, positions=None) -> FaceLo
         total = float(np.nansum(result.pair_load_n[j]))
         if total <= 0:
             continue
-        line = line_load_on_face(result, geometry, member, j)
+        line = line_load_on_face(result, geometry, member, j) if lines is None else lines[int(j)]
         if line is None:
             continue
         edges, w = line

@@ -112,7 +112,7 @@ def root_stress_convergence(pair, ltca_result, material) -> dict:
     moduli = {"pinion": (material.pinion_e_mpa, material.pinion_nu), "gear": (material.gear_e_mpa, material.gear_nu)}
     coarse_options = dataclasses.replace(options, fe_coarsen=coarsen)
     teeth = tuple(fe_tooth(pair, m, moduli[m], coarse_options) for m in MEMBERS)
-    coarse = root_stresses(teeth, ltca_result, ltca_result.converged)["tension"]
+    coarse = root_stresses(teeth, ltca_result, ltca_result.converged, False, False)["tension"]
     at = ltca_result.root_stress_location()
     for tooth, m in zip(teeth, MEMBERS):
         lo, hi = float(tooth.data.z_mm[0]), float(tooth.data.z_mm[-1])

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -94,6 +95,51 @@ def mesh_angles(geom, flank, positions, pairs, window_pitches=None, options=DEFA
     return ref.pinion_angle + np.linspace(-window / 2, window / 2, positions)
 
 
+class MeshPaths(NamedTuple):
+    """The rigid mesh of one flank for K error sets (:func:`mesh_paths`): pairs x positions points flattened in
+    pair-major order, as :class:`FlankResult`'s."""
+
+    pinion_angle: np.ndarray  # (n,) the pinion angle of each point
+    tooth_pair: np.ndarray  # (n,) its pair k
+    unknowns: np.ndarray  # (K, n, 5) pair 0's unknowns as solved
+    code: np.ndarray  # (K, n) Status codes
+    iterations: np.ndarray  # (K, n)
+    boundary: np.ndarray  # (K, n) solve_grid's nearest boundary
+    contact_active: np.ndarray  # (K, n, 2) solve_grid's active boundaries
+    gear_angle: np.ndarray  # (K, n) the gear angle of pair k, nan where the status carries no numbers
+    transmission_error: np.ndarray  # (K, n) nan where the status carries no numbers
+    active: np.ndarray  # (K, n) carries the contact (the envelope of all pairs) at its pinion angle
+    envelope: np.ndarray  # (K, positions) the TE envelope
+
+    def of_set(self, k: int) -> "MeshPaths":
+        """Error set k's alone (K = 1)."""
+        return self._replace(**{f: getattr(self, f)[k:k + 1] for f in self._fields[2:]})
+
+
+def mesh_paths(geom: PairGeometry, flank: str, error_sets, positions=200, pairs=3, window_pitches=None, *,
+               solver: Solver | None = None) -> MeshPaths:
+    """The pinion angles, unknowns, statuses, TE and envelope of :func:`mesh_flank` for each of the error sets
+    (K, 5), solved in one call of the solver core (each set's numbers its own: the core solves a set alone);
+    without the contact points and margins (the loaded engine's rigid reference reads none of them)."""
+    solver = Solver.of(solver)
+    errors = np.ascontiguousarray(np.atleast_2d(errors_array(error_sets)), dtype=float)
+    ref = reference_contact(geom, flank, solver.options)
+    p1, p2 = geom.pitch_angles
+    phi1 = mesh_angles(geom, flank, positions, pairs, window_pitches, solver.options)
+    ks, shifted = mesh.pair_angles(phi1, pairs, p1)
+    sol = solve_grid(geom, flank, errors, shifted.ravel(), solver=solver)
+    kk = np.repeat(ks, positions)
+    phi1_all = np.tile(phi1, pairs)
+    phi2 = unknowns(sol.x).gear_angle_rad - kk * p2  # gear tooth k is turned by -k p2 relative to tooth 0
+    te = mesh.transmission_error(phi2, phi1_all, unknowns(ref.x).gear_angle_rad, ref.pinion_angle,
+                                 geom.pinion.teeth / geom.gear.teeth)
+    valid = carries_numbers(sol.status)
+    te_v = np.where(valid, te, np.nan)
+    env, active = zip(*(mesh.envelope(t.reshape(pairs, positions), first_touch_sign(geom, flank)) for t in te_v))
+    return MeshPaths(phi1_all, kk, sol.x, sol.status, sol.iterations, sol.boundary, sol.active,
+                     np.where(valid, phi2, np.nan), te_v, np.stack(active).reshape(len(errors), -1), np.stack(env))
+
+
 def mesh_flank(geom: PairGeometry, flank: str, errors=(0, 0, 0, 0, 0), positions=200, pairs=3,
                window_pitches=None, *, solver: Solver | None = None) -> FlankResult:
     """TCA of one flank over the mesh with neighbouring tooth pairs.
@@ -104,20 +150,13 @@ def mesh_flank(geom: PairGeometry, flank: str, errors=(0, 0, 0, 0, 0), positions
     """
     solver = Solver.of(solver)
     e = errors_array(errors).reshape(1, len(ERROR_NAMES))
-    ref = reference_contact(geom, flank, solver.options)
+    m = mesh_paths(geom, flank, e, positions, pairs, window_pitches, solver=solver)
     p1, p2 = geom.pitch_angles
-    phi1 = mesh_angles(geom, flank, positions, pairs, window_pitches, solver.options)
-    ks, shifted = mesh.pair_angles(phi1, pairs, p1)
-    sol = solve_grid(geom, flank, e, shifted.ravel(), solver=solver)
-    x, code, iterations, boundary = sol.x[0], sol.status[0], sol.iterations[0], sol.boundary[0]
-    act = sol.active[0]
+    phi1 = m.pinion_angle[:positions]
+    x, code, iterations, boundary, act = m.unknowns[0], m.code[0], m.iterations[0], m.boundary[0], m.contact_active[0]
     names = np.asarray(tca_kernels.CONTACT_BOUNDARIES + ("",))
     nearest = names[np.where(boundary >= 0, boundary, len(names) - 1)]
-    kk = np.repeat(ks, positions)
-    phi1_all = np.tile(phi1, pairs)
-    phi2 = unknowns(x).gear_angle_rad - kk * p2  # gear tooth k is turned by -k p2 relative to tooth 0
-    te = mesh.transmission_error(phi2, phi1_all, unknowns(ref.x).gear_angle_rad, ref.pinion_angle,
-                                 geom.pinion.teeth / geom.gear.teeth)
+    kk, phi1_all = m.tooth_pair, m.pinion_angle
     valid = carries_numbers(code)
     # contact points of pair k and their boundary margins; a diverged iterate's are not used (NaN
     # below), so its overflow is not news
@@ -125,12 +164,12 @@ def mesh_flank(geom: PairGeometry, flank: str, errors=(0, 0, 0, 0, 0), positions
         P1, P2 = contact_points(geom, flank, x)
         M = contact_margins(geom, flank, x)
     P1, P2 = rotate_z(P1, kk * p1), rotate_z(P2, -kk * p2)  # back in place in S1 / S2
-    te_v = np.where(valid, te, np.nan)
+    te_v = m.transmission_error[0]
     P1[~valid] = np.nan
     P2[~valid] = np.nan
-    phi2_v = np.where(valid, phi2, np.nan)
-    env, active = mesh.envelope(te_v.reshape(pairs, positions), first_touch_sign(geom, flank))
+    env, active = m.envelope[0], m.active[0].reshape(pairs, positions)
     step = abs(phi1[1] - phi1[0]) if positions > 1 else 0.0
+    ks = kk[::positions]
     complete = mesh.envelope_complete(phi1, ks, active, p1, step)
     ptp = mesh.peak_to_peak(env[complete]) if complete.sum() >= 2 else float("nan")
     rows = np.arange(len(x))
@@ -139,7 +178,7 @@ def mesh_flank(geom: PairGeometry, flank: str, errors=(0, 0, 0, 0, 0), positions
         M[rows[hit], act[hit, c]] = np.inf
     margin = np.where(valid, M.min(axis=-1), np.nan)
     boundary_names = [n if v else None for n, v in zip(contact_boundary_names(act), valid)]
-    return FlankResult(flank=flank, pinion_angle=phi1_all, gear_angle=phi2_v, transmission_error=te_v,
+    return FlankResult(flank=flank, pinion_angle=phi1_all, gear_angle=m.gear_angle[0], transmission_error=te_v,
                        pinion_contact=P1, gear_contact=P2, status=Status.labels(code), tooth_pair=kk,
                        active=active.ravel(), iterations=iterations, nearest_boundary=[str(n) for n in nearest],
                        te_peak_to_peak=ptp, unknowns=x, contact_boundary=boundary_names,

@@ -26,12 +26,16 @@ def results(case1, coarse_teeth):
     return out
 
 
-def test_the_box_leaves_out_the_root_stress_along_the_face_and_nothing_else(case1, coarse_teeth, monkeypatch):
-    """``analyze_many(..., along_face=False)`` (the tolerance box's and optimize's call,
-    ``ltca.studies.box_results``): every result's ``root_stress_along_face`` empty, every other field
-    bit-identical to the full analysis's, which has it."""
+def test_the_box_leaves_out_the_root_stress_along_the_face_and_the_compressive_one_and_nothing_else(
+        case1, coarse_teeth, monkeypatch):
+    """``analyze_many(..., along_face=False, compression=False)`` (the tolerance box's and optimize's call,
+    ``ltca.studies.box_results``): every result's ``root_stress_along_face`` and
+    ``pair_root_compressive_stress_mpa`` empty (the other fillet's extreme not sought), every other field
+    bit-identical to the full analysis's, which has them."""
     import collections.abc
     import dataclasses
+
+    from beveloid.fe import contact
 
     def same(x, y, name):
         if isinstance(x, collections.abc.Mapping):  # the members' FrozenMaps
@@ -46,13 +50,29 @@ def test_the_box_leaves_out_the_root_stress_along_the_face_and_nothing_else(case
     load = ltca.LoadCase([150.0, 300.0])
     full = ltca.analyze_many(case1, load, options, convergence=False).results[0]
     lean = ltca.analyze_many(case1, load, options, convergence=False, along_face=False).results[0]
+    signs = []
+    real = contact.principal.functions
+
+    class Spy:
+        def __getattr__(self, name):
+            return getattr(real(), name)
+
+        @staticmethod
+        def extreme(fillet, g, sign, node, value):
+            signs.append(sign)
+            return real().extreme(fillet, g, sign, node, value)
+
+    monkeypatch.setattr(contact.principal, "functions", Spy)
     boxed = ltca.studies.box_results(case1, load, options)[0]
+    assert signs and set(signs) == {1.0}  # the tension alone sought
     for a, b, c in zip(full, lean, boxed):
-        assert set(a.root_stress_along_face) == {"pinion", "gear"}
+        assert set(a.root_stress_along_face) == {"pinion", "gear"} == set(a.pair_root_compressive_stress_mpa)
         assert b.root_stress_along_face == {} and c.root_stress_along_face == {}
+        assert set(b.pair_root_compressive_stress_mpa) == {"pinion", "gear"} and c.pair_root_compressive_stress_mpa == {}
         for f in dataclasses.fields(a):
             if f.name not in ("pair", "root_stress_along_face"):
                 same(getattr(b, f.name), getattr(a, f.name), f.name)
+            if f.name not in ("pair", "root_stress_along_face", "pair_root_compressive_stress_mpa"):
                 same(getattr(c, f.name), getattr(a, f.name), f.name)
 
 

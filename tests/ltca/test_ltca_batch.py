@@ -178,21 +178,25 @@ def test_bad_flags_are_one_line(capsys, args, words):
 
 def test_the_rigid_mesh_study_gets_the_solver_itself(monkeypatch, pair):
     """Issue 42: the Solver (backend and tolerances), not its backend's name."""
-    from beveloid import tca
-    from beveloid.ltca.passes.cycle import Setup
+    import threading
+
+    from beveloid.ltca.passes import cycle
     from beveloid.solver import Solver, SolverOptions
 
     seen = []
-    real = tca.mesh_flank
+    real = cycle.mesh_paths
+    me = threading.get_ident()
 
     def spy(*args, **kwargs):
-        seen.append(kwargs.get("solver"))
+        if threading.get_ident() == me:  # not conftest's warm-up of the compiled kernels on its thread
+            seen.append(kwargs.get("solver"))
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(tca, "mesh_flank", spy)
+    monkeypatch.setattr(cycle, "mesh_paths", spy)
     solver = Solver(options=SolverOptions(tol_mm=1e-11, max_iter=30))
-    Setup(pair.geometry, "right", np.zeros(5), 3, 3, solver)
-    assert seen == [solver]
+    cycle.Setup(pair.geometry, "right", np.zeros(5), 3, 3, solver)
+    cycle.setups(pair.geometry, "right", [np.zeros(5)] * 2, 3, 3, solver)
+    assert seen == [solver, solver]
 
 
 def test_the_compiled_and_interpreted_contact_kernels_agree(monkeypatch):
@@ -475,3 +479,66 @@ def test_the_setups_of_many_error_sets_are_each_sets_own(pair):
         for field, value in zip(b.frame._fields, b.frame):
             np.testing.assert_array_equal(getattr(a.frame, field), value, err_msg=field)
         assert (a.gear_sign, a.pinion_sign, a.max_along_mm) == (b.gear_sign, b.pinion_sign, b.max_along_mm)
+
+
+def test_the_rigid_meshes_of_many_error_sets_are_one_call_of_the_solver_core(pair, monkeypatch):
+    """``cycle.setups`` solves the rigid mesh of every error set in one call of the solver core
+    (``tca.flank.mesh_paths``; it was one ``tca.mesh_flank`` a set), each set's pinion angles, unknowns,
+    statuses, TE and envelope carriers those of its own ``mesh_flank`` bit for bit (also beyond
+    ``tca.grid.SERIAL_MAX_SETS``, where the core runs the sets on threads)."""
+    import threading
+
+    from beveloid import tca
+    from beveloid.ltca.passes.cycle import setups
+    from beveloid.solver import Solver
+    from beveloid.status import Status
+    from beveloid.tca import flank, grid
+
+    calls = []
+    real = grid.solve_grid
+    me = threading.get_ident()  # not conftest's warm-up of the compiled kernels on its thread
+    monkeypatch.setattr(flank, "solve_grid", lambda *a, **k: (threading.get_ident() == me and calls.append(len(a[2])))
+                        or real(*a, **k))
+    sets = [(0.0, 0.0, 0.0, 0.0, 0.0), (0.02, 0.0, -0.01, 0.0, 0.0), (0.0, 0.01, 0.0, 1e-4, -1e-4)]
+    setups(pair.geometry, "right", sets, 5, 3, Solver())
+    assert calls == [3]
+    many = np.random.default_rng(3).uniform(-1, 1, (grid.SERIAL_MAX_SETS + 2, 5)) * [0.02, 0.02, 0.02, 1e-4, 1e-4]
+    many[:3] = sets
+    for batch in (np.asarray(sets), many):
+        m = flank.mesh_paths(pair.geometry, "right", batch, 5, 3, 1, solver=Solver())
+        for k in (0, 1, 2, len(batch) - 1):
+            fr = tca.mesh_flank(pair.geometry, "right", batch[k], positions=5, pairs=3, window_pitches=1, solver=Solver())
+            np.testing.assert_array_equal(m.pinion_angle, fr.pinion_angle)
+            np.testing.assert_array_equal(m.unknowns[k], fr.unknowns)
+            np.testing.assert_array_equal(m.transmission_error[k], fr.transmission_error)
+            np.testing.assert_array_equal(m.gear_angle[k], fr.gear_angle)
+            np.testing.assert_array_equal(m.active[k], fr.active)
+            assert tuple(Status.labels(m.code[k])) == tuple(fr.status)
+
+
+def test_an_extra_case_of_a_batch_is_its_own_analysis(pair):
+    """``analyze_many(..., extra=[(errors, torque)])`` (optimize's candidate: its rating's LTCA in its box's call)
+    analyses each extra case in the same call, its result that case's own analysis to the last bit, the
+    batch's rows unchanged."""
+    import collections.abc
+    import dataclasses
+
+    options = ltca.Options(**SMALL)
+    load = ltca.LoadCase([60.0, 250.0], errors=[(0.0, 0.0, 0.0, 0.0, 0.0), (0.03, -0.02, 0.01, 0.0, 0.0)])
+    case = ((0.01, 0.0, 0.0, math.radians(0.02), 0.0), 400.0)
+    plain = ltca.analyze_many(pair, load, options, convergence=False)
+    batch = ltca.analyze_many(pair, load, options, convergence=False, extra=[case])
+    alone = ltca.analyze_many(pair, ltca.LoadCase(case[1], errors=case[0]), options, convergence=False).results[0][0]
+    assert plain.extra == () and len(batch.extra) == 1
+    for got, want in [(batch.extra[0], alone)] + [(a, b) for ra, rb in zip(batch.results, plain.results)
+                                                   for a, b in zip(ra, rb)]:
+        for f in dataclasses.fields(want):
+            if f.name in ("pair", "options", "iterations"):  # the active-set iterations depend on the start
+                continue
+            x, y = getattr(got, f.name), getattr(want, f.name)
+            if isinstance(y, collections.abc.Mapping):  # the members' FrozenMaps
+                assert set(x) == set(y), f.name
+                for k in y:
+                    np.testing.assert_equal(x[k], y[k], err_msg=f"{f.name}[{k}]")
+            else:
+                np.testing.assert_equal(x, y, err_msg=f.name)

@@ -153,6 +153,39 @@ def test_the_tolerance_box_of_ltca_reproduces_a_candidate(tilted, capsys):
         (rec["per_torque"]["te_peak_to_peak_urad"][0] + 2 * rec["per_torque"]["te_peak_to_peak_urad"][1]) / 3)
 
 
+def test_the_ratings_ltca_is_one_more_case_of_the_boxs_call(tilted, monkeypatch):
+    """--constraints rating: the candidate's rating's LTCA (``rating.ltca_case``: the file's errors at K_A K_v T,
+    the box's leave-outs) runs in its box's call of the loaded engine, not a call of its own; the record (its
+    quantities, safeties, verdict) is the same to the last bit as with the rating's own LTCA.  With the grid
+    check, or K_v by ISO's method B (two LTCAs, the second's torque set by the first), the rating runs its own."""
+    import dataclasses
+    import tomllib
+
+    from beveloid import rating
+    from beveloid.pair import Pair
+
+    req = Request(base=tomllib.loads(tilted.read_text()), varies=(Vary(KEY, LOW, HIGH),), torques_nm=(150.0, TORQUE),
+                  weights=(1.0, 1.0), samples=2, seed=3, ltca=ltca.Options(positions=3, grid=(7, 7), tooth_model="plate"),
+                  constraints="rating")
+    calls = []
+    real = ltca.analyze_many
+    monkeypatch.setattr(ltca, "analyze_many", lambda *a, **k: calls.append(k.get("extra", ())) or real(*a, **k))
+    batched = evaluate.evaluate(req, {KEY: 15.0})
+    assert len(calls) == 1 and len(calls[0]) == 1 and calls[0][0][1] == pytest.approx(TORQUE)
+    monkeypatch.setattr(evaluate, "_rating_case", lambda req, pair: None)
+    alone = evaluate.evaluate(req, {KEY: 15.0})
+    assert len(calls) == 3 and calls[1] == calls[2] == ()  # the box, then the rating's own
+    for key in ("quantities", "safety", "objectives", "per_torque", "converged_positions", "status"):
+        assert batched[key] == alone[key], key
+    pair = Pair.from_spec(req.spec({KEY: 15.0}))
+    assert rating.ltca_case(pair, ltca.LoadCase(TORQUE), rating.Options(req.ltca)) is None  # with the grid check
+    assert rating.ltca_case(pair, ltca.LoadCase(TORQUE), req.rating_options())[1] == pytest.approx(TORQUE)
+    strength = rating.analysis.Factors.with_strength
+    monkeypatch.setattr(rating.analysis.Factors, "with_strength",
+                        lambda *a, **k: dataclasses.replace(strength(*a, **k), K_v_source="method B"))
+    assert rating.ltca_case(pair, ltca.LoadCase(TORQUE), req.rating_options()) is None
+
+
 def test_the_search_is_seeded():
     req = Request(base={}, varies=(Vary(KEY, LOW, HIGH), Vary("pinion.lead_slope_um", -20.0, 20.0)),
                   torques_nm=(TORQUE,), weights=(1.0,), population=6)
@@ -181,7 +214,8 @@ def test_the_safeties_are_the_ratings(tilted, capsys):
                 return _fn(*a, **k)
             mp.setattr(module, name, spy)
         rec = evaluate.evaluate(req, {KEY: 15.0})
-    assert len(solvers) == 2 and solvers[0] is not None and solvers[1] is solvers[0]
+    # the box's analyze_many (the rating's LTCA one more case of it) and the rating's analyze, one Solver
+    assert len(solvers) == 2 and solvers[0] is not None and all(s is solvers[0] for s in solvers)
     path = tilted.parent / "rated.toml"
     path.write_text(report.toml_text(spec_to_dict(req.spec({KEY: 15.0}))))
     assert main(["rating", str(path), "--torque-nm", f"{TORQUE:g}", "--positions", "3", "--grid", "7x7",

@@ -198,6 +198,59 @@ def test_the_default_positions_check_their_own_maxima():
     assert spike["change"] == pytest.approx(0.2)
 
 
+def test_the_rating_reads_each_positions_line_load_and_edge_distances_once(monkeypatch):
+    """K_Hbeta and the positions check (all positions and each half) read one line load per (member, position),
+    computed once (they were four times: K_Hbeta, then all / either half again); the surface peaks and the edge
+    rule one set of edge distances per (position, pair, member) (they were two); the same numbers to the bit."""
+    from beveloid.rating import edge
+    from beveloid.rating import face_load as fl
+    from beveloid.rating.analysis import loaded_contact, positions_check
+
+    pair = Pair.example("case1")
+    lt = ltca.analyze(pair, ltca.LoadCase(1500.0), ltca.Options(positions=9, tooth_model="plate"))
+    b = 50.0
+    plain = {m: fl.face_load(lt, pair.geometry, m, b) for m in ("pinion", "gear")}
+    check = positions_check(lt, pair.geometry, b)
+    surface, edges = edge.surface_peaks(lt, pair.geometry), edge.edge_loads(lt, pair.geometry, by_edge=True)
+    calls, distances = [], []
+    real, real_d = fl.line_load_on_face, edge._distances
+    monkeypatch.setattr(fl, "line_load_on_face", lambda *a: calls.append(a[2:]) or real(*a))
+    monkeypatch.setattr(edge, "_distances", lambda g, m, pts: distances.append((m, pts.tobytes())) or real_d(g, m, pts))
+    lc = loaded_contact(lt, pair.geometry, b)
+    loaded = int((lt.converged & (np.nansum(lt.pair_load_n, axis=1) > 0)).sum())
+    assert loaded >= 5 and len(calls) == 2 * loaded and len(set(calls)) == len(calls)
+    assert len(distances) >= 2 * loaded and len(set(distances)) == len(distances)
+    assert lc.face_load == plain
+    assert lc.positions_check == check
+    np.testing.assert_array_equal(lc.positions_check["quantities"]["contact_pressure_max_mpa"]["pinion"]["all"],
+                                  float(np.nanmax(surface[lt.converged])))
+    assert [(e.member, e.edge, e.share, e.force_n, e.pressure_mpa) for e in lc.edges] == \
+        [(e.member, e.edge, e.share, e.force_n, e.pressure_mpa) for e in edges]
+
+
+def test_the_rating_without_the_grid_check_is_the_same_but_for_it(monkeypatch):
+    """optimize's rating leaves out the LTCA's grid-convergence indicator and the root stress along the face
+    (its verdict reads neither): every safety, factor and the verdict the same to the last bit."""
+    from beveloid.errors import OptionError
+
+    pair = Pair.example("case1")
+    opts = ltca.Options(positions=5, tooth_model="plate")
+    full = rating.analyze(pair, ltca.LoadCase(1500.0), rating.Options(opts))
+    runs = []
+    real = ltca.analyze_many
+    monkeypatch.setattr(ltca, "analyze_many", lambda *a, **k: runs.append(real(*a, **k)) or runs[-1])
+    off = rating.analyze(pair, ltca.LoadCase(1500.0), rating.Options(opts, grid_check=False))
+    assert len(runs) == 1 and np.isnan(runs[0].results[0][0].convergence.pressure_change).all()
+    assert np.isfinite(full.loaded.positions_check["quantities"]["K_H_beta"]["pinion"]["all"])
+    a, b = full.to_json(), off.to_json()
+    for d in (a, b):
+        d.pop("notes", None)
+    assert a == b
+    assert rating.verdict(full) == rating.verdict(off)
+    with pytest.raises(OptionError, match="grid_check"):
+        rating.Options(opts, grid_check=1)
+
+
 def test_fe_check_reports_whether_the_two_fe_root_stresses_agree():
     """Issue 57.5: fe-check gives calculix / LTCA root stress per member and whether they agree within
     10 %, and says what the difference can come from when they do not."""

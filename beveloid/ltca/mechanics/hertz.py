@@ -98,12 +98,19 @@ def relative_curvature_coefficients(
     return a_coef, b_coef
 
 
-def _ratio(q: float) -> tuple[float, float, float, float]:
-    """For b/a = q: (A_large/A_small, K, E, e^2)."""
-    # here, not at import: scipy.special (~0.2 s) is then imported only by a process that sizes a contact,
-    # not by one that only reads results (beveloid ltca --samples's own process: issue 59)
+@functools.cache
+def _elliptic() -> tuple:
+    """scipy.special's (ellipe, ellipkm1), imported on first use: scipy.special (~0.2 s) is then imported only by
+    a process that sizes a contact, not by one that only reads results (beveloid ltca --samples's own process:
+    issue 59); once, not at each of the ~8 evaluations of a shape's root search (a quarter of its time)."""
     from scipy.special import ellipe, ellipkm1
 
+    return ellipe, ellipkm1
+
+
+def _ratio(q: float) -> tuple[float, float, float, float]:
+    """For b/a = q: (A_large/A_small, K, E, e^2)."""
+    ellipe, ellipkm1 = _elliptic()
     m = 1.0 - q * q
     k = float(ellipkm1(q * q))  # K(m) with 1 - m = q^2, accurate as q -> 0
     e = float(ellipe(m))

@@ -91,12 +91,12 @@ def fe_tooth(source, member, moduli, options):
     return tooth
 
 
-def root_stresses(teeth, sol, ok, along_face=True) -> dict:
+def root_stresses(teeth, sol, ok, along_face=True, compression=True) -> dict:
     """{"tension": {member: (N, P)}, "compression": {...}, "where": {member: (N, P, 2)}, "along": {member:
     (z, stress)}, "unread": {member: loaded pairs without a root stress}} (MPa, mm) for FE teeth, each
     pair's tooth under its own cells' forces ("along": the loaded fillet along the face at the largest
-    root stress, empty where not ``along_face``; NaN where every fillet node lies within the reading depth
-    of the pair's load); empty for the plate.  Every loaded (position, pair) of a member at once (:meth:`beveloid.fe.contact.FeTooth.root_stresses`)."""
+    root stress, empty where not ``along_face``; "compression" empty where not ``compression``; NaN where
+    every fillet node lies within the reading depth of the pair's load); empty for the plate.  Every loaded (position, pair) of a member at once (:meth:`beveloid.fe.contact.FeTooth.root_stresses`)."""
     out = {"tension": {}, "compression": {}, "where": {}, "along": {}, "unread": {}}
     if not all(hasattr(t, "root_stress") for t in teeth):
         return out
@@ -111,11 +111,13 @@ def root_stresses(teeth, sol, ok, along_face=True) -> dict:
         ten[ok], comp[ok] = 0.0, 0.0
         points = sol.gap.pinion_point if m == "pinion" else sol.gap.gear_point
         if jj.size:
-            r = tooth.root_stresses(points[jj, kk], forces[jj, kk])
+            r = tooth.root_stresses(points[jj, kk], forces[jj, kk], compression)
             ten[jj, kk], comp[jj, kk] = r.tension_mpa, r.compression_mpa
             where[jj, kk] = np.stack([r.z_mm, r.height_mm], axis=-1)
             out["unread"][m] = int(np.count_nonzero(np.isnan(r.tension_mpa)))
-        out["tension"][m], out["compression"][m], out["where"][m] = ten, comp, where
+        out["tension"][m], out["where"][m] = ten, where
+        if compression:
+            out["compression"][m] = comp
         if along_face and np.isfinite(ten).any() and np.nanmax(ten) > 0:
             j, k = np.unravel_index(int(np.nanargmax(ten)), ten.shape)
             out["along"][m] = tooth.along_face(points[j, k], forces[j, k])

@@ -50,17 +50,22 @@ def run_many(geom, error_sets, torques_nm, options: Options, material: Material,
     docstring once for every case, its contact problems in one compiled call
     (:func:`cycle.solve_many`); the root stresses of every loaded (position, pair) of a case at once.
     ``leave_out``: "convergence": step 4 of the module docstring left out (each result's convergence nan);
-    "along_face": no result's ``root_stress_along_face`` (each empty)."""
+    "along_face": no result's ``root_stress_along_face`` (each empty); "compression": no result's
+    ``pair_root_compressive_stress_mpa`` (each empty: the other fillet's extreme not sought).
+    ``torques_nm``: the torques of every error set, or one sequence of torques per error set (a ragged batch:
+    ``[[LTCAResult of set k at each of its torques] for k]``)."""
     options.check_memory()
     teeth, body_notes = member_teeth(pair, geom, options, material)
+    per_set = ([list(t) for t in torques_nm] if len(torques_nm) and np.ndim(torques_nm[0])
+               else [list(torques_nm)] * len(error_sets))
     with one_blas_thread(), np.errstate(all="ignore"):
         setups = cycle_setups(geom, options.flank, error_sets, options.positions, options.pairs, solver)
-        cases = [(s, float(t)) for s in setups for t in torques_nm]
+        cases = [(s, float(t)) for s, ts in zip(setups, per_set) for t in ts]
         results = _run(cases, options, material, teeth, body_notes, leave_out)
     held = geom if pair is None else pair
     results = [dataclasses.replace(r, pair=held) for r in results]  # each holds the pair it was computed for
-    T = len(torques_nm)
-    return [results[k * T:(k + 1) * T] for k in range(len(setups))]
+    ends = np.cumsum([0] + [len(ts) for ts in per_set])
+    return [results[a:b] for a, b in zip(ends[:-1], ends[1:])]
 
 
 def _run(cases, options, material, teeth, body_notes=(), leave_out=()):
@@ -145,7 +150,8 @@ def _run(cases, options, material, teeth, body_notes=(), leave_out=()):
         line = geom.pinion.face_width_mm / max(math.cos(geom.pinion.helix_angle), 0.3)
         hertz_ref = grids.hertz_peak_mpa(fr.curvature_across, fr.curvature_along, sol.pair_load_n(), e_star, line)
         out.append(_result((s, T), options, sol, check, e_star, nt, hertz_ref,
-                           root_stresses(teeth, sol, sol.converged, "along_face" not in leave_out)))
+                           root_stresses(teeth, sol, sol.converged, "along_face" not in leave_out,
+                                         "compression" not in leave_out)))
     return out
 
 

@@ -18,7 +18,8 @@ import typing
 import numpy as np
 
 from ... import tca
-from ...status import PointStatus
+from ...status import PointStatus, Status
+from ...tca.flank import mesh_paths
 from ..model import gaps
 from ..mechanics import halfspace, kernel, lcp
 from ..model.compliance import pair_tooth_compliances
@@ -28,15 +29,15 @@ from ..model.grid import edges
 class Setup:
     """Everything of one (geometry, flank, errors, positions, pairs) that does not depend on the grid."""
 
-    def __init__(self, geom, flank, errors, positions, pairs, solver, frame=True):
+    def __init__(self, geom, flank, errors, positions, pairs, solver, frame=True, paths=None):
         """``frame=False``: the principal frames left to the caller (:meth:`with_frame`; :func:`setups`
-        computes those of many error sets at once)."""
+        computes those of many error sets at once); ``paths``: this set's rigid mesh
+        (``tca.flank.mesh_paths``, K = 1; None: solved here; :func:`setups` solves those of many sets at once)."""
         self.geom, self.flank, self.solver = geom, flank, solver
         self.problem = geom.problem(flank)  # the packed surfaces of the gap solves, once
         self.errors = tca.errors_array(errors)
         # the Solver itself, its tolerances with its backend (issue 42)
-        fr = tca.mesh_flank(geom, flank, self.errors, positions=positions, pairs=pairs, window_pitches=1,
-                            solver=solver)
+        fr = paths if paths is not None else mesh_paths(geom, flank, self.errors, positions, pairs, 1, solver=solver)
         ref = tca.reference_contact(geom, flank, solver.options)  # the Solver's tolerances
         self.reference = ref
         ref_gear = tca.unknowns(ref.x).gear_angle_rad
@@ -45,8 +46,8 @@ class Setup:
         self.n1_over_n2 = n1 / n2
         self.ks = np.arange(pairs) - pairs // 2
         self.phi1 = fr.pinion_angle[:positions]
-        x = fr.unknowns.reshape(pairs, positions, 5).transpose(1, 0, 2)  # (N, P, 5) pair 0 unknowns
-        status = np.asarray(fr.status, dtype=object).reshape(pairs, positions).T
+        x = fr.unknowns[0].reshape(pairs, positions, 5).transpose(1, 0, 2)  # (N, P, 5) pair 0 unknowns
+        status = np.asarray(Status.labels(fr.code[0]), dtype=object).reshape(pairs, positions).T
         self.solved = np.array([[s != PointStatus.FAILED for s in row] for row in status], dtype=bool)
         # a tangency the rigid TCA did not solve between two solved positions of the same pair: the
         # interpolation of its neighbours places that pair's grid (the gap itself is measured on the
@@ -55,8 +56,8 @@ class Setup:
         self.solved |= self.interpolated
         # the tangency lies on both flanks: its patch is a surface contact
         self.on_flank = np.array([[s in (PointStatus.OK, PointStatus.EDGE) for s in row] for row in status], dtype=bool)
-        te = fr.transmission_error.reshape(pairs, positions).T
-        active = fr.active.reshape(pairs, positions).T
+        te = fr.transmission_error[0].reshape(pairs, positions).T
+        active = fr.active[0].reshape(pairs, positions).T
         self.unloaded_te = np.array([te[j][active[j]][0] if active[j].any() else np.nan for j in range(positions)])
         # each pair's own rigid TE (its tangency, on or off the flanks): how far it stands open
         self.pair_te = np.where(self.solved, tca.unknowns(x).gear_angle_rad - self.ks[None, :] * p2 - ref_gear
@@ -119,10 +120,15 @@ class Setup:
 
 
 def setups(geom, flank, error_sets, positions, pairs, solver) -> list:
-    """The :class:`Setup` of each error set, their principal frames in one evaluation of the surfaces (the
-    same numbers as each set's own: elementwise arrays, only longer; a crowned candidate's 16 sets 2.6 ms a
-    set one by one, 0.5 ms together)."""
-    out = [Setup(geom, flank, e, positions, pairs, solver, frame=False) for e in error_sets]
+    """The :class:`Setup` of each error set, their rigid meshes in one call of the solver core and their
+    principal frames in one evaluation of the surfaces (the same numbers as each set's own: the core solves each
+    set alone, the frames are elementwise arrays, only longer; a crowned candidate's 16 sets 2.6 ms a set one
+    by one, 0.5 ms together)."""
+    if len(error_sets) == 0:
+        return []
+    paths = mesh_paths(geom, flank, np.asarray(error_sets, dtype=float), positions, pairs, 1, solver=solver)
+    out = [Setup(geom, flank, e, positions, pairs, solver, frame=False, paths=paths.of_set(k))
+           for k, e in enumerate(error_sets)]
     if out:
         frames = gaps.principal_frame(geom, flank, np.stack([s.x for s in out]), np.stack([s.pair_phi1 for s in out]),
                                       np.stack([s.errors for s in out])[:, None, None, :])

@@ -33,6 +33,7 @@ class Batch(Result):
     torque_nm: np.ndarray  # (T,)
     errors: np.ndarray  # (K, 5) dx, dy, dz mm; vertical, horizontal rad
     results: tuple  # K tuples of T LTCAResults
+    extra: tuple = ()  # the LTCAResult of each extra case of analyze_many(..., extra=)
 
     def _each(self, fn) -> np.ndarray:
         return np.array([[fn(r) for r in row] for row in self.results], dtype=float)
