@@ -315,6 +315,17 @@ def _toml(design: dict) -> str:
                    for section, keys in design.items() if keys)
 
 
+def random_designs(seed: int, count: int) -> list:
+    """The first ``count`` designs (TOML texts) :func:`random_design` draws with ``seed``: R{seed}-1, -2, ..."""
+    rng = np.random.default_rng(seed)
+    texts = []
+    while len(texts) < count:
+        text = random_design(rng)
+        if text is not None:
+            texts.append(text)
+    return texts
+
+
 def random_design(rng):
     """A design drawn from ``rng`` (numpy Generator) as TOML text, or None where no offset in the scanned
     range gives the gear a rack shift within 0.2 of the drawn target (the caller draws again)."""
@@ -406,15 +417,12 @@ def main(argv=None) -> int:
             seed, count = (int(v) for v in args.random.split(":"))
         except ValueError:
             p.error(f"--random = {args.random!r}: valid is SEED:N, two integers (e.g. 5:8)")
-        rng = np.random.default_rng(seed)
         names = []
-        while len(names) < count:
-            text = random_design(rng)
-            if text is not None:
-                name = f"R{seed}-{len(names) + 1} (random)"
-                DESIGNS[name], TORQUES[name] = text, None
-                names.append(name)
-                print(f"{name}:\n" + "".join(f"    {line}\n" for line in text.splitlines()), file=sys.stderr, flush=True)
+        for text in random_designs(seed, count):
+            name = f"R{seed}-{len(names) + 1} (random)"
+            DESIGNS[name], TORQUES[name] = text, None
+            names.append(name)
+            print(f"{name}:\n" + "".join(f"    {line}\n" for line in text.splitlines()), file=sys.stderr, flush=True)
     if args.designs is not None:
         by_key = {name.split(" ")[0] if name != "case 1" else "case1": name for name in TORQUES}
         asked = [key.strip() for key in args.designs.split(",") if key.strip()]

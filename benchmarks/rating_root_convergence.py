@@ -14,7 +14,17 @@ estimate (beveloid/rating/root_convergence.py: the default's loads read with the
 3 |default / coarse - 1|).
 
     python benchmarks/rating_root_convergence.py [--designs case1,case2,A,B,C,R1,R2,R3] [--levels 0,1,2] [--notch]
+    python benchmarks/rating_root_convergence.py --designs path/to/design.toml   # any design (named by its stem)
+    python benchmarks/rating_root_convergence.py --designs R5701-3   # rating_invariance.py --random 5701:3's third
 
+    python benchmarks/rating_root_convergence.py --designs case1,R1 --fillet-sweep 2,4 --growths 0.5,1   # 2D only
+
+``--fillet-sweep K,...``: no FE tooth and no LTCA: per member the 2D section at mid-face (``--notch``'s) meshed
+at the default's sizes, then at its flank and far sizes with the fillet's elements at rho_F / K for each K
+(``--fillet-sweep ""``: the default's sizes only), over its converged value (the notch stress of a load at
+the flank's tip / at the middle of its radii), for each fillet band's growth of ``--growths`` (the size's
+rise away from the fillet, ``fe.sizes.FILLET_GROWTH``, set for the 2D mesh while it is made): how the
+fillet's discretisation alone reads at each rule, a few seconds a member.
 ``--levels 0,1``: coarsen 2 and the default only (refinement 2 takes up to 5 GB and minutes a member).
 ``--notch``: a last column, the 2D section (fe.plane_strain) meshed at each level's sizes over its converged
 value, at the maximum's section.  The FE data of each level is built once per design and cached; run one
@@ -105,9 +115,22 @@ tip_relief_um = 9.0
 
 
 def _pair(name):
-    from beveloid.pair import Pair
-    from beveloid.spec import spec_from_toml_bytes
+    """The design ``name``: case1 / case2, one of :data:`RANDOM`, A / B / C (rating_invariance's), R{seed}-{k}
+    (the k-th design ``rating_invariance.py --random SEED:N`` draws) or a TOML design file's path (ending in
+    .toml)."""
+    import re
 
+    from rating_invariance import random_designs
+
+    from beveloid.pair import Pair
+    from beveloid.spec import load_spec, spec_from_toml_bytes
+
+    if name.endswith(".toml"):
+        return Pair.from_spec(load_spec(name))
+    drawn = re.fullmatch(r"R(\d+)-(\d+)", name)
+    if drawn:
+        seed, k = int(drawn[1]), int(drawn[2])
+        return Pair.from_spec(spec_from_toml_bytes(random_designs(seed, k)[k - 1].encode()))
     if name in ("case1", "case2"):
         return Pair.example(name)
     if name in RANDOM:
@@ -124,10 +147,10 @@ def richardson(coarse, mid, fine):
     return fine + d2 / (2 ** p - 1), p
 
 
-def _notch_ratio(pair, member, z_mm, flank, sizes, moduli) -> float:
+def _notch_ratios(pair, member, z_mm, flank, sizes, moduli) -> list:
     """The 2D section's notch stress (``fe.plane_strain``) meshed at the FE tooth's element sizes ``sizes``
     over its converged value (refinement 1, within 0.2 % of refinement 8: docs/validation.md 12.1), in the
-    transverse section ``z_mm`` of ``member``'s body: the mean over a load at the flank's tip and one at the
+    transverse section ``z_mm`` of ``member``'s body, under a load at the flank's tip and under one at the
     middle of its radii."""
     import numpy as np
 
@@ -143,7 +166,14 @@ def _notch_ratio(pair, member, z_mm, flank, sizes, moduli) -> float:
     loads = (ps.SectionLoad(flank, ps.TIP), ps.SectionLoad(flank, 0.5 * sum(radii)))
     conv = ps.notch_stress(body, member, loads, ps.NotchOptions(), z_mm=z_mm, material=moduli)
     fe = ps.notch_stress(body, member, loads, ps.NotchOptions(fe_sizes=sizes), z_mm=z_mm, material=moduli)
-    return float(np.mean([f.tension_mpa_per_n_mm / c.tension_mpa_per_n_mm for f, c in zip(fe, conv)]))
+    return [f.tension_mpa_per_n_mm / c.tension_mpa_per_n_mm for f, c in zip(fe, conv)]
+
+
+def _notch_ratio(pair, member, z_mm, flank, sizes, moduli) -> float:
+    """The mean of :func:`_notch_ratios` (the tip's and the middle's)."""
+    import numpy as np
+
+    return float(np.mean(_notch_ratios(pair, member, z_mm, flank, sizes, moduli)))
 
 
 def main(argv=None) -> int:
@@ -160,7 +190,16 @@ def main(argv=None) -> int:
     a.add_argument("--levels", default="0,1,2", help="of coarsen 2, default, refinement 2 (0-based)")
     a.add_argument("--notch", action="store_true",
                    help="add the 2D section at each level's mesh sizes over its converged value (fe.plane_strain)")
+    a.add_argument("--fillet-sweep", default=None, metavar="K,...",
+                   help="the 2D section only, with the fillet's elements at rho_F / K for each K (no FE tooth)")
+    a.add_argument("--growths", default=None, metavar="G,...",
+                   help="with --fillet-sweep: the fillet band's growths (fe.sizes.FILLET_GROWTH; default today's)")
     args = a.parse_args(argv)
+    if args.fillet_sweep is not None:
+        from beveloid.fe.sizes import FILLET_GROWTH
+
+        growths = [FILLET_GROWTH] if args.growths is None else [float(g) for g in args.growths.split(",")]
+        return fillet_sweep(args.designs.split(","), [float(k) for k in args.fillet_sweep.split(",") if k], growths)
     levels = [LEVELS[int(i)] for i in args.levels.split(",")]
     where_rows = []
     print("| design | T (N m) | member | fillet radius / element (mm) | root stress max (MPa): coarsen 2 / default / "
@@ -168,8 +207,8 @@ def main(argv=None) -> int:
           "reading the default's loads (MPa) | default / that − 1 (read-out) | that / refinement 2 − 1 (loads) |"
           + (" 2D section at the mesh's sizes / converged: coarsen 2 / default / refinement 2 |" if args.notch else ""))
     print("|---|---|---|---|---|---|---|---|---|---|---|" + ("---|" if args.notch else ""))
-    for name in args.designs.split(","):
-        pair = _pair(name)
+    for spec in args.designs.split(","):
+        pair, name = _pair(spec), Path(spec).stem
         material = ltca.Material.from_spec(pair.spec)
         moduli = {"pinion": (material.pinion_e_mpa, material.pinion_nu), "gear": (material.gear_e_mpa, material.gear_nu)}
         torque = 1500.0 if name in ("case1", "case2") else _torques(pair)[1]
@@ -215,6 +254,43 @@ def main(argv=None) -> int:
     print("|---|---|---|---|---|---|")
     for row in where_rows:
         print(row)
+    return 0
+
+
+def fillet_sweep(designs, ks, growths) -> int:
+    """``--fillet-sweep``'s table (module docstring)."""
+    from beveloid import ltca
+    from beveloid.fe import mesh
+    from beveloid.fe.mesh import MeshSizes
+    from beveloid.rating.root_convergence import _sizes
+    from beveloid.tooth.body import body_pair
+    from beveloid.tooth.sampling import ToothSampler
+
+    heads = [f"growth {g:g}, {label}: tip / mid" for g in growths
+             for label in ["the default's elements"] + [f"ρ_F / {k:g}" for k in ks]]
+    print("| design | member | fillet radius (mm, m_n) / default's element (mm) | " + " | ".join(heads) + " |")
+    print("|---|---|---|" + "---|" * len(heads))
+    kept = mesh.FILLET_GROWTH
+    for spec in designs:
+        pair, name = _pair(spec), Path(spec).stem
+        material = ltca.Material.from_spec(pair.spec)
+        moduli = {"pinion": (material.pinion_e_mpa, material.pinion_nu), "gear": (material.gear_e_mpa, material.gear_nu)}
+        for m in ("pinion", "gear"):
+            body = body_pair(pair, m)
+            geometry = getattr(body, "geometry", body)
+            z = 0.5 * sum(ToothSampler(geometry, m).z_range_mm)
+            base = _sizes(pair, m, 1, 1.0)
+            rho = base.fillet_radius_mm
+            cells = []
+            for g in growths:
+                mesh.FILLET_GROWTH = g  # the 2D section's fe_sizes grow from the fillet by fe.mesh.FILLET_GROWTH
+                try:
+                    cells += [" / ".join(f"{v:.3f}" for v in _notch_ratios(pair, m, z, "right", sizes, moduli[m]))
+                              for sizes in [base] + [MeshSizes(base.flank_mm, rho / k, base.far_mm, rho) for k in ks]]
+                finally:
+                    mesh.FILLET_GROWTH = kept
+            print(f"| {name} | {m} | {rho:.3f}, {rho / geometry.normal_module_mm:.3f} / {base.fillet_mm:.3f} | "
+                  + " | ".join(cells) + " |", flush=True)
     return 0
 
 

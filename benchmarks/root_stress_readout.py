@@ -20,7 +20,7 @@ Widths in fillet elements at refinement 1 (the same physical window on both mesh
 ``per mesh``, in the mesh's own fillet elements (the same number of rows on both).  Prints a markdown
 table: per member the default / refinement 2 - 1 of each candidate.
 
-    python benchmarks/root_stress_readout.py [--designs case1,case2,R1,R2,R3]   # one design per process
+    python benchmarks/root_stress_readout.py [--designs case1,case2,R1,R2,R3]   # one design per process; or a .toml path or R5701-k
     python benchmarks/root_stress_readout.py --notch [--refinement 1 2]   # against the 2D notch benchmark
 
 ``--notch``: the candidates on the near-spur pinions of ``benchmarks/notch_benchmark.py fe-tooth`` (a line
@@ -106,9 +106,9 @@ def designs(args) -> None:
     print("| design | member | fillet radius / element (mm) | nodal max: default / refinement 2 (MPa) | "
           + " | ".join(label(c) for c in CANDIDATES) + " |")
     print("|---|---|---|---|" + "---|" * len(CANDIDATES))
-    for name in args.designs.split(","):
+    for spec in args.designs.split(","):
         t0 = time.perf_counter()
-        pair = _pair(name)
+        pair, name = _pair(spec), Path(spec).stem
         material = ltca.Material.from_spec(pair.spec)
         moduli = {"pinion": (material.pinion_e_mpa, material.pinion_nu), "gear": (material.gear_e_mpa, material.gear_nu)}
         torque = 1500.0 if name in ("case1", "case2") else _torques(pair)[1]
