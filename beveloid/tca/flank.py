@@ -112,8 +112,9 @@ class MeshPaths(NamedTuple):
     envelope: np.ndarray  # (K, positions) the TE envelope
 
     def of_set(self, k: int) -> "MeshPaths":
-        """Error set k's alone (K = 1)."""
-        return self._replace(**{f: getattr(self, f)[k:k + 1] for f in self._fields[2:]})
+        """Error set k's alone (K = 1); the pinion angles and pairs are every set's."""
+        return self._replace(**{f: getattr(self, f)[k:k + 1] for f in self._fields
+                                if f not in ("pinion_angle", "tooth_pair")})
 
 
 def mesh_paths(geom: PairGeometry, flank: str, error_sets, positions=200, pairs=3, window_pitches=None, *,
