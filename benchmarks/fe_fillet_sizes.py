@@ -52,9 +52,13 @@ def fillet_edges(pair, member: str, refinement: int, sampling) -> dict:
         face_mm = abs(sampler.z_range_mm[1] - sampler.z_range_mm[0])
         sampling = max(TODAY, math.ceil(2.0 * face_mm / rule.fillet_mm) + 1)
     set_number = gmsh.model.mesh.field.setNumber
+    used = []
 
     def sampled(tag, option, value):
-        return set_number(tag, option, sampling if option == "Sampling" else value)
+        if option == "Sampling":
+            value = value if sampling == "rule" else sampling
+            used.append(int(value))
+        return set_number(tag, option, value)
 
     gmsh.model.mesh.field.setNumber = sampled
     try:
@@ -68,7 +72,7 @@ def fillet_edges(pair, member: str, refinement: int, sampling) -> dict:
         p = sector.nodes[sector.facets[face][:, :3]]
         edges += [np.linalg.norm(p[:, i] - p[:, (i + 1) % 3], axis=1) for i in range(3)]
     edges = np.concatenate(edges)
-    return {"sampling": sampling, "fillet_mm": sector.sizes.fillet_mm, "rho_mm": sector.sizes.fillet_radius_mm,
+    return {"sampling": "/".join(map(str, used)), "fillet_mm": sector.sizes.fillet_mm, "rho_mm": sector.sizes.fillet_radius_mm,
             "median": float(np.median(edges)), "p90": float(np.percentile(edges, 90)), "max": float(edges.max()),
             "tets": len(sector.tets), "seconds": seconds}
 
@@ -78,9 +82,11 @@ def main(argv=None) -> int:
     a.add_argument("--designs", default="case1,R1")
     a.add_argument("--members", default="pinion,gear")
     a.add_argument("--refinements", default="1,2")
-    a.add_argument("--sampling", default=f"{TODAY},auto", help="gmsh Distance Sampling values, or auto")
+    a.add_argument("--sampling", default=f"{TODAY},rule",
+                   help="gmsh Distance Sampling values (both fields), auto (the fillet's size along the face), "
+                        "or rule (the FE tooth's own, fe.sizes.distance_sampling: flank / fillet)")
     args = a.parse_args(argv)
-    samplings = [s if s == "auto" else int(s) for s in args.sampling.split(",")]
+    samplings = [s if s in ("auto", "rule") else int(s) for s in args.sampling.split(",")]
     print("| design | member | refinement | ρ_F / rule's fillet element (mm) | Sampling | fillet edges / rule: "
           "median / p90 / max | tets | meshing (s) |")
     print("|---|---|---|---|---|---|---|---|")

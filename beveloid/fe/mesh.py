@@ -23,7 +23,9 @@ max(rho_F / FILLET_RADIUS_ELEMENTS, FILLET_SIZE_NOTCH_PER_MODULE m_n), h_flank) 
 of curvature of the fillet section at mid-face) / N: the second term binds only where the floor would leave
 the radius fewer than FILLET_RADIUS_ELEMENTS elements (rho_F < 0.06 m_n); elsewhere h_far = FAR_SIZE_PER_MODULE m_n / N, grown linearly
 from the fine faces (over FAR_GROWTH times the size difference from the flanks, over FILLET_GROWTH
-times it from the fillets: the fine fillet band stays thin).
+times it from the fillets: the fine fillet band stays thin).  The distance from a fine face is read from
+samples of it at most half its element size apart (``fe.sizes.distance_sampling``), so that the face
+itself is meshed at its size between the samples.
 """
 from __future__ import annotations
 
@@ -41,7 +43,8 @@ __all__ = ["FACE_KINDS", "SectorMesh", "MeshSizes", "mesh_sizes", "sector_mesh",
            "FILLET_SIZE_PER_RADIUS", "FILLET_RADIUS_ELEMENTS", "FILLET_SIZE_NOTCH_PER_MODULE", "RIM_DEPTH_PER_HEIGHT", "SectorShape", "record_from_gmsh"]
 
 #: raise when the meshing rules change (it is part of the FE cache's key)
-MESH_RULES_VERSION = 5  # 4: a fillet far thinner than its elements takes a strip of land; 5: FILLET_RADIUS_ELEMENTS
+MESH_RULES_VERSION = 6  # 4: a fillet far thinner than its elements takes a strip of land; 5: FILLET_RADIUS_ELEMENTS;
+# 6: the fine faces' distance fields sampled at half their element size (fe.sizes.distance_sampling)
 FLANK_SIZE_PER_MODULE = 0.3
 FAR_SIZE_PER_MODULE = 1.0
 FILLET_SIZE_PER_RADIUS = 0.5

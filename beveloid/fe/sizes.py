@@ -24,13 +24,19 @@ from dataclasses import dataclass
 import numpy as np
 
 __all__ = ["FAR_GROWTH", "FILLET_GROWTH", "ContactStrip", "ContactStrips", "STRIP_SIZE_MIN_MM", "STRIP_GROWTH", "MAX_STRIP_ELEMENTS",
-           "TETS_PER_H3", "estimated_elements", "strip_sizes", "size_field"]
+           "TETS_PER_H3", "SAMPLES_PER_ELEMENT", "DISTANCE_SAMPLING_MIN", "distance_sampling", "estimated_elements", "strip_sizes", "size_field"]
 
 #: distance (in multiples of the size difference) over which the size grows from a fine face's size
 #: to the far size: from the flanks, and (steeper, so the fine fillet band adds little volume) from
 #: the fillets
 FAR_GROWTH = 1.5
 FILLET_GROWTH = 0.5
+#: samples of a fine face's ``Distance`` field per element size along the face (:func:`distance_sampling`):
+#: with two, every point of the face lies within about a third of an element of a sample, inside the
+#: ``Threshold``'s ``DistMin`` (half an element), and is given the face's size
+SAMPLES_PER_ELEMENT = 2.0
+#: the fewest samples per bounding-box diagonal (gmsh's default order; a short face)
+DISTANCE_SAMPLING_MIN = 60
 #: the smallest strip element (mm): below it a 2-core machine cannot solve the model
 STRIP_SIZE_MIN_MM = 0.01
 #: distance over which the strip's size grows to the far size, in multiples of the size difference
@@ -125,6 +131,26 @@ def _threshold(f, distance, size_min, size_max, dist_min, growth):
     return t
 
 
+def distance_sampling(surfaces, size_mm: float) -> int:
+    """gmsh's ``Sampling`` of a ``Distance`` field from ``surfaces`` that puts its samples at most
+    ``size_mm`` / :data:`SAMPLES_PER_ELEMENT` apart on them.
+
+    gmsh replaces a surface (not yet meshed) by a cloud of points about (its bounding box's diagonal /
+    Sampling) apart, spread over the surface's triangulation, so the spacing is set by the diagonal,
+    not by the surface's own extents.  Between two samples a point of the surface reads a distance of
+    up to half their spacing, and the ``Threshold`` grows the size from there (by 1 / growth per mm
+    beyond ``DistMin``); with a fixed Sampling (60 before) a 50 mm fillet's samples were 0.85 mm apart
+    against its 0.24 mm elements, and its facets were meshed up to 3-4.5 times its size
+    (``benchmarks/fe_fillet_sizes.py``, docs/validation.md 10.2)."""
+    import gmsh
+
+    diagonal = 0.0
+    for tag in surfaces:
+        x0, y0, z0, x1, y1, z1 = gmsh.model.getBoundingBox(2, tag)
+        diagonal = max(diagonal, math.dist((x0, y0, z0), (x1, y1, z1)))
+    return max(DISTANCE_SAMPLING_MIN, math.ceil(SAMPLES_PER_ELEMENT * diagonal / size_mm) + 1)
+
+
 def size_field(face_of, sizes, strips: ContactStrips | None = None, divide: float = 1.0) -> tuple:
     """Set gmsh's background field of the current model; returns the strips' sizes (mm, () without).
 
@@ -135,9 +161,10 @@ def size_field(face_of, sizes, strips: ContactStrips | None = None, divide: floa
     f = gmsh.model.mesh.field
     fields = []
     for kind, h, growth in (("flank", sizes.flank_mm, FAR_GROWTH), ("fillet", sizes.fillet_mm, FILLET_GROWTH)):
+        surfaces = [face_of[f"{kind}_{side}_0"] for side in ("left", "right")]
         d = f.add("Distance")
-        f.setNumbers(d, "SurfacesList", [face_of[f"{kind}_{side}_0"] for side in ("left", "right")])
-        f.setNumber(d, "Sampling", 60)
+        f.setNumbers(d, "SurfacesList", surfaces)
+        f.setNumber(d, "Sampling", distance_sampling(surfaces, h))
         fields.append(_threshold(f, d, h, sizes.far_mm, 0.5 * h, growth))
     out = ()
     if strips is not None and strips.strips:
