@@ -1,20 +1,21 @@
 """Does the FE tooth's mesh have, on its fillets, the element size its rule asks for?  (issue 57.5)
 
 The fillet band's size field (``beveloid.fe.sizes.size_field``) is a gmsh ``Threshold`` on a ``Distance``
-from the loaded tooth's fillet surfaces, and gmsh's ``Distance`` replaces a surface by Sampling x Sampling
-points of its parameter square (today's Sampling: 60).  Along the face the samples are then the fillet's
-length / 59 apart: 0.85 mm on case 1's pinion (face 50 mm) against its fillet elements of 0.24 mm, so a
-point of the fillet between two sample lines reads a distance up to half that spacing, and the size there
-grows by 1 / FILLET_GROWTH per mm of it.  This script meshes each member's sector as the FE tooth does
-(``fe.mesh.sector_mesh`` of its body) at each ``--refinements`` level, once with each ``--sampling`` (gmsh's
-option set for the fillet's and flank's distance fields while the mesh is made: ``auto`` is the Sampling
-that puts the samples at most half the level's fillet element apart along the face), and prints the
-corner edges of the loaded tooth's fillet facets against the rule's size: median, 90th percentile and
-largest, each over the rule's ``fillet_mm``, with the sector's tets and the meshing time.  No FE solve:
-seconds a member.
+from the loaded tooth's fillet surfaces, and gmsh's ``Distance`` reads the distance from samples of the
+surfaces about (their bounding box's diagonal / Sampling) apart.  With a fixed Sampling of 60 (before
+``fe.mesh.MESH_RULES_VERSION`` 6) the samples of a 50 mm fillet were 0.85 mm apart against its 0.24 mm
+elements, so a point of the fillet between two samples read a distance up to half that spacing, and the
+size there grew by 1 / FILLET_GROWTH per mm of it.  Today ``fe.sizes.distance_sampling`` sets the Sampling
+so that the samples are at most half the face's element apart.  This script meshes each member's sector as
+the FE tooth does (``fe.mesh.sector_mesh`` of its body) at each ``--refinements`` level, once with each
+``--sampling``: ``rule`` (the FE tooth's own: the flank's / the fillet's Sampling), an integer (gmsh's
+option for both fields, 60 the old one), or ``auto`` (the fillet's size along the face's length), and
+prints the corner edges of the loaded tooth's fillet facets against the rule's size: median, 90th
+percentile and largest, each over the rule's ``fillet_mm``, with the sector's tets and the meshing time.
+No FE solve: seconds a member.
 
     python benchmarks/fe_fillet_sizes.py [--designs case1,R1] [--members pinion,gear] [--refinements 1,2]
-        [--sampling 60,auto]
+        [--sampling 60,rule]
 
 Designs are named as in benchmarks/rating_root_convergence.py (case1, case2, R1-R3, R{seed}-{k}, a TOML path).
 """
@@ -30,13 +31,13 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from rating_root_convergence import _pair  # noqa: E402
 
-#: the Sampling that fe.sizes.size_field sets today
-TODAY = 60
+#: the Sampling that fe.sizes.size_field set before MESH_RULES_VERSION 6 (the least it sets today)
+OLD_SAMPLING = 60
 
 
 def fillet_edges(pair, member: str, refinement: int, sampling) -> dict:
-    """Mesh ``member``'s FE-tooth sector at ``refinement`` with the distance fields sampled ``sampling`` times
-    per parameter direction (an int, or "auto"); its fillet facets' corner edge lengths (mm) and the rule's size."""
+    """Mesh ``member``'s FE-tooth sector at ``refinement`` with the distance fields' Sampling ``sampling`` (an
+    int, "auto" or "rule"); its fillet facets' corner edge lengths (mm) and the rule's size."""
     import gmsh
     import numpy as np
 
@@ -50,7 +51,7 @@ def fillet_edges(pair, member: str, refinement: int, sampling) -> dict:
     rule = mesh_sizes(sampler, geometry.normal_module_mm, refinement)
     if sampling == "auto":
         face_mm = abs(sampler.z_range_mm[1] - sampler.z_range_mm[0])
-        sampling = max(TODAY, math.ceil(2.0 * face_mm / rule.fillet_mm) + 1)
+        sampling = max(OLD_SAMPLING, math.ceil(2.0 * face_mm / rule.fillet_mm) + 1)
     set_number = gmsh.model.mesh.field.setNumber
     used = []
 
@@ -82,7 +83,7 @@ def main(argv=None) -> int:
     a.add_argument("--designs", default="case1,R1")
     a.add_argument("--members", default="pinion,gear")
     a.add_argument("--refinements", default="1,2")
-    a.add_argument("--sampling", default=f"{TODAY},rule",
+    a.add_argument("--sampling", default=f"{OLD_SAMPLING},rule",
                    help="gmsh Distance Sampling values (both fields), auto (the fillet's size along the face), "
                         "or rule (the FE tooth's own, fe.sizes.distance_sampling: flank / fillet)")
     args = a.parse_args(argv)
