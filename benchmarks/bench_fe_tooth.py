@@ -3,7 +3,7 @@
     python -m benchmarks.bench_fe_tooth cost [--member gear]  # FE data of case 1's pinion (or gear), fresh
     python -m benchmarks.bench_fe_tooth solvers               # PARDISO vs SuperLU on that stiffness
     python -m benchmarks.bench_fe_tooth refinement            # PARDISO's solves with and without iterative refinement
-    python -m benchmarks.bench_fe_tooth convergence [1 2 3]   # case 1 LTCA at each refinement
+    python -m benchmarks.bench_fe_tooth convergence [1 2 3]   # case 1 LTCA at each refinement (1.5: sizes / 1.5)
     python -m benchmarks.bench_fe_tooth compare               # FE vs plate, case 1 and case 2
     python -m benchmarks.bench_fe_tooth startup               # cached FE start-up vs the plate
     python -m benchmarks.bench_fe_tooth meshes [1 2 3]        # case 1 pinion mesh sizes
@@ -174,12 +174,27 @@ def _summary(r, geom):
     return out
 
 
+def fe_options(refinement=1, **options):
+    """``ltca.Options(**options)`` with the FE tooth's every element size divided by ``refinement``: an integer
+    is ``fe_refinement``; a fraction (1.5) is every size times 1 / refinement through ``fe_coarsen``, which the
+    users' option keeps at 1-8 and the mesh takes from 0.25 (a level between the default and refinement 2, whose
+    FE data fit this machine where refinement 2's do not)."""
+    from beveloid import ltca
+
+    if float(refinement).is_integer():
+        return ltca.Options(fe_refinement=int(refinement), **options)
+    coarsen = options.pop("fe_coarsen", 1.0) / refinement
+    out = ltca.Options(**options)
+    object.__setattr__(out, "fe_coarsen", coarsen)
+    return out
+
+
 def _ltca(case, model, refinement=1):
     from beveloid import ltca
 
     t = time.perf_counter()
     pair = _pair(case)
-    r = ltca.analyze(pair, ltca.LoadCase(TORQUE_NM), ltca.Options(tooth_model=model, fe_refinement=refinement))
+    r = ltca.analyze(pair, ltca.LoadCase(TORQUE_NM), fe_options(refinement, tooth_model=model))
     out = _summary(r, pair.geometry)
     out["seconds"] = time.perf_counter() - t
     return out
@@ -308,7 +323,8 @@ def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("what", choices=("cost", "solvers", "refinement", "convergence", "compare", "startup", "meshes",
                                      "sizes", "locate"))
-    p.add_argument("refinements", nargs="*", type=int, default=[1, 2, 3])
+    p.add_argument("refinements", nargs="*", type=float, default=[1, 2, 3],
+                   help="FE refinements (integers, or a fraction such as 1.5: every size / 1.5)")
     p.add_argument("--member", choices=("pinion", "gear"), default="pinion", help="cost: the member (default pinion)")
     p.add_argument("--case", choices=("case1", "case2"), default="case1", help="cost: the design (default case1)")
     a = p.parse_args(argv)
@@ -317,6 +333,7 @@ def main(argv=None):
     fresh = tempfile.TemporaryDirectory(prefix="beveloid-fe-bench-") if a.what in ("cost", "convergence") else None
     if fresh is not None:
         os.environ["BEVELOID_CACHE_DIR"] = fresh.name
+    a.refinements = [int(n) if n.is_integer() else n for n in a.refinements]
     fn = {"cost": lambda: cost(a.member, a.case, (a.refinements or [1])[0]), "solvers": solvers, "refinement": refinement, "compare": compare, "startup": startup,
           "convergence": lambda: convergence(a.refinements), "meshes": lambda: meshes(a.refinements),
           "sizes": lambda: sizes(a.refinements),

@@ -40,6 +40,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
+from bench_fe_tooth import fe_options  # noqa: E402
 from rating_invariance import DESIGNS, _torques  # noqa: E402
 
 LEVELS = (("coarsen 2", 1, 2.0), ("default", 1, 1.0), ("refinement 2", 2, 1.0))
@@ -238,7 +239,8 @@ def main(argv=None) -> int:
         kept, default_result = dict(nan), None
         for label, refinement, coarsen in levels:
             t0 = time.perf_counter()
-            options = ltca.Options(positions=POSITIONS, tooth_model="fe", fe_refinement=refinement, fe_coarsen=coarsen)
+            options = fe_options(refinement / coarsen if coarsen < 1.0 else refinement, positions=POSITIONS,
+                                 tooth_model="fe", **({"fe_coarsen": coarsen} if coarsen >= 1.0 else {}))
             r = ltca.analyze(pair, ltca.LoadCase(torque), options)
             values[label] = r.root_stress_max_mpa()
             if args.notch:
