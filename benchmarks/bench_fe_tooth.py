@@ -333,7 +333,7 @@ def main(argv=None):
     fresh = tempfile.TemporaryDirectory(prefix="beveloid-fe-bench-") if a.what in ("cost", "convergence") else None
     if fresh is not None:
         os.environ["BEVELOID_CACHE_DIR"] = fresh.name
-    a.refinements = [int(n) if n.is_integer() else n for n in a.refinements]
+    a.refinements = [int(n) if float(n).is_integer() else n for n in a.refinements]
     fn = {"cost": lambda: cost(a.member, a.case, (a.refinements or [1])[0]), "solvers": solvers, "refinement": refinement, "compare": compare, "startup": startup,
           "convergence": lambda: convergence(a.refinements), "meshes": lambda: meshes(a.refinements),
           "sizes": lambda: sizes(a.refinements),
