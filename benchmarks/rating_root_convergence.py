@@ -25,6 +25,8 @@ at the default's sizes, then at its flank and far sizes with the fillet's elemen
 the flank's tip / at the middle of its radii), for each fillet band's growth of ``--growths`` (the size's
 rise away from the fillet, ``fe.sizes.FILLET_GROWTH``, set for the 2D mesh while it is made): how the
 fillet's discretisation alone reads at each rule, a few seconds a member.
+``--jitter 1.02,1.04``: a third table, the default's LTCA loads read by the FE tooth with every element size
+a few percent larger (the nodes move, the rule does not): the read-out's own scatter.
 ``--levels 0,1``: coarsen 2 and the default only (refinement 2 takes up to 5 GB and minutes a member).
 ``--notch``: a last column, the 2D section (fe.plane_strain) meshed at each level's sizes over its converged
 value, at the maximum's section.  The FE data of each level is built once per design and cached; run one
@@ -206,6 +208,10 @@ def main(argv=None) -> int:
                         "fit the machine); the Richardson extrapolation takes its ratio")
     a.add_argument("--notch", action="store_true",
                    help="add the 2D section at each level's mesh sizes over its converged value (fe.plane_strain)")
+    a.add_argument("--jitter", default=None, metavar="C,...",
+                   help="also read the default's LTCA loads with the FE tooth at each --fe-coarsen C (1.02, 1.04: every "
+                        "size a few percent larger): how far the read-out moves when the nodes move and the rule does "
+                        "not (a third table)")
     a.add_argument("--fillet-sweep", default=None, metavar="K,...",
                    help="the 2D section only, with the fillet's elements at rho_F / K for each K (no FE tooth)")
     a.add_argument("--growths", default=None, metavar="G,...",
@@ -222,7 +228,7 @@ def main(argv=None) -> int:
         LEVELS = LEVELS[:2] + (("refinement 1.5", 1, 2.0 / 3.0),)
     refined = LEVELS[2][0]
     levels = [LEVELS[int(i)] for i in args.levels.split(",")]
-    where_rows = []
+    where_rows, jitter_rows = [], []
     print(f"| design | T (N m) | member | fillet radius / element (mm) | root stress max (MPa): coarsen 2 / default / "
           f"{refined} | default / {refined} − 1 | Richardson (order) | default / Richardson − 1 | {refined} "
           f"reading the default's loads (MPa) | default / that − 1 (read-out) | that / {refined} − 1 (loads) |"
@@ -251,6 +257,8 @@ def main(argv=None) -> int:
             if label == "default":
                 default_result = r
                 where_rows += _where(name, torque, pair, r, root_stress_convergence(pair, r, material))
+                if args.jitter:
+                    jitter_rows += _jitter(name, pair, r, moduli, options, [float(c) for c in args.jitter.split(",")])
             elif label == refined and default_result is not None:
                 # the refined tooth under the default's LTCA loads: separates the read-out's change from the
                 # load distribution's (each level runs its own LTCA)
@@ -276,7 +284,37 @@ def main(argv=None) -> int:
     print("|---|---|---|---|---|---|")
     for row in where_rows:
         print(row)
+    if jitter_rows:
+        print(f"\n| design | member | default reading (MPa) | read with every size x {args.jitter.replace(',', ' / ')} "
+              "(MPa) | largest / smallest − 1 |")
+        print("|---|---|---|---|---|")
+        for row in jitter_rows:
+            print(row)
     return 0
+
+
+def _jitter(name, pair, result, moduli, options, coarsens) -> list:
+    """``--jitter``'s rows: the default's LTCA loads read by the FE tooth at each coarsen (module docstring)."""
+    import dataclasses
+
+    import numpy as np
+
+    from beveloid.ltca.model.teeth import fe_tooth, root_stresses
+    from beveloid.names import MEMBERS
+
+    default = result.root_stress_max_mpa()
+    reads = []
+    for c in coarsens:
+        moved = dataclasses.replace(options, fe_coarsen=c)
+        teeth = tuple(fe_tooth(pair, m, moduli[m], moved) for m in MEMBERS)
+        read = root_stresses(teeth, result, result.converged)["tension"]
+        reads.append({m: float(np.nanmax(read[m])) for m in MEMBERS})
+    rows = []
+    for m in MEMBERS:
+        values = [default[m]] + [r[m] for r in reads]
+        rows.append(f"| {name} | {m} | {default[m]:.1f} | {' / '.join(f'{r[m]:.1f}' for r in reads)} | "
+                    f"{max(values) / min(values) - 1:+.1%} |")
+    return rows
 
 
 def fillet_sweep(designs, ks, growths) -> int:
