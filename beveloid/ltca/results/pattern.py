@@ -118,9 +118,6 @@ class _Field:
         x, y = c[:, 0], c[:, 1]
         return (x >= lo[0]) & (x <= hi[0]) & (y >= lo[1]) & (y <= hi[1])
 
-    def __call__(self, q):
-        return self.at(self.coordinates(q))
-
     def at(self, c):
         """(n,) the pressure at the grid coordinates c (n, 2) (:meth:`coordinates`)."""
         xu = c[:, 0] - np.interp(c[:, 1], self.yc, self.shift)
@@ -171,15 +168,18 @@ def flank_pattern(result, geom, member, raster=RASTER) -> FlankPattern:
         idx = idx[np.linalg.norm(nodes[idx] - 0.5 * (f.centroid + g.centroid), axis=-1) < reach]
         if idx.size == 0:
             continue
-        q = nodes[idx]
         steps = int(min(MAX_SUBSTEPS, math.ceil(dist / (0.5 * min(f.X, g.X)))))
         best = pmax[idx]
+        # the nodes' grid coordinates in each field, moved with it: a field's map is affine, so a node's
+        # coordinates once the field has moved by t x delta are those at rest less t x (delta's image)
+        cf, df = at[j, k][idx], delta @ f.map
+        cg, dg = at[j + 1, k][idx], delta @ g.map
         # the sub-steps t = s / steps, several per call of the fields (about BATCH_POINTS points a call)
-        per = max(1, BATCH_POINTS // len(q))
+        per = max(1, BATCH_POINTS // len(idx))
         for s0 in range(1, steps, per):
             t = (np.arange(s0, min(steps, s0 + per)) / steps)[:, None, None]
-            both = ((1 - t[..., 0]) * f((q - t * delta).reshape(-1, 3)).reshape(len(t), -1)
-                    + t[..., 0] * g((q + (1 - t) * delta).reshape(-1, 3)).reshape(len(t), -1))
+            both = ((1 - t[..., 0]) * f.at((cf - t * df).reshape(-1, 2)).reshape(len(t), -1)
+                    + t[..., 0] * g.at((cg + (1 - t) * dg).reshape(-1, 2)).reshape(len(t), -1))
             best = np.maximum(best, both.max(axis=0))
         pmax[idx] = best
     frac = float(weight[inside][pmax > 0].sum() / weight[inside].sum())
