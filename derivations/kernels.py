@@ -103,6 +103,14 @@ CONTACT_UNKNOWNS = Layout("ContactUnknowns", "The unknowns of Eq 38 for a given 
     Field("gear_angle_rad", phi2p, "rad", "gear rotation phi'_2 of Eq 34"),
 ))
 UNKNOWNS = tuple(f.name for f in CONTACT_UNKNOWNS.fields)
+#: one mesh state of a pair: the assembly errors and both rotation angles, the angles' sine, cosine and tangent
+#: packed once (Layout trig): the loaded TCA's gap Newton evaluates Eq 38's position rows at many points of one
+#: state, and the eight sines and cosines were a third of each evaluation (ltca; docs/performance.md)
+MESH_STATE = Layout("MeshState", "The assembly errors of Eq 34 and both rotation angles of one mesh state.", (
+    *ERRORS.fields,
+    Field("pinion_angle_rad", phi1p, "rad", "pinion rotation phi'_1 of Eq 30"),
+    Field("gear_angle_rad", phi2p, "rad", "gear rotation phi'_2 of Eq 34"),
+), trig=("vertical_rad", "horizontal_rad", "pinion_angle_rad", "gear_angle_rad"))
 
 
 def _camel(name):
@@ -251,6 +259,13 @@ def contact_system_module():
                   Output("residual_D_unknowns", d_unknowns, "", "d residual / d " + str(UNKNOWNS)),
                   Output("residual_D_errors", f.jacobian(errors), "", "d residual / d AssemblyErrors"),
                   Output("residual_D_pinion_angle", f.diff(phi1p), "", "d residual / d phi'_1")]),
+        Function("position_residual",
+                 "The position rows of Eq 38 (R_f1 - R_f2) and their Jacobians at one mesh state, its angles' "
+                 "trigonometry packed (the loaded TCA's gap Newton reads only these).",
+                 [args[0], args[2], args[4], args[6], Arg("state", MESH_STATE, "", "the mesh state"), args[11]],
+                 [Output("residual", f[:3, :], "mm", "R_f1 - R_f2 (x, y, z): rows 0-2 of contact_residual's"),
+                  Output("residual_D_unknowns", d_unknowns[:3, :], "", "d residual / d " + str(UNKNOWNS)),
+                  Output("residual_D_pinion_angle", f[:3, :].diff(phi1p), "", "d residual / d phi'_1")]),
     ], scalar_twin=True, constants={"UNKNOWNS": UNKNOWNS}, extra_layouts=(CONTACT_UNKNOWNS,))
 
 

@@ -153,6 +153,108 @@ def contact_residual(
     return ContactResidual(residual, residual_D_unknowns, residual_D_errors, residual_D_pinion_angle)
 
 
+class PositionResidual(typing.NamedTuple):
+    """Outputs of position_residual()."""
+
+    residual: numpy.ndarray  # R_f1 - R_f2 (x, y, z): rows 0-2 of contact_residual's [mm], shape (..., 3)
+    residual_D_unknowns: numpy.ndarray  # d residual / d ('pinion_l_mm', 'pinion_u_mm', 'gear_l_mm', 'gear_u_mm', 'gear_angle_rad') [], shape (..., 3, 5)
+    residual_D_pinion_angle: numpy.ndarray  # d residual / d phi'_1 [], shape (..., 3)
+
+
+def position_residual(pinion_point, pinion_point_D_lu, gear_point, gear_point_D_lu, state, pair):
+    """The position rows of Eq 38 (R_f1 - R_f2) and their Jacobians at one mesh state, its angles' trigonometry packed (the loaded TCA's gap Newton reads only these).
+
+    Inputs (numpy arrays or scalars; all broadcast together over their leading axes):
+        pinion_point: pinion flank point in S_1 [mm], shape (..., 3)
+        pinion_point_D_lu: pinion [dR/dl, dR/du] [mm/mm], shape (..., 3, 2)
+        gear_point: gear flank point in S_2 [mm], shape (..., 3)
+        gear_point_D_lu: gear [dR/dl, dR/du] [mm/mm], shape (..., 3, 2)
+        state: the mesh state (layouts.MeshState) [see layout], shape (..., 19)
+        pair: pair placement (layouts.PairPlacement) [see layout], shape (..., 7)
+    Returns PositionResidual:
+        residual: R_f1 - R_f2 (x, y, z): rows 0-2 of contact_residual's [mm], shape (..., 3)
+        residual_D_unknowns: d residual / d ('pinion_l_mm', 'pinion_u_mm', 'gear_l_mm', 'gear_u_mm', 'gear_angle_rad') [], shape (..., 3, 5)
+        residual_D_pinion_angle: d residual / d phi'_1 [], shape (..., 3)
+    """
+    # ops: 148
+    _shape = numpy.broadcast_shapes(numpy.shape(pinion_point)[:-1], numpy.shape(pinion_point_D_lu)[:-2], numpy.shape(gear_point)[:-1], numpy.shape(gear_point_D_lu)[:-2], numpy.shape(state)[:-1], numpy.shape(pair)[:-1])
+    pinion_point_0 = pinion_point[..., 0]
+    pinion_point_1 = pinion_point[..., 1]
+    pinion_point_2 = pinion_point[..., 2]
+    pinion_point_D_lu_00 = pinion_point_D_lu[..., 0, 0]
+    pinion_point_D_lu_01 = pinion_point_D_lu[..., 0, 1]
+    pinion_point_D_lu_10 = pinion_point_D_lu[..., 1, 0]
+    pinion_point_D_lu_11 = pinion_point_D_lu[..., 1, 1]
+    pinion_point_D_lu_20 = pinion_point_D_lu[..., 2, 0]
+    pinion_point_D_lu_21 = pinion_point_D_lu[..., 2, 1]
+    gear_point_0 = gear_point[..., 0]
+    gear_point_1 = gear_point[..., 1]
+    gear_point_2 = gear_point[..., 2]
+    gear_point_D_lu_00 = gear_point_D_lu[..., 0, 0]
+    gear_point_D_lu_01 = gear_point_D_lu[..., 0, 1]
+    gear_point_D_lu_10 = gear_point_D_lu[..., 1, 0]
+    gear_point_D_lu_11 = gear_point_D_lu[..., 1, 1]
+    gear_point_D_lu_20 = gear_point_D_lu[..., 2, 0]
+    gear_point_D_lu_21 = gear_point_D_lu[..., 2, 1]
+    dx_mm = state[..., 0]
+    dy_mm = state[..., 1]
+    dz_mm = state[..., 2]
+    vertical_rad = state[..., 3]
+    horizontal_rad = state[..., 4]
+    pinion_angle_rad = state[..., 5]
+    gear_angle_rad = state[..., 6]
+    sin_vertical_rad = state[..., 7]
+    cos_vertical_rad = state[..., 8]
+    tan_vertical_rad = state[..., 9]
+    sin_horizontal_rad = state[..., 10]
+    cos_horizontal_rad = state[..., 11]
+    tan_horizontal_rad = state[..., 12]
+    sin_pinion_angle_rad = state[..., 13]
+    cos_pinion_angle_rad = state[..., 14]
+    tan_pinion_angle_rad = state[..., 15]
+    sin_gear_angle_rad = state[..., 16]
+    cos_gear_angle_rad = state[..., 17]
+    tan_gear_angle_rad = state[..., 18]
+    offset_mm = pair[..., 0]
+    shaft_angle = pair[..., 1]
+    pinion_axial_placement_mm = pair[..., 2]
+    gear_axial_placement_mm = pair[..., 3]
+    sin_shaft_angle = pair[..., 4]
+    cos_shaft_angle = pair[..., 5]
+    tan_shaft_angle = pair[..., 6]
+    _x0 = pinion_point_1*sin_pinion_angle_rad
+    _x1 = cos_gear_angle_rad*cos_vertical_rad
+    _x2 = cos_pinion_angle_rad*pinion_point_1
+    _x3 = pinion_point_0*sin_pinion_angle_rad
+    _x4 = cos_horizontal_rad*cos_vertical_rad
+    _x5 = cos_vertical_rad*sin_horizontal_rad
+    _x6 = _x4*sin_shaft_angle + _x5*cos_shaft_angle
+    _x7 = cos_gear_angle_rad*cos_horizontal_rad
+    _x8 = sin_gear_angle_rad*sin_horizontal_rad
+    _x9 = _x7 + _x8*sin_vertical_rad
+    _x10 = cos_gear_angle_rad*sin_horizontal_rad
+    _x11 = -_x10 + cos_horizontal_rad*sin_gear_angle_rad*sin_vertical_rad
+    _x12 = _x11*sin_shaft_angle + _x9*cos_shaft_angle
+    _x13 = _x10*sin_vertical_rad - cos_horizontal_rad*sin_gear_angle_rad
+    _x14 = -_x13
+    _x15 = _x7*sin_vertical_rad + _x8
+    _x16 = -_x15
+    _x17 = _x14*cos_shaft_angle + _x16*sin_shaft_angle
+    _x18 = _x4*cos_shaft_angle - _x5*sin_shaft_angle
+    _x19 = _x11*cos_shaft_angle - _x9*sin_shaft_angle
+    _x20 = -_x14*sin_shaft_angle + _x16*cos_shaft_angle
+    _x21 = -_x6
+    _x22 = -_x12
+    _x23 = -_x17
+    _x24 = -_x18
+    _x25 = -_x19
+    _x26 = -_x20
+    residual = _stack([-_x0 - _x1*gear_point_0 + cos_pinion_angle_rad*pinion_point_0 + cos_vertical_rad*gear_point_1*sin_gear_angle_rad - dx_mm - gear_point_2*sin_vertical_rad - offset_mm, -_x12*gear_point_1 - _x17*gear_point_0 + _x2 + _x3 - _x6*gear_point_2 - cos_shaft_angle*dy_mm - dz_mm*sin_shaft_angle - gear_axial_placement_mm*sin_shaft_angle, -_x18*gear_point_2 - _x19*gear_point_1 - _x20*gear_point_0 - cos_shaft_angle*dz_mm - cos_shaft_angle*gear_axial_placement_mm + dy_mm*sin_shaft_angle + pinion_axial_placement_mm + pinion_point_2], (3,), _shape)
+    residual_D_unknowns = _stack([cos_pinion_angle_rad*pinion_point_D_lu_00 - pinion_point_D_lu_10*sin_pinion_angle_rad, cos_pinion_angle_rad*pinion_point_D_lu_01 - pinion_point_D_lu_11*sin_pinion_angle_rad, -_x1*gear_point_D_lu_00 + cos_vertical_rad*gear_point_D_lu_10*sin_gear_angle_rad - gear_point_D_lu_20*sin_vertical_rad, -_x1*gear_point_D_lu_01 + cos_vertical_rad*gear_point_D_lu_11*sin_gear_angle_rad - gear_point_D_lu_21*sin_vertical_rad, _x1*gear_point_1 + cos_vertical_rad*gear_point_0*sin_gear_angle_rad, cos_pinion_angle_rad*pinion_point_D_lu_10 + pinion_point_D_lu_00*sin_pinion_angle_rad, cos_pinion_angle_rad*pinion_point_D_lu_11 + pinion_point_D_lu_01*sin_pinion_angle_rad, _x21*gear_point_D_lu_20 + _x22*gear_point_D_lu_10 + _x23*gear_point_D_lu_00, _x21*gear_point_D_lu_21 + _x22*gear_point_D_lu_11 + _x23*gear_point_D_lu_01, -_x12*gear_point_0 - gear_point_1*(_x13*cos_shaft_angle + _x15*sin_shaft_angle), pinion_point_D_lu_20, pinion_point_D_lu_21, _x24*gear_point_D_lu_20 + _x25*gear_point_D_lu_10 + _x26*gear_point_D_lu_00, _x24*gear_point_D_lu_21 + _x25*gear_point_D_lu_11 + _x26*gear_point_D_lu_01, -_x19*gear_point_0 - gear_point_1*(-_x13*sin_shaft_angle + _x15*cos_shaft_angle)], (3, 5), _shape)
+    residual_D_pinion_angle = _stack([-_x2 - _x3, -_x0 + cos_pinion_angle_rad*pinion_point_0, 0], (3,), _shape)
+    return PositionResidual(residual, residual_D_unknowns, residual_D_pinion_angle)
+
+
 def _full(value, shape):
     """A fresh array of the inputs' broadcast shape holding value."""
     out = numpy.empty(shape, dtype=numpy.result_type(value, 1.0))

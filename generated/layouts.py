@@ -530,6 +530,109 @@ class MemberDesignOutputs(typing.NamedTuple):
         return cls(**{name: _value(values[name]) for name in cls._fields})
 
 
+class MeshState(typing.NamedTuple):
+    """The assembly errors of Eq 34 and both rotation angles of one mesh state."""
+
+    dx_mm: float  # [mm] gear offset error along x_q (the common perpendicular)
+    dy_mm: float  # [mm] gear offset error along y_q
+    dz_mm: float  # [mm] gear offset error along z_q (the gear axis)
+    vertical_rad: float  # [rad] angular error dgamma_v (gear axis turned about y_q)
+    horizontal_rad: float  # [rad] angular error dgamma_h (gear axis turned about x_q)
+    pinion_angle_rad: float  # [rad] pinion rotation phi'_1 of Eq 30
+    gear_angle_rad: float  # [rad] gear rotation phi'_2 of Eq 34
+    sin_vertical_rad: float  # [1] sin(vertical_rad), computed by pack
+    cos_vertical_rad: float  # [1] cos(vertical_rad), computed by pack
+    tan_vertical_rad: float  # [1] tan(vertical_rad), computed by pack
+    sin_horizontal_rad: float  # [1] sin(horizontal_rad), computed by pack
+    cos_horizontal_rad: float  # [1] cos(horizontal_rad), computed by pack
+    tan_horizontal_rad: float  # [1] tan(horizontal_rad), computed by pack
+    sin_pinion_angle_rad: float  # [1] sin(pinion_angle_rad), computed by pack
+    cos_pinion_angle_rad: float  # [1] cos(pinion_angle_rad), computed by pack
+    tan_pinion_angle_rad: float  # [1] tan(pinion_angle_rad), computed by pack
+    sin_gear_angle_rad: float  # [1] sin(gear_angle_rad), computed by pack
+    cos_gear_angle_rad: float  # [1] cos(gear_angle_rad), computed by pack
+    tan_gear_angle_rad: float  # [1] tan(gear_angle_rad), computed by pack
+
+    UNITS = {
+        "dx_mm": "mm",
+        "dy_mm": "mm",
+        "dz_mm": "mm",
+        "vertical_rad": "rad",
+        "horizontal_rad": "rad",
+        "pinion_angle_rad": "rad",
+        "gear_angle_rad": "rad",
+        "sin_vertical_rad": "1",
+        "cos_vertical_rad": "1",
+        "tan_vertical_rad": "1",
+        "sin_horizontal_rad": "1",
+        "cos_horizontal_rad": "1",
+        "tan_horizontal_rad": "1",
+        "sin_pinion_angle_rad": "1",
+        "cos_pinion_angle_rad": "1",
+        "tan_pinion_angle_rad": "1",
+        "sin_gear_angle_rad": "1",
+        "cos_gear_angle_rad": "1",
+        "tan_gear_angle_rad": "1",
+    }
+    DOCS = {
+        "dx_mm": "gear offset error along x_q (the common perpendicular)",
+        "dy_mm": "gear offset error along y_q",
+        "dz_mm": "gear offset error along z_q (the gear axis)",
+        "vertical_rad": "angular error dgamma_v (gear axis turned about y_q)",
+        "horizontal_rad": "angular error dgamma_h (gear axis turned about x_q)",
+        "pinion_angle_rad": "pinion rotation phi\u0027_1 of Eq 30",
+        "gear_angle_rad": "gear rotation phi\u0027_2 of Eq 34",
+        "sin_vertical_rad": "sin(vertical_rad), computed by pack",
+        "cos_vertical_rad": "cos(vertical_rad), computed by pack",
+        "tan_vertical_rad": "tan(vertical_rad), computed by pack",
+        "sin_horizontal_rad": "sin(horizontal_rad), computed by pack",
+        "cos_horizontal_rad": "cos(horizontal_rad), computed by pack",
+        "tan_horizontal_rad": "tan(horizontal_rad), computed by pack",
+        "sin_pinion_angle_rad": "sin(pinion_angle_rad), computed by pack",
+        "cos_pinion_angle_rad": "cos(pinion_angle_rad), computed by pack",
+        "tan_pinion_angle_rad": "tan(pinion_angle_rad), computed by pack",
+        "sin_gear_angle_rad": "sin(gear_angle_rad), computed by pack",
+        "cos_gear_angle_rad": "cos(gear_angle_rad), computed by pack",
+        "tan_gear_angle_rad": "tan(gear_angle_rad), computed by pack",
+    }
+
+    #: the entries pack computes from the others (the kernels read them instead of evaluating them)
+    DERIVED = ("sin_vertical_rad", "cos_vertical_rad", "tan_vertical_rad", "sin_horizontal_rad", "cos_horizontal_rad", "tan_horizontal_rad", "sin_pinion_angle_rad", "cos_pinion_angle_rad", "tan_pinion_angle_rad", "sin_gear_angle_rad", "cos_gear_angle_rad", "tan_gear_angle_rad", )
+
+    @classmethod
+    def pack(cls, values):
+        """The fields taken by name from a mapping (extra keys are ignored); the DERIVED ones
+        computed from them (any values given for those are ignored).  Floats or arrays."""
+        dx_mm = _value(values["dx_mm"])
+        dy_mm = _value(values["dy_mm"])
+        dz_mm = _value(values["dz_mm"])
+        vertical_rad = _value(values["vertical_rad"])
+        horizontal_rad = _value(values["horizontal_rad"])
+        pinion_angle_rad = _value(values["pinion_angle_rad"])
+        gear_angle_rad = _value(values["gear_angle_rad"])
+        return cls(
+            dx_mm,
+            dy_mm,
+            dz_mm,
+            vertical_rad,
+            horizontal_rad,
+            pinion_angle_rad,
+            gear_angle_rad,
+            numpy.sin(vertical_rad),
+            numpy.cos(vertical_rad),
+            numpy.tan(vertical_rad),
+            numpy.sin(horizontal_rad),
+            numpy.cos(horizontal_rad),
+            numpy.tan(horizontal_rad),
+            numpy.sin(pinion_angle_rad),
+            numpy.cos(pinion_angle_rad),
+            numpy.tan(pinion_angle_rad),
+            numpy.sin(gear_angle_rad),
+            numpy.cos(gear_angle_rad),
+            numpy.tan(gear_angle_rad),
+        )
+
+
 class MicroGeometrySurfaceParams(typing.NamedTuple):
     """Parameters of the 'micro_geometry' tooth-surface model (flank_micro_geometry.py)."""
 

@@ -7,9 +7,10 @@ import typing
 
 import numpy as np
 
-from ..generated.contact_system_scalar import contact_residual_point
+from ..generated.contact_system_scalar import position_residual_point
+from ..generated.layouts import AssemblyErrors, MeshState
 from ..generated.tca_kernels import UNKNOWNS
-from ..generated.tca_kernels_scalar import N_ERRORS, N_UNKNOWNS, contact_margin_point, surface_jet_point
+from ..generated.tca_kernels_scalar import N_UNKNOWNS, contact_margin_point, surface_jet_point
 from .newton import FINAL_STEP_K, FINAL_STEP_RESIDUAL_MM, GEAR_ANGLE, Scratch, scratch
 
 #: where normal_gaps finds each unknown (by the generated names; numba reads them as constants)
@@ -20,6 +21,15 @@ GEAR_U = UNKNOWNS.index("gear_u_mm")
 #: how _normal_gap_point starts a point: from the pair's start, ahead along the points before it, or along
 #: the previous point's tangents (where no line of points leads to it: a turn of the serpentine)
 START_COLD, START_AHEAD, START_TANGENT = 0, 1, 2
+#: where the mesh state (MeshState: the gear Newton's errors and angles, by name) holds each assembly error
+STATE_ERRORS = np.array([MeshState._fields.index(n) for n in AssemblyErrors._fields], dtype=np.int64)
+STATE_PINION_ANGLE = MeshState._fields.index("pinion_angle_rad")
+STATE_GEAR_ANGLE = MeshState._fields.index("gear_angle_rad")
+N_STATE = len(MeshState._fields)
+#: each packed trigonometric entry of MeshState (its DERIVED "<sin|cos|tan>_<angle>"): (its slot, the angle's
+#: slot, 0 sin / 1 cos / 2 tan)
+STATE_TRIG = np.array([(MeshState._fields.index(n), MeshState._fields.index(n.split("_", 1)[1]),
+                        ("sin", "cos", "tan").index(n.split("_", 1)[0])) for n in MeshState.DERIVED], dtype=np.int64)
 
 
 class GapScratch(typing.NamedTuple):
@@ -30,6 +40,8 @@ class GapScratch(typing.NamedTuple):
     x: np.ndarray  # (N_UNKNOWNS,) the unknowns of the current point
     matrix: np.ndarray  # (3, 3) the gear Newton's system
     rhs: np.ndarray  # (3,)
+    state: np.ndarray  # (N_STATE,) the mesh state of pair state_pair[0] (:func:`_mesh_state`)
+    state_pair: np.ndarray  # (1,) int64: the pair whose state ``state`` holds (-1: none yet)
 
 
 def _solve3(A, b, out):
@@ -90,9 +102,7 @@ def normal_gaps(problem, request, out):
     M = request.coords.shape[0]
     # serial: a parallel loop measured 3x slower here (small work per point, one thread)
     w = GapScratch(s=scratch(), normal_f=np.empty(3), x=np.empty(N_UNKNOWNS), matrix=np.empty((3, 3)),
-                   rhs=np.empty(3))
-    for i in range(N_ERRORS):
-        w.s.e[i] = request.errors[i]
+                   rhs=np.empty(3), state=np.empty(N_STATE), state_pair=np.full(1, -1, dtype=np.int64))
     warm = False
     for m in range(M):
         # continuation: the previous point of the same pair, when it converged, is the start; when the
@@ -203,17 +213,35 @@ def _gear_tangent(out, m, x, gap, J, A, dn, dx):
     return gap
 
 
-def _gear_side(problem, x, pinion_angle, s):
-    """Eq 38 and its Jacobians (s.system) at x, the pinion's jet already in the workspace (the pinion
-    Newton's last evaluation, at x's pinion l, u): only the gear's jet is evaluated, the rest as
-    ``newton.evaluate`` (the same generated functions; a failure made non-finite, s.F[0] = nan)."""
+def _mesh_state(request, q, x, w):
+    """w.state: the mesh state of pair q (its errors, pinion angle and x's gear angle, with their sines,
+    cosines and tangents), computed when w holds another pair's: the gear Newton of every point of a pair
+    runs at that pair's angles."""
+    if w.state_pair[0] == q:
+        return
+    st = w.state
+    for i in range(STATE_ERRORS.size):
+        st[STATE_ERRORS[i]] = request.errors[i]
+    st[STATE_PINION_ANGLE] = request.pinion_angle[q]
+    st[STATE_GEAR_ANGLE] = x[GEAR_ANGLE]
+    for i in range(STATE_TRIG.shape[0]):
+        a = st[STATE_TRIG[i, 1]]
+        kind = STATE_TRIG[i, 2]
+        st[STATE_TRIG[i, 0]] = math.sin(a) if kind == 0 else (math.cos(a) if kind == 1 else math.tan(a))
+    w.state_pair[0] = q
+
+
+def _gear_side(problem, x, state, s):
+    """Eq 38's position rows and their Jacobians (rows 0-2 of s.system's F, J, Jp) at x in the mesh state
+    ``state`` (:func:`_mesh_state`), the pinion's jet already in the workspace (the pinion Newton's last
+    evaluation, at x's pinion l, u): only the gear's jet is evaluated (a failure made non-finite, s.F[0] = nan).
+    The normal rows and the errors' Jacobian, which the gap Newton does not read, are not computed."""
     ws, sy = s.system.ws, s.system
     try:
         surface_jet_point(problem.gear_model, problem.flank, x[GEAR_L], x[GEAR_U], problem.gear_params, ws.gear_point,
                           ws.gear_normal, ws.gear_point_D_lu, ws.gear_normal_D_lu)
-        contact_residual_point(ws.pinion_point, ws.pinion_normal, ws.pinion_point_D_lu, ws.pinion_normal_D_lu,
-                               ws.gear_point, ws.gear_normal, ws.gear_point_D_lu, ws.gear_normal_D_lu, pinion_angle,
-                               x[GEAR_ANGLE], s.e, problem.pair, sy.F, sy.J, sy.Je, sy.Jp)
+        position_residual_point(ws.pinion_point, ws.pinion_point_D_lu, ws.gear_point, ws.gear_point_D_lu, state,
+                                problem.pair, sy.F, sy.J, sy.Jp)
     except Exception:  # a math domain error or overflow of a runaway iterate (numba gives nan): not finite
         sy.F[0] = math.nan
 
@@ -297,8 +325,9 @@ def _normal_gap_point(problem, request, m, out, w, how, t, quad):
     ok2 = False
     last = 1e300
     if ok1:
+        _mesh_state(request, q, x, w)
         for it in range(max_iter + 1):
-            _gear_side(problem, x, request.pinion_angle[q], s)
+            _gear_side(problem, x, w.state, s)
             for r in range(3):
                 g[r] = -(F[r] + gap * nf[r])
             err = max(abs(g[0]), max(abs(g[1]), abs(g[2])))

@@ -53,6 +53,23 @@ def test_contact_system_jacobians(flank):
         assert_close(got, d, rtol, f"contact_system {flank}: {output}[..., {column}] (d/d {arg}[{index}])")
 
 
+def test_the_position_residual_is_the_contact_residuals_position_rows_at_its_packed_mesh_state():
+    """position_residual (what the loaded TCA's gap Newton evaluates: Eq 38's position rows at a MeshState, its
+    angles' sines and cosines packed once) is rows 0-2 of contact_residual, of its Jacobian in the unknowns and of
+    its derivative in the pinion angle, at the same points and errors."""
+    cs, layouts = committed_module("contact_system"), committed_module("layouts")
+    values = sample("contact_system", "contact_residual", N_POINTS)
+    full = cs.contact_residual(**values)
+    errors = {n: values["errors"][..., i] for i, n in enumerate(layouts.AssemblyErrors._fields)}
+    state = np.stack(layouts.MeshState.pack({**errors, "pinion_angle_rad": values["pinion_angle"],
+                                             "gear_angle_rad": values["gear_angle"]}), axis=-1)
+    part = cs.position_residual(values["pinion_point"], values["pinion_point_D_lu"], values["gear_point"],
+                                values["gear_point_D_lu"], state, values["pair"])
+    assert_close(part.residual, full.residual[..., :3], RTOL, "residual rows 0-2")
+    assert_close(part.residual_D_unknowns, full.residual_D_unknowns[..., :3, :], RTOL, "d residual / d unknowns")
+    assert_close(part.residual_D_pinion_angle, full.residual_D_pinion_angle[..., :3], RTOL, "d residual / d phi'_1")
+
+
 @pytest.mark.parametrize("module", SURFACE_MODULES)
 @pytest.mark.parametrize("flank", FLANKS)
 def test_surface_jet_and_second_derivatives(module, flank):

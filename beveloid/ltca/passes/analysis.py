@@ -233,23 +233,25 @@ def _result(case, options, sol, check, e_star, notes, hertz_ref, root):
                       np.nan)
     # the model's validity: elastic, small strain
     semi = _semi_minor(sol)
+    # every position at once (the string only where a limit is passed): surface peaks only, an edge peak is
+    # singular and grid-dependent by nature; and the mean pressure of the whole contact (2/3 of the peak for
+    # Hertz), which an edge contact's grid does not change
+    lim = MAX_PRESSURE_OVER_E_STAR * e_star
+    floor = np.zeros((N, 1))
+    contact = ((p > 0) * area[..., None]).sum(axis=(1, 2))
+    peak = np.nanmax(np.concatenate([surface, floor], axis=1), axis=1)
+    mean = np.where(contact > 0, loads.sum(axis=1) / np.where(contact > 0, contact, 1.0), 0.0)
+    strain = np.nanmax(np.concatenate([semi * setup.frame.curvature_across, floor], axis=1), axis=1)
+    elastic = ok & ((peak > lim) | (mean > 2 / 3 * lim))
+    small = ok & (strain > MAX_HALF_WIDTH_TIMES_CURVATURE)
     validity = []
     for j in range(N):
         why = []
-        if ok[j]:
-            # surface peaks only: an edge peak is singular and grid-dependent by nature
-            peak = np.nanmax(np.append(surface[j], 0.0))
-            # and the mean pressure of the whole contact (2/3 of the peak for Hertz), which an edge
-            # contact's grid does not change
-            contact = ((p[j] > 0) * area[j][:, None]).sum()
-            mean = loads[j].sum() / contact if contact > 0 else 0.0
-            if peak > MAX_PRESSURE_OVER_E_STAR * e_star or mean > 2 / 3 * MAX_PRESSURE_OVER_E_STAR * e_star:
-                lim = MAX_PRESSURE_OVER_E_STAR * e_star
-                why.append(f"pressure beyond the elastic range of gear steels (surface peak > {MAX_PRESSURE_OVER_E_STAR:g}"
-                           f" E* = {lim:.0f} MPa or mean > {2 * lim / 3:.0f} MPa)")
-            strain = np.nanmax(np.append(semi[j] * setup.frame.curvature_across[j], 0.0))
-            if strain > MAX_HALF_WIDTH_TIMES_CURVATURE:
-                why.append(f"patch half-width x curvature > {MAX_HALF_WIDTH_TIMES_CURVATURE:g} (not a small strain)")
+        if elastic[j]:
+            why.append(f"pressure beyond the elastic range of gear steels (surface peak > {MAX_PRESSURE_OVER_E_STAR:g}"
+                       f" E* = {lim:.0f} MPa or mean > {2 * lim / 3:.0f} MPa)")
+        if small[j]:
+            why.append(f"patch half-width x curvature > {MAX_HALF_WIDTH_TIMES_CURVATURE:g} (not a small strain)")
         validity.append(VALIDITY_SEPARATOR.join(why) or None)
     gear_rot = setup.gear_sign * sol.rotation_rad
     ref = setup.reference
@@ -269,7 +271,7 @@ def _result(case, options, sol, check, e_star, notes, hertz_ref, root):
         pair_surface_max_pressure_mpa=np.where(okc, surface, np.nan),
         pair_edge_max_pressure_mpa=np.where(okc, edge, np.nan),
         pair_hertz_max_pressure_mpa=np.where(okc & (loads > 0), hertz_ref, np.nan),
-        contact_area_mm2=np.where(ok, ((p > 0) * area[..., None]).sum(axis=(1, 2)), np.nan),
+        contact_area_mm2=np.where(ok, contact, np.nan),
         pinion_moment_nmm=np.where(ok, moment, np.nan), iterations=sol.iterations,
         complementarity_residual=sol.complementarity_residual, load_residual=sol.load_residual, grid=sol.grid,
         convergence=Convergence(np.where(ok, dp, np.nan), dl), validity=tuple(validity), pressure_mpa=p,

@@ -64,26 +64,18 @@ def _flank_raster(geom, flank, member, shape):
     return jet.point, inside, weight
 
 
-class _Field:
-    """The pressure of one (position, pair) as a function of member-frame points near its flank."""
+class _Cells:
+    """What the field of one (position, pair) takes from the grid and the pressure, whichever member's flank it
+    is drawn on (:func:`flank_patterns` computes it once for both members)."""
 
-    def __init__(self, result, points, j, k):
+    def __init__(self, result, j, k):
         g = result.grid
         self.nx, self.ny = g.across_cells, g.along_cells
         self.X, self.Y = float(g.across_half_mm[j, k]), float(g.along_half_mm[j, k])
         self.p = result.pressure_mpa[j, k].reshape(self.nx, self.ny)
         self.shift = result.gap.across_shift_mm[j, k]
-        x, y = result.cell_coordinates_mm(j, k)
-        pts = points[j, k].reshape(self.nx, self.ny, 3)
-        ok = np.isfinite(pts).all(axis=-1) & result.gap.in_flank[j, k].reshape(self.nx, self.ny)
-        P, c = pts[ok], np.stack([x[ok], y[ok]], axis=-1)
-        self.centre = P.mean(axis=0)
-        self.c0 = c.mean(axis=0)
-        # the affine map member frame -> grid coordinates, least squares over the cells on the flanks
-        self.map = np.linalg.lstsq(P - self.centre, c - self.c0, rcond=None)[0]  # (3, 2)
-        w = self.p[ok]
-        self.centroid = (P * w[:, None]).sum(axis=0) / w.sum() if w.sum() > 0 else self.centre
-        self.half_width = 2.0 * max(self.X, 1e-6)
+        self.x, self.y = result.cell_coordinates_mm(j, k)
+        self.in_flank = result.gap.in_flank[j, k].reshape(self.nx, self.ny)
         yc = np.linspace(-self.Y, self.Y, self.ny + 1)
         self.yc = 0.5 * (yc[1:] + yc[:-1])  # the along cells' centres
         self.padded = np.pad(self.p, 1)  # a ring of zero pressure about the grid
@@ -102,6 +94,26 @@ class _Field:
         else:
             self.box = None
 
+
+class _Field:
+    """The pressure of one (position, pair) as a function of member-frame points near its flank: its
+    :class:`_Cells` and the affine map from the member's points to them."""
+
+    def __init__(self, cells, points, j, k):
+        self.nx, self.ny, self.X, self.Y = cells.nx, cells.ny, cells.X, cells.Y
+        self.p, self.shift, self.yc, self.padded, self.box = cells.p, cells.shift, cells.yc, cells.padded, cells.box
+        x, y = cells.x, cells.y
+        pts = points[j, k].reshape(self.nx, self.ny, 3)
+        ok = np.isfinite(pts).all(axis=-1) & cells.in_flank
+        P, c = pts[ok], np.stack([x[ok], y[ok]], axis=-1)
+        self.centre = P.mean(axis=0)
+        self.c0 = c.mean(axis=0)
+        # the affine map member frame -> grid coordinates, least squares over the cells on the flanks
+        self.map = np.linalg.lstsq(P - self.centre, c - self.c0, rcond=None)[0]  # (3, 2)
+        w = self.p[ok]
+        self.centroid = (P * w[:, None]).sum(axis=0) / w.sum() if w.sum() > 0 else self.centre
+        self.half_width = 2.0 * max(self.X, 1e-6)
+
     def coordinates(self, q):
         """(n, 2) the grid coordinates of member-frame points q (n, 3)."""
         return (q - self.centre) @ self.map + self.c0
@@ -117,9 +129,6 @@ class _Field:
         lo, hi = np.minimum(lo, lo + d), np.maximum(hi, hi + d)
         x, y = c[:, 0], c[:, 1]
         return (x >= lo[0]) & (x <= hi[0]) & (y >= lo[1]) & (y <= hi[1])
-
-    def __call__(self, q):
-        return self.at(self.coordinates(q))
 
     def at(self, c):
         """(n,) the pressure at the grid coordinates c (n, 2) (:meth:`coordinates`)."""
@@ -138,8 +147,18 @@ class _Field:
         return out
 
 
-def flank_pattern(result, geom, member, raster=RASTER) -> FlankPattern:
-    """The maximum pressure over the cycle on a raster of one member's flank (see the module docstring)."""
+def flank_patterns(result, geom, members=("pinion", "gear"), raster=RASTER) -> dict:
+    """{member: :func:`flank_pattern`} of ``members``, each field's grid and pressure (:class:`_Cells`) taken
+    once for all of them."""
+    cells = {}
+    return {m: flank_pattern(result, geom, m, raster, cells=cells) for m in members}
+
+
+def flank_pattern(result, geom, member, raster=RASTER, *, cells=None) -> FlankPattern:
+    """The maximum pressure over the cycle on a raster of one member's flank (see the module docstring).
+    ``cells``: a dict that keeps each (position, pair)'s :class:`_Cells` for the next member's pattern of the same
+    result (:func:`flank_patterns`)."""
+    cells = {} if cells is None else cells
     r = _flank_raster(geom, result.flank, member, raster)
     if r is None:
         return FlankPattern(member, np.zeros((0, 3)), np.zeros(0), np.zeros(0), None)
@@ -153,7 +172,9 @@ def flank_pattern(result, geom, member, raster=RASTER) -> FlankPattern:
     for j in range(N):
         for k in range(P):
             if ok[j] and result.pressure_mpa[j, k].max() > 0:
-                f = fields[j, k] = _Field(result, pts, j, k)
+                if (j, k) not in cells:
+                    cells[j, k] = _Cells(result, j, k)
+                f = fields[j, k] = _Field(cells[j, k], pts, j, k)
                 at[j, k] = f.coordinates(nodes)
                 idx = np.flatnonzero(f.reached(at[j, k], np.zeros(3)))  # the field is 0 at the others
                 pmax[idx] = np.maximum(pmax[idx], f.at(at[j, k][idx]))
@@ -171,15 +192,18 @@ def flank_pattern(result, geom, member, raster=RASTER) -> FlankPattern:
         idx = idx[np.linalg.norm(nodes[idx] - 0.5 * (f.centroid + g.centroid), axis=-1) < reach]
         if idx.size == 0:
             continue
-        q = nodes[idx]
         steps = int(min(MAX_SUBSTEPS, math.ceil(dist / (0.5 * min(f.X, g.X)))))
         best = pmax[idx]
+        # the nodes' grid coordinates in each field, moved with it: a field's map is affine, so a node's
+        # coordinates once the field has moved by t x delta are those at rest less t x (delta's image)
+        cf, df = at[j, k][idx], delta @ f.map
+        cg, dg = at[j + 1, k][idx], delta @ g.map
         # the sub-steps t = s / steps, several per call of the fields (about BATCH_POINTS points a call)
-        per = max(1, BATCH_POINTS // len(q))
+        per = max(1, BATCH_POINTS // len(idx))
         for s0 in range(1, steps, per):
             t = (np.arange(s0, min(steps, s0 + per)) / steps)[:, None, None]
-            both = ((1 - t[..., 0]) * f((q - t * delta).reshape(-1, 3)).reshape(len(t), -1)
-                    + t[..., 0] * g((q + (1 - t) * delta).reshape(-1, 3)).reshape(len(t), -1))
+            both = ((1 - t[..., 0]) * f.at((cf - t * df).reshape(-1, 2)).reshape(len(t), -1)
+                    + t[..., 0] * g.at((cg + (1 - t) * dg).reshape(-1, 2)).reshape(len(t), -1))
             best = np.maximum(best, both.max(axis=0))
         pmax[idx] = best
     frac = float(weight[inside][pmax > 0].sum() / weight[inside].sum())

@@ -148,9 +148,12 @@ class LTCAResult(Result):
     def with_patterns(self) -> "LTCAResult":
         """A new result carrying both members' loaded contact patterns (default raster), so that the JSON,
         the tables and the figures of one run compute them once; this result is not changed."""
+        from .pattern import flank_patterns
+
         if all(m in self.patterns for m in ("pinion", "gear")):
             return self
-        return replace(self, patterns={m: self.pattern(m) for m in ("pinion", "gear")})
+        with np.errstate(all="ignore"):  # (as pattern()); both members' fields share their grid parts
+            return replace(self, patterns=flank_patterns(self, self.geometry_of_pair))
 
     def root_stress_max_mpa(self) -> dict:
         """{member: the largest pair_root_stress_mpa over the cycle (MPa) or None}."""
