@@ -182,9 +182,9 @@ def fe_tooth(args):
           "x 0.15, m 6, face 50 mm: a uniform line load along the face; sigma in MPa per N/mm and its ratio to the "
           "2D; max: the largest over the fillet of the nodal means (tooth_data(smooth=False)); level: "
           "plane_strain.fillet_level of the nodal means (the mean over the middle half of the face in bands of height, "
-          "the largest band), then the largest there; smoothed max: the largest of the smoothed fillet stresses "
-          "(fe.contact.smoothed_data: the FE tooth's data, what the LTCA and the rating read)")
-    print("| rack | load | 2D | refinement | FE tooth max | FE tooth level | smoothed max | FE tooth's sector, smooth "
+          "the largest band), then the largest there; read max: the largest of the fillet stresses read on the "
+          "member's read grid (fe.contact.readout_matrix: the FE tooth's data, what the LTCA and the rating read)")
+    print("| rack | load | 2D | refinement | FE tooth max | FE tooth level | read max | FE tooth's sector, smooth "
           "load: ends free | ends held (u_z = 0) | 6 mm slice, ends held |")
     print("|---|---|---|---|---|---|---|---|---|---|")
     for name, (z, x, rho) in BENCH.items():

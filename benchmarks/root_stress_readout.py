@@ -1,10 +1,11 @@
 """Which smoothed read-out of the FE tooth's fillet stresses reads the same on the default mesh and on
 refinement 2?  (issue 57.5; docs/validation.md 10.2)
 
-The LTCA's, the rating's and optimize's root stress is the largest principal stress of the FE tooth's fillet
-tensors smoothed by a local least-squares fit (``fe.contact.smoothing_matrix``): along the face +-0.15 m_n,
-in height above the root cone +-0.15 of the fillet element at refinement 1, linear in both.  Candidates for
-that fit, each measured on the same loads: the default's LTCA at the rating's torque and default positions
+Before FE_DATA_VERSION 4 the LTCA's, the rating's and optimize's root stress was the largest principal stress
+of the FE tooth's fillet nodes' tensors smoothed by a local least-squares fit (:func:`smoothing_matrix`, kept
+here): along the face +-0.15 m_n, in height above the root cone +-0.15 of the fillet element at refinement 1,
+linear in both; today's is the read-out on a grid fixed by the geometry (``fe.contact.readout_matrix``,
+``benchmarks/rating_root_convergence.py --jitter`` measures it).  Candidates for that nodal fit, each measured on the same loads: the default's LTCA at the rating's torque and default positions
 (the load redistribution between meshes is at most 0.5 %: ``benchmarks/rating_root_convergence.py``), read
 by the FE tooth at refinement 1 (the default) and at refinement 2 with its nodal means
 (``tooth_data(..., smooth=False)``) smoothed by the candidate.  A candidate is a window across the fillet,
@@ -76,10 +77,84 @@ def fillet_profile_mm(sampler, flank: str, points_mm, height_mm) -> np.ndarray:
     return (1.0 - t) * at[k, cols] + t * at[k + 1, cols]
 
 
+#: a node with fewer neighbours in its window than this keeps its own stress
+_MIN_NODES = 4
+
+
+def smoothing_matrix(points_mm, height_mm, face_mm: float, height_band_mm: float, height_order: int = 1):
+    """(nf, nf) scipy CSR: row i the weights of a local linear least-squares fit, s(z, h) = c0 + c1 dz + c2 dh
+    over the fillet nodes j within |z_j - z_i| <= ``face_mm`` and |h_j - h_i| <= ``height_band_mm`` (h the
+    height above the root cone), evaluated at node i (c0).  Linear in the nodes' stresses, so that the
+    smoothed tensors of a load set are the smoothed sum of its columns' (fe.principal's bounds hold), and
+    exact for a stress that varies linearly along the face and in height.  ``height_order`` 2 adds c3 dh^2:
+    exact for a stress quadratic across the fillet, a curved peak's top not read as its window's mean
+    (it needs nodes at three heights in a window).  Padding repeats of the last
+    node (``ToothData.fillet_points_mm``) take the last node's row; a node with fewer than
+    :data:`_MIN_NODES` in its window keeps its own value."""
+    import scipy.sparse
+    from scipy.spatial import cKDTree
+
+    if height_order not in (1, 2):
+        raise ValueError(f"height_order = {height_order!r}: must be 1 (linear across the fillet) or 2 (quadratic)")
+    p = np.asarray(points_mm, dtype=float)
+    h = np.asarray(height_mm, dtype=float)
+    nf = len(p)
+    n = nf
+    while n > 1 and np.array_equal(p[n - 2], p[-1]) and h[n - 2] == h[-1]:
+        n -= 1
+    x = np.stack([p[:n, 2] / face_mm, h[:n] / height_band_mm], axis=1)
+    pairs = cKDTree(x).query_pairs(r=1.0, p=np.inf, output_type="ndarray")
+    i = np.concatenate([np.arange(n), pairs[:, 0], pairs[:, 1]])  # each node with itself and its neighbours
+    j = np.concatenate([np.arange(n), pairs[:, 1], pairs[:, 0]])
+    d = x[j] - x[i]
+    a = np.column_stack([np.ones(len(i)), d] + ([d[:, 1] ** 2] if height_order == 2 else []))
+    k = a.shape[1]
+    normal = np.zeros((n, k, k))
+    np.add.at(normal, i, a[:, :, None] * a[:, None, :])
+    # the fit's value at the node: row 0 of pinv(A) = (A^T A)^+ A^T, rank-deficient windows included
+    w = np.einsum("pk,pk->p", np.linalg.pinv(normal, rcond=1e-12)[i, 0], a)
+    alone = np.bincount(i, minlength=n) < _MIN_NODES
+    keep = ~alone[i]
+    rows = [i[keep], np.flatnonzero(alone), np.arange(n, nf)]
+    cols = [j[keep], np.flatnonzero(alone), np.full(nf - n, n - 1)]
+    vals = [w[keep], np.ones(int(alone.sum())), np.ones(nf - n)]
+    return scipy.sparse.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                                   shape=(nf, nf))
+
+
+def smooth_stress(stress, fillet_points_mm, fillet_height_mm, face_mm: float, height_band_mm: float,
+                  height_order: int = 1) -> None:
+    """Smooth ``stress`` (2 flanks loaded, 2 fillets, nf, 6, G; MPa per N) in place: every fillet node's
+    tensor per load-grid node replaced by its local fit (:func:`smoothing_matrix`, ``height_order`` its
+    order across the fillet), one (flank, fillet) slice at a time (no second copy of the whole operator)."""
+    nf = stress.shape[2]
+    for side in range(2):
+        w = smoothing_matrix(fillet_points_mm[side], fillet_height_mm[side], face_mm, height_band_mm, height_order)
+        for f in range(2):
+            stress[f, side] = (w @ stress[f, side].reshape(nf, -1)).reshape(stress.shape[2:])
+
+
+def smoothed_data(data, face_mm: float, height_band_mm: float, height_order: int = 1):
+    """``data`` (a ToothData, unsmoothed: ``tooth_data(..., smooth=False)``) with every fillet node's stress
+    tensor (per unit load on each load-grid node) replaced by its local fit over the window
+    (:func:`smoothing_matrix`), and the window in ``smoothing_mm``.  Each node's stress is the mean of its
+    tets' P2 stresses at the node and scatters from node to node by a few percent on an unstructured mesh;
+    the largest of thousands of nodes sits on that scatter (docs/validation.md 12.2).  The window is narrow
+    in height (the notch's peak at the bottom of the fillet is kept) and short along the face against the
+    root stress of a contact patch (several mm wide).  :func:`beveloid.fe.tooth.tooth_data` returns its
+    data smoothed this way."""
+    import dataclasses
+
+    if np.any(np.asarray(data.smoothing_mm) != 0.0):
+        raise ValueError(f"smoothing_mm = {list(np.asarray(data.smoothing_mm))}: the data is already smoothed")
+    st = np.array(data.stress_mpa_per_n, dtype=float)
+    smooth_stress(st, data.fillet_points_mm, data.fillet_height_mm, face_mm, height_band_mm, height_order)
+    return dataclasses.replace(data, stress_mpa_per_n=st, smoothing_mm=np.array([face_mm, height_band_mm], dtype=float))
+
+
 def readouts(raw, sampler, face_mm: float, fillet_mm: float, refinement: int):
     """(candidate, ToothData) the nodal means ``raw`` smoothed by each candidate in turn (one copy of the
     stresses at a time); ``fillet_mm`` the fillet element at refinement 1."""
-    from beveloid.fe.contact import smoothed_data
     from beveloid.names import FLANKS
 
     u = np.stack([fillet_profile_mm(sampler, f, raw.fillet_points_mm[i], raw.fillet_height_mm[i])

@@ -49,7 +49,8 @@ DEFAULT_LIMIT_MB = 2000
 #: a temporary file of an interrupted write older than this (s) is removed when the folder is pruned
 ORPHAN_AGE_S = 3600.0
 #: raise when the FE data's meaning changes without a change of its inputs
-FE_DATA_VERSION = 3  # 2: isoparametric (curved) P2 tets, stresses from them; 3: the fillet stresses smoothed
+FE_DATA_VERSION = 4  # 2: isoparametric (curved) P2 tets, stresses from them; 3: the fillet stresses smoothed;
+# 4: the fillet stresses read on a grid fixed by the geometry (fe.contact.readout_matrix)
 
 
 #: the package's folders whose code never runs while FE data is made (the analyses above the FE
@@ -118,8 +119,9 @@ def cache_key(pair, member: str, e_mpa: float, nu: float, refinement: int, coars
         "mesh": [mesh.FLANK_SIZE_PER_MODULE, mesh.FAR_GROWTH, mesh.FILLET_GROWTH, mesh.FAR_SIZE_PER_MODULE, mesh.FILLET_SIZE_PER_RADIUS,
                  mesh.FILLET_SIZE_MIN_PER_MODULE, mesh.FILLET_RADIUS_ELEMENTS, mesh.FILLET_SIZE_NOTCH_PER_MODULE,
                  mesh.RIM_DEPTH_PER_HEIGHT, mesh.SECTIONS, mesh.SEGMENT_POINTS],
-        "smooth": [contact.SMOOTH_FACE_PER_MODULE, contact.SMOOTH_HEIGHT_PER_FILLET_SIZE, contact.SMOOTH_MIN_NODES]
-        if smooth else None,
+        "smooth": [contact.READ_FACE_PER_MODULE, contact.READ_PROFILE_PER_FILLET_SIZE, contact.READ_STEP_FACE_PER_MODULE,
+                   contact.READ_STEP_PROFILE_PER_FILLET_SIZE, contact.READ_MIN_NODES,
+                   contact.READ_MIN_MESH_ELEMENTS] if smooth else None,
     }
     return json.dumps(data, sort_keys=True)
 

@@ -11,9 +11,10 @@ z and their radius (bilinear weights W, points x grid nodes; outside the grid: i
   it is (z, height above the root cone), and the most compressive min-principal stress in the
   other fillet.
 
-The fillet stress tensors are the **smoothed** ones of :func:`beveloid.fe.tooth.tooth_data` (each fillet
-node's tensor a local linear fit over its neighbours, :func:`smoothed_data`): the root stress the LTCA
-reports, the rating's local S_F divides by and optimize ranks by is their largest principal stress.
+The fillet stress tensors are the **read-out** of :func:`beveloid.fe.tooth.tooth_data`: at the points of a
+read grid fixed by the geometry (:func:`read_grid`), each a local least-squares fit of the nodes' tensors
+around it, quadratic along the fillet's profile (:func:`readout_matrix`): the root stress the LTCA reports,
+the rating's local S_F divides by and optimize ranks by is their largest principal stress.
 
 C is the FE compliance of :mod:`beveloid.fe.tooth` (local deformation removed) made positive
 semi-definite: its eigenvalues below zero (a load at the root of a tooth on a rim stiffer than
@@ -24,6 +25,7 @@ counts, so a short fillet under the flank's lowest grid rows still reads the str
 """
 from __future__ import annotations
 
+import math
 import typing
 
 import numpy as np
@@ -31,8 +33,9 @@ import numpy as np
 from ..names import FLANKS
 from . import lines, principal
 
-__all__ = ["FeTooth", "RootStress", "SMOOTH_FACE_PER_MODULE", "SMOOTH_HEIGHT_PER_FILLET_SIZE", "SMOOTH_MIN_NODES",
-           "smooth_stress", "smoothed_data", "smoothing_matrix", "smoothing_window_mm", "tooth_arrays"]
+__all__ = ["FeTooth", "READ_FACE_PER_MODULE", "READ_MIN_MESH_ELEMENTS", "READ_MIN_NODES", "READ_PROFILE_PER_FILLET_SIZE", "READ_STEP_FACE_PER_MODULE",
+           "READ_STEP_PROFILE_PER_FILLET_SIZE", "RootStress", "read_grid", "readout_matrix", "readout_window_mm",
+           "tooth_arrays"]
 
 #: fillet nodes per block of fe.principal.extreme's bound (docs/performance.md, The FE tooth)
 BLOCK_NODES = 32
@@ -50,9 +53,8 @@ def tooth_arrays(data, flank: str) -> dict:
     (C made positive semi-definite), ``near`` (2, G, nf) uint8 and per fillet i (0 the loaded side's, 1 the
     other's) ``order_i``, ``bound_i``, ``top_i`` (:func:`beveloid.fe.principal.fillet`).  They depend on the data
     alone: :mod:`beveloid.fe.cache` keeps them in the data's entry, so that a tooth is built without them.
-    The reading depth's reach is widened by the data's smoothing window along the face
-    (``data.smoothing_mm[0]``, :func:`smoothed_data`: a smoothed node stands for its neighbours within that
-    distance along the face)."""
+    The reading depth's reach is widened by the data's read-out window (``data.smoothing_mm``, along the face
+    and the profile, :func:`readout_matrix`: a read point stands for the nodes within its window)."""
     index = FLANKS.index(flank)
     c = np.asarray(data.compliance_mm_per_n[index], dtype=float)
     lam, vec = np.linalg.eigh(0.5 * (c + c.T))
@@ -68,7 +70,7 @@ def tooth_arrays(data, flank: str) -> dict:
     points = np.asarray(data.points_mm[index])
     ns, nz = points.shape[:2]
     grid = points.reshape(-1, 3)
-    reach = float(np.max(data.depth_mm[index])) + float(np.asarray(data.smoothing_mm)[0])
+    reach = float(np.max(data.depth_mm[index])) + float(np.hypot(*np.asarray(data.smoothing_mm, dtype=float)))
     fp = np.asarray(data.fillet_points_mm)
     within = (np.linalg.norm(fp[:, None, :, :] - grid[None, :, None, :], axis=-1) <= reach).reshape(2, ns, nz, -1)
     spread = within.copy()
@@ -85,93 +87,107 @@ def tooth_arrays(data, flank: str) -> dict:
     return out
 
 
-#: the smoothed read-out's window (:func:`smoothed_data`): along the face +- this times m_n, and in
-#: height +- SMOOTH_HEIGHT_PER_FILLET_SIZE times the fillet's element size at refinement 1
-#: (``fe.mesh.mesh_sizes``), the same physical window at every refinement
-SMOOTH_FACE_PER_MODULE = 0.15
-SMOOTH_HEIGHT_PER_FILLET_SIZE = 0.15
-#: a node with fewer neighbours in its window than this keeps its own stress
-SMOOTH_MIN_NODES = 4
+#: the read-out's windows (:func:`readout_matrix`): along the face +- READ_FACE_PER_MODULE m_n, along the
+#: fillet's profile +- READ_PROFILE_PER_FILLET_SIZE fillet elements at refinement 1 (``fe.mesh.mesh_sizes``),
+#: the same physical window at every refinement ...
+READ_FACE_PER_MODULE = 0.15
+READ_PROFILE_PER_FILLET_SIZE = 1.0
+#: ... but at least +- READ_MIN_MESH_ELEMENTS of the mesh's own fillet elements along the profile (a coarsened
+#: mesh's window widens, both ways, so that the P2 node rows half an element apart at 0 and +-0.5 element
+#: carry weight: three rows for the quadratic)
+READ_MIN_MESH_ELEMENTS = 0.75
+#: the read grid's steps (:func:`read_grid`): along the face READ_STEP_FACE_PER_MODULE m_n, along the
+#: profile READ_STEP_PROFILE_PER_FILLET_SIZE fillet elements at refinement 1
+READ_STEP_FACE_PER_MODULE = 0.1
+READ_STEP_PROFILE_PER_FILLET_SIZE = 0.15
+#: a read point with fewer nodes of positive weight in its window than this takes its nearest node's value
+READ_MIN_NODES = 6
+#: fine samples along each section's fillet profile that the read grid is placed on
+_PROFILE_SAMPLES = 513
 
 
-def smoothing_window_mm(normal_module_mm: float, fillet_size_mm: float) -> tuple:
-    """(along the face, in height) mm: the half-widths of the smoothing window of a member of normal module
-    ``normal_module_mm`` whose fillet elements are ``fillet_size_mm`` at refinement 1
-    (``fe.mesh.mesh_sizes``): :data:`SMOOTH_FACE_PER_MODULE` m_n and :data:`SMOOTH_HEIGHT_PER_FILLET_SIZE`
-    times that size, the same physical window at every refinement and coarsening."""
-    return SMOOTH_FACE_PER_MODULE * float(normal_module_mm), SMOOTH_HEIGHT_PER_FILLET_SIZE * float(fillet_size_mm)
+def readout_window_mm(normal_module_mm: float, fillet_size_mm: float, mesh_fillet_mm: float | None = None) -> tuple:
+    """(along the face, along the profile) mm: the half-widths of the read-out's window of a member of normal
+    module ``normal_module_mm`` whose fillet elements are ``fillet_size_mm`` at refinement 1 (``fe.mesh.mesh_sizes``):
+    :data:`READ_FACE_PER_MODULE` m_n and :data:`READ_PROFILE_PER_FILLET_SIZE` times that size, the same physical
+    window at every refinement; both widened where the profile's would be narrower than
+    :data:`READ_MIN_MESH_ELEMENTS` of the mesh's own fillet elements ``mesh_fillet_mm`` (a coarsened tooth: its
+    window still holds three node rows)."""
+    widen = 1.0 if mesh_fillet_mm is None else max(1.0, READ_MIN_MESH_ELEMENTS * float(mesh_fillet_mm)
+                                                    / (READ_PROFILE_PER_FILLET_SIZE * float(fillet_size_mm)))
+    return (widen * READ_FACE_PER_MODULE * float(normal_module_mm),
+            widen * READ_PROFILE_PER_FILLET_SIZE * float(fillet_size_mm))
 
 
-def smoothing_matrix(points_mm, height_mm, face_mm: float, height_band_mm: float, height_order: int = 1):
-    """(nf, nf) scipy CSR: row i the weights of a local linear least-squares fit, s(z, h) = c0 + c1 dz + c2 dh
-    over the fillet nodes j within |z_j - z_i| <= ``face_mm`` and |h_j - h_i| <= ``height_band_mm`` (h the
-    height above the root cone), evaluated at node i (c0).  Linear in the nodes' stresses, so that the
-    smoothed tensors of a load set are the smoothed sum of its columns' (fe.principal's bounds hold), and
-    exact for a stress that varies linearly along the face and in height.  ``height_order`` 2 adds c3 dh^2:
-    exact for a stress quadratic across the fillet, a curved peak's top not read as its window's mean
-    (``benchmarks/root_stress_readout.py`` measures it against the linear fit; it needs nodes at three
-    heights in a window, and the FE tooth's data uses the linear fit).  Padding repeats of the last
-    node (``ToothData.fillet_points_mm``) take the last node's row; a node with fewer than
-    :data:`SMOOTH_MIN_NODES` in its window keeps its own value."""
+def read_grid(sampler, flank: str, step_face_mm: float, step_profile_mm: float) -> tuple:
+    """(points (n, 3), profile tangents (n, 3), face tangents (n, 3)) mm, unit: the read grid of the ``flank``
+    fillet of tooth 0 (member frame): sections along the face ``step_face_mm`` apart (toe and heel included),
+    in each section points ``step_profile_mm`` apart in arc length along the fillet's profile from the root
+    cone (s = 0) to the form limit (s = 1), both ends included.  Fixed by the geometry and the member's module
+    and fillet size, not by the mesh: every mesh of the member is read at the same points.  The profile
+    tangent points up the fillet; the face tangent is the surface's direction across the sections, orthogonal
+    to it."""
+    z0, z1 = sampler.z_range_mm
+    z = np.linspace(z0, z1, int(math.ceil((z1 - z0) / step_face_mm - 1e-9)) + 1)
+    s = np.linspace(0.0, 1.0, _PROFILE_SAMPLES)
+    dz = 1e-3 * step_face_mm
+    prof = sampler.fillet_points(flank, s, z)  # (ns, nz, 3)
+    ahead = sampler.fillet_points(flank, s, z + dz)
+    arc = np.concatenate([np.zeros((1, len(z))), np.cumsum(np.linalg.norm(np.diff(prof, axis=0), axis=-1), axis=0)])
+    points, tangents, across = [], [], []
+    for k in range(len(z)):
+        a = arc[:, k]
+        at = np.linspace(0.0, a[-1], int(math.ceil(a[-1] / step_profile_mm - 1e-9)) + 1)
+        p = np.stack([np.interp(at, a, prof[:, k, c]) for c in range(3)], axis=1)
+        q = np.stack([np.interp(at, a, ahead[:, k, c]) for c in range(3)], axis=1)
+        i = np.clip(np.searchsorted(a, at, side="right") - 1, 0, len(a) - 2)
+        t = prof[i + 1, k] - prof[i, k]
+        t /= np.linalg.norm(t, axis=1)[:, None]
+        b = (q - p) / dz
+        b -= np.einsum("ij,ij->i", b, t)[:, None] * t
+        b /= np.linalg.norm(b, axis=1)[:, None]
+        points.append(p), tangents.append(t), across.append(b)
+    return np.concatenate(points), np.concatenate(tangents), np.concatenate(across)
+
+
+def readout_matrix(read_points_mm, profile_tangents, face_tangents, node_points_mm, face_mm: float, profile_mm: float):
+    """(n_read, n_nodes) scipy CSR: row r the weights of a local least-squares fit (moving least squares) of the
+    nodes' values around read point r, evaluated there: s(u, v) = c0 + c1 u + c2 u^2 + c3 v in the read point's
+    tangent frame (u along the fillet's profile, v along the face: the nodes' offsets projected on
+    ``profile_tangents`` and ``face_tangents``), over the nodes with |u| < ``profile_mm`` and |v| < ``face_mm``
+    (and within ``profile_mm`` of the tangent plane), each weighted by (1 - (u / profile_mm)^2)^2 (1 - (v /
+    face_mm)^2)^2, a weight that falls to zero at the window's edge, so that the fit moves continuously as nodes
+    move in and out of it.  Linear in the nodes' values (superposition holds); exact for a field quadratic along
+    the profile and linear along the face.  A read point with fewer than :data:`READ_MIN_NODES` nodes of
+    positive weight takes its nearest node's value."""
     import scipy.sparse
     from scipy.spatial import cKDTree
 
-    if height_order not in (1, 2):
-        raise ValueError(f"height_order = {height_order!r}: must be 1 (linear across the fillet) or 2 (quadratic)")
-    p = np.asarray(points_mm, dtype=float)
-    h = np.asarray(height_mm, dtype=float)
-    nf = len(p)
-    n = nf
-    while n > 1 and np.array_equal(p[n - 2], p[-1]) and h[n - 2] == h[-1]:
-        n -= 1
-    x = np.stack([p[:n, 2] / face_mm, h[:n] / height_band_mm], axis=1)
-    pairs = cKDTree(x).query_pairs(r=1.0, p=np.inf, output_type="ndarray")
-    i = np.concatenate([np.arange(n), pairs[:, 0], pairs[:, 1]])  # each node with itself and its neighbours
-    j = np.concatenate([np.arange(n), pairs[:, 1], pairs[:, 0]])
-    d = x[j] - x[i]
-    a = np.column_stack([np.ones(len(i)), d] + ([d[:, 1] ** 2] if height_order == 2 else []))
-    k = a.shape[1]
-    normal = np.zeros((n, k, k))
-    np.add.at(normal, i, a[:, :, None] * a[:, None, :])
-    # the fit's value at the node: row 0 of pinv(A) = (A^T A)^+ A^T, rank-deficient windows included
-    w = np.einsum("pk,pk->p", np.linalg.pinv(normal, rcond=1e-12)[i, 0], a)
-    alone = np.bincount(i, minlength=n) < SMOOTH_MIN_NODES
+    r = np.asarray(read_points_mm, dtype=float)
+    x = np.asarray(node_points_mm, dtype=float)
+    t, b = np.asarray(profile_tangents, dtype=float), np.asarray(face_tangents, dtype=float)
+    tree = cKDTree(x)
+    pairs = cKDTree(r).sparse_distance_matrix(tree, math.hypot(face_mm, profile_mm) * (1.0 + 1e-9), output_type="ndarray")
+    i, j = pairs["i"].astype(np.int64), pairs["j"].astype(np.int64)
+    d = x[j] - r[i]
+    u = np.einsum("ij,ij->i", d, t[i]) / profile_mm
+    v = np.einsum("ij,ij->i", d, b[i]) / face_mm
+    off = np.linalg.norm(d - (u * profile_mm)[:, None] * t[i] - (v * face_mm)[:, None] * b[i], axis=1)
+    inside = (np.abs(u) < 1.0) & (np.abs(v) < 1.0) & (off <= profile_mm)
+    i, j, u, v = i[inside], j[inside], u[inside], v[inside]
+    w = (1.0 - u * u) ** 2 * (1.0 - v * v) ** 2
+    a = np.column_stack([np.ones(len(i)), u, u * u, v])
+    normal = np.stack([np.bincount(i, weights=w * a[:, p] * a[:, q], minlength=len(r))
+                       for p in range(4) for q in range(4)], axis=1).reshape(len(r), 4, 4)
+    # the fit's value at the read point: row 0 of (A^T W A)^+ A^T W, rank-deficient windows included
+    coef = np.einsum("pk,pk->p", np.linalg.pinv(normal, rcond=1e-10)[i, 0], a) * w
+    alone = np.bincount(i, minlength=len(r)) < READ_MIN_NODES
     keep = ~alone[i]
-    rows = [i[keep], np.flatnonzero(alone), np.arange(n, nf)]
-    cols = [j[keep], np.flatnonzero(alone), np.full(nf - n, n - 1)]
-    vals = [w[keep], np.ones(int(alone.sum())), np.ones(nf - n)]
-    return scipy.sparse.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-                                   shape=(nf, nf))
-
-
-def smooth_stress(stress, fillet_points_mm, fillet_height_mm, face_mm: float, height_band_mm: float,
-                  height_order: int = 1) -> None:
-    """Smooth ``stress`` (2 flanks loaded, 2 fillets, nf, 6, G; MPa per N) in place: every fillet node's
-    tensor per load-grid node replaced by its local fit (:func:`smoothing_matrix`, ``height_order`` its
-    order across the fillet), one (flank, fillet) slice at a time (no second copy of the whole operator)."""
-    nf = stress.shape[2]
-    for side in range(2):
-        w = smoothing_matrix(fillet_points_mm[side], fillet_height_mm[side], face_mm, height_band_mm, height_order)
-        for f in range(2):
-            stress[f, side] = (w @ stress[f, side].reshape(nf, -1)).reshape(stress.shape[2:])
-
-
-def smoothed_data(data, face_mm: float, height_band_mm: float, height_order: int = 1):
-    """``data`` (a ToothData, unsmoothed: ``tooth_data(..., smooth=False)``) with every fillet node's stress
-    tensor (per unit load on each load-grid node) replaced by its local fit over the window
-    (:func:`smoothing_matrix`), and the window in ``smoothing_mm``.  Each node's stress is the mean of its
-    tets' P2 stresses at the node and scatters from node to node by a few percent on an unstructured mesh;
-    the largest of thousands of nodes sits on that scatter (docs/validation.md 12.2).  The window is narrow
-    in height (the notch's peak at the bottom of the fillet is kept) and short along the face against the
-    root stress of a contact patch (several mm wide).  :func:`beveloid.fe.tooth.tooth_data` returns its
-    data smoothed this way."""
-    import dataclasses
-
-    if np.any(np.asarray(data.smoothing_mm) != 0.0):
-        raise ValueError(f"smoothing_mm = {list(np.asarray(data.smoothing_mm))}: the data is already smoothed")
-    st = np.array(data.stress_mpa_per_n, dtype=float)
-    smooth_stress(st, data.fillet_points_mm, data.fillet_height_mm, face_mm, height_band_mm, height_order)
-    return dataclasses.replace(data, stress_mpa_per_n=st, smoothing_mm=np.array([face_mm, height_band_mm], dtype=float))
+    nearest = tree.query(r[alone])[1]
+    rows = np.concatenate([i[keep], np.flatnonzero(alone)])
+    cols = np.concatenate([j[keep], np.asarray(nearest, dtype=np.int64).reshape(-1)])
+    vals = np.concatenate([coef[keep], np.ones(int(alone.sum()))])
+    return scipy.sparse.csr_matrix((vals, (rows, cols)), shape=(len(r), len(x)))
 
 
 class FeTooth:

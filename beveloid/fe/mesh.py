@@ -40,7 +40,7 @@ from .sizes import FAR_GROWTH, FILLET_GROWTH, ContactStrips, size_field
 
 __all__ = ["FACE_KINDS", "SectorMesh", "MeshSizes", "mesh_sizes", "sector_mesh", "fillet_radius_mm",
            "FLANK_SIZE_PER_MODULE", "FAR_SIZE_PER_MODULE", "MESH_RULES_VERSION", "FAR_GROWTH", "FILLET_GROWTH",
-           "FILLET_SIZE_PER_RADIUS", "FILLET_RADIUS_ELEMENTS", "FILLET_SIZE_NOTCH_PER_MODULE", "RIM_DEPTH_PER_HEIGHT", "SectorShape", "record_from_gmsh"]
+           "FILLET_LANDS", "FILLET_SIZE_PER_RADIUS", "FILLET_RADIUS_ELEMENTS", "FILLET_SIZE_NOTCH_PER_MODULE", "RIM_DEPTH_PER_HEIGHT", "SectorShape", "record_from_gmsh"]
 
 #: raise when the meshing rules change (it is part of the FE cache's key)
 MESH_RULES_VERSION = 6  # 4: a fillet far thinner than its elements takes a strip of land; 5: FILLET_RADIUS_ELEMENTS;
@@ -75,6 +75,9 @@ SEGMENT_POINTS = 9
 #: the faces of one tooth in the order a section's profile runs (increasing polar angle)
 TOOTH_FACES = ("fillet_left", "flank_left", "tip", "flank_right", "fillet_right", "root")
 FACE_KINDS = TOOTH_FACES + ("side_lo", "side_hi", "rim", "toe", "heel")
+#: the root land beside each fillet of tooth 0 (the names of :class:`SectorMesh`'s node sets and facets): a
+#: sharp rack's trochoid meets it tangentially near where the fillet's stress peaks
+FILLET_LANDS = {"left": "root_-1", "right": "root_0"}
 
 
 @dataclass(frozen=True)

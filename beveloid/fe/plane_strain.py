@@ -294,14 +294,10 @@ def tri6_mesh(gmsh, curves: dict) -> tuple:
                   for name, ln in lines.items()}
 
 
-#: the root land beside each fillet of tooth 0 (the sector's names, fe.mesh)
-_LAND = {"left": "root_-1", "right": "root_0"}
-
-
 def _fillet_facets(facets: dict, flank: str) -> np.ndarray:
     """The facets of tooth 0's ``flank`` fillet and of the root land beside it (a sharp rack's
     trochoid meets the land tangentially at the fillet's deepest point, where its stress peaks)."""
-    return np.concatenate([facets[f"fillet_{flank}_0"], facets[_LAND[flank]]])
+    return np.concatenate([facets[f"fillet_{flank}_0"], facets[sector.FILLET_LANDS[flank]]])
 
 
 #: the reference triangle's edges (corner a, corner b) and the point at parameter t along each

@@ -22,13 +22,16 @@ loaded tooth 0): a unit force along the inward flank normal.  From the solutions
   Every load and reading point is located in the curved mesh (:func:`beveloid.fe.solve.locate`);
   one further than :data:`MAX_OUTSIDE_PER_FLANK_SIZE` of the flank element size from the mesh is
   an error.
-* **Fillet stress**: the stress tensor (MPa per N) at every node of both root fillets of the
-  loaded tooth (mean over the tets sharing it), per load case, **smoothed**: each node's tensor
-  replaced by a local linear fit over the fillet nodes within +-0.15 m_n along the face and +-0.15
-  fillet elements (refinement 1) in height (:func:`beveloid.fe.contact.smoothed_data`; ``smooth=False``
-  keeps the nodal means).  The nodal means scatter from node to node by a few percent on the unstructured
-  mesh, and the largest of thousands of them sits on that scatter, above the fillet's level
-  (docs/loaded_contact.md 9.2); the fit is linear in the tensors, so superposed over a pressure field its
+* **Fillet stress**: the stress tensor (MPa per N) on both root fillets of the loaded tooth per load case,
+  **read on a grid fixed by the geometry** (:func:`beveloid.fe.contact.read_grid`: sections 0.1 m_n apart
+  along the face, points 0.15 fillet elements (refinement 1) apart along each section's fillet profile), each
+  read point's tensor a moving least-squares fit of the nodal tensors (the mean over the tets sharing each
+  node) of the fillet and the root land beside it, quadratic along the profile over +-1 fillet element and
+  linear along the face over +-0.15 m_n (:func:`beveloid.fe.contact.readout_matrix`; ``smooth=False`` keeps
+  the nodal means at the fillet's nodes).  The nodal means scatter from node to node by a few percent on the
+  unstructured mesh, and the largest of thousands of them sits on that scatter and on where the node rows fall
+  on the notch's peak (docs/loaded_contact.md 9.2, docs/validation.md 10.2); the read points are the same on
+  every mesh of the member, and the fit is linear in the tensors, so superposed over a pressure field its
   principal stresses give the root stress as before.
 """
 from __future__ import annotations
@@ -44,8 +47,9 @@ from ..tooth.sampling import ToothSampler
 from ..tooth.body import body_pair
 from ..tooth.departure import flank_thickness_mm
 from . import solve
-from .contact import smooth_stress, smoothing_window_mm
-from .mesh import mesh_sizes, sector_mesh
+from .contact import (READ_STEP_FACE_PER_MODULE, READ_STEP_PROFILE_PER_FILLET_SIZE, read_grid, readout_matrix,
+                      readout_window_mm)
+from .mesh import FILLET_LANDS, mesh_sizes, sector_mesh
 
 __all__ = ["DEPTH_PER_MODULE", "DEPTH_PER_THICKNESS", "FACE_FRACTIONS", "GRID", "MAX_OUTSIDE_PER_FLANK_SIZE",
            "LoadGrid", "ToothData", "flank_at", "load_grid", "flank_compliance", "flank_grid", "halfspace_at_depth", "reading_feet", "reading_points",
@@ -91,11 +95,12 @@ class ToothData:
     reading_points_mm: np.ndarray  # (2, ns, nz, 3) where the approach of each node is read (inside the tooth)
     compliance_mm_per_n: np.ndarray  # (2, G, G) corrected, symmetric; G = ns nz, profile-major
     raw_compliance_mm_per_n: np.ndarray  # (2, G, G) the FE reading before the half-space is removed
-    fillet_points_mm: np.ndarray  # (2, nf, 3) nodes of the left / right fillet (padded by repeats)
+    fillet_points_mm: np.ndarray  # (2, nf, 3) read points (or nodes) of the left / right fillet (padded by repeats)
     fillet_height_mm: np.ndarray  # (2, nf) above the root cone
     stress_mpa_per_n: np.ndarray  # (2 flanks loaded, 2 fillets, nf, 6, G)
     stats: np.ndarray  # [nodes, tets, free dofs, mesh s, assemble s, factor s, solve s]
-    #: the smoothing window of stress_mpa_per_n (along the face, in height; mm): zeros for the nodal means
+    #: the read-out's window of stress_mpa_per_n (half-widths along the face, along the profile; mm): zeros for
+    #: the nodal means
     smoothing_mm: np.ndarray = field(default_factory=lambda: np.zeros(2))
 
     STATS = ("nodes", "tets", "free_dofs", "mesh_s", "assemble_s", "factor_s", "solve_s")
@@ -241,8 +246,9 @@ def _say(progress, stage, text):
 def tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: int = 1, progress=None, coarsen=1.0,
                smooth: bool = True) -> ToothData:
     """Mesh, factor and solve the member's FE tooth (see the module docstring): on its body, the member
-    cut by the unmodified rack (:mod:`beveloid.tooth.body`).  ``smooth``: the fillet stresses smoothed
-    (the default: what the LTCA and the rating read) or the nodal means."""
+    cut by the unmodified rack (:mod:`beveloid.tooth.body`).  ``smooth``: the fillet stresses read on the
+    member's read grid (the default: what the LTCA and the rating read) or the nodal means at the fillet's
+    nodes."""
     pair = body_pair(pair, member)
     geometry = getattr(pair, "geometry", pair)
     t0 = time.perf_counter()
@@ -257,11 +263,25 @@ def tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: int = 1, 
     G = pts.shape[1] * pts.shape[2]
     flat_p, flat_n = pts.reshape(2, G, 3), nrm.reshape(2, G, 3)
     fillet_nodes = [mesh.node_sets[f"fillet_{f}_0"] for f in FLANKS]
-    stress_ops = [solve.stress_operator(elastic, nodes) for nodes in fillet_nodes]
+    fe1 = mesh_sizes(sampler, geometry.normal_module_mm, 1.0).fillet_mm
+    window = np.zeros(2)
+    if smooth:
+        # the read-out (fe.contact.readout_matrix): each fillet's nodes and those of the root land beside it
+        # (a sharp rack's trochoid meets the land tangentially near where its stress peaks) fitted around the
+        # points of a read grid fixed by the geometry
+        window = np.array(readout_window_mm(geometry.normal_module_mm, fe1, mesh.sizes.fillet_mm))
+        fit_nodes = [np.union1d(nodes, mesh.node_sets[FILLET_LANDS[f]]) for nodes, f in zip(fillet_nodes, FLANKS)]
+        grids = [read_grid(sampler, f, READ_STEP_FACE_PER_MODULE * geometry.normal_module_mm,
+                           READ_STEP_PROFILE_PER_FILLET_SIZE * fe1) for f in FLANKS]
+        fits = [readout_matrix(*g, mesh.nodes[n], *window) for g, n in zip(grids, fit_nodes)]
+        reads = [g[0] for g in grids]
+    else:
+        fit_nodes, fits, reads = fillet_nodes, [None, None], [mesh.nodes[n] for n in fillet_nodes]
+    stress_ops = [solve.stress_operator(elastic, nodes) for nodes in fit_nodes]
     _say(progress, 2, f"FE tooth {member}: {elastic.timings_s['free_dofs']} dofs factorised in "
                    f"{elastic.timings_s['factor_s']:.1f} s; solving {2 * G} load cases")
     t2 = time.perf_counter()
-    nf = max(len(n) for n in fillet_nodes)
+    nf = max(len(p) for p in reads)
     stress = np.zeros((2, 2, nf, 6, G))
     comp, raw = np.zeros((2, G, G)), np.zeros((2, G, G))
     reading = reading_points(grid.feet_mm, grid.feet_normals, grid.depth_mm[..., None])
@@ -271,20 +291,18 @@ def tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: int = 1, 
                                               max_outside_mm=MAX_OUTSIDE_PER_FLANK_SIZE * mesh.sizes.flank_mm,
                                               label=f"FE tooth {member}, {FLANKS[f]} flank")
         for side in range(2):
-            sig = (stress_ops[side] @ u).reshape(-1, 6, G)
+            sig = (stress_ops[side] @ u).reshape(-1, 6 * G)
+            if fits[side] is not None:
+                sig = fits[side] @ sig
+            sig = sig.reshape(-1, 6, G)
             stress[f, side, :sig.shape[0]] = sig
             stress[f, side, sig.shape[0]:] = sig[-1]
     t3 = time.perf_counter()
     fp = np.zeros((2, nf, 3))
-    for side, nodes in enumerate(fillet_nodes):
-        fp[side, :len(nodes)] = mesh.nodes[nodes]
-        fp[side, len(nodes):] = mesh.nodes[nodes[-1]]
+    for side, p in enumerate(reads):
+        fp[side, :len(p)] = p
+        fp[side, len(p):] = p[-1]
     height = np.hypot(fp[..., 0], fp[..., 1]) - sampler.root_radius_mm(fp[..., 2])
-    window = np.zeros(2)
-    if smooth:
-        window = np.array(smoothing_window_mm(geometry.normal_module_mm,
-                                              mesh_sizes(sampler, geometry.normal_module_mm, 1.0).fillet_mm))
-        smooth_stress(stress, fp, height, *window)
     _say(progress, STAGES, f"FE tooth {member}: done in {t3 - t0:.1f} s")
     stats = np.array([mesh.nodes.shape[0], mesh.tets.shape[0], elastic.timings_s["free_dofs"], t1 - t0,
                       elastic.timings_s["assemble_s"], elastic.timings_s["factor_s"], t3 - t2], dtype=float)

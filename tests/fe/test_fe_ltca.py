@@ -299,8 +299,8 @@ def test_root_stresses_of_many_sets_are_those_of_every_node(coarse_teeth):
     pts = np.stack([grid[rng.choice(len(grid), 6, replace=False)] for _ in range(5)])
     forces = rng.uniform(10.0, 400.0, (5, 6))
     r = t.root_stresses(pts, forces)
-    # the reading depth widened by the smoothing window along the face (fe.contact.tooth_arrays)
-    reach = np.max(coarse_teeth["pinion"].depth_mm[1]) + coarse_teeth["pinion"].smoothing_mm[0]
+    # the reading depth widened by the read-out's window (fe.contact.tooth_arrays)
+    reach = np.max(coarse_teeth["pinion"].depth_mm[1]) + np.hypot(*coarse_teeth["pinion"].smoothing_mm)
     for q in range(5):
         g = t.weights(pts[q]).T @ forces[q]
         for side, sign, got in ((1, 1.0, r.tension_mpa[q]), (0, -1.0, r.compression_mpa[q])):

@@ -99,20 +99,21 @@ def test_the_2d_notch_stress_has_converged(near_spur):
 def test_the_fe_tooth_reads_the_2d_notch_stress(near_spur):
     """The FE tooth under the same line load, uniform along the face (docs/validation.md 12.2).
 
-    * Its mid-face level (plane_strain.fillet_level: its nodal stresses averaged along the face in
+    * Its mid-face level (plane_strain.fillet_level: its read fillet stresses averaged along the face in
       bands of height) within 0.97 to 1.12 of the 2D: its free tooth ends raise the mid-face stress
       over plane strain by 4-7 % (measured in its own sector with the ends held axially), and with the
-      ends held its elements read within -5 to +1 % of the 2D; this coarse mesh reads within 3 % of
-      the default one (measured here: 1.044 at the tip, 1.064 at the pitch circle);
-    * its largest value (what the LTCA reads) adds the node-to-node scatter of a tet mesh's nodal
-      stresses, 2-14 % over its level: within 1.0 to 1.25 (measured 1.139, 1.155);
-    * the peak in the fillet where the 2D puts it, within 1 mm (half a fillet radius; measured 0.53
-      against 0.87 mm at the tip, 0.53 against 0.51 mm at the pitch circle: the stress is flat about
+      ends held its elements read within -5 to +1 % of the 2D (measured here: 1.033 at the tip, 1.013 at
+      the pitch circle);
+    * its largest value (the read-out's, what the LTCA reads: fe.contact.readout_matrix) within 1.0 to 1.15
+      (measured 1.083, 1.062; the nodal means' largest, before FE_DATA_VERSION 4, read 1.139, 1.155: the
+      node-to-node scatter of a tet mesh's nodal stresses on top);
+    * the peak in the fillet where the 2D puts it, within 1 mm (half a fillet radius; measured 0.64
+      against 0.87 mm at the tip, 0.44 against 0.51 mm at the pitch circle: the stress is flat about
       its peak)."""
     _, loads, flat, fe = near_spur
     for ld, two, three in zip(loads, flat[1.0], fe):
         level = three.level_mpa_per_n_mm / two.tension_mpa_per_n_mm
         top = three.max_mpa_per_n_mm / two.tension_mpa_per_n_mm
         assert 0.97 <= level <= 1.12, (ld, level)
-        assert 1.0 <= top <= 1.25, (ld, top)
+        assert 1.0 <= top <= 1.15, (ld, top)
         assert abs(three.height_above_root_mm - two.height_above_root_mm) < 1.0
