@@ -27,6 +27,12 @@ rise away from the fillet, ``fe.sizes.FILLET_GROWTH``, set for the 2D mesh while
 fillet's discretisation alone reads at each rule, a few seconds a member.
 ``--jitter 1.02,1.04``: a third table, the default's LTCA loads read by the FE tooth with every element size
 a few percent larger (the nodes move, the rule does not): the read-out's own scatter.
+``--peak-2d``: no FE tooth and no LTCA: per member the converged 2D section at mid-face (``--notch``'s) under a
+load at the flank's tip, its fillet's (and root land's) largest principal stress along the profile: where it
+peaks, how wide the peak is (the arc within 3 % and 10 % of it, mm and fillet elements), the largest of the
+read-out's fit (``fe.contact.readout_matrix``, the 2D samples as its nodes, read every 0.01 fillet element over
++-1 element of the peak) over the peak (its bias), and the largest of samples half an element apart (a P2
+mesh's node rows) over the peak, the smallest over their placements.
 ``--levels 0,1``: coarsen 2 and the default only (refinement 2 takes up to 5 GB and minutes a member).
 ``--notch``: a last column, the 2D section (fe.plane_strain) meshed at each level's sizes over its converged
 value, at the maximum's section.  The FE data of each level is built once per design and cached; run one
@@ -214,9 +220,13 @@ def main(argv=None) -> int:
                         "not (a third table)")
     a.add_argument("--fillet-sweep", default=None, metavar="K,...",
                    help="the 2D section only, with the fillet's elements at rho_F / K for each K (no FE tooth)")
+    a.add_argument("--peak-2d", action="store_true",
+                   help="the 2D section only: the notch peak's width and the read-out's bias on it (no FE tooth)")
     a.add_argument("--growths", default=None, metavar="G,...",
                    help="with --fillet-sweep: the fillet band's growths (fe.sizes.FILLET_GROWTH; default today's)")
     args = a.parse_args(argv)
+    if args.peak_2d:
+        return peak_2d(args.designs.split(","))
     if args.fillet_sweep is not None:
         from beveloid.fe.sizes import FILLET_GROWTH
 
@@ -351,6 +361,69 @@ def fillet_sweep(designs, ks, growths) -> int:
                     mesh.FILLET_GROWTH = kept
             print(f"| {name} | {m} | {rho:.3f}, {rho / geometry.normal_module_mm:.3f} / {base.fillet_mm:.3f} | "
                   + " | ".join(cells) + " |", flush=True)
+    return 0
+
+
+def _profile_stress(body, member, z_mm, material):
+    """(arc mm, largest principal stress MPa per N/mm) along the right fillet and the root land beside it of the
+    converged 2D section ``z_mm`` (``fe.plane_strain`` at its defaults: within 0.2 % of refinement 8) under a
+    load at the flank's tip, the arc from the land's far end."""
+    import numpy as np
+
+    from beveloid.fe import plane_strain as ps
+
+    geometry = getattr(body, "geometry", body)
+    load = (ps.SectionLoad("right", ps.TIP),)
+    profile = ps.section_profile(geometry, member, z_mm, load, ps.NotchOptions(), 0.0)
+    sm = ps._mesh_section(profile, ps._sizes(profile, geometry.normal_module_mm, 1.0, None))
+    u = ps.solve_point_loads(sm.mesh, np.concatenate([sm.facets[k] for k in ps.CLAMPED]), sm.load_vertices,
+                             -profile.load_normals, material)
+    r = ps.edge_stresses(sm.mesh, ps._fillet_facets(sm.facets, "right"), u, material)
+    x, s = r.points_mm.reshape(2, -1), r.max_principal_mpa[0].ravel()
+    order = np.argsort(np.arctan2(x[1], x[0]))
+    x, s = x[:, order], s[order]
+    arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(x, axis=1)))])
+    arc, first = np.unique(np.round(arc, 7), return_index=True)
+    return arc, s[first]
+
+
+def peak_2d(designs) -> int:
+    """``--peak-2d``'s table (module docstring)."""
+    import numpy as np
+
+    from beveloid import ltca
+    from beveloid.fe.contact import READ_FACE_PER_MODULE, READ_PROFILE_PER_FILLET_SIZE, readout_matrix
+    from beveloid.rating.root_convergence import _sizes
+    from beveloid.tooth.body import body_pair
+    from beveloid.tooth.sampling import ToothSampler
+
+    print("| design | member | fillet radius / element (mm) | peak's arc within 3 % / 10 % (mm; elements) | read-out's "
+          "largest / peak | largest of rows half an element apart / peak, smallest over their placements |")
+    print("|---|---|---|---|---|---|")
+    for spec in designs:
+        pair, name = _pair(spec), Path(spec).stem
+        material = ltca.Material.from_spec(pair.spec)
+        for m in ("pinion", "gear"):
+            e_mpa, nu = (material.pinion_e_mpa, material.pinion_nu) if m == "pinion" else (material.gear_e_mpa, material.gear_nu)
+            body = body_pair(pair, m)
+            geometry = getattr(body, "geometry", body)
+            z = 0.5 * sum(ToothSampler(geometry, m).z_range_mm)
+            sizes = _sizes(pair, m, 1, 1.0)
+            fe = sizes.fillet_mm
+            arc, s = _profile_stress(body, m, z, (e_mpa, nu))
+            k = int(np.argmax(s))
+            widths = [np.ptp(arc[s >= f * s[k]]) for f in (0.97, 0.9)]
+            at = arc[k] + np.arange(-1.0, 1.0 + 1e-9, 0.01) * fe
+            nodes = np.stack([np.zeros_like(arc), arc, np.zeros_like(arc)], axis=1)
+            reads = np.stack([np.zeros_like(at), at, np.zeros_like(at)], axis=1)
+            t, b = np.tile([0.0, 1.0, 0.0], (len(at), 1)), np.tile([0.0, 0.0, 1.0], (len(at), 1))
+            w = readout_matrix(reads, t, b, nodes, READ_FACE_PER_MODULE * geometry.normal_module_mm,
+                               READ_PROFILE_PER_FILLET_SIZE * fe)
+            rows = min(np.max(np.interp(np.arange(arc[k] - fe + o, arc[k] + fe, 0.5 * fe), arc, s))
+                       for o in np.linspace(0.0, 0.5 * fe, 11))
+            print(f"| {name} | {m} | {sizes.fillet_radius_mm:.3f} / {fe:.3f} | {widths[0]:.3f} / {widths[1]:.3f}; "
+                  f"{widths[0] / fe:.2f} / {widths[1] / fe:.2f} | {np.max(w @ s) / s[k]:.4f} | {rows / s[k]:.4f} |",
+                  flush=True)
     return 0
 
 
