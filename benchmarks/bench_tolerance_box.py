@@ -23,7 +23,7 @@ a string, a list's length, a key only one tree writes).
 ``--bytecode``: both trees run with their sources' bytecode cached, as an installed package has it (``pip install``
 compiles it): ``PYTHONDONTWRITEBYTECODE`` unset and ``PYTHONPYCACHEPREFIX`` a folder of the run's, which each tree's
 warm-up run fills (neither tree's folder is written); without it, where ``PYTHONDONTWRITEBYTECODE`` is set (this
-project's machines), every run compiles every module of the tree it imports from source (~0.1-0.15 s of either tree's CPU, issue 59).
+project's machines), every run compiles every module of the tree it imports from source (~0.3 s of either tree's CPU, issue 59).
 
 ``--optimize BUDGET``: docs/optimize.md section 6's command instead (``beveloid optimize case1_tilted.toml
 --vary pinion.lead_crowning_um=0:40 --vary pinion.lead_slope_um=-30:30 --torque-nm 100,200,400 --weights
