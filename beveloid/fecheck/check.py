@@ -161,7 +161,8 @@ def root_stress_notes(calculix, ltca, refinement: int, fillets: dict | None = No
                     f"LTCA's FE tooth), ratio {a['ratio']:.3f}, beyond +-{ROOT_STRESS_AGREEMENT:.0%}: the sectors' "
                     f"fillet elements at refinement {refinement} (the root is not refined like the contact "
                     "strips) and the LTCA's tooth data (its --fe-refinement) are the two meshes, the LTCA's "
-                    "fillet stresses smoothed, CalculiX's its nodal maximum")
+                    "fillet stresses read on a grid fixed by the geometry (a local fit of the nodes'), CalculiX's its "
+                    "nodal maximum")
             if fillets and m in fillets:
                 rho, here, tooth = fillets[m]
                 line += (f" (fillet elements {here:.3f} mm here, {tooth:.3f} mm in the FE tooth; the fillet's "
@@ -251,7 +252,7 @@ def analyze(pair, load, options: Options | None = None, *, solver=None, progress
              "flank",
              "root_stress_max_mpa: the largest principal stress on each member's fillet faces (calculix, the "
              "teeth of the tooth pairs, nodal values); the LTCA's largest pair root stress at the position (its FE "
-             "tooth, the fillet stresses smoothed as the rating's S_F reads them; null with the plate tooth), tooth "
+             "tooth, the fillet stresses read on its fixed grid as the rating's S_F reads them; null with the plate tooth), tooth "
              f"model here: {getattr(result, 'tooth_model', 'plate')}",
              "loaded_transmission_error_urad: unloaded TE + (N1/N2) x the pinion's rotation under the moment "
              "(calculix); the LTCA's loaded TE",

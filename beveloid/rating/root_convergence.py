@@ -1,7 +1,9 @@
 """Is the FE tooth's root stress, the one the local S_F divides by, converged?  (issue 57.5)
 
-That root stress is the LTCA's: the largest principal stress of the FE tooth's smoothed fillet tensors
-(``fe.tooth.tooth_data``; the coarsened tooth below is smoothed over the same physical window).
+That root stress is the LTCA's: the largest principal stress of the FE tooth's fillet tensors read on a grid
+fixed by the geometry (``fe.tooth.tooth_data``, ``fe.contact.readout_matrix``; the coarsened tooth below is read
+at the same points, over a window widened to 0.75 of its own fillet elements, which flattens the notch's peak:
+its reading lies 8-12 % below the default's on docs/validation.md 10.2's designs).
 
 The LTCA's loads (the cell forces of every converged, loaded position and pair) are read a second
 time with the FE tooth of a mesh :data:`CHECK_COARSEN` times coarser (every element size doubled; its
@@ -31,8 +33,8 @@ Two readings the estimate cannot judge are not called converged whatever it says
   one element it is a notch the mesh does not resolve; below four, the two meshes can agree while the
   mesh refined once reads more (with the nodal maximum read before the smoothing, case 1's pinion at
   1500 N m: 209.0 / 210.1 / 224.2 MPa at coarsen 2 / the default / refinement 2, a fillet radius of 0.42 mm
-  on 0.24 mm elements).  With the smoothed stresses no member of docs/validation.md 10.2 did so, but only
-  two had an estimate within the tolerance (docs/rating.md 5): the condition is kept.
+  on 0.24 mm elements).  With the nodal fit read before FE_DATA_VERSION 4 no member of docs/validation.md
+  10.2 did so, but only two had an estimate within the tolerance (docs/rating.md 5): the condition is kept.
 
 ``converged``: the estimate within :data:`TOLERANCE`, the maximum clear of the face ends, the fillet
 radius resolved.
