@@ -20,6 +20,11 @@ arrays), as the largest relative difference |a - b| / max(|a|, |b|) over the lea
 residuals, round-off, absolutely), and the count of leaves that differ in kind (a number against null,
 a string, a list's length, a key only one tree writes).
 
+``--bytecode``: both trees run with their sources' bytecode cached, as an installed package has it (``pip install``
+compiles it): ``PYTHONDONTWRITEBYTECODE`` unset and ``PYTHONPYCACHEPREFIX`` a folder of the run's, which each tree's
+warm-up run fills (neither tree's folder is written); without it, where ``PYTHONDONTWRITEBYTECODE`` is set (this
+project's machines), every run compiles every module of the tree it imports from source (~0.3 s of either tree's CPU, issue 59).
+
 ``--optimize BUDGET``: docs/optimize.md section 6's command instead (``beveloid optimize case1_tilted.toml
 --vary pinion.lead_crowning_um=0:40 --vary pinion.lead_slope_um=-30:30 --torque-nm 100,200,400 --weights
 0.2,0.5,0.3 --samples 16 --tooth-model fe --budget BUDGET --workers 2 --json``), its JSON compared (the
@@ -48,8 +53,15 @@ def spec_text(checkout: Path) -> str:
     return out.stdout.replace("vertical_deg = 0.0 ", "vertical_deg = 0.05", 1)
 
 
+#: with --bytecode: the folder of both trees' cached bytecode (PYTHONPYCACHEPREFIX), None without
+PYCACHE = None
+
+
 def _env(checkout: Path) -> dict:
     env = dict(os.environ)
+    if PYCACHE is not None:
+        env.pop("PYTHONDONTWRITEBYTECODE", None)
+        env["PYTHONPYCACHEPREFIX"] = str(PYCACHE)
     env["PYTHONPATH"] = str(checkout) + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
     return env
 
@@ -118,10 +130,15 @@ def main():
     ap.add_argument("--optimize", type=int, metavar="BUDGET",
                     help="instead: docs/optimize.md section 6's `beveloid optimize` (2 workers, FE tooth, 3 torques, "
                          "16 sets) with --budget BUDGET, its --json compared (the run's seconds left out)")
+    ap.add_argument("--bytecode", action="store_true",
+                    help="both trees with their bytecode cached (PYTHONPYCACHEPREFIX in the run's folder), as installed")
     a = ap.parse_args()
     trees = {"old": Path(a.old).resolve(), "new": Path(a.new).resolve()}
     work = Path(a.keep or tempfile.mkdtemp(prefix="box_"))
     work.mkdir(parents=True, exist_ok=True)
+    if a.bytecode:
+        global PYCACHE
+        PYCACHE = work / "pycache"
     spec = work / "case1_tilted.toml"
     spec.write_text(spec_text(trees["new"]))
     if a.optimize:
@@ -135,7 +152,7 @@ def main():
                 a.tooth_model, "--json"]
     out_dir = lambda tag: ["--out", str(work / tag)] if a.optimize else []  # noqa: E731
     print(f"beveloid {' '.join(argv[:1])} case1_tilted.toml {' '.join(argv[2:])}; load average "
-          f"{os.getloadavg()[0]:.1f}")
+          f"{os.getloadavg()[0]:.1f}{'; bytecode cached' if a.bytecode else ''}")
     docs, times = {}, {"old": [], "new": []}
     for name, tree in trees.items():  # warm-up: numba's cache and the FE data of each tree
         warm = [*argv[:argv.index("--budget") + 1], "2", *argv[argv.index("--budget") + 2:]] if a.optimize else argv

@@ -16,8 +16,12 @@ An entry also holds, per flank, the arrays the FE tooth derives from the data
 (:func:`beveloid.fe.contact.tooth_arrays`: the fillets' eigenvalue bounds, the reading-depth matrix; ~0.3 s
 of CPU a member to make, issue 59), so that ``FeTooth(data, flank, arrays)`` is built without that work
 (:func:`stored_tooth_arrays`).  Its large arrays (the stress operator, ~100 MB) are mapped, not read: a
-run reads the pages it uses (the loaded flank's fillet nodes its root stresses visit) and the finite
-check's one pass.
+run reads the pages it uses (the loaded flank's fillet nodes its root stresses visit).  Every array of an
+entry is checked finite (a NaN or an infinity: the entry is "corrupt", computed again) once: when it is written,
+or the first time it is read without a **check mark** (a small file beside it, ``<entry>.finite``, holding the
+entry's size, modification time and inode at that check): an entry whose file still matches its mark is read
+without the pass over its ~100-400 MB (0.1-0.15 s of CPU in every process that read it, issue 59); an entry
+written again by anything else (another size, modification time or inode) is checked in full again.
 """
 from __future__ import annotations
 
@@ -142,23 +146,74 @@ def _finite(a) -> bool:
     return a.dtype.kind in "biu" or bool(np.isfinite(np.sum(a, dtype=float)))
 
 
+def _all_finite(data, arrays: dict) -> bool:
+    """Every array of an entry's data and FE tooth arrays finite (:func:`_finite`)."""
+    return all(_finite(a) for a in [getattr(data, f.name) for f in fields(tooth.ToothData)]
+               + [a for d in arrays.values() for a in d.values()])
+
+
+#: the suffix of an entry's check mark (see the module docstring)
+MARK_SUFFIX = ".finite"
+
+
+def _file_id(path: Path) -> str | None:
+    """The entry file's size, modification time (ns) and inode as a text, None when it is not there: any
+    write of the file changes it (a write in place its time, a replacement its inode), a read does not
+    (:func:`_used` keeps the modification time)."""
+    try:
+        st = path.stat()
+    except OSError:
+        return None
+    return f"{st.st_size} {st.st_mtime_ns} {st.st_ino}"
+
+
+def _marked(path: Path) -> bool:
+    """The entry's check mark names its file as it is now: its arrays were found finite in this file."""
+    try:
+        mark = path.with_suffix(MARK_SUFFIX).read_text()
+    except OSError:
+        return False
+    now = _file_id(path)
+    return now is not None and mark == now
+
+
+def _mark(path: Path, file_id: str | None = None) -> None:
+    """Write the entry's check mark (its :func:`_file_id`, or ``file_id``: the file's before it was renamed into
+    place, the same size, time and inode); a folder that cannot be written keeps no mark (the entry is then
+    checked at each read)."""
+    file_id = file_id or _file_id(path)
+    if file_id is None:
+        return
+    with contextlib.suppress(OSError):
+        fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".tmp")
+        try:
+            with os.fdopen(fd, "w") as f:
+                f.write(file_id)
+            os.replace(tmp, path.with_suffix(MARK_SUFFIX))
+        except BaseException:
+            Path(tmp).unlink(missing_ok=True)
+            raise
+
+
 def _read(path: Path, key: str):
     """(the stored data, {flank: its FE tooth arrays} or None, how); data None when absent, stale (another
-    key) or unreadable."""
+    key), unreadable or not finite (checked in full unless the entry's check mark names its file: :func:`_marked`)."""
     from ..names import FLANKS
 
     if not path.is_file():
         return None, None, "miss"
     try:
+        marked = _marked(path)
         z = _stored_arrays(path)
         if str(z["key"]) != key:
             return None, None, "stale"
         data = tooth.ToothData(**{f.name: z[f.name] for f in fields(tooth.ToothData)})
         arrays = {fl: {n.split(".", 2)[2]: a for n, a in z.items() if n.startswith(TOOTH_ARRAY.format(fl, ""))}
                   for fl in FLANKS}
-        if not all(_finite(a) for a in [getattr(data, f.name) for f in fields(tooth.ToothData)]
-                   + [a for d in arrays.values() for a in d.values()]):
-            return None, None, "corrupt"
+        if not (marked and _marked(path)):  # the mark names the file both before and after its reading
+            if not _all_finite(data, arrays):
+                return None, None, "corrupt"
+            _mark(path)
         return data, (arrays if all(arrays.values()) else None), "hit"
     except Exception:  # noqa: BLE001 - any unreadable entry is recomputed
         return None, None, "corrupt"
@@ -204,10 +259,13 @@ def _write(path: Path, key: str, data, arrays: dict) -> None:
         with os.fdopen(fd, "wb") as f:
             np.savez(f, key=np.array(key), **{fl.name: getattr(data, fl.name) for fl in fields(tooth.ToothData)},
                      **derived)
+        file_id = _file_id(Path(tmp))
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
+    if _all_finite(data, arrays):  # checked here, in memory: a reader of this file need not
+        _mark(path, file_id)
 
 
 #: the data (and FE tooth arrays) of the last few keys read or computed in this process ("compute once per
@@ -293,7 +351,8 @@ def limit_bytes() -> int:
 def prune(keep: Path | None = None) -> list:
     """Remove the least recently used entries (by access time: written or read, :func:`_used`) until the
     folder's ``.npz`` files fit in :func:`limit_bytes`, never ``keep`` (the entry just written), and
-    the temporary files of interrupted writes older than :data:`ORPHAN_AGE_S`.  Entries made by
+    the temporary files of interrupted writes older than :data:`ORPHAN_AGE_S` (and the check marks of entries no
+    longer there).  Entries made by
     other code (another :func:`code_digest`) are never read again by this install and age out this
     way.  Returns the paths removed."""
     folder = cache_dir()
@@ -311,6 +370,9 @@ def prune(keep: Path | None = None) -> list:
                 removed.append(p)
         elif p.suffix == ".npz":
             entries.append((max(st.st_atime, st.st_mtime), st.st_size, p))
+        elif p.suffix == MARK_SUFFIX and not p.with_suffix(".npz").exists():  # its entry removed
+            with contextlib.suppress(OSError):
+                p.unlink()
     total, limit = sum(e[1] for e in entries), limit_bytes()
     for _, size, p in sorted(entries, key=lambda e: e[0]):
         if total <= limit:
@@ -321,6 +383,7 @@ def prune(keep: Path | None = None) -> list:
             p.unlink()
             removed.append(p)
             total -= size
+            p.with_suffix(MARK_SUFFIX).unlink(missing_ok=True)
     return removed
 
 

@@ -120,7 +120,8 @@ def test_a_corrupt_entry_is_recomputed_not_used(counted, case1, damage):
         path.write_bytes(path.read_bytes()[:1000])
     elif damage == "garbage":
         path.write_bytes(b"not an npz file")
-    else:
+    else:  # written again in place: the check mark of the file as first written stays beside it
+        assert path.with_suffix(cache.MARK_SUFFIX).is_file()
         with np.load(path) as z:
             stored = {k: z[k] for k in z.files}
         stored["stress_mpa_per_n"] = stored["stress_mpa_per_n"] * np.nan
@@ -129,6 +130,35 @@ def test_a_corrupt_entry_is_recomputed_not_used(counted, case1, damage):
     assert how == "corrupt" and counted == ["pinion", "pinion"]
     assert np.all(np.isfinite(data.stress_mpa_per_n))
     assert _get(case1)[1] == "hit"
+
+
+def test_an_entry_is_checked_finite_once_then_read_by_its_check_mark(counted, case1, monkeypatch):
+    """Issue 59: every array of an entry is checked finite when it is written (in memory) or at its first
+    read, and a check mark beside it names the file so checked (size, modification time, inode): a read of
+    that file skips the pass over its arrays; without a mark, or with one naming another file, the pass runs
+    (and a passing entry gets its mark)."""
+    _get(case1)
+    path = cache.entry_path(cache.cache_key(case1, "pinion", 2.06e5, 0.3, 1))
+    mark = path.with_suffix(cache.MARK_SUFFIX)
+    assert mark.read_text() == cache._file_id(path)
+    checked = []
+    finite = cache._finite
+    monkeypatch.setattr(cache, "_finite", lambda a: checked.append(1) or finite(a))
+
+    def read():
+        cache._KEPT.clear()  # as a new process
+        checked.clear()
+        return _get(case1)[1]
+
+    assert read() == "hit" and checked == []
+    mark.unlink()
+    assert read() == "hit" and checked and mark.read_text() == cache._file_id(path)
+    mark.write_text("1 2 3")
+    assert read() == "hit" and checked and mark.read_text() == cache._file_id(path)
+    assert counted == ["pinion"]
+    path.unlink()
+    cache.prune()
+    assert not mark.exists()
 
 
 def test_the_folder_keeps_to_its_size_limit_dropping_the_least_recently_used(counted, case1, monkeypatch, tmp_path):
