@@ -114,10 +114,13 @@ def normal_gaps(problem, request, out):
         # the retries pass a bool computed at run time (always False), not the literal False: numba typed a
         # literal argument as Literal[bool] and compiled _normal_gap_point a second time for it
         linear = m < 0
+        # likewise a run-time START_COLD: numba types the module's constant as Literal[int] and compiled
+        # _normal_gap_point a second time for it (benchmarks/compile_signatures.py lists such repeats)
+        cold = np.int64(START_COLD)
         # how each try starts (START_*); only the first may start from the previous point's derivatives (the
         # scratch then still holds its last evaluation)
-        retry = START_AHEAD if warm else START_COLD
-        first = (START_TANGENT if t == 0.0 else START_AHEAD) if warm else START_COLD
+        retry = START_AHEAD if warm else cold
+        first = (START_TANGENT if t == 0.0 else START_AHEAD) if warm else cold
         ok = _normal_gap_point(problem, request, m, out, w, first, t, quad)
         if not ok and quad:  # an extrapolated start failed: again from fewer points
             ok = _normal_gap_point(problem, request, m, out, w, retry, t, linear)
@@ -126,7 +129,7 @@ def normal_gaps(problem, request, out):
         if ok and warm and _jumped(request, out, m):
             # the continuation reached another intersection of the normal line with the (extended) gear
             # surface, tens of mm away; the points after it would start there: again from the pair's start
-            ok = _normal_gap_point(problem, request, m, out, w, START_COLD, 0.0, linear)
+            ok = _normal_gap_point(problem, request, m, out, w, cold, 0.0, linear)
         warm = ok
 
 

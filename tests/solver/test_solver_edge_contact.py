@@ -28,10 +28,15 @@ TIP = flank_boundaries.BOUNDARIES.index("tip")
 
 # ---- brute force of the definition (numpy, generated surface and placement kernels) ---------
 def _u_at_z(geom, which, flank, l, z):
+    """u where the surface point at l lies at height z (Newton, at most 30 steps: z is nearly linear in u,
+    two steps reach the rounding, ~1e-15 mm; stopped there, the tip bisection below costs a tenth)."""
     u = np.zeros_like(l)
     for _ in range(30):
         jet = geom.surface_jet(which, flank, l, u)
-        u = u - (jet.point[..., 2] - z) / jet.point_D_lu[..., 2, 1]
+        step = (jet.point[..., 2] - z) / jet.point_D_lu[..., 2, 1]
+        u = u - step
+        if np.all(np.abs(step) <= 1e-12 * (1.0 + np.abs(u))):
+            break
     return u
 
 
@@ -62,6 +67,13 @@ def patch_grid(geom, which, flank, n_l, n_z):
     return grid
 
 
+def _settled(*steps):
+    """Every point's Newton step at the rounding (1e-12 mm or rad): the iterates no longer move.  A point
+    off the other patch diverges and keeps its search to the full count; where all converge (most
+    positions: 6 steps) the other 34 only repeat the same numbers to ~1e-13."""
+    return all(np.all(np.abs(s) <= 1e-12) for s in steps)
+
+
 def extreme_gear_angle(geom, flank, phi1, errors, near, n_l=200, n_z=200):
     """max sign*phi2 over pinion grid points whose gear-frame (radius, z) lies on the gear patch."""
     sign = tca.first_touch_sign(geom, flank)
@@ -84,8 +96,10 @@ def extreme_gear_angle(geom, flank, phi1, errors, near, n_l=200, n_z=200):
         b = (p[:, 0] * J[:, 0, 1] + p[:, 1] * J[:, 1, 1]) / r
         c, d = J[:, 2, 0], J[:, 2, 1]
         det = a * d - b * c
-        l2 = l2 - (d * F0 - b * F1) / det
-        u2 = u2 - (-c * F0 + a * F1) / det
+        step_l, step_u = (d * F0 - b * F1) / det, (-c * F0 + a * F1) / det
+        l2, u2 = l2 - step_l, u2 - step_u
+        if _settled(step_l, step_u):
+            break
     R2 = geom.surface("gear", flank, l2, u2).point
     ok = (np.abs(np.hypot(R2[:, 0], R2[:, 1]) - rho) < 1e-9) & (np.abs(R2[:, 2] - zq) < 1e-9)
     ok &= flank_boundaries.flank_margins(R2, l2, g.blank()).margins.min(axis=-1) >= 0
@@ -124,6 +138,8 @@ def extreme_gear_angle_from_gear(geom, flank, phi1, errors, near, n_l=200, n_z=2
         J = np.concatenate([np.einsum("ij,njk->nik", pp.rotation, jet.point_D_lu), -dP2dt[..., None]], axis=-1)
         d = np.linalg.solve(J, -F[..., None])[..., 0]
         l1, u1, t = l1 + d[:, 0], u1 + d[:, 1], t + d[:, 2]
+        if _settled(d[:, 0], d[:, 1], d[:, 2]):
+            break
     P1 = geom.surface("pinion", flank, l1, u1).point
     ok = np.abs(P1 @ pp.rotation.T + pp.translation - _rz(R2, t) @ gp.rotation.T - gp.translation).max(-1) < 1e-9
     ok &= flank_boundaries.flank_margins(P1, l1, geom.pinion.blank()).margins.min(axis=-1) >= 0
