@@ -25,3 +25,12 @@ def small_exports(small_pair, tmp_path_factory):
 
     out = tmp_path_factory.mktemp("small_export")
     return {fmt: export(small_pair, ExportOptions(format=fmt, out_dir=out, stem="small")) for fmt in ("step", "stl")}
+
+
+@pytest.fixture(scope="session")
+def small_step_shapes(small_exports):
+    """{member: the shape read back from its STEP file}, read once (~0.4 s each) for the tests that only
+    inspect it."""
+    from beveloid.export import occ
+
+    return {f.members[0]: occ.read_step(f.path) for f in small_exports["step"].files}

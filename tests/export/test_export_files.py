@@ -22,9 +22,10 @@ def _file(result, member):
 
 
 @pytest.mark.parametrize("member", MEMBERS)
-def test_step_is_one_valid_solid_within_1um_of_the_generated_surfaces(small_pair, small_exports, member):
+def test_step_is_one_valid_solid_within_1um_of_the_generated_surfaces(small_pair, small_exports, small_step_shapes,
+                                                                       member):
     f = _file(small_exports["step"], member)
-    shape = occ.read_step(f.path)
+    shape = small_step_shapes[member]
     solids = occ.solids_of(shape)
     assert len(solids) == 1 and occ.is_valid(solids[0])
     assert occ.volume_mm3(solids[0]) == pytest.approx(f.volume_mm3, rel=1e-9)
@@ -48,7 +49,7 @@ def test_stl_is_watertight_within_5um_and_agrees_with_the_step_volume(small_pair
 
 
 @pytest.mark.parametrize("member", MEMBERS)
-def test_every_tooth_is_there(small_pair, small_exports, member):
+def test_every_tooth_is_there(small_pair, small_exports, small_step_shapes, member):
     """The STL's section at mid-face crosses the half-depth circle twice per tooth; the STEP solid has
     material at every tooth's middle and none in the middle of every gap."""
     from OCP.BRepClass3d import BRepClass3d_SolidClassifier
@@ -59,7 +60,7 @@ def test_every_tooth_is_there(small_pair, small_exports, member):
     z, radius, angle = tooth_probe(small_pair.geometry, member)
     mesh = trimesh.load(_file(small_exports["stl"], member).path, file_type="stl")
     assert section_crossings(mesh, z, radius) == 2 * teeth
-    (solid,) = occ.solids_of(occ.read_step(_file(small_exports["step"], member).path))
+    (solid,) = occ.solids_of(small_step_shapes[member])
     pitch = 2 * math.pi / teeth
     probe = BRepClass3d_SolidClassifier(solid)  # one classifier for every point (it prepares the solid once)
     for k in range(teeth):
