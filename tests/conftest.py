@@ -290,8 +290,9 @@ def _principal_stresses():
 
 def _compile_solver():
     """Run every entry point of the compiled backend once, on case 1 (compiles them, or loads
-    them from numba's cache): the contact paths (TCA, sweep, backlash), the single-point Newton,
-    the loaded TCA's normal gaps and explore's rows.  Once per process, under the lock."""
+    them from numba's cache): the contact paths (TCA, sweep, backlash), the sweep's contact points,
+    the single-point Newton, the loaded TCA's normal gaps and explore's rows.  Once per process,
+    under the lock."""
     global _compiled
     if _compiled:
         return
@@ -308,8 +309,14 @@ def _compile_solver():
         geom = Pair.from_spec(ROOT / "examples" / "case1.toml").geometry
         return geom, tca.reference_contact(geom, "right")
 
+    def sweep_points(geom, ref):
+        # the sweep's contact points of a solved grid (sweep.py; the one core entry point that the paths
+        # above do not reach: missing here, the CLI fuzz test compiled it inside an example's hang guard)
+        sol = tca.solve_grid(geom, "right", np.zeros(5), [ref.pinion_angle], solver=Solver("compiled"))  # serial
+        tca.solved_contact_points(geom, "right", sol.x, sol.status, solver=Solver("compiled"))
+
     runs = (
-        lambda geom, ref: tca.solve_grid(geom, "right", np.zeros(5), [ref.pinion_angle], solver=Solver("compiled")),  # serial
+        sweep_points,  # the serial grid, then its contact points
         # more error sets than tca.SERIAL_MAX_SETS: solve_paths on threads (sweeps; the same compiled function)
         lambda geom, ref: tca.solve_grid(geom, "right", np.zeros((tca.SERIAL_MAX_SETS + 1, 5)), [ref.pinion_angle],
                                          solver=Solver("compiled")),
