@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from beveloid.derivations import codegen, kernels
-from generated_support import PLAIN_MODULES, exec_module, module_specs
+from generated_support import GENERATED, PLAIN_MODULES, RENDERED_IN_THE_SLOW_TIER, exec_module, module_specs
 
 
 @pytest.fixture(scope="session")
@@ -21,7 +21,12 @@ def rendered_by():
 
 @pytest.fixture(scope="session")
 def rendered(specs, rendered_by, fresh_stack):
-    """{file name: text} rendered in memory, as ``beveloid derive`` would write it."""
+    """{file name: text} rendered in memory, as ``beveloid derive`` would write it; the files of the surface
+    models of RENDERED_IN_THE_SLOW_TIER are the committed ones (given to the generator as rendered before:
+    ``rendered_by``), rendered by the slow tier's test_slow_tier_surfaces_render_as_committed."""
+    for module in RENDERED_IN_THE_SLOW_TIER:
+        names = (f"{module}.py", f"{module}_scalar.py")
+        rendered_by[(id(specs[module]), True)] = (specs[module], {n: (GENERATED / n).read_text() for n in names})
     return fresh_stack(codegen.generate, None, list(specs.values()), extra=kernels.glue_files(),
                        rendered_by=rendered_by)
 

@@ -57,6 +57,12 @@ N_POINTS = 20
 RTOL = 1e-12  # generated vs symbolic, CSE vs no-CSE, complex step
 DEG = np.pi / 180
 MODEL = "involute"  # the surface model of both members wherever one is needed
+#: the surface models whose two files (numpy, scalar twin) the fast tier takes as committed instead of rendering them:
+#: their CSE is ~12 of the ~16 s of CPU that rendering every module costs (micro_geometry 9.2 s, crowned 2.7 s, on the
+#: slow host of docs/performance.md "Test suite").  The fast tier still renders MODEL's surface through the same
+#: templates and holds these two models' values (test_generated_symbolic.py, the scalar twins in
+#: test_generated_builds.py); their bytes are compared in the slow tier (test_generated_files.py)
+RENDERED_IN_THE_SLOW_TIER = ("surface_crowned", "surface_micro_geometry")
 FLANKS = tuple(name for name, _ in kernels.FLANKS)
 
 

@@ -32,12 +32,26 @@ pytestmark = pytest.mark.xdist_group("generated")
 
 
 def test_committed_files_are_current(rendered):
-    """Byte-for-byte: what the generator renders today is what is committed."""
+    """Byte-for-byte: what the generator renders today is what is committed (the surface models of
+    RENDERED_IN_THE_SLOW_TIER: by the next test, in the slow tier)."""
     committed = {p.name for p in GENERATED.glob("*.py")}
     stale = sorted(n for n in set(rendered) | committed
                    if n not in committed or n not in rendered or (GENERATED / n).read_text() != rendered[n])
     if stale:
         pytest.fail(f"stale generated files {stale}: {HINT}\n{codegen.diff(GENERATED, rendered)}", pytrace=False)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("module", RENDERED_IN_THE_SLOW_TIER)
+def test_slow_tier_surfaces_render_as_committed(specs, fresh_stack, module):
+    """The surface models whose files the fast tier's rendering takes as committed, rendered as `beveloid
+    derive` renders them (both files from one reduction), byte for byte."""
+    files = fresh_stack(codegen.generate, None, [specs[module]])
+    for name in (f"{module}.py", f"{module}_scalar.py"):
+        if (GENERATED / name).read_text() != files[name]:
+            committed = {p.name: p.read_text() for p in GENERATED.glob("*.py")}
+            pytest.fail(f"stale generated file {name}: {HINT}\n{codegen.diff(GENERATED, committed | {name: files[name]})}",
+                        pytrace=False)
 
 
 def test_no_unaccounted_file_in_generated(rendered):
