@@ -1,7 +1,7 @@
 """The tolerance box under load, old tree against new in one run: time and numbers.
 
     python benchmarks/bench_tolerance_box.py --old DIR [--new DIR] [--rounds 2] [--samples 16]
-        [--torques-nm 100,200,400] [--tooth-model fe] [--keep DIR]
+        [--torques-nm 100,200,400] [--tooth-model fe] [--keep DIR] [--split]
 
     python benchmarks/bench_tolerance_box.py --old DIR --optimize BUDGET [--rounds 1] [--constraints none]
 
@@ -24,6 +24,13 @@ a string, a list's length, a key only one tree writes).
 compiles it): ``PYTHONDONTWRITEBYTECODE`` unset and ``PYTHONPYCACHEPREFIX`` a folder of the run's, which each tree's
 warm-up run fills (neither tree's folder is written); without it, where ``PYTHONDONTWRITEBYTECODE`` is set (this
 project's machines), every run compiles every module of the tree it imports from source (~0.3 s of either tree's CPU, issue 59).
+
+``--split``: instead of the command's CPU, where it goes: each tree's child runs ``beveloid.cli.main`` with the
+command's arguments twice in one process (:data:`SPLIT`); the CPU to the end of the first call (the process's start,
+its imports, numba's cache loads, the FE data read, and the analyses: about the command's own CPU but its exit) and
+the second call's (the analyses and their outputs alone: every module imported, every cache loaded); their
+difference is the command's fixed part.  Printed: each part's least over the rounds for both trees, the ratios,
+and what the new tree's analyses would have to cost for 0.4 x the old tree's first call at its fixed part.
 
 ``--optimize BUDGET``: docs/optimize.md section 6's command instead (``beveloid optimize case1_tilted.toml
 --vary pinion.lead_crowning_um=0:40 --vary pinion.lead_slope_um=-30:30 --torque-nm 100,200,400 --weights
@@ -81,6 +88,30 @@ def run(checkout: Path, argv: list, out: Path) -> tuple:
     return wall, cpu, json.loads(out.read_text())
 
 
+#: the child of --split: argv[1:] the command's arguments; prints {"first": CPU s to the end of the first call
+#: (time.process_time counts from the process's start), "again": the second call's CPU s}
+SPLIT = """
+import contextlib, io, json, sys, time
+from beveloid.cli import main
+argv = sys.argv[1:]
+marks = []
+for _ in range(2):
+    with contextlib.redirect_stdout(io.StringIO()):
+        main(argv)
+    marks.append(time.process_time())
+print(json.dumps({"first": marks[0], "again": marks[1] - marks[0]}))
+"""
+
+
+def split(checkout: Path, argv: list) -> dict:
+    """:data:`SPLIT` run by ``checkout``'s package: {"first", "again"} CPU seconds."""
+    proc = subprocess.run([sys.executable, "-c", SPLIT, *argv], capture_output=True, text=True, env=_env(checkout),
+                          cwd=tempfile.gettempdir())
+    if proc.returncode != 0:
+        raise SystemExit(f"{checkout}: the split run exited {proc.returncode}:\n{proc.stderr[-2000:]}")
+    return json.loads(proc.stdout.strip().splitlines()[-1])
+
+
 def compare(a, b, path="", out=None) -> dict:
     """{"max_rel", "where", "kind", "numbers"} over the leaves of two JSON values."""
     out = out if out is not None else {"max_rel": 0.0, "where": None, "kind": [], "numbers": 0}
@@ -130,9 +161,13 @@ def main():
     ap.add_argument("--optimize", type=int, metavar="BUDGET",
                     help="instead: docs/optimize.md section 6's `beveloid optimize` (2 workers, FE tooth, 3 torques, "
                          "16 sets) with --budget BUDGET, its --json compared (the run's seconds left out)")
+    ap.add_argument("--split", action="store_true",
+                    help="the command's CPU split into its fixed part and its analyses (two calls in one process)")
     ap.add_argument("--bytecode", action="store_true",
                     help="both trees with their bytecode cached (PYTHONPYCACHEPREFIX in the run's folder), as installed")
     a = ap.parse_args()
+    if a.split and a.optimize:
+        ap.error("--split times `beveloid ltca`'s box: not with --optimize")
     trees = {"old": Path(a.old).resolve(), "new": Path(a.new).resolve()}
     work = Path(a.keep or tempfile.mkdtemp(prefix="box_"))
     work.mkdir(parents=True, exist_ok=True)
@@ -158,6 +193,8 @@ def main():
         warm = [*argv[:argv.index("--budget") + 1], "2", *argv[argv.index("--budget") + 2:]] if a.optimize else argv
         w, c, docs[name] = run(tree, warm + out_dir(f"{name}_warm"), work / f"{name}_warm.json")
         print(f"  warm-up {name} ({tree}): {w:.2f} s wall, {c:.2f} s CPU")
+    if a.split:
+        return split_rounds(trees, argv, a.rounds)
     for r in range(a.rounds):
         for name in (("old", "new") if r % 2 == 0 else ("new", "old")):
             w, c, docs[name] = run(trees[name], argv + out_dir(f"{name}_{r}"), work / f"{name}_{r}.json")
@@ -187,6 +224,25 @@ def main():
         print(f"    {line}")
     ok = math.isfinite(s["max_rel"]) and s["max_rel"] <= 1e-6 and not s["kind"]
     print(f"every set's numbers within 1e-6 relative: {'yes' if ok else 'no'}")
+
+
+def split_rounds(trees, argv, rounds):
+    """--split: both trees' :func:`split` alternating for ``rounds``; the least of each part printed."""
+    parts = {"old": [], "new": []}
+    for r in range(rounds):
+        for name in (("old", "new") if r % 2 == 0 else ("new", "old")):
+            t = split(trees[name], argv)
+            parts[name].append(t)
+            print(f"  round {r + 1} {name}: first call {t['first']:.2f} s CPU (fixed part {t['first'] - t['again']:.2f}, "
+                  f"analyses {t['again']:.2f}) (load {os.getloadavg()[0]:.1f})")
+    least = {n: {"first": min(t["first"] for t in ts), "again": min(t["again"] for t in ts),
+                 "fixed": min(t["first"] - t["again"] for t in ts)} for n, ts in parts.items()}
+    o, n = least["old"], least["new"]
+    print(f"least of {rounds} (CPU s): first call old {o['first']:.2f}, new {n['first']:.2f} ({n['first'] / o['first']:.3f}); "
+          f"fixed part old {o['fixed']:.2f}, new {n['fixed']:.2f} ({n['fixed'] / o['fixed']:.3f}); analyses old "
+          f"{o['again']:.2f}, new {n['again']:.2f} ({n['again'] / o['again']:.3f})")
+    print(f"0.4 x old's first call = {0.4 * o['first']:.2f} s: at new's fixed part the analyses would need "
+          f"{0.4 * o['first'] - n['fixed']:.2f} s ({(0.4 * o['first'] - n['fixed']) / n['again']:.2f} x today's)")
 
 
 if __name__ == "__main__":
