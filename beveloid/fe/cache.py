@@ -98,8 +98,8 @@ def _floats(values) -> list:
 
 
 def cache_key(pair, member: str, e_mpa: float, nu: float, refinement: int, coarsen: float = 1.0,
-              smooth: bool = True) -> str:
-    """The entry's key, a JSON text (see the module docstring)."""
+              smooth: bool = True, window_coarsen: float | None = None) -> str:
+    """The entry's key, a JSON text (see the module docstring); ``window_coarsen`` (tooth_data's) only where given."""
     from .. import __version__
     from ..tooth import fillet
     from . import contact, mesh
@@ -127,6 +127,8 @@ def cache_key(pair, member: str, e_mpa: float, nu: float, refinement: int, coars
                    contact.READ_STEP_PROFILE_PER_FILLET_SIZE, contact.READ_MIN_NODES,
                    contact.READ_MIN_MESH_ELEMENTS] if smooth else None,
     }
+    if window_coarsen is not None:
+        data["window_coarsen"] = float(window_coarsen)
     return json.dumps(data, sort_keys=True)
 
 
@@ -277,14 +279,15 @@ KEPT_ENTRIES = 4
 
 
 def cached_tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: int = 1, progress=None,
-                      coarsen: float = 1.0, smooth: bool = True):
+                      coarsen: float = 1.0, smooth: bool = True, window_coarsen: float | None = None):
     """(ToothData, how: "hit" | "miss" | "stale" | "corrupt") from the cache, computing on a miss
-    (``smooth``: :func:`beveloid.fe.tooth.tooth_data`'s; False for the nodal means, a benchmark's comparison).
+    (``smooth``: :func:`beveloid.fe.tooth.tooth_data`'s; False for the nodal means, a benchmark's comparison;
+    ``window_coarsen``: tooth_data's, the rating's convergence check).
     A cache folder that cannot be written is not an error: the data is then computed each time.
     The data of a key already read in this process is returned again ("hit") while its file is
     unchanged (same size and modification time)."""
     limit_bytes()  # a bad $BEVELOID_FE_CACHE_MB: one line before any work
-    key = cache_key(pair, member, e_mpa, nu, refinement, coarsen, smooth)
+    key = cache_key(pair, member, e_mpa, nu, refinement, coarsen, smooth, window_coarsen)
     path = entry_path(key)
     stamp = _stamp(path)
     kept = _KEPT.get((path, key))
@@ -293,7 +296,8 @@ def cached_tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: in
         return kept[1], "hit"
     data, arrays, how = _read(path, key)
     if data is None:
-        data = tooth.tooth_data(pair, member, e_mpa, nu, refinement, progress=progress, coarsen=coarsen, smooth=smooth)
+        data = tooth.tooth_data(pair, member, e_mpa, nu, refinement, progress=progress, coarsen=coarsen, smooth=smooth,
+                               **({} if window_coarsen is None else {"window_coarsen": window_coarsen}))
         arrays = _tooth_arrays(data)
         try:
             _write(path, key, data, arrays)

@@ -244,11 +244,14 @@ def _say(progress, stage, text):
 
 
 def tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: int = 1, progress=None, coarsen=1.0,
-               smooth: bool = True) -> ToothData:
+               smooth: bool = True, window_coarsen: float | None = None) -> ToothData:
     """Mesh, factor and solve the member's FE tooth (see the module docstring): on its body, the member
     cut by the unmodified rack (:mod:`beveloid.tooth.body`).  ``smooth``: the fillet stresses read on the
     member's read grid (the default: what the LTCA and the rating read) or the nodal means at the fillet's
-    nodes."""
+    nodes.  ``window_coarsen``: read through the window of this mesh coarsened that many times
+    (:func:`beveloid.fe.contact.readout_window_mm` of its fillet elements), where wider than its own: the
+    rating's convergence check reads the default mesh and a coarsened one through the same window
+    (:mod:`beveloid.rating.root_convergence`)."""
     pair = body_pair(pair, member)
     geometry = getattr(pair, "geometry", pair)
     t0 = time.perf_counter()
@@ -269,7 +272,10 @@ def tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: int = 1, 
         # the read-out (fe.contact.readout_matrix): each fillet's nodes and those of the root land beside it
         # (a sharp rack's trochoid meets the land tangentially near where its stress peaks) fitted around the
         # points of a read grid fixed by the geometry
-        window = np.array(readout_window_mm(geometry.normal_module_mm, fe1, mesh.sizes.fillet_mm))
+        own = mesh.sizes.fillet_mm
+        if window_coarsen is not None:
+            own = max(own, mesh_sizes(sampler, geometry.normal_module_mm, refinement / window_coarsen).fillet_mm)
+        window = np.array(readout_window_mm(geometry.normal_module_mm, fe1, own))
         fit_nodes = [np.union1d(nodes, mesh.node_sets[FILLET_LANDS[f]]) for nodes, f in zip(fillet_nodes, FLANKS)]
         grids = [read_grid(sampler, f, READ_STEP_FACE_PER_MODULE * geometry.normal_module_mm,
                            READ_STEP_PROFILE_PER_FILLET_SIZE * fe1) for f in FLANKS]

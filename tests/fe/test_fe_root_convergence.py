@@ -27,11 +27,24 @@ def coarser_teeth(case1, coarsen):
 
 
 @pytest.fixture(scope="module")
-def rated(case1, coarse_teeth, coarser_teeth, coarsen):
+def same_window_teeth(case1, coarsen):
+    """The session's coarse FE tooth read through the check's window (the coarser tooth's)."""
+    from beveloid.fe.tooth import tooth_data
+
+    m = ltca.Material.from_spec(case1.spec)
+    c = coarsen * root_convergence.CHECK_COARSEN
+    return {"pinion": tooth_data(case1, "pinion", m.pinion_e_mpa, m.pinion_nu, coarsen=coarsen, window_coarsen=c),
+            "gear": tooth_data(case1, "gear", m.gear_e_mpa, m.gear_nu, coarsen=coarsen, window_coarsen=c)}
+
+
+@pytest.fixture(scope="module")
+def rated(case1, coarse_teeth, coarser_teeth, same_window_teeth, coarsen):
     """(the LTCA at the session's coarse tooth, the LTCA at the check's, the rating of the first)."""
-    by_coarsen = {coarsen: coarse_teeth, coarsen * root_convergence.CHECK_COARSEN: coarser_teeth}
+    check = coarsen * root_convergence.CHECK_COARSEN
+    by_coarsen = {(coarsen, None): coarse_teeth, (check, None): coarser_teeth, (coarsen, check): same_window_teeth}
     mp = pytest.MonkeyPatch()
-    mp.setattr(cache, "cached_tooth_data", lambda pair, member, *a, coarsen=1.0, **k: (by_coarsen[coarsen][member], "hit"))
+    mp.setattr(cache, "cached_tooth_data", lambda pair, member, *a, coarsen=1.0, window_coarsen=None, **k:
+               (by_coarsen[coarsen, window_coarsen][member], "hit"))
     try:
         options = ltca.Options(positions=5, tooth_model="fe", fe_coarsen=coarsen)
         lt = ltca.analyze(case1, ltca.LoadCase(1500.0), options)
@@ -44,7 +57,21 @@ def rated(case1, coarse_teeth, coarser_teeth, coarsen):
     return lt, lt_coarser, result
 
 
-def test_the_rating_json_gives_the_root_stress_and_its_reading_on_a_coarser_mesh(rated, coarser_teeth, coarsen, case1):
+def _largest(data, lt, member):
+    """The largest root stress of ``lt``'s converged loaded pairs read by the tooth of ``data``."""
+    tooth = FeTooth(data, lt.flank)
+    pts = lt.gap.pinion_point if member == "pinion" else lt.gap.gear_point
+    forces = np.where(lt.gap.in_flank, lt.pressure_mpa * lt.cell_area_mm2[..., None], 0.0)
+    best = -np.inf
+    for j in np.flatnonzero(lt.converged):
+        for k in range(forces.shape[1]):
+            if np.nansum(forces[j, k]) > 0:
+                best = max(best, tooth.root_stress(pts[j, k], forces[j, k]).tension_mpa)
+    return best
+
+
+def test_the_rating_json_gives_the_root_stress_and_its_reading_on_a_coarser_mesh(rated, coarse_teeth, coarser_teeth,
+                                                                                 same_window_teeth, coarsen, case1):
     lt, _, result = rated
     d = json.loads(json.dumps(result.to_json(), allow_nan=False))
     top = lt.root_stress_max_mpa()
@@ -52,19 +79,19 @@ def test_the_rating_json_gives_the_root_stress_and_its_reading_on_a_coarser_mesh
         e = d[m]["root_stress_convergence"]
         assert e["default_mpa"] == pytest.approx(top[m], rel=1e-12)
         assert e["default_mpa"] == pytest.approx(d[m]["root_stress_max_mpa"], rel=1e-12)
-        # the coarse value: the same loads read by the coarser tooth, every converged loaded pair
-        tooth = FeTooth(coarser_teeth[m], lt.flank)
-        pts = lt.gap.pinion_point if m == "pinion" else lt.gap.gear_point
-        area = lt.cell_area_mm2
-        forces = np.where(lt.gap.in_flank, lt.pressure_mpa * area[..., None], 0.0)
-        best = -np.inf
-        for j in np.flatnonzero(lt.converged):
-            for k in range(forces.shape[1]):
-                if np.nansum(forces[j, k]) > 0:
-                    best = max(best, tooth.root_stress(pts[j, k], forces[j, k]).tension_mpa)
-        assert e["coarse_mpa"] == pytest.approx(best, rel=1e-9)
-        assert e["change"] == pytest.approx(e["default_mpa"] / e["coarse_mpa"] - 1.0, rel=1e-12)
-        assert e["error_estimate"] == pytest.approx(3.0 * abs(e["change"]), rel=1e-12)
+        # the same loads, every converged loaded pair, read by the coarser tooth and by the default's mesh
+        # through the coarser tooth's window: the mesh's change at a fixed window
+        assert e["coarse_mpa"] == pytest.approx(_largest(coarser_teeth[m], lt, m), rel=1e-9)
+        assert e["same_window_mpa"] == pytest.approx(_largest(same_window_teeth[m], lt, m), rel=1e-9)
+        assert e["change"] == pytest.approx(e["same_window_mpa"] / e["coarse_mpa"] - 1.0, rel=1e-12)
+        assert e["window_effect"] == pytest.approx(e["default_mpa"] / e["same_window_mpa"] - 1.0, rel=1e-12)
+        # the session's tooth (coarsen 3) reads through 2.25 of its refinement-1 fillet elements, the check's
+        # (coarsen 6) through 4.5 (fe.contact.readout_window_mm)
+        assert e["window_ratio"] == pytest.approx(2.0)
+        assert same_window_teeth[m].smoothing_mm[1] == pytest.approx(coarser_teeth[m].smoothing_mm[1], rel=1e-12)
+        assert same_window_teeth[m].smoothing_mm[1] == pytest.approx(2.0 * coarse_teeth[m].smoothing_mm[1], rel=1e-12)
+        assert e["error_estimate"] == pytest.approx(
+            3.0 * abs(e["same_window_mpa"] / e["coarse_mpa"] - 1.0), rel=1e-12)
         face = case1.geometry.member(m).face_width_mm
         assert e["end_span_mm"] == pytest.approx(face / 16) and 0.0 <= e["face_end_distance_mm"] <= face / 2
         assert e["converged"] is (e["error_estimate"] <= 0.03 and e["face_end_distance_mm"] >= e["end_span_mm"]
@@ -109,11 +136,12 @@ def test_a_root_stress_not_shown_converged_is_a_note_naming_an_unresolved_notch(
     est = result.loaded.root_stress_convergence
     notes = [n for n in result.notes if "FE root stress is not shown converged" in n]
     assert len(notes) == sum(1 for e in est.values() if e["converged"] is False)
-    sharp = {"gear": {"default_mpa": 370.8, "coarse_mpa": 254.5, "change": 370.8 / 254.5 - 1, "check_coarsen": 2.0,
-                      "error_estimate": 3 * (370.8 / 254.5 - 1), "converged": False, "fillet_radius_mm": 0.0086,
+    sharp = {"gear": {"default_mpa": 370.8, "coarse_mpa": 254.5, "same_window_mpa": 352.1, "change": 352.1 / 254.5 - 1,
+                      "check_coarsen": 2.0, "error_estimate": 3 * (352.1 / 254.5 - 1), "converged": False,
+                      "fillet_radius_mm": 0.0086,
                       "fillet_element_mm": 0.16}}
     (line,) = root_convergence.convergence_notes(sharp)
-    assert "gear" in line and "+45.7%" in line and "notch the mesh does not resolve" in line
+    assert "gear" in line and "+38.3%" in line and "352 MPa" in line and "notch the mesh does not resolve" in line
     rounded = {"gear": dict(sharp["gear"], fillet_radius_mm=0.5)}
     (line,) = root_convergence.convergence_notes(rounded)
     assert "notch" not in line and "fewer than 4 of its elements" in line
