@@ -279,15 +279,16 @@ KEPT_ENTRIES = 4
 
 
 def cached_tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: int = 1, progress=None,
-                      coarsen: float = 1.0, smooth: bool = True, window_coarsen: float | None = None):
+                      coarsen: float = 1.0, smooth: bool | float = True):
     """(ToothData, how: "hit" | "miss" | "stale" | "corrupt") from the cache, computing on a miss
     (``smooth``: :func:`beveloid.fe.tooth.tooth_data`'s; False for the nodal means, a benchmark's comparison;
-    ``window_coarsen``: tooth_data's, the rating's convergence check).
+    a number: read through the window of the mesh coarsened that many times, the rating's convergence check).
     A cache folder that cannot be written is not an error: the data is then computed each time.
     The data of a key already read in this process is returned again ("hit") while its file is
     unchanged (same size and modification time)."""
     limit_bytes()  # a bad $BEVELOID_FE_CACHE_MB: one line before any work
-    key = cache_key(pair, member, e_mpa, nu, refinement, coarsen, smooth, window_coarsen)
+    window = None if isinstance(smooth, bool) else float(smooth)
+    key = cache_key(pair, member, e_mpa, nu, refinement, coarsen, True if window is not None else smooth, window)
     path = entry_path(key)
     stamp = _stamp(path)
     kept = _KEPT.get((path, key))
@@ -296,8 +297,7 @@ def cached_tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: in
         return kept[1], "hit"
     data, arrays, how = _read(path, key)
     if data is None:
-        data = tooth.tooth_data(pair, member, e_mpa, nu, refinement, progress=progress, coarsen=coarsen, smooth=smooth,
-                               **({} if window_coarsen is None else {"window_coarsen": window_coarsen}))
+        data = tooth.tooth_data(pair, member, e_mpa, nu, refinement, progress=progress, coarsen=coarsen, smooth=smooth)
         arrays = _tooth_arrays(data)
         try:
             _write(path, key, data, arrays)

@@ -244,11 +244,11 @@ def _say(progress, stage, text):
 
 
 def tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: int = 1, progress=None, coarsen=1.0,
-               smooth: bool = True, window_coarsen: float | None = None) -> ToothData:
+               smooth: bool | float = True) -> ToothData:
     """Mesh, factor and solve the member's FE tooth (see the module docstring): on its body, the member
     cut by the unmodified rack (:mod:`beveloid.tooth.body`).  ``smooth``: the fillet stresses read on the
     member's read grid (the default: what the LTCA and the rating read) or the nodal means at the fillet's
-    nodes.  ``window_coarsen``: read through the window of this mesh coarsened that many times
+    nodes; a number: read on the grid through the window of this mesh coarsened that many times
     (:func:`beveloid.fe.contact.readout_window_mm` of its fillet elements), where wider than its own: the
     rating's convergence check reads the default mesh and a coarsened one through the same window
     (:mod:`beveloid.rating.root_convergence`)."""
@@ -273,6 +273,7 @@ def tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: int = 1, 
         # (a sharp rack's trochoid meets the land tangentially near where its stress peaks) fitted around the
         # points of a read grid fixed by the geometry
         own = mesh.sizes.fillet_mm
+        window_coarsen = None if isinstance(smooth, bool) else float(smooth)
         if window_coarsen is not None:
             own = max(own, mesh_sizes(sampler, geometry.normal_module_mm, refinement / window_coarsen).fillet_mm)
         window = np.array(readout_window_mm(geometry.normal_module_mm, fe1, own))

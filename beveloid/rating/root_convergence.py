@@ -7,7 +7,7 @@ of the nodes' tensors over a window of +-1 fillet element of refinement 1 along 
 The LTCA's loads (the cell forces of every converged, loaded position and pair) are read twice more: with
 the FE tooth of a mesh :data:`CHECK_COARSEN` times coarser (every element size doubled), whose read-out's
 window is widened to 0.75 of its own fillet elements (1.5 times the default's: ``fe.contact.readout_window_mm``),
-and with the default's mesh read through that same wider window (``tooth_data(..., window_coarsen=)``).
+and with the default's mesh read through that same wider window (``tooth_data(..., smooth=<that coarsening>)``).
 Both data are computed once per design and cached like the default's.  The load distribution is kept:
 between the coarsened and the default tooth it moves the largest root stress by about 0.3 % (design A of
 docs/validation.md 10.2: 517.3 / 589.9 MPa read this way against 518.8 / 589.2 MPa from the coarsened
@@ -110,7 +110,7 @@ def _check_teeth(pair, options, moduli, coarsen, window_coarsen):
     teeth = []
     for m in MEMBERS:
         data, _ = cache.cached_tooth_data(pair, m, *moduli[m], options.fe_refinement, coarsen=coarsen,
-                                          window_coarsen=window_coarsen)
+                                          smooth=True if window_coarsen is None else float(window_coarsen))
         with one_blas_thread():
             teeth.append(FeTooth(data, options.flank, cache.stored_tooth_arrays(data, options.flank)))
     return tuple(teeth)

@@ -33,8 +33,8 @@ def same_window_teeth(case1, coarsen):
 
     m = ltca.Material.from_spec(case1.spec)
     c = coarsen * root_convergence.CHECK_COARSEN
-    return {"pinion": tooth_data(case1, "pinion", m.pinion_e_mpa, m.pinion_nu, coarsen=coarsen, window_coarsen=c),
-            "gear": tooth_data(case1, "gear", m.gear_e_mpa, m.gear_nu, coarsen=coarsen, window_coarsen=c)}
+    return {"pinion": tooth_data(case1, "pinion", m.pinion_e_mpa, m.pinion_nu, coarsen=coarsen, smooth=c),
+            "gear": tooth_data(case1, "gear", m.gear_e_mpa, m.gear_nu, coarsen=coarsen, smooth=c)}
 
 
 @pytest.fixture(scope="module")
@@ -43,8 +43,8 @@ def rated(case1, coarse_teeth, coarser_teeth, same_window_teeth, coarsen):
     check = coarsen * root_convergence.CHECK_COARSEN
     by_coarsen = {(coarsen, None): coarse_teeth, (check, None): coarser_teeth, (coarsen, check): same_window_teeth}
     mp = pytest.MonkeyPatch()
-    mp.setattr(cache, "cached_tooth_data", lambda pair, member, *a, coarsen=1.0, window_coarsen=None, **k:
-               (by_coarsen[coarsen, window_coarsen][member], "hit"))
+    mp.setattr(cache, "cached_tooth_data", lambda pair, member, *a, coarsen=1.0, smooth=True, **k:
+               (by_coarsen[coarsen, None if smooth is True else smooth][member], "hit"))
     try:
         options = ltca.Options(positions=5, tooth_model="fe", fe_coarsen=coarsen)
         lt = ltca.analyze(case1, ltca.LoadCase(1500.0), options)
