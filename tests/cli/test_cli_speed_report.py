@@ -3,6 +3,7 @@ the compiled solver ready first, reports that time apart and says once that it h
 from __future__ import annotations
 
 import re
+import time
 from pathlib import Path
 
 import numpy as np
@@ -36,12 +37,18 @@ def slow_first_parallel_solve(monkeypatch):
 
 
 def test_the_compilation_is_not_in_the_per_point_time(capsys, slow_first_parallel_solve):
+    """The injected second is in the ready time and not in the sweep's own time: the two add up to no more
+    than the command's wall time (a test of where the time is counted, not of how fast this machine is:
+    with NUMBA_DISABLE_JIT=1 on a slow host the 500 points alone took 2 s)."""
+    start = time.perf_counter()
     assert cli.main(["sweep", C1, "--samples", "100", "--positions", "5"]) == 0
+    wall = time.perf_counter() - start
     text = capsys.readouterr().out
-    seconds, us_per_point = re.search(r"\(compiled, ([\d.]+) s, ([\d.]+) us/point", text).groups()
-    startup = re.search(r"compiled solver ready in ([\d.]+) s", text).group(1)
-    assert float(startup) >= 1.0
-    assert float(seconds) < 1.0 and float(us_per_point) < 1e6 / 500
+    seconds, us_per_point = map(float, re.search(r"\(compiled, ([\d.]+) s, ([\d.]+) us/point", text).groups())
+    startup = float(re.search(r"compiled solver ready in ([\d.]+) s", text).group(1))
+    assert startup >= 1.0
+    assert startup + seconds <= wall + 0.01  # printed to 0.01 s
+    assert us_per_point * 500 / 1e6 <= seconds + 0.005  # the per-point time is the sweep's own time / 500 points
 
 
 def test_the_table_says_once_that_compilation_happens_once(capsys):
