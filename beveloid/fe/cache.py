@@ -279,16 +279,41 @@ KEPT_ENTRIES = 4
 
 
 def cached_tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: int = 1, progress=None,
-                      coarsen: float = 1.0, smooth: bool | float = True):
+                      coarsen: float = 1.0, smooth: bool | float | tuple = True):
     """(ToothData, how: "hit" | "miss" | "stale" | "corrupt") from the cache, computing on a miss
     (``smooth``: :func:`beveloid.fe.tooth.tooth_data`'s; False for the nodal means, a benchmark's comparison;
-    a number: read through the window of the mesh coarsened that many times, the rating's convergence check).
+    a number: read through the window of the mesh coarsened that many times, the rating's convergence check;
+    a tuple of these: a tuple of ToothData, one entry each, those missing computed together from one solve,
+    and how: "hit" where every one was).
     A cache folder that cannot be written is not an error: the data is then computed each time.
     The data of a key already read in this process is returned again ("hit") while its file is
     unchanged (same size and modification time)."""
     limit_bytes()  # a bad $BEVELOID_FE_CACHE_MB: one line before any work
-    window = None if isinstance(smooth, bool) else float(smooth)
-    key = cache_key(pair, member, e_mpa, nu, refinement, coarsen, True if window is not None else smooth, window)
+    reads = smooth if isinstance(smooth, tuple) else (smooth,)
+    keys = []
+    for one in reads:
+        window = None if isinstance(one, bool) else float(one)
+        keys.append(cache_key(pair, member, e_mpa, nu, refinement, coarsen, True if window is not None else one,
+                              window))
+    found = [_look_up(key) for key in keys]
+    missing = [i for i, (data, _) in enumerate(found) if data is None]
+    if missing:
+        if isinstance(smooth, tuple):
+            made = tooth.tooth_data(pair, member, e_mpa, nu, refinement, progress=progress, coarsen=coarsen,
+                                    smooth=tuple(reads[i] for i in missing))
+        else:
+            made = (tooth.tooth_data(pair, member, e_mpa, nu, refinement, progress=progress, coarsen=coarsen,
+                                     smooth=smooth),)
+        for i, data in zip(missing, made):
+            _store(keys[i], data)
+            found[i] = (data, found[i][1])
+    how = next((h for _, h in found if h != "hit"), "hit")
+    datas = tuple(data for data, _ in found)
+    return (datas if isinstance(smooth, tuple) else datas[0]), how
+
+
+def _look_up(key: str):
+    """(the data of ``key`` kept in this process or read from its entry, or None; how)."""
     path = entry_path(key)
     stamp = _stamp(path)
     kept = _KEPT.get((path, key))
@@ -296,22 +321,30 @@ def cached_tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: in
         _KEPT.move_to_end((path, key))
         return kept[1], "hit"
     data, arrays, how = _read(path, key)
-    if data is None:
-        data = tooth.tooth_data(pair, member, e_mpa, nu, refinement, progress=progress, coarsen=coarsen, smooth=smooth)
-        arrays = _tooth_arrays(data)
-        try:
-            _write(path, key, data, arrays)
-            prune(keep=path)
-        except OSError:
-            pass
-    else:
+    if data is not None:
         _used(path)
+        _keep(path, key, data, arrays)
+    return data, how
+
+
+def _store(key: str, data) -> None:
+    """Write new data under ``key`` (a folder that cannot be written: not kept) and keep it in this process."""
+    path = entry_path(key)
+    arrays = _tooth_arrays(data)
+    try:
+        _write(path, key, data, arrays)
+        prune(keep=path)
+    except OSError:
+        pass
+    _keep(path, key, data, arrays)
+
+
+def _keep(path: Path, key: str, data, arrays) -> None:
     stamp = _stamp(path)
     if stamp is not None:
         _KEPT[path, key] = (stamp, data, arrays)
         while len(_KEPT) > KEPT_ENTRIES:
             _KEPT.popitem(last=False)
-    return data, how
 
 
 def _tooth_arrays(data) -> dict:

@@ -244,14 +244,16 @@ def _say(progress, stage, text):
 
 
 def tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: int = 1, progress=None, coarsen=1.0,
-               smooth: bool | float = True) -> ToothData:
+               smooth: bool | float | tuple = True) -> ToothData | tuple:
     """Mesh, factor and solve the member's FE tooth (see the module docstring): on its body, the member
     cut by the unmodified rack (:mod:`beveloid.tooth.body`).  ``smooth``: the fillet stresses read on the
     member's read grid (the default: what the LTCA and the rating read) or the nodal means at the fillet's
     nodes; a number: read on the grid through the window of this mesh coarsened that many times
     (:func:`beveloid.fe.contact.readout_window_mm` of its fillet elements), where wider than its own: the
     rating's convergence check reads the default mesh and a coarsened one through the same window
-    (:mod:`beveloid.rating.root_convergence`)."""
+    (:mod:`beveloid.rating.root_convergence`); a tuple of these: a tuple of ToothData, one per read-out in
+    that order, from one mesh and one solve (they differ in ``stress_mpa_per_n``, ``fillet_points_mm``,
+    ``fillet_height_mm`` and ``smoothing_mm`` only; each the same numbers as its own call)."""
     pair = body_pair(pair, member)
     geometry = getattr(pair, "geometry", pair)
     t0 = time.perf_counter()
@@ -267,29 +269,18 @@ def tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: int = 1, 
     flat_p, flat_n = pts.reshape(2, G, 3), nrm.reshape(2, G, 3)
     fillet_nodes = [mesh.node_sets[f"fillet_{f}_0"] for f in FLANKS]
     fe1 = mesh_sizes(sampler, geometry.normal_module_mm, 1.0).fillet_mm
-    window = np.zeros(2)
-    if smooth:
-        # the read-out (fe.contact.readout_matrix): each fillet's nodes and those of the root land beside it
-        # (a sharp rack's trochoid meets the land tangentially near where its stress peaks) fitted around the
-        # points of a read grid fixed by the geometry
-        own = mesh.sizes.fillet_mm
-        window_coarsen = None if isinstance(smooth, bool) else float(smooth)
-        if window_coarsen is not None:
-            own = max(own, mesh_sizes(sampler, geometry.normal_module_mm, refinement / window_coarsen).fillet_mm)
-        window = np.array(readout_window_mm(geometry.normal_module_mm, fe1, own))
-        fit_nodes = [np.union1d(nodes, mesh.node_sets[FILLET_LANDS[f]]) for nodes, f in zip(fillet_nodes, FLANKS)]
-        grids = [read_grid(sampler, f, READ_STEP_FACE_PER_MODULE * geometry.normal_module_mm,
-                           READ_STEP_PROFILE_PER_FILLET_SIZE * fe1) for f in FLANKS]
-        fits = [readout_matrix(*g, mesh.nodes[n], *window) for g, n in zip(grids, fit_nodes)]
-        reads = [g[0] for g in grids]
-    else:
-        fit_nodes, fits, reads = fillet_nodes, [None, None], [mesh.nodes[n] for n in fillet_nodes]
-    stress_ops = [solve.stress_operator(elastic, nodes) for nodes in fit_nodes]
+    outs = [_read_out(mesh, sampler, geometry.normal_module_mm, fe1, refinement, fillet_nodes, s_)
+            for s_ in (smooth if isinstance(smooth, tuple) else (smooth,))]
+    # the nodal tensors once per set of fit nodes (the read grid's and the nodal means' differ), each read-out
+    # applied to them
+    node_sets = {}
+    for o in outs:
+        node_sets.setdefault(o.nodes_key, o.fit_nodes)
+    stress_ops = {k: [solve.stress_operator(elastic, nodes) for nodes in v] for k, v in node_sets.items()}
     _say(progress, 2, f"FE tooth {member}: {elastic.timings_s['free_dofs']} dofs factorised in "
                    f"{elastic.timings_s['factor_s']:.1f} s; solving {2 * G} load cases")
     t2 = time.perf_counter()
-    nf = max(len(p) for p in reads)
-    stress = np.zeros((2, 2, nf, 6, G))
+    stresses = [np.zeros((2, 2, max(len(p) for p in o.reads), 6, G)) for o in outs]
     comp, raw = np.zeros((2, G, G)), np.zeros((2, G, G))
     reading = reading_points(grid.feet_mm, grid.feet_normals, grid.depth_mm[..., None])
     for f in range(2):
@@ -298,22 +289,56 @@ def tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: int = 1, 
                                               max_outside_mm=MAX_OUTSIDE_PER_FLANK_SIZE * mesh.sizes.flank_mm,
                                               label=f"FE tooth {member}, {FLANKS[f]} flank")
         for side in range(2):
-            sig = (stress_ops[side] @ u).reshape(-1, 6 * G)
-            if fits[side] is not None:
-                sig = fits[side] @ sig
-            sig = sig.reshape(-1, 6, G)
-            stress[f, side, :sig.shape[0]] = sig
-            stress[f, side, sig.shape[0]:] = sig[-1]
+            nodal = {k: (ops[side] @ u).reshape(-1, 6 * G) for k, ops in stress_ops.items()}
+            for o, stress in zip(outs, stresses):
+                sig = nodal[o.nodes_key]
+                if o.fits[side] is not None:
+                    sig = o.fits[side] @ sig
+                sig = sig.reshape(-1, 6, G)
+                stress[f, side, :sig.shape[0]] = sig
+                stress[f, side, sig.shape[0]:] = sig[-1]
     t3 = time.perf_counter()
-    fp = np.zeros((2, nf, 3))
-    for side, p in enumerate(reads):
-        fp[side, :len(p)] = p
-        fp[side, len(p):] = p[-1]
-    height = np.hypot(fp[..., 0], fp[..., 1]) - sampler.root_radius_mm(fp[..., 2])
     _say(progress, STAGES, f"FE tooth {member}: done in {t3 - t0:.1f} s")
     stats = np.array([mesh.nodes.shape[0], mesh.tets.shape[0], elastic.timings_s["free_dofs"], t1 - t0,
                       elastic.timings_s["assemble_s"], elastic.timings_s["factor_s"], t3 - t2], dtype=float)
-    return ToothData(s=s, z_mm=z, points_mm=pts, normals=nrm, radius_mm=np.hypot(pts[..., 0], pts[..., 1]),
-                     depth_mm=grid.depth_mm, reading_points_mm=reading, compliance_mm_per_n=comp,
-                     raw_compliance_mm_per_n=raw, fillet_points_mm=fp, fillet_height_mm=height,
-                     stress_mpa_per_n=stress, stats=stats, smoothing_mm=window)
+    data = []
+    for o, stress in zip(outs, stresses):
+        fp = np.zeros((2, stress.shape[2], 3))
+        for side, p in enumerate(o.reads):
+            fp[side, :len(p)] = p
+            fp[side, len(p):] = p[-1]
+        height = np.hypot(fp[..., 0], fp[..., 1]) - sampler.root_radius_mm(fp[..., 2])
+        data.append(ToothData(s=s, z_mm=z, points_mm=pts, normals=nrm, radius_mm=np.hypot(pts[..., 0], pts[..., 1]),
+                              depth_mm=grid.depth_mm, reading_points_mm=reading, compliance_mm_per_n=comp,
+                              raw_compliance_mm_per_n=raw, fillet_points_mm=fp, fillet_height_mm=height,
+                              stress_mpa_per_n=stress, stats=stats, smoothing_mm=o.window))
+    return tuple(data) if isinstance(smooth, tuple) else data[0]
+
+
+class _ReadOut(typing.NamedTuple):
+    """One read-out of the fillet stresses (:func:`_read_out`)."""
+
+    window: np.ndarray  # (2,) the window's half-widths mm (zeros: the nodal means)
+    nodes_key: bool  # the fit nodes' set: True the fillets and their root lands, False the fillets' nodes
+    fit_nodes: list  # per fillet (left, right): the mesh nodes whose tensors are read
+    fits: list  # per fillet: the read-out's matrix (read points x fit nodes), None for the nodal means
+    reads: list  # per fillet: the points read (n, 3)
+
+
+def _read_out(mesh, sampler, normal_module_mm, fe1, refinement, fillet_nodes, smooth) -> _ReadOut:
+    """The read-out ``smooth`` of :func:`tooth_data` on ``mesh`` (``fe1``: the member's fillet elements at
+    refinement 1)."""
+    if not smooth:
+        return _ReadOut(np.zeros(2), False, fillet_nodes, [None, None], [mesh.nodes[n] for n in fillet_nodes])
+    # the read-out (fe.contact.readout_matrix): each fillet's nodes and those of the root land beside it
+    # (a sharp rack's trochoid meets the land tangentially near where its stress peaks) fitted around the
+    # points of a read grid fixed by the geometry
+    own = mesh.sizes.fillet_mm
+    if not isinstance(smooth, bool):  # the window of the mesh coarsened that many times
+        own = max(own, mesh_sizes(sampler, normal_module_mm, refinement / float(smooth)).fillet_mm)
+    window = np.array(readout_window_mm(normal_module_mm, fe1, own))
+    fit_nodes = [np.union1d(nodes, mesh.node_sets[FILLET_LANDS[f]]) for nodes, f in zip(fillet_nodes, FLANKS)]
+    grids = [read_grid(sampler, f, READ_STEP_FACE_PER_MODULE * normal_module_mm,
+                       READ_STEP_PROFILE_PER_FILLET_SIZE * fe1) for f in FLANKS]
+    fits = [readout_matrix(*g, mesh.nodes[n], *window) for g, n in zip(grids, fit_nodes)]
+    return _ReadOut(window, True, fit_nodes, fits, [g[0] for g in grids])

@@ -21,7 +21,7 @@ from .face_load import face_load, line_loads
 from .factors import Factors, face_factor_exponent
 from .strength import pitch_line_velocity_m_s
 from .virtual import mate_gear, section_gear
-from .root_convergence import convergence_notes, root_stress_convergence
+from .root_convergence import convergence_notes, prepare, root_stress_convergence
 
 __all__ = ["LoadedContact", "Options", "SectionRating", "MemberRating", "analyze", "loaded_contact", "ltca_case",
            "rate_section"]
@@ -513,6 +513,8 @@ def analyze(pair, load, options: Options | None = None, *, solver=None, ltca_res
         from ..solver import Solver
 
         solver = solver or Solver()
+        if options.root_stress_check:  # the FE data of the LTCA and of the check's same window from one solve
+            prepare(pair, options.ltca, getattr(options.ltca, "material", None) or mat)
         if factors.K_v_source == "method B":
             # the mesh stiffness at K_A T (ISO's c' is that of the load K_A F_t), then the local stresses at K_A K_v T
             first = _loaded(pair, load.at(load.torque_nm * factors.K_A), options, solver)

@@ -8,7 +8,9 @@ The LTCA's loads (the cell forces of every converged, loaded position and pair) 
 the FE tooth of a mesh :data:`CHECK_COARSEN` times coarser (every element size doubled), whose read-out's
 window is widened to 0.75 of its own fillet elements (1.5 times the default's: ``fe.contact.readout_window_mm``),
 and with the default's mesh read through that same wider window (``tooth_data(..., smooth=<that coarsening>)``).
-Both data are computed once per design and cached like the default's.  The load distribution is kept:
+Both data are computed once per design and cached like the default's; the second is a read-out of the
+default's solution, so a rating computes it with the default's data from one solve (:func:`prepare`, before
+its LTCA: ``fe.cache.cached_tooth_data`` with a tuple of read-outs).  The load distribution is kept:
 between the coarsened and the default tooth it moves the largest root stress by about 0.3 % (design A of
 docs/validation.md 10.2: 517.3 / 589.9 MPa read this way against 518.8 / 589.2 MPa from the coarsened
 tooth's own LTCA).
@@ -62,7 +64,7 @@ from ..fe.tooth import FACE_FRACTIONS
 from ..names import MEMBERS
 
 __all__ = ["CHECK_COARSEN", "RESOLVED_RADIUS_ELEMENTS", "SAFETY_FACTOR", "ORDER", "TOLERANCE", "error_estimate",
-           "root_stress_convergence", "convergence_notes"]
+           "prepare", "root_stress_convergence", "convergence_notes"]
 
 #: the check's mesh: every element size of the LTCA's FE tooth times this
 CHECK_COARSEN = 2.0
@@ -98,6 +100,29 @@ def error_estimate(same_window_mpa: float, coarse_mpa: float) -> float:
     ``coarse_mpa`` and ``same_window_mpa``, the coarsened and the default mesh read through the same window."""
     change = same_window_mpa / coarse_mpa - 1.0
     return SAFETY_FACTOR * abs(change) / (CHECK_COARSEN ** ORDER - 1.0)
+
+
+def _moduli(material) -> dict:
+    return {"pinion": (material.pinion_e_mpa, material.pinion_nu), "gear": (material.gear_e_mpa, material.gear_nu)}
+
+
+def prepare(pair, options, material) -> None:
+    """Before a rating's LTCA (``options`` its ``ltca.Options``, ``material`` its ``ltca.Material``) with the FE
+    tooth: each member's FE data at the LTCA's mesh, read through the LTCA's window and through the check's,
+    from one solve where neither is cached (``fe.cache.cached_tooth_data`` with both read-outs), so that the
+    LTCA and :func:`root_stress_convergence` read them from the cache: a design's first rating solves the
+    default mesh once (and the check's coarsened mesh once)."""
+    from ..fe import cache
+    from ..ltca.model.teeth import _progress
+    from ..ltca.options import RANGES
+
+    coarsen = options.fe_coarsen * CHECK_COARSEN
+    if getattr(options, "tooth_model", None) != "fe" or coarsen > RANGES["fe_coarsen"][1]:
+        return
+    moduli = _moduli(material)
+    for m in MEMBERS:
+        cache.cached_tooth_data(pair, m, *moduli[m], options.fe_refinement, progress=_progress(),
+                                coarsen=options.fe_coarsen, smooth=(True, float(coarsen)))
 
 
 def _check_teeth(pair, options, moduli, coarsen, window_coarsen):
@@ -156,7 +181,7 @@ def root_stress_convergence(pair, ltca_result, material) -> dict:
             e["why"] = (f"not checked: the LTCA's FE tooth is already coarsened {options.fe_coarsen:g} times, and the "
                         f"check's {coarsen:g} exceeds the largest coarsening {RANGES['fe_coarsen'][1]:g}")
         return out
-    moduli = {"pinion": (material.pinion_e_mpa, material.pinion_nu), "gear": (material.gear_e_mpa, material.gear_nu)}
+    moduli = _moduli(material)
     teeth = _check_teeth(pair, options, moduli, coarsen, None)
     coarse = root_stresses(teeth, ltca_result, ltca_result.converged, False, False)["tension"]
     same = root_stresses(_check_teeth(pair, options, moduli, options.fe_coarsen, coarsen), ltca_result,

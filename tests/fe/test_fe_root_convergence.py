@@ -27,14 +27,75 @@ def coarser_teeth(case1, coarsen):
 
 
 @pytest.fixture(scope="module")
-def same_window_teeth(case1, coarsen):
-    """The session's coarse FE tooth read through the check's window (the coarser tooth's)."""
+def both_windows(case1, coarsen):
+    """The session's coarse FE tooth read through its own window and through the check's (the coarser
+    tooth's), from one solve: {member: (own, check's)}."""
     from beveloid.fe.tooth import tooth_data
 
     m = ltca.Material.from_spec(case1.spec)
     c = coarsen * root_convergence.CHECK_COARSEN
-    return {"pinion": tooth_data(case1, "pinion", m.pinion_e_mpa, m.pinion_nu, coarsen=coarsen, smooth=c),
-            "gear": tooth_data(case1, "gear", m.gear_e_mpa, m.gear_nu, coarsen=coarsen, smooth=c)}
+    return {"pinion": tooth_data(case1, "pinion", m.pinion_e_mpa, m.pinion_nu, coarsen=coarsen, smooth=(True, c)),
+            "gear": tooth_data(case1, "gear", m.gear_e_mpa, m.gear_nu, coarsen=coarsen, smooth=(True, c))}
+
+
+@pytest.fixture(scope="module")
+def same_window_teeth(both_windows):
+    """The session's coarse FE tooth read through the check's window."""
+    return {m: both_windows[m][1] for m in both_windows}
+
+
+def test_one_solve_reads_the_tooth_through_both_windows_as_two_solves_do(both_windows, coarse_teeth, coarsen):
+    """tooth_data with a tuple of read-outs: the first read-out's data is the default call's (coarse_teeth, its
+    own solve) to round-off, and the second reads the same solution through the check's wider window."""
+    from dataclasses import fields
+
+    from beveloid.fe.tooth import ToothData
+
+    for m, (own, check) in both_windows.items():
+        for f in fields(ToothData):
+            if f.name == "stats":  # timings
+                continue
+            np.testing.assert_allclose(getattr(own, f.name), getattr(coarse_teeth[m], f.name), rtol=1e-9,
+                                       atol=1e-12 * float(np.abs(getattr(own, f.name)).max(initial=0.0)), err_msg=f.name)
+        assert np.array_equal(check.compliance_mm_per_n, own.compliance_mm_per_n)
+        assert check.smoothing_mm[1] == pytest.approx(2.0 * own.smoothing_mm[1], rel=1e-12)
+        assert not np.allclose(check.stress_mpa_per_n, own.stress_mpa_per_n, rtol=1e-3)
+
+
+def test_a_first_rating_solves_each_members_default_mesh_once(case1, coarse_teeth, coarser_teeth, same_window_teeth,
+                                                              coarsen, rated, monkeypatch, tmp_path):
+    """With an empty FE cache, a rating with the check solves each member's default mesh once (its own read-out
+    and the check's same window from that solve, written as two entries) and the check's coarsened mesh once;
+    a second rating solves nothing.  The FE computation (fe.tooth.tooth_data) is replaced by the module's data,
+    counting its calls; the cache is real, in tmp_path."""
+    from beveloid.fe import tooth
+
+    check = coarsen * root_convergence.CHECK_COARSEN
+    by = {(coarsen, True): coarse_teeth, (check, True): coarser_teeth, (coarsen, check): same_window_teeth}
+    calls = []
+
+    def compute(pair, member, e_mpa, nu, refinement=1, progress=None, coarsen=1.0, smooth=True):
+        calls.append((member, coarsen, smooth))
+        if isinstance(smooth, tuple):
+            return tuple(by[coarsen, s][member] for s in smooth)
+        return by[coarsen, smooth][member]
+
+    monkeypatch.setenv("BEVELOID_CACHE_DIR", str(tmp_path))
+    monkeypatch.setattr(tooth, "tooth_data", compute)
+    options = rating.Options(ltca.Options(positions=5, tooth_model="fe", fe_coarsen=coarsen))
+    first = rating.analyze(case1, ltca.LoadCase(1500.0), options)
+    solved = sorted((str(m), c) for m, c, _ in calls)
+    assert solved == sorted([("gear", coarsen), ("gear", check), ("pinion", coarsen), ("pinion", check)])
+    assert len(list((tmp_path / "fe").glob("*.npz"))) == 6  # per member: the default, its same window, the coarsened
+    calls.clear()
+    again = rating.analyze(case1, ltca.LoadCase(1500.0), options)
+    assert calls == []
+    # the same numbers as the rating that read each tooth from its own computation
+    for r in (first, again):
+        for m in ("pinion", "gear"):
+            got, want = r.loaded.root_stress_convergence[m], rated[2].loaded.root_stress_convergence[m]
+            for k in ("default_mpa", "coarse_mpa", "same_window_mpa", "change", "window_effect", "error_estimate"):
+                assert got[k] == pytest.approx(want[k], rel=1e-9), (m, k)
 
 
 @pytest.fixture(scope="module")
