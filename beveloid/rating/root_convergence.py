@@ -113,7 +113,7 @@ def prepare(pair, options, material) -> None:
     LTCA and :func:`root_stress_convergence` read them from the cache: a design's first rating solves the
     default mesh once (and the check's coarsened mesh once)."""
     from ..fe import cache
-    from ..ltca.model.teeth import _progress
+    from ..ltca.model.teeth import fe_progress
     from ..ltca.options import RANGES
 
     coarsen = options.fe_coarsen * CHECK_COARSEN
@@ -121,7 +121,7 @@ def prepare(pair, options, material) -> None:
         return
     moduli = _moduli(material)
     for m in MEMBERS:
-        cache.cached_tooth_data(pair, m, *moduli[m], options.fe_refinement, progress=_progress(),
+        cache.cached_tooth_data(pair, m, *moduli[m], options.fe_refinement, progress=fe_progress(),
                                 coarsen=options.fe_coarsen, smooth=(True, float(coarsen)))
 
 

@@ -22,7 +22,7 @@ def one_blas_thread():
     return threadpool_limits(limits=1, user_api="blas")
 
 
-def _progress(stream=None):
+def fe_progress(stream=None):
     """A line a stage on stderr when it is a terminal (the FE data of a new design takes a minute)."""
     from ...progress import Lines
 
@@ -78,7 +78,7 @@ def fe_tooth(source, member, moduli, options):
     from ...fe import cache
     from ...fe.contact import FeTooth
 
-    data, _ = cache.cached_tooth_data(source, member, *moduli, options.fe_refinement, progress=_progress(),
+    data, _ = cache.cached_tooth_data(source, member, *moduli, options.fe_refinement, progress=fe_progress(),
                                       coarsen=options.fe_coarsen)
     key = (id(data), options.flank)  # the entry holds the data: its id is not reused while it lives
     tooth = _FE_TEETH.get(key)
