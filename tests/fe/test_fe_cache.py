@@ -197,3 +197,28 @@ def test_a_bad_size_limit_is_one_line_naming_the_variable(counted, case1, monkey
     with pytest.raises(UserError, match=r"^BEVELOID_FE_CACHE_MB = 'lots': must be a number of MB >= 0"):
         _get(case1)
     assert counted == []
+
+
+def test_a_tuple_of_read_outs_computes_only_the_missing_ones_together(monkeypatch, tmp_path, case1, coarse_teeth):
+    """cached_tooth_data with a tuple of read-outs (the rating's default and its check's same window): the
+    entries not in the folder computed by one call of the FE computation, each written under its own key;
+    those already there read, not computed again."""
+    monkeypatch.setenv("BEVELOID_CACHE_DIR", str(tmp_path))
+    calls = []
+
+    def compute(pair, member, e_mpa, nu, refinement=1, progress=None, coarsen=1.0, smooth=True):
+        calls.append(smooth)
+        return tuple(coarse_teeth[member] for _ in smooth) if isinstance(smooth, tuple) else coarse_teeth[member]
+
+    monkeypatch.setattr(tooth, "tooth_data", compute)
+    _, how = cache.cached_tooth_data(case1, "pinion", 2.06e5, 0.3, 1)  # the default's entry alone
+    assert how == "miss" and calls == [True]
+    both, how = cache.cached_tooth_data(case1, "pinion", 2.06e5, 0.3, 1, smooth=(True, 2.0))
+    assert how == "miss" and calls == [True, (2.0,)] and len(both) == 2
+    assert len(list((tmp_path / "fe").glob("pinion-*.npz"))) == 2
+    cache._KEPT.clear()  # read from the folder, as another process does
+    again, how = cache.cached_tooth_data(case1, "pinion", 2.06e5, 0.3, 1, smooth=(True, 2.0))
+    assert how == "hit" and len(calls) == 2
+    assert all(np.array_equal(a.stress_mpa_per_n, b.stress_mpa_per_n) for a, b in zip(again, both))
+    _, how = cache.cached_tooth_data(case1, "pinion", 2.06e5, 0.3, 1, smooth=(True, 4.0))
+    assert how == "miss" and calls[-1] == (4.0,)
