@@ -237,6 +237,14 @@ def active_set(layout, cells, j, limits, active, out, seen):
         singular = False
         for b in range(nb):
             o, s0, s = off[b], start[b], size[b]
+            if it > 1:  # a block whose trial set is the last iteration's (seen[it - 2]) keeps its solution
+                same = True
+                for i in range(s0, s0 + s):
+                    if seen[it - 2, i] != active[i]:
+                        same = False
+                        break
+                if same:
+                    continue
             m = np.int64(0)  # not the literal 0: numba compiled _factor_solve for Literal[int](0) as well
             for i in range(s):
                 xh[s0 + i] = 0.0
