@@ -36,9 +36,10 @@ peaks, how wide the peak is (the arc within 3 % and 10 % of it, mm and fillet el
 read-out's fit (``fe.contact.readout_matrix``, the 2D samples as its nodes, read every 0.01 fillet element over
 +-1 element of the peak) over the peak (its bias), and the largest of samples half an element apart (a P2
 mesh's node rows) over the peak, the smallest over their placements.
-``--fillet-rule K,F``: every level's FE tooth meshed with another fillet rule, ``fe.mesh.FILLET_RADIUS_ELEMENTS`` K
+``--fillet-rule K,F[,G]``: every level's FE tooth meshed with another fillet rule, ``fe.mesh.FILLET_RADIUS_ELEMENTS`` K
 and ``fe.mesh.FILLET_SIZE_NOTCH_PER_MODULE`` F (the fillet's elements at rho_F / K where the floor would leave fewer
-than K of them, not below F m_n); both enter the FE cache's key.
+than K of them, not below F m_n) and the fillet band's growth G (``fe.sizes.FILLET_GROWTH``); each enters the FE
+cache's key.
 ``--levels 0,1``: coarsen 2 and the default only (refinement 2 takes up to 5 GB and minutes a member).
 ``--notch``: a last column, the 2D section (fe.plane_strain) meshed at each level's sizes over its converged
 value, at the maximum's section.  The FE data of each level is built once per design and cached; run one
@@ -259,13 +260,17 @@ def main(argv=None) -> int:
                    help="the 2D section only: the notch peak's width and the read-out's bias on it (no FE tooth)")
     a.add_argument("--growths", default=None, metavar="G,...",
                    help="with --fillet-sweep: the fillet band's growths (fe.sizes.FILLET_GROWTH; default today's)")
-    a.add_argument("--fillet-rule", default=None, metavar="K,F",
-                   help="mesh with fe.mesh.FILLET_RADIUS_ELEMENTS K and FILLET_SIZE_NOTCH_PER_MODULE F (a trial rule)")
+    a.add_argument("--fillet-rule", default=None, metavar="K,F[,G]",
+                   help="mesh with fe.mesh.FILLET_RADIUS_ELEMENTS K, FILLET_SIZE_NOTCH_PER_MODULE F and the fillet band's "
+                        "growth G (fe.sizes.FILLET_GROWTH; default today's): a trial rule")
     args = a.parse_args(argv)
     if args.fillet_rule is not None:
-        from beveloid.fe import mesh
+        from beveloid.fe import mesh, sizes
 
-        mesh.FILLET_RADIUS_ELEMENTS, mesh.FILLET_SIZE_NOTCH_PER_MODULE = (float(v) for v in args.fillet_rule.split(","))
+        rule = [float(v) for v in args.fillet_rule.split(",")]
+        mesh.FILLET_RADIUS_ELEMENTS, mesh.FILLET_SIZE_NOTCH_PER_MODULE = rule[:2]
+        if len(rule) > 2:
+            mesh.FILLET_GROWTH = sizes.FILLET_GROWTH = rule[2]
     if args.peak_2d:
         return peak_2d(args.designs.split(","))
     if args.fillet_sweep is not None:
