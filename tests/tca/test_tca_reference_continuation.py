@@ -67,3 +67,46 @@ def test_moderate_slopes_are_untouched(slope, monkeypatch):
     reference.reference_contact.cache_clear()
     geom = Pair.from_spec(_spec(slope)).geometry
     assert np.isfinite(tca.reference_contact(geom, "right").x).all()
+
+
+#: a rotating-seed draw of the slow tier's CLI fuzz (seed 18508): case 1 with a 164 um lead slope on the pinion
+#: and deeper cutters; Newton from P converged, without the continuation, to a root of the flanks'
+#: extension 3250 mm beyond the pinion's toe, which `tca` took for the reference (its backlash then raised
+#: "both flanks open in the same direction" with a traceback)
+FAR_ROOT = {"pair": {"offset_mm": 237.69778752093393},
+            "pinion": {"lead_slope_um": 164.32059409845374, "cutter_tip_radius_coefficient": 0.0,
+                       "cutter_addendum_coefficient": 1.4274888914824064},
+            "gear": {"cutter_tip_radius_coefficient": 0.0, "cutter_addendum_coefficient": 1.2115731385778412}}
+
+
+def test_a_reference_far_off_the_flank_is_no_contact_whichever_way_it_was_found(tmp_path, capsys):
+    d = tomllib.loads(example_text("case1"))
+    for sec, keys in FAR_ROOT.items():
+        d[sec].update(keys)
+    d["misalignment"]["horizontal_deg"] = -2.00001
+    plot = tmp_path / "far.png"
+    assert cli.main(["tca", str(_toml(d, tmp_path / "far.toml")), "--positions", "5", "--pairs", "1", "--json",
+                     "--plot", str(plot)]) == 2
+    out, err = capsys.readouterr()
+    assert err.count("\n") == 1 and "right flank" in err and "more than a face width" in err
+    assert out == "" and not plot.exists()
+
+
+def test_the_far_root_check_reads_the_margins_of_the_solved_reference():
+    """A reference shifted along the face by more than a face width beyond the toe is refused, with or
+    without the continuation; the pitch-point contact itself passes."""
+    from beveloid.generated import layouts
+    from beveloid.tca import reference
+
+    geom = Pair.from_spec(_spec(0.0)).geometry
+    ref = tca.reference_contact(geom, "right")
+    reference._near_the_flank(geom, "right", ref.x, followed=False)  # near P: nothing raised
+    far = ref.x.copy()
+    width = max(geom.pinion.face_width_mm, geom.gear.face_width_mm)
+    for name in ("pinion_u_mm", "gear_u_mm"):  # each member's face coordinate
+        k = layouts.ContactUnknowns._fields.index(name)
+        far[:] = ref.x
+        far[k] -= 3 * width
+        for followed in (False, True):
+            with pytest.raises(tca.NoContactError, match="more than a face width"):
+                reference._near_the_flank(geom, "right", far, followed=followed)
