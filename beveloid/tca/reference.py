@@ -51,30 +51,19 @@ def reference_contact(geom: PairGeometry, flank: str, options: SolverOptions = D
                   max_iter=opts.max_iter)
     solve = backends.namespace("numpy").solve_point
     x, conv, _, res = solve(geom.problem(flank), x0, phi1, np.zeros(len(ERROR_NAMES)), st)
-    followed = False
     if not conv:  # a modification that moves the contact far from P throws Newton off: follow it there
         x, conv, res = _along_the_modification(geom, flank, x0, phi1, st, solve)
-        followed = True
+        if conv:
+            margin, which = boundary_margins(geom, flank, x[None])
+            width = max(geom.pinion.face_width_mm, geom.gear.face_width_mm)
+            if margin[0] < -width:  # a root of the flanks' extension, not a contact near the flank
+                raise NoContactError(
+                    f"no contact near the pitch point on the {flank} flank: followed from the unmodified flank,"
+                    f" the modification moves it {-margin[0]:.1f} mm beyond the {which[0]} boundary (more than a"
+                    " face width): reduce the modification (lead slope, crowning, relief)")
     if not conv:
         raise NoContactError(f"no contact at the pitch point on the {flank} flank (residual {res:.2e} mm)")
-    _near_the_flank(geom, flank, x, followed)
     return Reference(flank, phi1, x)
-
-
-def _near_the_flank(geom, flank, x, followed):
-    """Raise NoContactError where the converged reference ``x`` lies more than a face width beyond a boundary
-    of the flank: a root of the flanks' extension, not a contact near it (a steep modification: Newton from
-    P, or the continuation along the modification, converged there)."""
-    margin, which = boundary_margins(geom, flank, x[None])
-    width = max(geom.pinion.face_width_mm, geom.gear.face_width_mm)
-    if margin[0] >= -width:
-        return
-    how = ("followed from the unmodified flank, the modification moves it" if followed else
-           "the contact that Newton finds from it lies")
-    advice = ("reduce the modification (lead slope, crowning, relief)" if geom.modifications_scaled(0.0) is not geom
-              else "check the design's profile shifts and cone angles")
-    raise NoContactError(f"no contact near the pitch point on the {flank} flank: {how} {-margin[0]:.1f} mm beyond "
-                         f"the {which[0]} boundary (more than a face width): {advice}")
 
 
 #: the continuation of :func:`_along_the_modification`: its first step in the amplitude and how often a
