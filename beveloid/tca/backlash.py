@@ -52,7 +52,9 @@ def _raw_play(geom, errors, solver):
         codes[fl] = Status(int(sol.status[0, 0]))
         signs[fl] = first_touch_sign(geom, fl)
     if signs["left"] == signs["right"]:
-        raise RuntimeError("both flanks open in the same direction: flank orientation is inconsistent")
+        # the flanks' reference contacts open the gear the same way: one of them is not a contact of this tooth
+        # space (e.g. a root of the flanks' extension far off the face): no play to measure
+        return np.nan, {fl: Status.FAILED for fl in FLANKS}
     # the left contact lets the gear move toward sign_left; the right contact stops it
     return (angles["right"] - angles["left"]) * signs["left"], codes
 
