@@ -9,6 +9,8 @@ import math
 import os
 from dataclasses import dataclass
 
+import numpy as np
+
 from ..errors import OptionError
 from ..names import FLANKS
 from .mechanics import halfspace
@@ -125,6 +127,15 @@ def check_fe_coarsen(value, key="fe_coarsen"):
     return v
 
 
+def _numbers(value) -> bool:
+    """A sequence (or array) of real numbers, not a string."""
+    try:
+        return not isinstance(value, (str, bytes)) and all(isinstance(v, (int, float, np.integer, np.floating))
+                                                           and not isinstance(v, bool) for v in np.ravel(value))
+    except TypeError:
+        return False
+
+
 def available_memory_bytes() -> float:
     """What this process may still allocate: the machine's available memory (Linux), else 4 GB."""
     try:
@@ -147,7 +158,10 @@ class Options:
     the local Hertz semi-axes in both cases); ``material``: None = the pair's ``[material]`` (steel
     without a spec); ``tooth_model``: "fe" or "plate", None = "fe" when gmsh and scikit-fem import
     (:func:`default_tooth_model`); ``fe_refinement``: the FE tooth's mesh refinement N (1-4);
-    ``fe_coarsen``: every FE element size times this (1-8; > 1 a quick, rougher tooth)."""
+    ``fe_coarsen``: every FE element size times this (1-8; > 1 a quick, rougher tooth); ``angles``: the pinion
+    angles (rad) to solve at instead of ``positions`` over the mesh cycle (``positions`` is then their count;
+    no command line sets it: the rating's refinement of a maximum between positions,
+    ``rating.analysis.refine_positions``)."""
 
     flank: str = "right"
     positions: int = 20
@@ -157,6 +171,7 @@ class Options:
     tooth_model: str | None = None
     fe_refinement: int = 1
     fe_coarsen: float = 1.0
+    angles: tuple | None = None
 
     def __post_init__(self):
         if self.tooth_model is None:
@@ -166,6 +181,13 @@ class Options:
         object.__setattr__(self, "fe_coarsen", check_fe_coarsen(self.fe_coarsen))
         if self.flank not in FLANKS:
             raise OptionError("flank", self.flank, f"must be one of {', '.join(FLANKS)}")
+        if self.angles is not None:
+            lo, hi = RANGES["positions"]
+            a = np.asarray(self.angles, dtype=float).ravel() if _numbers(self.angles) else np.array([np.nan])
+            if not (lo <= a.size <= hi and np.isfinite(a).all()):
+                raise OptionError("angles", self.angles, f"must be {lo} to {hi} finite pinion angles (rad), or None")
+            object.__setattr__(self, "angles", tuple(float(v) for v in a))
+            object.__setattr__(self, "positions", len(self.angles))
         check_positions(self.positions)
         check_pairs(self.pairs)
         object.__setattr__(self, "grid", check_grid(self.grid))

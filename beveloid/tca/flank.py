@@ -118,15 +118,18 @@ class MeshPaths(NamedTuple):
 
 
 def mesh_paths(geom: PairGeometry, flank: str, error_sets, positions=200, pairs=3, window_pitches=None, *,
-               solver: Solver | None = None) -> MeshPaths:
+               solver: Solver | None = None, angles=None) -> MeshPaths:
     """The pinion angles, unknowns, statuses, TE and envelope of :func:`mesh_flank` for each of the error sets
     (K, 5), solved in one call of the solver core (each set's numbers its own: the core solves a set alone);
-    without the contact points and margins (the loaded engine's rigid reference reads none of them)."""
+    without the contact points and margins (the loaded engine's rigid reference reads none of them).
+    ``angles``: the pinion angles (rad, ``positions`` of them) instead of :func:`mesh_angles`' (the rating's
+    refinement of a maximum between positions)."""
     solver = Solver.of(solver)
     errors = np.ascontiguousarray(np.atleast_2d(errors_array(error_sets)), dtype=float)
     ref = reference_contact(geom, flank, solver.options)
     p1, p2 = geom.pitch_angles
-    phi1 = mesh_angles(geom, flank, positions, pairs, window_pitches, solver.options)
+    phi1 = (mesh_angles(geom, flank, positions, pairs, window_pitches, solver.options) if angles is None
+            else np.asarray(angles, dtype=float))
     ks, shifted = mesh.pair_angles(phi1, pairs, p1)
     sol = solve_grid(geom, flank, errors, shifted.ravel(), solver=solver)
     kk = np.repeat(ks, positions)

@@ -19,8 +19,9 @@ from beveloid.cli.common import LTCA_FLAGS
 ROOT = Path(__file__).resolve().parents[2]
 PACKAGE = ROOT / "beveloid"
 SCOPE = ("rating", "optimize", "fecheck", "cli")
-#: the fields of ltca.Options (material: the pair's, never a flag)
-FIELDS = {f.name for f in dataclasses.fields(ltca.Options)}
+#: the fields of ltca.Options (material: the pair's, never a flag; angles: the rating's refinement between
+#: positions, never a flag)
+FIELDS = {f.name for f in dataclasses.fields(ltca.Options)} - {"angles"}
 #: the flags of ltca.Options' fields (those a command line sets)
 FLAGS = {flag: key for key, flag, _, _ in LTCA_FLAGS}
 #: commands with a flag of the same name for another analysis' option (tca.Options, sweep.Options): not

@@ -53,23 +53,27 @@ def run_many(geom, error_sets, torques_nm, options: Options, material: Material,
     "along_face": no result's ``root_stress_along_face`` (each empty); "compression": no result's
     ``pair_root_compressive_stress_mpa`` (each empty: the other fillet's extreme not sought).
     ``torques_nm``: the torques of every error set, or one sequence of torques per error set (a ragged batch:
-    ``[[LTCAResult of set k at each of its torques] for k]``)."""
+    ``[[LTCAResult of set k at each of its torques] for k]``).  ``options.angles``: the pinion angles to
+    solve at instead of the mesh cycle's (the rating's refinement of a maximum between positions)."""
+    angles = None if options.angles is None else np.asarray(options.angles, dtype=float)
+    cycle_text = None if angles is None else f"{angles.size} pinion angle(s) asked within the mesh cycle"
     options.check_memory()
     teeth, body_notes = member_teeth(pair, geom, options, material)
     per_set = ([list(t) for t in torques_nm] if len(torques_nm) and np.ndim(torques_nm[0])
                else [list(torques_nm)] * len(error_sets))
     with one_blas_thread(), np.errstate(all="ignore"):
-        setups = cycle_setups(geom, options.flank, error_sets, options.positions, options.pairs, solver)
+        setups = cycle_setups(geom, options.flank, error_sets, options.positions, options.pairs, solver, angles)
         cases = [(s, float(t)) for s, ts in zip(setups, per_set) for t in ts]
-        results = _run(cases, options, material, teeth, body_notes, leave_out)
+        results = _run(cases, options, material, teeth, body_notes, leave_out, cycle_text)
     held = geom if pair is None else pair
     results = [dataclasses.replace(r, pair=held) for r in results]  # each holds the pair it was computed for
     ends = np.cumsum([0] + [len(ts) for ts in per_set])
     return [results[a:b] for a, b in zip(ends[:-1], ends[1:])]
 
 
-def _run(cases, options, material, teeth, body_notes=(), leave_out=()):
-    """The passes of the module docstring over every (setup, torque) case at once."""
+def _run(cases, options, material, teeth, body_notes=(), leave_out=(), cycle_text=None):
+    """The passes of the module docstring over every (setup, torque) case at once; ``cycle_text``: the
+    positions in words (None: the mesh cycle's, ``cycle_positions_text``)."""
     N, P = options.positions, options.pairs
     e_star = material.e_star_mpa
     fine = options.cells
@@ -110,7 +114,7 @@ def _run(cases, options, material, teeth, body_notes=(), leave_out=()):
     sols = _torque_after_torque(cases, lambda c, before: Problem(
         *cases[c][:1], grids2[c], need[c], cases[c][1], start=first[c],
         start_cells=None if before is None else held_contact(before)), solve_all)
-    notes = [[cycle_positions_text(options.positions), *body_notes] for _ in cases]
+    notes = [[cycle_text or cycle_positions_text(options.positions), *body_notes] for _ in cases]
     active = list(range(len(cases)))
     for attempt in range(grids.MAX_GROWTHS + 1):
         todo = []

@@ -119,14 +119,16 @@ class Setup:
             return np.abs(self.pair_te - self.te_any[:, None]) > np.where(np.isfinite(bound), bound, np.inf)[:, None]
 
 
-def setups(geom, flank, error_sets, positions, pairs, solver) -> list:
+def setups(geom, flank, error_sets, positions, pairs, solver, angles=None) -> list:
     """The :class:`Setup` of each error set, their rigid meshes in one call of the solver core and their
     principal frames in one evaluation of the surfaces (the same numbers as each set's own: the core solves each
     set alone, the frames are elementwise arrays, only longer; a crowned candidate's 16 sets 2.6 ms a set one
-    by one, 0.5 ms together)."""
+    by one, 0.5 ms together).  ``angles``: the ``positions`` pinion angles (rad) to solve at (None: the mesh
+    cycle's, ``tca.flank.mesh_angles``)."""
     if len(error_sets) == 0:
         return []
-    paths = mesh_paths(geom, flank, np.asarray(error_sets, dtype=float), positions, pairs, 1, solver=solver)
+    paths = mesh_paths(geom, flank, np.asarray(error_sets, dtype=float), positions, pairs, 1, solver=solver,
+                       angles=angles)
     out = [Setup(geom, flank, e, positions, pairs, solver, frame=False, paths=paths.of_set(k))
            for k, e in enumerate(error_sets)]
     if out:
