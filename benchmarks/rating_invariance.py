@@ -11,7 +11,7 @@ its minimum (S_F / S_Fmin or S_H / S_Hmin, whichever the verdict names; and of t
 default; and the rating's notes (their numbers aside) that appear on some
 settings only (a grid not converged, a maximum the positions do not resolve, another edge).
 
-    python benchmarks/rating_invariance.py [--quick] [--designs case1,A,F] [--tooth-model fe|plate]
+    python benchmarks/rating_invariance.py [--quick] [--designs case1,A,F] [--tooth-model fe|plate] [--no-refine]
     python benchmarks/rating_invariance.py --random SEED:N
 
 ``--quick``: case 1 only.  ``--designs``: a comma-separated subset, named by the designs' letters (and
@@ -374,9 +374,10 @@ def random_design(rng):
     return _toml(d)
 
 
-def rate(pair, torque_nm, grid, positions, tooth_model):
+def rate(pair, torque_nm, grid, positions, tooth_model, refine=True):
     """The rating with the LTCA's grid and positions (None: the rating's defaults); the rating runs the
-    LTCA itself, at K_A K_v T."""
+    LTCA itself, at K_A K_v T; ``refine``: the rating's refinement of the maxima between positions (its
+    default) or the asked positions alone."""
     import dataclasses
 
     from beveloid import ltca, rating
@@ -387,7 +388,7 @@ def rate(pair, torque_nm, grid, positions, tooth_model):
         lt = dataclasses.replace(lt, grid=grid)
     if tooth_model is not None:
         lt = dataclasses.replace(lt, tooth_model=tooth_model)
-    return rating.analyze(pair, ltca.LoadCase(torque_nm), rating.Options(ltca=lt))
+    return rating.analyze(pair, ltca.LoadCase(torque_nm), rating.Options(ltca=lt, refine_positions=refine))
 
 
 def _lowest_bending(r):
@@ -410,6 +411,8 @@ def main(argv=None) -> int:
     p.add_argument("--designs", default=None, help="comma-separated letters (and case1) of the designs to run")
     p.add_argument("--tooth-model", choices=("fe", "plate"), default=None)
     p.add_argument("--random", default=None, metavar="SEED:N", help="N random designs drawn with this seed instead")
+    p.add_argument("--no-refine", action="store_true", help="the maxima over the asked positions alone (the "
+                                                                 "rating's refine_positions=False)")
     args = p.parse_args(argv)
     names = ["case 1"] if args.quick else list(TORQUES)
     if args.random is not None:
@@ -439,7 +442,7 @@ def main(argv=None) -> int:
             rows, bending, notes = [], [], []
             for label, grid, positions in SETTINGS:
                 t0 = time.perf_counter()
-                r = rate(pair, torque, grid, positions, args.tooth_model)
+                r = rate(pair, torque, grid, positions, args.tooth_model, not args.no_refine)
                 v = r.verdict()
                 e = v["edge_contact"]
                 kh = " / ".join(f"{r.members[m].sections['middle'].K_H_beta:.2f}" for m in ("pinion", "gear"))

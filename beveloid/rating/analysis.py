@@ -28,13 +28,26 @@ __all__ = ["LoadedContact", "Options", "SectionRating", "MemberRating", "analyze
 
 
 
-#: the rating's default positions over the mesh cycle: 20 distinct mesh states, so that every other
-#: position is the 11-position run and the positions check (:func:`positions_check`) compares the two
-#: (issue 57.4: at 10 the root stress maximum read 7-8.5 % low against 20)
+#: the rating's default positions over the mesh cycle: 20 distinct mesh states (issue 57.4: at 10 the root
+#: stress maximum read 7-8.5 % low against 20); the rating then refines where each maximum lies
+#: (:func:`refine_positions`)
 POSITIONS = 21
-#: a maximum that moves more than this between every other position and all of them is reported as
-#: not resolved by the positions
+#: a maximum whose last refinement round still moved it more than this is reported as not resolved by the
+#: positions
 POSITIONS_TOLERANCE = 0.03
+#: the refinement of the maxima between positions (:func:`refine_positions`) halves the spacing beside each
+#: maximum down to this share of the mesh cycle (that of 81 positions): a maximum before a drop (a pair
+#: leaving) is missed by a midpoint just past the drop, which reads no move (case 1 at 1500 N m, FE tooth)
+REFINE_SPACING = 1.0 / 80.0
+#: and on below it while the maximum still moved more than this in its last round
+REFINE_TOLERANCE = 0.01
+#: the local maxima over the cycle within this of the largest one are refined too (a peak between two
+#: positions may lie beside a sampled local maximum lower than the largest sample)
+REFINE_BAND = 0.1
+#: the most pinion angles the refinement adds to the asked positions
+MAX_ADDED_POSITIONS = 24
+#: the maxima the refinement follows (each member's): the quantities the verdict reads per position
+REFINED = ("contact_pressure_max_mpa", "root_stress_max_mpa", "K_H_beta")
 
 
 def _default_ltca():
@@ -65,6 +78,10 @@ class Options:
     (:mod:`beveloid.rating.root_convergence`: the FE tooth coarsened twice, its data computed once per
     design); False leaves ``root_stress_convergence`` empty (the verdict does not read it).
 
+    ``refine_positions``: after the LTCA at the asked positions, refine where each maximum the verdict uses
+    lies (:func:`refine_positions`: the LTCA again at pinion angles between the maximum and its neighbours,
+    the maxima over all of them); False: the maxima over the asked positions alone.
+
     ``grid_check``: the LTCA's grid-convergence indicator (a once-coarsened grid solved again, its warning in
     the notes); False leaves it out with the root stress along the face and the compressive root stress,
     every other number the same to the last bit (``ltca.analyze_many(..., convergence=False, along_face=False,
@@ -76,6 +93,7 @@ class Options:
     tolerances: dict | None = None
     root_stress_check: bool = True
     grid_check: bool = True
+    refine_positions: bool = True
 
     def __post_init__(self):
         from ..assembly_errors import BY_KEY
@@ -84,7 +102,7 @@ class Options:
 
         if not isinstance(self.ltca, LTCAOptions):
             raise OptionError("ltca", self.ltca, "must be an ltca.Options")
-        for key in ("root_stress_check", "grid_check"):
+        for key in ("root_stress_check", "grid_check", "refine_positions"):
             if not isinstance(getattr(self, key), bool):
                 raise OptionError(key, getattr(self, key), "must be True or False")
         n = self.tolerance_samples
@@ -165,34 +183,51 @@ class LoadedContact:
     edges: tuple = ()
 
 
-def loaded_contact(ltca_result, geometry, face_width_mm: float) -> LoadedContact:
+def loaded_contact(ltca_result, geometry, face_width_mm: float, solve_at=None) -> LoadedContact:
     """Peak surface / edge pressure, the line load along each face (K_Hbeta) and the mean mesh
-    stiffness from an ``LTCAResult``; ``face_width_mm`` the b of the mean line load."""
+    stiffness from an ``LTCAResult``; ``face_width_mm`` the b of the mean line load.  ``solve_at(angles)``:
+    the same LTCA at those pinion angles (rad), an ``LTCAResult``; given, the maxima the verdict uses (contact
+    pressure, root stress, K_Hbeta) are refined between the positions (:func:`refine_positions`) and taken
+    over the asked and the added positions; the edge contacts and the mesh stiffness stay the asked positions'."""
     ok = ltca_result.converged
     notes = list(ltca_result.warnings())
     from .edge import EdgeDistances, surface_peaks
 
     distances = EdgeDistances(ltca_result, geometry)  # read by the surface peaks and the edge rule
     surface = surface_peaks(ltca_result, geometry, distances=distances)
-    surf = surface[ok]
-    edge = ltca_result.pair_edge_max_pressure_mpa[ok]
-    p_surf = float(np.nanmax(surf)) if np.isfinite(surf).any() else None
-    where, face = "mesh cycle peak", {}
-    if p_surf is not None:
-        j, k = np.unravel_index(int(np.nanargmax(surf)), surf.shape)
-        phi = ltca_result.pinion_angle[ok][j]
-        face = _patch_centre_face_z(geometry, ltca_result.flank, ltca_result.tangency_unknowns[ok][j, k])
-        where = (f"mesh cycle peak ({pinion_angle_text(phi)}, tooth pair {int(ltca_result.tooth_pairs[k])}; "
+    lines = {m: line_loads(ltca_result, geometry, m) for m in MEMBERS}  # read by K_Hbeta and the refinement
+    check, added = refine_positions(ltca_result, geometry, face_width_mm, solve_at, surface, lines)
+    runs = ((ltca_result, surface, lines), *added)
+    p_surf, where, face, at = None, "mesh cycle peak", {}, None
+    for r, surf, _ in runs:
+        s_ok = surf[r.converged]
+        if np.isfinite(s_ok).any() and (p_surf is None or float(np.nanmax(s_ok)) > p_surf):
+            p_surf, at = float(np.nanmax(s_ok)), (r, s_ok)
+    if at is not None:
+        r, s_ok = at
+        j, k = np.unravel_index(int(np.nanargmax(s_ok)), s_ok.shape)
+        phi = r.pinion_angle[r.converged][j]
+        face = _patch_centre_face_z(geometry, r.flank, r.tangency_unknowns[r.converged][j, k])
+        where = (f"mesh cycle peak ({pinion_angle_text(phi)}, tooth pair {int(r.tooth_pairs[k])}; "
                  f"patch centre at face z {face['pinion']:.1f} mm on the pinion, {face['gear']:.1f} mm on the gear)")
+    edge = ltca_result.pair_edge_max_pressure_mpa[ok]
     p_edge = float(np.nanmax(edge)) if np.isfinite(edge).any() else None
-    lines = {m: line_loads(ltca_result, geometry, m) for m in MEMBERS}  # read by K_Hbeta and the positions check
-    loads = {m: face_load(ltca_result, geometry, m, face_width_mm, lines=lines[m]) for m in MEMBERS}
+    loads = {}
+    for m in MEMBERS:
+        each = [face_load(r, geometry, m, face_width_mm, lines=ls[m]) for r, _, ls in runs]
+        loads[m] = max(each, key=lambda f: -math.inf if f.K_H_beta is None else f.K_H_beta)
     if not ok.any():
         notes.append("no LTCA position converged: local stresses are null")
     root = {m: None for m in MEMBERS}
     root_where = {m: None for m in MEMBERS}
     if getattr(ltca_result, "tooth_model", "plate") == "fe":
-        top, at = ltca_result.root_stress_max_mpa(), ltca_result.root_stress_location()
+        top, at, of = {}, {}, {}
+        for r, _, _ in runs:
+            r_top, r_at = r.root_stress_max_mpa(), r.root_stress_location()
+            for m in MEMBERS:
+                v = r_top.get(m)
+                if v is not None and (top.get(m) is None or v > top[m]):
+                    top[m], at[m], of[m] = v, r_at.get(m), r
         for m in MEMBERS:
             root[m] = top.get(m)
             if root[m] is not None and not root[m] > 0.0:  # nothing to divide a strength by
@@ -205,7 +240,7 @@ def loaded_contact(ltca_result, geometry, face_width_mm: float) -> LoadedContact
                 z, h = at[m]["z_mm"], at[m]["height_mm"]
                 root_where[m] = {"face_z_mm": None if z is None else float(sections.face_z(geometry, m, z)),
                                  "height_above_root_mm": None if h is None else float(h),
-                                 "pinion_angle_rad": float(ltca_result.pinion_angle[at[m]["position"]]),
+                                 "pinion_angle_rad": float(of[m].pinion_angle[at[m]["position"]]),
                                  "tooth_pair": int(at[m]["pair"])}
         notes.append("local root stress: the FE tooth's largest maximum principal stress in the loaded side's "
                      "root fillet over the mesh cycle (LTCA tooth_model = fe)")
@@ -218,58 +253,152 @@ def loaded_contact(ltca_result, geometry, face_width_mm: float) -> LoadedContact
     # the mean over the cycle's distinct states, as the LTCA's JSON and the torque map give it
     k_mesh = ltca_summary(ltca_result)["mesh_stiffness_mean_n_per_um"]
     k_mesh = float(k_mesh) if np.isfinite(k_mesh) else None
-    check = positions_check(ltca_result, geometry, face_width_mm, surface, lines)
-    for q, by_member in check.get("quantities", {}).items():
-        for m, c in by_member.items():
-            if c["change"] is not None and abs(c["change"]) > POSITIONS_TOLERANCE:
-                notes.append(f"{m}: {q} moves {c['change']:+.1%} from every other position (either half: "
-                             f"{check['subset_positions']} / {check['offset_subset_positions']}) to all "
-                             f"{check['positions']}: its maximum over the cycle is not resolved to "
-                             f"{POSITIONS_TOLERANCE:.0%} (more --positions)")
+    notes += _positions_notes(check)
     edges = _edge_contacts(ltca_result, geometry, distances)
     return LoadedContact(p_surf, p_edge, loads, root, root_where, tuple(notes), where, face,
                          edges[0] if edges else None, k_mesh, check, edges=edges)
 
 
-def positions_check(ltca_result, geometry, face_width_mm: float, surface=None, lines=None) -> dict:
-    """The maxima over the cycle that the verdict uses (root stress, contact pressure, K_Hbeta) from all
-    positions and from each half of the distinct mesh states (issue 57.4): ``subset`` every other position
-    from the first (of 21, the 11-position run), ``offset_subset`` the positions between them; ``change`` =
-    all / the smaller of the two - 1, the estimate's uncertainty from the positions (a maximum sampled twice
-    as densely moves by about this much or less).  Both halves are read because a maximum that lasts less
-    than two positions (a pair entering on an edge, a corner contact just before a pair leaves) is in one
-    of them only: the half that holds it reads no change, the other the whole drop.  Empty with fewer than
-    5 positions.  ``surface``
-    (``edge.surface_peaks``) and ``lines`` ({member: ``face_load.line_loads``}) of this result where known."""
-    n = len(ltca_result.pinion_angle)
-    if n < 5:
-        return {}
-    sub, other = np.arange(0, n - 1, 2), np.arange(1, n - 1, 2)
-    ok = ltca_result.converged
+def _positions_notes(check) -> list:
+    """The notes of :func:`refine_positions`' check: a maximum still moving more than
+    :data:`POSITIONS_TOLERANCE`, added angles that did not converge."""
+    notes = []
+    for q, by_member in check.get("quantities", {}).items():
+        for m, c in by_member.items():
+            if c["change"] is not None and abs(c["change"]) > POSITIONS_TOLERANCE:
+                notes.append(f"{m}: {q} moved {c['change']:+.1%} in its last refinement round between positions "
+                             f"({check['added_positions']} pinion angles added to the {check['positions']} "
+                             f"asked, at most {MAX_ADDED_POSITIONS}): its maximum over the cycle is not resolved "
+                             f"to {POSITIONS_TOLERANCE:.0%} (more --positions)")
+    if check.get("added_not_converged"):
+        notes.append(f"{check['added_not_converged']} of the {check['added_positions']} pinion angles added between "
+                     "positions did not converge: the maxima leave them out")
+    return notes
 
-    def peak(a, rows):
-        a = np.asarray(a)[rows][ok[rows]]
-        return float(np.nanmax(a)) if a.size and np.isfinite(a).any() else None
 
-    def entry(full, part, offset):
-        halves = [v for v in (part, offset) if v]
-        return {"all": full, "subset": part, "offset_subset": offset,
-                "change": None if full is None or not halves else full / min(halves) - 1.0}
+def _peak(values):
+    v = np.asarray(values, dtype=float)
+    return float(np.nanmax(v)) if np.isfinite(v).any() else None
+
+
+def _position_maxima(result, geometry, face_width_mm, surface, lines) -> dict:
+    """{(quantity, member): (N,) its largest value at each position of ``result``, nan where the position did
+    not converge or has none}: the contact pressure (``surface``: ``edge.surface_peaks``, the same for both
+    members), the FE tooth's root stress, K_Hbeta (``face_load`` of that position alone; ``lines``
+    {member: ``line_loads``})."""
+    ok = np.asarray(result.converged)
+
+    def by_position(a):
+        a = np.where(ok[:, None], np.asarray(a, dtype=float), np.nan)
+        return np.array([np.nanmax(row) if np.isfinite(row).any() else np.nan for row in a])
+
+    out = {}
+    for m in MEMBERS:
+        out["contact_pressure_max_mpa", m] = by_position(surface)
+        kh = (face_load(result, geometry, m, face_width_mm, [j], lines[m]).K_H_beta for j in range(ok.size))
+        out["K_H_beta", m] = np.array([np.nan if k is None else k for k in kh], dtype=float)
+    for m, a in (result.pair_root_stress_mpa or {}).items():
+        out["root_stress_max_mpa", m] = by_position(a)
+    return out
+
+
+def _around_maxima(phase, values, spacing: float = 0.0) -> list:
+    """[(phase, weight)]: the midpoints between each local maximum of ``values`` at the cycle's ``phase``
+    (0-1, one pinion pitch; the cycle wraps: the last phase's neighbour is the first's, and phase 1 is
+    phase 0) within :data:`REFINE_BAND` of the largest and each of its two neighbours farther from it than
+    ``spacing``; weight: its value over the largest."""
+    ph = np.round(np.mod(phase, 1.0), 12) % 1.0
+    uniq, inv = np.unique(ph, return_inverse=True)
+    w = np.full(uniq.size, -np.inf)
+    np.maximum.at(w, inv, np.where(np.isfinite(values), values, -np.inf))
+    top = w.max(initial=-np.inf)
+    if not (np.isfinite(top) and top > 0):
+        return []
+    m = uniq.size
+    if m == 1:
+        return [((uniq[0] + 0.5) % 1.0, 1.0)]
+    out = []
+    for i in range(m):
+        if w[i] >= max(w[i - 1], w[(i + 1) % m]) and w[i] >= (1.0 - REFINE_BAND) * top:
+            left = uniq[i - 1] - (1.0 if i == 0 else 0.0)
+            right = uniq[(i + 1) % m] + (1.0 if i == m - 1 else 0.0)
+            out += [(((uniq[i] + side) / 2) % 1.0, w[i] / top) for side in (left, right)
+                    if abs(uniq[i] - side) > spacing]
+    return out
+
+
+def refine_positions(ltca_result, geometry, face_width_mm: float, solve_at=None, surface=None, lines=None):
+    """(check, added): the maxima over the cycle that the verdict uses (contact pressure, each member's root
+    stress and K_Hbeta), refined between the LTCA's positions (issue 57.4).  ``solve_at(angles)`` runs the
+    same LTCA at pinion angles (rad); each round adds, for every quantity, the midpoints between each local
+    maximum within :data:`REFINE_BAND` of the largest and those of its two neighbours farther from it than
+    :data:`REFINE_SPACING` of the cycle (or any, while the maximum moved more than :data:`REFINE_TOLERANCE` in
+    its last round), all in one LTCA; it stops when nothing is to be added or :data:`MAX_ADDED_POSITIONS`
+    are.  The cycle wraps: the
+    last position is the first's mesh state (one pinion pitch on), so the neighbour of either end is the
+    other's, and every added angle lies within the asked window.  An added angle that did not converge gives
+    nothing (its values null), as an asked one.
+
+    ``check`` (the JSON's ``positions_check``): the asked ``positions``, whether it was ``refined`` (a
+    ``solve_at`` and at least 3 positions), the ``added_positions``, their ``added_pinion_angles_rad``, how
+    many of them did not converge, the ``rounds``, and per quantity and member ``asked`` (the maximum over
+    the asked positions), ``all`` (over every position) and ``change``: the maximum's relative move in its
+    last round, the estimate's uncertainty from the positions (None: not refined).  ``added``: (result,
+    surface peaks, line loads) of each round's LTCA.  ``surface`` (``edge.surface_peaks``) and ``lines``
+    ({member: ``face_load.line_loads``}) of ``ltca_result`` where known."""
+    from .edge import surface_peaks
 
     if surface is None:
-        from .edge import surface_peaks
-
         surface = surface_peaks(ltca_result, geometry)
-    q = {"contact_pressure_max_mpa": {m: entry(peak(surface, slice(None)), peak(surface, sub), peak(surface, other))
-                                      for m in MEMBERS}}
-    lines = lines or {m: line_loads(ltca_result, geometry, m) for m in MEMBERS}
-    q["K_H_beta"] = {m: entry(*(face_load(ltca_result, geometry, m, face_width_mm, rows, lines[m]).K_H_beta
-                                for rows in (None, sub, other))) for m in MEMBERS}
-    if ltca_result.pair_root_stress_mpa:
-        q["root_stress_max_mpa"] = {m: entry(peak(a, slice(None)), peak(a, sub), peak(a, other))
-                                    for m, a in ltca_result.pair_root_stress_mpa.items()}
-    return {"positions": n, "subset_positions": int(sub.size) + 1, "offset_subset_positions": int(other.size),
-            "tolerance": POSITIONS_TOLERANCE, "quantities": q}
+    if lines is None:
+        lines = {m: line_loads(ltca_result, geometry, m) for m in MEMBERS}
+    phi = np.asarray(ltca_result.pinion_angle, dtype=float)
+    n = phi.size
+    values = _position_maxima(ltca_result, geometry, face_width_mm, surface, lines)
+    asked = {key: _peak(v) for key, v in values.items()}
+    best, change = dict(asked), dict.fromkeys(values)
+    refined = solve_at is not None and n >= 3
+    start, pitch = (phi[0], phi[-1] - phi[0]) if n > 1 else (0.0, 1.0)
+    angles, added, failed, rounds = [phi], [], 0, 0
+    while refined:
+        phase = np.mod((np.concatenate(angles) - start) / pitch, 1.0)
+        have = np.round(phase, 12) % 1.0
+        weight, todo = {}, set()
+        for key in sorted(values):
+            moving = change[key] is not None and change[key] > REFINE_TOLERANCE
+            for ph, w in _around_maxima(phase, values[key], 1e-6 if moving else REFINE_SPACING):
+                if np.min(np.abs((have - ph + 0.5) % 1.0 - 0.5)) > 1e-9:
+                    weight[ph] = max(weight.get(ph, 0.0), w)
+                    todo.add(key)
+        new = sorted(weight, key=lambda p: (-weight[p], p))
+        new = np.sort(new[:MAX_ADDED_POSITIONS - sum(len(a) for a in angles[1:])])
+        if new.size == 0:
+            break
+        r = solve_at(start + pitch * new)
+        rounds += 1
+        r_surface = surface_peaks(r, geometry)
+        r_lines = {m: line_loads(r, geometry, m) for m in MEMBERS}
+        added.append((r, r_surface, r_lines))
+        angles.append(np.asarray(r.pinion_angle, dtype=float))
+        failed += int((~np.asarray(r.converged)).sum())
+        more = _position_maxima(r, geometry, face_width_mm, r_surface, r_lines)
+        for key in values:
+            values[key] = np.concatenate([values[key], more.get(key, np.full(new.size, np.nan))])
+            now = _peak(values[key])
+            d = None if now is None or best[key] is None else now / best[key] - 1.0
+            if key in todo or (d is not None and d > REFINE_TOLERANCE):
+                change[key] = d
+            best[key] = now
+    quantities = {}
+    for (q, m) in values:
+        quantities.setdefault(q, {})[m] = {"asked": asked[q, m], "all": best[q, m], "change": change[q, m]}
+    extra = np.concatenate(angles[1:]) if added else np.zeros(0)
+    check = {"positions": int(n), "refined": bool(refined), "added_positions": int(extra.size),
+             "added_pinion_angles_rad": [float(a) for a in np.sort(extra)], "added_not_converged": failed,
+             "rounds": rounds, "tolerance": POSITIONS_TOLERANCE, "refine_tolerance": REFINE_TOLERANCE,
+             "refine_spacing": REFINE_SPACING,
+             "quantities": quantities}
+    return check, tuple(added)
 
 
 def _edge_contacts(result, geometry, distances=None) -> tuple:
@@ -520,7 +649,12 @@ def analyze(pair, load, options: Options | None = None, *, solver=None, ltca_res
             first = _loaded(pair, load.at(load.torque_nm * factors.K_A), options, solver)
             dyn, factors = _with_dynamic_factor(pair, load, options, factors, loaded_contact(first, geom, b), elastic)
         ltca_result = _loaded(pair, load.at(load.torque_nm * (factors.K_A * factors.K_v)), options, solver)
-    lc = loaded_contact(ltca_result, geom, b)
+    solve_at = None
+    if options.refine_positions:
+        def solve_at(angles):
+            return ltca.analyze_many(pair, load.at(ltca_result.torque_nm), replace(ltca_result.options, angles=angles),
+                                     solver=solver, convergence=False, along_face=False, compression=False).results[0][0]
+    lc = loaded_contact(ltca_result, geom, b, solve_at)
     conv = (root_stress_convergence(pair, ltca_result, getattr(ltca_result.options, "material", None) or mat)
             if options.root_stress_check else {})
     if conv:
@@ -533,8 +667,10 @@ def analyze(pair, load, options: Options | None = None, *, solver=None, ltca_res
     samples = spec.rating.tolerance_samples if options.tolerance_samples is None else options.tolerance_samples
     box = None
     if samples:
+        kh = lc.positions_check.get("quantities", {}).get("K_H_beta", {})
+        refinement = {m: kh[m]["all"] / kh[m]["asked"] for m in kh if kh[m]["asked"] and kh[m]["all"]}
         box = tolerance_face_load(pair, load.at(load.torque_nm * (factors.K_A * factors.K_v)), options, samples,
-                                  lc.face_load, solver=solver, progress=progress)
+                                  lc.face_load, solver=solver, progress=progress, refinement=refinement)
     inp = RateInput(geom, options.flank, load.torque_nm, b, lc.face_load, factors, elastic,
                     None if box is None else {m: box["members"][m]["rated"] for m in MEMBERS})
     members = {}
@@ -572,14 +708,18 @@ def analyze(pair, load, options: Options | None = None, *, solver=None, ltca_res
 
 
 def tolerance_face_load(pair, load, options: Options, samples: int, nominal_face_load: dict, *, solver=None,
-                        progress=None) -> dict:
+                        progress=None, refinement=None) -> dict:
     """K_Hbeta over the tolerance box under load: ``samples`` error sets drawn by ``sweep.draw_errors``
     (half-widths ``options.tolerances`` over ``assembly_errors.DEFAULT_RANGES``, seed
     ``options.tolerance_seed``) about ``load``'s errors (the pair's where it has none), each a full LTCA
     at ``load``'s torque through ``ltca.studies.box_results`` (the one loop of the box, chunk by chunk
     for ``progress``), and each member's :func:`face_load` of it.  Returns {"samples", "sets" (with a
     K_Hbeta), "seed", "percentile", "tolerances", "members": member -> {"nominal", "p50", "p90", "max",
-    "rated" (the percentile, None without a set), "K_H_beta" per set (None where no position loaded)}}."""
+    "rated" (the percentile times "refinement_factor", None without a set), "refinement_factor", "K_H_beta" per
+    set (None where no position loaded)}}.  Each set's K_Hbeta is read at the asked positions alone (a
+    refinement between positions per set would cost a rating each); ``refinement`` {member: the load case's
+    K_Hbeta refined over asked, :func:`refine_positions`} scales the percentile the ISO sections take (1 where
+    not given)."""
     from .. import assembly_errors, sweep
     from ..errors import OptionError
     from ..ltca import studies
@@ -605,10 +745,11 @@ def tolerance_face_load(pair, load, options: Options, samples: int, nominal_face
     for m in MEMBERS:
         per_set = [face_load(row[0], geom, m, b).K_H_beta for row in rows]
         values = np.asarray([k for k in per_set if k is not None and math.isfinite(k)], dtype=float)
+        factor = float((refinement or {}).get(m, 1.0))
         stats = ({"p50": None, "p90": None, "max": None, "rated": None} if values.size == 0 else
                  {"p50": float(np.percentile(values, 50)), "p90": float(np.percentile(values, 90)),
-                  "max": float(values.max()), "rated": float(np.percentile(values, BOX_PERCENTILE))})
-        members[m] = {"nominal": nominal_face_load[m].K_H_beta, **stats,
+                  "max": float(values.max()), "rated": float(np.percentile(values, BOX_PERCENTILE)) * factor})
+        members[m] = {"nominal": nominal_face_load[m].K_H_beta, **stats, "refinement_factor": factor,
                       "K_H_beta": [None if k is None or not math.isfinite(k) else float(k) for k in per_set]}
     sets = min(sum(k is not None for k in members[m]["K_H_beta"]) for m in MEMBERS)
     return {"samples": int(samples), "sets": int(sets), "seed": int(options.tolerance_seed),

@@ -169,8 +169,9 @@ def _disagreements(result, criteria) -> list:
 
 def assumptions(result) -> list:
     """What the verdict leaves out (issue 57.7), in words, each with its direction: K_Hbeta of the load
-    case's errors alone (unless the tolerance box ran), and each strength factor left at 1 with the
-    input it lacks (Z_L, Z_v, Z_R, Y_RrelT; rating.strength)."""
+    case's errors alone (unless the tolerance box ran), each strength factor left at 1 with the
+    input it lacks (Z_L, Z_v, Z_R, Y_RrelT; rating.strength), and each member whose local S_F rests on an FE
+    root stress the rating's own check does not show converged (its error estimate; issue 57)."""
     f = result.factors
     pair = getattr(result, "pair", None)
     errors = getattr(pair, "errors", None)
@@ -195,6 +196,13 @@ def assumptions(result) -> list:
     if not f.strength:
         out.append("Z_L = Z_v = Z_R = Y_X = Y_RrelT = 1 (no strength factors computed)")
     out.append("Y_deltarelT = Z_W = Z_X = 1")
+    for member, e in sorted(getattr(result.loaded, "root_stress_convergence", {}).items()):
+        m = result.members.get(member)
+        if e.get("converged") is False and m is not None and m.safety_bending is not None:
+            est = e.get("error_estimate")
+            out.append(f"the {member}'s local S_F on an FE root stress not shown converged ("
+                       + ("error estimate unknown" if est is None else f"error estimate {est:.0%}")
+                       + "; root_stress_convergence, docs/rating.md 5)")
     if f.K_v_source == "static":
         out.append("K_v = 1 (no pinion speed)")
     return out

@@ -169,7 +169,13 @@ def test_the_ratings_ltca_is_one_more_case_of_the_boxs_call(tilted, monkeypatch)
                   constraints="rating")
     calls = []
     real = ltca.analyze_many
-    monkeypatch.setattr(ltca, "analyze_many", lambda *a, **k: calls.append(k.get("extra", ())) or real(*a, **k))
+
+    def spy(*a, **k):  # the calls at the mesh cycle's positions (not the rating's refinement between them)
+        if k.get("options", a[2] if len(a) > 2 else None).angles is None:
+            calls.append(k.get("extra", ()))
+        return real(*a, **k)
+
+    monkeypatch.setattr(ltca, "analyze_many", spy)
     batched = evaluate.evaluate(req, {KEY: 15.0})
     assert len(calls) == 1 and len(calls[0]) == 1 and calls[0][0][1] == pytest.approx(TORQUE)
     monkeypatch.setattr(evaluate, "_rating_case", lambda req, pair: None)
@@ -204,18 +210,20 @@ def test_the_safeties_are_the_ratings(tilted, capsys):
     from beveloid.optimize import report
     from beveloid.spec import spec_to_dict
 
-    solvers = []
+    solvers, refining = [], []
     req = Request(base=tomllib.loads(tilted.read_text()), varies=(Vary(KEY, LOW, HIGH),), torques_nm=(TORQUE,),
                   weights=(1.0,), ltca=ltca.Options(positions=3, grid=(7, 7), tooth_model="plate"), constraints="rating")
     with pytest.MonkeyPatch.context() as mp:
         for module, name in ((ltca, "analyze_many"), (rating, "analyze")):
             def spy(*a, _fn=getattr(module, name), **k):
-                solvers.append(k.get("solver"))
+                options = k.get("options", a[2] if len(a) > 2 else None)
+                (refining if getattr(options, "angles", None) is not None else solvers).append(k.get("solver"))
                 return _fn(*a, **k)
             mp.setattr(module, name, spy)
         rec = evaluate.evaluate(req, {KEY: 15.0})
-    # the box's analyze_many (the rating's LTCA one more case of it) and the rating's analyze, one Solver
-    assert len(solvers) == 2 and solvers[0] is not None and all(s is solvers[0] for s in solvers)
+    # the box's analyze_many (the rating's LTCA one more case of it) and the rating's analyze, one Solver; and
+    # the rating's refinement between positions on it too
+    assert len(solvers) == 2 and solvers[0] is not None and all(s is solvers[0] for s in solvers + refining)
     path = tilted.parent / "rated.toml"
     path.write_text(report.toml_text(spec_to_dict(req.spec({KEY: 15.0}))))
     assert main(["rating", str(path), "--torque-nm", f"{TORQUE:g}", "--positions", "3", "--grid", "7x7",

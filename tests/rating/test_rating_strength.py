@@ -151,8 +151,9 @@ def test_module_6_gets_the_size_factor_and_a_root_roughness_its_surface_factor(p
 def test_the_tolerance_box_p90_raises_k_h_beta_above_the_aligned_value():
     """rating.Options(tolerance_samples=8): eight error sets of the tolerance box about the aligned pair
     (tilts up to 0.05 / 0.02 deg), each a full LTCA through ltca.studies.box_results; each set's K_Hbeta is
-    the face load of an LTCA at that set's errors, the ISO sections take the sets' 90th percentile, which
-    lies above the aligned pair's K_Hbeta on both members."""
+    the face load of an LTCA at that set's errors (at the asked positions), the ISO sections take the sets' 90th
+    percentile, which lies above the aligned pair's K_Hbeta at the same positions on both members, times the
+    aligned pair's refinement between positions (its refined K_Hbeta over that)."""
     pair = _pair()
     half = {"dx_mm": 0.05, "dy_mm": 0.05, "dz_mm": 0.05, "vertical_deg": 0.05, "horizontal_deg": 0.02}
     base = ltca.Options(positions=4, tooth_model="plate")
@@ -172,9 +173,11 @@ def test_the_tolerance_box_p90_raises_k_h_beta_above_the_aligned_value():
         p90 = float(np.percentile(per_set, 90))
         k_aligned = aligned.members[member].sections["middle"].K_H_beta
         assert box["members"][member]["nominal"] == pytest.approx(k_aligned)
-        assert p90 > k_aligned
+        kh = aligned.loaded.positions_check["quantities"]["K_H_beta"][member]
+        assert kh["all"] == pytest.approx(k_aligned)
+        assert p90 > kh["asked"] and box["members"][member]["refinement_factor"] == pytest.approx(kh["all"] / kh["asked"])
         for name, sec in boxed.members[member].sections.items():
-            assert sec.K_H_beta == pytest.approx(p90)
+            assert sec.K_H_beta == pytest.approx(p90 * kh["all"] / kh["asked"])
             assert sec.safety_bending_iso < aligned.members[member].sections[name].safety_bending_iso
     json_box = boxed.to_json()["tolerance_box"]
     assert json_box["members"]["pinion"]["p90"] == pytest.approx(float(np.percentile(box["members"]["pinion"]["K_H_beta"], 90)))
