@@ -28,8 +28,8 @@ DISAGREEMENT_FACTOR = 2.0
 #: ``beveloid rating``'s exit status by verdict status (docs/commands.md): 2 is bad input, 1 an output error
 EXIT_STATUS = {Verdict.PASSES: 0, Verdict.FAILS: 3, Verdict.CONDITIONAL: 4, None: 5}
 #: the edge-contact rule's limit: the largest share of the mesh's load within the edge band at any instant
-#: (measured: 0.06-0.11 on unrelieved pairs whose pattern runs onto a tip, 0 to 0.002 with the tip relieved;
-#: docs/rating.md 6)
+#: (measured: 0.05-0.11 on unrelieved pairs whose pattern runs onto a tip, under 0.002 with the tip relieved,
+#: 0.011-0.022 at the ends of an uncrowned line contact, design K; docs/rating.md 6)
 EDGE_SHARE = 0.02
 #: the edge-contact rule (docs/rating.md 6), quoted in the JSON
 EDGE_RULE = ("edge contact: a pair whose loaded pattern puts more than 2 % of the mesh's load within 0.05 m_n of a "
