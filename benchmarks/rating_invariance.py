@@ -287,9 +287,10 @@ TORQUES = {"case 1": (300.0, 1500.0), **{name: None for name in DESIGNS}}
 TORQUES[next(name for name in DESIGNS if name.startswith("E "))] = (90.0, 450.0, 600.0)
 #: designs F-J (made up after the fixes of 2026-11-29, issue 57): the two line-load torques and one between
 #: them whose lowest safety is near 1.2-1.5, away from any decision boundary
-#: K, L, M: random designs of the issue-57 audits (2026-11-29); K and L at the torques where their grids lost the patch
+#: K, L, M: random designs of the issue-57 audits (2026-11-29); K and L at the torques where their grids lost the patch,
+#: K (R3-2 of the draw ``--random 3:8``) also at 450 N m, where that draw's status changed with the setting
 for _key, _torques_nm in (("F", (40.0, 60.0, 190.0)), ("G", (60.0, 100.0, 290.0)), ("I", (70.0, 200.0, 350.0)),
-                          ("K", (130.0, 300.0)), ("L", (120.0, 230.0)), ("M", (230.0, 1150.0))):
+                          ("K", (130.0, 300.0, 450.0)), ("L", (120.0, 230.0)), ("M", (230.0, 1150.0))):
     TORQUES[next(name for name in DESIGNS if name.startswith(_key + " "))] = _torques_nm
 #: (label, grid, positions); None: the rating's default
 SETTINGS = (("default", None, None), ("grid 7x11", (7, 11), None), ("grid 15x25", (15, 25), None),
