@@ -79,10 +79,10 @@ def main():
         count["trial_cells"].append(m)
         return factor_solve(blocks, o, s, m, sym, wk)
 
-    def counted_matvec(blocks, off, start, size, active, p, out):
+    def counted_matvec(blocks, off, start, size, sym, active, p, out):
         count["product_fma"] += sum(int(active[start[b]:start[b] + size[b]].sum()) * int(size[b])
                                     for b in range(off.size))
-        return matvec(blocks, off, start, size, active, p, out)
+        return matvec(blocks, off, start, size, sym, active, p, out)
 
     plain._factor_solve, plain._matvec = counted_factor_solve, counted_matvec
     iterations, differ = [], 0.0

@@ -164,11 +164,23 @@ def _factor_solve(blocks, o, s, m, sym, wk):
     return True
 
 
-def _matvec(blocks, off, start, size, active, p, out):
-    """out = C[:, S] p_S (S the active cells), block by block, over the active columns only."""
+def _matvec(blocks, off, start, size, sym, active, p, out):
+    """out = C[:, S] p_S (S the active cells), block by block, over the active columns only: a symmetric
+    block adds its active rows (C[j, :] = C[:, j]) times p_j, each a contiguous pass over the block's rows;
+    another sums each row over the active columns."""
     cols = np.empty(p.size, dtype=np.int64)
     for b in range(off.size):
         o, s0, s = off[b], start[b], size[b]
+        if sym[b]:
+            for i in range(s):
+                out[s0 + i] = 0.0
+            for j in range(s):
+                if active[s0 + j]:
+                    v = p[s0 + j]
+                    row = o + j * s
+                    for i in range(s):
+                        out[s0 + i] += blocks[row + i] * v
+            continue
         m = 0
         for j in range(s):
             if active[s0 + j]:
@@ -273,7 +285,7 @@ def active_set(layout, cells, j, limits, active, out, seen):
         delta = (load + num) / denom
         for i in range(n):
             p[i] = delta * xw[i] - xh[i] if active[i] else 0.0
-        _matvec(blocks, off, start, size, active, p, cp)
+        _matvec(blocks, off, start, size, sym, active, p, cp)
         d_scale = TINY
         p_scale = TINY
         for i in range(n):
@@ -332,7 +344,7 @@ def active_set(layout, cells, j, limits, active, out, seen):
     # residuals, measured on the returned numbers
     for i in range(n):
         active[i] = p[i] > 0.0
-    _matvec(blocks, off, start, size, active, p, cp)
+    _matvec(blocks, off, start, size, sym, active, p, cp)
     d_scale = TINY
     p_scale = TINY
     for i in range(n):
