@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 from scipy import integrate
 
+from beveloid.ltca.mechanics import halfspace
 from beveloid.ltca.mechanics.halfspace import (
     influence_matrix_mm_per_mpa,
     rectangle_cells,
@@ -59,6 +60,19 @@ def test_tensor_builder_equals_general_builder_uniform_and_nonuniform():
         general = influence_matrix_mm_per_mpa(tensor_grid(xe, ye), E_STAR)
         fast = tensor_influence_matrix_mm_per_mpa(xe, ye, E_STAR)
         assert np.allclose(fast, general, rtol=1e-12, atol=0.0)
+
+
+@pytest.mark.parametrize("nx, ny", [(11, 17), (1, 1), (2, 5)])
+def test_uniform_table_from_one_quarter_is_the_table_of_every_offset(nx, ny):
+    """uniform_influence_table evaluates G on the positive offsets and mirrors it (G is odd in u and in v): the
+    same numbers, to the last bit, as G evaluated at every offset (+-1/2 .. nx - 1/2 cells)."""
+    rng = np.random.default_rng(nx)
+    dx, dy = rng.uniform(0.01, 2.0, 40), rng.uniform(0.01, 5.0, 40)
+    u = (np.arange(-(nx - 1), nx + 1) - 0.5)[None, :] * dx[:, None]
+    v = (np.arange(-(ny - 1), ny + 1) - 0.5)[None, :] * dy[:, None]
+    t = halfspace._g(u[:, :, None], v[:, None, :])
+    every = (t[:, 1:, 1:] - t[:, :-1, 1:] - t[:, 1:, :-1] + t[:, :-1, :-1]) / (np.pi * E_STAR)
+    assert np.array_equal(halfspace.uniform_influence_table(dx, dy, nx, ny, E_STAR), every)
 
 
 def test_uniform_grid_matrix_is_symmetric_and_positive_definite():

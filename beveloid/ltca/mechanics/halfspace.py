@@ -183,10 +183,19 @@ def uniform_influence_table(dx_mm, dy_mm, nx: int, ny: int, e_star_mpa: float) -
     centre by a unit pressure on the cell a cells across and b cells along from it.  The corner terms
     G(u, v) are tabulated on the (2 nx) x (2 ny) offsets of each grid only, all grids at once."""
     dx, dy = np.atleast_1d(np.asarray(dx_mm, dtype=float)), np.atleast_1d(np.asarray(dy_mm, dtype=float))
-    # u = x_edge[k'] - x_centre[i] = (k' - i - 1/2) dx for k' - i = -(nx - 1) .. nx
-    u = (np.arange(-(nx - 1), nx + 1) - 0.5)[None, :] * dx[:, None]
-    v = (np.arange(-(ny - 1), ny + 1) - 0.5)[None, :] * dy[:, None]
-    t = _g(u[:, :, None], v[:, None, :])
+    # u = x_edge[k'] - x_centre[i] = (k' - i - 1/2) dx for k' - i = -(nx - 1) .. nx: +-(1/2 .. nx - 1/2) dx, none 0.
+    # G is odd in u and in v (asinh is odd): G is evaluated on the positive quarter only, the other three its
+    # mirror images with their signs (the same numbers as G at the negative offsets: every step is exact
+    # under a change of sign)
+    u = (np.arange(nx) + 0.5)[None, :] * dx[:, None]
+    v = (np.arange(ny) + 0.5)[None, :] * dy[:, None]
+    uu, vv = u[:, :, None], v[:, None, :]
+    g = uu * np.arcsinh(vv / uu) + vv * np.arcsinh(uu / vv)  # (Q, nx, ny): G at (+u, +v)
+    t = np.empty((g.shape[0], 2 * nx, 2 * ny))
+    t[:, nx:, ny:] = g
+    t[:, :nx, ny:] = -g[:, ::-1, :]
+    t[:, nx:, :ny] = -g[:, :, ::-1]
+    t[:, :nx, :ny] = g[:, ::-1, ::-1]
     return (t[:, 1:, 1:] - t[:, :-1, 1:] - t[:, 1:, :-1] + t[:, :-1, :-1]) / (np.pi * e_star_mpa)
 
 
