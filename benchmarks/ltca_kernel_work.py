@@ -4,8 +4,8 @@
 
 Not a test.  Runs docs/optimize.md's spec (case 1 tilted by vertical_deg = 0.05, FE tooth) through ``beveloid
 ltca --samples`` once to warm up, then again with every call of the compiled contact solve
-(``kernel.solve_positions``) recorded (its dense blocks, cells and start sets; every ``--every``-th call
-kept), and solves the kept calls again with the same kernel run interpreted (the numpy backend's module),
+(``kernel.solve_positions``) recorded (its blocks with the rows it made and their tables, cells and start
+sets; every ``--every``-th call kept; the rows it made counted over all calls), and solves the kept calls again with the same kernel run interpreted (the numpy backend's module),
 its block solves and products counted: the factorizations (and their multiply-adds, m^3/6 + 2 m^2 for m
 trial cells), the multiply-adds of the products C[:, S] p_S, the iterations and the trial-set sizes.  Counts
 are exact and do not depend on the machine's load, unlike this host's timings (docs/performance.md, issue
@@ -43,7 +43,7 @@ def main():
     quiet = lambda: contextlib.ExitStack() if os.environ.get("VERBOSE") else contextlib.redirect_stderr(io.StringIO())  # noqa: E731
     with contextlib.redirect_stdout(io.StringIO()), quiet():
         cli(argv)
-    kept, seen = [], [0]
+    kept, seen, rows = [], [0], np.zeros(3)
     real = kernel.kernels
 
     class Recording:
@@ -55,8 +55,11 @@ def main():
 
         def solve_positions(self, layout, cells, limits, out):
             self.k.solve_positions(layout, cells, limits, out)
+            r = layout.rows
+            rows[:] += (r.built.sum(), r.loaded.sum() * r.built.shape[1], r.built.size)
             if seen[0] % a.every == 0:
-                kept.append((kernel.Layout(*[np.array(x, copy=True) for x in layout]),
+                kept.append((kernel.Layout(*[np.array(x, copy=True) for x in layout[:-1]],
+                                           kernel.Rows(*[np.array(x, copy=True) for x in layout.rows])),
                              kernel.Cells(*[np.array(x, copy=True) for x in cells]),
                              kernel.Start(limits.tolerance, limits.max_iterations, limits.starts.copy(),
                                           limits.given.copy()), out.pressure.copy()))
@@ -79,10 +82,10 @@ def main():
         count["trial_cells"].append(m)
         return factor_solve(blocks, o, s, m, sym, wk)
 
-    def counted_matvec(blocks, off, start, size, sym, active, p, out):
+    def counted_matvec(blocks, off, start, size, sym, rows, q0, active, p, out):
         count["product_fma"] += sum(int(active[start[b]:start[b] + size[b]].sum()) * int(size[b])
                                     for b in range(off.size))
-        return matvec(blocks, off, start, size, sym, active, p, out)
+        return matvec(blocks, off, start, size, sym, rows, q0, active, p, out)
 
     plain._factor_solve, plain._matvec = counted_factor_solve, counted_matvec
     iterations, differ = [], 0.0
@@ -98,6 +101,8 @@ def main():
     its = np.array(iterations)
     print(f"beveloid {' '.join(argv[:1])} case1_tilted.toml {' '.join(argv[2:])}: {seen[0]} calls of the contact "
           f"solve, {len(kept)} kept (every {a.every}), {its.size} problems")
+    print(f"  rows of the blocks made (kernel.Rows; all calls): {rows[0]:.0f} of the loaded pairs' {rows[1]:.0f} "
+          f"({rows[0] / rows[1]:.3f}), of all {rows[2]:.0f} ({rows[0] / rows[2]:.3f})")
     print(f"  iterations a problem: mean {its.mean():.2f}; " + ", ".join(
         f"{k}: {int((its == k).sum())}" for k in range(1, int(its.max()) + 1)))
     print(f"  factorizations: {count['factorizations']} ({count['factorizations'] / its.size:.2f} a problem), "

@@ -239,7 +239,7 @@ _compiling_outside = False
 
 def _compile_outside_core():
     """The kernels outside the solver core, which call none of it: the loaded TCA's contact solve
-    and block assembly (ltca/mechanics/kernel.py, with the argument types ltca/passes/cycle.py passes) and the FE
+    (ltca/mechanics/kernel.py, with the argument types ltca/passes/cycle.py passes) and the FE
     tooth's principal stresses (fe/principal.py).  Under a lock of their own: in a parallel run the
     worker that builds the sympy models compiles them first (~10 s on a fresh install) while the other
     compiles the core, which loads them from numba's cache when it gets to them.  Once per process."""
@@ -249,13 +249,11 @@ def _compile_outside_core():
     _outside_compiled = True
     import numpy as np
 
-    from beveloid.ltca.mechanics import kernel, lcp
+    from beveloid.ltca.mechanics import lcp
     from beveloid.solver import Solver
 
     def run():
         lcp.solve_contact(np.eye(4) * 1e-3, np.zeros(4), np.ones(4), 10.0, solver=Solver("compiled"))
-        kernel.kernels(Solver("compiled")).assemble(np.zeros((1, 1, 1)), np.zeros((1, 1, 1)), np.ones(1),
-                                                    np.ones(1, dtype=np.bool_), 1, 1, np.zeros((1, 1, 1)))
         _principal_stresses()
 
     _compiling_outside = True

@@ -25,16 +25,41 @@ TINY = 2.2250738585072014e-308  # numpy.finfo(float).tiny
 LOAD_TOL = 1e-9
 
 
+class Rows(typing.NamedTuple):
+    """Where the rows of the blocks come from when they are not given: a row is made (:func:`_row`) when its
+    cell first enters a trial set, and the solve reads no other (the rows of the trial sets' cells; the
+    initial set reads the diagonal, :func:`_diagonal`).  Problem j's block b (q = j nb + b) is the half-space
+    part of a uniform nx x ny grid, its Toeplitz table ``halfspace[q]`` (2 nx - 1, 2 ny - 1) (cell (i, j)
+    loaded by cell (k, l) at [k - i + nx - 1, l - j + ny - 1]), plus the tooth line compliance ``tooth[q]``
+    (ny, ny) (at [j, l]) times the cell area ``area[q]``; where not ``loaded[q]`` a unit diagonal (a block
+    whose cells are never active).  ``built[q, r]`` when row r of block q is in the blocks (all true: the
+    blocks given whole, :func:`given`)."""
+
+    halfspace: np.ndarray  # (Q, 2 nx - 1, 2 ny - 1)
+    tooth: np.ndarray  # (Q, ny, ny)
+    area: np.ndarray  # (Q,)
+    loaded: np.ndarray  # (Q,) bool
+    built: np.ndarray  # (Q, the largest block) bool
+
+
+def given(J, size):
+    """:class:`Rows` of blocks given whole: J problems of blocks of the sizes ``size``."""
+    return Rows(np.zeros((1, 1, 1)), np.zeros((1, 1, 1)), np.ones(1), np.ones(1, dtype=np.bool_),
+                np.ones((J * len(size), max(int(np.max(size)), 1)), dtype=np.bool_))
+
+
 class Layout(typing.NamedTuple):
     """The compliance of J problems of one block layout: problem j's block b is ``size[b]`` x ``size[b]``
     entries of ``blocks`` row-major from ``off[j, b]``, over its cells ``start[b]`` .. ``start[b] +
-    size[b]``; ``sym[j, b]`` when it is symmetric."""
+    size[b]``; ``sym[j, b]`` when it is symmetric; ``rows`` (:class:`Rows`) where the rows not yet in
+    ``blocks`` come from."""
 
     blocks: np.ndarray  # flat, float
     off: np.ndarray  # (J, blocks) int64
     start: np.ndarray  # (blocks,) int64
     size: np.ndarray  # (blocks,) int64
     sym: np.ndarray  # (J, blocks) bool
+    rows: Rows
 
 
 class Cells(typing.NamedTuple):
@@ -74,6 +99,42 @@ class Work(typing.NamedTuple):
     rhs: np.ndarray  # (m, 2)
     sol: np.ndarray  # (m, 2)
     factor: np.ndarray  # (m, m)
+
+
+def _row(blocks, o, rows, q, r):
+    """Row r of block q (at offset o of ``blocks``) from its tables (:class:`Rows`); its callers test
+    ``rows.built[q, r]`` first (the test costs less than the call)."""
+    rows.built[q, r] = True
+    d, t = rows.halfspace[q], rows.tooth[q]
+    ny = t.shape[0]
+    nx = (d.shape[0] + 1) // 2
+    n = nx * ny
+    base = o + r * n
+    if not rows.loaded[q]:
+        for k in range(n):
+            blocks[base + k] = 0.0
+        blocks[base + r] = 1.0
+        return
+    a = rows.area[q]
+    i = r // ny
+    j = r - i * ny
+    for k in range(nx):
+        for m in range(ny):
+            blocks[base + k * ny + m] = d[k - i + nx - 1, m - j + ny - 1] + t[j, m] * a
+
+
+def _diagonal(rows, q, out):
+    """The diagonal of block q, none of its rows made yet, into ``out``: as :func:`_row` makes it."""
+    if not rows.loaded[q]:
+        for r in range(out.size):
+            out[r] = 1.0
+        return
+    d, t, a = rows.halfspace[q], rows.tooth[q], rows.area[q]
+    ny = t.shape[0]
+    nx = (d.shape[0] + 1) // 2
+    for r in range(out.size):
+        j = r - (r // ny) * ny
+        out[r] = d[nx - 1, ny - 1] + t[j, j] * a
 
 
 def _dot(a, i, j, n):
@@ -164,11 +225,12 @@ def _factor_solve(blocks, o, s, m, sym, wk):
     return True
 
 
-def _matvec(blocks, off, start, size, sym, active, p, out):
-    """out = C[:, S] p_S (S the active cells), block by block, over the active columns only: a symmetric
-    block adds its active rows (C[j, :] = C[:, j]) times p_j, each a contiguous pass over the block's rows;
-    another sums each row over the active columns."""
+def _matvec(blocks, off, start, size, sym, rows, q0, active, p, out):
+    """out = C[:, S] p_S (S the active cells), block by block (block b is block q0 + b of ``rows``), over the
+    active columns only: a symmetric block adds its active rows (C[j, :] = C[:, j], made by :func:`_row`)
+    times p_j, a contiguous pass each; another (given whole) sums each row over the active columns."""
     cols = np.empty(p.size, dtype=np.int64)
+    built = rows.built
     for b in range(off.size):
         o, s0, s = off[b], start[b], size[b]
         if sym[b]:
@@ -176,6 +238,8 @@ def _matvec(blocks, off, start, size, sym, active, p, out):
                 out[s0 + i] = 0.0
             for j in range(s):
                 if active[s0 + j]:
+                    if not built[q0 + b, j]:
+                        _row(blocks, o, rows, q0 + b, j)
                     v = p[s0 + j]
                     row = o + j * s
                     for i in range(s):
@@ -229,6 +293,7 @@ def active_set(layout, cells, j, limits, active, out, seen):
     p, result = out.pressure[j], out.result[j]
     n = h.size
     nb = off.size
+    built = layout.rows.built
     big = 0
     for b in range(nb):
         big = max(big, size[b])
@@ -262,6 +327,8 @@ def active_set(layout, cells, j, limits, active, out, seen):
                 xh[s0 + i] = 0.0
                 xw[s0 + i] = 0.0
                 if active[s0 + i]:
+                    if not built[j * nb + b, i]:
+                        _row(blocks, o, layout.rows, j * nb + b, i)
                     idx[m] = i
                     rhs[m, 0] = h[s0 + i]
                     rhs[m, 1] = w[s0 + i]
@@ -285,7 +352,7 @@ def active_set(layout, cells, j, limits, active, out, seen):
         delta = (load + num) / denom
         for i in range(n):
             p[i] = delta * xw[i] - xh[i] if active[i] else 0.0
-        _matvec(blocks, off, start, size, sym, active, p, cp)
+        _matvec(blocks, off, start, size, sym, layout.rows, j * nb, active, p, cp)
         d_scale = TINY
         p_scale = TINY
         for i in range(n):
@@ -344,7 +411,7 @@ def active_set(layout, cells, j, limits, active, out, seen):
     # residuals, measured on the returned numbers
     for i in range(n):
         active[i] = p[i] > 0.0
-    _matvec(blocks, off, start, size, sym, active, p, cp)
+    _matvec(blocks, off, start, size, sym, layout.rows, j * nb, active, p, cp)
     d_scale = TINY
     p_scale = TINY
     for i in range(n):
@@ -389,30 +456,14 @@ def solve_positions(layout, cells, limits, out):
                 any_given = any_given or starts[j, i]
         if not any_given:
             for b in range(start.size):
-                for i in range(size[b]):
-                    diag[start[b] + i] = blocks[off[j, b] + i * size[b] + i]
+                q = j * start.size + b
+                if layout.rows.built[q, 0]:  # given whole (cycle.py's rows are made by the solve)
+                    for i in range(size[b]):
+                        diag[start[b] + i] = blocks[off[j, b] + i * size[b] + i]
+                else:
+                    _diagonal(layout.rows, q, diag[start[b]:start[b] + size[b]])
             initial_set(cells.h[j], cells.w[j], diag, cells.at[j], cells.load[j], active)
         active_set(layout, cells, j, limits, active, out, seen)
-
-
-def assemble(d, tooth, area, loaded, nx, ny, out):
-    """The dense compliance blocks out (Q, n, n) of Q pairs' uniform grids: the half-space part from its
-    Toeplitz table d[q, k - i + nx - 1, l - j + ny - 1] (cell (i, j) loaded by cell (k, l)) plus the tooth
-    line compliance tooth[q, j, l] times the cell area; where not ``loaded[q]`` only a unit diagonal (a
-    block whose cells are never active: the solve reads nothing else of it)."""
-    n = nx * ny
-    for q in range(out.shape[0]):
-        if not loaded[q]:
-            for r in range(n):
-                out[q, r, r] = 1.0
-            continue
-        a = area[q]
-        for i in range(nx):
-            for j in range(ny):
-                r = i * ny + j
-                for k in range(nx):
-                    for m in range(ny):
-                        out[q, r, k * ny + m] = d[q, k - i + nx - 1, m - j + ny - 1] + tooth[q, j, m] * a
 
 
 def kernels(solver=None):
@@ -426,5 +477,5 @@ def kernels(solver=None):
     if Solver.of(solver).dense_backend == "numpy":
         return sys.modules[__name__]
 
-    return backends.compiled_module(__name__, ("_dot", "_factor_solve", "_matvec", "initial_set", "active_set",
-                                               "solve_positions", "assemble"))
+    return backends.compiled_module(__name__, ("_row", "_diagonal", "_dot", "_factor_solve", "_matvec", "initial_set",
+                                               "active_set", "solve_positions"))

@@ -194,7 +194,7 @@ def solve_contact(
     blocks, off, start, size, sym = ops.flat
     p = np.zeros((1, n))
     results = np.zeros((1, 5))
-    k.solve_positions(kernel.Layout(blocks, off[None], start, size, sym[None]),
+    k.solve_positions(kernel.Layout(blocks, off[None], start, size, sym[None], kernel.given(1, size)),
                       kernel.Cells(h[None], w[None], at[None], np.array([float(load)])),
                       kernel.Start(float(tol), int(max_iterations), np.ascontiguousarray(active[None]),
                                    np.array([initial_contact is not None])),

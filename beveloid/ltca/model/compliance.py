@@ -156,7 +156,7 @@ class BeveloidCompliance(lcp.Compliance):
     """C of every tooth pair at one position: that pair's half-space matrix ``halfspace[k]`` plus
     its tooth compliance ``tooth[k][line_a, line_b] area_b`` (``line``: a cell's along index;
     ``area[k]``: pair k's cell area), cells pair-major, as dense symmetric blocks (the LTCA itself
-    assembles them from compact tables: :func:`beveloid.ltca.passes.cycle.compliance_tables`)."""
+    makes their rows from compact tables as its solve reads them: :func:`beveloid.ltca.passes.cycle.block_rows`)."""
 
     def __init__(self, halfspace_blocks, tooth, line, area):
         n = line.size

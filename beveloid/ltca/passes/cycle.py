@@ -156,7 +156,7 @@ def _fill_between(x, phi1, solved):
     return x, filled
 
 
-#: positions whose dense compliance blocks are assembled and solved together (cycle.solve_many)
+#: positions whose dense compliance blocks are made and solved together (cycle.solve_many)
 CHUNK_POSITIONS = 4
 
 
@@ -206,7 +206,7 @@ def solve(setup: Setup, grid, need, torque_nm, e_star_mpa, teeth, positions=None
 def solve_many(problems, e_star_mpa, teeth) -> list:
     """The Solution of each :class:`Problem` (all of one cell count): their gaps one setup at a time,
     the compliance tables of every position of a problem at once (:func:`compliance_tables`), then the
-    dense blocks (:func:`assemble_blocks`) and the contact problems (:func:`beveloid.ltca.mechanics.kernel.solve_positions`,
+    dense blocks' rows (:func:`block_rows`) and the contact problems (:func:`beveloid.ltca.mechanics.kernel.solve_positions`,
     compiled with the solver's backend) of :data:`CHUNK_POSITIONS` positions at a time."""
     parts, rows = [], []
     for pr in problems:
@@ -226,9 +226,9 @@ def solve_many(problems, e_star_mpa, teeth) -> list:
     k = kernel.kernels(solver)
     limits = lcp.SolveLimits()
     p, result, r2s = np.zeros((J, P * n)), np.zeros((J, 5)), np.ones(J)
-    # the dense blocks of CHUNK_POSITIONS positions at a time, assembled just before their solve: a
-    # problem's blocks at once (20 positions x 3 pairs of 187 cells: 17 MB) left the cache before the
-    # solve read them
+    # the dense blocks of CHUNK_POSITIONS positions at a time, their rows made by the solve as it reads them
+    # (kernel.Rows): a problem's blocks at once (20 positions x 3 pairs of 187 cells: 17 MB) left the cache
+    # before the solve read them
     buffer = np.empty((min(CHUNK_POSITIONS, max((r.size for r in rows), default=0)) * P, n, n))
     at_row = 0
     for (pr, gap, _, _), jj in zip(parts, rows):
@@ -259,11 +259,11 @@ def solve_many(problems, e_star_mpa, teeth) -> list:
             c = slice(c0, min(c0 + CHUNK_POSITIONS, jj.size))
             m = c.stop - c.start
             blocks = buffer[:m * P]
-            assemble_blocks(tables, c, nx, ny, solver, blocks)
             off = (np.arange(m * P, dtype=np.int64) * n * n).reshape(m, P)
             rows_c = slice(sl.start + c.start, sl.start + c.stop)
             k.solve_positions(kernel.Layout(blocks.reshape(-1), off, np.arange(P, dtype=np.int64) * n,
-                                            np.full(P, n, dtype=np.int64), np.ones((m, P), dtype=np.bool_)),
+                                            np.full(P, n, dtype=np.int64), np.ones((m, P), dtype=np.bool_),
+                                            block_rows(tables, c, nx, ny)),
                               kernel.Cells(h[c], w[c], at[c], load[c]),
                               kernel.Start(limits.tolerance, limits.max_iterations, starts[c] if warm else starts,
                                            np.full(m, warm)),
@@ -338,7 +338,7 @@ class Tables(typing.NamedTuple):
 
 def compliance_tables(grid, gap, jj, loaded, e_star_mpa, teeth) -> Tables:
     """The compliance of each pair at positions ``jj``: its grid's half-space table and both teeth's
-    compliance along its centre line (:func:`assemble_blocks` makes the dense blocks).  A pair not in
+    compliance along its centre line (:func:`block_rows`: the rows of the dense blocks).  A pair not in
     contact (``loaded`` (J, P) false: never loaded, its cells never active) gets zeros."""
     nx, ny = grid.across_cells, grid.along_cells
     J, P = loaded.shape
@@ -355,16 +355,16 @@ def compliance_tables(grid, gap, jj, loaded, e_star_mpa, teeth) -> Tables:
     return Tables(d, T, grid.cell_area_mm2()[jj], loaded)
 
 
-def assemble_blocks(tables: Tables, rows, nx, ny, solver, out) -> np.ndarray:
-    """``out`` (R P, n, n): the compliance (mm/MPa) of each pair at the positions ``rows`` (a slice) of
-    ``tables``, its half-space matrix plus both teeth's compliance along its centre line applied to every
-    cell of the same along index, C[(i,a),(j,b)] = H + T[a, b] area (:func:`beveloid.ltca.mechanics.kernel.assemble`);
-    a pair not in contact only a unit diagonal, all the contact solve reads of it."""
+def block_rows(tables: Tables, rows, nx, ny):
+    """The :class:`beveloid.ltca.mechanics.kernel.Rows` of each pair at the positions ``rows`` (a slice) of
+    ``tables``: the contact solve makes a row of a pair's compliance (mm/MPa) when its cell first enters a trial
+    set, its half-space matrix plus both teeth's compliance along its centre line applied to every cell of the
+    same along index, C[(i,a),(j,b)] = H + T[a, b] area; a pair not in contact only a unit diagonal."""
     d, T = tables.halfspace[rows], tables.tooth[rows]
     R, P = d.shape[:2]
-    kernel.kernels(solver).assemble(d.reshape(R * P, *d.shape[2:]), T.reshape(R * P, ny, ny),
-                                    tables.area[rows].ravel(), tables.loaded[rows].ravel(), nx, ny, out)
-    return out
+    return kernel.Rows(np.ascontiguousarray(d.reshape(R * P, *d.shape[2:])),
+                       np.ascontiguousarray(T.reshape(R * P, ny, ny)), np.ascontiguousarray(tables.area[rows].reshape(-1)),
+                       np.ascontiguousarray(tables.loaded[rows].reshape(-1)), np.zeros((R * P, nx * ny), dtype=np.bool_))
 
 
 def merge(old: Solution, new: Solution, rows) -> Solution:
