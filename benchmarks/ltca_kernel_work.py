@@ -82,10 +82,11 @@ def main():
         count["trial_cells"].append(m)
         return factor_solve(blocks, o, s, m, sym, wk)
 
-    def counted_matvec(blocks, off, start, size, sym, rows, q0, active, p, out):
+    def counted_matvec(layout, j, active, p, out):
+        start, size = layout.start, layout.size
         count["product_fma"] += sum(int(active[start[b]:start[b] + size[b]].sum()) * int(size[b])
-                                    for b in range(off.size))
-        return matvec(blocks, off, start, size, sym, rows, q0, active, p, out)
+                                    for b in range(size.size))
+        return matvec(layout, j, active, p, out)
 
     plain._factor_solve, plain._matvec = counted_factor_solve, counted_matvec
     iterations, differ = [], 0.0

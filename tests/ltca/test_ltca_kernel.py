@@ -94,7 +94,8 @@ def test_products_over_the_active_cells_are_the_dense_products(name):
     active = rng.uniform(size=n) < 0.3
     p = np.where(active, rng.uniform(0.5, 2.0, n), 0.0)
     out = np.full(n, np.nan)
-    k._matvec(flat, off, start, size, np.array([True, False, True]), kernel.given(1, size), 0, active, p, out)
+    layout = kernel.Layout(flat, off[None], start, size, np.array([[True, False, True]]), kernel.given(1, size))
+    k._matvec(layout, 0, active, p, out)
     for b, s0, s in zip(blocks, start, size):
         cols = np.flatnonzero(active[s0:s0 + s])
         want = b[:, cols] @ p[s0 + cols]

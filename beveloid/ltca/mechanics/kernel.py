@@ -225,10 +225,14 @@ def _factor_solve(blocks, o, s, m, sym, wk):
     return True
 
 
-def _matvec(blocks, off, start, size, sym, rows, q0, active, p, out):
-    """out = C[:, S] p_S (S the active cells), block by block (block b is block q0 + b of ``rows``), over the
-    active columns only: a symmetric block adds its active rows (C[j, :] = C[:, j], made by :func:`_row`)
-    times p_j, a contiguous pass each; another (given whole) sums each row over the active columns."""
+def _matvec(layout, jp, active, p, out):
+    """out = C[:, S] p_S (S the active cells) of problem jp of the :class:`Layout` ``layout``, block by block,
+    over the active columns only: a symmetric block adds its active rows (C[j, :] = C[:, j], made by
+    :func:`_row`) times p_j, a contiguous pass each; another (given whole) sums each row over the active
+    columns."""
+    blocks, off, start, size, sym, rows = (layout.blocks, layout.off[jp], layout.start, layout.size, layout.sym[jp],
+                                           layout.rows)
+    q0 = jp * off.size
     cols = np.empty(p.size, dtype=np.int64)
     built = rows.built
     for b in range(off.size):
@@ -352,7 +356,7 @@ def active_set(layout, cells, j, limits, active, out, seen):
         delta = (load + num) / denom
         for i in range(n):
             p[i] = delta * xw[i] - xh[i] if active[i] else 0.0
-        _matvec(blocks, off, start, size, sym, layout.rows, j * nb, active, p, cp)
+        _matvec(layout, j, active, p, cp)
         d_scale = TINY
         p_scale = TINY
         for i in range(n):
@@ -411,7 +415,7 @@ def active_set(layout, cells, j, limits, active, out, seen):
     # residuals, measured on the returned numbers
     for i in range(n):
         active[i] = p[i] > 0.0
-    _matvec(blocks, off, start, size, sym, layout.rows, j * nb, active, p, cp)
+    _matvec(layout, j, active, p, cp)
     d_scale = TINY
     p_scale = TINY
     for i in range(n):
