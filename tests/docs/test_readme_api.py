@@ -11,6 +11,8 @@ import numpy as np
 import pytest
 
 REPO = Path(__file__).resolve().parents[2]
+#: one worker runs the module: its examples run once (the module-scoped namespace), not once a worker
+pytestmark = pytest.mark.xdist_group(name="readme_api")
 
 
 def python_blocks(text: str) -> list[str]:
