@@ -46,7 +46,6 @@ from ..names import FLANKS
 from ..tooth.sampling import ToothSampler
 from ..tooth.body import body_pair
 from ..tooth.departure import flank_thickness_mm
-from . import solve
 from .contact import (READ_STEP_FACE_PER_MODULE, READ_STEP_PROFILE_PER_FILLET_SIZE, read_grid, readout_matrix,
                       readout_window_mm)
 from .mesh import FILLET_LANDS, mesh_sizes, sector_mesh
@@ -224,6 +223,8 @@ def flank_compliance(elastic, points, normals, depth, solutions=None, feet=None,
     solutions (ndofs, G) for the stresses."""
     foot, foot_n = (points, normals) if feet is None else feet
     g = len(points)
+    from . import solve  # here: scipy.sparse and scipy.spatial only where FE data is made, not where it is read
+
     located = solve.locate(elastic.mesh, np.vstack([points, reading_points(foot, foot_n, depth[:, None])]), max_outside_mm,
                            label=[f"{label} load point"] * g + [f"{label} reading point"] * g, geometry=elastic.geometry)
     load = solve.displacement_operator(elastic, located[:g], -normals)
@@ -254,6 +255,8 @@ def tooth_data(pair, member: str, e_mpa: float, nu: float, refinement: int = 1, 
     (:mod:`beveloid.rating.root_convergence`); a tuple of these: a tuple of ToothData, one per read-out in
     that order, from one mesh and one solve (they differ in ``stress_mpa_per_n``, ``fillet_points_mm``,
     ``fillet_height_mm`` and ``smoothing_mm`` only; each the same numbers as its own call)."""
+    from . import solve  # (as flank_compliance)
+
     pair = body_pair(pair, member)
     geometry = getattr(pair, "geometry", pair)
     t0 = time.perf_counter()

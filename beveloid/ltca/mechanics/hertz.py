@@ -117,17 +117,44 @@ def _ratio(q: float) -> tuple[float, float, float, float]:
     return ((e / (q * q) - k) / (k - e)), k, e, m
 
 
+#: the bracket of ln(b/a) that :func:`_shape` searches (b/a from 1e-8 to 1 - 1e-9)
+LOG_Q_RANGE = (math.log(1e-8), math.log(1.0 - 1e-9))
+
+
 @functools.lru_cache(maxsize=4096)
 def _shape(target: float) -> tuple:
     """(b/a, K, E, e^2, (K - E)/e^2) of the contact ellipse of curvature ratio ``target`` >= 1: it does
-    not depend on the load (kept per ratio: the LTCA sizes every pair's grid several times)."""
+    not depend on the load (kept per ratio: the LTCA sizes every pair's grid several times).
+
+    ratio(q) falls monotonically from infinity (q -> 0) to 1 (q = 1); its root in t = ln q by Newton's method
+    from Hamrock and Brewe's fit a/b = 1.0339 (B/A)^0.636, on the slope d ln(ratio)/dt = (K - 2 E/q^2)/(E/q^2 - K)
+    + E/(K - E) (from dK/dm = (E - (1 - m) K)/(2 m (1 - m)), dE/dm = (E - K)/(2 m), m = 1 - q^2), a step that
+    leaves the bracket the root is known to lie in replaced by its midpoint; the root to the rounding of t, as
+    scipy.optimize.brentq found it before (xtol 1e-15), without importing scipy.optimize (~0.2 s of a command's
+    CPU: the tolerance box's own process imports it for nothing else, issue 59)."""
     if target - 1.0 < 1e-12:
         return 1.0, math.pi / 2, math.pi / 2, 0.0, math.pi / 4  # (K - E)/e^2 -> pi/4 as e -> 0
-    # ratio(q) falls monotonically from infinity (q -> 0) to 1 (q = 1)
-    from scipy.optimize import brentq  # here, not at import: scipy.optimize costs every command ~0.3 s
-    lq = brentq(lambda t: math.log(_ratio(math.exp(t))[0] / target), math.log(1e-8), math.log(1.0 - 1e-9),
-                xtol=1e-15, rtol=1e-14, maxiter=200)
-    q = math.exp(lq)
+    lo, hi = LOG_Q_RANGE
+    goal = math.log(target)
+    t = min(max(-0.636 * goal - math.log(1.0339), lo), hi)
+    for _ in range(100):
+        q = math.exp(t)
+        r, k, e, _ = _ratio(q)
+        f = math.log(r) - goal
+        if f == 0.0:
+            break
+        if f > 0.0:  # the ratio too large: q too small
+            lo = t
+        else:
+            hi = t
+        iq2 = 1.0 / (q * q)
+        step = -f / ((k - 2.0 * e * iq2) / (e * iq2 - k) + e / (k - e))
+        nxt = t + step if math.isfinite(step) and lo < t + step < hi else 0.5 * (lo + hi)
+        done = abs(nxt - t) < 1e-13 or hi - lo < 1e-15
+        t = nxt
+        if done:  # the step just taken leaves an error of the order of its square: t to its rounding
+            break
+    q = math.exp(t)
     _, k, e, m = _ratio(q)
     return q, k, e, m, (k - e) / m
 
