@@ -70,7 +70,8 @@ def nominal_results(task) -> list:
     from . import analyze_many
 
     pair, load, options = task
-    return [r.with_patterns() for r in analyze_many(pair, load, options).results[0]]
+    rasters = {}  # each member's flank raster once for every torque
+    return [r.with_patterns(rasters) for r in analyze_many(pair, load, options).results[0]]
 
 
 def _task(task):

@@ -72,13 +72,16 @@ def cell_gaps(geom, flank, errors, frames: Frames, coords, solver, problem=None)
                     on_flanks=r(on), pinion_lu=r(lu), pinion_point=r(p1), gear_point=r(p2), margin_mm=r(margin))
 
 
-def serpentine_gaps(setup, frames: Frames, coords, shape, solver, by_columns=False) -> CellGaps:
+def serpentine_gaps(setup, frames: Frames, coords, shape, solver, by_columns=False, fields=CellGaps._fields) -> CellGaps:
     """:func:`cell_gaps` of each pair's points ``coords`` (Q, rows x columns, 2), row-major in ``shape``
     (rows, columns), visited row by row (``by_columns``: column by column), every other one reversed:
-    each point starts its Newtons from its neighbour, on a line (normal_gaps extrapolates along it)."""
+    each point starts its Newtons from its neighbour, on a line (normal_gaps extrapolates along it).
+    ``fields``: the CellGaps fields put back in row-major order, the others None (:func:`column_shifts` reads
+    the gap alone)."""
     cg = cell_gaps(setup.geom, setup.flank, setup.errors, frames, _serpentine(coords, shape, by_columns), solver,
                    setup.problem)
-    return CellGaps(*[_serpentine(a, shape, by_columns, back=True) for a in cg])
+    return CellGaps(*[_serpentine(a, shape, by_columns, back=True) if f in fields else None
+                      for f, a in zip(CellGaps._fields, cg)])
 
 
 def _serpentine(a, shape, by_columns, back=False):
@@ -210,7 +213,7 @@ def column_shifts(setup, frames, X, yc, solver):
     ny = yc.shape[1]
     probe = np.stack(np.broadcast_arrays((np.array([-1.0, 0.0, 1.0])[None, :, None] * X[:, None, None]),
                                          yc[:, None, :]), axis=-1).reshape(X.size, 3 * ny, 2)
-    h3 = serpentine_gaps(setup, frames, probe, (3, ny), solver).gap_mm.reshape(X.size, 3, ny).transpose(0, 2, 1)
+    h3 = serpentine_gaps(setup, frames, probe, (3, ny), solver, fields=("gap_mm",)).gap_mm.reshape(X.size, 3, ny).transpose(0, 2, 1)
     d = X[:, None]
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         curv = h3[..., 0] - 2 * h3[..., 1] + h3[..., 2]

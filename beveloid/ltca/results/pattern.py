@@ -147,19 +147,27 @@ class _Field:
         return out
 
 
-def flank_patterns(result, geom, members=("pinion", "gear"), raster=RASTER) -> dict:
+def flank_patterns(result, geom, members=("pinion", "gear"), raster=RASTER, rasters=None) -> dict:
     """{member: :func:`flank_pattern`} of ``members``, each field's grid and pressure (:class:`_Cells`) taken
-    once for all of them."""
+    once for all of them; ``rasters``: as :func:`flank_pattern`'s."""
     cells = {}
-    return {m: flank_pattern(result, geom, m, raster, cells=cells) for m in members}
+    return {m: flank_pattern(result, geom, m, raster, cells=cells, rasters=rasters) for m in members}
 
 
-def flank_pattern(result, geom, member, raster=RASTER, *, cells=None) -> FlankPattern:
+def flank_pattern(result, geom, member, raster=RASTER, *, cells=None, rasters=None) -> FlankPattern:
     """The maximum pressure over the cycle on a raster of one member's flank (see the module docstring).
     ``cells``: a dict that keeps each (position, pair)'s :class:`_Cells` for the next member's pattern of the same
-    result (:func:`flank_patterns`)."""
+    result (:func:`flank_patterns`).  ``rasters``: a dict that keeps the member's flank raster (it depends on the
+    geometry alone) for the patterns of other results of the same ``geom`` (the torques of ``beveloid ltca``:
+    ``ltca.studies.nominal_results``)."""
     cells = {} if cells is None else cells
-    r = _flank_raster(geom, result.flank, member, raster)
+    key = (member, result.flank, tuple(raster))
+    if rasters is not None and key in rasters:
+        r = rasters[key]
+    else:
+        r = _flank_raster(geom, result.flank, member, raster)
+        if rasters is not None:
+            rasters[key] = r
     if r is None:
         return FlankPattern(member, np.zeros((0, 3)), np.zeros(0), np.zeros(0), None)
     grid_points, inside, weight = r

@@ -145,15 +145,16 @@ class LTCAResult(Result):
         with np.errstate(all="ignore"):
             return flank_pattern(self, self.geometry_of_pair, member, raster)
 
-    def with_patterns(self) -> "LTCAResult":
+    def with_patterns(self, rasters=None) -> "LTCAResult":
         """A new result carrying both members' loaded contact patterns (default raster), so that the JSON,
-        the tables and the figures of one run compute them once; this result is not changed."""
+        the tables and the figures of one run compute them once; this result is not changed.  ``rasters``: a
+        dict shared by the results of one pair (their flank rasters made once: ``pattern.flank_pattern``)."""
         from .pattern import flank_patterns
 
         if all(m in self.patterns for m in ("pinion", "gear")):
             return self
         with np.errstate(all="ignore"):  # (as pattern()); both members' fields share their grid parts
-            return replace(self, patterns=flank_patterns(self, self.geometry_of_pair))
+            return replace(self, patterns=flank_patterns(self, self.geometry_of_pair, rasters=rasters))
 
     def root_stress_max_mpa(self) -> dict:
         """{member: the largest pair_root_stress_mpa over the cycle (MPa) or None}."""
