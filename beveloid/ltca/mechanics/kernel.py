@@ -415,7 +415,9 @@ def active_set(layout, cells, j, limits, active, out, seen):
     # residuals, measured on the returned numbers
     for i in range(n):
         active[i] = p[i] > 0.0
-    _matvec(layout, j, active, p, cp)
+    if not settled:  # settled: cp is already C[:, S] p_S of these pressures (the last set's cells of zero
+        # pressure add only zeros to sums that start at +0.0: the same numbers to the last bit)
+        _matvec(layout, j, active, p, cp)
     d_scale = TINY
     p_scale = TINY
     for i in range(n):
