@@ -161,3 +161,19 @@ def test_the_grids_semi_axes_are_those_of_hertz_point_contact_to_the_bit():
                 assert (b[i], a[i]) == (h.semi_minor_mm, h.semi_major_mm)
                 continue
         assert a[i] == np.inf and b[i] == hertz_line_contact(1.0 / ka, f / 30.0, 1.1e5).half_width_mm
+
+
+@pytest.mark.parametrize("target", [1.1, 2.0, 7.5, 1e2, 3.3e3, 1e5, 1e8])
+def test_the_shape_solves_the_curvature_ratio_as_a_bracketing_solver_does(target):
+    """hertz._shape's Newton root of ratio(b/a) = B/A (no scipy.optimize at run time) is the root scipy's
+    brentq finds on the same bracket, and puts the ratio on its target to round-off.  (Within ~1e-7 of a circle the
+    ratio's own cancellation leaves b/a uncertain by ~1e-8 to either solver: test_nearly_circular_is_continuous_...)"""
+    from scipy.optimize import brentq
+
+    from beveloid.ltca.mechanics.hertz import LOG_Q_RANGE, _ratio, _shape
+
+    _shape.cache_clear()
+    q = _shape(target)[0]
+    lq = brentq(lambda t: math.log(_ratio(math.exp(t))[0] / target), *LOG_Q_RANGE, xtol=1e-15, rtol=1e-14, maxiter=200)
+    assert q == pytest.approx(math.exp(lq), rel=1e-12)
+    assert _ratio(q)[0] == pytest.approx(target, rel=1e-11)
