@@ -219,26 +219,8 @@ face_width_mm = 30.0
 end_relief_um = 8.0
 end_relief_length_mm = 3.0
 """,
-    "J (m 5, 16/29, low helix 10 deg, shaft angle 20 deg, pinion tip relief 20 um and lead crowning 20 um, equal faces)": """
-[pair]
-normal_module_mm = 5.0
-normal_pressure_angle_deg = 20.0
-shaft_angle_deg = 20.0
-offset_mm = 114.0
-[pinion]
-teeth = 16
-cone_angle_deg = 4.0
-helix_angle_deg = 10.0
-profile_shift = 0.1
-face_width_mm = 40.0
-tip_relief_um = 20.0
-tip_relief_height_mm = 2.0
-lead_crowning_um = 20.0
-[gear]
-teeth = 29
-cone_angle_deg = 1.0
-face_width_mm = 40.0
-""",
+    "J (m 5, 16/29, low helix 10 deg, shaft angle 20 deg, pinion tip relief 20 um and lead crowning 20 um, equal faces)":
+        (Path(__file__).resolve().parents[1] / "tests" / "data" / "design_j.toml").read_text(),
     "K (random R3-2: m 5, 15/59, 11.8 deg, no crowning, tip relief on both: a line contact inclined to its grid)": """
 [pair]
 normal_module_mm = 5.0

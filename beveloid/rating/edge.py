@@ -34,7 +34,8 @@ from ..tooth import sections
 from .face_load import _affine_slopes, _trapezoid_cdf
 
 __all__ = ["BAND_MODULES", "PROFILES", "SURFACE_BAND_MODULES", "SURFACE_REACH", "EdgeDistances", "EdgeLoad",
-           "band_fractions", "edge_loads", "surface_peaks"]
+           "band_fractions", "edge_loads", "edge_shares",
+           "surface_peaks"]
 
 #: the band's width over the normal module (this work's choice: an edge break of 0.1 m_n, a band of
 #: half of it, where the sharp edge's pressure is still above the flank's)
@@ -148,19 +149,9 @@ class EdgeDistances:
         return self._slopes[key]
 
 
-def edge_loads(result, geometry, band_mm: float | None = None, by_edge: bool = False, distances=None,
-               profile: str = "uniform"):
-    """The edge band carrying the largest share of the mesh's load over the LTCA's converged positions, pairs,
-    both members and their toe, heel and tip; None when no loaded cell comes within ``band_mm`` (default
-    :data:`BAND_MODULES` m_n) of an edge.  ``by_edge``: each edge's own largest instead, as a tuple of
-    EdgeLoad, largest share first (empty when none): a pair may run onto several edges (the tips of both
-    members, a toe), each of which the edge rule judges.  ``distances``: this result's :class:`EdgeDistances`
-    (None: made here).  ``profile``: how a cell's force spreads over its footprint on the flank
-    (:func:`band_fractions`; the verdict's is "uniform")."""
-    delta = BAND_MODULES * geometry.normal_module_mm if band_mm is None else float(band_mm)
-    distances = distances or EdgeDistances(result, geometry)
+def _band_loads(result, geometry, delta: float, distances, profile: str):
+    """Each (converged position, pair, member, edge) whose band of width ``delta`` carries load, as an EdgeLoad."""
     g = result.grid
-    best = {}  # (member, edge) -> its EdgeLoad of largest share
     for j in np.flatnonzero(result.converged):
         total = float(np.nansum(result.pair_load_n[j]))
         if not total > 0:
@@ -186,14 +177,47 @@ def edge_loads(result, geometry, band_mm: float | None = None, by_edge: bool = F
                     if a <= 0:
                         continue
                     f = float(np.sum(p[use] * share)) * area
-                    now = best.get((member, edge))
-                    if now is None or f / total > now.share:
-                        best[member, edge] = EdgeLoad(f / a, f, f / total, delta, member, edge, int(j),
-                                                      float(result.pinion_angle[j]), int(result.tooth_pairs[k]))
+                    yield EdgeLoad(f / a, f, f / total, delta, member, edge, int(j), float(result.pinion_angle[j]),
+                                   int(result.tooth_pairs[k]))
+
+
+def _delta(geometry, band_mm):
+    return BAND_MODULES * geometry.normal_module_mm if band_mm is None else float(band_mm)
+
+
+def edge_loads(result, geometry, band_mm: float | None = None, by_edge: bool = False, distances=None,
+               profile: str = "uniform"):
+    """The edge band carrying the largest share of the mesh's load over the LTCA's converged positions, pairs,
+    both members and their toe, heel and tip; None when no loaded cell comes within ``band_mm`` (default
+    :data:`BAND_MODULES` m_n) of an edge.  ``by_edge``: each edge's own largest instead, as a tuple of
+    EdgeLoad, largest share first (empty when none): a pair may run onto several edges (the tips of both
+    members, a toe), each of which the edge rule judges.  ``distances``: this result's :class:`EdgeDistances`
+    (None: made here).  ``profile``: how a cell's force spreads over its footprint on the flank
+    (:func:`band_fractions`; the verdict's is "uniform")."""
+    best = {}  # (member, edge) -> its EdgeLoad of largest share
+    for e in _band_loads(result, geometry, _delta(geometry, band_mm), distances or EdgeDistances(result, geometry),
+                         profile):
+        now = best.get((e.member, e.edge))
+        if now is None or e.share > now.share:
+            best[e.member, e.edge] = e
     ranked = tuple(sorted(best.values(), key=lambda e: -e.share))
     if by_edge:
         return ranked
     return ranked[0] if ranked else None
+
+
+def edge_shares(result, geometry, band_mm: float | None = None, distances=None) -> dict:
+    """{(member, edge): (N,) the largest share of the mesh's load within the edge's band at each position of
+    the LTCA (over its pairs; 0 where none, nan where the position did not converge)}, every edge that carries
+    load within its band at some position: what :func:`edge_loads` takes the largest of, position by position
+    (the rating refines the positions about its maxima, ``rating.analysis.refine_positions``)."""
+    ok = np.asarray(result.converged)
+    out = {}
+    for e in _band_loads(result, geometry, _delta(geometry, band_mm), distances or EdgeDistances(result, geometry),
+                         "uniform"):
+        a = out.setdefault((e.member, e.edge), np.where(ok, 0.0, np.nan))
+        a[e.position] = max(a[e.position], e.share)
+    return out
 
 
 def surface_peaks(result, geometry, band_mm: float | None = None, distances=None) -> np.ndarray:

@@ -226,9 +226,10 @@ def test_the_safeties_are_the_ratings(tilted, capsys):
     assert len(solvers) == 2 and solvers[0] is not None and all(s is solvers[0] for s in solvers + refining)
     path = tilted.parent / "rated.toml"
     path.write_text(report.toml_text(spec_to_dict(req.spec({KEY: 15.0}))))
-    assert main(["rating", str(path), "--torque-nm", f"{TORQUE:g}", "--positions", "3", "--grid", "7x7",
-                 "--tooth-model", "plate", "--json"]) == 0  # the run's LTCA options, its grid too
+    rc = main(["rating", str(path), "--torque-nm", f"{TORQUE:g}", "--positions", "3", "--grid", "7x7",
+               "--tooth-model", "plate", "--json"])  # the run's LTCA options, its grid too
     d = json.loads(capsys.readouterr().out)
+    assert rc == rating.EXIT_STATUS[d["verdict"]["status"]]
     assert rec["safety"]["safety_pitting_local"] == min(d[m]["safety_pitting"] for m in ("pinion", "gear"))
     assert rec["safety"]["safety_bending_local"] is None  # the plate has no root fillet
     assert rec["safety"]["feasible"] == (d["verdict"]["status"] == "passes")  # the verdict `rating` prints
