@@ -10,7 +10,9 @@ failing ones are conditions (the edge rule: a relief fixes it), else "passes".
 
 Besides the status, the verdict says which method governs each safety and whether ISO fails where
 the local value governs (issue 60.5), where ISO and the local value disagree by more than
-:data:`DISAGREEMENT_FACTOR` and why (issue 57.6), and what it assumes (issue 57.7).
+:data:`DISAGREEMENT_FACTOR` and why (issue 57.6), and what it assumes (issue 57.7); and the governing lowest
+safety's margin over its minimum, with a flag (``on_minimum``) where that margin is within the verdict's
+numerical uncertainty (:func:`minimum_band`): there the status depends on the numerical settings (issue 57).
 """
 from __future__ import annotations
 
@@ -20,7 +22,8 @@ import numpy as np
 
 from ..status import Validity, Verdict
 
-__all__ = ["CRITERION_KEYS", "DISAGREEMENT_FACTOR", "EDGE_SHARE", "EXIT_STATUS", "verdict", "exit_status"]
+__all__ = ["CRITERION_KEYS", "DISAGREEMENT_FACTOR", "EDGE_SHARE", "EXIT_STATUS", "SETTINGS_BAND", "verdict",
+           "exit_status", "minimum_band"]
 
 #: ISO and local safeties further apart than this factor are reported with the reasons found (the
 #: ISO/FE agreement commonly reported is +-10 %; beyond 2 the two are not rating the same thing)
@@ -31,6 +34,13 @@ EXIT_STATUS = {Verdict.PASSES: 0, Verdict.FAILS: 3, Verdict.CONDITIONAL: 4, None
 #: (measured: 0.05-0.11 on unrelieved pairs whose pattern runs onto a tip, under 0.002 with the tip relieved,
 #: 0.011-0.022 at the ends of an uncrowned line contact, design K; docs/rating.md 6)
 EDGE_SHARE = 0.02
+#: the numerical settings' uncertainty of the governing lowest safety, relative (docs/rating.md 6, "A safety on its
+#: minimum"): over ``benchmarks/rating_invariance.py``'s six settings (grid 7x11 / default / 15x25, positions 10 /
+#: 20 / 30) the lowest safety moved from the default by at most 2.0 % in 85 of the 91 rows of docs/validation.md
+#: 10.1's summary tables (by 2.5-4.0 % in six: K at 130 N m, M at both torques, R2-3 and R2-8 at their higher
+#: torque, R5701-4 at 1110 N m); the two draws whose status flipped between settings sat within 0.9 %
+#: (R1313-1, S_H 0.991-1.004) and 0.5 % (R1313-2, S_F 1.399-1.406) of their minimum
+SETTINGS_BAND = 0.02
 #: the edge-contact rule (docs/rating.md 6), quoted in the JSON
 EDGE_RULE = ("edge contact: a pair whose loaded pattern puts more than 2 % of the mesh's load within 0.05 m_n of a "
              "flank edge (toe, heel or tip of either member) at K_A K_v T does not pass cleanly; it passes only if "
@@ -208,6 +218,26 @@ def assumptions(result) -> list:
     return out
 
 
+#: the maximum over the mesh cycle each governing safety divides by (``positions_check``'s quantity) and the power
+#: of it the safety goes with: the local S_H by the contact pressure, the local S_F by the root stress, ISO's by
+#: K_H_beta (S_H by its square root; S_F by K_F_beta = K_H_beta^N_F, N_F <= 1: at most its change)
+_DIVIDES_BY = {("S_H", "local"): ("contact_pressure_max_mpa", 1.0), ("S_F", "local"): ("root_stress_max_mpa", 1.0),
+               ("S_H", "iso"): ("K_H_beta", 0.5), ("S_F", "iso"): ("K_H_beta", 1.0)}
+
+
+def minimum_band(result, low: dict) -> dict:
+    """The numerical uncertainty of the governing lowest safety ``low`` (a criterion), relative:
+    {"band": the larger of :data:`SETTINGS_BAND` and the positions part, "settings": SETTINGS_BAND, "positions":
+    the move of the maximum it divides by in the rating's last refinement round between positions
+    (``positions_check``'s ``change``, times the power the safety goes with; None when not refined or not a
+    maximum the check follows)}."""
+    quantity, power = _DIVIDES_BY.get((low["kind"], low["source"]), (None, 0.0))
+    check = getattr(getattr(result, "loaded", None), "positions_check", None) or {}
+    c = (check.get("quantities", {}).get(quantity) or {}).get(low["member"]) if quantity else None
+    change = None if c is None or c.get("change") is None else power * abs(float(c["change"]))
+    return {"band": max(SETTINGS_BAND, change or 0.0), "settings": SETTINGS_BAND, "positions": change}
+
+
 def verdict(result) -> dict:
     """The verdict of a :class:`RatingResult` (module docstring): status ("passes" | "conditional" | "fails"
     | None), the criteria, the governing lowest safety, which method governs each safety and whether ISO
@@ -231,6 +261,7 @@ def verdict(result) -> dict:
     out = {"lowest": None, "value": None, "source": None, "member": None, "where": None, "required": None,
            "meets_S_Fmin": None, "meets_S_Hmin": None, "governs": governs, "iso_fails": iso_fails,
            "edge_contact": edge, "criteria": criteria, "disagreements": [], "assumptions": assumptions(result),
+           "margin": None, "on_minimum": None, "minimum_band": None,
            "status": None, "condition": None, "passes": None, "exit_status": EXIT_STATUS[None],
            "line": "no safety factor could be computed (see notes)"}
     if scuffing is None:
@@ -255,6 +286,13 @@ def verdict(result) -> dict:
         parts.append(text)
     line = (f"lowest safety {low['kind']} = {low['value']:.3f} ({low['source']}) on the {low['member']} at "
             f"{low['where']}; " + ", ".join(parts))
+    margin = low["value"] / low["required"] - 1.0
+    band = minimum_band(result, low)
+    on_minimum = abs(margin) <= band["band"]
+    if on_minimum:
+        line += (f"; ON ITS MINIMUM: {low['kind']} is {abs(margin):.1%} {'above' if margin >= 0 else 'below'} "
+                 f"{low['kind']}min = {low['required']:g}, within the verdict's numerical uncertainty of "
+                 f"{band['band']:.1%}: the status there depends on the numerical settings (--grid, --positions)")
     status = Verdict.PASSES if all(ok.values()) else Verdict.FAILS
     if scuffing is not None and scuffing["value"] is not None:
         line += (f"; S_B {'meets' if scuffing['meets'] else 'FAILS'} S_Bmin = {scuffing['required']:g} "
@@ -282,7 +320,8 @@ def verdict(result) -> dict:
                  f"(> {DISAGREEMENT_FACTOR:g}x: {d['why'][0]})")
     line += "; assumes " + "; ".join(out["assumptions"])
     out.update(lowest=low["kind"], value=low["value"], source=low["source"], member=low["member"], where=low["where"],
-               required=low["required"], meets_S_Fmin=ok["S_F"], meets_S_Hmin=ok["S_H"], status=status,
+               required=low["required"], margin=margin, on_minimum=on_minimum, minimum_band=band,
+               meets_S_Fmin=ok["S_F"], meets_S_Hmin=ok["S_H"], status=status,
                condition=condition if status == Verdict.CONDITIONAL else None, passes=status == Verdict.PASSES,
                exit_status=EXIT_STATUS[status], line=line)
     return out

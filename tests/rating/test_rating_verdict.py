@@ -281,3 +281,43 @@ def test_a_local_s_f_on_a_root_stress_not_shown_converged_is_an_assumption_of_th
     shown = dataclasses.replace(shown, loaded=dataclasses.replace(r.loaded, root_stress_convergence=conv))
     assert not any("not shown converged" in a for a in rating.verdict(shown)["assumptions"])
     assert not any("not shown converged" in a for a in rating.verdict(r)["assumptions"])
+
+
+def test_a_lowest_safety_on_its_minimum_is_said_to_depend_on_the_settings(plate800):
+    """The verdict gives the governing lowest safety's margin (value / required - 1); within the numerical
+    uncertainty of its minimum (SETTINGS_BAND, or the move of the maximum it divides by in the last refinement
+    round between positions where larger) it says that the status depends on the numerical settings, in the
+    line and in ``on_minimum``, and keeps its status and exit status (R1313-1 and -2 of docs/validation.md 10.1
+    flipped between settings within 0.9 % and 0.5 % of their minimum)."""
+    from beveloid.rating.verdict import SETTINGS_BAND
+
+    base = rating.verdict(_rate(plate800))
+    kind, value = base["lowest"], base["value"]
+    assert base["margin"] == pytest.approx(value / base["required"] - 1.0)
+
+    def at(margin):  # the same pair with the lowest safety's minimum set margin below it
+        minimum = value / (1.0 + margin)
+        v = rating.verdict(_rate(plate800, rating={f"{kind}min": minimum}))
+        assert v["lowest"] == kind and v["value"] == pytest.approx(value)
+        return v
+
+    far = at(2.5 * SETTINGS_BAND)
+    assert far["on_minimum"] is False and "ON ITS MINIMUM" not in far["line"] and far["status"] != "fails"
+    for margin in (0.005, -0.005):
+        v = at(margin)
+        assert v["margin"] == pytest.approx(margin, rel=1e-9) and v["on_minimum"] is True
+        assert v["minimum_band"]["band"] == SETTINGS_BAND and v["minimum_band"]["positions"] is None  # 2 positions
+        assert "ON ITS MINIMUM" in v["line"] and "depends on the numerical settings" in v["line"]
+        assert v["status"] == ("fails" if margin < 0 else far["status"])  # the status is the plain comparison's
+        assert v["exit_status"] == rating.EXIT_STATUS[v["status"]]
+    # a maximum that still moved in the last refinement round widens the band: 5 % here
+    r = _rate(plate800, rating={f"{kind}min": value / (1.0 + 2.5 * SETTINGS_BAND)})
+    quantity = {("S_H", "local"): "contact_pressure_max_mpa", ("S_F", "local"): "root_stress_max_mpa"}.get(
+        (kind, far["source"]), "K_H_beta")
+    power = 0.5 if (kind, far["source"]) == ("S_H", "iso") else 1.0
+    moved = {"quantities": {quantity: {far["member"]: {"asked": 1.0, "all": 1.1, "change": 0.06 / power}}}}
+    v = rating.verdict(dataclasses.replace(r, loaded=dataclasses.replace(r.loaded, positions_check=moved)))
+    assert v["minimum_band"]["positions"] == pytest.approx(0.06) and v["minimum_band"]["band"] == pytest.approx(0.06)
+    assert v["on_minimum"] is True and v["status"] == far["status"] and "6.0%" in v["line"]
+    json_text = __import__("json").dumps(v, default=str, allow_nan=False)
+    assert '"on_minimum": true' in json_text
