@@ -434,7 +434,8 @@ def main(argv=None) -> int:
                     f"; {o['load_share']:.3f} ({o['edge']} of the {o['member']})" for o in e.get("also", ()))
                 sf = _lowest_bending(r)
                 sf_text = "null" if sf is None else f"{sf[0]:.3f} ({sf[1]}, {sf[2]})"
-                print(f"| {name} | {torque:g} | {label} | {v['status']} | {low} | {sf_text} | {kh} | {share} |", flush=True)
+                status = v["status"] + (" (on its minimum)" if v.get("on_minimum") else "")
+                print(f"| {name} | {torque:g} | {label} | {status} | {low} | {sf_text} | {kh} | {share} |", flush=True)
                 print(f"  {label}: {time.perf_counter() - t0:.1f} s", file=sys.stderr, flush=True)
                 rows.append(v)
                 bending.append(sf)
@@ -447,6 +448,8 @@ def main(argv=None) -> int:
                     else float("nan"))
             sf_move = (max(abs(b[0] / bending[0][0] - 1.0) for b in bending)
                        if all(b is not None for b in bending) else float("nan"))
+            on = sum(bool(v.get("on_minimum")) for v in rows)  # the verdict's flag: within its band of the minimum
+            same = ("yes" if same else "NO") + (f" (on its minimum on {on} of {len(rows)})" if on else "")
             summary.append((name, torque, same, move, sf_move))
             for kind in sorted(set.union(*notes) - set.intersection(*notes)):
                 where = ", ".join(label for (label, _, _), kinds in zip(SETTINGS, notes) if kind in kinds)
@@ -456,7 +459,7 @@ def main(argv=None) -> int:
           "default | of the lowest S_F |")
     print("|---|---|---|---|---|")
     for name, torque, same, move, sf_move in summary:
-        print(f"| {name} | {torque:g} | {'yes' if same else 'NO'} | {move:.1%} | {sf_move:.1%} |")
+        print(f"| {name} | {torque:g} | {same} | {move:.1%} | {sf_move:.1%} |")
     print()
     print("| design | T (N m) | a note (numbers as #) on some settings only | on |")
     print("|---|---|---|---|")
