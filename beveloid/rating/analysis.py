@@ -389,14 +389,14 @@ def refine_positions(ltca_result, geometry, face_width_mm: float, solve_at=None,
     refined = solve_at is not None and n >= 3
     start, pitch = (phi[0], phi[-1] - phi[0]) if n > 1 else (0.0, 1.0)
     angles, added, failed, rounds = [phi], [], 0, 0
-    used = {"stress": 0, "edge": 0}  # the added angles on each budget
+    used = {"stresses": 0, "edge_shares": 0}  # the added angles on each budget
     while refined:
         phase = np.mod((np.concatenate(angles) - start) / pitch, 1.0)
         have = np.round(phase, 12) % 1.0
-        weight, todo = {"stress": {}, "edge": {}}, set()
+        weight, todo = {"stresses": {}, "edge_shares": {}}, set()
         for key in sorted(values):
-            budget = "edge" if key[0] == "edge_load_share" else "stress"
-            if budget == "edge" and not (best[key] or 0.0) >= EDGE_REFINE_FLOOR * EDGE_SHARE:
+            budget = "edge_shares" if key[0] == "edge_load_share" else "stresses"
+            if budget == "edge_shares" and not (best[key] or 0.0) >= EDGE_REFINE_FLOOR * EDGE_SHARE:
                 continue
             moving = change[key] is not None and change[key] > REFINE_TOLERANCE
             for ph, w in _around_maxima(phase, values[key], 1e-6 if moving else REFINE_SPACING):
@@ -404,11 +404,11 @@ def refine_positions(ltca_result, geometry, face_width_mm: float, solve_at=None,
                     weight[budget][ph] = max(weight[budget].get(ph, 0.0), w)
                     todo.add(key)
         # each budget its largest weights first; an angle both want is the stresses'
-        new = sorted(weight["stress"], key=lambda p: (-weight["stress"][p], p))[:MAX_ADDED_POSITIONS - used["stress"]]
-        edge = [p for p in sorted(weight["edge"], key=lambda p: (-weight["edge"][p], p)) if p not in set(new)]
-        edge = edge[:MAX_ADDED_EDGE_POSITIONS - used["edge"]]
-        used["stress"] += len(new)
-        used["edge"] += len(edge)
+        new = sorted(weight["stresses"], key=lambda p: (-weight["stresses"][p], p))[:MAX_ADDED_POSITIONS - used["stresses"]]
+        edge = [p for p in sorted(weight["edge_shares"], key=lambda p: (-weight["edge_shares"][p], p)) if p not in set(new)]
+        edge = edge[:MAX_ADDED_EDGE_POSITIONS - used["edge_shares"]]
+        used["stresses"] += len(new)
+        used["edge_shares"] += len(edge)
         new = np.sort(np.asarray(new + edge, dtype=float))
         if new.size == 0:
             break
