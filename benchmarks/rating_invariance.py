@@ -434,7 +434,8 @@ def main(argv=None) -> int:
                     f"; {o['load_share']:.3f} ({o['edge']} of the {o['member']})" for o in e.get("also", ()))
                 sf = _lowest_bending(r)
                 sf_text = "null" if sf is None else f"{sf[0]:.3f} ({sf[1]}, {sf[2]})"
-                status = v["status"] + (" (on its minimum)" if v.get("on_minimum") else "")
+                status = (v["status"] + (" (on its minimum)" if v.get("on_minimum") else "")
+                          + (" (edge on its limit)" if v.get("edge_on_limit") else ""))
                 print(f"| {name} | {torque:g} | {label} | {status} | {low} | {sf_text} | {kh} | {share} |", flush=True)
                 print(f"  {label}: {time.perf_counter() - t0:.1f} s", file=sys.stderr, flush=True)
                 rows.append(v)
@@ -449,7 +450,9 @@ def main(argv=None) -> int:
             sf_move = (max(abs(b[0] / bending[0][0] - 1.0) for b in bending)
                        if all(b is not None for b in bending) else float("nan"))
             on = sum(bool(v.get("on_minimum")) for v in rows)  # the verdict's flag: within its band of the minimum
-            same = ("yes" if same else "NO") + (f" (on its minimum on {on} of {len(rows)})" if on else "")
+            at_limit = sum(bool(v.get("edge_on_limit")) for v in rows)  # the edge rule within its band of the limit
+            same = (("yes" if same else "NO") + (f" (on its minimum on {on} of {len(rows)})" if on else "")
+                    + (f" (edge on its limit on {at_limit} of {len(rows)})" if at_limit else ""))
             summary.append((name, torque, same, move, sf_move))
             for kind in sorted(set.union(*notes) - set.intersection(*notes)):
                 where = ", ".join(label for (label, _, _), kinds in zip(SETTINGS, notes) if kind in kinds)

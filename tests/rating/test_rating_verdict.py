@@ -321,3 +321,40 @@ def test_a_lowest_safety_on_its_minimum_is_said_to_depend_on_the_settings(plate8
     assert v["on_minimum"] is True and v["status"] == far["status"] and "6.0%" in v["line"]
     json_text = __import__("json").dumps(v, default=str, allow_nan=False)
     assert '"on_minimum": true' in json_text
+
+
+def test_an_edge_share_on_the_rules_limit_is_said_to_depend_on_the_settings(plate800):
+    """The edge rule's share near its 2 % limit (K's uncrowned gear toe on the plate tooth reads 0.019-0.023 over
+    the six settings of benchmarks/rating_invariance.py, and its status flips between passes and conditional):
+    the edge criterion gives its margin and, within EDGE_SETTINGS_BAND of the limit (or the share's move in the
+    last refinement round where larger), ``on_limit`` and a clause in the line; status and exit status stay
+    the plain comparison's."""
+    from beveloid.rating.verdict import EDGE_SETTINGS_BAND, EDGE_SHARE
+
+    # the safeties far from their minima: the status is decided by the edge rule alone
+    r = _rate(plate800, rating={"S_Fmin": 0.01, "S_Hmin": 0.01})
+    assert r.loaded.edge is not None
+
+    def at(share, check=None):
+        edge = dataclasses.replace(r.loaded.edge, share=share)
+        loaded = dataclasses.replace(r.loaded, edge=edge, edges=(edge,), positions_check=check or {})
+        return rating.verdict(dataclasses.replace(r, loaded=loaded))
+
+    far_above, far_below = at(EDGE_SHARE * (1 + 2 * EDGE_SETTINGS_BAND)), at(EDGE_SHARE * (1 - 2 * EDGE_SETTINGS_BAND))
+    for v, status in ((far_above, "conditional"), (far_below, "passes")):
+        assert v["status"] == status and v["edge_on_limit"] is False and "ON ITS LIMIT" not in v["line"]
+        assert v["edge_contact"]["limit_band"] == {"band": EDGE_SETTINGS_BAND, "settings": EDGE_SETTINGS_BAND,
+                                                   "positions": None}
+    assert far_below["edge_contact"]["margin"] == pytest.approx(1 / (1 - 2 * EDGE_SETTINGS_BAND) - 1)
+    for factor, status in ((1.1, "conditional"), (0.9, "passes")):
+        v = at(EDGE_SHARE * factor)
+        assert v["status"] == status and v["exit_status"] == rating.EXIT_STATUS[status]
+        assert v["edge_on_limit"] is True and v["edge_contact"]["on_limit"] is True
+        assert "ON ITS LIMIT" in v["line"] and f"{EDGE_SHARE * factor:.1%}" in v["line"]
+    # a share still moving in the last refinement round between positions widens the band
+    key = f"{r.loaded.edge.member} {r.loaded.edge.edge}"
+    moved = {"quantities": {"edge_load_share": {key: {"asked": 0.01, "all": 0.03, "change": 0.4}}}}
+    v = at(EDGE_SHARE * (1 + 2 * EDGE_SETTINGS_BAND), moved)
+    assert v["edge_contact"]["limit_band"]["band"] == pytest.approx(0.4) and v["edge_on_limit"] is True
+    assert "40% of the" in v["line"]
+    assert '"edge_on_limit": true' in __import__("json").dumps(v, default=str, allow_nan=False)
