@@ -151,8 +151,10 @@ def numeric_max_rel_diff(printed, derived, sampler, n_points=N_POINTS, seed=2013
     p_list, d_list = _flat(printed), _flat(derived)
     assert len(p_list) == len(d_list)
     syms = sorted(set().union(*[e.free_symbols for e in p_list + d_list]), key=str)
-    f_p = sp.lambdify(syms, p_list, modules="mpmath")
-    f_d = sp.lambdify(syms, d_list, modules="mpmath")
+    # common subexpressions evaluated once (Eq 18's derived form, ~7 700 operations, repeats its
+    # inner terms: 0.6 s for its 24 points against 4.1 s evaluated as a tree)
+    f_p = sp.lambdify(syms, p_list, modules="mpmath", cse=True)
+    f_d = sp.lambdify(syms, d_list, modules="mpmath", cse=True)
     worst = mpmath.mpf(0)
     with mpmath.workdps(DIGITS):
         for _ in range(n_points):
@@ -194,7 +196,7 @@ def _abs_check(residual, sampler, n_points=N_POINTS, seed=20130001):
     rng = random.Random(seed)
     items = _flat(residual)
     syms = sorted(set().union(*[e.free_symbols for e in items]), key=str)
-    f = sp.lambdify(syms, items, modules="mpmath")
+    f = sp.lambdify(syms, items, modules="mpmath", cse=True)
     worst = mpmath.mpf(0)
     with mpmath.workdps(DIGITS):
         for _ in range(n_points):
