@@ -91,8 +91,10 @@ SCALAR_FUNCTIONS = [(m, f) for m in SCALAR_MODULES for f in public_functions(com
 
 
 @pytest.mark.parametrize("module, function", SCALAR_FUNCTIONS, ids=[f"{m}.{f}" for m, f in SCALAR_FUNCTIONS])
-def test_scalar_twin_matches_numpy_kernel(module, function):
-    """``<f>_point(args..., out_<output>...)`` (one point, math) == the numpy kernel ``<f>``."""
+def test_scalar_twin_matches_numpy_kernel(module, function, specs):
+    """``<f>_point(args..., out_<output>...)`` (one point, math) == the numpy kernel ``<f>``.  (``specs``: the
+    sampler's models built by the fixture, on a fresh stack; built here, ~60 frames deep in pytest, they cost
+    1.9 s more of system time, tests/conftest.py ``on_a_fresh_stack``.)"""
     numpy_module, name = module.removesuffix("_scalar"), function.removesuffix("_point")
     f = getattr(committed_module(numpy_module), name)
     point = getattr(committed_module(module), function)
@@ -110,9 +112,9 @@ def test_scalar_twin_matches_numpy_kernel(module, function):
 
 
 @pytest.mark.parametrize("flank", FLANKS)
-def test_scalar_glue_matches_the_numpy_glue(flank):
+def test_scalar_glue_matches_the_numpy_glue(flank, specs):
     """tca_kernels_scalar (what the solver core runs) == tca_kernels, point by point: the
-    contact system and the smallest margin of a contact with its boundary."""
+    contact system and the smallest margin of a contact with its boundary (``specs``: as above)."""
     tk, tks = committed_module("tca_kernels"), committed_module("tca_kernels_scalar")
     values = sample_contact(N_POINTS)
     want = tk.contact_system(MODEL, MODEL, flank, **values)
