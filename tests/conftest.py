@@ -1,7 +1,8 @@
 """Shared fixtures, and how the suite shares its expensive work when it runs in parallel.
 
 ``verification`` runs ``registry.verify()`` (the 50-digit check of all 38 equations,
-~7 s) once per test process; every test that needs results uses it.
+~10 s of CPU: ``python benchmarks/bench_verification.py``) once per test process; every test that needs
+results uses it.
 
 The suite runs in parallel (pytest-xdist, ``-n auto --dist loadgroup`` in pyproject.toml):
 

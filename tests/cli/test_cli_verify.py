@@ -1,4 +1,4 @@
-"""`beveloid verify` and the CLI's error policy (without re-running the 18 s verification)."""
+"""`beveloid verify` and the CLI's error policy (without re-running the verification: the session's fixture)."""
 from __future__ import annotations
 
 import argparse
