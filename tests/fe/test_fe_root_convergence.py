@@ -220,10 +220,10 @@ def test_a_root_stress_not_shown_converged_is_a_note_naming_an_unresolved_notch(
 
 
 def test_the_fillet_of_a_sharp_racks_gear_is_below_its_elements_and_a_rounded_rack_resolves_it():
-    """A 60-tooth gear cut by the default sharp rack (like design B's gear of docs/validation.md 10.2, whose
+    """An 80-tooth gear cut by the default sharp rack (like design B's gear of docs/validation.md 10.2, whose
     trochoid is 0.04 mm long with a 0.009 mm radius at the bottom, where its root stress was read): the
-    fillet's smallest radius is below the fillet's elements, a notch the mesh does not resolve; a rack tip
-    radius of 0.38 m_n gives a fillet radius above them."""
+    fillet's smallest radius is below the fillet's elements (the notch floor's), a notch the mesh does not
+    resolve; a rack tip radius of 0.38 m_n gives a fillet radius above them."""
     from beveloid.pair import Pair
     from beveloid.spec import spec_from_toml_bytes
 
@@ -231,7 +231,7 @@ def test_the_fillet_of_a_sharp_racks_gear_is_below_its_elements_and_a_rounded_ra
 normal_module_mm = 3.0
 normal_pressure_angle_deg = 20.0
 shaft_angle_deg = 6.0
-offset_mm = 117.5
+offset_mm = 147.5
 [pinion]
 teeth = 20
 cone_angle_deg = 1.0
@@ -239,16 +239,16 @@ helix_angle_deg = 15.0
 profile_shift = 0.0
 face_width_mm = 24.0
 [gear]
-teeth = 60
+teeth = 80
 cone_angle_deg = 1.0
 face_width_mm = 24.0
 """
     sharp = Pair.from_spec(spec_from_toml_bytes(text.encode()))
     rho, h = root_convergence._fillet(sharp, "gear", 1, 1.0)
-    assert rho < h  # measured 0.061 mm against 0.075 mm (0.025 m_n: fe.mesh.FILLET_SIZE_NOTCH_PER_MODULE)
+    assert rho < h  # measured 0.018 mm against 0.0375 mm (0.0125 m_n: fe.mesh.FILLET_SIZE_NOTCH_PER_MODULE)
     rounded = Pair.from_spec(spec_from_toml_bytes((text + "cutter_tip_radius_coefficient = 0.38\n").encode()))
     rho, h = root_convergence._fillet(rounded, "gear", 1, 1.0)
-    assert rho > 1.5 * h  # 1.18 mm against 0.59 mm
+    assert rho > 1.5 * h  # 1.14 mm against 0.57 mm
 
 
 def test_fe_checks_disagreement_names_both_fillet_meshes_and_an_unresolved_notch():
