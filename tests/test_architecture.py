@@ -840,7 +840,8 @@ def test_reading_a_spec_imports_no_analysis_and_the_lazy_names_resolve(tmp_path)
 def test_reading_ltca_results_imports_no_contact_sizing(tmp_path):
     """Issue 59: ``beveloid ltca --samples``'s own process asks the LTCA for a load case, the box's tasks and
     results to report (its workers analyse): ``beveloid.ltca`` names its compliance operator and patterns
-    lazily and the Hertz sizing imports scipy.special when it sizes, so that process imports neither."""
+    lazily (the Hertz sizing imports no scipy.special at all: its elliptic integrals are its own), so that process
+    imports neither."""
     code = ("import sys, beveloid.ltca, beveloid.ltca.results.result, beveloid.ltca.studies;"
             " print([m for m in ('scipy.special', 'beveloid.ltca.model.compliance', 'numba') if m in sys.modules])")
     proc = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True)
@@ -852,4 +853,4 @@ def test_reading_ltca_results_imports_no_contact_sizing(tmp_path):
 
     assert ltca.BeveloidCompliance is compliance.BeveloidCompliance and ltca.LTCAResult is result.LTCAResult
     assert ltca.flank_pattern is pattern.flank_pattern and ltca.FlankPattern is pattern.FlankPattern
-    assert hertz.hertz_point_contact(1e-3, 2e-3, 100.0, 2.3e5).semi_major_mm > 0  # (scipy.special, imported in place)
+    assert hertz.hertz_point_contact(1e-3, 2e-3, 100.0, 2.3e5).semi_major_mm > 0

@@ -40,7 +40,7 @@ __all__ = ["Batch", "BeveloidCompliance", "DEFAULT_GRID", "FlankPattern", "LTCAR
 def __getattr__(name):
     """``BeveloidCompliance``, ``LTCAResult``, ``FlankPattern`` and ``flank_pattern``, imported on first use: a
     process that only asks for a load case, options or the tolerance box's tasks (``beveloid ltca --samples``'s
-    own process, whose workers analyse) imports no compliance operator, Hertz sizing (scipy.special) or
+    own process, whose workers analyse) imports no compliance operator, Hertz sizing or
     contact model (issue 59: the serial part of each parallel command)."""
     if name == "BeveloidCompliance":
         from .model import compliance as module

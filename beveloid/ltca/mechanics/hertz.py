@@ -5,7 +5,7 @@ point the unloaded gap between the two bodies is h = A x^2 + B y^2 in the princi
 axes of relative curvature (A = 1/(2 R_x), B = 1/(2 R_y)).  Under a normal force P the
 contact area is an ellipse with semi-axes a >= b, a along the axis of the smaller
 coefficient, carrying p = p0 sqrt(1 - (x/a)^2 - (y/b)^2).  With e^2 = 1 - b^2/a^2 and the
-complete elliptic integrals K(e), E(e) (modulus e; scipy takes the parameter m = e^2):
+complete elliptic integrals K(e), E(e) (modulus e; parameter m = e^2):
 
     A_small = p0 b (K - E) / (E* e^2 a^2)
     A_large = p0 b ((a/b)^2 E - K) / (E* e^2 a^2)
@@ -98,22 +98,30 @@ def relative_curvature_coefficients(
     return a_coef, b_coef
 
 
-@functools.cache
-def _elliptic() -> tuple:
-    """scipy.special's (ellipe, ellipkm1), imported on first use: scipy.special (~0.2 s) is then imported only by
-    a process that sizes a contact, not by one that only reads results (beveloid ltca --samples's own process:
-    issue 59); once, not at each of the ~8 evaluations of a shape's root search (a quarter of its time)."""
-    from scipy.special import ellipe, ellipkm1
-
-    return ellipe, ellipkm1
+def _elliptic(q: float) -> tuple[float, float]:
+    """(K, E) of the parameter m = 1 - q^2 (0 < q <= 1) by the arithmetic-geometric mean (Abramowitz and Stegun
+    17.6.1-17.6.4): a_0 = 1, b_0 = q, c_0^2 = m; a_(n+1) = (a_n + b_n)/2, b_(n+1) = sqrt(a_n b_n), c_(n+1) = (a_n -
+    b_n)/2; K = pi / (2 AGM(1, q)), E = K (1 - sum_n 2^(n-1) c_n^2).  Starting from q itself, K stays accurate as
+    q -> 0 (scipy.special's ellipkm1(q^2)); within a few units of the rounding of scipy.special's ellipkm1 and ellipe
+    (tests/ltca/test_ltca_hertz.py), without importing scipy.special (~0.2 s of a command's CPU, issue 59)."""
+    a, b = 1.0, q
+    total = 0.5 * (1.0 - q * q)  # 2^-1 c_0^2
+    weight = 1.0  # 2^(n-1) for n = 1
+    for _ in range(64):
+        c = 0.5 * (a - b)
+        total += weight * c * c
+        weight *= 2.0
+        a, b = 0.5 * (a + b), math.sqrt(a * b)
+        if a - b <= 1e-15 * a:  # the next c^2 below 1e-30: past the rounding
+            break
+    k = math.pi / (a + b)
+    return k, k * (1.0 - total)
 
 
 def _ratio(q: float) -> tuple[float, float, float, float]:
     """For b/a = q: (A_large/A_small, K, E, e^2)."""
-    ellipe, ellipkm1 = _elliptic()
     m = 1.0 - q * q
-    k = float(ellipkm1(q * q))  # K(m) with 1 - m = q^2, accurate as q -> 0
-    e = float(ellipe(m))
+    k, e = _elliptic(q)
     return ((e / (q * q) - k) / (k - e)), k, e, m
 
 
