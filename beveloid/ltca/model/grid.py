@@ -10,6 +10,7 @@ and position; their size is not.
 """
 from __future__ import annotations
 
+import functools
 import math
 import typing
 
@@ -77,8 +78,19 @@ def edges(half, n):
 
 
 def centres(half, n):
+    """The n cell centres of a grid of half-extent ``half`` (a number): those of half-extent 1 made once (read-only)."""
+    if half == 1.0:
+        return _unit_centres(int(n))
     e = edges(half, n)
     return 0.5 * (e[1:] + e[:-1])
+
+
+@functools.lru_cache(maxsize=64)
+def _unit_centres(n):
+    e = edges(1.0, n)
+    out = 0.5 * (e[1:] + e[:-1])
+    out.flags.writeable = False
+    return out
 
 
 def hertz_semi_axes(k_across, k_along, load_n, e_star_mpa, line_length_mm):
@@ -126,9 +138,9 @@ def interior(p, in_flank, nx, ny, reach=INTERIOR_REACH):
     cell: cells nearer a blank boundary carry edge contact, which the blank (not the grid) bounds."""
     q = (p > 0).reshape(p.shape[:-1] + (nx, ny))
     inner = in_flank.reshape(q.shape).copy()
-    lead = [(0, 0)] * (inner.ndim - 2)
+    pad = np.ones(inner.shape[:-2] + (nx + 2, ny + 2), dtype=bool)  # a ring of on-flank cells about the grid
     for _ in range(reach):
-        pad = np.pad(inner, lead + [(1, 1), (1, 1)], constant_values=True)
+        pad[..., 1:-1, 1:-1] = inner
         for di in (-1, 0, 1):
             for dj in (-1, 0, 1):
                 inner &= pad[..., 1 + di:1 + di + nx, 1 + dj:1 + dj + ny]
