@@ -160,11 +160,11 @@ def test_the_rating_json_gives_the_root_stress_and_its_reading_on_a_coarser_mesh
         assert e["end_span_mm"] == pytest.approx(face / 16) and 0.0 <= e["face_end_distance_mm"] <= face / 2
         assert e["converged"] is (e["error_estimate"] <= 0.03 and e["face_end_distance_mm"] >= e["end_span_mm"]
                                   and e["fillet_radius_mm"] >= 4.0 * e["fillet_element_mm"])
-    # case 1 (m_n 6): the pinion's fillet at the floor 0.04 m_n; the gear's radius (0.279 mm) under 1.5 floor
+    # case 1 (m_n 6): the pinion's fillet at the floor 0.04 m_n; the gear's radius (0.279 mm) under 1.75 floor
     # elements sets its elements (fe.mesh.FILLET_RADIUS_ELEMENTS)
     conv = d["pinion"]["root_stress_convergence"], d["gear"]["root_stress_convergence"]
     assert conv[0]["fillet_element_mm"] == pytest.approx(0.04 * 6.0 * coarsen)
-    assert conv[1]["fillet_element_mm"] == pytest.approx(conv[1]["fillet_radius_mm"] / 1.5 * coarsen)
+    assert conv[1]["fillet_element_mm"] == pytest.approx(conv[1]["fillet_radius_mm"] / 1.75 * coarsen)
 
 
 def test_the_root_stress_of_the_ltca_and_of_the_ratings_s_f_is_the_read_out_one(rated, raw_coarse_pinion, coarse_teeth,
