@@ -161,6 +161,20 @@ def commands(tmp: Path, budget: int) -> dict:
     }
 
 
+def small(kind: str, argv: list) -> list:
+    """A small run of the same command (its warm-up: numba's cache, the FE data of the tilted pair)."""
+    small = list(argv)
+    if kind == "ltca":
+        small[small.index("--samples") + 1] = "8"
+    if kind == "optimize":
+        small[small.index("--budget") + 1] = "2"
+    if kind == "explore":
+        small[2:6] = ["--vary", "pinion.helix_angle_deg=15:30:3", "--vary", "pinion.cone_angle_deg=1:4:3"]
+    if kind == "sweep":
+        small[small.index("--samples") + 1] = "4"
+    return small
+
+
 def child(kind: str, argv: list) -> dict:
     env = dict(os.environ)
     env.update({"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
@@ -226,6 +240,14 @@ def floor(tmp: Path) -> tuple[float, float]:
     return _timed(code)
 
 
+def load_average() -> float:
+    """The load average of the last minute (nan where the system gives none)."""
+    try:
+        return os.getloadavg()[0]
+    except OSError:
+        return float("nan")
+
+
 def makespan(tasks: list, workers: int) -> float:
     """Seconds until the last of ``tasks`` (seconds each, in the order they are handed out) ends on ``workers``
     workers that each take the next task as soon as they are free (a process pool's queue)."""
@@ -286,21 +308,12 @@ def main():
         cmds = commands(tmp, a.budget)
         starts, loads = {}, (0.0, 0.0)
         mpl = figures_start() if "explore" in a.kinds else (0.0, 0.0)
-        print(f"load average {os.getloadavg()[0]:.1f}", flush=True)
+        print(f"load average {load_average():.1f}", flush=True)
         base = floor(tmp)
         print(f"a process's floor (Python, numpy, numba and one function from numba's cache): {base[0]:.2f} s wall,"
               f" {base[1]:.2f} s CPU", flush=True)
         for kind in a.kinds:
-            small = list(cmds[kind])  # a small run first: numba's cache (and the FE data of the tilted pair)
-            if kind == "ltca":
-                small[small.index("--samples") + 1] = "8"
-            if kind == "optimize":
-                small[small.index("--budget") + 1] = "2"
-            if kind == "explore":
-                small[2:6] = ["--vary", "pinion.helix_angle_deg=15:30:3", "--vary", "pinion.cone_angle_deg=1:4:3"]
-            if kind == "sweep":
-                small[small.index("--samples") + 1] = "4"
-            child(kind, small)
+            child(kind, small(kind, cmds[kind]))  # a small run first: numba's cache (and the FE data of the tilted pair)
             if kind in ("explore", "optimize"):  # (after the small run: numba's cache is on disk)
                 starts[kind] = worker_start(INITIALIZERS.get(kind))
             if kind == "ltca":  # (after the small run: the FE data is on disk, as for the command's workers)
@@ -338,7 +351,7 @@ def main():
                       f"{fig_text}, outside {S:.2f} s = {100 * S / T1:.1f} %; each worker's "
                       f"start {start[0]:.2f} s ({wall['U']:.2f} s of it not behind the command's own work of"
                       f" {overlap[0]:.2f} s meanwhile); projected on {a.workers} workers {wall['TW']:.2f} s, speed-up"
-                      f" {T1 / wall['TW']:.1f}x (load {os.getloadavg()[0]:.1f})", flush=True)
+                      f" {T1 / wall['TW']:.1f}x (load {load_average():.1f})", flush=True)
                 print(f"  the same in {cpu_text}", flush=True)
                 tasks = wall["tasks"]
                 print(f"  tasks (s, wall; the first less its loads): first {tasks[0]:.2f}, median"
