@@ -284,6 +284,11 @@ def _positions_notes(check) -> list:
         for m, c in by_member.items():
             if q == "edge_load_share" and not 0.5 * EDGE_SHARE <= (c["all"] or 0.0) <= 2.0 * EDGE_SHARE:
                 continue  # far from the rule's limit the positions do not decide it (its change is in the JSON)
+            top = c.get("at_edge")
+            if top is not None and c["all"] and top / c["all"] - 1.0 > POSITIONS_TOLERANCE:
+                notes.append(f"{m}: its edge load share {c['all']:.2%} is read where the contact grid's cells cross "
+                             f"the edge one by one: at the last instant of a cell's passage it reads up to "
+                             f"{top:.2%} ({top / c['all'] - 1.0:+.0%}; the edge rule's band takes it in)")
             if c["change"] is not None and abs(c["change"]) > POSITIONS_TOLERANCE:
                 notes.append(f"{m}: {q} moved {c['change']:+.1%} in its last refinement round between positions "
                              f"({check['added_positions']} pinion angles added to the {check['positions']} "
@@ -368,7 +373,9 @@ def refine_positions(ltca_result, geometry, face_width_mm: float, solve_at=None,
     ``solve_at`` and at least 3 positions), the ``added_positions``, their ``added_pinion_angles_rad``, how
     many of them did not converge, the ``rounds``, and per quantity and member ``asked`` (the maximum over
     the asked positions), ``all`` (over every position) and ``change``: the maximum's relative move in its
-    last round, the estimate's uncertainty from the positions (None: not refined).  An edge's load share is
+    last round, the estimate's uncertainty from the positions (None: not refined); an edge's also ``at_edge``,
+    the largest share of ``edge.edge_shares(..., at_edge=True)`` over every position (the top of the sawtooth
+    its cells' passage over the edge makes).  An edge's load share is
     followed where its largest reaches :data:`EDGE_REFINE_FLOOR` of the edge rule's limit.  ``added``: (result,
     surface peaks, line loads, edge distances) of each round's LTCA.  ``surface`` (``edge.surface_peaks``),
     ``lines`` ({member: ``face_load.line_loads``}) and ``distances`` (``edge.EdgeDistances``) of
@@ -384,6 +391,7 @@ def refine_positions(ltca_result, geometry, face_width_mm: float, solve_at=None,
     phi = np.asarray(ltca_result.pinion_angle, dtype=float)
     n = phi.size
     values = _position_maxima(ltca_result, geometry, face_width_mm, surface, lines, distances)
+    at_edge = _at_edge(ltca_result, geometry, distances, {})
     asked = {key: _peak(v) for key, v in values.items()}
     best, change = dict(asked), dict.fromkeys(values)
     refined = solve_at is not None and n >= 3
@@ -421,6 +429,7 @@ def refine_positions(ltca_result, geometry, face_width_mm: float, solve_at=None,
         angles.append(np.asarray(r.pinion_angle, dtype=float))
         failed += int((~np.asarray(r.converged)).sum())
         more = _position_maxima(r, geometry, face_width_mm, r_surface, r_lines, r_distances)
+        at_edge = _at_edge(r, geometry, r_distances, at_edge)
         for key in more.keys() - values.keys():  # an edge loaded at an added angle only: 0 at the others
             before = np.concatenate(angles[:-1]).size
             values[key] = np.zeros(before)
@@ -436,6 +445,8 @@ def refine_positions(ltca_result, geometry, face_width_mm: float, solve_at=None,
     quantities = {}
     for (q, m) in values:
         quantities.setdefault(q, {})[m] = {"asked": asked[q, m], "all": best[q, m], "change": change[q, m]}
+        if q == "edge_load_share":
+            quantities[q][m]["at_edge"] = at_edge.get(m)
     extra = np.concatenate(angles[1:]) if added else np.zeros(0)
     check = {"positions": int(n), "refined": bool(refined), "added_positions": int(extra.size),
              "added_pinion_angles_rad": [float(a) for a in np.sort(extra)], "added_not_converged": failed,
@@ -443,6 +454,21 @@ def refine_positions(ltca_result, geometry, face_width_mm: float, solve_at=None,
              "refine_spacing": REFINE_SPACING,
              "quantities": quantities}
     return check, tuple(added)
+
+
+def _at_edge(result, geometry, distances, tops: dict) -> dict:
+    """``tops`` ({"member edge": share}) with the largest ``edge.edge_shares(..., at_edge=True)`` of ``result``
+    taken in: the top of the cell passage's sawtooth each position estimates (the edge share's positions
+    uncertainty, ``verdict.limit_band``)."""
+    from .edge import edge_shares
+
+    out = dict(tops)
+    for (m, edge), a in edge_shares(result, geometry, distances=distances, at_edge=True).items():
+        v = _peak(a)
+        key = f"{m} {edge}"
+        if v is not None and (out.get(key) is None or v > out[key]):
+            out[key] = v
+    return out
 
 
 def _edge_contacts(runs, geometry) -> tuple:

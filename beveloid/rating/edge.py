@@ -149,8 +149,10 @@ class EdgeDistances:
         return self._slopes[key]
 
 
-def _band_loads(result, geometry, delta: float, distances, profile: str):
-    """Each (converged position, pair, member, edge) whose band of width ``delta`` carries load, as an EdgeLoad."""
+def _band_loads(result, geometry, delta: float, distances, profile: str, at_edge: bool = False):
+    """Each (converged position, pair, member, edge) whose band of width ``delta`` carries load, as an EdgeLoad.
+    ``at_edge``: each pair's share as if its loaded cell nearest the edge lay at the edge, where that cell lies
+    within its own footprint's length of the edge and is the flank's nearest (:func:`edge_shares`)."""
     g = result.grid
     for j in np.flatnonzero(result.converged):
         total = float(np.nansum(result.pair_load_n[j]))
@@ -172,7 +174,14 @@ def _band_loads(result, geometry, delta: float, distances, profile: str):
                     if not np.nanmin(d[use]) < delta + dx + dy:  # not within a cell of the band
                         continue
                     gx, gy = distances.slopes(j, k, member, edge)
-                    share, in_band = band_fractions(d[use], delta, abs(gx) * dx, abs(gy) * dy, profile)
+                    fa, fb = abs(gx) * dx, abs(gy) * dy
+                    du = d[use]
+                    if at_edge:  # the cell passage's last instant before the nearest cell leaves the flank
+                        near = float(np.min(du))
+                        first = float(np.min(d[result.gap.in_flank[j, k] & finite]))  # the flank's cell nearest
+                        if 0.0 < near <= fa + fb and near < first + 0.5 * (fa + fb):  # the pattern cut by the edge
+                            du = du - near
+                    share, in_band = band_fractions(du, delta, fa, fb, profile)
                     a = float(np.sum(in_band)) * area
                     if a <= 0:
                         continue
@@ -206,15 +215,27 @@ def edge_loads(result, geometry, band_mm: float | None = None, by_edge: bool = F
     return ranked[0] if ranked else None
 
 
-def edge_shares(result, geometry, band_mm: float | None = None, distances=None) -> dict:
+def edge_shares(result, geometry, band_mm: float | None = None, distances=None, at_edge: bool = False) -> dict:
     """{(member, edge): (N,) the largest share of the mesh's load within the edge's band at each position of
     the LTCA (over its pairs; 0 where none, nan where the position did not converge)}, every edge that carries
     load within its band at some position: what :func:`edge_loads` takes the largest of, position by position
-    (the rating refines the positions about its maxima, ``rating.analysis.refine_positions``)."""
+    (the rating refines the positions about its maxima, ``rating.analysis.refine_positions``).
+
+    ``at_edge``: each pair's share with its band moved onto the pair's loaded cell nearest the edge, where that
+    cell lies within its own footprint's length of the edge and no unloaded cell of the flank lies nearer (the
+    pattern is cut by the edge, not ending before it): the share of that position's pressures at the
+    last instant of the cell's passage, before its centre crosses the edge and it leaves the flank.  The
+    contact grid follows the contact while the edge stays put, so as a pattern runs onto an edge its cells
+    cross the edge one by one and the share at the positions is a sawtooth of one cell's passage: it rises
+    while the nearest cell nears the edge (the band takes more of its footprint) and drops as it leaves (case 1's
+    pareto design, docs/rating.md 6: 0.007 to 0.027 within 0.0015 rad, a cell of 0.50 mm against a band of
+    0.30 mm).
+    The largest share read depends on where the positions fall in the teeth; ``at_edge`` estimates each tooth's
+    top from any of its positions (the rating's positions uncertainty of an edge share, ``verdict.limit_band``)."""
     ok = np.asarray(result.converged)
     out = {}
     for e in _band_loads(result, geometry, _delta(geometry, band_mm), distances or EdgeDistances(result, geometry),
-                         "uniform"):
+                         "uniform", at_edge):
         a = out.setdefault((e.member, e.edge), np.where(ok, 0.0, np.nan))
         a[e.position] = max(a[e.position], e.share)
     return out

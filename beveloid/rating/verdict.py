@@ -23,7 +23,7 @@ import numpy as np
 from ..status import Validity, Verdict
 
 __all__ = ["CRITERION_KEYS", "DISAGREEMENT_FACTOR", "EDGE_SHARE", "EDGE_SETTINGS_BAND", "EXIT_STATUS", "SETTINGS_BAND",
-           "verdict", "exit_status", "limit_band", "minimum_band"]
+           "verdict", "exit_status", "limit_band", "minimum_band", "on_limit"]
 
 #: ISO and local safeties further apart than this factor are reported with the reasons found (the
 #: ISO/FE agreement commonly reported is +-10 %; beyond 2 the two are not rating the same thing)
@@ -114,8 +114,7 @@ def edge_criterion(result) -> dict | None:
     share = _num(e.share)
     band = limit_band(result, e)
     margin = None if not share else EDGE_SHARE / share - 1.0
-    c.update(margin=margin, on_limit=None if share is None else abs(share / EDGE_SHARE - 1.0) <= band["band"],
-             limit_band=band)
+    c.update(margin=margin, on_limit=on_limit(share, band["band"]), limit_band=band)
     c.update(rule=EDGE_RULE, limit="maximum", load_share=share, share_limit=EDGE_SHARE,
              safety=None if not share else EDGE_SHARE / share, exceeds=c["meets"] is False,
              pressure_mpa=_num(e.pressure_mpa), permissible_mpa=_num(strength / f.S_Hmin),
@@ -125,6 +124,16 @@ def edge_criterion(result) -> dict | None:
                     "force_n": _num(o.force_n), "band_mm": _num(o.band_mm), "relief": o.relief,
                     "relief_now_um": _num(o.relief_now_um)} for o in also])
     return c
+
+
+def on_limit(share, band: float) -> bool | None:
+    """Whether an edge share lies within a factor 1 + ``band`` of :data:`EDGE_SHARE` either way,
+    |ln(share / limit)| <= ln(1 + band): the same distance above and below the limit as the criterion's
+    ``margin`` (limit / share - 1) reads it, so that a share and its reading at other settings, one on each
+    side of the limit, are both flagged or neither; None without a share, False for none (0)."""
+    if share is None:
+        return None
+    return bool(share > 0 and abs(math.log(share / EDGE_SHARE)) <= math.log1p(band))
 
 
 def scuffing_criterion(result) -> dict | None:
@@ -251,11 +260,18 @@ def minimum_band(result, low: dict) -> dict:
 def limit_band(result, edge) -> dict:
     """The numerical uncertainty of an edge's load share (``edge``: an ``EdgeLoad``), relative to the edge rule's
     limit: {"band": the larger of :data:`EDGE_SETTINGS_BAND` and the positions part, "settings":
-    EDGE_SETTINGS_BAND, "positions": the move of that edge's share in the rating's last refinement round between
-    positions (``positions_check``'s ``change`` of ``edge_load_share["MEMBER EDGE"]``; None when not refined)}."""
+    EDGE_SETTINGS_BAND, "positions": the larger of the move of that edge's share in the rating's last refinement
+    round between positions (``positions_check``'s ``change`` of ``edge_load_share["MEMBER EDGE"]``) and how far
+    above the share read the top of its cell passage's sawtooth lies (its ``at_edge`` over its ``all`` less 1, at
+    least 0: ``edge.edge_shares(..., at_edge=True)``, the share the positions would read had one fallen on the
+    last instant before the loaded cell nearest the edge leaves the flank); None without either}."""
     check = getattr(getattr(result, "loaded", None), "positions_check", None) or {}
     c = (check.get("quantities", {}).get("edge_load_share") or {}).get(f"{edge.member} {edge.edge}")
-    change = None if c is None or c.get("change") is None else abs(float(c["change"]))
+    moves = [abs(float(c["change"]))] if c is not None and c.get("change") is not None else []
+    top, share = (None, None) if c is None else (_num(c.get("at_edge")), _num(c.get("all")))
+    if top is not None and share:
+        moves.append(max(top / share - 1.0, 0.0))
+    change = max(moves) if moves else None
     return {"band": max(EDGE_SETTINGS_BAND, change or 0.0), "settings": EDGE_SETTINGS_BAND, "positions": change}
 
 
@@ -338,8 +354,8 @@ def verdict(result) -> dict:
     edge_on_limit = None if edge is None else edge["on_limit"]
     if edge_on_limit and status != Verdict.FAILS:
         line += (f"; the edge rule ON ITS LIMIT: {edge['where']} carries {edge['load_share']:.1%} of the mesh's "
-                 f"load within its band, within the numerical uncertainty ({edge['limit_band']['band']:.0%} of the "
-                 f"limit) of the rule's {EDGE_SHARE:.0%}: passes or conditional there depends on the numerical "
+                 f"load within its band, within the numerical uncertainty (a factor {1 + edge['limit_band']['band']:.2f} "
+                 f"either way) of the rule's {EDGE_SHARE:.0%}: passes or conditional there depends on the numerical "
                  "settings (--grid, --positions)")
     out["disagreements"] = _disagreements(result, criteria)
     for d in out["disagreements"]:

@@ -49,3 +49,21 @@ def test_the_share_at_a_face_end_converges_with_the_grid():
         assert (e.member, e.edge) == ("gear", "toe")
         shares.append(e.share)
     assert shares[0] / shares[1] == pytest.approx(1.0, abs=0.1)
+
+
+def test_at_edge_reads_the_top_of_a_cells_passage_over_the_edge():
+    """Case 1's pareto design (tests/data/case1_toe_on_limit.toml, 200 N m, plate tooth) as its pattern runs onto
+    the pinion's toe: within one cell's passage over the toe (0.1510-0.1520 rad) the share rises several times
+    over as the cell nears the edge; ``edge_shares(..., at_edge=True)`` reads each position with the band on
+    its nearest loaded cell, the passage's last instant: never below the share, and nearly the same at each of
+    the passage's positions (the pressures move little within one cell)."""
+    from beveloid.pair import Pair
+    from beveloid.rating.edge import edge_shares
+    from beveloid.spec import load_spec
+
+    pair = Pair.from_spec(load_spec(Path(__file__).resolve().parents[1] / "data" / "case1_toe_on_limit.toml"))
+    r = ltca.analyze(pair, ltca.LoadCase(200.0), ltca.Options(tooth_model="plate", angles=(0.1510, 0.1515, 0.1520)))
+    share = edge_shares(r, pair.geometry)["pinion", "toe"]
+    top = edge_shares(r, pair.geometry, at_edge=True)["pinion", "toe"]
+    assert r.converged.all() and (np.diff(share) > 0).all() and share.max() > 2.0 * share.min()
+    assert (top >= share).all() and top.max() < 1.05 * top.min() and top.min() > share.max()
