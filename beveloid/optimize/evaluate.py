@@ -101,7 +101,8 @@ def _num(v):
 
 
 def safeties(req: Request, pair, *, solver=None, ltca_result=None) -> dict:
-    """The rating at the highest torque (``beveloid rating`` with the run's options) and its verdict, the one
+    """The rating at the highest torque (``beveloid rating`` at its defaults with the run's flank and tooth
+    model: ``Request.rating_options``) and its verdict, the one
     the command prints: ``feasible`` is the verdict's ``passes`` (every deciding safety meets its minimum and no
     edge contact exceeds the edge-contact rule; a CONDITIONAL verdict is not feasible), ``shortfall`` the
     constraint the search is told (:func:`shortfall`).  The lowest local S_F and S_H are kept for the tables.
@@ -182,11 +183,16 @@ def evaluate(req: Request, values: dict, error_sets: np.ndarray | None = None) -
 
 
 def _rating_case(req: Request, pair):
-    """The (error set, torque) of the candidate's rating's LTCA (``rating.ltca_case``), or None."""
+    """The (error set, torque) of the candidate's rating's LTCA (``rating.ltca_case``), or None: also where the
+    rating's LTCA options are not the run's (its own positions or grid: ``Request.rating_options``), which one
+    call of the box cannot run beside the box's."""
     from .. import rating
     from ..ltca import LoadCase
 
-    return rating.ltca_case(pair, LoadCase(max(req.torques_nm)), req.rating_options())
+    options = req.rating_options()
+    if options.ltca != req.ltca:
+        return None
+    return rating.ltca_case(pair, LoadCase(max(req.torques_nm)), options)
 
 
 def _failed(rec: dict, req: Request, status: str, exc: Exception, t0: float) -> dict:

@@ -156,8 +156,9 @@ def reproduce_commands(req, spec_file: str) -> list:
         box = f" --samples {req.samples} --seed {req.seed} --tolerances {tol}"
     torques = ",".join(f"{t:g}" for t in req.torques_nm)
     out = [f"beveloid ltca {spec_file} --torque-nm {torques}{common}{box} --json"]
-    if req.constraints == "rating":
-        out.append(f"beveloid rating {spec_file} --torque-nm {max(req.torques_nm):g}{common} --json")
+    if req.constraints == "rating":  # the rating at its own numerical settings (Request.rating_options)
+        out.append(f"beveloid rating {spec_file} --torque-nm {max(req.torques_nm):g} --flank {lt.flank} "
+                   f"--tooth-model {lt.tooth_model} --json")
     return out
 
 

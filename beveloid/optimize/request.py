@@ -276,13 +276,18 @@ class Request:
         return LoadCase(tuple(float(t) for t in self.torques_nm), None if error_sets is None else error_sets)
 
     def rating_options(self):
-        """The rating at the highest torque: what ``beveloid rating FILE --torque-nm T`` runs with the run's
-        LTCA options (the file's errors)."""
+        """The rating at the highest torque: what ``beveloid rating FILE --torque-nm T --flank F --tooth-model M``
+        runs (the file's errors): the run's flank and tooth model, the rating's own numerical settings (its
+        default positions, grid, pairs and FE tooth refinement), whatever the run's ``--positions`` or ``--grid``
+        for the objectives: a front member passes the rating at its defaults (docs/optimize.md 2)."""
         from .. import rating
+        from ..ltca.options import Options
 
+        lt = Options(flank=self.ltca.flank, tooth_model=self.ltca.tooth_model, positions=rating.POSITIONS,
+                     material=self.ltca.material)
         # the verdict reads neither the FE root stress's convergence estimate (no coarsened FE tooth per candidate)
         # nor the LTCA's grid-convergence indicator
-        return rating.Options(ltca=self.ltca, root_stress_check=False, grid_check=False)
+        return rating.Options(ltca=lt, root_stress_check=False, grid_check=False)
 
     def check(self) -> None:
         """Every corner of the ranges passes the spec's rules between keys (a relief's extent needs the

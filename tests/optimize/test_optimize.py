@@ -157,7 +157,8 @@ def test_the_ratings_ltca_is_one_more_case_of_the_boxs_call(tilted, monkeypatch)
     """--constraints rating: the candidate's rating's LTCA (``rating.ltca_case``: the file's errors at K_A K_v T,
     the box's leave-outs) runs in its box's call of the loaded engine, not a call of its own; the record (its
     quantities, safeties, verdict) is the same to the last bit as with the rating's own LTCA.  With the grid
-    check, or K_v by ISO's method B (two LTCAs, the second's torque set by the first), the rating runs its own."""
+    check, K_v by ISO's method B (two LTCAs, the second's torque set by the first), or a run whose LTCA is not
+    the rating's (its --positions or --grid: the rating keeps its own), the rating runs its own."""
     import dataclasses
     import tomllib
 
@@ -165,8 +166,10 @@ def test_the_ratings_ltca_is_one_more_case_of_the_boxs_call(tilted, monkeypatch)
     from beveloid.pair import Pair
 
     req = Request(base=tomllib.loads(tilted.read_text()), varies=(Vary(KEY, LOW, HIGH),), torques_nm=(150.0, TORQUE),
-                  weights=(1.0, 1.0), samples=2, seed=3, ltca=ltca.Options(positions=3, grid=(7, 7), tooth_model="plate"),
-                  constraints="rating")
+                  weights=(1.0, 1.0), samples=2, seed=3,
+                  ltca=ltca.Options(positions=rating.POSITIONS, tooth_model="plate"), constraints="rating")
+    coarse = Request.from_json(dict(req.to_json(), ltca=dict(req.to_json()["ltca"], positions=3, grid=[7, 7])))
+    assert coarse.rating_options() == req.rating_options() and evaluate._rating_case(coarse, None) is None
     calls = []
     real = ltca.analyze_many
 
@@ -203,7 +206,9 @@ def test_the_search_is_seeded():
 
 def test_the_safeties_are_the_ratings(tilted, capsys):
     """--constraints rating: a candidate's local S_H and its feasibility are what `beveloid rating` gives for
-    its spec (its verdict); its rating runs on the Solver of its loaded analyses."""
+    its spec (its verdict) at the rating's own defaults, whatever the run's --positions and --grid (the
+    header's rating command names neither: at the defaults of optimize it is `beveloid rating FILE
+    --torque-nm T`); its rating runs on the Solver of its loaded analyses."""
     import tomllib
 
     from beveloid import rating
@@ -221,13 +226,14 @@ def test_the_safeties_are_the_ratings(tilted, capsys):
                 return _fn(*a, **k)
             mp.setattr(module, name, spy)
         rec = evaluate.evaluate(req, {KEY: 15.0})
-    # the box's analyze_many (the rating's LTCA one more case of it) and the rating's analyze, one Solver; and
-    # the rating's refinement between positions on it too
-    assert len(solvers) == 2 and solvers[0] is not None and all(s is solvers[0] for s in solvers + refining)
+    # the box's analyze_many, the rating's analyze and its own LTCA (the run's 3 positions are not the rating's),
+    # one Solver; and the rating's refinement between positions on it too
+    assert len(solvers) == 3 and solvers[0] is not None and all(s is solvers[0] for s in solvers + refining)
     path = tilted.parent / "rated.toml"
     path.write_text(report.toml_text(spec_to_dict(req.spec({KEY: 15.0}))))
-    rc = main(["rating", str(path), "--torque-nm", f"{TORQUE:g}", "--positions", "3", "--grid", "7x7",
-               "--tooth-model", "plate", "--json"])  # the run's LTCA options, its grid too
+    command = report.reproduce_commands(req, str(path))[1]
+    assert command == f"beveloid rating {path} --torque-nm {TORQUE:g} --flank right --tooth-model plate --json"
+    rc = main(command.split()[1:])  # the rating's defaults: not the run's --positions 3 --grid 7x7
     d = json.loads(capsys.readouterr().out)
     assert rc == rating.EXIT_STATUS[d["verdict"]["status"]]
     assert rec["safety"]["safety_pitting_local"] == min(d[m]["safety_pitting"] for m in ("pinion", "gear"))
