@@ -102,3 +102,16 @@ def test_a_pair_with_two_loaded_cells_on_one_grid_line_spreads_them_over_their_o
     fl = face_load(result, GEOM, "pinion", b)
     assert np.count_nonzero(result.pressure_mpa) == 2
     assert fl.K_H_beta == pytest.approx(b / (2 * half_y / ny), rel=1e-6)
+
+
+@pytest.mark.parametrize("round_off", [1e-13, -1e-13])
+def test_two_positions_whose_peaks_differ_by_round_off_report_the_first(round_off):
+    """The instant and place of the peak do not follow the sign of a round-off between equal peaks (a tie read
+    on another machine or backend would move the reported place): the first position keeps it."""
+    edges = np.linspace(-10.0, 10.0, 201)
+    w = np.exp(-0.5 * (0.5 * (edges[1:] + edges[:-1]) - 3.0) ** 2)
+    later = np.exp(-0.5 * (0.5 * (edges[1:] + edges[:-1]) + 2.0) ** 2) * (1.0 + round_off)
+    result = SimpleNamespace(converged=np.array([True, True]), pair_load_n=np.array([[10.0], [10.0]]))
+    fl = face_load(result, GEOM, "pinion", 20.0, lines={0: (edges, w), 1: (edges, later)})
+    assert fl.face_z_mm == pytest.approx(3.0, abs=0.1)
+    assert fl.position == 0
