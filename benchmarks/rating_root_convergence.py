@@ -9,10 +9,11 @@ own LTCA; the default's distance from the refined value and from the Richardson 
 splits the default's distance from refinement 2 into the read-out's part (the same loads, two meshes) and
 the load distribution's (the refined tooth under its own LTCA against under the default's loads).  Prints a
 markdown table, and a second one: where the default reads its maximum (face z from the toe and the heel,
-height above the root cone), the fillet's smallest radius against its element size, and the rating's own
-estimate (beveloid/rating/root_convergence.py: the default's loads read with the coarsened tooth and with the
-default's mesh through the coarsened tooth's read-out window, 3 |same window / coarse - 1|, beside the window's
-effect, default / same window - 1).
+height above the root cone), the fillet's smallest radius against its element size, and the rating's coarse
+check (beveloid/rating/root_convergence.py: the default's loads read with the coarsened tooth and with the
+default's mesh through the coarsened tooth's read-out window, their change and its two-mesh GCI 3 |same window
+/ coarse - 1|, beside the window's effect, default / same window - 1) and the rating's ``converged`` (the
+parameters outside the validated range in brackets).
 
     python benchmarks/rating_root_convergence.py [--designs case1,case2,A,B,C,R1,R2,R3] [--levels 0,1,2] [--notch]
     python benchmarks/rating_root_convergence.py --designs path/to/design.toml   # any design (named by its stem)
@@ -337,8 +338,8 @@ def main(argv=None) -> int:
             print(row, flush=True)
     print("\n| design | member | max at face z from toe / heel (mm), height above root (mm) | fillet radius min / "
           "fillet element (mm) | the default's loads read by the coarsened mesh / by the default's through that window "
-          "/ the default (MPa) | mesh change at a fixed window | window effect | rating's estimate |")
-    print("|---|---|---|---|---|---|---|---|")
+          "/ the default (MPa) | mesh change at a fixed window | window effect | two-mesh GCI | converged (outside) |")
+    print("|---|---|---|---|---|---|---|---|---|")
     for row in where_rows:
         print(row)
     if jitter_rows:
@@ -484,7 +485,8 @@ def _where(name, torque, pair, result, estimate) -> list:
         rows.append(f"| {name} | {m} | {w['z_mm'] - toe:.2f} / {heel - w['z_mm']:.2f}, {w['height_mm']:.3f} | "
                     f"{e['fillet_radius_mm']:.3f} / {e['fillet_element_mm']:.3f} | {e['coarse_mpa']:.1f} / "
                     f"{e['same_window_mpa']:.1f} / {e['default_mpa']:.1f} | {e['change']:+.1%} | {e['window_effect']:+.1%} "
-                    f"| {e['error_estimate']:.1%} |")
+                    f"| {e['coarse_gci']:.1%} | {e['converged']}"
+                    + (f" ({', '.join(o['parameter'] for o in e['outside_range'])})" if e["outside_range"] else "") + " |")
     return rows
 
 

@@ -112,7 +112,7 @@ def _face_load_json(fl) -> dict:
 
 def _convergence_json(e) -> dict | None:
     """A member's root-stress convergence estimate (rating.root_convergence), null without the FE tooth."""
-    return None if e is None else {k: (_num(v) if isinstance(v, float) else v) for k, v in e.items()}
+    return None if e is None else _thawed(e)
 
 
 def _json(r: RatingResult) -> dict:

@@ -21,6 +21,7 @@ import math
 import numpy as np
 
 from ..status import Validity, Verdict
+from .root_convergence import VALIDATED_SOURCE, describe_outside
 
 __all__ = ["CRITERION_KEYS", "DISAGREEMENT_FACTOR", "EDGE_SHARE", "EDGE_SETTINGS_BAND", "EXIT_STATUS", "SETTINGS_BAND",
            "verdict", "exit_status", "limit_band", "minimum_band", "on_limit"]
@@ -227,10 +228,15 @@ def assumptions(result) -> list:
     out.append("Y_deltarelT = Z_W = Z_X = 1")
     for member, e in sorted(getattr(result.loaded, "root_stress_convergence", {}).items()):
         m = result.members.get(member)
-        if e.get("converged") is False and m is not None and m.safety_bending is not None:
-            est = e.get("error_estimate")
-            out.append(f"the {member}'s local S_F on an FE root stress not shown converged ("
-                       + ("error estimate unknown" if est is None else f"error estimate {est:.0%}")
+        if m is None or m.safety_bending is None or e.get("converged") is None:
+            continue
+        if e["converged"]:
+            low, high = e["error_band"]
+            out.append(f"the {member}'s local S_F on an FE root stress within {low:+.1%} ... {high:+.1%} of a refined "
+                       f"mesh's (the band {VALIDATED_SOURCE} validated; root_stress_convergence, docs/rating.md 5)")
+        else:
+            out.append(f"the {member}'s local S_F on an FE root stress not shown converged (outside the range "
+                       f"{VALIDATED_SOURCE} validated: " + "; ".join(describe_outside(o) for o in e.get("outside_range") or ())
                        + "; root_stress_convergence, docs/rating.md 5)")
     if f.K_v_source == "static":
         out.append("K_v = 1 (no pinion speed)")

@@ -264,23 +264,34 @@ def test_fe_check_reports_whether_the_two_fe_root_stresses_agree():
 
 
 def test_a_local_s_f_on_a_root_stress_not_shown_converged_is_an_assumption_of_the_verdict(plate800):
-    """Issue 57: a governing local S_F whose FE root stress the rating's own check does not show converged
-    (designs B and C of benchmarks/rating_invariance.py: error estimates 118 % / 35 %) is named in the
-    verdict's assumptions with its estimate; a converged one, or a member without a local S_F, is not."""
+    """Issue 57.5: a governing local S_F whose FE root stress lies outside the range docs/validation.md 10.2
+    validated (design C's gear: its fillet's radius 0.0188 m_n) is named in the verdict's assumptions with the
+    parameter outside; inside, the assumption and the line give the validated band; a member without a local
+    S_F (the plate tooth's pinion here) is not named."""
+    from beveloid.rating.root_convergence import VALIDATED_BAND, describe_outside
+
     r = _rate(plate800)
     gear = dataclasses.replace(r.members["gear"], root_stress_max_mpa=400.0, safety_bending=1.6)
-    conv = {"gear": {"converged": False, "error_estimate": 1.18}, "pinion": {"converged": False, "error_estimate": 0.35}}
+    notch = {"parameter": "fillet_radius_per_module", "value": 0.0188, "low": 0.0284, "high": 0.1234}
+    conv = {"gear": {"converged": False, "outside_range": [notch], "error_estimate": None, "error_band": None},
+            "pinion": {"converged": False, "outside_range": [notch], "error_estimate": None, "error_band": None}}
     shown = dataclasses.replace(r, members={**r.members, "gear": gear},
                                 loaded=dataclasses.replace(r.loaded, root_stress_convergence=conv))
     v = rating.verdict(shown)
-    said = [a for a in v["assumptions"] if "not shown converged" in a]
-    assert said == ["the gear's local S_F on an FE root stress not shown converged (error estimate 118%; "
-                    "root_stress_convergence, docs/rating.md 5)"]  # the pinion has no local S_F (plate tooth)
-    assert said[0] in v["line"]
-    conv["gear"] = {"converged": True, "error_estimate": 0.01}
+    said = [a for a in v["assumptions"] if "FE root stress" in a]
+    assert said == ["the gear's local S_F on an FE root stress not shown converged (outside the range "
+                    "docs/validation.md 10.2 validated: the fillet's smallest radius 0.0188 m_n (validated 0.0284 m_n "
+                    "... 0.1234 m_n); root_stress_convergence, docs/rating.md 5)"]  # the pinion: no local S_F
+    assert describe_outside(notch) in said[0] and said[0] in v["line"]
+    conv["gear"] = {"converged": True, "outside_range": [], "error_estimate": 0.027, "error_band": list(VALIDATED_BAND)}
     shown = dataclasses.replace(shown, loaded=dataclasses.replace(r.loaded, root_stress_convergence=conv))
-    assert not any("not shown converged" in a for a in rating.verdict(shown)["assumptions"])
-    assert not any("not shown converged" in a for a in rating.verdict(r)["assumptions"])
+    v = rating.verdict(shown)
+    said = [a for a in v["assumptions"] if "FE root stress" in a]
+    assert said == [f"the gear's local S_F on an FE root stress within {VALIDATED_BAND[0]:+.1%} ... "
+                    f"{VALIDATED_BAND[1]:+.1%} of a refined mesh's (the band docs/validation.md 10.2 validated; "
+                    "root_stress_convergence, docs/rating.md 5)"]
+    assert said[0] in v["line"] and "-2.7% ... +2.4%" in said[0]
+    assert not any("FE root stress" in a for a in rating.verdict(r)["assumptions"])
 
 
 def test_a_lowest_safety_on_its_minimum_is_said_to_depend_on_the_settings(plate800):
