@@ -15,7 +15,7 @@ import pytest
 
 from beveloid.ltca.model.grid import PairGrid, centres
 from beveloid.pair import Pair
-from beveloid.rating.face_load import face_load, line_load_on_face
+from beveloid.rating.face_load import WINDOW_MODULES, face_load, line_load_on_face
 from beveloid.tooth import sections
 
 GEOM = Pair.example("case1").geometry
@@ -92,16 +92,61 @@ def test_a_pair_with_two_loaded_cells_on_one_grid_line_spreads_them_over_their_o
     line.  A plane fit of the face coordinate over those two cells is underdetermined (its minimum-norm
     answer had no slope along the line, so the footprint was a thousandth of a cell and K_H_beta ran to
     hundreds).  Over the pair's whole grid the slope is the grid's: the two cells cover one cell length
-    dy of the face, so K_H_beta = b / dy exactly."""
+    dy of the face, so the line load's peak is b / dy times its mean exactly, and K_H_beta, its mean over
+    the window of face_load.WINDOW_MODULES m_n (longer than dy here), is b / window."""
     b, half_y, ny = 50.0, 25.0, 81
+    dy = 2 * half_y / ny
     middle = ny // 2  # the row at y = 0, where the minimum-norm fit had z = 0 and no slope
     result, load = field(lambda x, y: np.where((np.abs(y) < 1e-9) & (x > -1e-9) & (x < 0.03), 800.0, 0.0), 0.5, half_y)
     in_flank = np.zeros((41, ny), bool)
     in_flank[20:23, middle] = True  # the loaded cells and one unloaded neighbour, all on one grid line
     result.gap.in_flank = in_flank.reshape(1, 1, -1)
-    fl = face_load(result, GEOM, "pinion", b)
     assert np.count_nonzero(result.pressure_mpa) == 2
-    assert fl.K_H_beta == pytest.approx(b / (2 * half_y / ny), rel=1e-6)
+    _, w = line_load_on_face(result, GEOM, "pinion", 0)
+    assert float(np.max(w)) / (load / b) == pytest.approx(b / dy, rel=1e-6)
+    window = WINDOW_MODULES * GEOM.normal_module_mm
+    assert dy < window
+    fl = face_load(result, GEOM, "pinion", b)
+    assert fl.K_H_beta == pytest.approx(b / window, rel=1e-6)
+    assert fl.loaded_length_mm == pytest.approx(dy, rel=0.3)  # within a bin of the footprint, not a thousandth
+
+
+def test_a_load_run_into_a_corner_has_a_line_load_peak_that_grows_with_the_grid_and_k_h_beta_that_does_not():
+    """Issue 57.1 (a random design's gear, docs/rating.md 2.3): where a pair's pressure is singular at the end of
+    its contact (a sharp corner), the line load at the cells' resolution peaks higher on every finer grid; its
+    mean over face_load.WINDOW_MODULES m_n, which K_H_beta reads, converges.  The field: a strip along the face
+    whose pressure rises as 1 / sqrt(distance) towards its end z = 0 and towards its edge x = 0 (the product of
+    two edge singularities: a corner), summed on grids of 41 x 81, 81 x 161 and 161 x 321 cells."""
+    b = 40.0
+
+    def corner(x, y):
+        return 100.0 / np.sqrt(np.maximum(x + 0.5, 1e-6) * np.maximum(y + 10.0, 1e-6)) * ((y > -10.0) & (y < 10.0))
+
+    peaks, factors = [], []
+    for n in (1, 2, 4):
+        nx, ny = 41 * n - (n - 1), 81 * n - (n - 1)
+        x, y = centres(0.5, nx), centres(10.0, ny)
+        X, Y = np.meshgrid(x, y, indexing="ij")
+        p = np.maximum(corner(X, Y), 0.0).reshape(1, 1, -1)
+        pts = np.zeros((1, 1, nx * ny, 3))
+        pts[..., 2] = sections.member_z(GEOM, "pinion", Y).reshape(-1)
+        grid = PairGrid(nx, ny, np.array([[0.5]]), np.array([[10.0]]))
+        area = grid.cell_area_mm2()
+        gap = SimpleNamespace(pinion_point=pts, gear_point=pts, in_flank=np.ones((1, 1, nx * ny), bool))
+        result = SimpleNamespace(pressure_mpa=p, gap=gap, grid=grid, cell_area_mm2=area, converged=np.array([True]),
+                                 pair_load_n=p.sum(axis=-1) * area, cell_coordinates_mm=lambda j, k, X=X, Y=Y: (X, Y))
+        mean = float(result.pair_load_n.sum()) / b
+        _, w = line_load_on_face(result, GEOM, "pinion", 0)
+        peaks.append(float(np.max(w)) / mean)
+        factors.append(face_load(result, GEOM, "pinion", b).K_H_beta)
+    # the continuum: w(z) = 200 / sqrt(z + 10) N/mm over the strip, F = 400 sqrt(20) N; the window's largest
+    # mean is the one that starts at the end, (1 / L) 400 sqrt(L): K_H_beta = b / sqrt(20 L)
+    exact = b / np.sqrt(20.0 * WINDOW_MODULES * GEOM.normal_module_mm)
+    assert peaks[1] > 1.3 * peaks[0] and peaks[2] > 1.3 * peaks[1]  # the cells' peak: ~sqrt(2) a halving
+    assert abs(factors[2] - factors[1]) < abs(factors[1] - factors[0])  # K_H_beta converges
+    # the cells' midpoint sums of the singular strip fall short of it as sqrt(h): 6.1, 4.3 and 3.0 % below
+    assert factors[2] == pytest.approx(exact, rel=0.05)
+    assert max(factors) < 0.3 * peaks[2]
 
 
 @pytest.mark.parametrize("round_off", [1e-13, -1e-13])
