@@ -1,6 +1,9 @@
 """The FE solver (beveloid.fe.solve) against closed forms and against scikit-fem's assembly."""
 from __future__ import annotations
 
+import gc
+import os
+
 import numpy as np
 import pytest
 
@@ -127,3 +130,36 @@ def test_pardiso_solves_without_iterative_refinement_to_round_off():
     assert factor.solver.iparm[7] == 0 and factor.solver.iparm[6] == 0  # no refinement step taken
     assert np.abs(K @ x - rhs).max() < 1e-12 * np.abs(rhs).max()
     assert np.allclose(x, scipy.sparse.linalg.spsolve(K.tocsc(), rhs), rtol=0, atol=1e-12)
+
+
+def _resident_mb():
+    with open("/proc/self/statm") as f:
+        return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE") / 2**20
+
+
+def test_a_dropped_pardiso_factor_gives_mkls_memory_back():
+    """MKL keeps a PARDISO factor in memory of its own; pypardiso's solver does not release it when it is
+    dropped (every FE tooth's factor stayed: a rating of many designs in one process ran out of memory).
+    Four factors of a 3-D Laplacian (32^3 unknowns) made and dropped one after the other leave the
+    process's resident memory grown by less than half of what one factor held while it lived."""
+    import scipy.sparse
+
+    n = 32
+    eye = scipy.sparse.identity(n)
+    t = scipy.sparse.diags([-1.0, 2.01, -1.0], [-1, 0, 1], shape=(n, n))
+    K = (scipy.sparse.kron(scipy.sparse.kron(t, eye), eye) + scipy.sparse.kron(scipy.sparse.kron(eye, t), eye)
+         + scipy.sparse.kron(scipy.sparse.kron(eye, eye), t)).tocsr()
+    rhs = np.ones(K.shape[0])
+    solve.PardisoFactor(K).solve(rhs)  # MKL's own start-up, once a process
+    gc.collect()
+    base = _resident_mb()
+    factor = solve.PardisoFactor(K)
+    factor.solve(rhs)
+    held = _resident_mb() - base
+    del factor
+    for _ in range(3):
+        solve.PardisoFactor(K).solve(rhs)
+    gc.collect()
+    grown = _resident_mb() - base
+    assert held > 20.0, f"one factor held {held:.1f} MB: too little to tell a leak"
+    assert grown < 0.5 * held, f"four factors made and dropped: {grown:.1f} MB kept, one held {held:.1f} MB"
