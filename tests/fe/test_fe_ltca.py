@@ -97,6 +97,37 @@ def test_a_pairs_flank_departure_is_measured_once_per_pair(case1, coarse_teeth, 
     assert calls == ["pinion", "gear"] * 2
 
 
+def test_a_departure_note_keeps_neither_its_pair_nor_its_fe_data_alive(monkeypatch):
+    """The departure notes outlive their call (the reuse above) but refer to their pair and FE data weakly:
+    three designs' pairs and data, dropped by their caller and by the FE caches, are freed whatever the notes
+    keep (they held them, 2 x 4 entries of up to ~180 MB of FE data each, beyond the FE caches' own bound)."""
+    import gc
+    import types
+    import weakref
+
+    from beveloid.ltca.model import teeth
+    from beveloid.tooth import departure
+
+    class Data:  # a stand-in for an FE tooth's data, new at each call (a new design's)
+        points_mm = normals = None
+
+    class Source:
+        pass
+
+    monkeypatch.setattr(teeth, "fe_tooth", lambda source, member, moduli, options: types.SimpleNamespace(data=Data()))
+    monkeypatch.setattr(departure, "flank_departure", lambda *a: types.SimpleNamespace(note=lambda m: f"{m} departs"))
+    material = types.SimpleNamespace(pinion_e_mpa=2.1e5, pinion_nu=0.3, gear_e_mpa=2.1e5, gear_nu=0.3)
+    refs = []
+    for _ in range(3):
+        source = Source()
+        out, notes = teeth.member_teeth(source, None, types.SimpleNamespace(tooth_model="fe"), material)
+        assert notes == ("pinion departs", "gear departs")
+        refs += [weakref.ref(source)] + [weakref.ref(t.data) for t in out]
+        del source, out
+    gc.collect()
+    assert len(refs) == 9 and not any(r() is not None for r in refs)
+
+
 def test_json_has_the_fe_keys_and_is_strict(results, case1):
     d = results["fe"].to_json()
     json.dumps(d, allow_nan=False)

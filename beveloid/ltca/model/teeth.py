@@ -5,6 +5,7 @@ from __future__ import annotations
 import collections
 import contextlib
 import sys
+import weakref
 
 import numpy as np
 
@@ -51,8 +52,9 @@ def member_teeth(pair, geom, options, material) -> tuple:
         # calls the loaded engine three times (its box's two chunks, its rating), a crowned flank 40 ms each
         key = (id(source), m, id(data))
         held = _DEPARTURES.get(key)
-        if held is None or held[0] is not source or held[1] is not data:
-            held = _DEPARTURES[key] = (source, data, flank_departure(source, m, data.points_mm, data.normals).note(m))
+        if held is None or held[0]() is not source or held[1]() is not data:
+            held = _DEPARTURES[key] = (weakref.ref(source), weakref.ref(data),
+                                       flank_departure(source, m, data.points_mm, data.normals).note(m))
             while len(_DEPARTURES) > 2 * FE_TEETH_KEPT:
                 _DEPARTURES.popitem(last=False)
         if held[2]:
@@ -60,7 +62,8 @@ def member_teeth(pair, geom, options, material) -> tuple:
     return tuple(out), tuple(notes)
 
 
-#: the departure notes of the last few (pair, member, FE data), the objects held (their ids are not reused)
+#: the departure notes of the last few (pair, member, FE data), the objects referenced weakly (a note keeps neither a
+#: design nor its FE data in memory: the FE caches bound those; an entry whose objects died is not theirs)
 _DEPARTURES: "collections.OrderedDict" = collections.OrderedDict()
 
 
