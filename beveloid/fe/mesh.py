@@ -158,14 +158,16 @@ def fillet_radius_mm(sampler: ToothSampler, flank: str = "left") -> float:
     return float(1.0 / np.max(curv[2:-2]))
 
 
-def mesh_sizes(sampler: ToothSampler, normal_module_mm: float, refinement: float) -> MeshSizes:
-    """The element sizes of the module docstring."""
+def mesh_sizes(sampler: ToothSampler, normal_module_mm: float, refinement: float,
+               fillet_refinement: float | None = None) -> MeshSizes:
+    """The element sizes of the module docstring; ``fillet_refinement`` (None: ``refinement``) divides the
+    fillet's size instead (fe-check's sectors: their fillets at the FE tooth's sizes, the rest coarser)."""
     rho = fillet_radius_mm(sampler)
     flank = FLANK_SIZE_PER_MODULE * normal_module_mm
     fillet = min(max(FILLET_SIZE_PER_RADIUS * rho, FILLET_SIZE_MIN_PER_MODULE * normal_module_mm),
                  max(rho / FILLET_RADIUS_ELEMENTS, FILLET_SIZE_NOTCH_PER_MODULE * normal_module_mm), flank)
-    return MeshSizes(flank / refinement, fillet / refinement,
-                     FAR_SIZE_PER_MODULE * normal_module_mm / refinement, rho)
+    fillet /= refinement if fillet_refinement is None else fillet_refinement
+    return MeshSizes(flank / refinement, fillet, FAR_SIZE_PER_MODULE * normal_module_mm / refinement, rho)
 
 
 def _rotate(points, angle):
@@ -268,7 +270,8 @@ def rim_radius(sampler: ToothSampler, bore_diameter_mm: float) -> float:
 
 
 def sector_mesh(pair, member: str, refinement: int = 1, teeth: int = 3, coarsen: float = 1.0,
-                strips: ContactStrips | None = None, fine_teeth: tuple = (0,)) -> SectorMesh:
+                strips: ContactStrips | None = None, fine_teeth: tuple = (0,),
+                fillet_coarsen: float | None = None) -> SectorMesh:
     """The member's sector meshed by gmsh (see :class:`SectorMesh` for the record's fields).
 
     ``pair``: a :class:`beveloid.pair.Pair` (its spec gives the bore) or a ``PairGeometry``;
@@ -277,7 +280,9 @@ def sector_mesh(pair, member: str, refinement: int = 1, teeth: int = 3, coarsen:
     (:class:`beveloid.fe.sizes.ContactStrips`, member frame) refine about loaded contacts
     (fe-check only: the FE tooth passes none, its meshes do not depend on it); ``fine_teeth``: the
     teeth whose flanks and fillets are meshed at the loaded tooth's sizes (fe-check: every tooth that
-    carries a load; the FE tooth loads tooth 0 only).
+    carries a load; the FE tooth loads tooth 0 only); ``fillet_coarsen`` (None: ``coarsen``) multiplies
+    the fillets' size instead (fe-check: its sectors' fillets at the FE tooth's sizes, every other size
+    coarser).
     """
     import gmsh
 
@@ -298,7 +303,10 @@ def sector_mesh(pair, member: str, refinement: int = 1, teeth: int = 3, coarsen:
         raise ValueError(f"fine_teeth = {fine_teeth!r}: must hold tooth 0 and only teeth of {idx}")
     if not (isinstance(coarsen, (int, float)) and 0.25 <= coarsen <= 8):
         raise ValueError(f"coarsen = {coarsen!r}: must be a number from 0.25 to 8")
-    sizes = mesh_sizes(sampler, geometry.normal_module_mm, refinement / coarsen)
+    if fillet_coarsen is not None and not (isinstance(fillet_coarsen, (int, float)) and 0.125 <= fillet_coarsen <= 8):
+        raise ValueError(f"fillet_coarsen = {fillet_coarsen!r}: must be None or a number from 0.125 to 8")
+    sizes = mesh_sizes(sampler, geometry.normal_module_mm, refinement / coarsen,
+                       None if fillet_coarsen is None else refinement / fillet_coarsen)
     r_rim = rim_radius(sampler, bore)
     z = np.linspace(zlo, zhi, SECTIONS)
     segments = _section_segments(sampler, z, idx, SEGMENT_POINTS, strip_mm=sizes.fillet_mm)

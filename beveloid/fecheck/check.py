@@ -55,6 +55,7 @@ class Options:
     local_refinement: bool = True  #: refine the mesh over the LTCA's loaded patches (beveloid.fecheck.strips)
     contact_size_um: float | None = None  #: the element size there (None: b / 3 of each patch)
     max_strip_elements: int = MAX_STRIP_ELEMENTS  #: cap on the estimated elements in one sector's strips at refinement 3, the FE tooth's sizes (beveloid.fe.sizes.strip_sizes)
+    fine_fillets: bool = False  #: the fillets of the teeth in tooth pairs at the FE tooth's sizes (pair_model.sector_meshes)
 
     def __post_init__(self):
         from ..ltca.options import Options as LTCAOptions
@@ -68,6 +69,8 @@ class Options:
             raise OptionError("contact_size_um", self.contact_size_um, "must be a number from 10 to 2000 (um)")
         if not (isinstance(self.coarsen, (int, float)) and 0.125 <= self.coarsen <= 2.5):
             raise OptionError("coarsen", self.coarsen, "must be a number from 0.125 to 2.5")
+        if not isinstance(self.fine_fillets, bool):
+            raise OptionError("fine_fillets", self.fine_fillets, "must be true or false")
         if not (isinstance(self.max_strip_elements, int) and self.max_strip_elements >= 1000):
             raise OptionError("max_strip_elements", self.max_strip_elements, "must be an integer >= 1000")
         n = self.ltca.positions
@@ -159,8 +162,7 @@ def root_stress_notes(calculix, ltca, refinement: int, fillets: dict | None = No
         if a["agrees"] is False:
             line = (f"{m}: root stress {a['calculix_mpa']:.1f} MPa (calculix) against {a['ltca_mpa']:.1f} MPa (the "
                     f"LTCA's FE tooth), ratio {a['ratio']:.3f}, beyond +-{ROOT_STRESS_AGREEMENT:.0%}: the sectors' "
-                    f"fillet elements at refinement {refinement} (the root is not refined like the contact "
-                    "strips) and the LTCA's tooth data (its --fe-refinement) are the two meshes, the LTCA's "
+                    f"fillet elements at refinement {refinement} and the LTCA's tooth data (its --fe-refinement) are the two meshes, the LTCA's "
                     "fillet stresses read on a grid fixed by the geometry (a local fit of the nodes'), CalculiX's its "
                     "nodal maximum")
             if fillets and m in fillets:
@@ -169,6 +171,8 @@ def root_stress_notes(calculix, ltca, refinement: int, fillets: dict | None = No
                          f"smallest radius {rho:.3f} mm")
                 line += (", a notch neither mesh resolves: both readings are mesh numbers, see the rating's "
                          "root_stress_convergence)" if rho < tooth else ")")
+                if here > 1.01 * tooth:
+                    line += "; --fine-fillets meshes the sectors' fillets at the FE tooth's sizes"
             out.append(line + "; rerun with --refinement 2 to see which moves; the rating's local S_F divides "
                        "by the LTCA's")
     return out
@@ -221,7 +225,7 @@ def analyze(pair, load, options: Options | None = None, *, solver=None, progress
     if options.local_refinement:
         size = None if options.contact_size_um is None else options.contact_size_um * 1e-3
         strips, about = ltca_strips(result, j, geom, teeth, size, options.max_strip_elements)
-    meshes = sector_meshes(pair, options.refinement, options.coarsen, strips, teeth)
+    meshes = sector_meshes(pair, options.refinement, options.coarsen, strips, teeth, options.fine_fillets)
     for m in ("pinion", "gear"):
         for entry, h in zip(about, meshes[m].strip_sizes_mm):
             entry[f"{m}_element_mm"] = h
@@ -264,9 +268,10 @@ def analyze(pair, load, options: Options | None = None, *, solver=None, progress
     notes += [f"tooth pair {k}: outside the {SECTOR_TEETH}-tooth sectors (null)" for k, p in zip(model.tooth_pairs,
                                                                                          model.pairs) if p is None]
     notes += _resolution_notes(about if options.local_refinement else None)
-    # the FE tooth's sizes scale like the sector's (beveloid.fe.mesh.mesh_sizes: every size / refinement x coarsen)
+    # the FE tooth's sizes scale like the sector's fillet (beveloid.fe.mesh.mesh_sizes: every size / refinement x
+    # coarsen; the sectors' fillets at that rule x LEVEL_1_COARSEN, or x 1 with fine_fillets)
     tooth_scale = (result.fe_coarsen or 1.0) / (result.fe_refinement or 1) / (
-        LEVEL_1_COARSEN * options.coarsen / options.refinement)
+        (1.0 if options.fine_fillets else LEVEL_1_COARSEN) * options.coarsen / options.refinement)
     fillets = {m: (meshes[m].sizes.fillet_radius_mm, meshes[m].sizes.fillet_mm, meshes[m].sizes.fillet_mm * tooth_scale)
                for m in ("pinion", "gear")}
     notes += root_stress_notes(calculix, _ltca_block(result, j), options.refinement, fillets)

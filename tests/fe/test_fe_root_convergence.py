@@ -281,6 +281,10 @@ def test_fe_checks_disagreement_names_both_fillet_meshes_and_an_unresolved_notch
     # the two read-outs: the LTCA's smoothed fillet stresses against CalculiX's nodal maximum
     assert "the LTCA's fillet stresses read on a grid fixed by the geometry" in pinion
     assert "radius 0.009 mm, a notch neither mesh resolves" in gear
+    # the sectors' fillets coarser than the FE tooth's: the note names --fine-fillets; at equal sizes it does not
+    assert "--fine-fillets meshes the sectors' fillets at the FE tooth's sizes" in pinion
+    (same,) = root_stress_notes(block(335.4, 196.5), block(386.7, 358.1), 1, {"pinion": (0.367, 0.184, 0.184)})[:1]
+    assert "0.184 mm here, 0.184 mm in the FE tooth" in same and "--fine-fillets" not in same
     plain = root_stress_notes(block(335.4, 196.5), block(386.7, 358.1), 1)
     assert len(plain) == 2 and all("in the FE tooth" not in n and "notch" not in n for n in plain)
 

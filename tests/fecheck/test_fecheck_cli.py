@@ -33,6 +33,28 @@ def test_bad_flags_are_one_line_naming_the_flag(capsys, argv, key):
     assert len(err.splitlines()) == 1 and key in err
 
 
+def test_fine_fillets_reaches_the_options_and_a_non_bool_is_refused(monkeypatch, tmp_path):
+    """--fine-fillets sets fecheck.Options.fine_fillets (off by default); a value that is not a bool names the key."""
+    from beveloid import fecheck
+    from beveloid.errors import OptionError
+
+    from beveloid.errors import UserError
+
+    seen = []
+
+    def stop(pair, load, options, **k):  # the options the CLI made, and no LTCA nor CalculiX
+        seen.append(options)
+        raise UserError("stopped by the test")
+
+    monkeypatch.setenv("BEVELOID_CCX", "/bin/true")
+    monkeypatch.setattr(fecheck, "analyze", stop)
+    for extra in ([], ["--fine-fillets"]):
+        assert cli.main(["fe-check", CASE1, "--torque-nm", "100"] + extra) == 2
+    assert [o.fine_fillets for o in seen] == [False, True]
+    with pytest.raises(OptionError, match="fine_fillets"):
+        fecheck.Options(fine_fillets="yes")
+
+
 @pytest.mark.slow
 @pytest.mark.long_running
 @pytest.mark.skipif(ccx_path() is None, reason="needs CalculiX (ccx, Debian package calculix-ccx)")

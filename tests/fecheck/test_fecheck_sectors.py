@@ -45,3 +45,35 @@ def test_the_fine_teeth_are_meshed_as_the_loaded_tooth():
 def test_fine_teeth_outside_the_sector_are_refused():
     with pytest.raises(ValueError, match=r"fine_teeth = \(0, 2\): must hold tooth 0 and only teeth of \(-1, 0, 1\)"):
         sector_mesh(Pair.example("case1"), "pinion", teeth=3, fine_teeth=(0, 2))
+
+
+@pytest.mark.parametrize("fine, fillet_coarsen", [(False, None), (True, 1.5)])
+def test_fine_fillets_are_not_coarsened_with_the_rest(monkeypatch, fine, fillet_coarsen):
+    """With fine_fillets the fillets of the sectors' teeth in tooth pairs at the FE tooth's sizes x coarsen,
+    every other size x LEVEL_1_COARSEN more (sector_mesh's fillet_coarsen); without, as the rest."""
+    import beveloid.fe.mesh
+
+    calls = {}
+    monkeypatch.setattr(beveloid.fe.mesh, "sector_mesh", lambda pair, m, n, **k: calls.setdefault(m, (n, k)))
+    sector_meshes("pair", 2, coarsen=1.5, fine_fillets=fine)
+    assert {m: (k["coarsen"], k["fillet_coarsen"]) for m, (n, k) in calls.items()} == {
+        m: (1.5 * LEVEL_1_COARSEN, fillet_coarsen) for m in ("pinion", "gear")}
+
+
+@pytest.mark.slow
+def test_fe_checks_fine_fillets_are_the_fe_tooths_at_the_same_settings():
+    """fe-check's sectors at refinement 1 with fine_fillets and the FE tooth (``fe.tooth``: ``sector_mesh(pair,
+    member, refinement, coarsen)``) read the root on the same fillet elements: the rule's size and the facets'
+    edges alike, while the sectors' flanks are LEVEL_1_COARSEN times the tooth's (both coarsened x 2.5 to stay
+    cheap)."""
+    pair = Pair.example("case1")
+    coarsen = 2.5
+    sectors = sector_meshes(pair, 1, coarsen=coarsen, fine_fillets=True)
+    for m in ("pinion", "gear"):
+        tooth = sector_mesh(pair, m, 1, coarsen=coarsen)
+        here = sectors[m]
+        assert here.sizes.fillet_mm == pytest.approx(tooth.sizes.fillet_mm, rel=1e-12)
+        assert here.sizes.flank_mm == pytest.approx(LEVEL_1_COARSEN * tooth.sizes.flank_mm, rel=1e-12)
+        for side in ("left", "right"):
+            a, b = _edge_mm(here, f"fillet_{side}_0"), _edge_mm(tooth, f"fillet_{side}_0")
+            assert abs(a / b - 1.0) < 0.15, (m, side, a, b)
