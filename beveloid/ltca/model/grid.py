@@ -28,6 +28,12 @@ INTERIOR_REACH = 2  #: loaded cells within this many cells of an off-flank cell 
 #: a patch of edge cells only (a flank corner, a narrow strip at a face end) grows its grid when it carries
 #: this share of its position's load (the edge rule's limit, docs/rating.md 6); a lighter one is left as it is
 CORNER_SHARE = 0.02
+#: an edge line of a patch whose interior the grid holds grows its grid where the cells the grid's outermost row
+#: cuts (each with its inward neighbour loaded) carry this share of the position's load: an edge line the grid
+#: clipped, not a sliver's end (random design R31-4 at 300 N m, default grid: a leaving pair's tip-edge line
+#: left its grid across, its 2 680 N on 8.5 mm of face instead of 13 mm, K_Hbeta 2.18 at one instant against
+#: 1.85-1.92 beside it and on the 15x25 / 21x35 grids; docs/validation.md 10.1)
+EDGE_LINE_SHARE = 0.01
 
 
 class PairGrid(typing.NamedTuple):
@@ -154,9 +160,11 @@ def reaches_edge(p, in_flank, nx, ny, load_share=None):
     neighbour is loaded too, or any loaded cell there if the patch lies in the two outermost rows only
     (a strip one cell wide that the placement held at the grid's edge).  Such a patch lies in a corner of the flank, cut by the tip and an end (every
     cell within :data:`INTERIOR_REACH` of the blank), and the grid, not the blank, cut it unseen (issue 57);
-    a lone loaded cell at the grid's edge, the end of an edge line's sliver, does not grow the grid, nor does
-    the edge line of a patch whose interior is held inside the grid (growing those too cost 32 % of the
-    tolerance box's analysis time: ``python benchmarks/ltca_growth_rules.py``, docs/loaded_contact.md 8.1)."""
+    a lone loaded cell at the grid's edge, the end of an edge line's sliver, does not grow the grid.  The edge
+    line of a patch whose interior is held inside the grid grows it only where its cells in the outermost row
+    with a loaded inward neighbour carry :data:`EDGE_LINE_SHARE` of the position's load (``load_share`` given):
+    a loaded edge line the grid clipped (growing every such line cost 32 % of the tolerance box's analysis
+    time: ``python benchmarks/ltca_growth_rules.py``, docs/loaded_contact.md 8.1)."""
     shape = p.shape[:-1] + (nx, ny)
     q = (p > 0).reshape(shape) & in_flank.reshape(shape)
     inner = interior(p, in_flank, nx, ny)
@@ -168,8 +176,17 @@ def reaches_edge(p, in_flank, nx, ny, load_share=None):
     # edge by a placement off the patch) is cut there too
     strip_across = q.any(axis=(-1, -2)) & ~q[..., 1:-1, :].any(axis=(-1, -2))
     strip_along = q.any(axis=(-1, -2)) & ~q[..., :, 1:-1].any(axis=(-1, -2))
-    across = (corner & (q[..., [0, -1], :] & q[..., [1, -2], :] | strip_across[..., None, None])) | inner[..., [0, -1], :]
-    along = (corner & (q[..., :, [0, -1]] & q[..., :, [1, -2]] | strip_along[..., None, None])) | inner[..., :, [0, -1]]
+    # a loaded flank cell in an outermost row whose inward neighbour is loaded too: the patch crosses that row
+    cut = (q[..., [0, -1], :] & q[..., [1, -2], :], q[..., :, [0, -1]] & q[..., :, [1, -2]])
+    heavy = [np.zeros(q.shape[:-2] + (1, 1), dtype=bool)] * 2
+    if load_share is not None:  # the share of the position's load those cells carry (a pair's cells: one area)
+        pr = np.where(q, p.reshape(shape), 0.0)
+        total = pr.sum(axis=(-1, -2))
+        own = np.where(total > 0, load_share, 0.0) / np.where(total > 0, total, 1.0)
+        heavy = [((np.where(c, edge, 0.0).sum(axis=(-1, -2)) * own) >= EDGE_LINE_SHARE)[..., None, None]
+                 for c, edge in zip(cut, (pr[..., [0, -1], :], pr[..., :, [0, -1]]))]
+    across = ((corner | heavy[0]) & cut[0]) | (corner & strip_across[..., None, None]) | inner[..., [0, -1], :]
+    along = ((corner | heavy[1]) & cut[1]) | (corner & strip_along[..., None, None]) | inner[..., :, [0, -1]]
     return np.stack([across.any(axis=(-1, -2)), along.any(axis=(-1, -2))], axis=-1)
 
 
