@@ -6,7 +6,8 @@ The LTCA grows a pair's grid where its loaded patch runs into the grid's outermo
 * ``interior``: only cells more than ``INTERIOR_REACH`` cells from the blank's edge count (the rule
   before issue 57's corner fix);
 * ``corner`` (the package's): also a patch with no interior cell carrying ``CORNER_SHARE`` of its
-  position's load, where a loaded flank cell and its inward neighbour lie in the outermost row;
+  position's load, where a loaded flank cell and its inward neighbour lie in the outermost row, and
+  any patch where such cells carry ``EDGE_LINE_SHARE`` of the position's load;
 * ``full``: any loaded flank cell with a loaded inward neighbour in the outermost row, for every patch.
 
 Case 1 tilted by vertical_deg = 0.05 (docs/optimize.md's spec), 100 / 200 / 400 N m, the 16 error sets

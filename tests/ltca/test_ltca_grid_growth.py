@@ -188,7 +188,7 @@ R31_4 = {
 def test_a_leaving_pairs_edge_line_is_not_clipped_on_the_default_grid():
     """R31-4 at 300 N m (plate tooth) at the pinion angle where, before EDGE_LINE_SHARE, the default grid held
     the leaving pair's interior and cut its tip-edge line across: the pair carried 2 680 N on 8.5 mm of face
-    (13 mm on the 15x25 grid) and K_Hbeta read 2.18 there, against 1.85 on the 15x25 grid at the same angle
+    (13.4 mm at the angle beside it) and K_Hbeta read 2.18 there, against 1.85 on the 15x25 grid at the same angle
     and 1.85-1.92 at the angles beside it (the rating's lowest S_F 11.4 % from 15x25's and 7x11's)."""
     from beveloid.rating.face_load import face_load
 

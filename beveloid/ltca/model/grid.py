@@ -31,7 +31,7 @@ CORNER_SHARE = 0.02
 #: an edge line of a patch whose interior the grid holds grows its grid where the cells the grid's outermost row
 #: cuts (each with its inward neighbour loaded) carry this share of the position's load: an edge line the grid
 #: clipped, not a sliver's end (random design R31-4 at 300 N m, default grid: a leaving pair's tip-edge line
-#: left its grid across, its 2 680 N on 8.5 mm of face instead of 13 mm, K_Hbeta 2.18 at one instant against
+#: left its grid across, its 2 680 N on 8.5 mm of face against 13.4 mm at the angle beside it, K_Hbeta 2.18 at one instant against
 #: 1.85-1.92 beside it and on the 15x25 / 21x35 grids; docs/validation.md 10.1)
 EDGE_LINE_SHARE = 0.01
 
