@@ -141,8 +141,12 @@ def run(args: argparse.Namespace) -> int:
     try:
         ex = parallel.executor(args.workers, args.scheduler)
         with ex:  # (local workers start meanwhile: issue 59)
-            base = search.baseline(out, req)
-            ran = search.run(out, req, ex, search.Progress(), base)
+            # the unmodified design: on local worker processes (two or more: one worker is this process) with the
+            # first generation where no FE data is to be made, else here first (its FE data then on disk for them)
+            alongside = ex.shares_files and getattr(ex, "workers", 1) > 1 and search.baseline_alongside(out, req)
+            base = None if alongside else search.baseline(out, req)
+            ran = search.run(out, req, ex, search.Progress(), base, baseline=alongside)
+            base = base or search.load(out, search.BASELINE)
             where = ex.description
     except KeyboardInterrupt:
         if not args.resume:
@@ -151,6 +155,10 @@ def run(args: argparse.Namespace) -> int:
     stop, why, records = ran.stop, ran.why, ran.record_dicts()
     if stop is not None and not records and not args.resume:  # stopped before its first candidate
         print(f"beveloid optimize: stopped ({why}) before the first candidate; {_nothing_kept(out)}", file=sys.stderr)
+        return 130 if stop is StopReason.INTERRUPTED else 1
+    if base is None:  # stopped before the unmodified design (evaluated with the first generation) came back
+        print(f"beveloid optimize: stopped ({why}) before the unmodified design's numbers; {len(records)} of"
+              f" {req.budget} candidates kept in {out}; continue with `beveloid optimize --resume {out}`", file=sys.stderr)
         return 130 if stop is StopReason.INTERRUPTED else 1
     records = sorted(records, key=lambda r: r["candidate"])
     on = report.pareto_mask(req, records)

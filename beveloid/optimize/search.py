@@ -144,6 +144,23 @@ def baseline(out_dir: str, req: Request) -> dict:
     return rec
 
 
+def baseline_alongside(out_dir: str, req: Request) -> bool:
+    """Whether :func:`run` may evaluate the file's own design on the workers with the first generation
+    (``baseline=True``) instead of :func:`baseline` in this process before them: where it is not on disk yet
+    and every FE tooth a candidate reads (its loaded analyses' and its rating's, both members' bodies) is: no two
+    processes then make the same FE data at once, and the workers do not wait idle while this process
+    evaluates it (issue 59: one candidate and this process's loads on a quiet 2-core machine)."""
+    from ..ltca.model.teeth import fe_data_on_disk
+    from ..ltca.options import Material
+    from ..pair import Pair
+
+    if load(out_dir, BASELINE) is not None:
+        return False
+    pair = Pair.from_spec(req.spec(req.baseline_values()))
+    options = [req.ltca] + ([req.rating_options().ltca] if req.constraints == "rating" else [])
+    return all(fe_data_on_disk(pair, o, o.material or Material.from_spec(pair.spec)) for o in options)
+
+
 @dataclass(frozen=True, eq=False)
 class OptimizeRun(RunResult):
     """How a run of :func:`run` ended (:class:`beveloid.runstore.RunResult`), and its ``records``: the
@@ -160,13 +177,17 @@ class OptimizeRun(RunResult):
         return dict(super().to_json(), records=self.record_dicts())
 
 
-def run(out_dir: str, req: Request, ex, progress=None, base: dict | None = None) -> OptimizeRun:
+def run(out_dir: str, req: Request, ex, progress=None, base: dict | None = None, baseline: bool = False) -> OptimizeRun:
     """Ask, evaluate (on ``ex``) and tell until the budget: an :class:`OptimizeRun` (the records in candidate
     order, None or a StopReason, a line saying why it stopped).  ``base``: the unmodified design's record (:func:`baseline`), the first
-    candidate when its values lie inside the ranges (its numbers are taken, not computed again)."""
+    candidate when its values lie inside the ranges (its numbers are taken, not computed again).  ``baseline``
+    (``base`` None): that record evaluated on ``ex`` as one more task of the first generation and kept as
+    :func:`baseline` keeps it (:func:`baseline_alongside`); the candidate of its values takes its numbers when
+    it comes back."""
     from ..parallel import WorkLost
 
-    alg = algorithm(req, None if base is None else base["values"])
+    base_values = base["values"] if base is not None else req.baseline_values() if baseline else None
+    alg = algorithm(req, base_values)
     payload = req.to_json()
     records: list = []
     while len(records) < req.budget:
@@ -175,10 +196,14 @@ def run(out_dir: str, req: Request, ex, progress=None, base: dict | None = None)
         pop = pop[: len(X)]
         start = len(records)
         batch: list = [None] * len(X)
-        todo = []
+        todo, waiting = [], []  # waiting: the candidates of the baseline's values, while it is evaluated
+        pending = base is None and baseline
         for j, x in enumerate(X):
             rec = load(out_dir, start + j)
             values = dict(zip(req.keys, (float(v) for v in x)))
+            if rec is None and pending and base_values == values:
+                waiting.append(j)
+                continue
             if rec is None and base is not None and base["values"] == values:
                 rec = dict(base, candidate=start + j)
                 save(out_dir, start + j, rec)
@@ -187,10 +212,20 @@ def run(out_dir: str, req: Request, ex, progress=None, base: dict | None = None)
             else:
                 todo.append(j)
         tasks = [(payload, start + j, dict(zip(req.keys, (float(v) for v in X[j])))) for j in todo]
+        if pending:  # first: it starts as soon as a worker is free
+            tasks.insert(0, (payload, BASELINE, dict(base_values)))
         try:
             for k, rec in ex.map_unordered(evaluate_task, tasks):
-                save(out_dir, start + todo[k], rec)
-                batch[todo[k]] = rec
+                if pending and k == 0:
+                    save(out_dir, BASELINE, rec)
+                    base = rec
+                    for j in waiting:
+                        batch[j] = dict(base, candidate=start + j)
+                        save(out_dir, start + j, batch[j])
+                    continue
+                j = todo[k - 1] if pending else todo[k]
+                save(out_dir, start + j, rec)
+                batch[j] = rec
         except KeyboardInterrupt:
             return OptimizeRun(out_dir, StopReason.INTERRUPTED, str(StopReason.INTERRUPTED),
                                records + [r for r in batch if r is not None], options=req)

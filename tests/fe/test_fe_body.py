@@ -70,6 +70,22 @@ def test_a_modification_shares_the_bodys_entry_and_a_face_width_does_not(counted
     assert how == "miss" and counted == [("pinion", "involute")] * 2
 
 
+def test_the_fe_data_a_modified_pair_reads_is_on_disk_once_its_bodys_is(counted, case1, relieved):
+    """ltca.model.teeth.fe_data_on_disk (optimize evaluates its unmodified design on the workers only where no FE
+    data is to be made): both members' bodies' entries, whatever the flank modification; the plate reads none."""
+    from beveloid import ltca
+    from beveloid.ltca.model.teeth import fe_data_on_disk
+
+    fe, m = ltca.Options(tooth_model="fe"), ltca.Material.from_spec(case1.spec)
+    assert not fe_data_on_disk(relieved, fe, m) and fe_data_on_disk(relieved, ltca.Options(tooth_model="plate"), m)
+    cache.cached_tooth_data(case1, "pinion", m.pinion_e_mpa, m.pinion_nu, fe.fe_refinement)
+    assert not fe_data_on_disk(relieved, fe, m)  # the gear's still to be made
+    cache.cached_tooth_data(case1, "gear", m.gear_e_mpa, m.gear_nu, fe.fe_refinement)
+    assert fe_data_on_disk(relieved, fe, m) and fe_data_on_disk(case1, fe, m)
+    assert not fe_data_on_disk(relieved, ltca.Options(tooth_model="fe", fe_coarsen=2.0), m)  # another entry
+    assert len(counted) == 2
+
+
 def test_the_key_holds_the_code_that_made_the_data(case1, monkeypatch, tmp_path):
     key = json.loads(cache.cache_key(case1, "pinion", 2.06e5, 0.3, 1))
     assert key["code"] == cache.code_digest()

@@ -294,6 +294,30 @@ def test_a_dask_cluster_gives_the_candidates_of_one_worker(run, result, cluster,
     capsys.readouterr()
 
 
+def test_local_workers_evaluate_the_unmodified_design_with_the_first_generation(run, result, tmp_path, monkeypatch,
+                                                                                capsys):
+    """--workers 2 with no FE data to make (the plate tooth): the unmodified design is one more task of the first
+    generation on the workers, not evaluated here first while they wait (issue 59); the same candidates and
+    baseline to the last digit as one worker's run, which evaluates it here first."""
+    out, args = run
+    argv = ["optimize", *args]
+    argv[argv.index("--workers") + 1] = "2"
+    argv[argv.index("--out") + 1] = str(tmp_path / "two")
+
+    def not_here(*a, **k):
+        raise AssertionError("the unmodified design was evaluated in the main process")
+
+    monkeypatch.setattr(search, "evaluate", not_here)
+    assert main(argv) == 0
+    for name in ("candidates.csv", "candidates/baseline.json"):
+        a, b = (json.loads(p.read_text()) if name.endswith(".json") else p.read_text()
+                for p in (tmp_path / "two" / name, out / name))
+        if name.endswith(".json"):
+            a.pop("seconds"), b.pop("seconds")
+        assert a == b, name
+    capsys.readouterr()
+
+
 def test_one_solver_per_run_not_per_candidate(tilted, monkeypatch):
     """Issue 56: every candidate of a run (here two, and the same request read back by a worker) solves with
     the request's one Solver; before, each candidate made its own."""

@@ -94,6 +94,20 @@ def fe_tooth(source, member, moduli, options):
     return tooth
 
 
+def fe_data_on_disk(pair, options, material) -> bool:
+    """Whether the FE data :func:`member_teeth` reads for ``pair`` (both members' bodies, at the options'
+    refinement and coarsening) is in the FE cache's folder, so that no process would make it (True for the
+    plate tooth, which reads none): optimize's workers then start on the candidates while the unmodified
+    design is evaluated beside them."""
+    if options.tooth_model != "fe":
+        return True
+    from ...fe import cache
+
+    moduli = {"pinion": (material.pinion_e_mpa, material.pinion_nu), "gear": (material.gear_e_mpa, material.gear_nu)}
+    return all(cache.entry_path(cache.cache_key(pair, m, *moduli[m], options.fe_refinement, options.fe_coarsen)).is_file()
+               for m in MEMBERS)
+
+
 def root_stresses(teeth, sol, ok, along_face=True, compression=True) -> dict:
     """{"tension": {member: (N, P)}, "compression": {...}, "where": {member: (N, P, 2)}, "along": {member:
     (z, stress)}, "unread": {member: loaded pairs without a root stress}} (MPa, mm) for FE teeth, each
