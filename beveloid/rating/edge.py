@@ -127,7 +127,7 @@ class EdgeDistances:
 
     def __init__(self, result, geometry):
         self.result, self.geometry = result, geometry
-        self._distances, self._slopes = {}, {}
+        self._distances, self._slopes, self._grid = {}, {}, {}
 
     def points(self, j, k, member):
         return (self.result.gap.pinion_point if member == "pinion" else self.result.gap.gear_point)[j, k]
@@ -143,10 +143,18 @@ class EdgeDistances:
         """(d/dx, d/dy) of that distance over the grid (``face_load._affine_slopes`` over the cells with a point)."""
         key = (j, k, member, edge)
         if key not in self._slopes:
-            x, y = (c.reshape(-1) for c in self.result.cell_coordinates_mm(j, k))
-            finite = np.isfinite(self.points(j, k, member)).all(axis=-1)
+            x, y, finite = self._fit_grid(j, k, member)
             self._slopes[key] = _affine_slopes(self.distances(j, k, member)[edge], x, y, finite)
         return self._slopes[key]
+
+    def _fit_grid(self, j, k, member) -> tuple:
+        """(x, y) of pair k's cells at position j, flat, and which of them have a point of ``member``: read once
+        for the edges' slopes (each (position, pair, member) fits up to three)."""
+        key = (j, k, member)
+        if key not in self._grid:
+            x, y = (c.reshape(-1) for c in self.result.cell_coordinates_mm(j, k))
+            self._grid[key] = (x, y, np.isfinite(self.points(j, k, member)).all(axis=-1))
+        return self._grid[key]
 
 
 def _band_loads(result, geometry, delta: float, distances, profile: str, at_edge: bool = False):
