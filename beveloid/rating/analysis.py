@@ -669,13 +669,46 @@ def _lowest(values) -> float:
 
 def _loaded(pair, load, options: Options, solver):
     """The rating's LTCA of ``load`` (one torque), without the grid-convergence indicator, the root stress
-    along the face and the compressive root stress unless ``options.grid_check``."""
+    along the face and the compressive root stress unless ``options.grid_check``.  With the indicator, a grid
+    coarser than the default (:data:`ltca.options.DEFAULT_GRID`) either way that the indicator finds not
+    converged is raised to the default's counts and solved again (:func:`raised_grid`): the verdict is not taken
+    on a grid the run itself shows too coarse (issue 57: 7x11 moved K_Hbeta and the surface peak by 3-6 % from
+    every finer grid on random designs, and flipped their status)."""
     from .. import ltca
 
-    if options.grid_check:
-        return ltca.analyze(pair, load, options.ltca, solver=solver)
-    return ltca.analyze_many(pair, load, options.ltca, solver=solver, convergence=False, along_face=False,
-                             compression=False).results[0][0]
+    if not options.grid_check:
+        return ltca.analyze_many(pair, load, options.ltca, solver=solver, convergence=False, along_face=False,
+                                 compression=False).results[0][0]
+    result = ltca.analyze(pair, load, options.ltca, solver=solver)
+    grid = raised_grid(result)
+    if grid is None:
+        return result
+    asked = options.ltca.cells
+    raised = ltca.analyze(pair, load, replace(options.ltca, grid=grid), solver=solver)
+    why = next((w for w in result.warnings() if w.startswith("grid not converged")), "grid not converged")
+    note = (f"{RAISED_GRID_NOTE} from the asked {asked[0]}x{asked[1]} to {grid[0]}x{grid[1]} cells per tooth pair "
+            f"(the default's counts): the LTCA's grid-convergence indicator found {asked[0]}x{asked[1]} "
+            + why.split(": use a finer")[0].removeprefix("grid "))
+    return replace(raised, notes=tuple(raised.notes) + (note,))
+
+
+#: the start of the note a rating whose grid :func:`raised_grid` raised carries (in its LTCA's notes and its own)
+RAISED_GRID_NOTE = "the rating's contact grid raised"
+
+
+def raised_grid(result) -> tuple | None:
+    """The grid (across, along) the rating solves again on when the LTCA ``result``'s grid is coarser than the
+    default's counts either way and its grid-convergence indicator finds a converged position not converged:
+    each count raised to at least the default's; None where the grid stands (converged, or as fine as the
+    default either way)."""
+    from ..ltca.options import DEFAULT_GRID
+
+    cells = tuple(result.options.cells)
+    raised = tuple(max(c, d) for c, d in zip(cells, DEFAULT_GRID))
+    if raised == cells:
+        return None
+    converged = result.convergence.converged() | ~result.converged
+    return None if converged.all() else raised
 
 
 def ltca_case(pair, load, options: Options | None = None):
@@ -761,7 +794,7 @@ def analyze(pair, load, options: Options | None = None, *, solver=None, ltca_res
             member, secs, root, lc.root_stress_location[member], p,
             None if root is None else factors.root_strength_mpa(member) / root,
             None if p is None or not p > 0.0 else factors.contact_strength_mpa(member) / p, face)
-    notes = factors.notes() + list(lc.notes)
+    notes = factors.notes() + [n for n in ltca_result.notes if n.startswith(RAISED_GRID_NOTE)] + list(lc.notes)
     notes += [f"{m.member} {k}: {s.status}" for m in members.values() for k, s in m.sections.items() if s.status != Validity.OK]
     for member in MEMBERS:
         fl = lc.face_load[member]
