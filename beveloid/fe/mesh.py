@@ -208,6 +208,25 @@ def _section_segments(sampler: ToothSampler, z, teeth: tuple, n: int, strip_mm: 
     return segments
 
 
+#: profile points of one segment closer than this to the point kept before them are left out of its spline (mm):
+#: OpenCASCADE refuses a spline through coincident points (its confusion tolerance is 1e-7 mm), and a rack tip
+#: radius of ~1e-16 m_n (in its documented range) samples a fillet whose points lie 5e-11 mm apart
+DISTINCT_POINT_MM = 1e-6
+
+
+def _distinct_points(p: np.ndarray) -> np.ndarray:
+    """The points (n, 3) of one segment in one section without those within :data:`DISTINCT_POINT_MM` of the
+    point kept before them; its two ends stay (they join the neighbouring segments): where the last lies that close
+    to an interior point kept, the interior one goes."""
+    keep = [0]
+    for i in range(1, len(p) - 1):
+        if np.linalg.norm(p[i] - p[keep[-1]]) >= DISTINCT_POINT_MM:
+            keep.append(i)
+    if len(keep) > 1 and np.linalg.norm(p[-1] - p[keep[-1]]) < DISTINCT_POINT_MM:
+        keep.pop()
+    return p[keep + [len(p) - 1]]
+
+
 #: points a fillet's land strip adds to its section's profile segment (besides the fillet's own)
 LAND_STRIP_POINTS = 4
 #: a strip takes at most this fraction of the land's length in each section
@@ -321,7 +340,7 @@ def sector_mesh(pair, member: str, refinement: int = 1, teeth: int = 3, coarsen:
             curves, first = [], None
             prev_tag = None
             for _, pts in segments:
-                p = pts[:, j]
+                p = _distinct_points(pts[:, j])
                 tags = [occ.addPoint(*p[0]) if prev_tag is None else prev_tag]
                 tags += [occ.addPoint(*q) for q in p[1:]]
                 first = tags[0] if first is None else first

@@ -116,6 +116,42 @@ SHARP_RACK = {
 }
 
 
+#: a rack tip radius of 2.2e-16 m_n (in the key's documented range): its gear's fillet points lie 5e-11 mm apart, and
+#: OpenCASCADE refused the spline through them ("OpenCASCADE exception"; the slow tier's loaded-path fuzz, seed 97493)
+NEAR_SHARP_RACK = {
+    "pair": {"normal_module_mm": 6.0, "normal_pressure_angle_deg": 20.0, "shaft_angle_deg": 13.0,
+             "offset_mm": 234.85145575875987},
+    "pinion": {"teeth": 29, "cone_angle_deg": 2.0, "helix_angle_deg": 23.0, "profile_shift": 0.15,
+               "face_width_mm": 50.0, "cutter_addendum_coefficient": 1.449939935544673,
+               "cutter_tip_radius_coefficient": 2.546316069945472e-137},
+    "gear": {"teeth": 45, "cone_angle_deg": 0.8, "face_width_mm": 60.0, "cutter_tip_radius_coefficient": 2.220446049250313e-16,
+             "cutter_addendum_coefficient": 1.1092318210450267},
+}
+
+
+def test_a_segments_coincident_points_are_left_out_of_its_spline_and_its_ends_stay():
+    """Points within DISTINCT_POINT_MM of the point kept before them go; the first and last stay (they join the
+    neighbouring segments), the last taking the place of an interior point that close to it."""
+    from beveloid.fe.mesh import DISTINCT_POINT_MM, _distinct_points
+
+    eps = 0.05 * DISTINCT_POINT_MM
+    p = np.array([[0, 0, 0], [eps, 0, 0], [1, 0, 0], [1, eps, 0], [2, 0, 0], [2 + eps, 0, 0]], dtype=float)
+    out = _distinct_points(p)
+    assert np.array_equal(out, p[[0, 2, 5]])
+    assert np.array_equal(_distinct_points(p[[0, 2, 4]]), p[[0, 2, 4]])  # nothing close: all kept
+
+
+@pytest.mark.slow  # meshing both members of a 50-60 mm face at coarsen 8 (.ci/run runs the slow tier)
+def test_a_fillet_traced_by_a_near_sharp_rack_tip_meshes():
+    near = Pair.from_spec(NEAR_SHARP_RACK)
+    sampler = ToothSampler(near.geometry, "gear")
+    lo, hi = sorted(sampler.z_range_mm)
+    fillet = sampler.face_points("fillet_left", np.linspace(0.0, 1.0, 9), np.linspace(lo, hi, SECTIONS))
+    assert np.linalg.norm(np.diff(fillet, axis=0), axis=-1).min() < 1e-9  # the points OpenCASCADE refused
+    for member in ("pinion", "gear"):
+        _assert_closed_volume(sector_mesh(near, member, coarsen=8.0))
+
+
 @pytest.mark.slow  # 4 s of meshing (.ci/run runs the slow tier)
 def test_a_fillet_far_thinner_than_its_elements_takes_a_strip_of_land_and_meshes(pair):
     sharp = Pair.from_spec(SHARP_RACK)
