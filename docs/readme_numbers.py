@@ -66,6 +66,23 @@ EXPLORE_ARGS = ["explore", "examples/case1.toml", "--vary", "pinion.cone_angle_d
 HIGH_HELIX_DEG = 28
 
 
+def _benchmark(name: str):
+    """benchmarks/<name>.py, imported as ``benchmarks.<name>`` with the checkout's folder on ``sys.path`` only
+    while it is imported: the quotes are also computed inside the test suite (tests/docs/test_docs_numbers.py),
+    whose worker processes started later (``beveloid.parallel``'s spawned workers) inherit the test process's
+    ``sys.path``; with the checkout first on it they imported the checkout's beveloid instead of the installed
+    one and compiled the solver afresh, into the checkout (~90-125 s of CPU each, seen in the README's test
+    command on a fresh install)."""
+    import importlib
+
+    saved = list(sys.path)
+    sys.path.insert(0, str(ROOT))
+    try:
+        return importlib.import_module(f"benchmarks.{name}")
+    finally:
+        sys.path[:] = saved
+
+
 def cheap_numbers() -> dict:
     """Numbers computed from the package now (about a second)."""
 
@@ -226,8 +243,7 @@ def record_rating(args) -> dict:
 
 
 def record_fe_tooth(args) -> dict:
-    sys.path.insert(0, str(ROOT))
-    from benchmarks import bench_fe_tooth
+    bench_fe_tooth = _benchmark("bench_fe_tooth")
 
     return {"command": "python -m benchmarks.bench_fe_tooth compare", "canary": fe_canary(),
             **bench_fe_tooth.compare()}
@@ -256,8 +272,7 @@ def record_fe_check(args) -> dict:
 
 
 def record_fe_sectors(args) -> dict:
-    sys.path.insert(0, str(ROOT))
-    from benchmarks import fe_check_sector_bcs
+    fe_check_sector_bcs = _benchmark("fe_check_sector_bcs")
 
     return {"command": "python benchmarks/fe_check_sector_bcs.py --members pinion",
             **fe_check_sector_bcs.measure(members=("pinion",))}
@@ -265,8 +280,7 @@ def record_fe_sectors(args) -> dict:
 
 def fe_sectors_quotes(rec: dict) -> list:
     """docs/validation.md 11.0: the sector table as benchmarks/fe_check_sector_bcs.py prints it."""
-    sys.path.insert(0, str(ROOT))
-    from benchmarks import fe_check_sector_bcs
+    fe_check_sector_bcs = _benchmark("fe_check_sector_bcs")
 
     d = rec["fe_sectors"]["pinion"]
     outer = {name: [100 * (float(np.mean(d[name]["ratio"][i])) - 1) for i in (0, 2)] for name in d}
@@ -283,8 +297,7 @@ def fe_sectors_quotes(rec: dict) -> list:
 def record_ltca_tables(args) -> dict:
     """docs/validation.md 7.2 and 7.5: the grid convergence and the paper's loaded study, their rows as
     the scripts print them (FE tooth; a minute or two with the FE data cached)."""
-    sys.path.insert(0, str(ROOT))
-    from benchmarks import ltca_grid_convergence, ltca_paper_loaded
+    ltca_grid_convergence, ltca_paper_loaded = _benchmark("ltca_grid_convergence"), _benchmark("ltca_paper_loaded")
 
     return {"command": "python benchmarks/ltca_grid_convergence.py; python benchmarks/ltca_paper_loaded.py",
             "grid_convergence": ltca_grid_convergence.rows(), "paper_loaded": ltca_paper_loaded.rows()}
@@ -474,8 +487,7 @@ def fe_check_ratio_rows(rec: dict) -> list:
 
 def fe_check_quotes(rec: dict) -> list:
     """docs/validation.md 11: the validation tables as benchmarks/fe_check_validation.py prints them."""
-    sys.path.insert(0, str(ROOT))
-    from benchmarks import fe_check_validation as v
+    v = _benchmark("fe_check_validation")
 
     runs = rec["fe_check"]["runs"]
     lines = v.table(runs).splitlines()[2:] + v.hertz_table(runs).splitlines()[2:] + fe_check_ratio_rows(rec)

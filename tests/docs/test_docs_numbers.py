@@ -11,6 +11,7 @@ from __future__ import annotations
 import importlib.util
 import json
 import re
+import sys
 from pathlib import Path
 
 import pytest
@@ -27,6 +28,10 @@ def numbers():
 
 
 def test_every_quoted_number_is_current(numbers):
+    """... and computing them leaves ``sys.path`` as it was: with the checkout first on it, the worker processes
+    a later test of this process spawns (``beveloid.parallel``) imported the checkout's beveloid, not the
+    installed one, and each compiled the solver afresh (~90-125 s of CPU each in the README's test command)."""
+    path = list(sys.path)
     rec = numbers.recorded()
     # the FE groups' quotes (docs/loaded_contact.md 9.7, docs/validation.md 10 and 11) come from their records
     assert {"rating", "fe_tooth", "fe_check", "fe_sectors"} <= set(rec)
@@ -35,6 +40,7 @@ def test_every_quoted_number_is_current(numbers):
         if text not in (REPO / page).read_text(encoding="utf-8") or not holds:
             wrong.append(f"{page}: {text!r}")
     assert not wrong, "stale numbers (see `python docs/readme_numbers.py --print`):\n" + "\n".join(wrong)
+    assert sys.path == path, f"the quotes changed sys.path: {[p for p in sys.path if p not in path]} added"
 
 
 def test_the_record_names_the_commands_that_made_it(numbers):
