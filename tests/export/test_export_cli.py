@@ -148,6 +148,7 @@ def test_a_full_disk_leaves_no_file_and_no_folder(tmp_path, capsys, monkeypatch)
     assert [p.name for p in mine.iterdir()] == ["notes.txt"]
 
 
+@pytest.mark.solver  # `design` runs the solver
 def test_a_flank_the_step_faces_cannot_follow_is_said_by_design_and_refused_in_one_line(tmp_path, capsys):
     """issue 60: 6 um of pinion profile crowning folds the right flank by 0.87 um next to its form limit:
     STEP export printed a traceback (BRepCheck_Analyzer, exit 1) after fitting; 10 um could not be exported
