@@ -262,11 +262,12 @@ def needs_compiling(ns) -> bool:
 _notified = False
 
 
-#: what every command says on stderr before numba compiles the solver (about half a minute of CPU, without output;
-#: docs/performance.md: 34.5 s of CPU, 34.4 s wall at load 0.9, 101.6 s wall at load 13.5 on 2 cores)
+#: what every command says on stderr before numba compiles the solver (half a minute to a minute or more of CPU, without
+#: output; docs/performance.md: `beveloid tca` 34.5 s of CPU at load 0.9 on one 2-core host, 72.5 s on a slower one,
+#: 101.6 s wall at load 13.5)
 COMPILING = ("beveloid: compiling the contact solver with numba: the first run after an installation or a change of"
-             " the models (derive --model) takes about half a minute of CPU time, several minutes on a machine busy"
-             " with other work; cached afterwards")
+             " the models (derive --model) takes from half a minute to a minute or two of CPU time, depending on the"
+             " machine and the command, several minutes on a machine busy with other work; cached afterwards")
 
 
 def notify_compiling(ns, stream=None):
