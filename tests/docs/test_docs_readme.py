@@ -29,7 +29,9 @@ def test_quickstart_is_two_commands_and_ci_runs_the_second():
     assert len(commands) == 2
     assert commands[0].startswith("pip install . && beveloid ")
     # `pytest`, not `python -m pytest`: the latter would import the bare checkout's beveloid/
-    assert commands[1] == 'pip install ".[test]" && pytest'
+    # uv installs the test extras (~13 s against pip's ~66 s on the same machine: docs/performance.md, "Test suite")
+    # into the Python that `python3` is: a venv's when one is active, as pip would
+    assert commands[1] == 'pip install uv && uv pip install --python "$(command -v python3)" ".[test]" && pytest'
     ci = REPO / ".ci" / "run"
     assert os.access(ci, os.X_OK), ".ci/run must be executable"
     ci_lines = [line.strip() for line in ci.read_text(encoding="utf-8").splitlines()]
